@@ -1,0 +1,93 @@
+#pragma once
+// Public BVH interface: per-mesh bottom-level BVHs (Blas) and a top-level BVH over
+// transformed instances (Tlas). Implementation details (binned SAH build, wide SIMD
+// layout, watertight triangle test) live in the other files of this folder.
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include <glm/mat4x3.hpp>
+#include <glm/vec3.hpp>
+
+#include "renderer/core/bounds.h"
+#include "renderer/core/ray.h"
+
+namespace pa {
+
+/// Build knobs, with defaults that suit game maps. Every knob is measured in docs/performance.md.
+struct BvhBuildConfig {
+  uint32_t binCount = 16;          ///< SAH bins per axis.
+  uint32_t maxLeafTriangles = 8;   ///< Hard upper bound on triangles per leaf.
+  float traversalCost = 1.0f;      ///< SAH cost of visiting a node, relative to one triangle test.
+  uint32_t parallelThreshold = 4096;  ///< Subtrees smaller than this are built serially.
+};
+
+/// Triangle mesh input. Indices are 3 per triangle; masked (optional, one byte per
+/// triangle, non-zero = alpha-tested) selects the triangles whose hits go through the HitFilter.
+struct BlasInput {
+  std::span<const glm::vec3> positions;
+  std::span<const uint32_t> indices;
+  std::span<const uint8_t> masked;
+};
+
+/// Bottom-level acceleration structure over one triangle mesh.
+/// Hit.prim is the triangle index in the input; Hit.instance is the instanceId passed in.
+class Blas {
+ public:
+  Blas();
+  ~Blas();
+  Blas(Blas&&) noexcept;
+  Blas& operator=(Blas&&) noexcept;
+
+  /// Builds from scratch (multithreaded in the current TBB arena). Throws std::invalid_argument
+  /// on out-of-range indices or non-finite positions. Degenerate triangles are kept but never hit.
+  void build(const BlasInput& input, const BvhBuildConfig& config = {});
+  /// Updates node bounds for moved vertices with the same topology (animated meshes).
+  void refit(std::span<const glm::vec3> positions);
+  /// Closest hit in [ray.tmin, ray.tmax]; on a hit shortens ray.tmax, fills hit, returns true.
+  bool intersect(Ray& ray, Hit& hit, const HitFilter& filter = {}, uint32_t instanceId = 0) const;
+  /// Any hit in [ray.tmin, ray.tmax] (shadow rays).
+  bool occluded(const Ray& ray, const HitFilter& filter = {}, uint32_t instanceId = 0) const;
+  /// Bounds of all triangles.
+  Bounds bounds() const;
+  /// Number of triangles built.
+  uint32_t triangleCount() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// One placed copy of a Blas. objectToWorld is a 3x4 affine transform (glm: 4 columns of vec3).
+/// The Blas must outlive the Tlas build that references it.
+struct TlasInstance {
+  const Blas* blas = nullptr;
+  glm::mat4x3 objectToWorld{1.0f};
+  uint32_t mask = 0xffffffffu;   ///< Ray is tested against the instance only if (ray mask & mask) != 0.
+};
+
+/// Top-level acceleration structure over instances, rebuilt per frame.
+/// Hit.instance is the index into the instance span given to build(); t is in world units.
+class Tlas {
+ public:
+  Tlas();
+  ~Tlas();
+  Tlas(Tlas&&) noexcept;
+  Tlas& operator=(Tlas&&) noexcept;
+
+  /// Builds over the instances (copied). Throws std::invalid_argument on a null Blas or a
+  /// non-finite / singular transform.
+  void build(std::span<const TlasInstance> instances);
+  /// Closest hit over all instances whose mask matches rayMask.
+  bool intersect(Ray& ray, Hit& hit, uint32_t rayMask = 0xffffffffu, const HitFilter& filter = {}) const;
+  /// Any hit over all instances whose mask matches rayMask.
+  bool occluded(const Ray& ray, uint32_t rayMask = 0xffffffffu, const HitFilter& filter = {}) const;
+  /// World bounds of all instances.
+  Bounds bounds() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pa

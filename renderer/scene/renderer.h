@@ -1,0 +1,91 @@
+#pragma once
+// pa::Renderer: the flat scene API (in the spirit of Lighthouse 2's RenderCore).
+// Set meshes, instances, textures, materials, lights, sky; commit(); render().
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "renderer/scene/scene_types.h"
+
+namespace pa {
+
+/// Renderer-wide configuration fixed at construction.
+struct RendererConfig {
+  uint32_t threads = 0;   ///< Worker threads for builds and rendering; 0 = all cores.
+};
+
+/// Output of render(): linear HDR radiance (running mean) plus AOVs for denoising, and the
+/// tonemapped sRGB RGBA8 image. All arrays are width*height, row-major from the top row.
+struct FrameView {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  uint32_t accumulatedFrames = 0;        ///< How many render() calls the mean covers.
+  std::span<const glm::vec3> radiance;   ///< Mean linear radiance.
+  std::span<const glm::vec3> albedo;     ///< First-hit albedo (mean).
+  std::span<const glm::vec3> normal;     ///< First-hit shading normal, world space (mean).
+  std::span<const float> depth;          ///< First-hit distance along the ray (inf = sky).
+  std::span<const float> variance;       ///< Per-pixel variance of the mean's luminance estimate.
+  std::span<const uint8_t> rgba8;        ///< Exposure + tonemap + sRGB, alpha 255.
+};
+
+/// The path tracer and its scene. Not thread-safe: call from one thread.
+/// Every setter validates its input and throws SceneError with a clear message.
+class Renderer {
+ public:
+  explicit Renderer(const RendererConfig& config = {});
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Adds a mesh (arrays are copied).
+  MeshId addMesh(const MeshDesc& mesh);
+  /// Replaces a mesh's data. Same vertex and index counts on a dynamic mesh -> refit.
+  void updateMesh(MeshId id, const MeshDesc& mesh);
+  /// Removes a mesh; instances that still use it are an error at commit().
+  void removeMesh(MeshId id);
+
+  /// Adds an instance of a mesh.
+  InstanceId addInstance(const InstanceDesc& instance);
+  /// Replaces an instance's description.
+  void setInstance(InstanceId id, const InstanceDesc& instance);
+  /// Removes one instance.
+  void removeInstance(InstanceId id);
+
+  /// Adds a texture (pixels copied, mipmaps built).
+  TextureId addTexture(const TextureDesc& texture);
+  /// Replaces a texture's pixels (e.g. cinematics).
+  void updateTexture(TextureId id, const TextureDesc& texture);
+
+  /// Adds a material.
+  MaterialId addMaterial(const MaterialDesc& material);
+  /// Replaces a material (e.g. per-frame uv animation).
+  void setMaterial(MaterialId id, const MaterialDesc& material);
+
+  /// Adds an analytic light.
+  LightId addLight(const LightDesc& light);
+  /// Replaces a light.
+  void setLight(LightId id, const LightDesc& light);
+  /// Removes a light.
+  void removeLight(LightId id);
+
+  /// Sets the environment.
+  void setSky(const SkyDesc& sky);
+
+  /// Makes all changes since the last commit visible to render(): builds changed BLASes,
+  /// rebuilds the TLAS and the light sampling tables; resets accumulation if anything changed.
+  void commit();
+
+  /// Renders one frame of settings.samplesPerPixel samples per pixel and returns the film.
+  /// Accumulation continues while camera, settings and scene are unchanged since the last call.
+  FrameView render(const Camera& camera, const RenderSettings& settings);
+
+  /// Forgets the accumulated frames (next render starts a new mean).
+  void resetAccumulation();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pa

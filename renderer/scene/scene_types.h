@@ -1,0 +1,173 @@
+#pragma once
+// Plain descriptions handed to pa::Renderer: meshes, instances, textures, materials,
+// lights, sky, camera and render settings. No Quake knowledge.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+#include <glm/mat3x2.hpp>
+#include <glm/mat4x3.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+namespace pa {
+
+/// Ids handed out by the Renderer. kNoId means "none".
+using MeshId = uint32_t;
+using InstanceId = uint32_t;
+using TextureId = uint32_t;
+using MaterialId = uint32_t;
+using LightId = uint32_t;
+inline constexpr uint32_t kNoId = 0xffffffffu;
+
+/// Thrown on invalid input (non-finite numbers, out-of-range ids, size mismatches).
+class SceneError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// Triangle mesh. positions/indices are required; every other array is optional
+/// (empty) or has one entry per vertex (normals, uvs, lightmapUvs, colors) or per
+/// triangle (materials; empty = every triangle uses the default material).
+struct MeshDesc {
+  std::span<const glm::vec3> positions;
+  std::span<const uint32_t> indices;          ///< 3 per triangle.
+  std::span<const glm::vec3> normals;         ///< Shading normals; empty = geometric.
+  std::span<const glm::vec2> uvs;             ///< Base texture coordinates.
+  std::span<const glm::vec2> lightmapUvs;     ///< Baked-light texture coordinates (lightmap preset).
+  std::span<const glm::vec4> colors;          ///< Linear vertex colours, multiply the base colour.
+  std::span<const MaterialId> materials;      ///< One per triangle; kNoId = default grey diffuse.
+  bool dynamic = false;                       ///< Expect per-frame vertex updates (refit instead of rebuild).
+};
+
+/// Texture addressing outside [0,1].
+enum class TextureWrap : uint8_t { Repeat, Clamp };
+
+/// RGBA8 texture, row-major from the top row. Mipmaps are generated when mipmaps = true.
+struct TextureDesc {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  std::span<const uint8_t> rgba8;   ///< width * height * 4 bytes.
+  bool srgb = true;                 ///< Colour data in sRGB (false for lightmaps stored linear, data).
+  TextureWrap wrap = TextureWrap::Repeat;
+  bool mipmaps = true;
+};
+
+/// How a surface combines with what is behind it.
+enum class AlphaMode : uint8_t {
+  Opaque,    ///< Solid.
+  Mask,      ///< Alpha test against alphaCutoff (fences, grates, foliage).
+  Blend,     ///< Translucent: opacity * alpha of colour, rest passes through (glass, water).
+  Additive,  ///< Adds its colour to what is behind; no occlusion (flames, glows, beams).
+};
+
+/// Material model limited to what a Quake III scene needs.
+struct MaterialDesc {
+  TextureId baseTexture = kNoId;        ///< Albedo (RGB) + alpha (A).
+  glm::vec4 baseColor{1.0f};            ///< Multiplies the texture (linear RGB, alpha).
+  AlphaMode alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;             ///< Mask: alpha < cutoff is a miss (invert via alphaInvert).
+  bool alphaInvert = false;             ///< Mask: alpha >= cutoff is a miss (Quake's LT128).
+  float opacity = 1.0f;                 ///< Blend: overall opacity multiplier.
+  TextureId emissiveTexture = kNoId;    ///< Emission map (RGB, sRGB); kNoId = constant emission.
+  glm::vec3 emission{0.0f};             ///< Linear radiance multiplier (W/sr/m^2 in scene units).
+  TextureId lightmapTexture = kNoId;    ///< Baked light for the lightmap preset (uses lightmapUvs).
+  bool useVertexLight = false;          ///< Lightmap preset: baked light is the vertex colour.
+  bool mirror = false;                  ///< Perfect specular reflection (mirrors, portals seen as mirrors).
+  float specular = 0.0f;                ///< Weight of a glossy lobe on top of diffuse (shiny env-mapped stages).
+  float roughness = 0.3f;               ///< Roughness of that glossy lobe (GGX alpha = roughness^2).
+  bool twoSided = true;                 ///< Quake surfaces are usually drawn from both sides (cull none).
+  bool castsShadows = true;             ///< False: invisible to shadow rays.
+  bool visible = true;                  ///< False: invisible to camera and bounce rays (nodraw, but may emit).
+  bool sky = false;                     ///< Surface is a window to the sky: shows and emits the sky.
+  glm::mat3x2 uvTransform{1.0f};        ///< Affine uv' = M * (u, v, 1): texture animation (scroll, rotate, scale).
+};
+
+/// Instance visibility masks (bitwise OR).
+enum InstanceMask : uint32_t {
+  kMaskCamera = 1u << 0,   ///< Seen by primary rays.
+  kMaskShadow = 1u << 1,   ///< Seen by shadow rays (casts shadows).
+  kMaskBounce = 1u << 2,   ///< Seen by secondary (bounce, reflection) rays.
+  kMaskAll = kMaskCamera | kMaskShadow | kMaskBounce,
+};
+
+/// One placed copy of a mesh. materialOverride, when set, replaces every triangle's material
+/// (Quake's customShader); tint multiplies the base colour (shaderRGBA).
+struct InstanceDesc {
+  MeshId mesh = kNoId;
+  glm::mat4x3 objectToWorld{1.0f};
+  uint32_t mask = kMaskAll;
+  MaterialId materialOverride = kNoId;
+  glm::vec4 tint{1.0f};
+  bool drawOnTop = false;   ///< Composited over the world regardless of depth (first-person weapon).
+};
+
+/// Light source kinds. Emissive triangles are not lights here: they are collected from
+/// materials with non-zero emission at commit() and sampled by power.
+enum class LightType : uint8_t { Point, Spot, Directional };
+
+/// Distance falloff of point and spot lights.
+enum class Falloff : uint8_t {
+  InverseSquare,  ///< Physical 1/d^2.
+  Linear,         ///< max(0, 1 - d / range): Quake's "linear" lights and dynamic lights.
+};
+
+/// Analytic light. Point/spot: intensity in W/sr (colour * intensity); directional:
+/// irradiance along -direction with an optional angular radius (soft sun).
+struct LightDesc {
+  LightType type = LightType::Point;
+  glm::vec3 position{0.0f};
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};   ///< Spot axis / direction the sun light travels.
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  float radius = 0.0f;                      ///< Sphere radius for soft shadows (0 = point).
+  Falloff falloff = Falloff::InverseSquare;
+  float range = 0.0f;                       ///< Linear falloff range; also a cut-off when > 0.
+  float cosInnerAngle = 1.0f;               ///< Spot: full intensity inside.
+  float cosOuterAngle = 0.0f;               ///< Spot: zero outside.
+  float angularRadius = 0.0f;               ///< Directional: half-angle of the sun disc, radians.
+};
+
+/// Environment seen by rays that leave the scene (and through sky surfaces).
+/// Faces order: +X, -X, +Y, -Y, +Z, -Z (world axes); all kNoId = constant colour.
+struct SkyDesc {
+  glm::vec3 color{0.0f};                    ///< Constant radiance, or multiplier of the cube map.
+  std::array<TextureId, 6> faces{kNoId, kNoId, kNoId, kNoId, kNoId, kNoId};
+  float intensity = 1.0f;
+};
+
+/// A game-style camera: origin and three axes (forward, left, up), field of view in degrees.
+struct Camera {
+  glm::vec3 origin{0.0f};
+  glm::vec3 forward{1.0f, 0.0f, 0.0f};
+  glm::vec3 left{0.0f, 1.0f, 0.0f};
+  glm::vec3 up{0.0f, 0.0f, 1.0f};
+  float fovX = 90.0f;
+  float fovY = 73.74f;
+};
+
+/// What the integrator computes per pixel.
+enum class Integrator : uint8_t {
+  Lightmap,  ///< Primary rays: base colour x baked light (lightmap or vertex colour); the original look.
+  Direct,    ///< Direct light from every light with ray-traced shadows, plus emission.
+  Path,      ///< Full path tracing: NEE + MIS, Russian roulette, maxBounces.
+};
+
+/// Per-render knobs. The image is a pure function of (scene, camera, seed, frameIndex, spp),
+/// independent of the thread count.
+struct RenderSettings {
+  uint32_t width = 640;
+  uint32_t height = 360;
+  Integrator integrator = Integrator::Path;
+  uint32_t samplesPerPixel = 1;   ///< Per render() call.
+  uint32_t maxBounces = 4;
+  float radianceClamp = 0.0f;     ///< Clamp on each path's contribution; 0 = off (reference).
+  uint32_t seed = 0;
+  bool accumulate = true;         ///< Average with earlier frames while camera and scene are unchanged.
+  float exposure = 1.0f;          ///< Linear multiplier before tonemapping.
+};
+
+}  // namespace pa

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs every Debian package PathArena needs to build, test and play. Idempotent.
+set -euo pipefail
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev
+  libembree-dev libtbb-dev libglm-dev libsdl2-dev libgl-dev libphysfs-dev
+  libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev
+  libgtest-dev libgmock-dev
+  xvfb xauth libgl1-mesa-dri mesa-utils
+  ioquake3 openarena openarena-data
+)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  echo "setup: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+echo "setup: all packages present"
