@@ -73,11 +73,9 @@ std::optional<Token> Tokenizer::nextOnLine() {
 }
 
 std::optional<Token> Tokenizer::peek() {
-  const size_t pos = pos_;
-  const int line = line_;
+  const Mark saved = mark();
   auto token = next();
-  pos_ = pos;
-  line_ = line;
+  reset(saved);
   return token;
 }
 
@@ -120,6 +118,20 @@ bool equalsIgnoreCase(std::string_view a, std::string_view b) {
     if (x != y) return false;
   }
   return true;
+}
+
+int comparePathsLikeEngine(std::string_view a, std::string_view b) {
+  auto fold = [](unsigned char c) -> int {
+    if (c >= 'a' && c <= 'z') return c - 'a' + 'A';
+    if (c == '\\' || c == ':') return '/';
+    return c;
+  };
+  const size_t n = a.size() < b.size() ? a.size() : b.size();
+  for (size_t i = 0; i < n; ++i) {
+    const int x = fold(static_cast<unsigned char>(a[i])), y = fold(static_cast<unsigned char>(b[i]));
+    if (x != y) return x < y ? -1 : 1;
+  }
+  return a.size() == b.size() ? 0 : (a.size() < b.size() ? -1 : 1);
 }
 
 }  // namespace q3

@@ -41,6 +41,19 @@ class Tokenizer {
   /// Returns false if the text ends first.
   bool skipBracedSection();
 
+  /// A saved cursor position (see mark/reset).
+  struct Mark {
+    size_t pos = 0;
+    int line = 1;
+  };
+  /// Current cursor, to return to with reset().
+  Mark mark() const { return {pos_, line_}; }
+  /// Moves the cursor back to a saved mark.
+  void reset(Mark m) {
+    pos_ = m.pos;
+    line_ = m.line;
+  }
+
   /// True when only whitespace and comments remain.
   bool atEnd();
   /// Line of the cursor (1-based).
@@ -65,5 +78,9 @@ class Tokenizer {
 std::string toLowerAscii(std::string_view s);
 /// Case-insensitive ASCII equality.
 bool equalsIgnoreCase(std::string_view a, std::string_view b);
+
+/// The engine's path order (FS_PathCmp): ASCII letters folded to upper case, '\\' and ':' read as
+/// '/'. Negative, zero or positive like strcmp. Used to sort pk3 archives and shader scripts.
+int comparePathsLikeEngine(std::string_view a, std::string_view b);
 
 }  // namespace q3

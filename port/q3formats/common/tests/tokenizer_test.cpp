@@ -82,3 +82,14 @@ TEST(Tokenizer, CaseHelpers) {
 }
 
 }  // namespace
+
+namespace {
+TEST(Tokenizer, EnginePathOrderFoldsToUpperCase) {
+  EXPECT_EQ(q3::comparePathsLikeEngine("pak0.pk3", "PAK0.PK3"), 0);
+  EXPECT_LT(q3::comparePathsLikeEngine("pak0.pk3", "pak1.pk3"), 0);
+  // Upper-case folding puts '_' (0x5F) after letters, unlike a lower-case compare.
+  EXPECT_GT(q3::comparePathsLikeEngine("a_b", "aab"), 0);
+  EXPECT_EQ(q3::comparePathsLikeEngine("a\\b", "a/b"), 0);
+  EXPECT_LT(q3::comparePathsLikeEngine("pak", "pak0"), 0);
+}
+}  // namespace
