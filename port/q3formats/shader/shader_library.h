@@ -42,6 +42,7 @@ class ShaderLibrary {
   bool addScript(std::string_view text, const std::string& file);
 
   /// The script definition of a name (case-insensitive, extension ignored); nullptr if none.
+  /// The pointer stays valid until the next addScript.
   const ShaderDef* find(std::string_view name) const;
 
   /// The shader for a name: its script definition, else an implicit shader from the first
