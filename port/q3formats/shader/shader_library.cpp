@@ -99,6 +99,18 @@ bool ShaderLibrary::addScript(std::string_view text, const std::string& file) {
   return true;
 }
 
+size_t ShaderLibrary::addScriptsInEngineOrder(
+    std::vector<std::string> scriptNames,
+    const std::function<std::optional<std::vector<std::byte>>(const std::string&)>& read) {
+  size_t added = 0;
+  for (const std::string& name : scriptsInPriorityOrder(std::move(scriptNames))) {
+    const auto bytes = read(name);
+    if (!bytes) continue;
+    added += addScript({reinterpret_cast<const char*>(bytes->data()), bytes->size()}, name) ? 1 : 0;
+  }
+  return added;
+}
+
 const ShaderDef* ShaderLibrary::find(std::string_view name) const {
   auto it = index_.find(shaderKey(name));
   return it == index_.end() ? nullptr : &shaders_[it->second];

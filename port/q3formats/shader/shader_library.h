@@ -1,5 +1,6 @@
 #pragma once
 // All shader scripts of a game, looked up by name the way the stock renderer does.
+#include <cstddef>
 #include <functional>
 #include <optional>
 #include <string>
@@ -40,6 +41,11 @@ class ShaderLibrary {
   /// Parses a script and adds its shaders. A malformed script is ignored entirely (as the engine
   /// does): returns false and records the message in errors().
   bool addScript(std::string_view text, const std::string& file);
+
+  /// Reads (with `read`; nullopt = skip) and adds every script of `scriptNames` in the engine's
+  /// priority order (see scriptsInPriorityOrder). Returns the number of scripts added.
+  size_t addScriptsInEngineOrder(std::vector<std::string> scriptNames,
+                                 const std::function<std::optional<std::vector<std::byte>>(const std::string&)>& read);
 
   /// The script definition of a name (case-insensitive, extension ignored); nullptr if none.
   /// The pointer stays valid until the next addScript.

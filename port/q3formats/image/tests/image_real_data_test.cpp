@@ -17,10 +17,7 @@ TEST(ImageRealData, ShaderImagesDecodeOrAreReported) {
   if (!std::filesystem::exists(base / "pak0.pk3")) GTEST_SKIP() << "OpenArena data not installed";
   q3::GameFileSystem fs(base);
   q3::ShaderLibrary lib;
-  for (const auto& name : q3::scriptsInPriorityOrder(fs.listFiles("scripts", ".shader"))) {
-    auto bytes = fs.readFile(name);
-    lib.addScript({reinterpret_cast<const char*>(bytes->data()), bytes->size()}, name);
-  }
+  lib.addScriptsInEngineOrder(fs.listFiles("scripts", ".shader"), [&](const std::string& f) { return fs.readFile(f); });
   std::set<std::string> referenced;
   for (const auto& def : lib.shaders()) {
     for (const auto& stage : def.stages)

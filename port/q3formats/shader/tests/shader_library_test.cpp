@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 
 namespace {
@@ -56,4 +57,23 @@ TEST(ShaderLibrary, ImplicitShaderFromTheFirstExistingImage) {
   EXPECT_EQ(shaderKey("dir.v2/name"), "dir.v2/name");
 }
 
+}  // namespace
+
+namespace {
+TEST(ShaderLibrary, AddScriptsInEngineOrderLetsTheLastScriptWin) {
+  std::map<std::string, std::string> files{{"scripts/a.shader", "x { surfaceparm trans }"},
+                                           {"scripts/b.shader", "x { surfaceparm sky }"},
+                                           {"scripts/gone.shader", ""}};
+  q3::ShaderLibrary lib;
+  auto read = [&](const std::string& f) -> std::optional<std::vector<std::byte>> {
+    if (f == "scripts/gone.shader") return std::nullopt;
+    const std::string& t = files.at(f);
+    auto* p = reinterpret_cast<const std::byte*>(t.data());
+    return std::vector<std::byte>(p, p + t.size());
+  };
+  EXPECT_EQ(lib.addScriptsInEngineOrder({"scripts/a.shader", "scripts/b.shader", "scripts/gone.shader"}, read), 2u);
+  ASSERT_NE(lib.find("x"), nullptr);
+  EXPECT_EQ(lib.find("x")->file, "scripts/b.shader");
+  EXPECT_TRUE(lib.find("x")->has(q3::SurfaceParm::Sky));
+}
 }  // namespace

@@ -15,13 +15,9 @@ TEST(ShaderRealData, EveryOpenArenaScriptParsesWithNoUnknownKeyword) {
   if (!std::filesystem::exists(kBase / "pak0.pk3")) GTEST_SKIP() << "OpenArena data not installed";
   q3::GameFileSystem fs(kBase);
   q3::ShaderLibrary lib;
-  const auto scripts = q3::scriptsInPriorityOrder(fs.listFiles("scripts", ".shader"));
+  const auto scripts = fs.listFiles("scripts", ".shader");
   ASSERT_GT(scripts.size(), 50u);
-  for (const auto& name : scripts) {
-    auto bytes = fs.readFile(name);
-    ASSERT_TRUE(bytes) << name;
-    EXPECT_TRUE(lib.addScript({reinterpret_cast<const char*>(bytes->data()), bytes->size()}, name)) << name;
-  }
+  EXPECT_EQ(lib.addScriptsInEngineOrder(scripts, [&](const std::string& f) { return fs.readFile(f); }), scripts.size());
   EXPECT_TRUE(lib.errors().empty());
   for (const auto& w : lib.warnings())
     EXPECT_FALSE(w.unknownKeyword) << w.file << ":" << w.line << " " << w.message;

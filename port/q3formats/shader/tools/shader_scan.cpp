@@ -55,16 +55,9 @@ int main(int argc, char** argv) {
   try {
     q3::GameFileSystem fs(gameDir);
     q3::ShaderLibrary library;
-    const auto scripts = q3::scriptsInPriorityOrder(fs.listFiles("scripts", ".shader"));
-    size_t definitions = 0;
-    for (const auto& name : scripts) {
-      auto bytes = fs.readFile(name);
-      if (!bytes) continue;
-      std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
-      const size_t before = library.size() + library.shadowedDefinitions();
-      library.addScript(text, name);
-      definitions += library.size() + library.shadowedDefinitions() - before;
-    }
+    const auto scripts = fs.listFiles("scripts", ".shader");
+    library.addScriptsInEngineOrder(scripts, [&](const std::string& f) { return fs.readFile(f); });
+    const size_t definitions = library.size() + library.shadowedDefinitions();
     if (argc > 2) {
       for (int i = 2; i < argc; ++i) {
         auto def = library.resolve(argv[i], q3::ImplicitLighting::Lightmap,
