@@ -1,0 +1,117 @@
+#include "port/q3formats/vfs/game_filesystem.h"
+
+#include <gtest/gtest.h>
+
+#include "port/q3formats/common/format_error.h"
+#include "port/q3formats/vfs/tests/stored_zip.h"
+
+namespace {
+
+std::string text(const std::optional<std::vector<std::byte>>& bytes) {
+  if (!bytes) return "<missing>";
+  return std::string(reinterpret_cast<const char*>(bytes->data()), bytes->size());
+}
+
+void writeLoose(const std::filesystem::path& file, const std::string& data) {
+  std::filesystem::create_directories(file.parent_path());
+  std::ofstream(file, std::ios::binary) << data;
+}
+
+TEST(GameFileSystem, LaterArchiveOverridesEarlierAndLooseOverridesAll) {
+  q3::test::TempDir dir("vfs_order");
+  // Engine order (FS_PathCmp, case-insensitive): pak0 < PAK1 < z_extra, so z_extra wins.
+  q3::test::writeStoredZip(dir.path() / "pak0.pk3", {{"scripts/a.shader", "from pak0"},
+                                                     {"textures/Wall.tga", "wall pak0"},
+                                                     {"only0.txt", "zero"}});
+  q3::test::writeStoredZip(dir.path() / "PAK1.pk3", {{"scripts/a.shader", "from pak1"},
+                                                     {"textures/wall.TGA", "wall pak1"}});
+  q3::test::writeStoredZip(dir.path() / "z_extra.pk3", {{"scripts/a.shader", "from z_extra"}});
+  writeLoose(dir.path() / "textures/wall.TGA", "wall loose");
+
+  q3::GameFileSystem fs(dir.path());
+  ASSERT_EQ(fs.archives().size(), 3u);
+  EXPECT_EQ(fs.archives()[0].filename(), "pak0.pk3");
+  EXPECT_EQ(fs.archives()[1].filename(), "PAK1.pk3");
+  EXPECT_EQ(fs.archives()[2].filename(), "z_extra.pk3");
+  EXPECT_EQ(text(fs.readFile("scripts/a.shader")), "from z_extra");
+  EXPECT_EQ(fs.sourceOf("scripts/a.shader"), "z_extra.pk3");
+  EXPECT_EQ(text(fs.readFile("only0.txt")), "zero");
+  // Archive lookups ignore case; the loose file is found only with its exact case.
+  EXPECT_EQ(text(fs.readFile("textures/wall.TGA")), "wall loose");
+  EXPECT_EQ(fs.sourceOf("textures/wall.TGA"), "(loose)");
+  EXPECT_EQ(text(fs.readFile("TEXTURES/WALL.tga")), "wall pak1");
+  EXPECT_EQ(text(fs.readFile("textures\\wall.tga")), "wall pak1");
+  EXPECT_FALSE(fs.readFile("missing.txt"));
+  EXPECT_FALSE(fs.exists("missing.txt"));
+  EXPECT_TRUE(fs.exists("Only0.TXT"));
+}
+
+TEST(GameFileSystem, ListsDirectChildrenOnceSortedLikeTheEngine) {
+  q3::test::TempDir dir("vfs_list");
+  q3::test::writeStoredZip(dir.path() / "pak0.pk3", {{"scripts/b.shader", "b"},
+                                                     {"scripts/A.shader", "a"},
+                                                     {"scripts/sub/c.shader", "c"},
+                                                     {"scripts/readme.txt", "x"}});
+  q3::test::writeStoredZip(dir.path() / "pak1.pk3", {{"scripts/b.shader", "b2"}});
+  writeLoose(dir.path() / "scripts/loose.SHADER", "l");
+  q3::GameFileSystem fs(dir.path());
+  const auto list = fs.listFiles("scripts", ".shader");
+  ASSERT_EQ(list.size(), 3u);
+  EXPECT_EQ(list[0], "scripts/A.shader");
+  EXPECT_EQ(list[1], "scripts/b.shader");
+  EXPECT_EQ(list[2], "scripts/loose.SHADER");
+  EXPECT_EQ(fs.listFiles("scripts", "").size(), 4u);
+}
+
+TEST(GameFileSystem, RefusesEscapingPaths) {
+  q3::test::TempDir dir("vfs_escape");
+  writeLoose(dir.path() / "inside.txt", "in");
+  writeLoose(dir.path().parent_path() / "patharena_outside_secret.txt", "secret");
+  q3::GameFileSystem fs(dir.path());
+  EXPECT_FALSE(fs.readFile("../patharena_outside_secret.txt"));
+  EXPECT_FALSE(fs.readFile("/etc/passwd"));
+  EXPECT_FALSE(fs.readFile("a/../../x"));
+  EXPECT_EQ(text(fs.readFile("inside.txt")), "in");
+  std::filesystem::remove(dir.path().parent_path() / "patharena_outside_secret.txt");
+  EXPECT_EQ(q3::normalizeGamePath("a\\\\b//c/"), "a/b/c");
+  EXPECT_FALSE(q3::normalizeGamePath(""));
+}
+
+TEST(GameFileSystem, SkipsCorruptArchiveAndSharesMountsBetweenInstances) {
+  q3::test::TempDir dir("vfs_bad");
+  writeLoose(dir.path() / "broken.pk3", "this is not a zip file");
+  q3::test::writeStoredZip(dir.path() / "good.pk3", {{"x.txt", "x"}});
+  {
+    q3::GameFileSystem first(dir.path());
+    EXPECT_EQ(first.archives().size(), 1u);
+    ASSERT_EQ(first.mountErrors().size(), 1u);
+    EXPECT_NE(first.mountErrors()[0].find("broken.pk3"), std::string::npos);
+    {
+      q3::GameFileSystem second(dir.path());
+      EXPECT_EQ(text(second.readFile("x.txt")), "x");
+    }
+    EXPECT_EQ(text(first.readFile("x.txt")), "x");  // still mounted after the other went away
+  }
+  q3::GameFileSystem again(dir.path());  // physfs de-initialised and initialised again
+  EXPECT_EQ(text(again.readFile("x.txt")), "x");
+}
+
+TEST(GameFileSystem, MissingFolderThrows) {
+  EXPECT_THROW(q3::GameFileSystem("/nonexistent/patharena/folder"), std::runtime_error);
+}
+
+TEST(GameFileSystem, RealOpenArenaData) {
+  const std::filesystem::path base = "/usr/share/games/openarena/baseoa";
+  if (!std::filesystem::exists(base / "pak0.pk3")) GTEST_SKIP() << "OpenArena data not installed";
+  q3::GameFileSystem fs(base);
+  EXPECT_TRUE(fs.mountErrors().empty());
+  EXPECT_GE(fs.archives().size(), 10u);
+  EXPECT_GT(fs.archiveFileCount(), 1000u);
+  EXPECT_FALSE(fs.listFiles("scripts", ".shader").empty());
+  EXPECT_TRUE(fs.exists("maps/oa_dm1.bsp"));
+  auto demo = fs.readFile("demos/demo088-test1.dm_71");
+  ASSERT_TRUE(demo);
+  EXPECT_GT(demo->size(), 1000u);
+}
+
+}  // namespace
