@@ -44,8 +44,13 @@ std::pair<json, std::vector<std::byte>> splitGlb(const std::vector<std::byte>& g
 }
 
 q3::WorldImage solidImage(uint32_t w, uint32_t h, uint8_t r, uint8_t g, uint8_t b, uint8_t a) {
-  q3::WorldImage image{w, h, {}};
-  for (uint32_t i = 0; i < w * h; ++i) image.rgba8.insert(image.rgba8.end(), {r, g, b, a});
+  q3::WorldImage image{w, h, std::vector<uint8_t>(size_t(w) * h * 4)};
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    image.rgba8[i * 4 + 0] = r;
+    image.rgba8[i * 4 + 1] = g;
+    image.rgba8[i * 4 + 2] = b;
+    image.rgba8[i * 4 + 3] = a;
+  }
   return image;
 }
 
