@@ -92,7 +92,7 @@ class SceneAssembler {
         shaders_.resolve(lump.name, hasLightmap ? ImplicitLighting::Lightmap : ImplicitLighting::Vertex, exists);
     if (!def) {
       scene_.warnings.push_back("shader '" + lump.name + "': no script and no image, using the fallback texture");
-      m.baseTexture = textures_.get(lump.name, false);
+      m.baseTexture = textures_.get(lump.name, false, /*warnIfMissing=*/false);
       m.vertexLit = !hasLightmap;
       m.visible = (lump.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
       m.sky = (lump.surfaceFlags & kSurfSky) != 0;
@@ -232,6 +232,16 @@ class SceneAssembler {
     if (!m.visible && m.surfaceLight <= 0.0f && !options_.keepInvisible) return;
     const int32_t lightmap = lightmapValid && !m.vertexLit ? s.lightmap : -1;
 
+    // Whole, in-range, non-degenerate triangles; Quake's front faces wind clockwise, stored CCW.
+    std::vector<uint32_t> triangles;
+    triangles.reserve(s.indices.size());
+    for (size_t t = 0; t + 2 < s.indices.size(); t += 3) {
+      uint32_t a = s.indices[t], b = s.indices[t + 1], c = s.indices[t + 2];
+      if (a >= n || b >= n || c >= n || a == b || b == c || a == c) continue;
+      triangles.insert(triangles.end(), {a, c, b});
+    }
+    if (triangles.empty()) return;
+
     uint32_t modelIndex = s.model < scene_.models.size() ? s.model : 0;
     WorldModel& model = scene_.models[modelIndex];
     auto key = std::make_tuple(modelIndex, mat, lightmap);
@@ -245,15 +255,7 @@ class SceneAssembler {
     }
     WorldMesh& mesh = model.meshes[it->second];
     const uint32_t base = uint32_t(mesh.positions.size());
-    size_t added = 0;
-    for (size_t t = 0; t + 2 < s.indices.size(); t += 3) {
-      uint32_t a = s.indices[t], b = s.indices[t + 1], c = s.indices[t + 2];
-      if (a >= n || b >= n || c >= n || a == b || b == c || a == c) continue;
-      // Quake's front faces wind clockwise; store counter-clockwise.
-      mesh.indices.insert(mesh.indices.end(), {base + a, base + c, base + b});
-      ++added;
-    }
-    if (added == 0) return;
+    for (uint32_t index : triangles) mesh.indices.push_back(base + index);
     for (size_t v = 0; v < n; ++v) {
       mesh.positions.push_back(s.positions[v]);
       glm::vec3 normal = s.normals[v];

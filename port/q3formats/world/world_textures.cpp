@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include <stb_image.h>
-
+#include "port/q3formats/common/format_error.h"
+#include "port/q3formats/image/image.h"
 #include "port/q3formats/shader/shader_library.h"
 
 namespace q3 {
@@ -17,31 +17,8 @@ float srgbToLinear(uint8_t v) {
 
 }  // namespace
 
-WorldImage fallbackImage() {
-  WorldImage image{64, 64, std::vector<uint8_t>(64 * 64 * 4)};
-  for (uint32_t y = 0; y < 64; ++y)
-    for (uint32_t x = 0; x < 64; ++x) {
-      bool magenta = ((x / 8) + (y / 8)) % 2 == 0;
-      uint8_t* p = &image.rgba8[(y * 64 + x) * 4];
-      p[0] = magenta ? 255 : 0;
-      p[1] = 0;
-      p[2] = magenta ? 255 : 0;
-      p[3] = 255;
-    }
-  return image;
-}
-
-std::optional<WorldImage> decodeTextureImage(std::span<const std::byte> bytes) {
-  if (bytes.empty() || bytes.size() > size_t(INT32_MAX)) return std::nullopt;
-  int w = 0, h = 0, channels = 0;
-  const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
-  if (!stbi_info_from_memory(data, int(bytes.size()), &w, &h, &channels) || w <= 0 || h <= 0 || w > 8192 || h > 8192)
-    return std::nullopt;
-  stbi_uc* pixels = stbi_load_from_memory(data, int(bytes.size()), &w, &h, &channels, 4);
-  if (!pixels) return std::nullopt;
-  WorldImage image{uint32_t(w), uint32_t(h), std::vector<uint8_t>(pixels, pixels + size_t(w) * h * 4)};
-  stbi_image_free(pixels);
-  return image;
+WorldImage toWorldImage(Image image) {
+  return WorldImage{uint32_t(image.width), uint32_t(image.height), std::move(image.rgba)};
 }
 
 std::optional<std::pair<std::string, std::vector<std::byte>>> TextureCache::read(const std::string& name) {
@@ -60,7 +37,7 @@ std::optional<std::pair<std::string, std::vector<std::byte>>> TextureCache::read
 
 bool TextureCache::exists(const std::string& name) { return read(name).has_value(); }
 
-int32_t TextureCache::get(const std::string& name, bool clamp) {
+int32_t TextureCache::get(const std::string& name, bool clamp, bool warnIfMissing) {
   auto cacheKey = std::make_pair(shaderKey(name), clamp);
   if (auto it = indices_.find(cacheKey); it != indices_.end()) return it->second;
 
@@ -71,19 +48,19 @@ int32_t TextureCache::get(const std::string& name, bool clamp) {
   if (file) {
     texture.resolvedPath = file->first;
     if (decode_) {
-      if (auto image = decodeTextureImage(file->second)) {
-        texture.image = std::move(*image);
-      } else {
-        warnings_.push_back("texture '" + file->first + "': cannot decode, using the fallback texture");
+      try {
+        texture.image = toWorldImage(decodeImage(file->second, file->first));
+      } catch (const FormatError& e) {
+        warnings_.push_back(std::string(e.what()) + ": using the fallback texture");
         texture.resolvedPath.clear();
         texture.isFallback = true;
       }
     }
   } else {
-    warnings_.push_back("texture '" + name + "': not found, using the fallback texture");
+    if (warnIfMissing) warnings_.push_back("texture '" + name + "': not found, using the fallback texture");
     texture.isFallback = true;
   }
-  if (texture.isFallback && decode_) texture.image = fallbackImage();
+  if (texture.isFallback && decode_) texture.image = toWorldImage(fallbackImage());
 
   int32_t index = int32_t(textures_.size());
   textures_.push_back(std::move(texture));

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "port/q3formats/image/image.h"
 #include "port/q3formats/world/world_scene.h"
 
 namespace q3 {
@@ -20,7 +21,7 @@ class TextureCache {
       : loadFile_(loadFile), decode_(decode), textures_(textures), warnings_(warnings) {}
 
   /// Index of the texture for a shader's image name; a fallback texture (and one warning) if missing.
-  int32_t get(const std::string& name, bool clamp);
+  int32_t get(const std::string& name, bool clamp, bool warnIfMissing = true);
   /// True when one of the name's image candidates exists (bytes kept for a later get()).
   bool exists(const std::string& name);
   /// Mean linear colour of a texture (alpha-weighted), {0.5} when unknown.
@@ -36,10 +37,7 @@ class TextureCache {
   std::map<std::string, std::optional<std::pair<std::string, std::vector<std::byte>>>> files_;
 };
 
-/// The checkerboard shown for missing textures (magenta/black, 64x64, 8-texel squares).
-WorldImage fallbackImage();
-
-/// Decodes TGA/JPG/PNG/BMP bytes to RGBA8; nullopt if undecodable or larger than 8192^2.
-std::optional<WorldImage> decodeTextureImage(std::span<const std::byte> bytes);
+/// Converts a decoded q3::Image (port/q3formats/image) to a WorldImage.
+WorldImage toWorldImage(Image image);
 
 }  // namespace q3
