@@ -232,13 +232,13 @@ class SceneAssembler {
     if (!m.visible && m.surfaceLight <= 0.0f && !options_.keepInvisible) return;
     const int32_t lightmap = lightmapValid && !m.vertexLit ? s.lightmap : -1;
 
-    // Whole, in-range, non-degenerate triangles; Quake's front faces wind clockwise, stored CCW.
+    // Whole, in-range, non-degenerate triangles.
     std::vector<uint32_t> triangles;
     triangles.reserve(s.indices.size());
     for (size_t t = 0; t + 2 < s.indices.size(); t += 3) {
       uint32_t a = s.indices[t], b = s.indices[t + 1], c = s.indices[t + 2];
       if (a >= n || b >= n || c >= n || a == b || b == c || a == c) continue;
-      triangles.insert(triangles.end(), {a, c, b});
+      triangles.insert(triangles.end(), {a, b, c});
     }
     if (triangles.empty()) return;
 

@@ -33,7 +33,7 @@ struct SourceSurface {
   std::vector<glm::vec2> uvs;
   std::vector<glm::vec2> lightmapUvs;
   std::vector<glm::vec4> colors;   ///< Vertex colour bytes / 255.
-  std::vector<uint32_t> indices;   ///< Quake winding: clockwise seen from the front.
+  std::vector<uint32_t> indices;   ///< Counter-clockwise seen from the front (glTF winding; .bsp files store clockwise).
 };
 
 /// One entity: its key/value pairs in file order.
@@ -59,7 +59,7 @@ struct SourceWorld {
 
 /// Assembles the scene: materials from the shader library (implicit shader when missing),
 /// textures through loadFile (fallback + warning when missing), meshes grouped per model by
-/// (material, lightmap) with counter-clockwise winding, lights/sky/sun/cameras/fogs.
+/// (material, lightmap), lights/sky/sun/cameras/fogs.
 WorldScene assembleWorldScene(const SourceWorld& source, const ShaderLibrary& shaders, const FileLoader& loadFile,
                               const WorldBuildOptions& options = {});
 

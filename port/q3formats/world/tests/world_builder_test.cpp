@@ -76,7 +76,7 @@ SourceSurface quad(uint32_t shader, int32_t lightmap, uint32_t model, float z) {
   s.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   s.lightmapUvs = s.uvs;
   s.colors.assign(4, glm::vec4(1));
-  s.indices = {0, 1, 2, 0, 2, 3};   // Quake: clockwise seen from above? kept as given, reversed on output
+  s.indices = {0, 1, 2, 0, 2, 3};   // counter-clockwise seen from +Z
   return s;
 }
 
@@ -117,7 +117,7 @@ class WorldBuilderTest : public ::testing::Test {
   SourceWorld source_;
 };
 
-TEST_F(WorldBuilderTest, GroupsSurfacesByMaterialAndLightmapPerModelWithCounterClockwiseWinding) {
+TEST_F(WorldBuilderTest, GroupsSurfacesByMaterialAndLightmapPerModel) {
   source_.surfaces = {quad(0, 0, 0, 0), quad(0, 0, 0, 8), quad(0, 1, 0, 16), quad(0, 0, 1, 100)};
   WorldScene scene = build();
   ASSERT_EQ(scene.models.size(), 2u);
@@ -127,9 +127,9 @@ TEST_F(WorldBuilderTest, GroupsSurfacesByMaterialAndLightmapPerModelWithCounterC
   EXPECT_EQ(merged.sourceSurfaces, 2u);
   EXPECT_EQ(merged.positions.size(), 8u);
   ASSERT_EQ(merged.indices.size(), 12u);
-  EXPECT_EQ(merged.indices[0], 0u);   // (0, 1, 2) -> (0, 2, 1)
-  EXPECT_EQ(merged.indices[1], 2u);
-  EXPECT_EQ(merged.indices[2], 1u);
+  EXPECT_EQ(merged.indices[0], 0u);   // kept as given
+  EXPECT_EQ(merged.indices[1], 1u);
+  EXPECT_EQ(merged.indices[2], 2u);
   EXPECT_EQ(merged.indices[6], 4u);   // second surface offset by 4 vertices
   EXPECT_EQ(merged.bounds.maxs.z, 8.0f);
   EXPECT_EQ(scene.models[0].meshes[1].lightmap, 1);
