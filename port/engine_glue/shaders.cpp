@@ -61,7 +61,9 @@ q3abi::qhandle_t ShaderRegistry::registerShader(const Engine& engine, const Shad
   for (const std::string& imageName : entry.look.images) {
     auto image = images.load(engine, imageName);
     if (!image && !entry.look.fromScript) {
-      engine.warn("couldn't find image for shader " + name);
+      // Like the stock renderer: a developer message, the default shader (handle 0) returned.
+      engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: couldn't find image for shader %s\n",
+                   name.c_str());
       byName_.emplace(key, 0);
       return 0;
     }

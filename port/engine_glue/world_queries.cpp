@@ -156,7 +156,8 @@ int World::markFragments(int numPoints, const float (*points)[3], const float* p
     for (uint32_t i = 0; i < surface.numIndices; i += 3) {
       const uint32_t* tri = &markIndices_[surface.firstIndex + i];
       Polygon poly = {markVertices_[tri[0]], markVertices_[tri[1]], markVertices_[tri[2]]};
-      const glm::vec3 normal = glm::cross(poly[1] - poly[0], poly[2] - poly[0]);
+      // BSP triangles wind clockwise seen from the front.
+      const glm::vec3 normal = glm::cross(poly[2] - poly[0], poly[1] - poly[0]);
       const float area = glm::length(normal);
       if (area < 1e-6f) continue;
       // Only faces turned towards the projector take the mark (walls at grazing angles do not).
