@@ -42,12 +42,14 @@ struct PreviousVertex {
 };
 
 /// Closest hit for the vertex at `depth`: the drawOnTop overlay first for camera rays.
-bool traceClosest(const RenderScene& scene, Ray& ray, Hit& hit, uint32_t depth, uint32_t bits,
+/// Additive surfaces are collected only when `seeAdditive` (camera and mirror chains): they
+/// are visual effects (glows, flames), not light sources.
+bool traceClosest(const RenderScene& scene, Ray& ray, Hit& hit, uint32_t depth, uint32_t bits, bool seeAdditive,
                   AdditiveHits& additive, bool& onOverlay) {
   TraceRequest request;
   request.kind = depth == 0 ? RayKind::Camera : RayKind::Bounce;
   request.randomBits = bits;
-  request.additive = &additive;
+  request.additive = seeAdditive ? &additive : nullptr;
   onOverlay = false;
   if (depth == 0 && !scene.overlay.empty()) {
     Ray overlayRay = ray;
@@ -120,7 +122,8 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     AdditiveHits additive;
     Hit hit;
     bool onOverlay = false;
-    const bool found = traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), additive, onOverlay);
+    const bool found =
+        traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
     radiance += clampContribution(beta * additive.sumBefore(found ? hit.t : kInfinity), depth,
                                   settings.radianceClamp);
 
