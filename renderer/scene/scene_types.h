@@ -24,6 +24,8 @@
 // - maxBounces counts diffuse/glossy scattering events: 0 = emission and sky only,
 //   1 = direct lighting, N = paths of up to N scattering vertices. Mirror bounces are free
 //   (capped at maxBounces + 8 in total).
+// - radianceClamp caps each light contribution of a path (light samples and emitters reached
+//   by bounces) at that maximum RGB component; what the camera sees directly is never clamped.
 // - Textures sample with (0, 0) at the top-left texel corner.
 #include <array>
 #include <cstdint>
