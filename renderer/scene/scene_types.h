@@ -17,11 +17,15 @@
 //   from behind for camera and bounce rays (not for shadow rays).
 // - Vertex colours multiply the base colour, except with useVertexLight where they are baked
 //   light: used by the Lightmap integrator only, ignored by Direct/Path.
+// - Additive surfaces add their colour (base colour + emission) to camera rays and mirror
+//   reflections only: they neither occlude, shadow nor light other surfaces.
 // - Sky surfaces (sky = true) show the sky; they are transparent to shadow rays aimed at the
 //   sun or sky and block the others.
 // - maxBounces counts diffuse/glossy scattering events: 0 = emission and sky only,
 //   1 = direct lighting, N = paths of up to N scattering vertices. Mirror bounces are free
 //   (capped at maxBounces + 8 in total).
+// - radianceClamp caps each light contribution of a path (light samples and emitters reached
+//   by bounces) at that maximum RGB component; what the camera sees directly is never clamped.
 // - Textures sample with (0, 0) at the top-left texel corner.
 #include <array>
 #include <cstdint>

@@ -26,7 +26,8 @@ constexpr uint32_t kGroupRays = 3;      // random bits for stochastic transparen
 
 float maxComponent(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
 
-/// Applies the optional per-contribution clamp (indirect contributions only).
+/// Applies the optional clamp to one contribution. Emitters, sky and additive surfaces seen
+/// directly by the camera (depth 0) are exempt so that light sources keep their look.
 glm::vec3 clampContribution(const glm::vec3& c, uint32_t depth, float limit) {
   if (limit <= 0.0f || depth == 0) return c;
   const float m = maxComponent(c);
@@ -42,12 +43,14 @@ struct PreviousVertex {
 };
 
 /// Closest hit for the vertex at `depth`: the drawOnTop overlay first for camera rays.
-bool traceClosest(const RenderScene& scene, Ray& ray, Hit& hit, uint32_t depth, uint32_t bits,
+/// Additive surfaces are collected only when `seeAdditive` (camera and mirror chains): they
+/// are visual effects (glows, flames), not light sources.
+bool traceClosest(const RenderScene& scene, Ray& ray, Hit& hit, uint32_t depth, uint32_t bits, bool seeAdditive,
                   AdditiveHits& additive, bool& onOverlay) {
   TraceRequest request;
   request.kind = depth == 0 ? RayKind::Camera : RayKind::Bounce;
   request.randomBits = bits;
-  request.additive = &additive;
+  request.additive = seeAdditive ? &additive : nullptr;
   onOverlay = false;
   if (depth == 0 && !scene.overlay.empty()) {
     Ray overlayRay = ray;
@@ -120,7 +123,8 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     AdditiveHits additive;
     Hit hit;
     bool onOverlay = false;
-    const bool found = traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), additive, onOverlay);
+    const bool found =
+        traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
     radiance += clampContribution(beta * additive.sumBefore(found ? hit.t : kInfinity), depth,
                                   settings.radianceClamp);
 
@@ -179,7 +183,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     if (!bsdf.isDelta()) {
       const glm::vec3 direct =
           sampleDirectLight(scene, s, bsdf, wo, ng, ns, uLight, sampler.bits(group + kGroupRays + 1000));
-      radiance += clampContribution(beta * direct, depth, settings.radianceClamp);
+      radiance += clampContribution(beta * direct, depth + 1, settings.radianceClamp);   // never exempt
     }
 
     const glm::vec4 uBsdf = sampler.get4(group + kGroupBsdf);
