@@ -337,6 +337,8 @@ BspVisibility decodeVisibility(const ByteReader& r, LumpRange range) {
   BspVisibility vis;
   if (range.length == 0) return vis;
   const char* field = "lump visibility";
+  if (range.length < 8)
+    r.fail(field, std::to_string(range.length) + " bytes cannot hold the 8-byte header");
   const auto numClusters = r.read<int32_t>(range.offset, field);
   const auto bytesPerCluster = r.read<int32_t>(range.offset + 4, field);
   if (numClusters < 0 || bytesPerCluster < 0)
@@ -345,7 +347,7 @@ BspVisibility decodeVisibility(const ByteReader& r, LumpRange range) {
     r.fail(field, "row of " + std::to_string(bytesPerCluster) + " bytes cannot hold " +
                       std::to_string(numClusters) + " clusters");
   const uint64_t rowBytes = static_cast<uint64_t>(numClusters) * static_cast<uint64_t>(bytesPerCluster);
-  if (rowBytes > range.length - 8 || range.length < 8)
+  if (rowBytes > range.length - 8)
     r.fail(field, std::to_string(numClusters) + " rows of " + std::to_string(bytesPerCluster) +
                       " bytes exceed the lump of " + std::to_string(range.length) + " bytes");
   const auto rows = r.bytes(range.offset + 8, rowBytes, field);

@@ -108,14 +108,14 @@ std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const Tessellati
   return meshes;
 }
 
-PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float tolerance) {
+PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float tolerance, float gapLimit) {
   struct Edge {
     glm::vec3 a, b;
     size_t mesh;
     int32_t model;
   };
-  struct Point {
-    glm::vec3 p;
+  struct Point {  // a boundary vertex and the direction of one of its boundary edges
+    glm::vec3 p, direction;
     size_t mesh;
     int32_t model;
   };
@@ -132,24 +132,27 @@ PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float t
       }
     for (const auto& [edge, count] : uses) {
       if (count != 1) continue;
-      edges.push_back({mesh.vertices[edge.first].position, mesh.vertices[edge.second].position, m, mesh.model});
-      points.push_back({mesh.vertices[edge.first].position, m, mesh.model});
-      points.push_back({mesh.vertices[edge.second].position, m, mesh.model});
+      const glm::vec3 a = mesh.vertices[edge.first].position, b = mesh.vertices[edge.second].position;
+      const glm::vec3 dir = unitOrZero(b - a);
+      edges.push_back({a, b, m, mesh.model});
+      points.push_back({a, dir, m, mesh.model});
+      points.push_back({b, dir, m, mesh.model});
     }
   }
   PatchSeamStats stats;
   stats.boundaryEdges = edges.size();
 
-  constexpr float kCell = 64.0f;
+  const float reach = std::max(tolerance, gapLimit);
+  const float cell = std::max(64.0f, 2 * reach);
   auto cellKey = [](int x, int y, int z) {
     return (static_cast<uint64_t>(x & 0x1fffff) << 42) | (static_cast<uint64_t>(y & 0x1fffff) << 21) |
            static_cast<uint64_t>(z & 0x1fffff);
   };
-  auto cellOf = [&](float v) { return static_cast<int>(std::floor(std::clamp(v / kCell, -1e6f, 1e6f))); };
+  auto cellOf = [&](float v) { return static_cast<int>(std::floor(std::clamp(v / cell, -1e6f, 1e6f))); };
   std::unordered_map<uint64_t, std::vector<size_t>> cells;
   for (size_t e = 0; e < edges.size(); ++e) {
-    const glm::vec3 lo = glm::min(edges[e].a, edges[e].b) - tolerance;
-    const glm::vec3 hi = glm::max(edges[e].a, edges[e].b) + tolerance;
+    const glm::vec3 lo = glm::min(edges[e].a, edges[e].b) - reach;
+    const glm::vec3 hi = glm::max(edges[e].a, edges[e].b) + reach;
     const int x0 = cellOf(lo.x), y0 = cellOf(lo.y), z0 = cellOf(lo.z);
     const int x1 = cellOf(hi.x), y1 = cellOf(hi.y), z1 = cellOf(hi.z);
     if (static_cast<int64_t>(x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1) > 4096) continue;  // absurd edge
@@ -157,14 +160,9 @@ PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float t
       for (int y = y0; y <= y1; ++y)
         for (int z = z0; z <= z1; ++z) cells[cellKey(x, y, z)].push_back(e);
   }
-  // Each boundary vertex is listed by its two boundary edges; test it once per mesh.
-  std::sort(points.begin(), points.end(), [](const Point& l, const Point& r) {
-    if (l.mesh != r.mesh) return l.mesh < r.mesh;
-    return std::tie(l.p.x, l.p.y, l.p.z) < std::tie(r.p.x, r.p.y, r.p.z);
-  });
-  points.erase(std::unique(points.begin(), points.end(),
-                           [](const Point& l, const Point& r) { return l.mesh == r.mesh && l.p == r.p; }),
-               points.end());
+  // A vertex is counted once per mesh even though two boundary edges list it.
+  std::map<std::tuple<size_t, float, float, float>, int> counted;
+  constexpr float kParallel = 0.985f;  // within 10 degrees
   for (const auto& pt : points) {
     const auto it = cells.find(cellKey(cellOf(pt.p.x), cellOf(pt.p.y), cellOf(pt.p.z)));
     if (it == cells.end()) continue;
@@ -174,13 +172,16 @@ PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float t
       const glm::vec3 d = edge.b - edge.a;
       const float len2 = glm::dot(d, d);
       if (len2 <= tolerance * tolerance) continue;
+      if (std::abs(glm::dot(pt.direction, d)) < kParallel * std::sqrt(len2)) continue;  // crosses
       const float t = glm::dot(pt.p - edge.a, d) / len2;
       const float len = std::sqrt(len2);
       if (t * len <= tolerance || (1 - t) * len <= tolerance) continue;  // at an endpoint
-      if (glm::length(edge.a + t * d - pt.p) <= tolerance) {
-        ++stats.tJunctions;
-        break;
-      }
+      const float distance = glm::length(edge.a + t * d - pt.p);
+      if (distance > reach) continue;
+      if (!counted.emplace(std::tuple{pt.mesh, pt.p.x, pt.p.y, pt.p.z}, 1).second) break;
+      if (distance <= tolerance) ++stats.tJunctions;
+      else ++stats.cracks;
+      break;
     }
   }
   return stats;

@@ -21,12 +21,16 @@ struct TessellationOptions {
 /// std::invalid_argument for nonsensical options.
 std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const TessellationOptions& options = {});
 
-/// Crack diagnostics over patch meshes of the same model.
+/// Seam diagnostics over patch meshes of the same model. A seam vertex is a boundary vertex of
+/// one patch lying beside the interior of another patch's boundary edge that runs the same way
+/// (the two boundaries follow one curve but were cut differently).
 struct PatchSeamStats {
   size_t boundaryEdges = 0;  ///< patch edges used by one triangle of their own mesh
-  size_t tJunctions = 0;     ///< patch boundary vertices strictly inside another patch's boundary edge
+  size_t tJunctions = 0;     ///< seam vertices on the other edge (distance <= tolerance)
+  size_t cracks = 0;         ///< seam vertices off the other edge (tolerance < distance <= gapLimit)
 };
-/// Finds T-junctions between patch boundaries (vertices within `tolerance` of an edge interior).
-PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float tolerance = 0.01f);
+/// Measures T-junctions and cracks between patch boundaries.
+PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float tolerance = 0.01f,
+                                 float gapLimit = 4.0f);
 
 }  // namespace q3

@@ -63,7 +63,8 @@ bool report(const std::string& label, const std::vector<std::byte>& bytes, const
               bestParse + bestTess);
   if (settings.seams) {
     const auto seams = q3::measurePatchSeams(meshes);
-    std::printf(" | patch boundary edges %zu T-junctions %zu", seams.boundaryEdges, seams.tJunctions);
+    std::printf(" | patch boundary edges %zu T-junctions %zu cracks %zu", seams.boundaryEdges, seams.tJunctions,
+                seams.cracks);
   }
   std::printf("\n");
   for (const auto& w : bsp.warnings) std::printf("    warning: %s\n", w.c_str());
