@@ -12,7 +12,7 @@ namespace {
 constexpr size_t kHeaderSize = 108;        // ident, version, name[64], flags, 4 counts, 4 offsets
 constexpr size_t kFrameSize = 56;          // mins, maxs, origin, radius, name[16]
 constexpr size_t kTagSize = 112;           // name[64], origin, axis[3]
-constexpr size_t kSurfaceHeaderSize = 108; // ident, name[64], flags, 5 counts... (see below)
+constexpr size_t kSurfaceHeaderSize = 108; // ident, name[64], flags, 4 counts, 5 offsets (the last is ofsEnd)
 constexpr size_t kShaderSize = 68;         // name[64], index
 constexpr size_t kTriangleSize = 12;
 constexpr size_t kTexCoordSize = 8;
