@@ -154,7 +154,7 @@ void buildArena(ModelBuilder& builder) {
   const int grateMaterial = addMaterial(builder, "grate_metal", glm::vec4(1.0f), 0.6f, 0.5f, grateTexture);
   builder.model().materials[static_cast<size_t>(grateMaterial)].alphaMode = "MASK";
   builder.model().materials[static_cast<size_t>(grateMaterial)].alphaCutoff = 0.5;
-  const int goldMaterial = addMaterial(builder, "gold", {1.0f, 0.72f, 0.32f, 1.0f}, 1.0f, 0.25f);
+  const int steelMaterial = addMaterial(builder, "steel", {0.9f, 0.9f, 0.92f, 1.0f}, 1.0f, 0.25f);
   const int panelMaterial = addMaterial(builder, "light_panel", {0.9f, 0.9f, 0.9f, 1.0f}, 0.0f, 0.5f);
   tinygltf::Material& panel = builder.model().materials[static_cast<size_t>(panelMaterial)];
   panel.emissiveFactor = {1.0, 0.85, 0.6};
@@ -196,8 +196,8 @@ void buildArena(ModelBuilder& builder) {
 
   Geometry sphere;
   addSphere(sphere, 0.7f, 32, 16);
-  const int ball = addMesh(builder, "gold_sphere", {toPrimitive(builder, sphere, goldMaterial)});
-  builder.addNode(node("gold_sphere", ball, {1.5f, 0.7f, -1.0f}));
+  const int ball = addMesh(builder, "steel_sphere", {toPrimitive(builder, sphere, steelMaterial)});
+  builder.addNode(node("steel_sphere", ball, {1.5f, 0.7f, -1.0f}));
 
   Geometry panelGeometry;
   addQuad(panelGeometry, {-1, 0, -1}, {2, 0, 0}, {0, 0, 2}, 1.0f);
