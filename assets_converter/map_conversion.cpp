@@ -5,7 +5,7 @@
 #include <chrono>
 #include <fstream>
 
-#include "port/q3formats/bsp/bsp.h"
+#include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/world/world_scene.h"
 
 namespace pa::converter {

@@ -4,23 +4,11 @@
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/bsp/entities.h"
 #include "port/q3formats/common/format_error.h"
-#include "port/q3formats/world/world_patches.h"
+#include "port/q3formats/bsp/tessellate.h"
 #include "port/q3formats/world/world_source.h"
 
 namespace q3 {
 namespace {
-
-glm::vec4 colorOf(const BspDrawVert& v) {
-  return glm::vec4(v.color[0], v.color[1], v.color[2], v.color[3]) / 255.0f;
-}
-
-void appendVertex(SourceSurface& out, const BspDrawVert& v) {
-  out.positions.push_back(v.position);
-  out.normals.push_back(v.normal);
-  out.uvs.push_back(v.st);
-  out.lightmapUvs.push_back(v.lightmap);
-  out.colors.push_back(colorOf(v));
-}
 
 /// Bounds of a fog brush from its axial sides (q3map writes the six axial planes of every brush).
 WorldBounds fogBrushBounds(const BspFile& bsp, int32_t brushIndex) {
@@ -60,33 +48,25 @@ WorldScene buildWorldScene(const BspFile& bsp, const ShaderLibrary& shaders, con
     source.modelBounds.push_back(b);
   }
 
-  // Surface -> model (parseBsp checked the ranges); surfaces listed by no model are unused.
-  std::vector<int32_t> modelOf(bsp.surfaces.size(), -1);
-  for (size_t m = 0; m < bsp.models.size(); ++m)
-    for (int32_t i = 0; i < bsp.models[m].numSurfaces; ++i) {
-      size_t s = size_t(bsp.models[m].firstSurface) + size_t(i);
-      if (s < modelOf.size() && modelOf[s] < 0) modelOf[s] = int32_t(m);
-    }
-
-  PatchTessellator patches(bsp, float(options.patchSubdivisions));
-  for (size_t i = 0; i < bsp.surfaces.size(); ++i) {
-    const BspSurface& surface = bsp.surfaces[i];
-    if (modelOf[i] < 0 || surface.type == SurfaceType::Flare) continue;
+  // Planar faces, soups and crack-free patches, counter-clockwise (port/q3formats/bsp/tessellate.h).
+  TessellationOptions tessellation;
+  tessellation.maxError = float(options.patchSubdivisions);
+  for (SurfaceMesh& mesh : tessellateSurfaces(bsp, tessellation)) {
+    if (mesh.model < 0) continue;   // listed by no model: never drawn by the engine
     SourceSurface out;
-    out.shader = uint32_t(surface.shader);
-    out.lightmap = surface.lightmap;
-    out.model = uint32_t(modelOf[i]);
-    if (surface.type == SurfaceType::Patch) {
-      patches.tessellate(i, out);
-    } else {
-      for (int32_t v = 0; v < surface.numVerts; ++v) appendVertex(out, bsp.drawVerts[size_t(surface.firstVert + v)]);
-      // The file winds front faces clockwise: reverse each triangle.
-      for (int32_t k = 0; k + 2 < surface.numIndexes; k += 3) {
-        const size_t first = size_t(surface.firstIndex + k);
-        out.indices.insert(out.indices.end(), {uint32_t(bsp.drawIndexes[first]), uint32_t(bsp.drawIndexes[first + 2]),
-                                               uint32_t(bsp.drawIndexes[first + 1])});
-      }
+    out.shader = uint32_t(mesh.shader);
+    out.lightmap = mesh.lightmap;
+    out.model = uint32_t(mesh.model);
+    const size_t n = mesh.vertices.size();
+    out.positions.reserve(n);
+    for (const MeshVertex& v : mesh.vertices) {
+      out.positions.push_back(v.position);
+      out.normals.push_back(v.normal);
+      out.uvs.push_back(v.uv);
+      out.lightmapUvs.push_back(v.lightmapUv);
+      out.colors.push_back(glm::vec4(v.color[0], v.color[1], v.color[2], v.color[3]) / 255.0f);
     }
+    out.indices = std::move(mesh.indices);
     source.surfaces.push_back(std::move(out));
   }
 
