@@ -68,8 +68,14 @@ void Module::renderScene(const q3abi::refdef_t* view) {
   if (view->width <= 0 || view->height <= 0 || view->width > 16384 || view->height > 16384) return;
   if (!std::isfinite(view->fov_x) || !std::isfinite(view->fov_y)) return;
   if (views_) {
-    const auto picture = views_->render(*view, scene_, settings_.tracer(engine_), shaders_,
-                                        models_, world_ != nullptr && !noWorld);
+    std::optional<TracedPicture> picture;
+    try {
+      picture = views_->render(*view, scene_, settings_.tracer(engine_), shaders_, models_,
+                               noWorld ? nullptr : world_.get());
+    } catch (const std::exception& error) {
+      // Keep playing (2D still works); say it a few times, not every frame.
+      if (renderFailures_++ < 3) engine_.warn(std::string("RenderScene: ") + error.what());
+    }
     if (picture) {
       overlay_.drawPixels(0, picture->rgba, picture->width, picture->height,
                           static_cast<float>(view->x), static_cast<float>(view->y),

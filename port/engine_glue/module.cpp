@@ -107,7 +107,14 @@ void Module::loadWorld(const char* name) {
   } catch (const q3::FormatError& error) {
     throw DropError(std::string("LoadWorld: ") + error.what());
   }
-  if (views_) views_->loadWorld(*world_, *bytes, scripts_, images_);
+  if (views_) {
+    try {
+      views_->loadWorld(*world_, *bytes, scripts_, images_);
+    } catch (const std::exception& error) {
+      world_.reset();
+      throw DropError(std::string("LoadWorld: ") + name + ": " + error.what());
+    }
+  }
   engine_.print(q3abi::PRINT_ALL, "pathtracer: loaded %s (%zu brush models)\n", name,
                 world_->brushModels().size());
 }

@@ -123,6 +123,7 @@ class Module {
   bool commandsAdded_ = false;
   bool frameOpen_ = false;         ///< Between BeginFrame and EndFrame.
   int lastShotNumber_ = 0;
+  int renderFailures_ = 0;
   int frameStartMs_ = 0;
 };
 

@@ -2,6 +2,7 @@
 // Turns a refdef_t plus the scene's entities, polygons and lights into a traced picture
 // (through pa::Renderer and the world bridged from q3::WorldScene).
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -41,14 +42,16 @@ class ViewRenderer {
   /// RemapShader happened: materials must be re-resolved.
   void shadersChanged();
   /// Traces one view; nullopt when nothing can be drawn (no tracer available).
+  /// `world` is null for RDF_NOWORLDMODEL views.
   std::optional<TracedPicture> render(const q3abi::refdef_t& view, const SceneFrame& scene,
                                       const TracerSettings& settings, ShaderRegistry& shaders,
-                                      const ModelRegistry& models, bool hasWorld);
+                                      const ModelRegistry& models, const World* world);
+  /// True when this build traces views (pa::Renderer linked in).
+  static bool available();
 
  private:
-  const Engine& engine_;
-  int threads_ = 0;
-  bool warnedUnavailable_ = false;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace glue
