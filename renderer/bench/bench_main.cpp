@@ -1,6 +1,6 @@
 // bench: our BVH against Embree 3 on the same scene and the same rays.
 //   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
-//         [--rays N] [--json]
+//         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X]
 // Per-ray figures are single-threaded rays per second (median over the repetitions, ours and
 // Embree interleaved in each repetition); build times use N threads for both (TBB arena).
 #include <algorithm>
@@ -29,12 +29,13 @@ struct Options {
   uint32_t reps = 5;
   uint32_t rays = 1u << 20;
   bool json = false;
+  BvhBuildConfig build;
 };
 
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json]\n",
+               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X]\n",
                error.c_str());
   std::exit(2);
 }
@@ -60,6 +61,9 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--reps") o.reps = parseCount(value(), "--reps");
     else if (a == "--rays") o.rays = parseCount(value(), "--rays");
     else if (a == "--json") o.json = true;
+    else if (a == "--bins") o.build.binCount = parseCount(value(), "--bins");
+    else if (a == "--max-leaf") o.build.maxLeafTriangles = parseCount(value(), "--max-leaf");
+    else if (a == "--traversal-cost") o.build.traversalCost = std::strtof(value(), nullptr);
     else usage("unknown argument " + a);
   }
   if (o.scene.empty() == o.synthetic.empty()) usage("give exactly one of --scene and --synthetic");
@@ -141,7 +145,7 @@ int run(int argc, char** argv) {
   Blas blas;
   std::unique_ptr<testing::EmbreeScene> embree;
   for (uint32_t rep = 0; rep < opt.reps; ++rep) {
-    buildOurs.push_back(secondsOf([&] { arena.execute([&] { blas.build(mesh.input()); }); }));
+    buildOurs.push_back(secondsOf([&] { arena.execute([&] { blas.build(mesh.input(), opt.build); }); }));
     buildEmbree.push_back(secondsOf([&] {
       auto s = std::make_unique<testing::EmbreeScene>(device);
       s->addMesh(mesh);
