@@ -3,14 +3,17 @@
 // Costs: SAH counts triangles in blocks of four (the leaf packs of the wide layout), so a
 // leaf of 1..4 triangles costs one pack test. Leaves hold at most maxLeafTriangles.
 // Parallelism: large ranges bin in parallel (tbb::parallel_reduce; min/max/count merges are
-// exact and order independent) and their two children are built as parallel tasks. Each
-// subtree over n primitives owns the fixed node slot range [slot, slot + 2n - 1), so the tree
-// and its layout are identical whatever the thread count.
+// exact and order independent) and their two children are built as parallel tasks. Nodes are
+// allocated in pairs from an atomic counter while building, then renumbered depth-first, so
+// the tree and its layout are identical whatever the thread count.
 #include "renderer/bvh/binary_bvh.h"
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -66,16 +69,33 @@ struct PrimRef {
   Box box() const { return {lo, hi}; }
 };
 
+/// One bin; no default member initialisers, so a BinSet only initialises the bins it uses.
 struct Bin {
   Box box;
-  uint32_t count = 0;
+  uint32_t count;
 };
 
 /// Bins along all three axes for one range (only the first binCount of each axis are used).
 struct BinSet {
-  Bin bins[3][kMaxBins];
-  uint32_t binCount = 0;
-  explicit BinSet(uint32_t n = 0) : binCount(n) {}
+  uint32_t binCount;
+  union {   // left uninitialised beyond binCount: small nodes use few bins
+    Bin bins[3][kMaxBins];
+  };
+  explicit BinSet(uint32_t n) : binCount(n) {
+    for (int a = 0; a < 3; ++a)
+      for (uint32_t i = 0; i < binCount; ++i) {
+        new (&bins[a][i].box) Box();
+        bins[a][i].count = 0;
+      }
+  }
+  BinSet(const BinSet& o) : binCount(o.binCount) {
+    for (int a = 0; a < 3; ++a) std::copy_n(o.bins[a], binCount, bins[a]);
+  }
+  BinSet& operator=(const BinSet& o) {
+    binCount = o.binCount;
+    for (int a = 0; a < 3; ++a) std::copy_n(o.bins[a], binCount, bins[a]);
+    return *this;
+  }
   void merge(const BinSet& o) {
     for (int a = 0; a < 3; ++a)
       for (uint32_t i = 0; i < binCount; ++i) {
@@ -131,13 +151,18 @@ class Builder {
 
   void run() {
     const auto n = static_cast<uint32_t>(refs_.size());
-    out_.nodes.resize(size_t(2) * n - 1);
+    // Raw storage for the worst case (2n - 1 nodes); only the pages of nodes built get touched.
+    std::allocator<BinaryNode> allocator;
+    const size_t capacity = size_t(2) * n - 1;
+    nodes_ = allocator.allocate(capacity);
+    nextNode_ = 1;
     Box all, centroids;
     rangeBoxes(0, n, all, centroids);
     buildNode(0, 0, n, all, centroids, 0);
     out_.primIndices.resize(n);
     for (uint32_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].prim();
-    countReachable();
+    renumberDepthFirst();
+    allocator.deallocate(nodes_, capacity);
   }
 
  private:
@@ -209,7 +234,7 @@ class Builder {
   }
 
   void makeLeaf(uint32_t slot, uint32_t begin, uint32_t end, const Box& box) {
-    BinaryNode& node = out_.nodes[slot];
+    BinaryNode& node = *new (&nodes_[slot]) BinaryNode();
     node.bounds = box.toBounds();
     node.first = begin;
     node.count = end - begin;
@@ -249,7 +274,8 @@ class Builder {
   void buildNode(uint32_t slot, uint32_t begin, uint32_t end, const Box& box, const Box& centroids, uint32_t depth) {
     const uint32_t count = end - begin;
     if (count == 1) return makeLeaf(slot, begin, end, box);
-    const BinMapping map(centroids, config_.binCount);
+    // Small nodes need no more bins than primitives (deterministic: depends on count only).
+    const BinMapping map(centroids, std::min(config_.binCount, std::max(4u, count)));
     const Split split = depth < kMaxSahDepth ? findSplit(begin, end, map) : Split{};
     uint32_t mid;
     Box left, right, leftCentroids, rightCentroids;
@@ -267,11 +293,11 @@ class Builder {
       rangeBoxes(begin, mid, left, leftCentroids);
       rangeBoxes(mid, end, right, rightCentroids);
     }
-    BinaryNode& node = out_.nodes[slot];
+    BinaryNode& node = *new (&nodes_[slot]) BinaryNode();
     node.bounds = box.toBounds();
     node.count = 0;
-    node.left = slot + 1;
-    node.right = slot + 2 * (mid - begin);
+    node.left = nextNode_.fetch_add(2, std::memory_order_relaxed);
+    node.right = node.left + 1;
     const uint32_t leftSlot = node.left, rightSlot = node.right;
     auto buildLeft = [&] { buildNode(leftSlot, begin, mid, left, leftCentroids, depth + 1); };
     auto buildRight = [&] { buildNode(rightSlot, mid, end, right, rightCentroids, depth + 1); };
@@ -283,27 +309,37 @@ class Builder {
     }
   }
 
-  void countReachable() {
-    uint32_t nodes = 0, leaves = 0;
-    std::vector<uint32_t> stack{0};
+  /// Copies the nodes into out_.nodes in depth-first order (left child = parent + 1), which
+  /// removes the dependence on task timing and keeps children after their parents.
+  void renumberDepthFirst() {
+    const uint32_t total = nextNode_.load();
+    out_.nodes.resize(total);
+    uint32_t leaves = 0, written = 0;
+    std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, kInvalidId}};   // (source, parent to patch)
     while (!stack.empty()) {
-      const BinaryNode& node = out_.nodes[stack.back()];
+      const auto [source, parent] = stack.back();
       stack.pop_back();
-      ++nodes;
+      const uint32_t target = written++;
+      if (parent != kInvalidId) out_.nodes[parent].right = target;   // left is always parent + 1
+      BinaryNode node = nodes_[source];
       if (node.isLeaf()) {
         ++leaves;
       } else {
-        stack.push_back(node.left);
-        stack.push_back(node.right);
+        stack.push_back({node.right, target});
+        stack.push_back({node.left, kInvalidId});
+        node.left = target + 1;
       }
+      out_.nodes[target] = node;
     }
-    out_.nodeCount = nodes;
+    out_.nodeCount = written;
     out_.leafCount = leaves;
   }
 
   const BvhBuildConfig& config_;
   BinaryBvh& out_;
   std::vector<PrimRef> refs_;
+  BinaryNode* nodes_ = nullptr;          // build-time storage, indexed by allocation order
+  std::atomic<uint32_t> nextNode_{1};
   std::vector<PrimRef> scratch_;   // partition buffer, disjoint ranges per task
 };
 
@@ -329,23 +365,8 @@ BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfi
 }
 
 void refitBinaryBvh(BinaryBvh& bvh, std::span<const Bounds> primBounds) {
-  if (bvh.empty()) return;
-  // Children always have larger slots than their parent, so visiting reachable slots in
-  // decreasing order updates children before parents.
-  std::vector<uint32_t> order;
-  order.reserve(bvh.nodeCount);
-  std::vector<uint32_t> stack{0};
-  while (!stack.empty()) {
-    const uint32_t i = stack.back();
-    stack.pop_back();
-    order.push_back(i);
-    if (!bvh.nodes[i].isLeaf()) {
-      stack.push_back(bvh.nodes[i].left);
-      stack.push_back(bvh.nodes[i].right);
-    }
-  }
-  std::sort(order.begin(), order.end(), std::greater<>());
-  for (uint32_t i : order) {
+  // Depth-first order puts children after their parents: a reverse sweep updates children first.
+  for (size_t i = bvh.nodes.size(); i-- > 0;) {
     BinaryNode& node = bvh.nodes[i];
     Bounds b;
     if (node.isLeaf()) {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 namespace pa::bvh_detail {
@@ -98,11 +99,13 @@ class Collapser {
     if (firstPack.back() > kFirstPackMask) throw std::invalid_argument("too many triangles for the wide layout");
     out_.packs.resize(firstPack.back());
     leafRef_.assign(binary_.nodes.size(), 0);
-    tbb::parallel_for(size_t(0), leaves.size(), [&](size_t i) {
-      const BinaryNode& leaf = binary_.nodes[leaves[i]];
-      const uint32_t first = firstPack[i], count = firstPack[i + 1] - first;
-      for (uint32_t p = 0; p < count; ++p) out_.packs[first + p] = makePack(leaf, p);
-      leafRef_[leaves[i]] = kLeafBit | ((count - 1) << kPackCountShift) | first;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        const BinaryNode& leaf = binary_.nodes[leaves[i]];
+        const uint32_t first = firstPack[i], count = firstPack[i + 1] - first;
+        for (uint32_t p = 0; p < count; ++p) out_.packs[first + p] = makePack(leaf, p);
+        leafRef_[leaves[i]] = kLeafBit | ((count - 1) << kPackCountShift) | first;
+      }
     });
   }
 

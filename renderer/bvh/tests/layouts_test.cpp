@@ -89,7 +89,9 @@ TEST(WideLayout, LeavesRespectMaxLeafTriangles) {
     config.traversalCost = 100.0f;   // SAH would like large leaves
     const Layouts l(m, config);
     for (const BinaryNode& n : l.binary.nodes)
-      if (n.isLeaf()) EXPECT_LE(n.count, leaf);
+      if (n.isLeaf()) {
+        EXPECT_LE(n.count, leaf);
+      }
   }
 }
 
