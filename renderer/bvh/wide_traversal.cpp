@@ -124,6 +124,28 @@ inline void leafPacks(uint32_t ref, uint32_t& first, uint32_t& count) {
 
 inline uint32_t floatKey(float t) { return std::bit_cast<uint32_t>(std::max(t, 0.0f)); }
 
+/// Pushes all hit children but the nearest onto the stack, farthest first, and returns the
+/// nearest. Entries are (entry distance bits << 32) | child reference. mask has >= 2 bits.
+inline uint32_t pushOrdered(const WideNode& node, int mask, vfloat8 tNearV, uint64_t* stack, int& top) {
+  alignas(32) float tNear[kWideWidth];
+  tNearV.store(tNear);
+  uint64_t keys[kWideWidth];
+  int n = 0;
+  while (mask) {
+    const int i = std::countr_zero(static_cast<uint32_t>(mask));
+    mask &= mask - 1;
+    const uint64_t key = (uint64_t(floatKey(tNear[i])) << 32) | node.child[i];
+    int j = n++;
+    while (j > 0 && keys[j - 1] < key) {   // descending: nearest last
+      keys[j] = keys[j - 1];
+      --j;
+    }
+    keys[j] = key;
+  }
+  for (int i = 0; i < n - 1; ++i) stack[top++] = keys[i];
+  return static_cast<uint32_t>(keys[n - 1]);
+}
+
 }  // namespace
 
 bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId) {
@@ -144,23 +166,7 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
           current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
           continue;
         }
-        alignas(32) float tNear[kWideWidth];
-        tNearV.store(tNear);
-        uint64_t keys[kWideWidth];
-        int n = 0;
-        while (mask) {
-          const int i = std::countr_zero(static_cast<uint32_t>(mask));
-          mask &= mask - 1;
-          const uint64_t key = (uint64_t(floatKey(tNear[i])) << 32) | node.child[i];
-          int j = n++;
-          while (j > 0 && keys[j - 1] < key) {   // descending: nearest last
-            keys[j] = keys[j - 1];
-            --j;
-          }
-          keys[j] = key;
-        }
-        for (int i = 0; i < n - 1; ++i) stack[top++] = keys[i];
-        current = static_cast<uint32_t>(keys[n - 1]);
+        current = pushOrdered(node, mask, tNearV, stack, top);
         continue;
       }
     } else {
@@ -201,21 +207,17 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
   if (bvh.empty()) return false;
   const BoxRay boxRay(ray);
   const TriangleRay triRay(ray);
-  uint32_t stack[kWideStackSize];
+  uint64_t stack[kWideStackSize];   // nearest-first order finds an occluder sooner
   int top = 0;
   uint32_t current = 0;
   for (;;) {
     if (!(current & kLeafBit)) {
       const WideNode& node = bvh.nodes[current];
       vfloat8 tNear;
-      int mask = boxRay.test(node, ray.tmax, tNear);
+      const int mask = boxRay.test(node, ray.tmax, tNear);
       if (mask != 0) {
-        current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
-        mask &= mask - 1;
-        while (mask) {
-          stack[top++] = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
-          mask &= mask - 1;
-        }
+        current = (mask & (mask - 1)) == 0 ? node.child[std::countr_zero(static_cast<uint32_t>(mask))]
+                                           : pushOrdered(node, mask, tNear, stack, top);
         continue;
       }
     } else {
@@ -238,7 +240,7 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
       }
     }
     if (top == 0) return false;
-    current = stack[--top];
+    current = static_cast<uint32_t>(stack[--top]);
   }
 }
 
