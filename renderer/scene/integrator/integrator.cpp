@@ -6,7 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/scene/integrator/ray_spawn.h"
+#include "renderer/bvh/ray_offset.h"
 #include "renderer/scene/materials/bsdf.h"
 #include "renderer/scene/sampling/warp.h"
 
@@ -73,13 +73,13 @@ glm::vec3 sampleDirectLight(const RenderScene& scene, const SurfaceHit& s, const
   const glm::vec3 f = bsdf.evalCos(wo, ls.wi);
   if (f == glm::vec3(0.0f)) return glm::vec3(0.0f);
   Ray shadow;
-  shadow.origin = offsetFromSurface(s.position, glm::dot(ls.wi, ng) > 0.0f ? ng : -ng);
+  shadow.origin = offsetRayOrigin(s.position, glm::dot(ls.wi, ng) > 0.0f ? ng : -ng);
   if (ls.environment) {
     shadow.dir = ls.wi;
     shadow.tmax = kInfinity;
   } else if (ls.lightNormal != glm::vec3(0.0f)) {
     // Area light: end just off the light's surface so it does not shadow itself.
-    const glm::vec3 end = offsetFromSurface(ls.lightPoint, ls.lightNormal);
+    const glm::vec3 end = offsetRayOrigin(ls.lightPoint, ls.lightNormal);
     shadow.dir = end - shadow.origin;
     shadow.tmax = 1.0f;
   } else {
@@ -202,7 +202,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     }
     if (!(maxComponent(beta) > 0.0f)) break;
     ray = Ray{};
-    ray.origin = offsetFromSurface(s.position, glm::dot(bs.wi, ng) > 0.0f ? ng : -ng);
+    ray.origin = offsetRayOrigin(s.position, glm::dot(bs.wi, ng) > 0.0f ? ng : -ng);
     ray.dir = bs.wi;
   }
   out.radiance = radiance;
