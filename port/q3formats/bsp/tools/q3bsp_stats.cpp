@@ -54,7 +54,12 @@ bool report(const std::string& label, const std::vector<std::byte>& bytes, const
     vertices += m.vertices.size();
     patches += m.type == q3::SurfaceType::Patch;
   }
-  const auto entities = q3::parseEntities(bsp.entities, label);
+  std::vector<q3::Entity> entities;
+  try {
+    entities = q3::parseEntities(bsp.entities, label);
+  } catch (const q3::FormatError& e) {
+    bsp.warnings.push_back(e.what());  // geometry is still usable without entities
+  }
   std::printf("%-44s %6.1f MB surf %5zu patches %4zu tris: faces %7zu soups %6zu patches %7zu verts %7zu "
               "models %3zu spawns %2zu lights %4zu | parse %6.1f ms tessellate %6.1f ms total %6.1f ms",
               label.c_str(), static_cast<double>(bytes.size()) / 1e6, bsp.surfaces.size(), patches,
