@@ -12,7 +12,7 @@ namespace q3 {
 struct TessellationOptions {
   float maxError = 4.0f;             ///< max distance surface <-> triangles, world units (r_subdivisions)
   int maxSegmentsPerSpan = 64;       ///< cap per 3x3 piece and direction (power of two)
-  size_t maxTotalVertices = 1u << 25;  ///< budget for all output; exceeding it throws FormatError
+  size_t maxTotalVertices = 1u << 22;  ///< budget for all output (real maps: < 120k); over it: FormatError
   bool stitchPatches = true;         ///< equalise subdivision along boundaries shared by patches
   float weldDistance = 0.01f;        ///< with stitching: patch control points this close become one
 };
