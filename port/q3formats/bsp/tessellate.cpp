@@ -222,7 +222,7 @@ PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float t
            !boundaryEdge.contains({mesh, std::min(key(other.a), key(other.b)), std::max(key(other.a), key(other.b))});
   };
   // A vertex is counted once per mesh even though two boundary edges list it.
-  std::map<std::tuple<size_t, float, float, float>, int> counted;
+  std::set<std::pair<size_t, PointKey>> counted;
   constexpr float kParallel = 0.985f;  // within 10 degrees
   for (const auto& pt : points) {
     const auto it = cells.find(cellKey(cellOf(pt.p.x), cellOf(pt.p.y), cellOf(pt.p.z)));
@@ -240,7 +240,7 @@ PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float t
       const float distance = glm::length(edge.a + t * d - pt.p);
       if (distance > reach) continue;
       if (distance > tolerance && !followsSameCurve(pt.mesh, edge)) continue;
-      if (!counted.emplace(std::tuple{pt.mesh, pt.p.x, pt.p.y, pt.p.z}, 1).second) break;
+      if (!counted.insert({pt.mesh, key(pt.p)}).second) break;
       if (distance <= tolerance) ++stats.tJunctions;
       else ++stats.cracks;
       break;
