@@ -40,6 +40,40 @@ void checkUncompressedTgaLength(std::span<const std::byte> bytes, int w, int h, 
                       "truncated: " + std::to_string(bytes.size()) + " of " + std::to_string(need) + " bytes");
 }
 
+/// stb_image 2.27 (Debian bookworm) does not check that a JPEG Huffman table holds at most 256
+/// codes and writes past its tables when it does (found by q3_fuzz_image; fixed upstream in 2.28).
+/// Walk every marker segment, including those between progressive scans, and refuse such files.
+void checkJpegHuffmanTables(std::span<const std::byte> bytes, const std::string& name) {
+  if (bytes.size() < 4 || at(bytes, 0) != 0xFF || at(bytes, 1) != 0xD8) return;
+  size_t pos = 2;
+  while (pos + 4 <= bytes.size()) {
+    if (at(bytes, pos) != 0xFF) {  // entropy-coded data: skip to the next real marker
+      ++pos;
+      continue;
+    }
+    const uint8_t marker = at(bytes, pos + 1);
+    if (marker == 0x00 || marker == 0xFF || (marker >= 0xD0 && marker <= 0xD7)) {  // stuffing, fill, RSTn
+      ++pos;
+      continue;
+    }
+    if (marker == 0xD9) return;  // EOI
+    const size_t length = (static_cast<size_t>(at(bytes, pos + 2)) << 8) | at(bytes, pos + 3);
+    const size_t end = pos + 2 + length;
+    if (marker == 0xC4) {  // DHT: tables of (class/id, 16 counts, values)
+      size_t t = pos + 4;
+      while (t < end && t + 17 <= bytes.size()) {
+        size_t codes = 0;
+        for (size_t i = 1; i <= 16; ++i) codes += at(bytes, t + i);
+        if (codes > 256)
+          throw FormatError(name, "JPEG huffman table", std::to_string(codes) + " codes, at most 256");
+        t += 17 + codes;
+      }
+    }
+    if (length < 2) return;  // stb rejects it
+    pos = end;
+  }
+}
+
 }  // namespace
 
 std::array<int, 2> imageSize(std::span<const std::byte> bytes, const std::string& name) {
@@ -57,6 +91,7 @@ Image decodeImage(std::span<const std::byte> bytes, const std::string& name) {
                       std::to_string(w) + "x" + std::to_string(h) + " outside 1.." +
                           std::to_string(ImageLimits::maxDimension));
   checkUncompressedTgaLength(bytes, w, h, name);
+  checkJpegHuffmanTables(bytes, name);
   int dw = 0, dh = 0, comp = 0;
   std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
       stbi_load_from_memory(data(bytes), static_cast<int>(bytes.size()), &dw, &dh, &comp, 4), stbi_image_free);

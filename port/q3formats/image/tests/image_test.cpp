@@ -174,3 +174,24 @@ TEST(Image, FallbackIsAMagentaBlackChecker) {
 }
 
 }  // namespace
+
+namespace {
+TEST(Image, RefusesJpegHuffmanTablesWithMoreThan256Codes) {
+  // stb_image 2.27 writes past its Huffman tables for these (found by q3_fuzz_image).
+  Bytes b;
+  put(b, {0xFF, 0xD8});                                                  // SOI
+  put(b, {0xFF, 0xC0, 0x00, 0x0B, 8, 0x00, 0x08, 0x00, 0x08, 1, 1, 0x11, 0});  // SOF0 8x8 grey
+  const int codes = 16 * 20;
+  const int length = 2 + 17 + codes;
+  put(b, {0xFF, 0xC4, length >> 8, length & 0xFF, 0x00});  // DHT, DC table 0
+  for (int i = 0; i < 16; ++i) put(b, {20});
+  for (int i = 0; i < codes; ++i) put(b, {i & 0xFF});
+  put(b, {0xFF, 0xD9});  // EOI
+  try {
+    q3::decodeImage(b, "evil.jpg");
+    FAIL() << "accepted";
+  } catch (const q3::FormatError& e) {
+    EXPECT_EQ(e.field(), "JPEG huffman table");
+  }
+}
+}  // namespace
