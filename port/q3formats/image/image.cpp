@@ -74,10 +74,27 @@ void checkJpegHuffmanTables(std::span<const std::byte> bytes, const std::string&
   }
 }
 
+/// Only the formats the engine loads reach stb (it also decodes GIF, PSD, PIC, PNM and HDR, which
+/// would widen what a hostile pk3 can reach). PNG, JPEG and BMP are known by their magic numbers;
+/// anything else must have a plausible TGA header (no other format's magic can pass that test).
+void checkFormatIsAllowed(std::span<const std::byte> bytes, const std::string& name) {
+  if (bytes.size() >= 8 && at(bytes, 0) == 0x89 && at(bytes, 1) == 'P' && at(bytes, 2) == 'N' && at(bytes, 3) == 'G') return;
+  if (bytes.size() >= 3 && at(bytes, 0) == 0xFF && at(bytes, 1) == 0xD8 && at(bytes, 2) == 0xFF) return;
+  if (bytes.size() >= 2 && at(bytes, 0) == 'B' && at(bytes, 1) == 'M') return;
+  if (bytes.size() >= 18) {
+    const uint8_t mapType = at(bytes, 1), type = at(bytes, 2), bpp = at(bytes, 16);
+    const bool tgaType = type == 1 || type == 2 || type == 3 || type == 9 || type == 10 || type == 11;
+    const bool tgaBpp = bpp == 8 || bpp == 15 || bpp == 16 || bpp == 24 || bpp == 32;
+    if (mapType <= 1 && tgaType && tgaBpp) return;
+  }
+  throw FormatError(name, "image format", "not a TGA, JPEG, PNG or BMP file");
+}
+
 }  // namespace
 
 std::array<int, 2> imageSize(std::span<const std::byte> bytes, const std::string& name) {
   checkInputSize(bytes, name);
+  checkFormatIsAllowed(bytes, name);
   int w = 0, h = 0, comp = 0;
   if (!stbi_info_from_memory(data(bytes), static_cast<int>(bytes.size()), &w, &h, &comp))
     throw FormatError(name, "image header", std::string("unreadable: ") + stbi_failure_reason());

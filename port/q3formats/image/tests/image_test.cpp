@@ -195,3 +195,24 @@ TEST(Image, RefusesJpegHuffmanTablesWithMoreThan256Codes) {
   }
 }
 }  // namespace
+
+namespace {
+TEST(Image, RefusesFormatsTheEngineDoesNotLoad) {
+  Bytes gif;
+  for (char c : std::string("GIF89a")) gif.push_back(std::byte(c));
+  put(gif, {1, 0, 1, 0, 0, 0, 0, 0x2C, 0, 0, 0, 0, 1, 0, 1, 0, 0, 2, 2, 0x44, 0x01, 0, 0x3B});
+  try {
+    q3::decodeImage(gif, "x.gif");
+    FAIL() << "accepted";
+  } catch (const q3::FormatError& e) {
+    EXPECT_EQ(e.field(), "image format");
+  }
+  Bytes pnm;
+  for (char c : std::string("P6\n1 1\n255\n")) pnm.push_back(std::byte(c));
+  put(pnm, {1, 2, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  EXPECT_THROW(q3::decodeImage(pnm, "x.ppm"), q3::FormatError);
+  Bytes tgaBadType = tgaHeader(7, 1, 1, 24, 0);
+  put(tgaBadType, {1, 2, 3});
+  EXPECT_THROW(q3::decodeImage(tgaBadType, "x.tga"), q3::FormatError);
+}
+}  // namespace
