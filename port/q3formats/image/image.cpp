@@ -95,6 +95,7 @@ void checkFormatIsAllowed(std::span<const std::byte> bytes, const std::string& n
 std::array<int, 2> imageSize(std::span<const std::byte> bytes, const std::string& name) {
   checkInputSize(bytes, name);
   checkFormatIsAllowed(bytes, name);
+  checkJpegHuffmanTables(bytes, name);  // before stbi_info: its header pass builds the tables too
   int w = 0, h = 0, comp = 0;
   if (!stbi_info_from_memory(data(bytes), static_cast<int>(bytes.size()), &w, &h, &comp))
     throw FormatError(name, "image header", std::string("unreadable: ") + stbi_failure_reason());
@@ -108,7 +109,6 @@ Image decodeImage(std::span<const std::byte> bytes, const std::string& name) {
                       std::to_string(w) + "x" + std::to_string(h) + " outside 1.." +
                           std::to_string(ImageLimits::maxDimension));
   checkUncompressedTgaLength(bytes, w, h, name);
-  checkJpegHuffmanTables(bytes, name);
   int dw = 0, dh = 0, comp = 0;
   std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
       stbi_load_from_memory(data(bytes), static_cast<int>(bytes.size()), &dw, &dh, &comp, 4), stbi_image_free);

@@ -193,6 +193,13 @@ TEST(Image, RefusesJpegHuffmanTablesWithMoreThan256Codes) {
   } catch (const q3::FormatError& e) {
     EXPECT_EQ(e.field(), "JPEG huffman table");
   }
+  // The header-only size query parses the tables too (a DHT before SOF), so it checks as well.
+  Bytes early;
+  put(early, {0xFF, 0xD8});
+  put(early, {0xFF, 0xC4, length >> 8, length & 0xFF, 0x00});
+  for (int i = 0; i < 16; ++i) put(early, {20});
+  for (int i = 0; i < codes; ++i) put(early, {i & 0xFF});
+  EXPECT_THROW(q3::imageSize(early, "early.jpg"), q3::FormatError);
 }
 }  // namespace
 
