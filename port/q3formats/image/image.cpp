@@ -20,24 +20,28 @@ void checkInputSize(std::span<const std::byte> bytes, const std::string& name) {
 
 uint8_t at(std::span<const std::byte> bytes, size_t i) { return static_cast<uint8_t>(bytes[i]); }
 
-/// stb_image reads zeros past the end of an uncompressed TGA; we refuse a truncated one instead.
-/// (RLE TGAs cannot be measured without decoding: a short one decodes with black padding.)
-void checkUncompressedTgaLength(std::span<const std::byte> bytes, int w, int h, const std::string& name) {
+/// stb_image reads zeros past the end of a TGA, so a 45-byte file can claim 8192x8192 and make it
+/// allocate and fill 256 MiB. Refuse a TGA shorter than its pixels need: exact for uncompressed
+/// files, a lower bound for RLE (a packet covers at most 128 pixels with 1 + pixel-size bytes).
+void checkTgaLength(std::span<const std::byte> bytes, int w, int h, const std::string& name) {
   if (bytes.size() < 18) return;
   const bool otherFormat = (at(bytes, 0) == 0x89 && at(bytes, 1) == 'P') ||
                            (at(bytes, 0) == 0xFF && at(bytes, 1) == 0xD8) ||
                            (at(bytes, 0) == 'B' && at(bytes, 1) == 'M');
   const uint8_t type = at(bytes, 2);
-  if (otherFormat || type < 1 || type > 3) return;
+  const bool rle = type >= 9 && type <= 11;
+  if (otherFormat || !((type >= 1 && type <= 3) || rle)) return;
   const size_t idLength = at(bytes, 0);
   const size_t mapLength = at(bytes, 1) ? (at(bytes, 5) | (at(bytes, 6) << 8)) : 0;
   const size_t mapEntryBytes = (at(bytes, 7) + 7u) / 8u;
   const size_t pixelBytes = (at(bytes, 16) + 7u) / 8u;
-  const size_t need = 18 + idLength + mapLength * mapEntryBytes +
-                      static_cast<size_t>(w) * static_cast<size_t>(h) * pixelBytes;
+  const size_t pixels = static_cast<size_t>(w) * static_cast<size_t>(h);
+  const size_t pixelData = rle ? (pixels + 127) / 128 * (1 + pixelBytes) : pixels * pixelBytes;
+  const size_t need = 18 + idLength + mapLength * mapEntryBytes + pixelData;
   if (bytes.size() < need)
     throw FormatError(name, "TGA pixel data",
-                      "truncated: " + std::to_string(bytes.size()) + " of " + std::to_string(need) + " bytes");
+                      std::string("truncated: ") + std::to_string(bytes.size()) + " bytes, " +
+                          (rle ? "at least " : "") + std::to_string(need) + " needed");
 }
 
 /// stb_image 2.27 (Debian bookworm) does not check that a JPEG Huffman table holds at most 256
@@ -108,7 +112,7 @@ Image decodeImage(std::span<const std::byte> bytes, const std::string& name) {
     throw FormatError(name, "image size",
                       std::to_string(w) + "x" + std::to_string(h) + " outside 1.." +
                           std::to_string(ImageLimits::maxDimension));
-  checkUncompressedTgaLength(bytes, w, h, name);
+  checkTgaLength(bytes, w, h, name);
   int dw = 0, dh = 0, comp = 0;
   std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
       stbi_load_from_memory(data(bytes), static_cast<int>(bytes.size()), &dw, &dh, &comp, 4), stbi_image_free);

@@ -151,6 +151,15 @@ TEST(Image, MalformedInputsThrow) {
   Bytes truncated = tgaHeader(2, 4, 4, 32, 0);
   put(truncated, {1, 2, 3});
   EXPECT_THROW(q3::decodeImage(truncated, "short.tga"), q3::FormatError);
+  // A 45-byte RLE TGA claiming 6168x6168 (found by the fuzzer): refused, not zero-filled.
+  Bytes bomb = tgaHeader(10, 6168, 6168, 8, 0);
+  put(bomb, {0x80, 1, 0x80, 2});
+  try {
+    q3::decodeImage(bomb, "bomb.tga");
+    FAIL() << "accepted";
+  } catch (const q3::FormatError& e) {
+    EXPECT_EQ(e.field(), "TGA pixel data");
+  }
   Bytes badRle = tgaHeader(10, 4, 4, 24, 0);
   put(badRle, {0xFF, 1, 2, 3});  // run of 128 for a 16-pixel image, then EOF
   EXPECT_NO_FATAL_FAILURE({
