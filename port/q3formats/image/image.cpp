@@ -18,6 +18,11 @@ void checkInputSize(std::span<const std::byte> bytes, const std::string& name) {
     throw FormatError(name, "image", "file of " + std::to_string(bytes.size()) + " bytes is too large");
 }
 
+std::string failureReason() {
+  const char* why = stbi_failure_reason();
+  return why ? why : "unknown reason";
+}
+
 uint8_t at(std::span<const std::byte> bytes, size_t i) { return static_cast<uint8_t>(bytes[i]); }
 
 /// stb_image reads zeros past the end of a TGA, so a 45-byte file can claim 8192x8192 and make it
@@ -102,7 +107,7 @@ std::array<int, 2> imageSize(std::span<const std::byte> bytes, const std::string
   checkJpegHuffmanTables(bytes, name);  // before stbi_info: its header pass builds the tables too
   int w = 0, h = 0, comp = 0;
   if (!stbi_info_from_memory(data(bytes), static_cast<int>(bytes.size()), &w, &h, &comp))
-    throw FormatError(name, "image header", std::string("unreadable: ") + stbi_failure_reason());
+    throw FormatError(name, "image header", "unreadable: " + failureReason());
   return {w, h};
 }
 
@@ -116,7 +121,7 @@ Image decodeImage(std::span<const std::byte> bytes, const std::string& name) {
   int dw = 0, dh = 0, comp = 0;
   std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
       stbi_load_from_memory(data(bytes), static_cast<int>(bytes.size()), &dw, &dh, &comp, 4), stbi_image_free);
-  if (!pixels) throw FormatError(name, "image data", std::string("cannot decode: ") + stbi_failure_reason());
+  if (!pixels) throw FormatError(name, "image data", "cannot decode: " + failureReason());
   if (dw != w || dh != h)
     throw FormatError(name, "image size", "header and decoded sizes differ");
   Image image;
