@@ -209,6 +209,12 @@ TEST(Image, RefusesJpegHuffmanTablesWithMoreThan256Codes) {
   for (int i = 0; i < 16; ++i) put(early, {20});
   for (int i = 0; i < codes; ++i) put(early, {i & 0xFF});
   EXPECT_THROW(q3::imageSize(early, "early.jpg"), q3::FormatError);
+  // A table header cut off by the end of the file: stb reads the missing counts as zeros but
+  // still uses the ones present (third fuzz finding).
+  Bytes cut;
+  put(cut, {0xFF, 0xD8, 0xFF, 0xC4, 0x01, 0x00, 0x00});
+  for (int i = 0; i < 5; ++i) put(cut, {255});
+  EXPECT_THROW(q3::imageSize(cut, "cut.jpg"), q3::FormatError);
 }
 }  // namespace
 
