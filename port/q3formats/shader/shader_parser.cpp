@@ -219,7 +219,7 @@ class ScriptParser {
       auto name = word();
       if (!name) return warn(k, "missing surfaceparm name", line);
       if (auto bit = surfaceParmFromName(*name)) def.surfaceParms |= static_cast<uint64_t>(*bit);
-      else unknown(toLowerAscii(*name), "surfaceparm", line);
+      else unknown("surfaceparm " + toLowerAscii(*name), "surfaceparm", line);
     } else if (k == "cull") {
       auto mode = word();
       if (!mode) return warn(k, "missing cull mode", line);
