@@ -101,6 +101,7 @@ class ScriptParser {
     warnings_.push_back({file_, line, current_ ? current_->name : "", keyword, message, false, 1});
   }
   void unknown(const std::string& keyword, const std::string& context, int line) {
+    if (current_) ++current_->unknownKeywords;
     auto it = unknownIndex_.find(keyword);
     if (it != unknownIndex_.end()) {
       ++warnings_[it->second].count;

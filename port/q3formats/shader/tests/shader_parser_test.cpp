@@ -214,6 +214,8 @@ TEST(ShaderParser, UnknownKeywordsAreCollectedOncePerKeyword) {
   EXPECT_EQ(script.warnings[2].keyword, "tcmod wobble");
   EXPECT_EQ(script.warnings.size(), 3u);  // frobnicate, wibble, tcmod wobble
   EXPECT_EQ(script.shaders[0].stages.size(), 1u);
+  EXPECT_EQ(script.shaders[0].unknownKeywords, 4);
+  EXPECT_EQ(script.shaders[1].unknownKeywords, 1);
 }
 
 TEST(ShaderParser, BadArgumentsWarnWithoutThrowing) {
