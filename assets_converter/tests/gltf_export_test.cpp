@@ -1,0 +1,283 @@
+// Known-answer tests of the glTF writer on synthetic WorldScenes.
+#include <cstring>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include "assets_converter/glb_builder.h"
+#include "assets_converter/gltf_export.h"
+#include "port/q3formats/world/world_lights.h"
+
+namespace {
+
+using nlohmann::json;
+
+uint32_t u32At(const std::vector<std::byte>& b, size_t offset) {
+  uint32_t v;
+  std::memcpy(&v, b.data() + offset, 4);
+  return v;
+}
+
+/// Parses the GLB container by hand; returns the JSON chunk and the BIN chunk.
+std::pair<json, std::vector<std::byte>> splitGlb(const std::vector<std::byte>& glb) {
+  EXPECT_GE(glb.size(), 20u);
+  EXPECT_EQ(u32At(glb, 0), 0x46546C67u);
+  EXPECT_EQ(u32At(glb, 4), 2u);
+  EXPECT_EQ(u32At(glb, 8), glb.size());
+  uint32_t jsonLength = u32At(glb, 12);
+  EXPECT_EQ(u32At(glb, 16), 0x4E4F534Au);
+  EXPECT_EQ(jsonLength % 4, 0u);
+  std::string text(reinterpret_cast<const char*>(glb.data() + 20), jsonLength);
+  std::vector<std::byte> bin;
+  size_t binHeader = 20 + jsonLength;
+  if (binHeader < glb.size()) {
+    uint32_t binLength = u32At(glb, binHeader);
+    EXPECT_EQ(u32At(glb, binHeader + 4), 0x004E4942u);
+    EXPECT_EQ(binLength % 4, 0u);
+    bin.assign(glb.begin() + binHeader + 8, glb.begin() + binHeader + 8 + binLength);
+  }
+  return {json::parse(text), bin};
+}
+
+q3::WorldImage solidImage(uint32_t w, uint32_t h, uint8_t r, uint8_t g, uint8_t b, uint8_t a) {
+  q3::WorldImage image{w, h, std::vector<uint8_t>(size_t(w) * h * 4)};
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    image.rgba8[i * 4 + 0] = r;
+    image.rgba8[i * 4 + 1] = g;
+    image.rgba8[i * 4 + 2] = b;
+    image.rgba8[i * 4 + 3] = a;
+  }
+  return image;
+}
+
+/// One triangle on the three Quake axes, 32 units out, with material `material`.
+q3::WorldMesh axisTriangle(uint32_t material) {
+  q3::WorldMesh mesh;
+  mesh.material = material;
+  mesh.positions = {{32, 0, 0}, {0, 32, 0}, {0, 0, 32}};
+  mesh.normals = {glm::normalize(glm::vec3(1, 1, 1)), glm::normalize(glm::vec3(1, 1, 1)), glm::normalize(glm::vec3(1, 1, 1))};
+  mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  mesh.indices = {0, 1, 2};
+  for (auto& p : mesh.positions) mesh.bounds.extend(p);
+  return mesh;
+}
+
+q3::WorldScene sceneWithMaterials(std::vector<q3::WorldMaterial> materials) {
+  q3::WorldScene scene;
+  scene.mapName = "maps/test.bsp";
+  scene.textures.push_back({"textures/test/a", "textures/test/a.tga", solidImage(2, 2, 200, 100, 50, 40), false, false});
+  scene.models.emplace_back();
+  for (uint32_t i = 0; i < materials.size(); ++i) scene.models[0].meshes.push_back(axisTriangle(i));
+  scene.materials = std::move(materials);
+  return scene;
+}
+
+q3::WorldMaterial texturedMaterial(const char* name) {
+  q3::WorldMaterial m;
+  m.shaderName = name;
+  m.baseTexture = 0;
+  return m;
+}
+
+TEST(GlbBuilder, ContainerIsAlignedAndReadableByTinyGltf) {
+  q3::WorldScene scene = sceneWithMaterials({texturedMaterial("textures/test/a")});
+  std::vector<std::byte> glb = pa::converter::exportGlb(scene);
+  auto [doc, bin] = splitGlb(glb);
+  EXPECT_EQ(doc["asset"]["version"], "2.0");
+  EXPECT_EQ(doc["buffers"][0]["byteLength"].get<size_t>(), bin.size());
+  for (const auto& view : doc["bufferViews"]) EXPECT_EQ(view["byteOffset"].get<size_t>() % 4, 0u);
+
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(glb.data()),
+                                          static_cast<unsigned>(glb.size())))
+      << err;
+  ASSERT_EQ(model.images.size(), 1u);
+  EXPECT_EQ(model.images[0].width, 2);
+  EXPECT_EQ(model.images[0].image[3], 40);   // PNG round trip keeps alpha
+}
+
+TEST(GltfExport, ConvertsZUpInchesToYUpMetres) {
+  q3::WorldScene scene = sceneWithMaterials({texturedMaterial("a")});
+  pa::converter::ExportOptions options;
+  options.metresPerUnit = 1.0f / 32.0f;
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene, options));
+  const json& prim = doc["meshes"][0]["primitives"][0];
+  const json& accessor = doc["accessors"][prim["attributes"]["POSITION"].get<int>()];
+  // (32,0,0) -> (1,0,0); (0,32,0) -> (0,0,-1); (0,0,32) -> (0,1,0)
+  EXPECT_EQ(accessor["min"], json::array({0.0, 0.0, -1.0}));
+  EXPECT_EQ(accessor["max"], json::array({1.0, 1.0, 0.0}));
+  const json& view = doc["bufferViews"][accessor["bufferView"].get<int>()];
+  glm::vec3 p[3];
+  std::memcpy(p, bin.data() + view["byteOffset"].get<size_t>(), sizeof(p));
+  EXPECT_EQ(p[0], glm::vec3(1, 0, 0));
+  EXPECT_EQ(p[1], glm::vec3(0, 0, -1));
+  EXPECT_EQ(p[2], glm::vec3(0, 1, 0));
+  // The normal turns with the axes and stays unit length.
+  const json& normals = doc["accessors"][prim["attributes"]["NORMAL"].get<int>()];
+  glm::vec3 n;
+  std::memcpy(&n, bin.data() + doc["bufferViews"][normals["bufferView"].get<int>()]["byteOffset"].get<size_t>(), sizeof(n));
+  EXPECT_NEAR(n.x, 1 / std::sqrt(3.0f), 1e-6f);
+  EXPECT_NEAR(n.y, 1 / std::sqrt(3.0f), 1e-6f);
+  EXPECT_NEAR(n.z, -1 / std::sqrt(3.0f), 1e-6f);
+  EXPECT_EQ(doc["accessors"][prim["indices"].get<int>()]["componentType"], 5123);   // 3 vertices: uint16
+}
+
+TEST(GltfExport, LargeMeshesUse32BitIndices) {
+  q3::WorldScene scene = sceneWithMaterials({texturedMaterial("a")});
+  q3::WorldMesh& mesh = scene.models[0].meshes[0];
+  mesh.positions.assign(70000, glm::vec3(0));
+  mesh.normals.assign(70000, glm::vec3(0, 0, 1));
+  mesh.uvs.assign(70000, glm::vec2(0));
+  for (uint32_t i = 0; i < 70000; ++i) mesh.positions[i] = glm::vec3(float(i), float(i % 7), 0);
+  mesh.indices = {0, 1, 69999};
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene));
+  EXPECT_EQ(doc["accessors"][doc["meshes"][0]["primitives"][0]["indices"].get<int>()]["componentType"], 5125);
+}
+
+TEST(GltfExport, MapsQuakeBlendingToGltfAlphaModes) {
+  q3::WorldMaterial opaque = texturedMaterial("opaque");
+  q3::WorldMaterial mask = texturedMaterial("mask");
+  mask.alphaMode = q3::WorldAlphaMode::Mask;
+  mask.alphaCutoff = 0.5f;
+  mask.alphaInvert = true;   // LT128
+  q3::WorldMaterial blend = texturedMaterial("blend");
+  blend.alphaMode = q3::WorldAlphaMode::Blend;
+  blend.opacity = 0.5f;
+  q3::WorldMaterial additive = texturedMaterial("add");
+  additive.alphaMode = q3::WorldAlphaMode::Additive;
+  q3::WorldScene scene = sceneWithMaterials({opaque, mask, blend, additive});
+  std::vector<std::byte> glb = pa::converter::exportGlb(scene);
+  auto [doc, bin] = splitGlb(glb);
+  const json& mats = doc["materials"];
+  ASSERT_EQ(mats.size(), 4u);
+  EXPECT_FALSE(mats[0].contains("alphaMode"));
+  EXPECT_EQ(mats[1]["alphaMode"], "MASK");
+  EXPECT_FLOAT_EQ(mats[1]["alphaCutoff"].get<float>(), 0.5f);
+  EXPECT_EQ(mats[2]["alphaMode"], "BLEND");
+  EXPECT_FLOAT_EQ(mats[2]["pbrMetallicRoughness"]["baseColorFactor"][3].get<float>(), 0.5f);
+  EXPECT_EQ(mats[3]["alphaMode"], "BLEND");
+  EXPECT_TRUE(mats[3].contains("emissiveTexture"));
+  EXPECT_EQ(mats[3]["extras"]["quake"]["blend"], "add");
+  EXPECT_EQ(mats[3]["pbrMetallicRoughness"]["baseColorFactor"], json::array({0.0, 0.0, 0.0, 1.0}));
+
+  // Alpha variants: as-is (40), inverted (215), from brightness (200).
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(glb.data()),
+                                          static_cast<unsigned>(glb.size())));
+  auto alphaOfMaterial = [&](int m) {
+    int tex = model.materials[m].pbrMetallicRoughness.baseColorTexture.index;
+    return int(model.images[model.textures[tex].source].image[3]);
+  };
+  EXPECT_EQ(alphaOfMaterial(0), 40);
+  EXPECT_EQ(alphaOfMaterial(1), 215);
+  EXPECT_EQ(alphaOfMaterial(2), 40);
+  EXPECT_EQ(alphaOfMaterial(3), 200);
+  EXPECT_EQ(model.images.size(), 3u);   // variants shared, not duplicated
+}
+
+TEST(GltfExport, SurfaceLightBecomesEmissiveStrength) {
+  q3::WorldMaterial glow = texturedMaterial("glow");
+  glow.surfaceLight = 1000.0f;
+  glow.emission = glm::vec3(0.5f, 0.25f, 0.0f);
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(sceneWithMaterials({glow})));
+  const json& m = doc["materials"][0];
+  EXPECT_EQ(m["emissiveFactor"], json::array({1.0, 0.5, 0.0}));   // normalised colour
+  EXPECT_FLOAT_EQ(m["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"].get<float>(),
+                  std::numbers::pi_v<float> * 1000.0f * 0.25f / 64.0f);
+  EXPECT_NE(std::find(doc["extensionsUsed"].begin(), doc["extensionsUsed"].end(), "KHR_materials_emissive_strength"),
+            doc["extensionsUsed"].end());
+}
+
+TEST(GltfExport, SkipsInvisibleSkyAndFogSurfaces) {
+  q3::WorldMaterial nodraw = texturedMaterial("nodraw");
+  nodraw.visible = false;
+  q3::WorldMaterial sky = texturedMaterial("sky");
+  sky.sky = true;
+  q3::WorldMaterial fog = texturedMaterial("fog");
+  fog.fog = true;
+  q3::WorldMaterial wall = texturedMaterial("wall");
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(sceneWithMaterials({nodraw, sky, fog, wall})));
+  ASSERT_EQ(doc["meshes"][0]["primitives"].size(), 1u);
+  EXPECT_EQ(doc["materials"].size(), 1u);
+  EXPECT_EQ(doc["materials"][0]["name"], "wall");
+}
+
+glm::vec3 localMinusZ(const json& node) {
+  glm::quat q(node["rotation"][3].get<float>(), node["rotation"][0].get<float>(), node["rotation"][1].get<float>(),
+              node["rotation"][2].get<float>());
+  return q * glm::vec3(0, 0, -1);
+}
+
+TEST(GltfExport, LightsUsePunctualExtensionInMetres) {
+  q3::WorldScene scene = sceneWithMaterials({texturedMaterial("a")});
+  q3::WorldLight point;
+  point.position = {64, 0, 32};
+  point.intensity = q3::pointLightIntensity(300.0f);
+  point.source = "entity 1 (light)";
+  q3::WorldLight spot = point;
+  spot.type = q3::WorldLightType::Spot;
+  spot.direction = {0, 0, -1};   // straight down
+  spot.cosOuterAngle = std::cos(0.5f);
+  q3::WorldLight sun;
+  sun.type = q3::WorldLightType::Sun;
+  sun.direction = glm::normalize(glm::vec3(0, 1, -1));   // travelling +Y (quake) and down
+  sun.intensity = q3::sunIrradiance(100.0f);
+  scene.lights = {point, spot, sun};
+  pa::converter::ExportOptions options;
+  options.metresPerUnit = 0.5f;
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene, options));
+  const json& lights = doc["extensions"]["KHR_lights_punctual"]["lights"];
+  ASSERT_EQ(lights.size(), 3u);
+  EXPECT_EQ(lights[0]["type"], "point");
+  EXPECT_FLOAT_EQ(lights[0]["intensity"].get<float>(), q3::pointLightIntensity(300.0f) * 0.25f);
+  EXPECT_EQ(lights[1]["type"], "spot");
+  EXPECT_NEAR(lights[1]["spot"]["outerConeAngle"].get<float>(), 0.5f, 1e-5f);
+  EXPECT_EQ(lights[2]["type"], "directional");
+  EXPECT_FLOAT_EQ(lights[2]["intensity"].get<float>(), q3::sunIrradiance(100.0f));
+
+  // Find the light nodes and check position and aim in glTF axes.
+  std::vector<json> lightNodes;
+  for (const auto& node : doc["nodes"])
+    if (node.contains("extensions")) lightNodes.push_back(node);
+  ASSERT_EQ(lightNodes.size(), 3u);
+  EXPECT_EQ(lightNodes[0]["translation"], json::array({32.0, 16.0, -0.0}));
+  glm::vec3 spotAim = localMinusZ(lightNodes[1]);
+  EXPECT_NEAR(spotAim.y, -1.0f, 1e-5f);
+  glm::vec3 sunAim = localMinusZ(lightNodes[2]);   // quake (0, 1, -1)/sqrt2 -> gltf (0, -1, -1)/sqrt2
+  EXPECT_NEAR(sunAim.x, 0.0f, 1e-5f);
+  EXPECT_NEAR(sunAim.y, -std::sqrt(0.5f), 1e-5f);
+  EXPECT_NEAR(sunAim.z, -std::sqrt(0.5f), 1e-5f);
+}
+
+TEST(GltfExport, CamerasLookAlongTheSpawnDirection) {
+  q3::WorldScene scene = sceneWithMaterials({texturedMaterial("a")});
+  q3::WorldCamera cam;
+  cam.name = "info_player_deathmatch 0";
+  cam.eye = {0, 0, 64};
+  cam.forward = {0, 1, 0};   // yaw 90: facing quake +Y -> glTF -Z
+  cam.left = {-1, 0, 0};
+  scene.cameras = {cam};
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene));
+  ASSERT_EQ(doc["cameras"].size(), 1u);
+  EXPECT_NEAR(doc["cameras"][0]["perspective"]["yfov"].get<float>(), glm::radians(73.74f), 1e-5f);
+  json node;
+  for (const auto& n : doc["nodes"])
+    if (n.contains("camera")) node = n;
+  ASSERT_FALSE(node.is_null());
+  EXPECT_EQ(node["translation"], json::array({0.0, 2.0, -0.0}));
+  glm::vec3 aim = localMinusZ(node);
+  EXPECT_NEAR(aim.z, -1.0f, 1e-5f);
+  glm::quat q(node["rotation"][3].get<float>(), node["rotation"][0].get<float>(), node["rotation"][1].get<float>(),
+              node["rotation"][2].get<float>());
+  EXPECT_NEAR((q * glm::vec3(0, 1, 0)).y, 1.0f, 1e-5f);   // camera up stays world up
+}
+
+}  // namespace

@@ -1,0 +1,130 @@
+// File reading, GLB header validation and image decoding for the glTF importer.
+#include "renderer/gltf_io/gltf_model_reader.h"
+
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+
+#include <stb_image.h>
+
+namespace pa::gltf::detail {
+namespace {
+
+/// tinygltf takes 32-bit sizes; glTF binary is limited to 4 GiB anyway.
+constexpr uint64_t kMaxFileBytes = 0xfffffff0ull;
+/// Refuse decoded images larger than this many pixels (hostile headers).
+constexpr uint64_t kMaxImagePixels = uint64_t{1} << 26;
+
+std::vector<unsigned char> readFileBytes(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary | std::ios::ate);
+  if (!file) throw std::runtime_error(path.string() + ": cannot open file");
+  const std::streamoff size = file.tellg();
+  if (size < 0) throw std::runtime_error(path.string() + ": cannot determine file size");
+  if (static_cast<uint64_t>(size) > kMaxFileBytes) throw std::runtime_error(path.string() + ": file too large");
+  std::vector<unsigned char> bytes(static_cast<size_t>(size));
+  file.seekg(0);
+  if (!file.read(reinterpret_cast<char*>(bytes.data()), size))
+    throw std::runtime_error(path.string() + ": read error");
+  return bytes;
+}
+
+uint32_t readLittleEndian32(const unsigned char* p) {
+  return uint32_t{p[0]} | uint32_t{p[1]} << 8 | uint32_t{p[2]} << 16 | uint32_t{p[3]} << 24;
+}
+
+/// Checks the GLB container (header, chunk lengths) so that truncation gets a precise message.
+void validateGlbContainer(const std::vector<unsigned char>& bytes, const std::string& name) {
+  if (bytes.size() < 20) throw std::runtime_error(name + ": truncated GLB (" + std::to_string(bytes.size()) +
+                                                  " bytes, header needs 20)");
+  const uint32_t version = readLittleEndian32(bytes.data() + 4);
+  const uint32_t length = readLittleEndian32(bytes.data() + 8);
+  const uint32_t jsonLength = readLittleEndian32(bytes.data() + 12);
+  const uint32_t jsonType = readLittleEndian32(bytes.data() + 16);
+  if (version != 2) throw std::runtime_error(name + ": GLB version " + std::to_string(version) + " (need 2)");
+  if (length > bytes.size())
+    throw std::runtime_error(name + ": truncated GLB (header length " + std::to_string(length) +
+                             " bytes, file has " + std::to_string(bytes.size()) + ")");
+  if (jsonType != 0x4E4F534Au) throw std::runtime_error(name + ": GLB first chunk is not JSON");
+  if (20ull + jsonLength > length)
+    throw std::runtime_error(name + ": truncated GLB (JSON chunk of " + std::to_string(jsonLength) +
+                             " bytes overruns total length " + std::to_string(length) + ")");
+  const uint64_t binStart = 20ull + jsonLength;
+  if (binStart + 8 <= length) {
+    const uint32_t binLength = readLittleEndian32(bytes.data() + binStart);
+    if (binStart + 8 + binLength > length)
+      throw std::runtime_error(name + ": truncated GLB (BIN chunk of " + std::to_string(binLength) +
+                               " bytes overruns total length " + std::to_string(length) + ")");
+  }
+}
+
+/// Context handed to the image callback.
+struct ImageDecodeContext {
+  bool decode = true;
+  std::vector<std::string>* warnings = nullptr;
+};
+
+/// tinygltf image callback: decodes with stb to RGBA8. Never fails the load: an image
+/// that cannot be decoded is left empty and reported as a warning.
+bool decodeImage(tinygltf::Image* image, const int imageIndex, std::string*, std::string*, int, int,
+                 const unsigned char* bytes, int size, void* userData) {
+  auto* context = static_cast<ImageDecodeContext*>(userData);
+  image->width = image->height = 0;
+  image->component = 4;
+  image->bits = 8;
+  image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image->image.clear();
+  if (!context->decode) return true;
+  const std::string label = "images[" + std::to_string(imageIndex) + "] \"" + image->name + "\"";
+  int width = 0, height = 0, channels = 0;
+  if (!stbi_info_from_memory(bytes, size, &width, &height, &channels) || width < 1 || height < 1 ||
+      static_cast<uint64_t>(width) * static_cast<uint64_t>(height) > kMaxImagePixels) {
+    context->warnings->push_back(label + ": cannot decode image (" +
+                                 std::string(stbi_failure_reason() ? stbi_failure_reason() : "bad size") + ")");
+    return true;
+  }
+  stbi_uc* pixels = stbi_load_from_memory(bytes, size, &width, &height, &channels, 4);
+  if (!pixels) {
+    context->warnings->push_back(label + ": cannot decode image (" + std::string(stbi_failure_reason()) + ")");
+    return true;
+  }
+  image->width = width;
+  image->height = height;
+  image->image.assign(pixels, pixels + static_cast<size_t>(width) * static_cast<size_t>(height) * 4);
+  stbi_image_free(pixels);
+  return true;
+}
+
+}  // namespace
+
+tinygltf::Model readModel(const std::filesystem::path& path, bool decodeImages,
+                          std::vector<std::string>& warnings) {
+  const std::string name = path.string();
+  const std::vector<unsigned char> bytes = readFileBytes(path);
+  const bool isBinary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  if (isBinary) validateGlbContainer(bytes, name);
+
+  tinygltf::TinyGLTF parser;
+  ImageDecodeContext context{decodeImages, &warnings};
+  parser.SetImageLoader(&decodeImage, &context);
+  tinygltf::Model model;
+  std::string error;
+  std::string warning;
+  const std::string baseDir = path.parent_path().string();
+  bool ok = false;
+  try {
+    ok = isBinary ? parser.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(),
+                                                static_cast<unsigned int>(bytes.size()), baseDir)
+                  : parser.LoadASCIIFromString(&model, &error, &warning, reinterpret_cast<const char*>(bytes.data()),
+                                               static_cast<unsigned int>(bytes.size()), baseDir);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(name + ": glTF parse error: " + e.what());
+  }
+  if (!ok) {
+    while (!error.empty() && (error.back() == '\n' || error.back() == '\r')) error.pop_back();
+    throw std::runtime_error(name + ": glTF parse error: " + (error.empty() ? "unknown error" : error));
+  }
+  if (!warning.empty()) warnings.push_back(warning);
+  return model;
+}
+
+}  // namespace pa::gltf::detail
