@@ -1,0 +1,64 @@
+#pragma once
+// Geometry of what the game adds to a scene, built on the CPU each view: sprites, beams, rail
+// cores and rings, lightning bolts and polygons become camera-facing triangles in world space;
+// an MD3 entity becomes its interpolated frame in model space. Triangles carry the shader
+// handle that draws them (resolved to renderer materials by the caller).
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "port/engine_glue/ioq3_abi.h"
+
+namespace q3 {
+struct Md3Model;
+}
+
+namespace glue {
+
+struct ScenePoly;
+
+/// Triangles with per-vertex attributes and one shader handle per triangle.
+struct GeometryBatch {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<glm::vec2> uvs;
+  std::vector<glm::vec4> colors;       ///< Linear RGBA multipliers.
+  std::vector<uint32_t> indices;
+  std::vector<q3abi::qhandle_t> triangleShaders;
+
+  /// Forgets everything (keeps capacity).
+  void clear();
+  /// Number of triangles.
+  size_t triangles() const { return indices.size() / 3; }
+  /// Adds a quad (a, b, c, d in order around it) with uvs (0,0) (1,0) (1,1) (0,1) by default.
+  void addQuad(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec3& d,
+               const glm::vec4& color, q3abi::qhandle_t shader,
+               const glm::vec2& uv0 = {0, 0}, const glm::vec2& uv1 = {1, 1});
+};
+
+/// The viewer, for camera-facing effects.
+struct Viewer {
+  glm::vec3 origin{0.0f};
+  glm::vec3 left{0.0f, 1.0f, 0.0f};
+  glm::vec3 up{0.0f, 0.0f, 1.0f};
+};
+
+/// Linear RGBA of an entity's shaderRGBA bytes (sRGB-encoded colours).
+glm::vec4 entityColor(const q3abi::refEntity_t& entity);
+
+/// Appends the camera-facing geometry of a non-model entity (sprite, beam, rail core/rings,
+/// lightning). Returns false for kinds that have no geometry (portal surfaces, models).
+bool appendEffect(const q3abi::refEntity_t& entity, const Viewer& viewer, GeometryBatch& out);
+
+/// Appends polygons (triangle fans) added with AddPolyToScene.
+void appendPolys(const std::vector<ScenePoly>& polys, const std::vector<q3abi::polyVert_t>& verts,
+                 GeometryBatch& out);
+
+/// Appends an MD3 entity's frame (model space) with one shader per surface.
+void appendMd3(const q3::Md3Model& model, const q3abi::refEntity_t& entity,
+               const std::vector<q3abi::qhandle_t>& surfaceShaders, GeometryBatch& out);
+
+}  // namespace glue

@@ -1,0 +1,140 @@
+// A frame: BeginFrame, 3D views (ClearScene, adds, RenderScene), 2D (SetColor,
+// DrawStretchPic, DrawStretchRaw), EndFrame. Everything is drawn in call order.
+#include <cmath>
+
+#include "port/engine_glue/module.h"
+#include "port/engine_glue/views.h"
+
+namespace glue {
+namespace {
+
+bool finiteRect(float x, float y, float w, float h) {
+  return std::isfinite(x) && std::isfinite(y) && std::isfinite(w) && std::isfinite(h);
+}
+
+}  // namespace
+
+void Module::beginFrame(int /*stereoFrame*/) {
+  if (!window_.isOpen()) return;
+  frameStartMs_ = engine_.milliseconds();
+  overlay_.beginFrame(window_.width(), window_.height());
+  frameOpen_ = true;
+}
+
+void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
+  if (frontEndMsec != nullptr) *frontEndMsec = 0;
+  if (backEndMsec != nullptr) *backEndMsec = 0;
+  if (!window_.isOpen() || !frameOpen_) return;
+  // Screenshot commands ran during the frame: capture what was drawn before it is shown.
+  std::vector<ScreenshotRequest> shots;
+  shots.swap(pendingShots_);
+  for (const ScreenshotRequest& request : shots) takeScreenshot(request);
+  if (pendingVideo_) {
+    const VideoFrameRequest video = *pendingVideo_;
+    pendingVideo_.reset();
+    captureVideoFrame(video);
+  }
+  window_.swap();
+  frameOpen_ = false;
+  if (frontEndMsec != nullptr) *frontEndMsec = engine_.milliseconds() - frameStartMs_;
+}
+
+void Module::clearScene() { scene_.clear(); }
+
+void Module::addRefEntityToScene(const q3abi::refEntity_t* entity) {
+  if (entity == nullptr) return;
+  if (!scene_.addEntity(*entity))
+    engine_.print(q3abi::PRINT_DEVELOPER, "pathtracer: entity dropped (bad type/values or full)\n");
+}
+
+void Module::addPolyToScene(q3abi::qhandle_t shader, int numVerts, const q3abi::polyVert_t* verts,
+                            int count) {
+  scene_.addPolys(shader, numVerts, verts, count);
+}
+
+void Module::addLightToScene(const float* origin, float intensity, float r, float g, float b) {
+  scene_.addLight(origin, intensity, r, g, b, false);
+}
+
+void Module::addAdditiveLightToScene(const float* origin, float intensity, float r, float g,
+                                     float b) {
+  scene_.addLight(origin, intensity, r, g, b, true);
+}
+
+void Module::renderScene(const q3abi::refdef_t* view) {
+  if (view == nullptr || !window_.isOpen() || !frameOpen_) return;
+  const bool noWorld = (view->rdflags & q3abi::RDF_NOWORLDMODEL) != 0;
+  if (!noWorld && !world_) throw DropError("RenderScene: no world loaded");
+  if (view->width <= 0 || view->height <= 0 || view->width > 16384 || view->height > 16384) return;
+  if (!std::isfinite(view->fov_x) || !std::isfinite(view->fov_y)) return;
+  if (views_) {
+    std::optional<TracedPicture> picture;
+    try {
+      picture = views_->render(*view, scene_, settings_.tracer(engine_), shaders_, models_,
+                               noWorld ? nullptr : world_.get());
+    } catch (const std::exception& error) {
+      // Keep playing (2D still works); say it a few times, not every frame.
+      if (renderFailures_++ < 3) engine_.warn(std::string("RenderScene: ") + error.what());
+    }
+    if (picture) {
+      overlay_.drawPixels(0, picture->rgba, picture->width, picture->height,
+                          static_cast<float>(view->x), static_cast<float>(view->y),
+                          static_cast<float>(view->width), static_cast<float>(view->height),
+                          !noWorld);
+    }
+  }
+  // The next view holds only what is added after this one (as in the stock renderer).
+  scene_.clear();
+}
+
+void Module::setColor(const float* rgba) { overlay_.setColor(rgba); }
+
+void Module::drawStretchPic(float x, float y, float w, float h, float s1, float t1, float s2,
+                            float t2, q3abi::qhandle_t shader) {
+  if (!frameOpen_ || !finiteRect(x, y, w, h) || !finiteRect(s1, t1, s2, t2)) return;
+  overlay_.drawPic(shaders_, shader, seconds(), x, y, w, h, s1, t1, s2, t2);
+}
+
+void Module::drawStretchRaw(int x, int y, int w, int h, int cols, int rows,
+                            const q3abi::byte* data, int client, bool dirty) {
+  if (!frameOpen_) return;
+  if (cols <= 0 || rows <= 0 || cols > 4096 || rows > 4096) return;
+  if (dirty && data != nullptr) overlay_.uploadRaw(client, data, cols, rows);
+  overlay_.drawRaw(client, static_cast<float>(x), static_cast<float>(y), static_cast<float>(w),
+                   static_cast<float>(h));
+}
+
+void Module::uploadCinematic(int /*w*/, int /*h*/, int cols, int rows, const q3abi::byte* data,
+                             int client, bool dirty) {
+  if (!window_.isOpen() || cols <= 0 || rows <= 0 || cols > 4096 || rows > 4096) return;
+  if (dirty && data != nullptr) overlay_.uploadRaw(client, data, cols, rows);
+}
+
+}  // namespace glue
+
+namespace glue {
+
+int Module::lightForPoint(float* point, float* ambient, float* directed, float* direction) {
+  if (point == nullptr || ambient == nullptr || directed == nullptr || direction == nullptr)
+    return 0;
+  if (!world_) return 0;
+  return world_->lightForPoint(point, ambient, directed, direction) ? 1 : 0;
+}
+
+int Module::markFragments(int numPoints, const q3abi::vec3_t* points, const float* projection,
+                          int maxPoints, float* pointBuffer, int maxFragments,
+                          q3abi::markFragment_t* fragments) {
+  if (!world_ || points == nullptr || projection == nullptr || pointBuffer == nullptr ||
+      fragments == nullptr || numPoints < 3 || maxPoints <= 0 || maxFragments <= 0)
+    return 0;
+  return world_->markFragments(numPoints, points, projection, maxPoints, pointBuffer,
+                               maxFragments, fragments);
+}
+
+bool Module::inPVS(const float* p1, const float* p2) {
+  if (p1 == nullptr || p2 == nullptr) return false;
+  if (!world_) return true;   // nothing known: everything may be visible
+  return world_->inPVS(p1, p2);
+}
+
+}  // namespace glue

@@ -1,0 +1,229 @@
+// Module lifecycle and registration: BeginRegistration / Shutdown, shaders, models, skins,
+// fonts, the world, RemapShader, entity tokens, model queries.
+#include "port/engine_glue/module.h"
+
+#include <SDL.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "port/engine_glue/views.h"
+#include "port/q3formats/common/format_error.h"
+
+namespace glue {
+
+Module::Module(const q3abi::refimport_t& ri) : engine_(ri) {}
+
+Module::~Module() {
+  // Normally Shutdown(1) has released everything; this covers an engine that never called it.
+  if (registered_ || window_.isOpen()) {
+    try {
+      shutdown(true);
+    } catch (...) {
+    }
+  }
+}
+
+void Module::shutdown(bool destroyWindow) {
+  removeCommands();
+  pendingShots_.clear();
+  scene_.clear();
+  world_.reset();
+  if (views_) views_->clearWorld();
+  models_.clear();
+  fonts_.clear();
+  if (window_.isOpen()) shaders_.clear();   // GL textures need the context
+  images_.clear();
+  registered_ = false;
+  frameOpen_ = false;
+  if (destroyWindow) {
+    views_.reset();
+    if (window_.isOpen()) {
+      overlay_.release();
+      engine_.ri().IN_Shutdown();
+      window_.close();
+    }
+  }
+}
+
+void Module::ensureWindow(q3abi::glconfig_t* config) {
+  if (!window_.isOpen()) {
+    window_.open(settings_.videoMode(), glconfig_);
+    engine_.print(q3abi::PRINT_ALL, "pathtracer: %dx%d window, GL %s (%s)\n", glconfig_.vidWidth,
+                  glconfig_.vidHeight, glconfig_.version_string, glconfig_.renderer_string);
+    engine_.ri().IN_Init(window_.sdlWindow());
+  }
+  if (config != nullptr) *config = glconfig_;
+}
+
+void Module::beginRegistration(q3abi::glconfig_t* config) {
+  settings_.registerCvars(engine_);
+  // Re-initialise fully (the engine calls Shutdown(0) before every map).
+  if (registered_) shutdown(false);
+  ensureWindow(config);
+  if (!views_) views_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);
+  scripts_.load(engine_);
+  engine_.print(q3abi::PRINT_DEVELOPER, "pathtracer: %zu shaders in scripts\n", scripts_.size());
+  addCommands();
+  registered_ = true;
+}
+
+q3abi::qhandle_t Module::registerShader(const char* name) {
+  if (name == nullptr) return 0;
+  return shaders_.registerShader(engine_, scripts_, images_, name, true);
+}
+
+q3abi::qhandle_t Module::registerShaderNoMip(const char* name) {
+  if (name == nullptr) return 0;
+  return shaders_.registerShader(engine_, scripts_, images_, name, false);
+}
+
+q3abi::qhandle_t Module::registerModel(const char* name) {
+  if (name == nullptr) return 0;
+  const int submodels = world_ ? static_cast<int>(world_->brushModels().size()) : 0;
+  const q3abi::qhandle_t handle = models_.registerModel(engine_, name, submodels);
+  // Register the MD3's own shaders now, like the stock renderer does at load.
+  if (const ModelEntry* entry = models_.model(handle); entry != nullptr && entry->kind == ModelKind::Md3)
+    for (const auto& lod : entry->lods)
+      for (const auto& shaders : lod->surfaceShaders)
+        for (const std::string& shader : shaders)
+          if (!shader.empty()) registerShader(shader.c_str());
+  return handle;
+}
+
+q3abi::qhandle_t Module::registerSkin(const char* name) {
+  if (name == nullptr || name[0] == '\0') return 0;
+  return models_.registerSkin(engine_, name,
+                              [this](const std::string& shader) { return registerShader(shader.c_str()); });
+}
+
+void Module::loadWorld(const char* name) {
+  if (name == nullptr) throw DropError("LoadWorld: no map name");
+  if (world_) throw DropError("LoadWorld: a world is already loaded (missing Shutdown)");
+  auto bytes = engine_.readFile(name);
+  if (!bytes) throw DropError(std::string("LoadWorld: ") + name + " not found");
+  try {
+    world_ = std::make_unique<World>(*bytes, name);
+  } catch (const q3::FormatError& error) {
+    throw DropError(std::string("LoadWorld: ") + error.what());
+  }
+  if (views_) {
+    try {
+      views_->loadWorld(*world_, *bytes, scripts_, images_);
+    } catch (const std::exception& error) {
+      world_.reset();
+      throw DropError(std::string("LoadWorld: ") + name + ": " + error.what());
+    }
+  }
+  engine_.print(q3abi::PRINT_ALL, "pathtracer: loaded %s (%zu brush models)\n", name,
+                world_->brushModels().size());
+}
+
+void Module::setWorldVisData(const q3abi::byte*) {
+  // The client never calls this (measured); our visibility comes from the BSP itself.
+}
+
+void Module::endRegistration() {}
+
+int Module::lerpTag(q3abi::orientation_t* tag, q3abi::qhandle_t model, int startFrame,
+                    int endFrame, float frac, const char* tagName) {
+  if (tag == nullptr) return 0;
+  q3abi::orientation_t result{};
+  const bool found = models_.lerpTag(result, model, startFrame, endFrame, frac,
+                                     tagName != nullptr ? tagName : "");
+  *tag = result;
+  return found ? 1 : 0;
+}
+
+void Module::modelBounds(q3abi::qhandle_t model, float* mins, float* maxs) {
+  if (mins == nullptr || maxs == nullptr) return;
+  glm::vec3 lo(0.0f), hi(0.0f);
+  if (!models_.md3Bounds(model, lo, hi)) {
+    const ModelEntry* entry = models_.model(model);
+    if (entry != nullptr && entry->kind == ModelKind::Brush && world_ &&
+        entry->brushIndex < static_cast<int>(world_->brushModels().size())) {
+      lo = world_->brushModels()[entry->brushIndex].mins;
+      hi = world_->brushModels()[entry->brushIndex].maxs;
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    mins[i] = lo[i];
+    maxs[i] = hi[i];
+  }
+}
+
+void Module::registerFont(const char* fontName, int pointSize, q3abi::fontInfo_t* font) {
+  if (font == nullptr) return;
+  if (pointSize <= 0) pointSize = 12;
+  char datName[q3abi::kMaxQPath];
+  std::snprintf(datName, sizeof datName, "fonts/fontImage_%i.dat", pointSize);
+  if (const auto cached = fonts_.find(datName); cached != fonts_.end()) {
+    *font = cached->second;
+    return;
+  }
+  q3abi::fontInfo_t result{};
+  const auto bytes = engine_.readFile(datName);
+  if (bytes && bytes->size() == sizeof(q3abi::fontInfo_t)) {
+    // The pre-rendered layout is the struct itself, little-endian (ints, floats, names).
+    std::memcpy(&result, bytes->data(), sizeof result);
+    for (auto& glyph : result.glyphs) {
+      glyph.shaderName[sizeof glyph.shaderName - 1] = '\0';
+      glyph.glyph = glyph.shaderName[0] != '\0' ? registerShaderNoMip(glyph.shaderName) : 0;
+    }
+    if (!std::isfinite(result.glyphScale) || result.glyphScale <= 0.0f)
+      result.glyphScale = 48.0f / static_cast<float>(pointSize);
+  } else {
+    engine_.print(q3abi::PRINT_DEVELOPER,
+                  "pathtracer: no %s for %s: glyphs from gfx/2d/bigchars\n", datName,
+                  fontName != nullptr ? fontName : "?");
+    fillFallbackFont(result, pointSize);
+  }
+  std::snprintf(result.name, sizeof result.name, "%s", datName);
+  fonts_[datName] = result;
+  *font = result;
+}
+
+void Module::fillFallbackFont(q3abi::fontInfo_t& font, int pointSize) {
+  // The console's 16x16-cell bitmap font, laid out as a monospaced glyph font.
+  const q3abi::qhandle_t sheet = registerShaderNoMip("gfx/2d/bigchars");
+  constexpr float kCell = 1.0f / 16.0f;
+  for (int c = 0; c < q3abi::kGlyphsPerFont; ++c) {
+    q3abi::glyphInfo_t& g = font.glyphs[c];
+    g = {};
+    if (c < 32 || c > 126) continue;
+    g.height = pointSize;
+    g.top = pointSize;
+    g.bottom = 0;
+    g.pitch = pointSize;
+    g.xSkip = pointSize;
+    g.imageWidth = pointSize;
+    g.imageHeight = pointSize;
+    g.s = static_cast<float>(c % 16) * kCell;
+    g.t = static_cast<float>(c / 16) * kCell;
+    g.s2 = g.s + kCell;
+    g.t2 = g.t + kCell;
+    g.glyph = sheet;
+    std::snprintf(g.shaderName, sizeof g.shaderName, "gfx/2d/bigchars");
+  }
+  font.glyphScale = 48.0f / static_cast<float>(pointSize);
+}
+
+void Module::remapShader(const char* oldShader, const char* newShader, const char* timeOffset) {
+  if (oldShader == nullptr || newShader == nullptr) return;
+  const float offset = timeOffset != nullptr ? std::strtof(timeOffset, nullptr) : 0.0f;
+  shaders_.remap(engine_, scripts_, images_, oldShader, newShader,
+                 std::isfinite(offset) ? offset : 0.0f);
+  if (views_) views_->shadersChanged();
+}
+
+bool Module::getEntityToken(char* buffer, int size) {
+  if (!world_) {
+    if (buffer != nullptr && size > 0) buffer[0] = '\0';
+    return false;
+  }
+  return world_->nextEntityToken(buffer, size);
+}
+
+double Module::seconds() const { return engine_.milliseconds() * 0.001; }
+
+}  // namespace glue

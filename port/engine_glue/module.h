@@ -1,0 +1,130 @@
+#pragma once
+// The renderer module's one state object: created by GetRefAPI, destroyed by Shutdown(1) or
+// dlclose. Every refexport_t entry point lands on a method of Module (see module_entry.cpp).
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "port/engine_glue/engine.h"
+#include "port/engine_glue/images.h"
+#include "port/engine_glue/ioq3_abi.h"
+#include "port/engine_glue/models.h"
+#include "port/engine_glue/overlay2d.h"
+#include "port/engine_glue/scene.h"
+#include "port/engine_glue/settings.h"
+#include "port/engine_glue/shader_scripts.h"
+#include "port/engine_glue/shaders.h"
+#include "port/engine_glue/window.h"
+#include "port/engine_glue/world.h"
+
+namespace glue {
+
+class ViewRenderer;
+
+/// A screenshot asked for by a console command, taken at the end of the frame.
+struct ScreenshotRequest {
+  std::string extension;   ///< "tga", "jpg" or "png"
+  std::string fileName;    ///< explicit name, or empty for the next free shots number
+  bool silent = false;
+  bool levelshot = false;
+};
+
+/// A TakeVideoFrame call, served at the end of the frame (buffers belong to the engine).
+struct VideoFrameRequest {
+  int width = 0;
+  int height = 0;
+  q3abi::byte* encodeBuffer = nullptr;
+  bool motionJpeg = false;
+};
+
+/// All of the renderer's state.
+class Module {
+ public:
+  explicit Module(const q3abi::refimport_t& ri);
+  ~Module();
+  Module(const Module&) = delete;
+  Module& operator=(const Module&) = delete;
+
+  // ---- refexport_t, in the engine's order ----
+  void shutdown(bool destroyWindow);
+  void beginRegistration(q3abi::glconfig_t* config);
+  q3abi::qhandle_t registerModel(const char* name);
+  q3abi::qhandle_t registerSkin(const char* name);
+  q3abi::qhandle_t registerShader(const char* name);
+  q3abi::qhandle_t registerShaderNoMip(const char* name);
+  void loadWorld(const char* name);
+  void setWorldVisData(const q3abi::byte* vis);
+  void endRegistration();
+  void clearScene();
+  void addRefEntityToScene(const q3abi::refEntity_t* entity);
+  void addPolyToScene(q3abi::qhandle_t shader, int numVerts, const q3abi::polyVert_t* verts,
+                      int count);
+  int lightForPoint(float* point, float* ambient, float* directed, float* direction);
+  void addLightToScene(const float* origin, float intensity, float r, float g, float b);
+  void addAdditiveLightToScene(const float* origin, float intensity, float r, float g, float b);
+  void renderScene(const q3abi::refdef_t* view);
+  void setColor(const float* rgba);
+  void drawStretchPic(float x, float y, float w, float h, float s1, float t1, float s2, float t2,
+                      q3abi::qhandle_t shader);
+  void drawStretchRaw(int x, int y, int w, int h, int cols, int rows, const q3abi::byte* data,
+                      int client, bool dirty);
+  void uploadCinematic(int w, int h, int cols, int rows, const q3abi::byte* data, int client,
+                       bool dirty);
+  void beginFrame(int stereoFrame);
+  void endFrame(int* frontEndMsec, int* backEndMsec);
+  int markFragments(int numPoints, const q3abi::vec3_t* points, const float* projection,
+                    int maxPoints, float* pointBuffer, int maxFragments,
+                    q3abi::markFragment_t* fragments);
+  int lerpTag(q3abi::orientation_t* tag, q3abi::qhandle_t model, int startFrame, int endFrame,
+              float frac, const char* tagName);
+  void modelBounds(q3abi::qhandle_t model, float* mins, float* maxs);
+  void registerFont(const char* fontName, int pointSize, q3abi::fontInfo_t* font);
+  void remapShader(const char* oldShader, const char* newShader, const char* timeOffset);
+  bool getEntityToken(char* buffer, int size);
+  bool inPVS(const float* p1, const float* p2);
+  void takeVideoFrame(int width, int height, q3abi::byte* captureBuffer,
+                      q3abi::byte* encodeBuffer, bool motionJpeg);
+
+  // ---- console commands ----
+  /// screenshot / screenshotJPEG / screenshotPNG [silent | levelshot | NAME].
+  void screenshotCommand(const char* extension);
+
+  /// The engine services (for the entry points' error reporting).
+  const Engine& engine() const { return engine_; }
+
+ private:
+  void ensureWindow(q3abi::glconfig_t* config);
+  double seconds() const;
+  void takeScreenshot(const ScreenshotRequest& request);
+  void captureVideoFrame(const VideoFrameRequest& request);
+  std::string nextScreenshotName(const std::string& extension);
+  void fillFallbackFont(q3abi::fontInfo_t& font, int pointSize);
+  void addCommands();
+  void removeCommands();
+
+  Engine engine_;
+  Settings settings_;
+  Window window_;
+  q3abi::glconfig_t glconfig_{};
+  Overlay2D overlay_;
+  ImageCache images_;
+  ShaderScripts scripts_;
+  ShaderRegistry shaders_;
+  ModelRegistry models_;
+  std::unordered_map<std::string, q3abi::fontInfo_t> fonts_;
+  std::unique_ptr<World> world_;
+  SceneFrame scene_;
+  std::unique_ptr<ViewRenderer> views_;
+  std::vector<ScreenshotRequest> pendingShots_;
+  std::optional<VideoFrameRequest> pendingVideo_;
+  bool registered_ = false;        ///< Between BeginRegistration and Shutdown.
+  bool commandsAdded_ = false;
+  bool frameOpen_ = false;         ///< Between BeginFrame and EndFrame.
+  int lastShotNumber_ = 0;
+  int renderFailures_ = 0;
+  int frameStartMs_ = 0;
+};
+
+}  // namespace glue

@@ -1,0 +1,168 @@
+#include "port/engine_glue/overlay2d.h"
+
+#include <GL/gl.h>
+
+#include <algorithm>
+
+#include "port/engine_glue/shaders.h"
+
+#ifndef GL_CLAMP_TO_EDGE
+#define GL_CLAMP_TO_EDGE 0x812F
+#endif
+
+namespace glue {
+namespace {
+
+constexpr int kMaxSlots = 1 + 16;   // views + the engine's MAX_VIDEO_HANDLES cinematics
+
+void quad(float x, float y, float w, float h, float s1, float t1, float s2, float t2) {
+  glBegin(GL_QUADS);
+  glTexCoord2f(s1, t1); glVertex2f(x, y);
+  glTexCoord2f(s2, t1); glVertex2f(x + w, y);
+  glTexCoord2f(s2, t2); glVertex2f(x + w, y + h);
+  glTexCoord2f(s1, t2); glVertex2f(x, y + h);
+  glEnd();
+}
+
+}  // namespace
+
+void Overlay2D::beginFrame(int width, int height) {
+  width_ = width;
+  height_ = height;
+  glViewport(0, 0, width, height);
+  glScissor(0, 0, width, height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_LIGHTING);
+  glEnable(GL_TEXTURE_2D);
+  glMatrixMode(GL_PROJECTION);
+  glLoadIdentity();
+  glOrtho(0, width, height, 0, -1, 1);
+  glMatrixMode(GL_MODELVIEW);
+  glLoadIdentity();
+  glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+  glClearColor(0, 0, 0, 1);
+  glClear(GL_COLOR_BUFFER_BIT);
+  color_ = {1, 1, 1, 1};
+}
+
+void Overlay2D::setColor(const float* rgba) {
+  if (rgba == nullptr) color_ = {1, 1, 1, 1};
+  else color_ = {rgba[0], rgba[1], rgba[2], rgba[3]};
+}
+
+void Overlay2D::drawPic(ShaderRegistry& shaders, q3abi::qhandle_t shader, double seconds, float x,
+                        float y, float w, float h, float s1, float t1, float s2, float t2) {
+  const ShaderEntry& entry = shaders.resolve(shader);
+  if (entry.look.nodraw) return;
+  glBindTexture(GL_TEXTURE_2D, shaders.glTexture(shader, seconds));
+  const BlendFunc blend = entry.look.blend;
+  if (blend.blends()) {
+    glEnable(GL_BLEND);
+    glBlendFunc(blend.src, blend.dst);
+  } else {
+    glDisable(GL_BLEND);
+  }
+  switch (entry.look.alphaTest) {
+    case AlphaTest::None: glDisable(GL_ALPHA_TEST); break;
+    case AlphaTest::Gt0: glEnable(GL_ALPHA_TEST); glAlphaFunc(GL_GREATER, 0.0f); break;
+    case AlphaTest::Lt128: glEnable(GL_ALPHA_TEST); glAlphaFunc(GL_LESS, 0.5f); break;
+    case AlphaTest::Ge128: glEnable(GL_ALPHA_TEST); glAlphaFunc(GL_GEQUAL, 0.5f); break;
+  }
+  const float r = entry.look.vertexColor ? color_[0] : 1.0f;
+  const float g = entry.look.vertexColor ? color_[1] : 1.0f;
+  const float b = entry.look.vertexColor ? color_[2] : 1.0f;
+  const float a = entry.look.vertexAlpha || entry.look.vertexColor ? color_[3] : 1.0f;
+  glColor4f(r, g, b, a);
+  quad(x, y, w, h, s1, t1, s2, t2);
+  glDisable(GL_ALPHA_TEST);
+}
+
+unsigned Overlay2D::slotTexture(int slot) {
+  if (slotTextures_.empty()) {
+    slotTextures_.assign(kMaxSlots, 0);
+    slotSizes_.assign(kMaxSlots, {0, 0});
+  }
+  if (slotTextures_[slot] == 0) {
+    GLuint texture = 0;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    slotTextures_[slot] = texture;
+  }
+  return slotTextures_[slot];
+}
+
+void Overlay2D::uploadRaw(int client, const uint8_t* rgba, int cols, int rows) {
+  const int slot = 1 + client;
+  if (slot < 1 || slot >= kMaxSlots || rgba == nullptr || cols <= 0 || rows <= 0) return;
+  glBindTexture(GL_TEXTURE_2D, slotTexture(slot));
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (slotSizes_[slot][0] != cols || slotSizes_[slot][1] != rows) {
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, cols, rows, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    slotSizes_[slot] = {cols, rows};
+  } else {
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, cols, rows, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+  }
+}
+
+void Overlay2D::drawRaw(int client, float x, float y, float w, float h) {
+  const int slot = 1 + client;
+  if (slot < 1 || slot >= kMaxSlots || slotTextures_.empty() || slotTextures_[slot] == 0) return;
+  glBindTexture(GL_TEXTURE_2D, slotTextures_[slot]);
+  glDisable(GL_BLEND);
+  glColor4f(1, 1, 1, 1);
+  quad(x, y, w, h, 0, 0, 1, 1);
+}
+
+void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height, float x, float y,
+                           float w, float h, bool opaque) {
+  if (rgba == nullptr || width <= 0 || height <= 0 || slot < 0 || slot >= kMaxSlots) return;
+  glBindTexture(GL_TEXTURE_2D, slotTexture(slot));
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (slotSizes_[slot][0] != width || slotSizes_[slot][1] != height) {
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    slotSizes_[slot] = {width, height};
+  } else {
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+  }
+  if (opaque) {
+    glDisable(GL_BLEND);
+  } else {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  }
+  glColor4f(1, 1, 1, 1);
+  quad(x, y, w, h, 0, 0, 1, 1);
+}
+
+std::vector<uint8_t> Overlay2D::readPixelsRGB(int width, int height) const {
+  std::vector<uint8_t> pixels(static_cast<size_t>(width) * height * 3);
+  if (pixels.empty()) return pixels;
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_BACK);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
+  // GL rows start at the bottom: flip to top-first.
+  const size_t row = static_cast<size_t>(width) * 3;
+  std::vector<uint8_t> line(row);
+  for (int y = 0; y < height / 2; ++y) {
+    uint8_t* a = &pixels[y * row];
+    uint8_t* b = &pixels[(height - 1 - y) * row];
+    std::copy(a, a + row, line.begin());
+    std::copy(b, b + row, a);
+    std::copy(line.begin(), line.end(), b);
+  }
+  return pixels;
+}
+
+void Overlay2D::release() {
+  for (unsigned& texture : slotTextures_)
+    if (texture != 0) glDeleteTextures(1, &texture);
+  slotTextures_.clear();
+  slotSizes_.clear();
+}
+
+}  // namespace glue

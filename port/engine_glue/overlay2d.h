@@ -1,0 +1,53 @@
+#pragma once
+// Draws a frame with OpenGL strictly in the engine's call order: traced 3D views as textured
+// rectangles, then SetColor / DrawStretchPic / DrawStretchRaw 2D quads with their shader's blend
+// mode and alpha test. Coordinates are window pixels, origin top-left (as the engine gives them).
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "port/engine_glue/ioq3_abi.h"
+
+namespace glue {
+
+class ShaderRegistry;
+
+/// Immediate 2D drawing into the window's back buffer.
+class Overlay2D {
+ public:
+  Overlay2D() = default;
+  ~Overlay2D() = default;
+  Overlay2D(const Overlay2D&) = delete;
+  Overlay2D& operator=(const Overlay2D&) = delete;
+
+  /// Starts a frame: viewport, projection, clears to black.
+  void beginFrame(int width, int height);
+  /// SetColor (nullptr = opaque white).
+  void setColor(const float* rgba);
+  /// DrawStretchPic with the shader's first visible stage.
+  void drawPic(ShaderRegistry& shaders, q3abi::qhandle_t shader, double seconds, float x, float y,
+               float w, float h, float s1, float t1, float s2, float t2);
+  /// Draws RGBA8 pixels (width*height, top row first) stretched over a rectangle.
+  /// `slot` picks a reusable texture (0 = 3D views, 1.. = cinematic clients).
+  void drawPixels(int slot, const uint8_t* rgba, int width, int height, float x, float y, float w,
+                  float h, bool opaque);
+  /// UploadCinematic: replaces a cinematic slot's pixels (RGBA8 `cols` x `rows`).
+  void uploadRaw(int client, const uint8_t* rgba, int cols, int rows);
+  /// DrawStretchRaw after an upload: draws that cinematic slot.
+  void drawRaw(int client, float x, float y, float w, float h);
+  /// Reads the back buffer as RGB8 rows, top row first.
+  std::vector<uint8_t> readPixelsRGB(int width, int height) const;
+  /// Deletes the GL objects (context must be current).
+  void release();
+
+ private:
+  unsigned slotTexture(int slot);
+
+  int width_ = 0;
+  int height_ = 0;
+  std::array<float, 4> color_{1, 1, 1, 1};
+  std::vector<unsigned> slotTextures_;                  ///< 0 = views, 1+client = cinematics
+  std::vector<std::array<int, 2>> slotSizes_;
+};
+
+}  // namespace glue

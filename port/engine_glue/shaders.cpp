@@ -1,0 +1,151 @@
+#include "port/engine_glue/shaders.h"
+
+#include <GL/gl.h>
+
+#include <cmath>
+
+#include "port/engine_glue/engine.h"
+
+#ifndef GL_CLAMP_TO_EDGE
+#define GL_CLAMP_TO_EDGE 0x812F
+#endif
+
+namespace glue {
+namespace {
+
+constexpr size_t kMaxShaders = 16384;   // the stock renderer's MAX_SHADERS
+
+ShaderEntry makeDefaultEntry() {
+  ShaderEntry entry;
+  entry.name = "<default>";
+  entry.frames = {defaultImage()};
+  entry.isDefault = true;
+  return entry;
+}
+
+}  // namespace
+
+ShaderRegistry::ShaderRegistry() { entries_.push_back(makeDefaultEntry()); }
+
+q3abi::qhandle_t ShaderRegistry::find(const std::string& name) const {
+  const auto found = byName_.find(normalizeName(stripExtension(name)));
+  return found == byName_.end() ? 0 : found->second;
+}
+
+q3abi::qhandle_t ShaderRegistry::registerShader(const Engine& engine, const ShaderScripts& scripts,
+                                                ImageCache& images, const std::string& name,
+                                                bool mipmaps) {
+  if (name.empty() || name.size() >= q3abi::kMaxQPath) {
+    engine.warn("RegisterShader: bad name '" + name + "'");
+    return 0;
+  }
+  const std::string key = normalizeName(stripExtension(name));
+  if (const auto found = byName_.find(key); found != byName_.end()) return found->second;
+  if (entries_.size() >= kMaxShaders) {
+    engine.warn("RegisterShader: too many shaders, '" + name + "' uses the default");
+    return 0;
+  }
+
+  ShaderEntry entry;
+  entry.name = key;
+  entry.clampToEdge = !mipmaps;
+  if (auto look = scripts.find(name)) {
+    entry.look = std::move(*look);
+  } else {
+    // Implicit shader: the image of that name, alpha-blended and tinted by SetColor in 2D.
+    entry.look.images = {name};
+    entry.look.blend = {GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA};
+    entry.look.vertexColor = entry.look.vertexAlpha = true;
+  }
+  entry.clampToEdge = entry.clampToEdge || entry.look.clamp;
+  for (const std::string& imageName : entry.look.images) {
+    auto image = images.load(engine, imageName);
+    if (!image && !entry.look.fromScript) {
+      // Like the stock renderer: a developer message, the default shader (handle 0) returned.
+      engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: couldn't find image for shader %s\n",
+                   name.c_str());
+      byName_.emplace(key, 0);
+      return 0;
+    }
+    if (!image) engine.warn("shader " + name + ": missing image " + imageName);
+    entry.frames.push_back(image ? image : defaultImage());
+  }
+  if (entry.frames.empty()) entry.frames.push_back(whiteImage());
+
+  const auto handle = static_cast<q3abi::qhandle_t>(entries_.size());
+  entries_.push_back(std::move(entry));
+  byName_.emplace(key, handle);
+  return handle;
+}
+
+ShaderEntry* ShaderRegistry::entry(q3abi::qhandle_t handle) {
+  if (handle < 0 || static_cast<size_t>(handle) >= entries_.size()) return nullptr;
+  return &entries_[static_cast<size_t>(handle)];
+}
+
+size_t ShaderRegistry::resolveIndex(q3abi::qhandle_t handle) const {
+  if (handle < 0 || static_cast<size_t>(handle) >= entries_.size()) return 0;
+  const q3abi::qhandle_t target = entries_[static_cast<size_t>(handle)].remappedTo;
+  if (target > 0 && static_cast<size_t>(target) < entries_.size())
+    return static_cast<size_t>(target);
+  return static_cast<size_t>(handle);
+}
+
+const ShaderEntry& ShaderRegistry::resolve(q3abi::qhandle_t handle) const {
+  return entries_[resolveIndex(handle)];
+}
+
+void ShaderRegistry::remap(const Engine& engine, const ShaderScripts& scripts, ImageCache& images,
+                           const std::string& oldName, const std::string& newName,
+                           float timeOffset) {
+  q3abi::qhandle_t oldHandle = find(oldName);
+  if (oldHandle == 0) oldHandle = registerShader(engine, scripts, images, oldName, true);
+  const q3abi::qhandle_t newHandle = registerShader(engine, scripts, images, newName, true);
+  if (oldHandle == 0) {
+    engine.warn("RemapShader: shader " + oldName + " not found");
+    return;
+  }
+  ShaderEntry& target = entries_[static_cast<size_t>(oldHandle)];
+  // Remapping a shader to itself restores it.
+  target.remappedTo = newHandle == oldHandle ? 0 : newHandle;
+  target.remapTimeOffset = timeOffset;
+}
+
+unsigned ShaderRegistry::glTexture(q3abi::qhandle_t handle, double seconds) {
+  ShaderEntry& entry = entries_[resolveIndex(handle)];
+  if (entry.glTextures.empty()) {
+    for (const auto& image : entry.frames) {
+      GLuint texture = 0;
+      glGenTextures(1, &texture);
+      glBindTexture(GL_TEXTURE_2D, texture);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      const GLint wrap = entry.clampToEdge ? GL_CLAMP_TO_EDGE : GL_REPEAT;
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image->width, image->height, 0, GL_RGBA,
+                   GL_UNSIGNED_BYTE, image->rgba.data());
+      entry.glTextures.push_back(texture);
+    }
+  }
+  size_t frame = 0;
+  if (entry.glTextures.size() > 1 && entry.look.animFrequency > 0.0f) {
+    const double index = std::floor(seconds * entry.look.animFrequency);
+    frame = static_cast<size_t>(std::fmod(std::max(index, 0.0), double(entry.glTextures.size())));
+  }
+  return entry.glTextures[frame];
+}
+
+void ShaderRegistry::clear() {
+  for (ShaderEntry& entry : entries_) {
+    if (!entry.glTextures.empty())
+      glDeleteTextures(static_cast<GLsizei>(entry.glTextures.size()), entry.glTextures.data());
+    entry.glTextures.clear();
+  }
+  entries_.clear();
+  byName_.clear();
+  entries_.push_back(makeDefaultEntry());
+}
+
+}  // namespace glue

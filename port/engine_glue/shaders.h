@@ -1,0 +1,63 @@
+#pragma once
+// Shader handles: RegisterShader / RegisterShaderNoMip / RemapShader. Handle 0 is the default
+// shader (what the stock renderer returns for anything it cannot find). Each entry keeps its
+// decoded images (for the path tracer's materials) and lazily created GL textures (for 2D).
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "port/engine_glue/images.h"
+#include "port/engine_glue/ioq3_abi.h"
+#include "port/engine_glue/shader_scripts.h"
+
+namespace glue {
+
+/// One registered shader.
+struct ShaderEntry {
+  std::string name;                                   ///< As registered (normalised).
+  ShaderLook look;
+  std::vector<std::shared_ptr<const Image>> frames;   ///< look.images decoded (default on failure).
+  std::vector<unsigned> glTextures;                   ///< Lazily uploaded, one per frame.
+  bool clampToEdge = false;
+  q3abi::qhandle_t remappedTo = 0;                    ///< RemapShader target (0 = none).
+  float remapTimeOffset = 0.0f;
+  bool isDefault = false;
+};
+
+/// The table of shader handles. GL calls need the module's context to be current.
+class ShaderRegistry {
+ public:
+  ShaderRegistry();
+  ~ShaderRegistry() = default;
+  ShaderRegistry(const ShaderRegistry&) = delete;
+  ShaderRegistry& operator=(const ShaderRegistry&) = delete;
+
+  /// Registers (or finds) a shader for 2D or model use. 0 when it cannot be made.
+  q3abi::qhandle_t registerShader(const Engine& engine, const ShaderScripts& scripts,
+                                  ImageCache& images, const std::string& name, bool mipmaps);
+  /// The entry for a handle, following RemapShader; the default entry for bad handles.
+  const ShaderEntry& resolve(q3abi::qhandle_t handle) const;
+  /// Entry by handle without remapping (nullptr when out of range).
+  ShaderEntry* entry(q3abi::qhandle_t handle);
+  /// RemapShader: draw `newName` wherever `oldName` is used.
+  void remap(const Engine& engine, const ShaderScripts& scripts, ImageCache& images,
+             const std::string& oldName, const std::string& newName, float timeOffset);
+  /// The GL texture of a handle's (remapped) shader at its current animation frame
+  /// (uploads on first use).
+  unsigned glTexture(q3abi::qhandle_t handle, double seconds);
+  /// Number of handles, including the default one.
+  int count() const { return static_cast<int>(entries_.size()); }
+  /// Finds a registered handle by name (0 when absent).
+  q3abi::qhandle_t find(const std::string& name) const;
+  /// Deletes GL textures (the context must be current) and every entry but the default one.
+  void clear();
+
+ private:
+  size_t resolveIndex(q3abi::qhandle_t handle) const;
+
+  std::vector<ShaderEntry> entries_;
+  std::unordered_map<std::string, q3abi::qhandle_t> byName_;   ///< Includes failures -> 0.
+};
+
+}  // namespace glue

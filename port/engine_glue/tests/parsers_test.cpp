@@ -1,0 +1,102 @@
+// Known-answer tests of the module's own small parsers.
+#include <gtest/gtest.h>
+
+#include <GL/gl.h>
+
+#include <cstring>
+
+#include "port/engine_glue/models.h"
+#include "port/engine_glue/settings.h"
+#include "port/engine_glue/shader_scripts.h"
+#include "port/engine_glue/window.h"
+#include "port/q3formats/common/format_error.h"
+
+namespace glue {
+namespace {
+
+TEST(ShaderScripts, FirstDefinitionWinsAndFirstVisibleStageIsTheLook) {
+  ShaderScripts scripts;
+  scripts.addScript(
+      "textures/base/light\n{\n surfaceparm nomarks\n q3map_surfacelight 400 // glow\n"
+      " {\n  map $lightmap\n  rgbGen identity\n }\n"
+      " {\n  map textures/base/light.tga\n  blendFunc GL_DST_COLOR GL_ZERO\n  alphaFunc GE128\n }\n}\n"
+      "/* comment */ textures/base/light { { map other.tga } }\n"
+      "gfx/2d/menu\n{\n nopicmip\n {\n  animMap 5 a.tga b.tga c.tga\n  blendFunc blend\n  rgbGen vertex\n }\n}\n"
+      "textures/skies/sky\n{\n surfaceparm sky\n surfaceparm noimpact\n}\n");
+  EXPECT_EQ(scripts.size(), 3u);
+  const auto light = scripts.find("TEXTURES/base/light.tga");
+  ASSERT_TRUE(light);
+  ASSERT_EQ(light->images.size(), 1u);
+  EXPECT_EQ(light->images[0], "textures/base/light.tga");
+  EXPECT_EQ(light->blend.src, unsigned(GL_DST_COLOR));
+  EXPECT_EQ(light->blend.dst, unsigned(GL_ZERO));
+  EXPECT_EQ(light->alphaTest, AlphaTest::Ge128);
+  EXPECT_FLOAT_EQ(light->surfaceLight, 400.0f);
+  const auto menu = scripts.find("gfx/2d/menu");
+  ASSERT_TRUE(menu);
+  EXPECT_EQ(menu->images.size(), 3u);
+  EXPECT_FLOAT_EQ(menu->animFrequency, 5.0f);
+  EXPECT_TRUE(menu->vertexColor);
+  EXPECT_EQ(menu->blend.src, unsigned(GL_SRC_ALPHA));
+  const auto sky = scripts.find("textures/skies/sky");
+  ASSERT_TRUE(sky);
+  EXPECT_TRUE(sky->sky);
+  EXPECT_FALSE(scripts.find("textures/none"));
+}
+
+TEST(ShaderScripts, UnterminatedAndGarbageScriptsDoNotHang) {
+  ShaderScripts scripts;
+  scripts.addScript("}}}{ broken\n{\n { map x.tga\n");
+  scripts.addScript("\"quoted name\" { { map y.tga } }");
+  scripts.addScript("/* never closed");
+  EXPECT_TRUE(scripts.find("quoted name"));
+}
+
+TEST(Skins, SurfaceShaderPairsSkipTags) {
+  const auto pairs = parseSkin("tag_head,\r\nH_Head,models/players/x/head.tga\n\nu_torso , \"models/t.tga\"\njunk\n");
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_EQ(pairs[0].first, "h_head");
+  EXPECT_EQ(pairs[0].second, "models/players/x/head.tga");
+  EXPECT_EQ(pairs[1].first, "u_torso");
+  EXPECT_EQ(pairs[1].second, "models/t.tga");
+}
+
+TEST(Md3Info, RejectsTruncatedAndLyingHeaders) {
+  std::vector<uint8_t> bytes(108, 0);
+  std::memcpy(bytes.data(), "IDP3", 4);
+  int32_t v = 15;
+  std::memcpy(&bytes[4], &v, 4);
+  v = 1;
+  std::memcpy(&bytes[76], &v, 4);     // one frame...
+  v = 100000;
+  std::memcpy(&bytes[92], &v, 4);     // ...far outside the file
+  EXPECT_THROW(readMd3Info(bytes, "lying.md3"), q3::FormatError);
+  EXPECT_THROW(readMd3Info({'I', 'D'}, "short.md3"), q3::FormatError);
+}
+
+TEST(VideoModes, StockTable) {
+  int w = 0, h = 0;
+  ASSERT_TRUE(stockVideoMode(3, w, h));
+  EXPECT_EQ(w, 640);
+  EXPECT_EQ(h, 480);
+  ASSERT_TRUE(stockVideoMode(12, w, h));
+  EXPECT_EQ(w, 1280);
+  EXPECT_EQ(h, 720);
+  ASSERT_TRUE(stockVideoMode(28, w, h));
+  EXPECT_EQ(w, 3840);
+  EXPECT_FALSE(stockVideoMode(29, w, h));
+  EXPECT_FALSE(stockVideoMode(-1, w, h));
+}
+
+TEST(Presets, Names) {
+  bool known = false;
+  EXPECT_EQ(parsePreset("Lightmap", known), Preset::Lightmap);
+  EXPECT_TRUE(known);
+  EXPECT_EQ(parsePreset("reference", known), Preset::Reference);
+  EXPECT_EQ(parsePreset("fast", known), Preset::Path);
+  EXPECT_FALSE(known);
+  EXPECT_STREQ(presetName(Preset::Direct), "direct");
+}
+
+}  // namespace
+}  // namespace glue

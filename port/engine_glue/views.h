@@ -1,0 +1,57 @@
+#pragma once
+// Turns a refdef_t plus the scene's entities, polygons and lights into a traced picture
+// (through pa::Renderer and the world bridged from q3::WorldScene).
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "port/engine_glue/ioq3_abi.h"
+#include "port/engine_glue/settings.h"
+
+namespace glue {
+
+class Engine;
+class World;
+class ShaderScripts;
+class ImageCache;
+class ShaderRegistry;
+class ModelRegistry;
+class SceneFrame;
+
+/// A traced view: RGBA8, top row first; alpha 0 where nothing was hit (HUD model views).
+struct TracedPicture {
+  int width = 0;
+  int height = 0;
+  const uint8_t* rgba = nullptr;
+};
+
+/// Owns the path tracer and what it knows of the world.
+class ViewRenderer {
+ public:
+  ViewRenderer(const Engine& engine, int threads);
+  ~ViewRenderer();
+  ViewRenderer(const ViewRenderer&) = delete;
+  ViewRenderer& operator=(const ViewRenderer&) = delete;
+
+  /// Builds the world's meshes, materials and lights from the BSP bytes.
+  void loadWorld(const World& world, const std::vector<uint8_t>& bspBytes,
+                 const ShaderScripts& scripts, ImageCache& images);
+  /// Drops the world (map change).
+  void clearWorld();
+  /// RemapShader happened: materials must be re-resolved.
+  void shadersChanged();
+  /// Traces one view; nullopt when nothing can be drawn (no tracer available).
+  /// `world` is null for RDF_NOWORLDMODEL views.
+  std::optional<TracedPicture> render(const q3abi::refdef_t& view, const SceneFrame& scene,
+                                      const TracerSettings& settings, ShaderRegistry& shaders,
+                                      const ModelRegistry& models, const World* world);
+  /// True when this build traces views (pa::Renderer linked in).
+  static bool available();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace glue

@@ -1,0 +1,427 @@
+// ViewRenderer over pa::Renderer. The map is parsed once per LoadWorld (q3_bsp -> q3::WorldScene
+// -> pa_scene_bridge); per view, brush sub-models get their entity transforms, every MD3 entity
+// becomes a dynamic mesh instance, effects and polygons one world-space dynamic mesh, dynamic
+// lights reuse a pool of renderer lights, and the frame is traced at r_pt_scale resolution.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <optional>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+
+#include "port/engine_glue/engine.h"
+#include "port/engine_glue/entity_geometry.h"
+#include "port/engine_glue/models.h"
+#include "port/engine_glue/scene.h"
+#include "port/engine_glue/shaders.h"
+#include "port/engine_glue/views.h"
+#include "port/engine_glue/world.h"
+#include "port/q3formats/bsp/bsp_file.h"
+#include "port/q3formats/common/format_error.h"
+#include "port/q3formats/model/md3.h"
+#include "port/q3formats/shader/shader_library.h"
+#include "port/q3formats/world/world_scene.h"
+#include "port/scene_bridge/scene_bridge.h"
+#include "renderer/scene/renderer.h"
+
+namespace glue {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+/// A reusable dynamic mesh + instance.
+struct DynamicSlot {
+  pa::MeshId mesh = pa::kNoId;
+  pa::InstanceId instance = pa::kNoId;
+  bool visible = false;
+};
+
+/// Kinds of materials made from one shader.
+enum class MaterialUse : uint8_t { Model, Effect };
+
+glm::mat4x3 entityTransform(const q3abi::refEntity_t& e) {
+  glm::mat4x3 m(1.0f);
+  for (int a = 0; a < 3; ++a) m[a] = glm::vec3(e.axis[a][0], e.axis[a][1], e.axis[a][2]);
+  m[3] = glm::vec3(e.origin[0], e.origin[1], e.origin[2]);
+  return m;
+}
+
+pa::Integrator integratorFor(Preset preset) {
+  switch (preset) {
+    case Preset::Lightmap: return pa::Integrator::Lightmap;
+    case Preset::Direct: return pa::Integrator::Direct;
+    default: return pa::Integrator::Path;
+  }
+}
+
+bool sameInstance(const pa::InstanceDesc& a, const pa::InstanceDesc& b) {
+  return a.mesh == b.mesh && a.mask == b.mask && a.drawOnTop == b.drawOnTop &&
+         a.materialOverride == b.materialOverride && a.objectToWorld == b.objectToWorld &&
+         a.tint == b.tint;
+}
+
+}  // namespace
+
+struct ViewRenderer::Impl {
+  const Engine& engine;
+  int threads = 0;
+  std::unique_ptr<pa::Renderer> renderer;
+  std::optional<q3::WorldScene> worldScene;
+  pa::bridge::WorldHandles world;
+  std::vector<pa::InstanceDesc> brushInstances;       ///< Current description per world model.
+  std::map<std::pair<std::string, MaterialUse>, pa::MaterialId> materials;
+  std::unordered_map<const Image*, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
+  std::unordered_map<std::string, std::shared_ptr<const q3::Md3Model>> md3s;
+  std::vector<DynamicSlot> slots;
+  std::vector<pa::LightId> lights;
+  std::vector<bool> lightOn;
+  pa::LightId headlight = pa::kNoId;
+  pa::MaterialId defaultMaterial = pa::kNoId;
+  GeometryBatch batch;
+  std::vector<pa::MaterialId> triangleMaterials;
+  std::vector<uint8_t> picture;
+  uint32_t frameCounter = 0;
+
+  void resetRenderer() {
+    renderer = std::make_unique<pa::Renderer>(pa::RendererConfig{static_cast<uint32_t>(threads)});
+    worldScene.reset();
+    world = {};
+    brushInstances.clear();
+    materials.clear();
+    textures.clear();
+    slots.clear();
+    lights.clear();
+    lightOn.clear();
+    headlight = pa::kNoId;
+    defaultMaterial = renderer->addMaterial(pa::MaterialDesc{});
+  }
+
+  pa::TextureId texture(const std::shared_ptr<const Image>& image) {
+    if (!image) return pa::kNoId;
+    if (const auto found = textures.find(image.get()); found != textures.end()) return found->second.second;
+    pa::TextureDesc desc;
+    desc.width = static_cast<uint32_t>(image->width);
+    desc.height = static_cast<uint32_t>(image->height);
+    desc.rgba8 = image->rgba;
+    const pa::TextureId id = renderer->addTexture(desc);
+    textures.emplace(image.get(), std::make_pair(image, id));
+    return id;
+  }
+
+  /// The renderer material of a shader handle (resolving RemapShader).
+  pa::MaterialId material(ShaderRegistry& shaders, q3abi::qhandle_t handle, MaterialUse use) {
+    const ShaderEntry& entry = shaders.resolve(handle);
+    const auto key = std::make_pair(entry.name, use);
+    if (const auto found = materials.find(key); found != materials.end()) return found->second;
+    pa::MaterialDesc desc;
+    desc.baseTexture = texture(entry.frames.empty() ? nullptr : entry.frames[0]);
+    desc.useVertexLight = use == MaterialUse::Model;
+    const ShaderLook& look = entry.look;
+    if (look.nodraw) desc.visible = false;
+    if (look.fromScript) {
+      const unsigned src = look.blend.src, dst = look.blend.dst;
+      if (dst == 1 /*GL_ONE*/) {
+        desc.alphaMode = pa::AlphaMode::Additive;
+        desc.castsShadows = false;
+      } else if (src == 0x0302 /*GL_SRC_ALPHA*/ && dst == 0x0303 /*GL_ONE_MINUS_SRC_ALPHA*/) {
+        desc.alphaMode = pa::AlphaMode::Blend;
+        desc.castsShadows = false;
+      } else if (look.blend.blends()) {
+        // Multiplicative filters (marks, shadows) darken what is behind: not modelled yet.
+        desc.visible = false;
+        desc.castsShadows = false;
+      }
+      if (look.alphaTest != AlphaTest::None && desc.alphaMode == pa::AlphaMode::Opaque) {
+        desc.alphaMode = pa::AlphaMode::Mask;
+        desc.alphaCutoff = look.alphaTest == AlphaTest::Gt0 ? 1.0f / 255.0f : 0.5f;
+        desc.alphaInvert = look.alphaTest == AlphaTest::Lt128;
+      }
+    }
+    if (entry.isDefault) desc.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+    const pa::MaterialId id = renderer->addMaterial(desc);
+    materials.emplace(key, id);
+    return id;
+  }
+
+  /// The parsed geometry of an MD3 model (LOD 0), cached.
+  const q3::Md3Model* md3(const ModelEntry& entry) {
+    if (entry.lodBytes.empty()) return nullptr;
+    if (const auto found = md3s.find(entry.name); found != md3s.end()) return found->second.get();
+    std::shared_ptr<const q3::Md3Model> model;
+    try {
+      const auto& bytes = *entry.lodBytes[0];
+      model = std::make_shared<const q3::Md3Model>(
+          q3::parseMd3(std::as_bytes(std::span(bytes)), entry.name));
+    } catch (const q3::FormatError& error) {
+      engine.warn(std::string("model geometry: ") + error.what());
+    }
+    md3s.emplace(entry.name, model);
+    return model.get();
+  }
+
+  /// Puts a batch into dynamic slot `index` (creating it on first use).
+  void fillSlot(size_t index, ShaderRegistry& shaders, MaterialUse use, const glm::mat4x3& transform,
+                uint32_t mask, bool onTop) {
+    if (slots.size() <= index) slots.resize(index + 1);
+    DynamicSlot& slot = slots[index];
+    triangleMaterials.resize(batch.triangles());
+    std::map<q3abi::qhandle_t, pa::MaterialId> local;
+    for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
+      const q3abi::qhandle_t shader = batch.triangleShaders[t];
+      auto found = local.find(shader);
+      if (found == local.end()) found = local.emplace(shader, material(shaders, shader, use)).first;
+      triangleMaterials[t] = found->second;
+    }
+    pa::MeshDesc mesh;
+    mesh.positions = batch.positions;
+    mesh.indices = batch.indices;
+    mesh.normals = batch.normals;
+    mesh.uvs = batch.uvs;
+    mesh.colors = batch.colors;
+    mesh.materials = triangleMaterials;
+    mesh.dynamic = true;
+    if (slot.mesh == pa::kNoId) slot.mesh = renderer->addMesh(mesh);
+    else renderer->updateMesh(slot.mesh, mesh);
+    pa::InstanceDesc instance;
+    instance.mesh = slot.mesh;
+    instance.objectToWorld = transform;
+    instance.mask = mask;
+    instance.drawOnTop = onTop;
+    if (slot.instance == pa::kNoId) slot.instance = renderer->addInstance(instance);
+    else renderer->setInstance(slot.instance, instance);
+    slot.visible = true;
+  }
+
+  void hideSlotsFrom(size_t first) {
+    for (size_t i = first; i < slots.size(); ++i) {
+      if (!slots[i].visible || slots[i].instance == pa::kNoId) continue;
+      pa::InstanceDesc hidden;
+      hidden.mesh = slots[i].mesh;
+      hidden.mask = 0;
+      renderer->setInstance(slots[i].instance, hidden);
+      slots[i].visible = false;
+    }
+  }
+
+  void setBrushInstance(size_t model, const pa::InstanceDesc& desc) {
+    if (model >= world.modelInstances.size() || world.modelInstances[model] == pa::kNoId) return;
+    if (sameInstance(brushInstances[model], desc)) return;
+    renderer->setInstance(world.modelInstances[model], desc);
+    brushInstances[model] = desc;
+  }
+
+  void setLight(size_t index, const pa::LightDesc& desc, bool on) {
+    if (index >= lights.size()) {
+      lights.push_back(renderer->addLight(desc));
+      lightOn.push_back(on);
+      return;
+    }
+    if (!on && !lightOn[index]) return;
+    renderer->setLight(lights[index], desc);
+    lightOn[index] = on;
+  }
+};
+
+bool ViewRenderer::available() { return true; }
+
+ViewRenderer::ViewRenderer(const Engine& engine, int threads) : impl_(new Impl{engine, threads}) {
+  impl_->resetRenderer();
+}
+
+ViewRenderer::~ViewRenderer() = default;
+
+void ViewRenderer::clearWorld() {
+  impl_->resetRenderer();
+  impl_->md3s.clear();
+}
+
+void ViewRenderer::shadersChanged() {
+  // Remapped shaders resolve to other entries: rebuild entity materials lazily.
+  impl_->materials.clear();
+}
+
+void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>& bspBytes,
+                             const ShaderScripts&, ImageCache&) {
+  Impl& d = *impl_;
+  d.resetRenderer();
+  const Engine& engine = d.engine;
+  const int start = engine.milliseconds();
+  const q3::BspFile bsp = q3::parseBsp(std::as_bytes(std::span(bspBytes)), world.name());
+  q3::ShaderLibrary library;
+  std::vector<std::string> scripts;
+  for (const std::string& name : engine.listFiles("scripts", ".shader")) scripts.push_back("scripts/" + name);
+  library.addScriptsInEngineOrder(scripts, [&](const std::string& path) -> std::optional<std::vector<std::byte>> {
+    auto bytes = engine.readFile(path);
+    if (!bytes) return std::nullopt;
+    const auto* p = reinterpret_cast<const std::byte*>(bytes->data());
+    return std::vector<std::byte>(p, p + bytes->size());
+  });
+  const q3::FileLoader loader = [&](std::string_view path) -> std::optional<std::vector<std::byte>> {
+    auto bytes = engine.readFile(std::string(path));
+    if (!bytes) return std::nullopt;
+    const auto* p = reinterpret_cast<const std::byte*>(bytes->data());
+    return std::vector<std::byte>(p, p + bytes->size());
+  };
+  d.worldScene = q3::buildWorldScene(bsp, library, loader);
+  for (const std::string& warning : d.worldScene->warnings)
+    engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
+  d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer);
+  d.brushInstances.assign(d.world.modelInstances.size(), pa::InstanceDesc{});
+  for (size_t m = 0; m < d.world.modelInstances.size(); ++m) {
+    d.brushInstances[m].mesh = m < d.world.modelMeshes.size() ? d.world.modelMeshes[m] : pa::kNoId;
+    d.brushInstances[m].mask = pa::kMaskAll;
+  }
+  d.renderer->commit();
+  engine.print(q3abi::PRINT_ALL,
+               "pathtracer: %s traced scene: %zu materials, %zu textures, %zu lights, %llu "
+               "triangles (%d ms)\n",
+               world.name().c_str(), d.worldScene->materials.size(), d.worldScene->textures.size(),
+               d.worldScene->lights.size(), static_cast<unsigned long long>(d.world.triangles),
+               engine.milliseconds() - start);
+}
+
+std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
+                                                  const SceneFrame& scene,
+                                                  const TracerSettings& settings,
+                                                  ShaderRegistry& shaders,
+                                                  const ModelRegistry& models, const World* world) {
+  Impl& d = *impl_;
+  const bool withWorld = world != nullptr && d.worldScene.has_value();
+  pa::Camera camera;
+  camera.origin = {view.vieworg[0], view.vieworg[1], view.vieworg[2]};
+  camera.forward = {view.viewaxis[0][0], view.viewaxis[0][1], view.viewaxis[0][2]};
+  camera.left = {view.viewaxis[1][0], view.viewaxis[1][1], view.viewaxis[1][2]};
+  camera.up = {view.viewaxis[2][0], view.viewaxis[2][1], view.viewaxis[2][2]};
+  camera.fovX = std::clamp(view.fov_x, 1.0f, 179.0f);
+  camera.fovY = std::clamp(view.fov_y, 1.0f, 179.0f);
+  const Viewer viewer{camera.origin, camera.left, camera.up};
+  const bool lightmapLook = settings.preset == Preset::Lightmap;
+
+  // The world and its brush models: hidden in model-only views, placed by their entities.
+  std::vector<bool> brushPlaced(d.world.modelInstances.size(), false);
+  size_t slot = 0;
+  for (const q3abi::refEntity_t& e : scene.entities()) {
+    uint32_t mask = pa::kMaskAll;
+    if (e.renderfx & q3abi::RF_THIRD_PERSON) mask &= ~uint32_t(pa::kMaskCamera);
+    if (e.renderfx & q3abi::RF_FIRST_PERSON) mask = pa::kMaskCamera;
+    const bool onTop = (e.renderfx & q3abi::RF_DEPTHHACK) != 0;
+    if (e.reType != q3abi::RT_MODEL) continue;
+    const ModelEntry* model = models.model(e.hModel);
+    if (model == nullptr) continue;
+    if (model->kind == ModelKind::Brush) {
+      const auto index = static_cast<size_t>(model->brushIndex);
+      if (!withWorld || index >= brushPlaced.size()) continue;
+      pa::InstanceDesc desc = d.brushInstances[index];
+      desc.objectToWorld = entityTransform(e);
+      desc.mask = mask;
+      d.setBrushInstance(index, desc);
+      brushPlaced[index] = true;
+      continue;
+    }
+    const q3::Md3Model* md3 = d.md3(*model);
+    if (md3 == nullptr) continue;
+    // Shader per surface: customShader, else the skin's match, else the file's (skinNum).
+    std::vector<q3abi::qhandle_t> surfaceShaders;
+    const SkinEntry* skin = models.skin(e.customSkin);
+    for (const q3::Md3Surface& surface : md3->surfaces) {
+      q3abi::qhandle_t shader = e.customShader;
+      if (shader == 0 && skin != nullptr) {
+        for (const auto& [name, handle] : skin->surfaces)
+          if (name == "*" || name == normalizeName(surface.name)) { shader = handle; break; }
+      } else if (shader == 0 && !surface.shaders.empty()) {
+        const size_t pick = static_cast<size_t>(std::max(e.skinNum, 0)) % surface.shaders.size();
+        shader = shaders.find(surface.shaders[pick].name);
+      }
+      surfaceShaders.push_back(shader);
+    }
+    d.batch.clear();
+    appendMd3(*md3, e, surfaceShaders, d.batch);
+    if (d.batch.indices.empty()) continue;
+    if (lightmapLook) {
+      // The stock look: light-grid ambient + directed light at the entity.
+      float ambient[3] = {96, 96, 96}, directed[3] = {160, 160, 160}, dir[3] = {0.57f, 0.57f, 0.57f};
+      const float* at = (e.renderfx & q3abi::RF_LIGHTING_ORIGIN) ? e.lightingOrigin : e.origin;
+      if (world != nullptr) world->lightForPoint(at, ambient, directed, dir);
+      const glm::mat4x3 m = entityTransform(e);
+      for (size_t v = 0; v < d.batch.positions.size(); ++v) {
+        const glm::vec3 n = glm::normalize(glm::mat3(m) * d.batch.normals[v]);
+        const float lambert = std::max(0.0f, n.x * dir[0] + n.y * dir[1] + n.z * dir[2]);
+        glm::vec3 light(ambient[0] + directed[0] * lambert, ambient[1] + directed[1] * lambert,
+                        ambient[2] + directed[2] * lambert);
+        if (e.renderfx & q3abi::RF_MINLIGHT) light = glm::max(light, glm::vec3(20.0f));
+        d.batch.colors[v] = glm::vec4(glm::min(light / 255.0f, glm::vec3(1.0f)), 1.0f);
+      }
+    }
+    d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop);
+  }
+  for (size_t m = 0; m < brushPlaced.size(); ++m) {
+    pa::InstanceDesc desc = d.brushInstances[m];
+    if (m == 0) {
+      desc.mask = withWorld ? pa::kMaskAll : 0;
+      desc.objectToWorld = glm::mat4x3(1.0f);
+    } else if (!brushPlaced[m]) {
+      desc.mask = 0;   // a mover the game did not add this frame is not drawn
+    } else {
+      continue;
+    }
+    d.setBrushInstance(m, desc);
+  }
+
+  // Effects and polygons: one world-space mesh.
+  d.batch.clear();
+  for (const q3abi::refEntity_t& e : scene.entities())
+    if (e.reType != q3abi::RT_MODEL) appendEffect(e, viewer, d.batch);
+  appendPolys(scene.polys(), scene.polyVerts(), d.batch);
+  if (!d.batch.indices.empty())
+    d.fillSlot(slot++, shaders, MaterialUse::Effect, glm::mat4x3(1.0f), pa::kMaskAll, false);
+  d.hideSlotsFrom(slot);
+
+  // Dynamic lights (radius = reach, linear falloff as in Quake); a headlight for model views.
+  size_t lightIndex = 0;
+  for (const DynamicLight& light : scene.lights()) {
+    pa::LightDesc desc;
+    desc.type = pa::LightType::Point;
+    desc.position = light.origin;
+    desc.color = light.color;
+    desc.intensity = kPi;
+    desc.falloff = pa::Falloff::Linear;
+    desc.range = light.radius;
+    d.setLight(lightIndex++, desc, true);
+  }
+  {
+    pa::LightDesc head;
+    head.type = pa::LightType::Directional;
+    head.direction = glm::normalize(camera.forward - camera.up * 0.5f);
+    head.intensity = withWorld ? 0.0f : kPi;
+    d.setLight(lightIndex++, head, !withWorld);
+  }
+  for (size_t i = lightIndex; i < d.lights.size(); ++i) {
+    pa::LightDesc off;
+    off.intensity = 0.0f;
+    d.setLight(i, off, false);
+  }
+  d.renderer->commit();
+
+  pa::RenderSettings rs;
+  const float scale = withWorld ? settings.resolutionScale : 1.0f;
+  rs.width = static_cast<uint32_t>(std::max(8, static_cast<int>(std::lround(view.width * scale))));
+  rs.height = static_cast<uint32_t>(std::max(8, static_cast<int>(std::lround(view.height * scale))));
+  rs.integrator = integratorFor(settings.preset);
+  rs.samplesPerPixel = static_cast<uint32_t>(settings.samplesPerPixel);
+  rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
+  rs.accumulate = settings.preset == Preset::Reference;
+  rs.radianceClamp = settings.preset == Preset::Reference ? 0.0f : 10.0f;
+  rs.seed = settings.seed + (rs.accumulate ? 0u : d.frameCounter++);
+  const pa::FrameView frame = d.renderer->render(camera, rs);
+
+  d.picture.assign(frame.rgba8.begin(), frame.rgba8.end());
+  if (!withWorld && frame.depth.size() * 4 == d.picture.size()) {
+    for (size_t i = 0; i < frame.depth.size(); ++i)
+      if (!std::isfinite(frame.depth[i])) d.picture[i * 4 + 3] = 0;   // see-through background
+  }
+  return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), d.picture.data()};
+}
+
+}  // namespace glue

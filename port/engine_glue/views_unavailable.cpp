@@ -1,0 +1,32 @@
+// ViewRenderer for builds without the path tracer (pa_scene / q3 parsers not built): 2D works,
+// 3D views stay black and the console says why once.
+#include "port/engine_glue/engine.h"
+#include "port/engine_glue/views.h"
+
+namespace glue {
+
+struct ViewRenderer::Impl {
+  const Engine& engine;
+  bool warned = false;
+};
+
+ViewRenderer::ViewRenderer(const Engine& engine, int) : impl_(new Impl{engine}) {}
+ViewRenderer::~ViewRenderer() = default;
+bool ViewRenderer::available() { return false; }
+
+void ViewRenderer::loadWorld(const World&, const std::vector<uint8_t>&, const ShaderScripts&,
+                             ImageCache&) {}
+void ViewRenderer::clearWorld() {}
+void ViewRenderer::shadersChanged() {}
+
+std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t&, const SceneFrame&,
+                                                  const TracerSettings&, ShaderRegistry&,
+                                                  const ModelRegistry&, const World*) {
+  if (!impl_->warned) {
+    impl_->engine.warn("3D views are not traced in this build (pa::Renderer not linked yet)");
+    impl_->warned = true;
+  }
+  return std::nullopt;
+}
+
+}  // namespace glue
