@@ -271,6 +271,10 @@ class SceneBuilder {
     if (depth > kMaxNodeDepth) fail(what + ": node hierarchy deeper than " + std::to_string(kMaxNodeDepth));
     const tinygltf::Node& node = model_.nodes[index];
     const glm::dmat4 world = parent * localTransform(node, what);
+    for (int column = 0; column < 4; ++column)
+      for (int row = 0; row < 3; ++row)
+        if (!std::isfinite(static_cast<float>(world[column][row])))
+          fail(what + ": world transform overflows (non-finite in single precision)");
     onPath_[index] = true;
     if (node.mesh >= 0) addInstance(node, world, what);
     else if (node.mesh < -1) fail(what + ".mesh " + std::to_string(node.mesh) + " out of range");
