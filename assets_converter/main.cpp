@@ -125,26 +125,27 @@ int main(int argc, char** argv) {
   }
 
   int failures = 0;
-  double totalSeconds = 0.0;
+  double totalSeconds = 0.0, totalCpu = 0.0;
   uint64_t totalTriangles = 0;
-  std::printf("%-28s %10s %9s %6s %7s %8s %8s %8s\n", "map", "triangles", "materials", "lights", "cameras", "MiB",
-              "warnings", "seconds");
+  std::printf("%-28s %10s %9s %6s %7s %8s %8s %8s %8s\n", "map", "triangles", "materials", "lights", "cameras", "MiB",
+              "warnings", "seconds", "cpu s");
   for (const auto& r : results) {
     totalSeconds += r.seconds;
+    totalCpu += r.cpuSeconds;
     if (!r.error.empty()) {
       ++failures;
       std::printf("%-28s FAILED: %s\n", r.map.c_str(), r.error.c_str());
       continue;
     }
     totalTriangles += r.stats.triangles;
-    std::printf("%-28s %10llu %9u %6u %7u %8.2f %8zu %8.3f\n", r.map.c_str(), (unsigned long long)r.stats.triangles,
+    std::printf("%-28s %10llu %9u %6u %7u %8.2f %8zu %8.3f %8.3f\n", r.map.c_str(), (unsigned long long)r.stats.triangles,
                 r.stats.materials, r.stats.lights, r.stats.cameras, double(r.stats.bytes) / (1024.0 * 1024.0),
-                r.warnings.size(), r.seconds);
+                r.warnings.size(), r.seconds, r.cpuSeconds);
     if (args.printWarnings)
       for (const auto& w : r.warnings) std::printf("    warning: %s\n", w.c_str());
   }
-  std::printf("%-28s %10llu %9s %6s %7s %8s %8s %8.3f\n", "total", (unsigned long long)totalTriangles, "", "", "", "", "",
-              totalSeconds);
+  std::printf("%-28s %10llu %9s %6s %7s %8s %8s %8.3f %8.3f\n", "total", (unsigned long long)totalTriangles, "", "", "", "",
+              "", totalSeconds, totalCpu);
   if (failures) std::fprintf(stderr, "%d of %zu maps failed\n", failures, results.size());
   return failures ? 1 : 0;
 }

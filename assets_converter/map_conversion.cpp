@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <fstream>
 
 #include "port/q3formats/bsp/bsp_file.h"
@@ -39,6 +40,7 @@ MapResult convertMap(const GameData& game, const std::string& map, const std::fi
   MapResult result;
   result.map = mapPath(map);
   const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpuStart = std::clock();
   try {
     auto bytes = game.files.readFile(result.map);
     if (!bytes) {
@@ -66,6 +68,7 @@ MapResult convertMap(const GameData& game, const std::string& map, const std::fi
     result.error = e.what();
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
   return result;
 }
 

@@ -33,6 +33,7 @@ struct MapResult {
   ExportStats stats;
   std::vector<std::string> warnings;  ///< Content problems found while building the scene.
   double seconds = 0.0;               ///< Wall time: read + parse + build + export + write.
+  double cpuSeconds = 0.0;            ///< Process CPU time of the same span (single-threaded work).
   std::string error;                  ///< Non-empty when the map could not be converted.
 };
 
