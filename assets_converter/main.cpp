@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -89,19 +90,18 @@ void drawProgress(size_t done, size_t total, const std::string& current) {
 
 int main(int argc, char** argv) {
   Arguments args = parseArguments(argc, argv);
-  std::unique_ptr<pa::converter::GameData> game;
+  std::unique_ptr<q3::GameWorlds> game;
   try {
-    game = std::make_unique<pa::converter::GameData>(args.game);
+    game = std::make_unique<q3::GameWorlds>(args.game);
   } catch (const std::exception& e) {
     std::cerr << "assets_converter: " << e.what() << "\n";
     return 1;
   }
-  for (const std::string& error : game->files.mountErrors()) std::cerr << "warning: " << error << "\n";
-  for (const std::string& error : game->scriptErrors) std::cerr << "warning: shader script ignored: " << error << "\n";
+  for (const std::string& problem : game->problems()) std::cerr << "warning: " << problem << "\n";
 
   std::vector<std::string> maps = args.maps;
   if (args.all || args.list) {
-    std::vector<std::string> found = pa::converter::listMaps(game->files);
+    std::vector<std::string> found = game->maps();
     if (args.list) {
       for (const std::string& m : found) std::cout << m << "\n";
       return 0;
