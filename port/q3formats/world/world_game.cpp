@@ -28,7 +28,12 @@ WorldScene GameWorlds::load(const std::string& map, const WorldBuildOptions& opt
   const std::string path = mapGamePath(map);
   auto bytes = files_.readFile(path);
   if (!bytes) throw std::runtime_error(path + ": not found in the game folder");
-  BspFile bsp = parseBsp(*bytes, path);
+  return build(*bytes, path, options);
+}
+
+WorldScene GameWorlds::build(std::span<const std::byte> bspBytes, const std::string& name,
+                             const WorldBuildOptions& options) const {
+  BspFile bsp = parseBsp(bspBytes, name);
   FileLoader loader = [this](std::string_view file) { return files_.readFile(file); };
   return buildWorldScene(bsp, shaders_, loader, options);
 }

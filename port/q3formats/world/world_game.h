@@ -1,7 +1,9 @@
 #pragma once
 // A game folder opened for map loading: its archives and every shader script, read once and
 // shared by all maps (the converter's batch mode, pa-render's .bsp importer).
+#include <cstddef>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,9 @@ class GameWorlds {
   /// Reads, parses and builds one map ("oa_dm1", "oa_dm1.bsp" or "maps/oa_dm1.bsp").
   /// Throws std::runtime_error if the map is missing, FormatError if it is malformed.
   WorldScene load(const std::string& map, const WorldBuildOptions& options = {}) const;
+  /// Builds a map from .bsp bytes read elsewhere (a loose file), with this game's textures.
+  WorldScene build(std::span<const std::byte> bspBytes, const std::string& name,
+                   const WorldBuildOptions& options = {}) const;
 
   /// The archives and loose files.
   const GameFileSystem& files() const { return files_; }

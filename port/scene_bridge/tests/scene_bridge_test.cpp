@@ -120,6 +120,19 @@ TEST(SceneBridge, PointLightAtFullBrightDistanceGivesRadianceOne) {
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 4), 1.0f, 0.05f);
 }
 
+TEST(SceneBridge, SurfaceLightEmitsItsQ3map2Radiance) {
+  q3::WorldScene scene = wallScene(64, false);
+  scene.materials[0].surfaceLight = 1000.0f;
+  scene.materials[0].emission = glm::vec3(1.0f);
+  Renderer renderer;
+  UploadOptions options;
+  options.sky = false;
+  uploadWorld(scene, renderer, options);
+  renderer.commit();
+  // Seen directly (no bounces): emission only, = 1000 * 3 * 0.25 / 64 for a white texture.
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 1), q3::surfaceLightRadiance(1000.0f), 0.05f);
+}
+
 TEST(SceneBridge, CameraFromSpawnKeepsAxesAndDerivesVerticalFov) {
   q3::WorldCamera spawn;
   spawn.eye = {1, 2, 3};
