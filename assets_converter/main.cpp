@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -89,19 +90,18 @@ void drawProgress(size_t done, size_t total, const std::string& current) {
 
 int main(int argc, char** argv) {
   Arguments args = parseArguments(argc, argv);
-  std::unique_ptr<pa::converter::GameData> game;
+  std::unique_ptr<q3::GameWorlds> game;
   try {
-    game = std::make_unique<pa::converter::GameData>(args.game);
+    game = std::make_unique<q3::GameWorlds>(args.game);
   } catch (const std::exception& e) {
     std::cerr << "assets_converter: " << e.what() << "\n";
     return 1;
   }
-  for (const std::string& error : game->files.mountErrors()) std::cerr << "warning: " << error << "\n";
-  for (const std::string& error : game->scriptErrors) std::cerr << "warning: shader script ignored: " << error << "\n";
+  for (const std::string& problem : game->problems()) std::cerr << "warning: " << problem << "\n";
 
   std::vector<std::string> maps = args.maps;
   if (args.all || args.list) {
-    std::vector<std::string> found = pa::converter::listMaps(game->files);
+    std::vector<std::string> found = game->maps();
     if (args.list) {
       for (const std::string& m : found) std::cout << m << "\n";
       return 0;
@@ -125,26 +125,27 @@ int main(int argc, char** argv) {
   }
 
   int failures = 0;
-  double totalSeconds = 0.0;
+  double totalSeconds = 0.0, totalCpu = 0.0;
   uint64_t totalTriangles = 0;
-  std::printf("%-28s %10s %9s %6s %7s %8s %8s %8s\n", "map", "triangles", "materials", "lights", "cameras", "MiB",
-              "warnings", "seconds");
+  std::printf("%-28s %10s %9s %6s %7s %8s %8s %8s %8s\n", "map", "triangles", "materials", "lights", "cameras", "MiB",
+              "warnings", "seconds", "cpu s");
   for (const auto& r : results) {
     totalSeconds += r.seconds;
+    totalCpu += r.cpuSeconds;
     if (!r.error.empty()) {
       ++failures;
       std::printf("%-28s FAILED: %s\n", r.map.c_str(), r.error.c_str());
       continue;
     }
     totalTriangles += r.stats.triangles;
-    std::printf("%-28s %10llu %9u %6u %7u %8.2f %8zu %8.3f\n", r.map.c_str(), (unsigned long long)r.stats.triangles,
+    std::printf("%-28s %10llu %9u %6u %7u %8.2f %8zu %8.3f %8.3f\n", r.map.c_str(), (unsigned long long)r.stats.triangles,
                 r.stats.materials, r.stats.lights, r.stats.cameras, double(r.stats.bytes) / (1024.0 * 1024.0),
-                r.warnings.size(), r.seconds);
+                r.warnings.size(), r.seconds, r.cpuSeconds);
     if (args.printWarnings)
       for (const auto& w : r.warnings) std::printf("    warning: %s\n", w.c_str());
   }
-  std::printf("%-28s %10llu %9s %6s %7s %8s %8s %8.3f\n", "total", (unsigned long long)totalTriangles, "", "", "", "", "",
-              totalSeconds);
+  std::printf("%-28s %10llu %9s %6s %7s %8s %8s %8.3f %8.3f\n", "total", (unsigned long long)totalTriangles, "", "", "", "",
+              "", totalSeconds, totalCpu);
   if (failures) std::fprintf(stderr, "%d of %zu maps failed\n", failures, results.size());
   return failures ? 1 : 0;
 }

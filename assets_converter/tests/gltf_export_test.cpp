@@ -191,7 +191,7 @@ TEST(GltfExport, SurfaceLightBecomesEmissiveStrength) {
   const json& m = doc["materials"][0];
   EXPECT_EQ(m["emissiveFactor"], json::array({1.0, 0.5, 0.0}));   // normalised colour
   EXPECT_FLOAT_EQ(m["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"].get<float>(),
-                  std::numbers::pi_v<float> * 1000.0f * 0.25f / 64.0f);
+                  1000.0f * 3.0f * 0.25f / 64.0f);   // q3map2: value * formFactorValueScale * areaScale / full bright
   EXPECT_NE(std::find(doc["extensionsUsed"].begin(), doc["extensionsUsed"].end(), "KHR_materials_emissive_strength"),
             doc["extensionsUsed"].end());
 }

@@ -231,8 +231,18 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
       sky.faces[f] = id;
       allFaces = allFaces && id != kNoId;
     }
-    if (allFaces) sky.color = glm::vec3(1.0f);
-    else sky.faces.fill(kNoId);
+    if (allFaces) {
+      sky.color = glm::vec3(1.0f);   // the box shows as drawn
+    } else {
+      sky.faces.fill(kNoId);
+      if (scene.sky.surfaceLight > 0.0f) {
+        // q3map2 lit the map through the sky surfaces as area lights of this radiance.
+        glm::vec3 hue = scene.sky.color;
+        float peak = std::max({hue.r, hue.g, hue.b});
+        hue = peak > 0.0f ? hue / peak : glm::vec3(1.0f);
+        sky.color = hue * q3::surfaceLightRadiance(scene.sky.surfaceLight) * options.lightScale;
+      }
+    }
     renderer.setSky(sky);
   }
   return handles;

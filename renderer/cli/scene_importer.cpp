@@ -13,10 +13,22 @@
 
 namespace pa::cli {
 
-std::span<const std::unique_ptr<SceneImporter>> sceneImporters() {
-  // Immutable after first use. Add new formats here.
-  static const std::array<std::unique_ptr<SceneImporter>, 1> kImporters = {std::make_unique<GltfImporter>()};
-  return kImporters;
+namespace {
+std::vector<std::unique_ptr<SceneImporter>>& importerRegistry() {
+  // Built-in formats first; registerSceneImporter() appends (before rendering starts).
+  static std::vector<std::unique_ptr<SceneImporter>> importers = [] {
+    std::vector<std::unique_ptr<SceneImporter>> builtIn;
+    builtIn.push_back(std::make_unique<GltfImporter>());
+    return builtIn;
+  }();
+  return importers;
+}
+}  // namespace
+
+std::span<const std::unique_ptr<SceneImporter>> sceneImporters() { return importerRegistry(); }
+
+void registerSceneImporter(std::unique_ptr<SceneImporter> importer) {
+  if (importer) importerRegistry().push_back(std::move(importer));
 }
 
 const SceneImporter* findImporter(const std::filesystem::path& path) {

@@ -55,8 +55,12 @@ class SceneImporter {
                              const ImportOptions& options) const = 0;
 };
 
-/// Every importer pa-render knows.
+/// Every importer pa-render knows: the built-in ones, then those registered.
 std::span<const std::unique_ptr<SceneImporter>> sceneImporters();
+
+/// Adds an importer from another library (e.g. Quake .bsp, port/scene_bridge/bsp_importer.cpp,
+/// registered by a static initializer when linked). Call before rendering starts; not thread-safe.
+void registerSceneImporter(std::unique_ptr<SceneImporter> importer);
 
 /// The importer for `path` by (case-insensitive) extension, or nullptr.
 const SceneImporter* findImporter(const std::filesystem::path& path);

@@ -128,7 +128,14 @@ class SceneAssembler {
       if (mod.kind == TcModKind::Scroll) m.uvScrollPerSecond += glm::vec2(mod.scroll[0], mod.scroll[1]);
       if (mod.kind == TcModKind::Scale) m.uvScale *= glm::vec2(mod.scroll[0], mod.scroll[1]);
     }
-    if (!info.glowTextures.empty()) m.emissiveTexture = textures_.get(info.glowTextures.front(), false);
+    if (!info.glowTextures.empty()) {
+      // A missing glow image would glow as the fallback checker: leave the glow out instead.
+      const std::string& glow = info.glowTextures.front();
+      if (textures_.exists(glow))
+        m.emissiveTexture = textures_.get(glow, false);
+      else
+        scene_.warnings.push_back("shader '" + def.name + "': glow texture '" + glow + "' not found, glow left out");
+    }
     if (info.surfaceLight > 0.0f) {
       m.surfaceLight = info.surfaceLight;
       glm::vec3 color(1.0f);
@@ -174,9 +181,11 @@ class SceneAssembler {
     glm::vec3 sum(0.0f);
     int count = 0;
     // The engine's order rt, bk, lf, ft, up, dn is +X, -X, +Y, -Y, +Z, -Z.
+    // A missing far box ("skyParms full 512 -" is a common idiom) is skipped by the engine,
+    // which then draws only the cloud layers: no warning, no fallback faces.
     for (size_t f = 0; f < 6; ++f) {
       const std::string& face = info.skyBox.farFaces[f];
-      if (face.empty()) continue;
+      if (face.empty() || !textures_.exists(face)) continue;
       scene_.sky.faces[f] = textures_.get(face, true);
       sum += textures_.averageColor(scene_.sky.faces[f]);
       ++count;
@@ -191,6 +200,7 @@ class SceneAssembler {
         }
     }
     scene_.sky.color = count > 0 ? sum / float(count) : glm::vec3(0.0f);
+    scene_.sky.surfaceLight = info.surfaceLight;
   }
 
   void addFogs() {

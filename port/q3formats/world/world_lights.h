@@ -5,8 +5,8 @@
 //
 // q3map2 accumulates "light values" per lightmap texel (point light: photons / d^2 * cos,
 // photons = light * 7500, d clamped to >= 16; linear light: cos * light * 7500 / 8000 - d;
-// sun: intensity * cos; surface light: area * value * 0.25 * form factor) and stores them as
-// bytes. The engine multiplies lightmap bytes by 2^r_mapOverBrightBits = 4, so a light value
+// sun: intensity * cos; surface light: value * 3 * 0.25 * F, F the point-to-polygon form
+// factor of the emitting surface) and stores them as bytes. The engine multiplies lightmap bytes by 2^r_mapOverBrightBits = 4, so a light value
 // of 64 shows a texture unmodified ("full bright", kQ3FullBright).
 // Our renderer: a Lambertian surface of albedo a under irradiance E has radiance a * E / pi;
 // exposure 1 maps radiance 1 to white. Matching a * (value / 64) = a * E / pi gives
@@ -18,6 +18,7 @@ namespace q3 {
 inline constexpr float kQ3mapPointScale = 7500.0f;        ///< q3map2 pointScale.
 inline constexpr float kQ3mapLinearScale = 1.0f / 8000.0f;///< q3map2 linearScale.
 inline constexpr float kQ3mapAreaScale = 0.25f;           ///< q3map2 areaScale (surface lights).
+inline constexpr float kQ3mapFormFactorValueScale = 3.0f; ///< q3map2 formFactorValueScale (surface lights).
 inline constexpr float kQ3FullBright = 64.0f;             ///< Light value shown as "texture unmodified".
 inline constexpr float kQ3DefaultLight = 300.0f;          ///< `light` key default.
 inline constexpr float kQ3DefaultSpotRadius = 64.0f;      ///< Spot `radius` key default (at the target).
@@ -35,8 +36,10 @@ inline float linearLightIntensity(float quakeLight) {
 /// Irradiance of a q3map_sun of the given intensity on a surface facing the sun.
 inline float sunIrradiance(float sunIntensity) { return std::numbers::pi_v<float> * sunIntensity / kQ3FullBright; }
 /// Emitted radiance of a q3map_surfacelight surface (per unit of its normalised colour).
+/// A Lambertian emitter of radiance L seen with form factor F gives irradiance pi * L * F;
+/// q3map2 gives the light value 0.75 * value * F, i.e. irradiance pi * 0.75 * value * F / 64.
 inline float surfaceLightRadiance(float surfaceLight) {
-  return std::numbers::pi_v<float> * surfaceLight * kQ3mapAreaScale / kQ3FullBright;
+  return surfaceLight * kQ3mapFormFactorValueScale * kQ3mapAreaScale / kQ3FullBright;
 }
 
 }  // namespace q3

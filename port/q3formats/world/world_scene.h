@@ -139,6 +139,7 @@ struct WorldSky {
   std::array<int32_t, 6> faces{-1, -1, -1, -1, -1, -1};
   glm::vec3 color{0.0f};                  ///< Average colour of the box (or of the sky texture).
   float cloudHeight = 0.0f;               ///< skyParms cloud height (data only).
+  float surfaceLight = 0.0f;              ///< q3map_surfacelight of the sky shader (q3map2 sky light), 0 = none.
 };
 
 /// A viewpoint: spawn points and the intermission camera.

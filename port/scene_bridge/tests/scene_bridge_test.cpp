@@ -1,0 +1,146 @@
+// uploadWorld on synthetic worlds, checked through real renders: the lightmapped look and
+// the direct-light look agree where Quake shows a texture unmodified.
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "port/q3formats/world/world_lights.h"
+#include "port/scene_bridge/scene_bridge.h"
+
+namespace pa::bridge {
+namespace {
+
+/// A 512x512 white wall in the plane x = 0 facing +X, one material, lightmap 0 or vertex-lit.
+q3::WorldScene wallScene(uint8_t lightmapValue, bool vertexLit) {
+  q3::WorldScene scene;
+  scene.textures.push_back({"white", "white.tga", q3::WorldImage{2, 2, std::vector<uint8_t>(16, 255)}, false, false});
+  q3::WorldMaterial m;
+  m.shaderName = "textures/test/white";
+  m.baseTexture = 0;
+  m.vertexLit = vertexLit;
+  scene.materials.push_back(m);
+  scene.lightmaps.push_back(q3::WorldImage{128, 128, std::vector<uint8_t>(128 * 128 * 4, lightmapValue)});
+  for (size_t i = 3; i < scene.lightmaps[0].rgba8.size(); i += 4) scene.lightmaps[0].rgba8[i] = 255;
+  q3::WorldMesh mesh;
+  mesh.material = 0;
+  mesh.lightmap = vertexLit ? -1 : 0;
+  mesh.positions = {{0, -256, -256}, {0, 256, -256}, {0, 256, 256}, {0, -256, 256}};
+  mesh.normals.assign(4, glm::vec3(1, 0, 0));
+  mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  mesh.lightmapUvs = mesh.uvs;
+  float c = lightmapValue / 255.0f;
+  mesh.colors.assign(4, glm::vec4(c, c, c, 1.0f));
+  mesh.indices = {0, 1, 2, 0, 2, 3};
+  scene.models.resize(2);   // model 1 empty: no mesh, no instance
+  scene.models[0].meshes.push_back(mesh);
+  return scene;
+}
+
+/// Mean radiance of a small image of the wall's centre, seen from +X.
+float centreRadiance(Renderer& renderer, Integrator integrator, uint32_t spp) {
+  q3::WorldCamera spawn;
+  spawn.eye = {200, 0, 0};
+  spawn.forward = {-1, 0, 0};
+  spawn.left = {0, -1, 0};
+  spawn.up = {0, 0, 1};
+  Camera camera = cameraFromSpawn(spawn, 1.0f, 20.0f);
+  RenderSettings settings;
+  settings.width = 8;
+  settings.height = 8;
+  settings.integrator = integrator;
+  settings.samplesPerPixel = spp;
+  settings.maxBounces = integrator == Integrator::Direct ? 1 : 0;   // Direct needs one scatter for light sampling
+  FrameView frame = renderer.render(camera, settings);
+  double sum = 0.0;
+  for (const glm::vec3& r : frame.radiance) sum += r.g;
+  return float(sum / double(frame.radiance.size()));
+}
+
+float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+
+TEST(SceneBridge, ColorShiftKeepsHue) {
+  std::vector<uint8_t> out = colorShiftLightmap({100, 50, 10, 255, 20, 30, 40, 255}, 2);
+  // 400, 200, 40 -> scaled so the peak is 255.
+  EXPECT_EQ(out[0], 255);
+  EXPECT_EQ(out[1], 127);
+  EXPECT_EQ(out[2], 25);
+  EXPECT_EQ(out[3], 255);
+  EXPECT_EQ(out[4], 80);
+  EXPECT_EQ(out[5], 120);
+  EXPECT_EQ(out[6], 160);
+}
+
+TEST(SceneBridge, UploadsOneMeshAndInstancePerNonEmptyModel) {
+  Renderer renderer;
+  q3::WorldScene scene = wallScene(64, false);
+  WorldHandles handles = uploadWorld(scene, renderer);
+  ASSERT_EQ(handles.modelMeshes.size(), 2u);
+  EXPECT_NE(handles.modelMeshes[0], kNoId);
+  EXPECT_EQ(handles.modelMeshes[1], kNoId);
+  EXPECT_EQ(handles.modelInstances[1], kNoId);
+  EXPECT_EQ(handles.triangles, 2u);
+  EXPECT_EQ(handles.materials.size(), 1u);
+  EXPECT_EQ(handles.lightmaps.size(), 1u);
+}
+
+TEST(SceneBridge, FullBrightLightmapShowsTheTextureUnmodified) {
+  for (uint8_t value : {uint8_t(64), uint8_t(32)}) {
+    Renderer renderer;
+    uploadWorld(wallScene(value, false), renderer);
+    renderer.commit();
+    // Quake: white * min(1, value * 4 / 255); ours decodes the shifted byte as sRGB.
+    float expected = srgbToLinear(std::min(255, value * 4) / 255.0f);
+    EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), expected, 0.01f) << int(value);
+  }
+}
+
+TEST(SceneBridge, VertexLitSurfacesUseVertexColoursAsBakedLight) {
+  Renderer renderer;
+  uploadWorld(wallScene(128, true), renderer);
+  renderer.commit();
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(128 / 255.0f), 0.01f);
+}
+
+TEST(SceneBridge, PointLightAtFullBrightDistanceGivesRadianceOne) {
+  // q3map2: a 300 light at distance d lights a facing texel with 300 * 7500 / d^2; at 64 the
+  // lightmapped look is "texture unmodified", so the direct look must give radiance 1 there.
+  q3::WorldScene scene = wallScene(64, false);
+  const float d = std::sqrt(300.0f * q3::kQ3mapPointScale / q3::kQ3FullBright);
+  q3::WorldLight light;
+  light.position = {d, 0, 0};
+  light.intensity = q3::pointLightIntensity(300.0f);
+  scene.lights.push_back(light);
+  Renderer renderer;
+  UploadOptions options;
+  options.sky = false;
+  uploadWorld(scene, renderer, options);
+  renderer.commit();
+  // The 20-degree view covers +-35 units of the wall: cos and distance vary by < 3 %.
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 4), 1.0f, 0.05f);
+}
+
+TEST(SceneBridge, SurfaceLightEmitsItsQ3map2Radiance) {
+  q3::WorldScene scene = wallScene(64, false);
+  scene.materials[0].surfaceLight = 1000.0f;
+  scene.materials[0].emission = glm::vec3(1.0f);
+  Renderer renderer;
+  UploadOptions options;
+  options.sky = false;
+  uploadWorld(scene, renderer, options);
+  renderer.commit();
+  // Seen directly (no bounces): emission only, = 1000 * 3 * 0.25 / 64 for a white texture.
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 1), q3::surfaceLightRadiance(1000.0f), 0.05f);
+}
+
+TEST(SceneBridge, CameraFromSpawnKeepsAxesAndDerivesVerticalFov) {
+  q3::WorldCamera spawn;
+  spawn.eye = {1, 2, 3};
+  Camera camera = cameraFromSpawn(spawn, 16.0f / 9.0f, 90.0f);
+  EXPECT_EQ(camera.origin, glm::vec3(1, 2, 3));
+  EXPECT_FLOAT_EQ(camera.fovX, 90.0f);
+  EXPECT_NEAR(camera.fovY, 58.7155f, 1e-3f);   // 2 atan(tan 45 / (16/9))
+}
+
+}  // namespace
+}  // namespace pa::bridge
