@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
 
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/entity_geometry.h"
@@ -252,12 +253,11 @@ void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>& bsp
   q3::ShaderLibrary library;
   std::vector<std::string> scripts;
   for (const std::string& name : engine.listFiles("scripts", ".shader")) scripts.push_back("scripts/" + name);
-  library.addScriptsInEngineOrder(scripts, [&](const std::string& path) -> std::optional<std::vector<std::byte>> {
-    auto bytes = engine.readFile(path);
-    if (!bytes) return std::nullopt;
-    const auto* p = reinterpret_cast<const std::byte*>(bytes->data());
-    return std::vector<std::byte>(p, p + bytes->size());
-  });
+  for (const std::string& path : q3::scriptsInPriorityOrder(scripts)) {
+    const auto bytes = engine.readFile(path);
+    if (!bytes) continue;
+    library.addScript(std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()), path);
+  }
   const q3::FileLoader loader = [&](std::string_view path) -> std::optional<std::vector<std::byte>> {
     auto bytes = engine.readFile(std::string(path));
     if (!bytes) return std::nullopt;
