@@ -11,6 +11,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/entity_geometry.h"
@@ -55,6 +56,12 @@ pa::Integrator integratorFor(Preset preset) {
     case Preset::Direct: return pa::Integrator::Direct;
     default: return pa::Integrator::Path;
   }
+}
+
+/// False for entities whose axes are degenerate (the game hides some that way).
+bool placeable(const glm::mat4x3& m) {
+  const float det = glm::determinant(glm::mat3(m));
+  return std::isfinite(det) && std::fabs(det) > 1e-9f;
 }
 
 bool sameInstance(const pa::InstanceDesc& a, const pa::InstanceDesc& b) {
@@ -309,7 +316,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     const bool onTop = (e.renderfx & q3abi::RF_DEPTHHACK) != 0;
     if (e.reType != q3abi::RT_MODEL) continue;
     const ModelEntry* model = models.model(e.hModel);
-    if (model == nullptr) continue;
+    if (model == nullptr || !placeable(entityTransform(e))) continue;
     if (model->kind == ModelKind::Brush) {
       const auto index = static_cast<size_t>(model->brushIndex);
       if (!withWorld || index >= brushPlaced.size()) continue;
