@@ -2,6 +2,8 @@
 // -> pa_scene_bridge); per view, brush sub-models get their entity transforms, every MD3 entity
 // becomes a dynamic mesh instance, effects and polygons one world-space dynamic mesh, dynamic
 // lights reuse a pool of renderer lights, and the frame is traced at r_pt_scale resolution.
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -68,6 +70,18 @@ bool sameInstance(const pa::InstanceDesc& a, const pa::InstanceDesc& b) {
   return a.mesh == b.mesh && a.mask == b.mask && a.drawOnTop == b.drawOnTop &&
          a.materialOverride == b.materialOverride && a.objectToWorld == b.objectToWorld &&
          a.tint == b.tint;
+}
+
+/// The engine dlclose()s the module on vid_restart and at exit. The tracer's thread pool (oneTBB)
+/// keeps worker threads alive for the whole process; if libtbb were unloaded with the module,
+/// those threads would run unmapped code. Mark the already loaded libtbb "never unload".
+void pinThreadPoolLibrary(const Engine& engine) {
+#ifdef PATHARENA_TBB_SONAME
+  if (dlopen(PATHARENA_TBB_SONAME, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE) == nullptr)
+    engine.warn(std::string("could not pin ") + PATHARENA_TBB_SONAME + ": " + dlerror());
+#else
+  (void)engine;
+#endif
 }
 
 }  // namespace
@@ -235,6 +249,7 @@ struct ViewRenderer::Impl {
 bool ViewRenderer::available() { return true; }
 
 ViewRenderer::ViewRenderer(const Engine& engine, int threads) : impl_(new Impl{engine, threads}) {
+  pinThreadPoolLibrary(engine);
   impl_->resetRenderer();
 }
 
