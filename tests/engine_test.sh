@@ -68,6 +68,9 @@ fail() { echo "FAIL: $*"; echo "---- engine log (tail) ----"; tail -n 60 "$log";
 grep -q "PathArena path tracer renderer" "$log" || fail "our module's banner is missing"
 grep -q 'Trying to load "renderer_opengl' "$log" && fail "engine fell back to a stock renderer"
 grep -E -q "Received signal|Segmentation|Sys_Error|ERROR:" "$log" && fail "engine reported a crash or error"
+# fs_basepath is our folder: the game's pk3s and native modules must come through the baseoa link.
+grep -q "basepath/baseoa/pak0.pk3" "$log" || fail "OpenArena pk3s not found through basepath/baseoa"
+grep -E -q "Loading DLL file: .*basepath/baseoa/.*cgamex86_64.so" "$log" || fail "cgame .so not loaded through basepath/baseoa"
 
 case "$scenario" in
   demo)
