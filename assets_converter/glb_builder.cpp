@@ -9,7 +9,7 @@
 
 #include <stb_image_write.h>
 
-namespace pa::gltf {
+namespace pa::converter {
 namespace {
 
 constexpr int kFloat = 5126;
@@ -157,4 +157,4 @@ std::vector<std::byte> GlbBuilder::finish() {
   return out;
 }
 
-}  // namespace pa::gltf
+}  // namespace pa::converter

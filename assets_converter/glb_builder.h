@@ -13,7 +13,7 @@
 #include <glm/vec4.hpp>
 #include <nlohmann/json.hpp>
 
-namespace pa::gltf {
+namespace pa::converter {
 
 /// glTF bufferView.target values.
 enum class BufferTarget : int { None = 0, ArrayBuffer = 34962, ElementArrayBuffer = 34963 };
@@ -62,4 +62,4 @@ class GlbBuilder {
 /// Encodes RGBA8 pixels as PNG bytes (stb_image_write); empty on failure.
 std::vector<std::byte> encodePng(uint32_t width, uint32_t height, std::span<const uint8_t> rgba8);
 
-}  // namespace pa::gltf
+}  // namespace pa::converter

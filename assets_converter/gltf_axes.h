@@ -5,7 +5,7 @@
 // metresPerUnit (see README "Units and axes").
 #include <glm/vec3.hpp>
 
-namespace pa::gltf {
+namespace pa::converter {
 
 /// Default scale: 1 Quake unit = 1/32 m (the 56-unit player box is 1.75 m tall).
 inline constexpr float kDefaultMetresPerUnit = 1.0f / 32.0f;
@@ -18,4 +18,4 @@ inline glm::vec3 toGltfPosition(const glm::vec3& q3, float metresPerUnit) {
   return toGltfDirection(q3) * metresPerUnit;
 }
 
-}  // namespace pa::gltf
+}  // namespace pa::converter

@@ -15,7 +15,7 @@
 #include "assets_converter/glb_builder.h"
 #include "port/q3formats/world/world_lights.h"
 
-namespace pa::gltf {
+namespace pa::converter {
 namespace {
 
 using nlohmann::json;
@@ -367,4 +367,4 @@ std::vector<std::byte> exportGlb(const q3::WorldScene& scene, const ExportOption
   return Exporter(scene, options).run(stats);
 }
 
-}  // namespace pa::gltf
+}  // namespace pa::converter

@@ -8,7 +8,7 @@
 #include "assets_converter/gltf_axes.h"
 #include "port/q3formats/world/world_scene.h"
 
-namespace pa::gltf {
+namespace pa::converter {
 
 /// What to write and how.
 struct ExportOptions {
@@ -37,4 +37,4 @@ struct ExportStats {
 std::vector<std::byte> exportGlb(const q3::WorldScene& scene, const ExportOptions& options = {},
                                  ExportStats* stats = nullptr);
 
-}  // namespace pa::gltf
+}  // namespace pa::converter

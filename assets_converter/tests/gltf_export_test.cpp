@@ -44,8 +44,13 @@ std::pair<json, std::vector<std::byte>> splitGlb(const std::vector<std::byte>& g
 }
 
 q3::WorldImage solidImage(uint32_t w, uint32_t h, uint8_t r, uint8_t g, uint8_t b, uint8_t a) {
-  q3::WorldImage image{w, h, {}};
-  for (uint32_t i = 0; i < w * h; ++i) image.rgba8.insert(image.rgba8.end(), {r, g, b, a});
+  q3::WorldImage image{w, h, std::vector<uint8_t>(size_t(w) * h * 4)};
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    image.rgba8[i * 4 + 0] = r;
+    image.rgba8[i * 4 + 1] = g;
+    image.rgba8[i * 4 + 2] = b;
+    image.rgba8[i * 4 + 3] = a;
+  }
   return image;
 }
 
@@ -80,7 +85,7 @@ q3::WorldMaterial texturedMaterial(const char* name) {
 
 TEST(GlbBuilder, ContainerIsAlignedAndReadableByTinyGltf) {
   q3::WorldScene scene = sceneWithMaterials({texturedMaterial("textures/test/a")});
-  std::vector<std::byte> glb = pa::gltf::exportGlb(scene);
+  std::vector<std::byte> glb = pa::converter::exportGlb(scene);
   auto [doc, bin] = splitGlb(glb);
   EXPECT_EQ(doc["asset"]["version"], "2.0");
   EXPECT_EQ(doc["buffers"][0]["byteLength"].get<size_t>(), bin.size());
@@ -99,9 +104,9 @@ TEST(GlbBuilder, ContainerIsAlignedAndReadableByTinyGltf) {
 
 TEST(GltfExport, ConvertsZUpInchesToYUpMetres) {
   q3::WorldScene scene = sceneWithMaterials({texturedMaterial("a")});
-  pa::gltf::ExportOptions options;
+  pa::converter::ExportOptions options;
   options.metresPerUnit = 1.0f / 32.0f;
-  auto [doc, bin] = splitGlb(pa::gltf::exportGlb(scene, options));
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene, options));
   const json& prim = doc["meshes"][0]["primitives"][0];
   const json& accessor = doc["accessors"][prim["attributes"]["POSITION"].get<int>()];
   // (32,0,0) -> (1,0,0); (0,32,0) -> (0,0,-1); (0,0,32) -> (0,1,0)
@@ -131,7 +136,7 @@ TEST(GltfExport, LargeMeshesUse32BitIndices) {
   mesh.uvs.assign(70000, glm::vec2(0));
   for (uint32_t i = 0; i < 70000; ++i) mesh.positions[i] = glm::vec3(float(i), float(i % 7), 0);
   mesh.indices = {0, 1, 69999};
-  auto [doc, bin] = splitGlb(pa::gltf::exportGlb(scene));
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene));
   EXPECT_EQ(doc["accessors"][doc["meshes"][0]["primitives"][0]["indices"].get<int>()]["componentType"], 5125);
 }
 
@@ -147,7 +152,7 @@ TEST(GltfExport, MapsQuakeBlendingToGltfAlphaModes) {
   q3::WorldMaterial additive = texturedMaterial("add");
   additive.alphaMode = q3::WorldAlphaMode::Additive;
   q3::WorldScene scene = sceneWithMaterials({opaque, mask, blend, additive});
-  std::vector<std::byte> glb = pa::gltf::exportGlb(scene);
+  std::vector<std::byte> glb = pa::converter::exportGlb(scene);
   auto [doc, bin] = splitGlb(glb);
   const json& mats = doc["materials"];
   ASSERT_EQ(mats.size(), 4u);
@@ -182,7 +187,7 @@ TEST(GltfExport, SurfaceLightBecomesEmissiveStrength) {
   q3::WorldMaterial glow = texturedMaterial("glow");
   glow.surfaceLight = 1000.0f;
   glow.emission = glm::vec3(0.5f, 0.25f, 0.0f);
-  auto [doc, bin] = splitGlb(pa::gltf::exportGlb(sceneWithMaterials({glow})));
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(sceneWithMaterials({glow})));
   const json& m = doc["materials"][0];
   EXPECT_EQ(m["emissiveFactor"], json::array({1.0, 0.5, 0.0}));   // normalised colour
   EXPECT_FLOAT_EQ(m["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"].get<float>(),
@@ -199,7 +204,7 @@ TEST(GltfExport, SkipsInvisibleSkyAndFogSurfaces) {
   q3::WorldMaterial fog = texturedMaterial("fog");
   fog.fog = true;
   q3::WorldMaterial wall = texturedMaterial("wall");
-  auto [doc, bin] = splitGlb(pa::gltf::exportGlb(sceneWithMaterials({nodraw, sky, fog, wall})));
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(sceneWithMaterials({nodraw, sky, fog, wall})));
   ASSERT_EQ(doc["meshes"][0]["primitives"].size(), 1u);
   EXPECT_EQ(doc["materials"].size(), 1u);
   EXPECT_EQ(doc["materials"][0]["name"], "wall");
@@ -226,9 +231,9 @@ TEST(GltfExport, LightsUsePunctualExtensionInMetres) {
   sun.direction = glm::normalize(glm::vec3(0, 1, -1));   // travelling +Y (quake) and down
   sun.intensity = q3::sunIrradiance(100.0f);
   scene.lights = {point, spot, sun};
-  pa::gltf::ExportOptions options;
+  pa::converter::ExportOptions options;
   options.metresPerUnit = 0.5f;
-  auto [doc, bin] = splitGlb(pa::gltf::exportGlb(scene, options));
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene, options));
   const json& lights = doc["extensions"]["KHR_lights_punctual"]["lights"];
   ASSERT_EQ(lights.size(), 3u);
   EXPECT_EQ(lights[0]["type"], "point");
@@ -260,7 +265,7 @@ TEST(GltfExport, CamerasLookAlongTheSpawnDirection) {
   cam.forward = {0, 1, 0};   // yaw 90: facing quake +Y -> glTF -Z
   cam.left = {-1, 0, 0};
   scene.cameras = {cam};
-  auto [doc, bin] = splitGlb(pa::gltf::exportGlb(scene));
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene));
   ASSERT_EQ(doc["cameras"].size(), 1u);
   EXPECT_NEAR(doc["cameras"][0]["perspective"]["yfov"].get<float>(), glm::radians(73.74f), 1e-5f);
   json node;

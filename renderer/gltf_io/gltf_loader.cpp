@@ -85,12 +85,40 @@ void fillMissingNormals(GltfMesh& mesh, const std::vector<bool>& needsNormal) {
   }
 }
 
+/// A primitive's baked lightmap, from its extras (assets_converter's convention).
+struct PrimitiveLightmap {
+  uint32_t texture = kNone;
+  std::string uvAttribute;
+};
+
+PrimitiveLightmap primitiveLightmap(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
+                                    const std::string& what, std::vector<std::string>& warnings) {
+  PrimitiveLightmap lightmap;
+  if (!primitive.extras.IsObject()) return lightmap;
+  const tinygltf::Value& texture = primitive.extras.Get("lightmapTexture");
+  if (!texture.IsNumber()) return lightmap;
+  const double index = texture.GetNumberAsDouble();
+  const tinygltf::Value& texCoord = primitive.extras.Get("lightmapTexCoord");
+  const double set = texCoord.IsNumber() ? texCoord.GetNumberAsDouble() : 1.0;
+  if (!(index >= 0.0 && index < static_cast<double>(model.textures.size())) || !(set >= 0.0 && set < 16.0)) {
+    warnings.push_back(what + ": extras lightmapTexture/lightmapTexCoord out of range, lightmap ignored");
+    return lightmap;
+  }
+  lightmap.uvAttribute = "TEXCOORD_" + std::to_string(static_cast<int>(set));
+  if (!primitive.attributes.count(lightmap.uvAttribute)) {
+    warnings.push_back(what + ": lightmap without " + lightmap.uvAttribute + ", lightmap ignored");
+    return lightmap;
+  }
+  lightmap.texture = static_cast<uint32_t>(index);
+  return lightmap;
+}
+
 GltfMesh convertMesh(const tinygltf::Model& model, size_t meshIndex, std::vector<std::string>& warnings) {
   const tinygltf::Mesh& source = model.meshes[meshIndex];
   GltfMesh mesh;
   mesh.name = source.name;
   std::vector<bool> hasNormal;
-  bool anyNormals = false, anyUvs = false, anyColors = false;
+  bool anyNormals = false, anyUvs = false, anyColors = false, anyLightmaps = false;
   for (size_t p = 0; p < source.primitives.size(); ++p) {
     const tinygltf::Primitive& primitive = source.primitives[p];
     const std::string what = indexed("meshes", meshIndex) + "." + indexed("primitives", p);
@@ -139,10 +167,13 @@ GltfMesh convertMesh(const tinygltf::Model& model, size_t meshIndex, std::vector
              " elements, POSITION has " + std::to_string(vertexCount));
       return values;
     };
-    int normalComponents = 0, uvComponents = 0, colorComponents = 0;
+    const PrimitiveLightmap lightmap = primitiveLightmap(model, primitive, what, warnings);
+    int normalComponents = 0, uvComponents = 0, colorComponents = 0, lightmapComponents = 0;
     const std::vector<float> normals = attribute("NORMAL", {3}, normalComponents);
     const std::vector<float> uvs = attribute("TEXCOORD_0", {2}, uvComponents);
     const std::vector<float> colors = attribute("COLOR_0", {3, 4}, colorComponents);
+    std::vector<float> lightmapUvs;
+    if (lightmap.texture != kNone) lightmapUvs = attribute(lightmap.uvAttribute.c_str(), {2}, lightmapComponents);
 
     for (size_t v = 0; v < vertexCount; ++v) {
       mesh.positions.push_back(toVec3(positions, v));
@@ -158,13 +189,18 @@ GltfMesh convertMesh(const tinygltf::Model& model, size_t meshIndex, std::vector
         color = glm::vec4(c[0], c[1], c[2], colorComponents == 4 ? c[3] : 1.0f);
       }
       mesh.colors.push_back(color);
+      mesh.lightmapUvs.push_back(lightmapUvs.empty() ? glm::vec2(0.0f)
+                                                      : glm::vec2(lightmapUvs[2 * v], lightmapUvs[2 * v + 1]));
     }
     anyNormals |= !normals.empty();
     anyUvs |= !uvs.empty();
     anyColors |= !colors.empty();
+    anyLightmaps |= !lightmapUvs.empty();
     const uint32_t material = primitive.material < 0 ? kNone : static_cast<uint32_t>(primitive.material);
     for (size_t i = 0; i < triangles.size(); ++i) mesh.indices.push_back(base + triangles[i]);
     mesh.triangleMaterials.insert(mesh.triangleMaterials.end(), triangles.size() / 3, material);
+    mesh.triangleLightmaps.insert(mesh.triangleLightmaps.end(), triangles.size() / 3,
+                                  lightmapUvs.empty() ? kNone : lightmap.texture);
   }
   if (!anyNormals) mesh.normals.clear();
   else if (std::find(hasNormal.begin(), hasNormal.end(), false) != hasNormal.end()) {
@@ -174,6 +210,10 @@ GltfMesh convertMesh(const tinygltf::Model& model, size_t meshIndex, std::vector
   }
   if (!anyUvs) mesh.uvs.clear();
   if (!anyColors) mesh.colors.clear();
+  if (!anyLightmaps) {
+    mesh.lightmapUvs.clear();
+    mesh.triangleLightmaps.clear();
+  }
   return mesh;
 }
 

@@ -1,6 +1,7 @@
 // glTF data -> MaterialDesc / LightDesc / SkyDesc / Camera (see the mapping in gltf_mapping.h).
 #include "renderer/gltf_io/gltf_mapping.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -13,10 +14,20 @@ namespace {
 /// Dielectric reflectance at normal incidence (IOR 1.5).
 constexpr float kDielectricSpecular = 0.04f;
 
-bool flagSet(const Extras& extras, const char* key) {
-  const auto it = extras.find(key);
-  if (it == extras.end()) return false;
-  return it->second == "true" || it->second == "1" || it->second == "yes";
+/// True when `key` (or assets_converter's "quake.<key>") is set to true/1/yes.
+bool flagSet(const Extras& extras, const std::string& key) {
+  for (const std::string& name : {key, "quake." + key}) {
+    const auto it = extras.find(name);
+    if (it != extras.end() && (it->second == "true" || it->second == "1" || it->second == "yes")) return true;
+  }
+  return false;
+}
+
+/// The value of the first of `keys` present, or nullptr.
+const std::string* findExtra(const Extras& extras, std::initializer_list<const char*> keys) {
+  for (const char* key : keys)
+    if (const auto it = extras.find(key); it != extras.end()) return &it->second;
+  return nullptr;
 }
 
 /// Parses "[r, g, b]" (JSON array text) into `out`; false if the text is not three finite numbers.
@@ -58,7 +69,8 @@ MaterialDesc toMaterialDesc(const GltfMaterial& material, const std::vector<Text
   desc.mirror = flagSet(material.extras, "mirror");
   desc.visible = !flagSet(material.extras, "nodraw");
   desc.castsShadows = !flagSet(material.extras, "noshadows");
-  if (flagSet(material.extras, "additive")) desc.alphaMode = pa::AlphaMode::Additive;
+  const std::string* blend = findExtra(material.extras, {"quake.blend"});
+  if (flagSet(material.extras, "additive") || (blend && *blend == "add")) desc.alphaMode = pa::AlphaMode::Additive;
   desc.alphaInvert = flagSet(material.extras, "alphaInvert");
   return desc;
 }
@@ -83,13 +95,38 @@ LightDesc toLightDesc(const GltfLight& light) {
 
 SkyDesc toSkyDesc(const Extras& sceneExtras) {
   SkyDesc sky;
-  if (const auto it = sceneExtras.find("sky_color"); it != sceneExtras.end()) parseVec3(it->second, sky.color);
+  if (const std::string* color = findExtra(sceneExtras, {"sky_color", "quake.sky.color"})) parseVec3(*color, sky.color);
   if (const auto it = sceneExtras.find("sky_intensity"); it != sceneExtras.end()) {
     char* end = nullptr;
     const float intensity = std::strtof(it->second.c_str(), &end);
     if (end != it->second.c_str() && std::isfinite(intensity) && intensity >= 0.0f) sky.intensity = intensity;
   }
   return sky;
+}
+
+float lightmapBrightness(const Extras& sceneExtras) {
+  const std::string* text = findExtra(sceneExtras, {"lightmap_scale", "quake.lightmapOverbrightScale"});
+  if (!text) return 1.0f;
+  char* end = nullptr;
+  const float scale = std::strtof(text->c_str(), &end);
+  return end != text->c_str() && std::isfinite(scale) && scale > 0.0f && scale <= 64.0f ? scale : 1.0f;
+}
+
+std::vector<uint8_t> brightenLightmap(std::span<const uint8_t> rgba8, float scale) {
+  std::vector<uint8_t> out(rgba8.size());
+  for (size_t i = 0; i + 3 < rgba8.size(); i += 4) {
+    float r = rgba8[i] * scale, g = rgba8[i + 1] * scale, b = rgba8[i + 2] * scale;
+    const float peak = std::max({r, g, b});
+    if (peak > 255.0f) {
+      const float fit = 255.0f / peak;
+      r *= fit, g *= fit, b *= fit;
+    }
+    out[i] = static_cast<uint8_t>(std::lround(r));
+    out[i + 1] = static_cast<uint8_t>(std::lround(g));
+    out[i + 2] = static_cast<uint8_t>(std::lround(b));
+    out[i + 3] = 255;
+  }
+  return out;
 }
 
 Camera toCamera(const GltfCamera& camera, float imageAspect) {

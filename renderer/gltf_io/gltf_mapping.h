@@ -8,12 +8,21 @@
 //    twoSided, metallic/roughness -> a glossy lobe of weight 0.04 + 0.96 * metallic (dielectric
 //    Fresnel at normal incidence .. full metal) with the file's roughness.
 //    Material `extras` flags (true/1/"true"): "sky" (window to the sky), "mirror", "nodraw"
-//    (invisible, may still emit), "noshadows", "additive" (AlphaMode::Additive), "alphaInvert".
+//    (invisible, may still emit), "noshadows", "additive" (AlphaMode::Additive), "alphaInvert";
+//    assets_converter's "quake.sky", "quake.mirror" and "quake.blend": "add" are honoured too.
+//  - Lightmaps (primitive extras "lightmapTexture" + TEXCOORD_n, as assets_converter writes them):
+//    one material variant per (material, lightmap); lightmap pixels are brightened by the scene's
+//    "quake.lightmapOverbrightScale" with per-texel saturation that keeps the hue (as Quake does at
+//    load) and uploaded as sRGB, so that linear(texture) x linear(lightmap) shows like the stock
+//    renderer's texture x lightmap product.
 //  - Lights (KHR_lights_punctual): point/spot intensity in candela and directional illuminance
 //    in lux are used as W/sr and W/m^2 after LoadOptions::lightUnitScale (default 1), the same
 //    factor that scales emissive strength, so lights and emitters stay balanced;
 //    range > 0 -> cut-off. Spot cone angles -> cosines.
-//  - Sky: scene `extras` "sky_color" ([r, g, b], linear) and "sky_intensity"; default black.
+//  - Sky: scene `extras` "sky_color" (or "quake.sky.color"; [r, g, b], linear) and
+//    "sky_intensity"; default black.
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include "renderer/gltf_io/gltf_scene.h"
@@ -26,6 +35,12 @@ MaterialDesc toMaterialDesc(const GltfMaterial& material, const std::vector<Text
 
 /// The LightDesc that a glTF light becomes.
 LightDesc toLightDesc(const GltfLight& light);
+
+/// Brightness factor for lightmap pixels from the scene's extras (default 1).
+float lightmapBrightness(const Extras& sceneExtras);
+
+/// Lightmap RGBA8 pixels times `scale`, saturated per texel keeping the hue; alpha 255.
+std::vector<uint8_t> brightenLightmap(std::span<const uint8_t> rgba8, float scale);
 
 /// The sky described by the scene's extras ("sky_color", "sky_intensity"); black if absent.
 SkyDesc toSkyDesc(const Extras& sceneExtras);

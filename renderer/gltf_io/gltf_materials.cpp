@@ -126,19 +126,27 @@ void convertTextures(const tinygltf::Model& model, GltfScene& scene) {
 
 }  // namespace
 
+namespace {
+
+/// Adds `value` under `key`; objects are flattened into "key.member" entries.
+void flattenExtras(const tinygltf::Value& value, const std::string& key, int depth, Extras& out) {
+  if (value.IsObject() && depth < 16) {
+    for (const std::string& member : value.Keys())
+      flattenExtras(value.Get(member), key.empty() ? member : key + "." + member, depth + 1, out);
+  } else if (value.IsString()) {
+    out[key] = value.Get<std::string>();
+  } else {
+    std::ostringstream text;
+    writeJson(value, text, 0);
+    out[key] = text.str();
+  }
+}
+
+}  // namespace
+
 Extras convertExtras(const tinygltf::Value& extras) {
   Extras out;
-  if (!extras.IsObject()) return out;
-  for (const std::string& key : extras.Keys()) {
-    const tinygltf::Value& value = extras.Get(key);
-    if (value.IsString()) {
-      out[key] = value.Get<std::string>();
-    } else {
-      std::ostringstream text;
-      writeJson(value, text, 0);
-      out[key] = text.str();
-    }
-  }
+  if (extras.IsObject()) flattenExtras(extras, "", 0, out);
   return out;
 }
 

@@ -6,7 +6,7 @@
 
 namespace pa::gltf::detail {
 
-/// Converts a glTF `extras` value: each top-level key of an object with its value as text.
+/// Converts a glTF `extras` value to text entries (nested objects flattened to dotted keys).
 Extras convertExtras(const tinygltf::Value& extras);
 
 /// Fills scene.images, scene.textures and scene.materials from the model (indices checked).

@@ -19,8 +19,9 @@ namespace pa::gltf {
 /// "No index" marker for optional references (material, texture, image).
 inline constexpr uint32_t kNone = 0xffffffffu;
 
-/// Free-form `extras` of a glTF object: each top-level key with its value as text
-/// (strings verbatim, booleans "true"/"false", numbers in decimal, arrays/objects as JSON).
+/// Free-form `extras` of a glTF object as text: nested objects are flattened into dotted keys
+/// ({"quake": {"shader": "x"}} -> "quake.shader" = "x"); strings verbatim, booleans
+/// "true"/"false", numbers in decimal, arrays as JSON text.
 using Extras = std::map<std::string, std::string>;
 
 /// One glTF mesh with all its triangle primitives merged. Optional arrays are empty or
@@ -34,6 +35,12 @@ struct GltfMesh {
   std::vector<glm::vec4> colors;           ///< COLOR_0, linear RGBA.
   std::vector<uint32_t> indices;           ///< 3 per triangle, all < positions.size().
   std::vector<uint32_t> triangleMaterials; ///< One per triangle: index into materials or kNone.
+  /// Baked-light texture coordinates (the TEXCOORD_n named by a primitive's extras
+  /// "lightmapTexCoord", default 1); empty when no primitive has a lightmap.
+  std::vector<glm::vec2> lightmapUvs;
+  /// One per triangle when lightmapUvs is set: index into textures (primitive extras
+  /// "lightmapTexture", as written by assets_converter) or kNone.
+  std::vector<uint32_t> triangleLightmaps;
 };
 
 /// Texture addressing, from the glTF sampler.

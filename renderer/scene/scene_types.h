@@ -1,6 +1,32 @@
 #pragma once
 // Plain descriptions handed to pa::Renderer: meshes, instances, textures, materials,
 // lights, sky, camera and render settings. No Quake knowledge.
+//
+// Units and conventions (what the implementation in renderer/scene/ does):
+// - Radiance is linear RGB in W/(sr m^2) of "scene units"; lengths are in the caller's units.
+// - Point/spot lights: intensity I = color * intensity in W/sr. InverseSquare: irradiance at
+//   distance d facing the light is I / d^2 (cut to 0 beyond range when range > 0). Linear:
+//   I * max(0, 1 - d / range) (needs range > 0). A diffuse surface of albedo a lit head-on
+//   therefore reflects a / pi * I / d^2. Spot: smoothstep from cosOuterAngle (0) to
+//   cosInnerAngle (1). radius > 0 samples a point on the sphere (soft shadows).
+// - Directional: color * intensity is the irradiance on a surface facing the light; the light
+//   travels along `direction` (arrives from -direction); angularRadius spreads it over a cone.
+// - Emission: a surface emits emission * emissiveTexture(uv) as radiance, from its front face
+//   only when twoSided = false (front = counter-clockwise winding p0, p1, p2 seen from the
+//   front, i.e. the side cross(p1 - p0, p2 - p0) points to). One-sided surfaces are also culled
+//   from behind for camera and bounce rays (not for shadow rays).
+// - Vertex colours multiply the base colour, except with useVertexLight where they are baked
+//   light: used by the Lightmap integrator only, ignored by Direct/Path.
+// - Additive surfaces add their colour (base colour + emission) to camera rays and mirror
+//   reflections only: they neither occlude, shadow nor light other surfaces.
+// - Sky surfaces (sky = true) show the sky; they are transparent to shadow rays aimed at the
+//   sun or sky and block the others.
+// - maxBounces counts diffuse/glossy scattering events: 0 = emission and sky only,
+//   1 = direct lighting, N = paths of up to N scattering vertices. Mirror bounces are free
+//   (capped at maxBounces + 8 in total).
+// - radianceClamp caps each light contribution of a path (light samples and emitters reached
+//   by bounces) at that maximum RGB component; what the camera sees directly is never clamped.
+// - Textures sample with (0, 0) at the top-left texel corner.
 #include <array>
 #include <cstdint>
 #include <span>
@@ -156,6 +182,13 @@ enum class Integrator : uint8_t {
   Path,      ///< Full path tracing: NEE + MIS, Russian roulette, maxBounces.
 };
 
+/// Display transform applied after exposure, before sRGB encoding.
+enum class Tonemap : uint8_t {
+  AcesFitted,   ///< Narkowicz 2015 fit of the ACES filmic curve, per channel.
+  Reinhard,     ///< L / (1 + L) on luminance, hue preserved.
+  Clamp,        ///< No curve, clamp to [0, 1] (the stock renderer's look).
+};
+
 /// Per-render knobs. The image is a pure function of (scene, camera, seed, frameIndex, spp),
 /// independent of the thread count.
 struct RenderSettings {
@@ -168,6 +201,7 @@ struct RenderSettings {
   uint32_t seed = 0;
   bool accumulate = true;         ///< Average with earlier frames while camera and scene are unchanged.
   float exposure = 1.0f;          ///< Linear multiplier before tonemapping.
+  Tonemap tonemap = Tonemap::AcesFitted;   ///< Display transform (does not reset accumulation).
 };
 
 }  // namespace pa

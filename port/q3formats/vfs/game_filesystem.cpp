@@ -204,6 +204,27 @@ std::string GameFileSystem::sourceOf(std::string_view rawPath) const {
   return it == index_.end() ? "" : archives_[it->second.archive].filename().string();
 }
 
+std::vector<std::string> GameFileSystem::allFiles() const {
+  std::map<std::string, std::string> byKey;
+  for (const auto& [key, entry] : index_) byKey[key] = entry.innerPath;
+  std::error_code ec;
+  for (auto it = std::filesystem::recursive_directory_iterator(root_, ec);
+       !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    const std::string path = std::filesystem::relative(it->path(), root_, ec).generic_string();
+    if (ec || path.empty()) continue;
+    if (it.depth() == 0 && endsWithIgnoreCase(path, ".pk3")) continue;  // the archives themselves
+    byKey[toLowerAscii(path)] = path;
+  }
+  std::vector<std::string> out;
+  out.reserve(byKey.size());
+  for (auto& [key, path] : byKey) out.push_back(std::move(path));
+  std::sort(out.begin(), out.end(), [](const std::string& a, const std::string& b) {
+    return comparePathsLikeEngine(a, b) < 0;
+  });
+  return out;
+}
+
 std::vector<std::string> GameFileSystem::listFiles(std::string_view rawDir, std::string_view extension) const {
   std::string dir;
   if (!rawDir.empty() && rawDir != "/") {
@@ -226,6 +247,7 @@ std::vector<std::string> GameFileSystem::listFiles(std::string_view rawDir, std:
       if (!f.is_regular_file(ec)) continue;
       const std::string name = f.path().filename().string();
       if (!endsWithIgnoreCase(name, extension)) continue;
+      if (dir.empty() && endsWithIgnoreCase(name, ".pk3")) continue;  // the archives themselves
       const std::string path = dir.empty() ? name : dir + "/" + name;
       byKey[toLowerAscii(path)] = path;
     }

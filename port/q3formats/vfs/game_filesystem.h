@@ -40,6 +40,9 @@ class GameFileSystem {
   /// Files directly inside `dir` whose name ends with `extension` (case-insensitive; "" = all),
   /// as game paths ("scripts/base.shader"), each once (the overriding copy), sorted with FS_PathCmp.
   std::vector<std::string> listFiles(std::string_view dir, std::string_view extension) const;
+  /// Every visible file (archives and loose files, recursively; not the top-level *.pk3 files),
+  /// each once, sorted with FS_PathCmp.
+  std::vector<std::string> allFiles() const;
   /// Where a path is read from: the archive file name, "(loose)" or "" when missing.
   std::string sourceOf(std::string_view path) const;
 

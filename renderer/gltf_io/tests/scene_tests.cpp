@@ -302,5 +302,62 @@ TEST(GltfSparse, SparseAccessorOverridesBaseValues) {
   expectNear(soup.positions[1], {1, 0, 0});
 }
 
+TEST(GltfConverterConventions, ReadsLightmapsAndQuakeExtras) {
+  const fs::path path = fs::temp_directory_path() / ("pa_gltf_lightmap_" + std::to_string(::getpid()) + ".glb");
+  ModelBuilder builder;
+  const std::vector<uint8_t> pixels = {64, 32, 16, 255};
+  const int lightmap = builder.addTexture("lightmap 0", 1, 1, pixels, true);
+  tinygltf::Material material;
+  material.extras = Value(Value::Object{
+      {"quake", Value(Value::Object{{"shader", Value(std::string("textures/sfx/sky"))},
+                                    {"sky", Value(true)},
+                                    {"blend", Value(std::string("add"))}})}});
+  builder.model().materials.push_back(material);
+  const std::vector<glm::vec3> triangle = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::vector<glm::vec2> uv0 = {{0, 0}, {1, 0}, {0, 1}};
+  const std::vector<glm::vec2> uv1 = {{0.25f, 0.5f}, {0.75f, 0.5f}, {0.25f, 1.0f}};
+  tinygltf::Primitive lit;
+  lit.attributes["POSITION"] = builder.addVec3(triangle, true);
+  lit.attributes["TEXCOORD_0"] = builder.addVec2(uv0);
+  lit.attributes["TEXCOORD_1"] = builder.addVec2(uv1);
+  lit.material = 0;
+  lit.mode = TINYGLTF_MODE_TRIANGLES;
+  lit.extras = Value(Value::Object{{"lightmapTexture", Value(lightmap)}, {"lightmapTexCoord", Value(1)}});
+  tinygltf::Primitive unlit = lit;
+  unlit.extras = Value();
+  tinygltf::Mesh mesh;
+  mesh.primitives = {lit, unlit};
+  builder.model().meshes.push_back(mesh);
+  tinygltf::Node node;
+  node.mesh = 0;
+  builder.addNode(node);
+  builder.model().scenes[0].extras = Value(Value::Object{
+      {"quake", Value(Value::Object{{"lightmapOverbrightScale", Value(4.0)},
+                                    {"sky", Value(Value::Object{{"color", Value(Value::Array{Value(1.0), Value(0.5), Value(0.25)})}})}})}});
+  builder.writeGlb(path);
+  const GltfScene scene = loadScene(path);
+  fs::remove(path);
+
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const GltfMesh& loaded = scene.meshes[0];
+  ASSERT_EQ(loaded.lightmapUvs.size(), 6u);
+  EXPECT_EQ(loaded.lightmapUvs[1], glm::vec2(0.75f, 0.5f));
+  EXPECT_EQ(loaded.lightmapUvs[4], glm::vec2(0.0f));                 // primitive without a lightmap
+  EXPECT_EQ(loaded.triangleLightmaps, (std::vector<uint32_t>{0, kNone}));
+  EXPECT_EQ(scene.materials[0].extras.at("quake.shader"), "textures/sfx/sky");  // nested keys flattened
+
+  const MaterialDesc desc = toMaterialDesc(scene.materials[0], {});
+  EXPECT_TRUE(desc.sky);
+  EXPECT_EQ(desc.alphaMode, pa::AlphaMode::Additive);
+  expectNear(toSkyDesc(scene.sceneExtras).color, {1.0f, 0.5f, 0.25f});
+  EXPECT_FLOAT_EQ(lightmapBrightness(scene.sceneExtras), 4.0f);
+}
+
+TEST(GltfConverterConventions, BrightenLightmapSaturatesKeepingHue) {
+  const std::vector<uint8_t> pixels = {64, 32, 16, 0, 100, 50, 10, 7};
+  const std::vector<uint8_t> bright = brightenLightmap(pixels, 4.0f);
+  EXPECT_EQ(bright, (std::vector<uint8_t>{255, 128, 64, 255, 255, 128, 26, 255}));  // 400,200,40 -> fit to 255
+}
+
 }  // namespace
 }  // namespace pa::gltf

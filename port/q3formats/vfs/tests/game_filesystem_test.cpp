@@ -61,6 +61,11 @@ TEST(GameFileSystem, ListsDirectChildrenOnceSortedLikeTheEngine) {
   EXPECT_EQ(list[1], "scripts/b.shader");
   EXPECT_EQ(list[2], "scripts/loose.SHADER");
   EXPECT_EQ(fs.listFiles("scripts", "").size(), 4u);
+  const auto all = fs.allFiles();
+  ASSERT_EQ(all.size(), 5u);
+  EXPECT_EQ(all[2], "scripts/loose.SHADER");
+  EXPECT_EQ(all[3], "scripts/readme.txt");
+  EXPECT_EQ(all[4], "scripts/sub/c.shader");
 }
 
 TEST(GameFileSystem, RefusesEscapingPaths) {

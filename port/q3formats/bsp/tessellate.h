@@ -1,0 +1,36 @@
+#pragma once
+// BSP surfaces -> triangle lists: planar faces, triangle soups and crack-free Bezier patches.
+#include <cstddef>
+#include <vector>
+
+#include "port/q3formats/bsp/bsp_file.h"
+#include "port/q3formats/bsp/surface_mesh.h"
+
+namespace q3 {
+
+/// Tessellation quality and hostile-input budgets.
+struct TessellationOptions {
+  float maxError = 4.0f;             ///< max distance surface <-> triangles, world units (r_subdivisions)
+  int maxSegmentsPerSpan = 64;       ///< cap per 3x3 piece and direction (power of two)
+  size_t maxTotalVertices = 1u << 25;  ///< budget for all output; exceeding it throws FormatError
+  bool stitchPatches = true;         ///< equalise subdivision along boundaries shared by patches
+};
+
+/// One mesh per drawable surface, in surface order; flares and empty surfaces are skipped.
+/// Throws FormatError if the output would exceed options.maxTotalVertices and
+/// std::invalid_argument for nonsensical options.
+std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const TessellationOptions& options = {});
+
+/// Seam diagnostics over patch meshes of the same model. A seam vertex is a boundary vertex of
+/// one patch lying beside the interior of another patch's boundary edge that runs the same way
+/// (the two boundaries follow one curve but were cut differently).
+struct PatchSeamStats {
+  size_t boundaryEdges = 0;  ///< patch edges used by one triangle of their own mesh
+  size_t tJunctions = 0;     ///< seam vertices on the other edge (distance <= tolerance)
+  size_t cracks = 0;         ///< seam vertices off the other edge (tolerance < distance <= gapLimit)
+};
+/// Measures T-junctions and cracks between patch boundaries.
+PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float tolerance = 0.01f,
+                                 float gapLimit = 4.0f);
+
+}  // namespace q3

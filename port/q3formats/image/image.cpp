@@ -1,0 +1,102 @@
+#include "port/q3formats/image/image.h"
+
+#include <stb_image.h>
+
+#include <climits>
+#include <memory>
+
+#include "port/q3formats/common/format_error.h"
+
+namespace q3 {
+namespace {
+
+const stbi_uc* data(std::span<const std::byte> bytes) { return reinterpret_cast<const stbi_uc*>(bytes.data()); }
+
+void checkInputSize(std::span<const std::byte> bytes, const std::string& name) {
+  if (bytes.empty()) throw FormatError(name, "image", "empty file");
+  if (bytes.size() > ImageLimits::maxFileBytes || bytes.size() > static_cast<size_t>(INT_MAX))
+    throw FormatError(name, "image", "file of " + std::to_string(bytes.size()) + " bytes is too large");
+}
+
+uint8_t at(std::span<const std::byte> bytes, size_t i) { return static_cast<uint8_t>(bytes[i]); }
+
+/// stb_image reads zeros past the end of an uncompressed TGA; we refuse a truncated one instead.
+/// (RLE TGAs cannot be measured without decoding: a short one decodes with black padding.)
+void checkUncompressedTgaLength(std::span<const std::byte> bytes, int w, int h, const std::string& name) {
+  if (bytes.size() < 18) return;
+  const bool otherFormat = (at(bytes, 0) == 0x89 && at(bytes, 1) == 'P') ||
+                           (at(bytes, 0) == 0xFF && at(bytes, 1) == 0xD8) ||
+                           (at(bytes, 0) == 'B' && at(bytes, 1) == 'M');
+  const uint8_t type = at(bytes, 2);
+  if (otherFormat || type < 1 || type > 3) return;
+  const size_t idLength = at(bytes, 0);
+  const size_t mapLength = at(bytes, 1) ? (at(bytes, 5) | (at(bytes, 6) << 8)) : 0;
+  const size_t mapEntryBytes = (at(bytes, 7) + 7u) / 8u;
+  const size_t pixelBytes = (at(bytes, 16) + 7u) / 8u;
+  const size_t need = 18 + idLength + mapLength * mapEntryBytes +
+                      static_cast<size_t>(w) * static_cast<size_t>(h) * pixelBytes;
+  if (bytes.size() < need)
+    throw FormatError(name, "TGA pixel data",
+                      "truncated: " + std::to_string(bytes.size()) + " of " + std::to_string(need) + " bytes");
+}
+
+}  // namespace
+
+std::array<int, 2> imageSize(std::span<const std::byte> bytes, const std::string& name) {
+  checkInputSize(bytes, name);
+  int w = 0, h = 0, comp = 0;
+  if (!stbi_info_from_memory(data(bytes), static_cast<int>(bytes.size()), &w, &h, &comp))
+    throw FormatError(name, "image header", std::string("unreadable: ") + stbi_failure_reason());
+  return {w, h};
+}
+
+Image decodeImage(std::span<const std::byte> bytes, const std::string& name) {
+  const auto [w, h] = imageSize(bytes, name);
+  if (w <= 0 || h <= 0 || w > ImageLimits::maxDimension || h > ImageLimits::maxDimension)
+    throw FormatError(name, "image size",
+                      std::to_string(w) + "x" + std::to_string(h) + " outside 1.." +
+                          std::to_string(ImageLimits::maxDimension));
+  checkUncompressedTgaLength(bytes, w, h, name);
+  int dw = 0, dh = 0, comp = 0;
+  std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
+      stbi_load_from_memory(data(bytes), static_cast<int>(bytes.size()), &dw, &dh, &comp, 4), stbi_image_free);
+  if (!pixels) throw FormatError(name, "image data", std::string("cannot decode: ") + stbi_failure_reason());
+  if (dw != w || dh != h)
+    throw FormatError(name, "image size", "header and decoded sizes differ");
+  Image image;
+  image.width = w;
+  image.height = h;
+  image.rgba.assign(pixels.get(), pixels.get() + static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
+  return image;
+}
+
+Image fallbackImage(int size, int cells) {
+  if (size < 1) size = 1;
+  if (cells < 1) cells = 1;
+  Image image;
+  image.width = image.height = size;
+  image.rgba.resize(static_cast<size_t>(size) * static_cast<size_t>(size) * 4);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const bool magenta = ((x * cells / size) + (y * cells / size)) % 2 == 0;
+      uint8_t* p = &image.rgba[(static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x)) * 4];
+      p[0] = magenta ? 255 : 0;
+      p[1] = 0;
+      p[2] = magenta ? 255 : 0;
+      p[3] = 255;
+    }
+  return image;
+}
+
+std::array<float, 4> averageColor(const Image& image) {
+  const size_t n = image.rgba.size() / 4;
+  if (n == 0) return {1, 1, 1, 1};
+  std::array<double, 4> sum{};
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 4; ++c) sum[c] += image.rgba[i * 4 + c];
+  std::array<float, 4> mean;
+  for (int c = 0; c < 4; ++c) mean[c] = static_cast<float>(sum[c] / (255.0 * static_cast<double>(n)));
+  return mean;
+}
+
+}  // namespace q3

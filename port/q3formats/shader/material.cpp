@@ -1,0 +1,211 @@
+#include "port/q3formats/shader/material.h"
+
+#include <cmath>
+
+namespace q3 {
+
+// How a shader maps to a MaterialInfo.
+//
+// | shader                                             | MaterialInfo                                  |
+// |----------------------------------------------------|-----------------------------------------------|
+// | first stage with an image, not $lightmap, not      | baseTexture (animMap: animFrames + frequency; |
+// |   tcGen environment (else first image stage)       |   clampMap: clampUv)                          |
+// | first stage: no blendFunc / (ONE, ZERO)            | Opaque                                        |
+// | first stage: alphaFunc GT0 / GE128 / LT128         | Mask, cutoff 0 / 0.5 / 0.5 (LT128: invert)    |
+// | first stage: (SRC_ALPHA, ONE_MINUS_SRC_ALPHA),     | Blend                                         |
+// |   (ONE, ONE_MINUS_SRC_ALPHA)                       |                                               |
+// | first stage: dst factor ONE (add, SRC_ALPHA ONE,   | Additive (emissive)                           |
+// |   DST_COLOR ONE, ...)                              |                                               |
+// | first stage: filter (DST_COLOR, ZERO),             | Multiply                                      |
+// |   (ZERO, SRC_COLOR), (DST_COLOR, SRC_COLOR)        |                                               |
+// | any $lightmap stage                                | lighting Lightmap                             |
+// | base rgbGen vertex / exactVertex / oneMinusVertex  | lighting Vertex, vertexColor                  |
+// | base rgbGen lightingDiffuse                        | lighting Diffuse                              |
+// | no lightmap, rgbGen identity / const / wave / none | lighting Unlit (const colour kept)            |
+// | base rgbGen entity / oneMinusEntity                | entityColor                                   |
+// | q3map_surfacelight N                               | surfaceLight N, emissive                      |
+// | q3map_lightimage / q3map_lightRGB                  | lightImage / lightColor (else editor image,   |
+// |                                                    |   else base texture)                          |
+// | later stage blendFunc with dst ONE, not env/lm     | glowTextures, emissive                        |
+// | surfaceparm sky or skyParms                        | sky, skyBox faces farbox_rt ... farbox_dn     |
+// | portal, sort portal                                | portal (mirror vs camera decided by entities) |
+// | surfaceparm nodraw                                 | nodraw, invisible                             |
+// | no stages (and not sky)                            | invisible                                     |
+// | surfaceparm fog or fogParms                        | fogVolume                                     |
+// | surfaceparm water / slime / lava                   | liquid                                        |
+// | stage with tcGen environment                       | environmentMapped, environmentTexture         |
+// | cull none / disable / twosided; cull back          | twoSided; backSided                           |
+// | base stage tcMods                                  | uvAnimation (uvTransformAt(t) = affine map)   |
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+bool isImageStage(const ShaderStage& s) {
+  return s.source == TextureSource::Image && !s.textures.empty();
+}
+
+AlphaMode blendMode(const ShaderStage& s) {
+  if (!s.blends()) return AlphaMode::Opaque;
+  const BlendFactor src = s.srcBlend, dst = s.dstBlend;
+  if (dst == BlendFactor::One) return AlphaMode::Additive;
+  if ((src == BlendFactor::DstColor && (dst == BlendFactor::Zero || dst == BlendFactor::SrcColor)) ||
+      (src == BlendFactor::Zero && (dst == BlendFactor::SrcColor || dst == BlendFactor::OneMinusSrcColor)))
+    return AlphaMode::Multiply;
+  return AlphaMode::Blend;
+}
+
+}  // namespace
+
+UvAffine UvAffine::after(const UvAffine& f) const {
+  UvAffine r;
+  r.a = a * f.a + b * f.c;
+  r.b = a * f.b + b * f.d;
+  r.c = c * f.a + d * f.c;
+  r.d = c * f.b + d * f.d;
+  r.tx = a * f.tx + b * f.ty + tx;
+  r.ty = c * f.tx + d * f.ty + ty;
+  return r;
+}
+
+UvAffine uvTransformAt(const std::vector<TcMod>& mods, double seconds) {
+  UvAffine total;
+  for (const TcMod& m : mods) {
+    UvAffine step;
+    switch (m.kind) {
+      case TcModKind::Scroll: {
+        double s = m.scroll[0] * seconds, t = m.scroll[1] * seconds;
+        step.tx = static_cast<float>(s - std::floor(s));  // the engine keeps the fraction
+        step.ty = static_cast<float>(t - std::floor(t));
+        break;
+      }
+      case TcModKind::Scale:
+        step.a = m.scroll[0];
+        step.d = m.scroll[1];
+        break;
+      case TcModKind::Rotate: {  // about the texture centre (0.5, 0.5), clockwise for positive speeds
+        const double rad = -m.degreesPerSecond * seconds * kPi / 180.0;
+        const float cs = static_cast<float>(std::cos(rad)), sn = static_cast<float>(std::sin(rad));
+        step = {cs, -sn, sn, cs, 0.5f - 0.5f * cs + 0.5f * sn, 0.5f - 0.5f * sn - 0.5f * cs};
+        break;
+      }
+      case TcModKind::Stretch: {  // scale about the centre by 1 / wave
+        const float w = m.wave.evaluate(seconds);
+        const float p = w != 0 ? 1.0f / w : 1.0f;
+        step = {p, 0, 0, p, 0.5f - 0.5f * p, 0.5f - 0.5f * p};
+        break;
+      }
+      case TcModKind::Transform:  // s' = s*m00 + t*m10 + t0, t' = s*m01 + t*m11 + t1
+        step = {m.matrix[0], m.matrix[2], m.matrix[1], m.matrix[3], m.translate[0], m.translate[1]};
+        break;
+      case TcModKind::Turb:
+      case TcModKind::EntityTranslate:
+        continue;
+    }
+    total = step.after(total);
+  }
+  return total;
+}
+
+MaterialInfo deriveMaterial(const ShaderDef& shader) {
+  MaterialInfo m;
+  m.name = shader.name;
+  m.surfaceParms = shader.surfaceParms;
+  const auto& stages = shader.stages;
+
+  // Base stage: the first image stage that is not an environment reflection.
+  const ShaderStage* base = nullptr;
+  for (const auto& s : stages)
+    if (isImageStage(s) && s.tcGen != TcGen::Environment) {
+      base = &s;
+      break;
+    }
+  if (!base)
+    for (const auto& s : stages)
+      if (isImageStage(s)) {
+        base = &s;
+        break;
+      }
+
+  bool hasLightmap = false;
+  for (const auto& s : stages) hasLightmap |= s.source == TextureSource::Lightmap;
+
+  if (base) {
+    m.baseTexture = base->textures.front();
+    if (base->textures.size() > 1 || base->animFrequency > 0) {
+      m.animFrames = base->textures;
+      m.animFrequency = base->animFrequency;
+    }
+    m.clampUv = base->clamp;
+    m.uvAnimation = base->tcMods;
+    for (const auto& t : base->tcMods) m.hasTurbulence |= t.kind == TcModKind::Turb;
+  }
+
+  // Coverage comes from the first stage: it is the one that meets the framebuffer.
+  if (!stages.empty()) {
+    const ShaderStage& first = stages.front();
+    m.alphaMode = blendMode(first);
+    const ShaderStage& tested = (first.alphaTest == AlphaTest::None && base) ? *base : first;
+    if (tested.alphaTest != AlphaTest::None && m.alphaMode == AlphaMode::Opaque) {
+      m.alphaMode = AlphaMode::Mask;
+      m.alphaCutoff = tested.alphaTest == AlphaTest::Gt0 ? 0.0f : 0.5f;
+      m.alphaInvert = tested.alphaTest == AlphaTest::Lt128;
+    }
+  }
+
+  // Lighting of the base colour.
+  const RgbGen gen = base ? base->rgbGen : RgbGen::Default;
+  if (hasLightmap) m.lighting = LightingMode::Lightmap;
+  else if (gen == RgbGen::Vertex || gen == RgbGen::ExactVertex || gen == RgbGen::OneMinusVertex)
+    m.lighting = LightingMode::Vertex;
+  else if (gen == RgbGen::LightingDiffuse) m.lighting = LightingMode::Diffuse;
+  else m.lighting = LightingMode::Unlit;
+  m.vertexColor = gen == RgbGen::Vertex || gen == RgbGen::ExactVertex || gen == RgbGen::OneMinusVertex;
+  m.entityColor = gen == RgbGen::Entity || gen == RgbGen::OneMinusEntity;
+  if (gen == RgbGen::Const && base) m.constColor = base->constColor;
+
+  // Emission.
+  m.surfaceLight = shader.surfaceLight;
+  m.lightImage = !shader.lightImage.empty() ? shader.lightImage
+               : !shader.editorImage.empty() ? shader.editorImage
+                                              : m.baseTexture;
+  if (shader.lightColor) {
+    m.lightColor = *shader.lightColor;
+    m.hasLightColor = true;
+  }
+  for (const auto& s : stages) {
+    if (&s == base || &s == &stages.front() || !isImageStage(s) || s.tcGen == TcGen::Environment) continue;
+    if (s.blends() && s.dstBlend == BlendFactor::One) m.glowTextures.push_back(s.textures.front());
+  }
+  m.emissive = m.surfaceLight > 0 || !m.glowTextures.empty() || m.alphaMode == AlphaMode::Additive;
+
+  // Sky.
+  m.sky = shader.has(SurfaceParm::Sky) || shader.sky.has_value();
+  if (shader.sky) {
+    static const char* kSuffix[6] = {"_rt", "_bk", "_lf", "_ft", "_up", "_dn"};
+    for (int i = 0; i < 6; ++i) {
+      if (!shader.sky->farBox.empty()) m.skyBox.farFaces[i] = shader.sky->farBox + kSuffix[i];
+      if (!shader.sky->nearBox.empty()) m.skyBox.nearFaces[i] = shader.sky->nearBox + kSuffix[i];
+    }
+    m.skyBox.cloudHeight = shader.sky->cloudHeight;
+  }
+
+  m.portal = shader.portal || (shader.sort && *shader.sort == sort_key::Portal);
+  m.nodraw = shader.has(SurfaceParm::NoDraw);
+  m.fogVolume = shader.has(SurfaceParm::Fog) || shader.fog.has_value();
+  m.invisible = m.nodraw || (stages.empty() && !m.sky && !m.portal);
+  m.liquid = shader.has(SurfaceParm::Water) || shader.has(SurfaceParm::Slime) || shader.has(SurfaceParm::Lava);
+  for (const auto& s : stages)
+    if (s.tcGen == TcGen::Environment && isImageStage(s)) {
+      m.environmentMapped = true;
+      m.environmentTexture = s.textures.front();
+      break;
+    }
+  m.twoSided = shader.cull == CullMode::TwoSided;
+  m.backSided = shader.cull == CullMode::BackSided;
+  m.polygonOffset = shader.polygonOffset;
+  m.hasDeforms = !shader.deforms.empty();
+  return m;
+}
+
+}  // namespace q3

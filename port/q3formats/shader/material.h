@@ -1,0 +1,90 @@
+#pragma once
+// A renderer-neutral reading of a shader: what a physically based renderer needs to know.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "port/q3formats/shader/shader_types.h"
+
+namespace q3 {
+
+/// How a surface covers what is behind it.
+enum class AlphaMode {
+  Opaque,    ///< first stage writes without blending
+  Mask,      ///< alpha test: texel kept if alpha > cutoff (or < cutoff when `alphaInvert`)
+  Blend,     ///< alpha blend: colour*a + behind*(1-a)
+  Additive,  ///< adds light: colour + behind (glows, flames, beams)
+  Multiply,  ///< filters what is behind: colour*behind (tinted glass)
+};
+
+/// How the stock renderer lights the base texture.
+enum class LightingMode {
+  Lightmap,  ///< baked lightmap ($lightmap stage)
+  Vertex,    ///< baked vertex colours (rgbGen vertex / exactVertex)
+  Diffuse,   ///< light grid + dynamic lights (rgbGen lightingDiffuse, models)
+  Unlit,     ///< drawn at full brightness (identity / const / wave colours, no lightmap)
+};
+
+/// Affine texture-coordinate map: s' = a*s + b*t + tx, t' = c*s + d*t + ty.
+struct UvAffine {
+  float a = 1, b = 0, c = 0, d = 1, tx = 0, ty = 0;
+  /// Applies the map to (s, t).
+  std::array<float, 2> apply(float s, float t) const { return {a * s + b * t + tx, c * s + d * t + ty}; }
+  /// The map `this` applied after `first`.
+  UvAffine after(const UvAffine& first) const;
+};
+
+/// tcMod lines as a function of time (seconds). Turb is not affine and is left out
+/// (`hasTurbulence` tells it was there); entityTranslate needs the entity and is left out.
+UvAffine uvTransformAt(const std::vector<TcMod>& mods, double seconds);
+
+/// Sky box: six face textures (`_rt _bk _lf _ft _up _dn`, in the engine's order) of far and near boxes.
+struct SkyBox {
+  std::array<std::string, 6> farFaces;   ///< empty if the shader has no far box
+  std::array<std::string, 6> nearFaces;  ///< empty if none
+  float cloudHeight = 128;
+};
+
+/// Neutral description of a shader for renderers and exporters (no renderer dependency).
+struct MaterialInfo {
+  std::string name;
+  std::string baseTexture;                ///< first image of the base stage ("" if none)
+  std::vector<std::string> animFrames;    ///< animMap frames of the base stage (empty otherwise)
+  float animFrequency = 0;                ///< animMap frames per second
+  bool clampUv = false;
+  AlphaMode alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;               ///< Mask: threshold in [0,1]
+  bool alphaInvert = false;               ///< Mask with LT128: keep texels below the cutoff
+  LightingMode lighting = LightingMode::Lightmap;
+  std::array<float, 3> constColor{1, 1, 1};  ///< base stage rgbGen const colour (else white)
+  bool vertexColor = false;               ///< base colour is multiplied by vertex colours
+  bool entityColor = false;               ///< base colour comes from the entity (shaderRGBA)
+  float surfaceLight = 0;                 ///< q3map_surfacelight intensity (0 = not a light)
+  std::string lightImage;                 ///< texture whose average colour is the light colour
+  std::array<float, 3> lightColor{1, 1, 1};  ///< q3map_lightRGB if given (else use lightImage)
+  bool hasLightColor = false;
+  std::vector<std::string> glowTextures;  ///< additive stages over the base (self-illumination)
+  bool emissive = false;                  ///< surfaceLight > 0, or glow stages, or additive base
+  bool sky = false;
+  SkyBox skyBox;
+  bool portal = false;                    ///< portal surface: camera or mirror, chosen by the map's
+                                          ///< misc_portal_surface entity (no target = mirror)
+  bool nodraw = false;                    ///< surfaceparm nodraw
+  bool invisible = false;                 ///< nothing to draw (nodraw, or no stages and not sky)
+  bool fogVolume = false;                 ///< surfaceparm fog / fogParms
+  bool liquid = false;                    ///< water, slime or lava
+  bool environmentMapped = false;         ///< a tcGen environment stage (shiny / chrome)
+  std::string environmentTexture;
+  bool twoSided = false;
+  bool backSided = false;
+  bool polygonOffset = false;             ///< decal
+  bool hasTurbulence = false;             ///< tcMod turb present (not in uvAnimation)
+  bool hasDeforms = false;                ///< deformVertexes present (autosprite, wave, ...)
+  std::vector<TcMod> uvAnimation;         ///< tcMods of the base stage; see uvTransformAt
+  uint64_t surfaceParms = 0;
+};
+
+/// Derives the neutral material of a shader (see the mapping table in material.cpp).
+MaterialInfo deriveMaterial(const ShaderDef& shader);
+
+}  // namespace q3

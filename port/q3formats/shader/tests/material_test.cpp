@@ -1,0 +1,148 @@
+#include "port/q3formats/shader/material.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "port/q3formats/shader/shader_parser.h"
+
+namespace {
+
+using namespace q3;
+
+MaterialInfo material(const char* text) {
+  auto script = parseShaderScript(text, "m.shader");
+  EXPECT_EQ(script.shaders.size(), 1u);
+  EXPECT_TRUE(script.warnings.empty());
+  return deriveMaterial(script.shaders.at(0));
+}
+
+TEST(Material, LightmappedWallIsOpaqueWithItsTexture) {
+  auto m = material("w { { map $lightmap rgbGen identity } { map textures/w.tga blendFunc filter } }");
+  EXPECT_EQ(m.baseTexture, "textures/w.tga");
+  EXPECT_EQ(m.alphaMode, AlphaMode::Opaque);
+  EXPECT_EQ(m.lighting, LightingMode::Lightmap);
+  EXPECT_FALSE(m.emissive);
+  EXPECT_FALSE(m.invisible);
+}
+
+TEST(Material, AlphaTestedFoliageIsMaskAndTwoSided) {
+  auto m = material(R"(f { cull none
+    { map leaves.tga alphaFunc GE128 depthWrite rgbGen vertex }
+    { map $lightmap blendFunc filter depthFunc equal } })");
+  EXPECT_EQ(m.alphaMode, AlphaMode::Mask);
+  EXPECT_FLOAT_EQ(m.alphaCutoff, 0.5f);
+  EXPECT_FALSE(m.alphaInvert);
+  EXPECT_TRUE(m.twoSided);
+  EXPECT_TRUE(m.vertexColor);
+  auto inv = material("f { { map a.tga alphaFunc LT128 } }");
+  EXPECT_TRUE(inv.alphaInvert);
+  auto gt0 = material("f { { map a.tga alphaFunc GT0 } }");
+  EXPECT_FLOAT_EQ(gt0.alphaCutoff, 0.0f);
+}
+
+TEST(Material, BlendModesOfTheFirstStage) {
+  EXPECT_EQ(material("a { { map a.tga blendFunc blend } }").alphaMode, AlphaMode::Blend);
+  EXPECT_EQ(material("a { { map a.tga blendFunc GL_ONE GL_ONE_MINUS_SRC_ALPHA } }").alphaMode, AlphaMode::Blend);
+  EXPECT_EQ(material("a { { map a.tga blendFunc GL_SRC_ALPHA GL_ONE } }").alphaMode, AlphaMode::Additive);
+  EXPECT_EQ(material("a { { map a.tga blendFunc filter } }").alphaMode, AlphaMode::Multiply);
+  EXPECT_EQ(material("a { { map a.tga blendFunc GL_ONE GL_ZERO } }").alphaMode, AlphaMode::Opaque);
+  auto flame = material("a { { map flame.tga blendFunc add rgbGen identity } }");
+  EXPECT_EQ(flame.alphaMode, AlphaMode::Additive);
+  EXPECT_TRUE(flame.emissive);
+  EXPECT_EQ(flame.lighting, LightingMode::Unlit);
+}
+
+TEST(Material, SurfaceLightAndGlowStages) {
+  auto m = material(R"(l { q3map_surfacelight 1000 q3map_lightimage glow.tga
+    { map $lightmap } { map base.tga blendFunc filter } { map glow.tga blendFunc add } })");
+  EXPECT_TRUE(m.emissive);
+  EXPECT_FLOAT_EQ(m.surfaceLight, 1000);
+  EXPECT_EQ(m.lightImage, "glow.tga");
+  ASSERT_EQ(m.glowTextures.size(), 1u);
+  EXPECT_EQ(m.glowTextures[0], "glow.tga");
+  EXPECT_EQ(m.baseTexture, "base.tga");
+  auto noImage = material("l { q3map_surfacelight 10 { map base.tga } }");
+  EXPECT_EQ(noImage.lightImage, "base.tga");
+}
+
+TEST(Material, SkyBoxFacesInEngineOrder) {
+  auto m = material("s { surfaceparm sky skyparms env/red 256 - { map clouds.tga } }");
+  EXPECT_TRUE(m.sky);
+  EXPECT_EQ(m.skyBox.farFaces[0], "env/red_rt");
+  EXPECT_EQ(m.skyBox.farFaces[1], "env/red_bk");
+  EXPECT_EQ(m.skyBox.farFaces[5], "env/red_dn");
+  EXPECT_EQ(m.skyBox.nearFaces[0], "");
+  EXPECT_FLOAT_EQ(m.skyBox.cloudHeight, 256);
+  EXPECT_FALSE(m.invisible);
+}
+
+TEST(Material, NodrawPortalFogEnvironment) {
+  EXPECT_TRUE(material("c { surfaceparm nodraw surfaceparm playerclip }").invisible);
+  EXPECT_TRUE(material("c { surfaceparm trans }").invisible);
+  auto mirror = material("m { portal { map $whiteimage blendFunc GL_ONE GL_ONE_MINUS_SRC_ALPHA alphaGen portal 256 } }");
+  EXPECT_TRUE(mirror.portal);
+  EXPECT_FALSE(mirror.invisible);
+  auto fog = material("f { surfaceparm fog fogparms ( 1 0 0 ) 200 }");
+  EXPECT_TRUE(fog.fogVolume);
+  auto chrome = material("c { { map base.tga } { map env.tga tcGen environment blendFunc add } }");
+  EXPECT_TRUE(chrome.environmentMapped);
+  EXPECT_EQ(chrome.environmentTexture, "env.tga");
+  EXPECT_TRUE(chrome.glowTextures.empty());
+  EXPECT_EQ(chrome.baseTexture, "base.tga");
+  EXPECT_TRUE(material("w { surfaceparm water { map w.tga } }").liquid);
+}
+
+TEST(Material, AnimMapFrames) {
+  auto m = material("a { { animMap 2 f1.tga f2.tga } }");
+  EXPECT_EQ(m.baseTexture, "f1.tga");
+  ASSERT_EQ(m.animFrames.size(), 2u);
+  EXPECT_FLOAT_EQ(m.animFrequency, 2);
+}
+
+TEST(Material, UvAnimationKnownAnswers) {
+  TcMod scroll;
+  scroll.kind = TcModKind::Scroll;
+  scroll.scroll = {0.25f, -0.5f};
+  auto uv = uvTransformAt({scroll}, 3.0).apply(0.1f, 0.2f);
+  EXPECT_NEAR(uv[0], 0.1f + 0.75f, 1e-5);  // fract(0.75)
+  EXPECT_NEAR(uv[1], 0.2f + 0.5f, 1e-5);   // fract(-1.5) = 0.5
+
+  TcMod rotate;
+  rotate.kind = TcModKind::Rotate;
+  rotate.degreesPerSecond = 90;
+  auto centre = uvTransformAt({rotate}, 1.0).apply(0.5f, 0.5f);
+  EXPECT_NEAR(centre[0], 0.5f, 1e-5);
+  EXPECT_NEAR(centre[1], 0.5f, 1e-5);
+  auto corner = uvTransformAt({rotate}, 1.0).apply(1.0f, 0.5f);  // -90 degrees about the centre
+  EXPECT_NEAR(corner[0], 0.5f, 1e-5);
+  EXPECT_NEAR(corner[1], 0.0f, 1e-5);
+
+  TcMod scale;
+  scale.kind = TcModKind::Scale;
+  scale.scroll = {2, 3};
+  // Order matters: scale then scroll differs from scroll then scale.
+  auto a = uvTransformAt({scale, scroll}, 1.0).apply(1, 1);
+  EXPECT_NEAR(a[0], 2.25f, 1e-5);
+  EXPECT_NEAR(a[1], 3.5f, 1e-5);
+  auto b = uvTransformAt({scroll, scale}, 1.0).apply(1, 1);
+  EXPECT_NEAR(b[0], 2.5f, 1e-5);
+  EXPECT_NEAR(b[1], 4.5f, 1e-5);
+
+  TcMod stretch;
+  stretch.kind = TcModKind::Stretch;
+  stretch.wave = {WaveFunc::Sin, 2, 0, 0, 1};  // constant 2 -> scale by 1/2 about the centre
+  auto s = uvTransformAt({stretch}, 0.3).apply(1, 0);
+  EXPECT_NEAR(s[0], 0.75f, 1e-5);
+  EXPECT_NEAR(s[1], 0.25f, 1e-5);
+
+  TcMod transform;
+  transform.kind = TcModKind::Transform;
+  transform.matrix = {1, 2, 3, 4};
+  transform.translate = {5, 6};
+  auto t = uvTransformAt({transform}, 0).apply(1, 1);
+  EXPECT_NEAR(t[0], 1 * 1 + 1 * 3 + 5, 1e-5);
+  EXPECT_NEAR(t[1], 1 * 2 + 1 * 4 + 6, 1e-5);
+}
+
+}  // namespace

@@ -1,0 +1,231 @@
+// Scene assembly on a synthetic map: materials from scripts and implicit shaders, fallbacks,
+// mesh grouping and winding, sub-models, sky + sun, surface lights, hostile surfaces.
+#include <cmath>
+#include <map>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+#include <stb_image_write.h>
+
+#include "port/q3formats/shader/shader_library.h"
+#include "port/q3formats/world/world_lights.h"
+#include "port/q3formats/world/world_source.h"
+
+namespace q3 {
+namespace {
+
+std::vector<std::byte> pngOf(int w, int h, uint8_t r, uint8_t g, uint8_t b, uint8_t a) {
+  std::vector<uint8_t> pixels;
+  for (int i = 0; i < w * h; ++i) {
+    pixels.push_back(r);
+    pixels.push_back(g);
+    pixels.push_back(b);
+    pixels.push_back(a);
+  }
+  std::vector<std::byte> png;
+  stbi_write_png_to_func(
+      [](void* ctx, void* data, int size) {
+        auto* out = static_cast<std::vector<std::byte>*>(ctx);
+        out->insert(out->end(), static_cast<std::byte*>(data), static_cast<std::byte*>(data) + size);
+      },
+      &png, w, h, 4, pixels.data(), w * 4);
+  return png;
+}
+
+constexpr const char* kScript = R"(
+textures/test/wall
+{
+  { map $lightmap rgbGen identity }
+  { map textures/test/wall.tga blendFunc filter }
+}
+textures/test/glass
+{
+  surfaceparm trans
+  cull none
+  { map textures/test/wall.tga blendFunc blend }
+}
+textures/test/lamp
+{
+  q3map_surfacelight 1000
+  q3map_lightRGB 1 0.5 0.25
+  { map $lightmap }
+  { map textures/test/wall.tga blendFunc filter }
+}
+textures/skies/test
+{
+  surfaceparm sky
+  surfaceparm noimpact
+  q3map_sun 1 1 0.5 100 90 60
+  skyparms env/test - -
+}
+textures/common/nodraw
+{
+  surfaceparm nodraw
+  surfaceparm nonsolid
+}
+)";
+
+SourceSurface quad(uint32_t shader, int32_t lightmap, uint32_t model, float z) {
+  SourceSurface s;
+  s.shader = shader;
+  s.lightmap = lightmap;
+  s.model = model;
+  s.positions = {{0, 0, z}, {64, 0, z}, {64, 64, z}, {0, 64, z}};
+  s.normals.assign(4, glm::vec3(0, 0, 1));
+  s.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  s.lightmapUvs = s.uvs;
+  s.colors.assign(4, glm::vec4(1));
+  s.indices = {0, 1, 2, 0, 2, 3};   // counter-clockwise seen from +Z
+  return s;
+}
+
+class WorldBuilderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    library_.addScript(kScript, "scripts/test.shader");
+    files_["textures/test/wall.jpg"] = pngOf(4, 4, 200, 100, 50, 255);   // stb sniffs the content
+    files_["textures/test/implicit.png"] = pngOf(2, 2, 10, 20, 30, 255);
+    for (const char* face : {"rt", "bk", "lf", "ft", "up", "dn"})
+      files_[std::string("env/test_") + face + ".tga"] = pngOf(2, 2, 0, 0, 255, 255);
+    loader_ = [this](std::string_view path) -> std::optional<std::vector<std::byte>> {
+      auto it = files_.find(std::string(path));
+      if (it == files_.end()) return std::nullopt;
+      return it->second;
+    };
+    source_.mapName = "maps/test.bsp";
+    source_.shaders = {{"textures/test/wall", 0, 1}, {"textures/test/missing", 0, 1}, {"textures/test/glass", 0, 1},
+                       {"textures/test/lamp", 0, 1}, {"textures/skies/test", 4, 1}, {"textures/common/nodraw", 0x80, 0},
+                       {"textures/test/implicit", 0, 1}};
+    source_.modelBounds = {{{0, 0, 0}, {64, 64, 64}}, {{0, 0, 100}, {64, 64, 101}}};
+    source_.lightmaps.resize(2);
+    source_.lightmaps[0].fill(64);
+    source_.lightmaps[1].fill(128);
+  }
+
+  WorldScene build() { return assembleWorldScene(source_, library_, loader_); }
+
+  const WorldMaterial* materialNamed(const WorldScene& scene, const std::string& name) {
+    for (const auto& m : scene.materials)
+      if (m.shaderName == name) return &m;
+    return nullptr;
+  }
+
+  ShaderLibrary library_;
+  std::map<std::string, std::vector<std::byte>> files_;
+  FileLoader loader_;
+  SourceWorld source_;
+};
+
+TEST_F(WorldBuilderTest, GroupsSurfacesByMaterialAndLightmapPerModel) {
+  source_.surfaces = {quad(0, 0, 0, 0), quad(0, 0, 0, 8), quad(0, 1, 0, 16), quad(0, 0, 1, 100)};
+  WorldScene scene = build();
+  ASSERT_EQ(scene.models.size(), 2u);
+  ASSERT_EQ(scene.models[0].meshes.size(), 2u);   // (wall, lm0) merged, (wall, lm1)
+  const WorldMesh& merged = scene.models[0].meshes[0];
+  EXPECT_EQ(merged.lightmap, 0);
+  EXPECT_EQ(merged.sourceSurfaces, 2u);
+  EXPECT_EQ(merged.positions.size(), 8u);
+  ASSERT_EQ(merged.indices.size(), 12u);
+  EXPECT_EQ(merged.indices[0], 0u);   // kept as given
+  EXPECT_EQ(merged.indices[1], 1u);
+  EXPECT_EQ(merged.indices[2], 2u);
+  EXPECT_EQ(merged.indices[6], 4u);   // second surface offset by 4 vertices
+  EXPECT_EQ(merged.bounds.maxs.z, 8.0f);
+  EXPECT_EQ(scene.models[0].meshes[1].lightmap, 1);
+  ASSERT_EQ(scene.models[1].meshes.size(), 1u);
+  EXPECT_EQ(scene.models[1].bounds.mins.z, 100.0f);
+  ASSERT_EQ(scene.lightmaps.size(), 2u);
+  EXPECT_EQ(scene.lightmaps[1].rgba8[0], 128);
+  EXPECT_EQ(scene.lightmaps[1].rgba8[3], 255);
+}
+
+TEST_F(WorldBuilderTest, ScriptMaterialResolvesTextureWithExtensionFallback) {
+  source_.surfaces = {quad(0, 0, 0, 0), quad(2, 0, 0, 0)};
+  WorldScene scene = build();
+  const WorldMaterial* wall = materialNamed(scene, "textures/test/wall");
+  ASSERT_NE(wall, nullptr);
+  EXPECT_TRUE(wall->fromScript);
+  ASSERT_GE(wall->baseTexture, 0);
+  const WorldTexture& tex = scene.textures[size_t(wall->baseTexture)];
+  EXPECT_EQ(tex.resolvedPath, "textures/test/wall.jpg");   // .tga asked, .jpg found
+  EXPECT_FALSE(tex.isFallback);
+  EXPECT_EQ(tex.image.width, 4u);
+  EXPECT_EQ(wall->alphaMode, WorldAlphaMode::Opaque);
+  const WorldMaterial* glass = materialNamed(scene, "textures/test/glass");
+  ASSERT_NE(glass, nullptr);
+  EXPECT_EQ(glass->alphaMode, WorldAlphaMode::Blend);
+  EXPECT_TRUE(glass->twoSided);
+  EXPECT_EQ(glass->baseTexture, wall->baseTexture);   // shared texture
+  EXPECT_TRUE(scene.warnings.empty());
+}
+
+TEST_F(WorldBuilderTest, MissingShaderGetsFallbackTextureAndWarningImplicitShaderItsImage) {
+  source_.surfaces = {quad(1, 0, 0, 0), quad(6, 0, 0, 0)};
+  WorldScene scene = build();
+  const WorldMaterial* missing = materialNamed(scene, "textures/test/missing");
+  ASSERT_NE(missing, nullptr);
+  ASSERT_GE(missing->baseTexture, 0);
+  EXPECT_TRUE(scene.textures[size_t(missing->baseTexture)].isFallback);
+  EXPECT_EQ(scene.textures[size_t(missing->baseTexture)].image.width, 64u);
+  ASSERT_FALSE(scene.warnings.empty());
+  EXPECT_NE(scene.warnings[0].find("textures/test/missing"), std::string::npos);
+  const WorldMaterial* implicit = materialNamed(scene, "textures/test/implicit");
+  ASSERT_NE(implicit, nullptr);
+  EXPECT_FALSE(implicit->fromScript);
+  EXPECT_EQ(scene.textures[size_t(implicit->baseTexture)].resolvedPath, "textures/test/implicit.png");
+}
+
+TEST_F(WorldBuilderTest, SkyShaderGivesSkyBoxAndSun) {
+  source_.surfaces = {quad(0, 0, 0, 0), quad(4, -1, 0, 64)};
+  WorldScene scene = build();
+  EXPECT_EQ(scene.sky.shaderName, "textures/skies/test");
+  for (int f = 0; f < 6; ++f) ASSERT_GE(scene.sky.faces[size_t(f)], 0) << f;
+  EXPECT_EQ(scene.textures[size_t(scene.sky.faces[0])].resolvedPath, "env/test_rt.tga");   // +X
+  EXPECT_EQ(scene.textures[size_t(scene.sky.faces[5])].resolvedPath, "env/test_dn.tga");   // -Z
+  EXPECT_NEAR(scene.sky.color.b, 1.0f, 1e-4f);
+  ASSERT_EQ(scene.lights.size(), 1u);
+  const WorldLight& sun = scene.lights[0];
+  EXPECT_EQ(sun.type, WorldLightType::Sun);
+  EXPECT_FLOAT_EQ(sun.intensity, sunIrradiance(100.0f));
+  // Azimuth 90, elevation 60: the sun is up along +Y; its light travels -(0, cos60, sin60).
+  EXPECT_NEAR(sun.direction.x, 0.0f, 1e-5f);
+  EXPECT_NEAR(sun.direction.y, -0.5f, 1e-5f);
+  EXPECT_NEAR(sun.direction.z, -std::sqrt(3.0f) / 2.0f, 1e-5f);
+  EXPECT_EQ(sun.color, glm::vec3(1.0f, 1.0f, 0.5f));
+  const WorldMaterial* sky = materialNamed(scene, "textures/skies/test");
+  ASSERT_NE(sky, nullptr);
+  EXPECT_TRUE(sky->sky);
+  EXPECT_FALSE(sky->castsShadows);
+}
+
+TEST_F(WorldBuilderTest, SurfaceLightAndNodraw) {
+  source_.surfaces = {quad(3, 0, 0, 0), quad(5, -1, 0, 0)};
+  WorldScene scene = build();
+  const WorldMaterial* lamp = materialNamed(scene, "textures/test/lamp");
+  ASSERT_NE(lamp, nullptr);
+  EXPECT_FLOAT_EQ(lamp->surfaceLight, 1000.0f);
+  EXPECT_EQ(lamp->emission, glm::vec3(1.0f, 0.5f, 0.25f));
+  // The nodraw surface is dropped: only the lamp's mesh remains.
+  ASSERT_EQ(scene.models[0].meshes.size(), 1u);
+  EXPECT_EQ(scene.materials[scene.models[0].meshes[0].material].shaderName, "textures/test/lamp");
+}
+
+TEST_F(WorldBuilderTest, HostileSurfacesAreSkippedWithWarnings) {
+  SourceSurface nan = quad(0, 0, 0, 0);
+  nan.positions[1].x = std::nanf("");
+  SourceSurface badIndex = quad(0, 0, 0, 0);
+  badIndex.indices = {0, 1, 99, 0, 0, 1};   // out of range and degenerate
+  SourceSurface mismatched = quad(0, 0, 0, 0);
+  mismatched.normals.pop_back();
+  SourceSurface externalLightmap = quad(0, 7, 0, 0);   // beyond the lump
+  source_.surfaces = {nan, badIndex, mismatched, externalLightmap};
+  WorldScene scene = build();
+  ASSERT_EQ(scene.models[0].meshes.size(), 1u);
+  EXPECT_EQ(scene.models[0].meshes[0].lightmap, -1);   // drawn vertex-lit
+  EXPECT_EQ(scene.models[0].meshes[0].indices.size(), 6u);
+  EXPECT_EQ(scene.warnings.size(), 3u);   // non-finite, mismatched arrays, external lightmap
+}
+
+}  // namespace
+}  // namespace q3

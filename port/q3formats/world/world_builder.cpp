@@ -1,0 +1,292 @@
+// assembleWorldScene: materials, textures, meshes, sky, sun, fogs from a SourceWorld.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <tuple>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "port/q3formats/shader/material.h"
+#include "port/q3formats/shader/shader_library.h"
+#include "port/q3formats/world/world_lights.h"
+#include "port/q3formats/world/world_source.h"
+#include "port/q3formats/world/world_textures.h"
+
+namespace q3 {
+namespace {
+
+// SURF_* bits of the BSP shader lump (q_shared.h / surfaceflags.h).
+constexpr int32_t kSurfNodraw = 0x80;
+constexpr int32_t kSurfSky = 0x4;
+constexpr int32_t kSurfHint = 0x100;
+constexpr int32_t kSurfSkip = 0x200;
+constexpr int32_t kSurfNolightmap = 0x400;
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+glm::vec3 normalisedColor(glm::vec3 c) {
+  float peak = std::max({c.r, c.g, c.b});
+  return peak > 0.0f ? c / peak : glm::vec3(1.0f);
+}
+
+WorldAlphaMode alphaModeOf(AlphaMode mode) {
+  switch (mode) {
+    case AlphaMode::Opaque: return WorldAlphaMode::Opaque;
+    case AlphaMode::Mask: return WorldAlphaMode::Mask;
+    case AlphaMode::Blend: return WorldAlphaMode::Blend;
+    case AlphaMode::Additive: return WorldAlphaMode::Additive;
+    case AlphaMode::Multiply: return WorldAlphaMode::Blend;   // filter glass: closest neutral mode
+  }
+  return WorldAlphaMode::Opaque;
+}
+
+class SceneAssembler {
+ public:
+  SceneAssembler(const SourceWorld& source, const ShaderLibrary& shaders, const FileLoader& loadFile,
+                 const WorldBuildOptions& options)
+      : source_(source), shaders_(shaders), options_(options),
+        textures_(loadFile, options.loadTextures, scene_.textures, scene_.warnings) {}
+
+  WorldScene run() {
+    scene_.mapName = source_.mapName;
+    scene_.lightGrid = source_.lightGrid;
+    for (const auto& rgb : source_.lightmaps) {
+      WorldImage image{128, 128, std::vector<uint8_t>(128 * 128 * 4)};
+      for (size_t i = 0; i < 128 * 128; ++i) {
+        image.rgba8[i * 4 + 0] = rgb[i * 3 + 0];
+        image.rgba8[i * 4 + 1] = rgb[i * 3 + 1];
+        image.rgba8[i * 4 + 2] = rgb[i * 3 + 2];
+        image.rgba8[i * 4 + 3] = 255;
+      }
+      scene_.lightmaps.push_back(std::move(image));
+    }
+    scene_.models.resize(std::max<size_t>(1, source_.modelBounds.size()));
+    for (size_t m = 0; m < source_.modelBounds.size(); ++m) scene_.models[m].bounds = source_.modelBounds[m];
+
+    for (const SourceSurface& surface : source_.surfaces) addSurface(surface);
+    for (auto& model : scene_.models)
+      std::stable_sort(model.meshes.begin(), model.meshes.end(),
+                       [](const WorldMesh& a, const WorldMesh& b) { return std::tie(a.material, a.lightmap) < std::tie(b.material, b.lightmap); });
+
+    addEntityLightsAndCameras(source_.entities, scene_);
+    addFogs();
+    if (skyMaterial_) addSky(*skyMaterial_);
+    return std::move(scene_);
+  }
+
+ private:
+  /// Material index of a BSP shader (created on first use).
+  uint32_t material(uint32_t shaderIndex, bool hasLightmap) {
+    auto key = std::make_pair(shaderIndex, hasLightmap);
+    if (auto it = materials_.find(key); it != materials_.end()) return it->second;
+    const SourceShader& lump = source_.shaders.at(shaderIndex);
+    WorldMaterial m;
+    m.shaderName = lump.name;
+    m.surfaceFlags = lump.surfaceFlags;
+    m.contentFlags = lump.contentFlags;
+
+    auto exists = [this](const std::string& path) { return textures_.exists(path); };
+    std::optional<ShaderDef> def =
+        shaders_.resolve(lump.name, hasLightmap ? ImplicitLighting::Lightmap : ImplicitLighting::Vertex, exists);
+    if (!def) {
+      scene_.warnings.push_back("shader '" + lump.name + "': no script and no image, using the fallback texture");
+      m.baseTexture = textures_.get(lump.name, false, /*warnIfMissing=*/false);
+      m.vertexLit = !hasLightmap;
+      m.visible = (lump.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
+      m.sky = (lump.surfaceFlags & kSurfSky) != 0;
+      m.twoSided = false;
+    } else {
+      fillFromShader(*def, hasLightmap, m);
+    }
+    uint32_t index = uint32_t(scene_.materials.size());
+    scene_.materials.push_back(std::move(m));
+    materials_.emplace(key, index);
+    return index;
+  }
+
+  void fillFromShader(const ShaderDef& def, bool hasLightmap, WorldMaterial& m) {
+    const MaterialInfo info = deriveMaterial(def);
+    m.fromScript = !def.implicit;
+    std::string base = info.baseTexture.empty() && !info.animFrames.empty() ? info.animFrames.front() : info.baseTexture;
+    if (!base.empty() && base[0] != '$' && base[0] != '*') m.baseTexture = textures_.get(base, info.clampUv);
+    m.baseColor = glm::vec4(info.constColor[0], info.constColor[1], info.constColor[2], 1.0f);
+    m.alphaMode = alphaModeOf(info.alphaMode);
+    m.alphaCutoff = info.alphaCutoff;
+    m.alphaInvert = info.alphaInvert;
+    m.twoSided = info.twoSided;
+    m.sky = info.sky || (m.surfaceFlags & kSurfSky) != 0;
+    m.fog = info.fogVolume;
+    m.mirror = info.portal;
+    m.visible = !info.invisible && !m.fog && (m.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
+    m.vertexLit = info.lighting == LightingMode::Vertex || (!hasLightmap && info.lighting == LightingMode::Lightmap) ||
+                  (m.surfaceFlags & kSurfNolightmap) != 0;
+    m.castsShadows = !m.sky && m.alphaMode != WorldAlphaMode::Additive && m.visible;
+    m.specular = info.environmentMapped ? 0.5f : 0.0f;
+    for (const TcMod& mod : info.uvAnimation) {
+      if (mod.kind == TcModKind::Scroll) m.uvScrollPerSecond += glm::vec2(mod.scroll[0], mod.scroll[1]);
+      if (mod.kind == TcModKind::Scale) m.uvScale *= glm::vec2(mod.scroll[0], mod.scroll[1]);
+    }
+    if (!info.glowTextures.empty()) m.emissiveTexture = textures_.get(info.glowTextures.front(), false);
+    if (info.surfaceLight > 0.0f) {
+      m.surfaceLight = info.surfaceLight;
+      glm::vec3 color(1.0f);
+      if (info.hasLightColor) {
+        color = glm::vec3(info.lightColor[0], info.lightColor[1], info.lightColor[2]);
+      } else if (!info.lightImage.empty()) {
+        color = textures_.averageColor(textures_.get(info.lightImage, false));
+      } else if (m.baseTexture >= 0) {
+        color = textures_.averageColor(m.baseTexture);
+      }
+      m.emission = normalisedColor(glm::max(color, glm::vec3(0.0f)));
+      if (!m.visible) m.castsShadows = false;
+    } else if (m.emissiveTexture >= 0) {
+      m.emission = glm::vec3(1.0f);
+    }
+    if (m.sky && !skyMaterial_) skyMaterial_ = std::make_pair(def, info);
+    if (def.sun && !sunShaderSeen_) {
+      sunShaderSeen_ = true;
+      addSun(def);
+    }
+  }
+
+  void addSun(const ShaderDef& def) {
+    const SunParms& sun = *def.sun;
+    if (!(sun.intensity > 0.0f)) return;
+    WorldLight light;
+    light.type = WorldLightType::Sun;
+    float azimuth = glm::radians(sun.degrees), elevation = glm::radians(sun.elevation);
+    glm::vec3 towardSun(std::cos(azimuth) * std::cos(elevation), std::sin(azimuth) * std::cos(elevation), std::sin(elevation));
+    light.direction = -towardSun;
+    light.color = normalisedColor(glm::vec3(sun.color[0], sun.color[1], sun.color[2]));
+    light.quakeIntensity = sun.intensity;
+    light.intensity = sunIrradiance(sun.intensity);
+    light.angularRadius = glm::radians(std::max(0.0f, sun.deviation));
+    light.source = "q3map_sun in " + def.name;
+    scene_.lights.push_back(light);
+  }
+
+  void addSky(const std::pair<ShaderDef, MaterialInfo>& sky) {
+    const auto& [def, info] = sky;
+    scene_.sky.shaderName = def.name;
+    scene_.sky.cloudHeight = info.skyBox.cloudHeight;
+    glm::vec3 sum(0.0f);
+    int count = 0;
+    // The engine's order rt, bk, lf, ft, up, dn is +X, -X, +Y, -Y, +Z, -Z.
+    for (size_t f = 0; f < 6; ++f) {
+      const std::string& face = info.skyBox.farFaces[f];
+      if (face.empty()) continue;
+      scene_.sky.faces[f] = textures_.get(face, true);
+      sum += textures_.averageColor(scene_.sky.faces[f]);
+      ++count;
+    }
+    if (count == 0) {
+      // Cloud layers only: the average of the base texture stands in for the sky colour.
+      for (const WorldMaterial& m : scene_.materials)
+        if (m.sky && m.shaderName == def.name && m.baseTexture >= 0) {
+          sum = textures_.averageColor(m.baseTexture);
+          count = 1;
+          break;
+        }
+    }
+    scene_.sky.color = count > 0 ? sum / float(count) : glm::vec3(0.0f);
+  }
+
+  void addFogs() {
+    for (const SourceFog& fog : source_.fogs) {
+      WorldFog out;
+      out.shaderName = fog.shaderName;
+      out.bounds = fog.bounds;
+      if (const ShaderDef* def = shaders_.find(fog.shaderName); def && def->fog) {
+        out.color = glm::vec3(def->fog->color[0], def->fog->color[1], def->fog->color[2]);
+        out.depthForOpaque = def->fog->depthForOpaque;
+      } else {
+        scene_.warnings.push_back("fog shader '" + fog.shaderName + "': no fogParms, default grey");
+      }
+      scene_.fogs.push_back(std::move(out));
+    }
+  }
+
+  void addSurface(const SourceSurface& s) {
+    const size_t n = s.positions.size();
+    if (n == 0 || s.indices.size() < 3) return;
+    if (s.shader >= source_.shaders.size() || s.normals.size() != n || s.uvs.size() != n || s.lightmapUvs.size() != n ||
+        s.colors.size() != n) {
+      scene_.warnings.push_back("surface with inconsistent arrays skipped (shader " + std::to_string(s.shader) + ")");
+      return;
+    }
+    for (const glm::vec3& p : s.positions)
+      if (!finite(p)) {
+        scene_.warnings.push_back("surface with non-finite vertex skipped (shader '" + source_.shaders[s.shader].name + "')");
+        return;
+      }
+    const bool lightmapValid = s.lightmap >= 0 && size_t(s.lightmap) < scene_.lightmaps.size();
+    if (s.lightmap >= 0 && !lightmapValid && !externalLightmapWarned_) {
+      externalLightmapWarned_ = true;
+      scene_.warnings.push_back("lightmap index " + std::to_string(s.lightmap) +
+                                " beyond the lightmap lump (external lightmaps?): surfaces drawn vertex-lit");
+    }
+    uint32_t mat = material(s.shader, lightmapValid);
+    const WorldMaterial& m = scene_.materials[mat];
+    if (!m.visible && m.surfaceLight <= 0.0f && !options_.keepInvisible) return;
+    const int32_t lightmap = lightmapValid && !m.vertexLit ? s.lightmap : -1;
+
+    // Whole, in-range, non-degenerate triangles.
+    std::vector<uint32_t> triangles;
+    triangles.reserve(s.indices.size());
+    for (size_t t = 0; t + 2 < s.indices.size(); t += 3) {
+      uint32_t a = s.indices[t], b = s.indices[t + 1], c = s.indices[t + 2];
+      if (a >= n || b >= n || c >= n || a == b || b == c || a == c) continue;
+      triangles.insert(triangles.end(), {a, b, c});
+    }
+    if (triangles.empty()) return;
+
+    uint32_t modelIndex = s.model < scene_.models.size() ? s.model : 0;
+    WorldModel& model = scene_.models[modelIndex];
+    auto key = std::make_tuple(modelIndex, mat, lightmap);
+    auto it = meshes_.find(key);
+    if (it == meshes_.end()) {
+      it = meshes_.emplace(key, model.meshes.size()).first;
+      WorldMesh mesh;
+      mesh.material = mat;
+      mesh.lightmap = lightmap;
+      model.meshes.push_back(std::move(mesh));
+    }
+    WorldMesh& mesh = model.meshes[it->second];
+    const uint32_t base = uint32_t(mesh.positions.size());
+    for (uint32_t index : triangles) mesh.indices.push_back(base + index);
+    for (size_t v = 0; v < n; ++v) {
+      mesh.positions.push_back(s.positions[v]);
+      glm::vec3 normal = s.normals[v];
+      float len = glm::length(normal);
+      mesh.normals.push_back(std::isfinite(len) && len > 1e-6f ? normal / len : glm::vec3(0.0f, 0.0f, 1.0f));
+      glm::vec2 uv = s.uvs[v], lm = s.lightmapUvs[v];
+      mesh.uvs.push_back(std::isfinite(uv.x) && std::isfinite(uv.y) ? uv : glm::vec2(0.0f));
+      mesh.lightmapUvs.push_back(std::isfinite(lm.x) && std::isfinite(lm.y) ? lm : glm::vec2(0.0f));
+      mesh.colors.push_back(s.colors[v]);
+      mesh.bounds.extend(s.positions[v]);
+    }
+    ++mesh.sourceSurfaces;
+  }
+
+  const SourceWorld& source_;
+  const ShaderLibrary& shaders_;
+  const WorldBuildOptions& options_;
+  WorldScene scene_;
+  TextureCache textures_;
+  std::map<std::pair<uint32_t, bool>, uint32_t> materials_;
+  std::map<std::tuple<uint32_t, uint32_t, int32_t>, size_t> meshes_;
+  std::optional<std::pair<ShaderDef, MaterialInfo>> skyMaterial_;
+  bool sunShaderSeen_ = false;
+  bool externalLightmapWarned_ = false;
+};
+
+}  // namespace
+
+WorldScene assembleWorldScene(const SourceWorld& source, const ShaderLibrary& shaders, const FileLoader& loadFile,
+                              const WorldBuildOptions& options) {
+  return SceneAssembler(source, shaders, loadFile, options).run();
+}
+
+}  // namespace q3

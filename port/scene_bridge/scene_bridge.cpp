@@ -1,0 +1,253 @@
+// uploadWorld: WorldScene -> pa::Renderer.
+#include "port/scene_bridge/scene_bridge.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "port/q3formats/world/world_lights.h"
+
+namespace pa::bridge {
+namespace {
+
+float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+
+/// Mean linear colour of an RGBA8 sRGB image (1 when empty).
+glm::vec3 meanLinearColor(const q3::WorldImage& image) {
+  if (image.rgba8.empty()) return glm::vec3(1.0f);
+  glm::dvec3 sum(0.0);
+  for (size_t i = 0; i + 3 < image.rgba8.size(); i += 4)
+    sum += glm::dvec3(srgbToLinear(image.rgba8[i] / 255.0f), srgbToLinear(image.rgba8[i + 1] / 255.0f),
+                      srgbToLinear(image.rgba8[i + 2] / 255.0f));
+  return glm::vec3(sum / double(image.rgba8.size() / 4));
+}
+
+bool validImage(const q3::WorldImage& image) {
+  return image.width > 0 && image.height > 0 && image.rgba8.size() == size_t(image.width) * image.height * 4;
+}
+
+AlphaMode alphaModeOf(q3::WorldAlphaMode mode) {
+  switch (mode) {
+    case q3::WorldAlphaMode::Opaque: return AlphaMode::Opaque;
+    case q3::WorldAlphaMode::Mask: return AlphaMode::Mask;
+    case q3::WorldAlphaMode::Blend: return AlphaMode::Blend;
+    case q3::WorldAlphaMode::Additive: return AlphaMode::Additive;
+  }
+  return AlphaMode::Opaque;
+}
+
+}  // namespace
+
+std::vector<uint8_t> colorShiftLightmap(const std::vector<uint8_t>& rgba8, int shift) {
+  std::vector<uint8_t> out(rgba8.size());
+  for (size_t i = 0; i + 3 < rgba8.size(); i += 4) {
+    int r = rgba8[i] << shift, g = rgba8[i + 1] << shift, b = rgba8[i + 2] << shift;
+    int peak = std::max({r, g, b});
+    if (peak > 255) {
+      r = r * 255 / peak;
+      g = g * 255 / peak;
+      b = b * 255 / peak;
+    }
+    out[i] = uint8_t(r);
+    out[i + 1] = uint8_t(g);
+    out[i + 2] = uint8_t(b);
+    out[i + 3] = rgba8[i + 3];
+  }
+  return out;
+}
+
+MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handles, uint32_t material, int32_t lightmap,
+                          float lightScale) {
+  const q3::WorldMaterial& m = scene.materials.at(material);
+  auto texture = [&](int32_t index) {
+    return index >= 0 && size_t(index) < handles.textures.size() ? handles.textures[size_t(index)] : kNoId;
+  };
+  MaterialDesc desc;
+  desc.baseTexture = texture(m.baseTexture);
+  desc.baseColor = glm::clamp(m.baseColor, 0.0f, 1.0f);
+  desc.alphaMode = alphaModeOf(m.alphaMode);
+  desc.alphaCutoff = m.alphaCutoff;
+  desc.alphaInvert = m.alphaInvert;
+  desc.opacity = m.opacity;
+  desc.lightmapTexture =
+      lightmap >= 0 && size_t(lightmap) < handles.lightmaps.size() ? handles.lightmaps[size_t(lightmap)] : kNoId;
+  desc.useVertexLight = m.vertexLit || desc.lightmapTexture == kNoId;
+  desc.mirror = m.mirror;
+  desc.specular = m.specular;
+  desc.twoSided = m.twoSided;
+  desc.castsShadows = m.castsShadows;
+  desc.visible = m.visible;
+  desc.sky = m.sky;
+  // uv animation at time 0 is the static scale; scrolling is applied per frame by the glue.
+  desc.uvTransform = glm::mat3x2(glm::vec2(m.uvScale.x, 0.0f), glm::vec2(0.0f, m.uvScale.y), glm::vec2(0.0f));
+
+  if (m.surfaceLight > 0.0f) {
+    // q3map_surfacelight: constant radiance of the light's colour; shown through its texture
+    // (glow stage, else base) scaled so the texture's mean keeps the emitted power.
+    int32_t shown = m.emissiveTexture >= 0 ? m.emissiveTexture : m.baseTexture;
+    glm::vec3 radiance = m.emission * q3::surfaceLightRadiance(m.surfaceLight) * lightScale;
+    if (shown >= 0 && size_t(shown) < scene.textures.size() && validImage(scene.textures[size_t(shown)].image)) {
+      glm::vec3 mean = meanLinearColor(scene.textures[size_t(shown)].image);
+      float luminance = 0.2126f * mean.r + 0.7152f * mean.g + 0.0722f * mean.b;
+      if (luminance > 1e-3f) {
+        desc.emissiveTexture = texture(shown);
+        radiance /= luminance;
+      }
+    }
+    desc.emission = radiance;
+  } else if (m.emissiveTexture >= 0) {
+    // Glow stages: the texture at its own brightness.
+    desc.emissiveTexture = texture(m.emissiveTexture);
+    desc.emission = glm::vec3(1.0f);
+  }
+  return desc;
+}
+
+WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const UploadOptions& options) {
+  WorldHandles handles;
+  for (const q3::WorldTexture& t : scene.textures) {
+    if (!validImage(t.image)) {
+      handles.textures.push_back(kNoId);
+      continue;
+    }
+    TextureDesc desc;
+    desc.width = t.image.width;
+    desc.height = t.image.height;
+    desc.rgba8 = t.image.rgba8;
+    desc.wrap = t.clamp ? TextureWrap::Clamp : TextureWrap::Repeat;
+    handles.textures.push_back(renderer.addTexture(desc));
+  }
+  for (const q3::WorldImage& lm : scene.lightmaps) {
+    if (!validImage(lm)) {
+      handles.lightmaps.push_back(kNoId);
+      continue;
+    }
+    std::vector<uint8_t> shifted = colorShiftLightmap(lm.rgba8, 2);
+    TextureDesc desc;
+    desc.width = lm.width;
+    desc.height = lm.height;
+    desc.rgba8 = shifted;
+    desc.srgb = true;   // gamma-space multiply, see the header
+    desc.wrap = TextureWrap::Clamp;
+    desc.mipmaps = false;
+    handles.lightmaps.push_back(renderer.addTexture(desc));
+  }
+
+  for (size_t modelIndex = 0; modelIndex < scene.models.size(); ++modelIndex) {
+    const q3::WorldModel& model = scene.models[modelIndex];
+    std::vector<glm::vec3> positions, normals;
+    std::vector<glm::vec2> uvs, lightmapUvs;
+    std::vector<glm::vec4> colors;
+    std::vector<uint32_t> indices;
+    std::vector<MaterialId> triangleMaterials;
+    for (const q3::WorldMesh& mesh : model.meshes) {
+      const size_t n = mesh.positions.size();
+      if (n == 0 || mesh.normals.size() != n || mesh.uvs.size() != n || mesh.lightmapUvs.size() != n ||
+          mesh.colors.size() != n || mesh.material >= scene.materials.size())
+        continue;
+      auto key = std::make_pair(mesh.material, mesh.lightmap);
+      auto it = handles.materials.find(key);
+      if (it == handles.materials.end())
+        it = handles.materials
+                 .emplace(key, renderer.addMaterial(materialDesc(scene, handles, mesh.material, mesh.lightmap, options.lightScale)))
+                 .first;
+      const bool vertexLight = scene.materials[mesh.material].vertexLit || mesh.lightmap < 0;
+      const uint32_t base = uint32_t(positions.size());
+      positions.insert(positions.end(), mesh.positions.begin(), mesh.positions.end());
+      normals.insert(normals.end(), mesh.normals.begin(), mesh.normals.end());
+      uvs.insert(uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
+      lightmapUvs.insert(lightmapUvs.end(), mesh.lightmapUvs.begin(), mesh.lightmapUvs.end());
+      for (const glm::vec4& c : mesh.colors) {
+        // Vertex colours are baked light (gamma space) on vertex-lit surfaces; elsewhere white.
+        colors.push_back(vertexLight ? glm::vec4(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b), c.a)
+                                     : glm::vec4(1.0f, 1.0f, 1.0f, c.a));
+      }
+      for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+        uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
+        if (a >= n || b >= n || c >= n) continue;
+        indices.insert(indices.end(), {base + a, base + b, base + c});
+        triangleMaterials.push_back(it->second);
+      }
+    }
+    if (indices.empty()) {
+      handles.modelMeshes.push_back(kNoId);
+      handles.modelInstances.push_back(kNoId);
+      continue;
+    }
+    MeshDesc mesh;
+    mesh.positions = positions;
+    mesh.indices = indices;
+    mesh.normals = normals;
+    mesh.uvs = uvs;
+    mesh.lightmapUvs = lightmapUvs;
+    mesh.colors = colors;
+    mesh.materials = triangleMaterials;
+    MeshId id = renderer.addMesh(mesh);
+    handles.modelMeshes.push_back(id);
+    InstanceDesc instance;
+    instance.mesh = id;
+    handles.modelInstances.push_back(renderer.addInstance(instance));
+    handles.triangles += triangleMaterials.size();
+  }
+
+  if (options.lights) {
+    for (const q3::WorldLight& light : scene.lights) {
+      if (!(light.intensity > 0.0f) || !std::isfinite(light.intensity)) continue;
+      LightDesc desc;
+      desc.position = light.position;
+      desc.direction = light.direction;
+      desc.color = light.color;
+      desc.intensity = light.intensity * options.lightScale;
+      switch (light.type) {
+        case q3::WorldLightType::Point: desc.type = LightType::Point; break;
+        case q3::WorldLightType::Spot:
+          desc.type = LightType::Spot;
+          desc.cosInnerAngle = light.cosInnerAngle;
+          desc.cosOuterAngle = light.cosOuterAngle;
+          break;
+        case q3::WorldLightType::Sun:
+          desc.type = LightType::Directional;
+          desc.angularRadius = light.angularRadius;
+          break;
+      }
+      if (light.linearFalloff) {
+        desc.falloff = Falloff::Linear;
+        desc.range = light.range;
+      }
+      handles.lights.push_back(renderer.addLight(desc));
+    }
+  }
+
+  if (options.sky) {
+    SkyDesc sky;
+    sky.color = scene.sky.color;
+    sky.intensity = options.skyIntensity;
+    bool allFaces = true;
+    for (size_t f = 0; f < 6; ++f) {
+      int32_t t = scene.sky.faces[f];
+      TextureId id = t >= 0 && size_t(t) < handles.textures.size() ? handles.textures[size_t(t)] : kNoId;
+      sky.faces[f] = id;
+      allFaces = allFaces && id != kNoId;
+    }
+    if (allFaces) sky.color = glm::vec3(1.0f);
+    else sky.faces.fill(kNoId);
+    renderer.setSky(sky);
+  }
+  return handles;
+}
+
+Camera cameraFromSpawn(const q3::WorldCamera& spawn, float aspect, float fovX) {
+  Camera camera;
+  camera.origin = spawn.eye;
+  camera.forward = spawn.forward;
+  camera.left = spawn.left;
+  camera.up = spawn.up;
+  camera.fovX = std::clamp(fovX, 1.0f, 170.0f);
+  float safeAspect = aspect > 1e-3f && std::isfinite(aspect) ? aspect : 4.0f / 3.0f;
+  camera.fovY = glm::degrees(2.0f * std::atan(std::tan(glm::radians(camera.fovX) / 2.0f) / safeAspect));
+  return camera;
+}
+
+}  // namespace pa::bridge

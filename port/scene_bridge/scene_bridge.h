@@ -1,0 +1,56 @@
+#pragma once
+// pa::bridge: puts a q3::WorldScene into pa::Renderer's flat scene API.
+//
+// Units: Quake units stay scene units (1 unit ~ 1 inch), Z up. Analytic light intensities come
+// converted by the world builder (port/q3formats/world/world_lights.h): a q3map2 light value of
+// 64 (what the lightmap shows as "full bright") becomes irradiance pi, so a white Lambertian
+// surface reaches radiance 1 (white at exposure 1) in the Direct and Path integrators exactly
+// where the Lightmap integrator shows the texture unmodified.
+// Lightmaps are uploaded with Quake's overbright shift (x4, hue-preserving clamp, the look of
+// r_overBrightBits 0) and as sRGB data, because Quake multiplies texture and lightmap in gamma
+// space and lin(a) * lin(b) ~= lin(a * b) for a power-law transfer.
+#include <cstdint>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "port/q3formats/world/world_scene.h"
+#include "renderer/scene/renderer.h"
+
+namespace pa::bridge {
+
+/// Knobs of uploadWorld.
+struct UploadOptions {
+  bool lights = true;        ///< Add the map's analytic lights (light entities, q3map_sun).
+  bool sky = true;           ///< Set the sky (box faces or colour).
+  float lightScale = 1.0f;   ///< Multiplies every light intensity and emission (artistic exposure).
+  float skyIntensity = 1.0f; ///< Radiance multiplier of the sky.
+};
+
+/// Renderer ids of everything uploaded, indexed like the WorldScene arrays.
+struct WorldHandles {
+  std::vector<TextureId> textures;          ///< Per WorldScene::textures (kNoId when empty).
+  std::vector<TextureId> lightmaps;         ///< Per WorldScene::lightmaps.
+  std::map<std::pair<uint32_t, int32_t>, MaterialId> materials;   ///< (material, lightmap) -> id.
+  std::vector<MeshId> modelMeshes;          ///< Per WorldScene::models: one mesh (kNoId when empty).
+  std::vector<InstanceId> modelInstances;   ///< Per model: identity instance (kNoId when empty).
+  std::vector<LightId> lights;              ///< Per WorldScene::lights that was added.
+  uint64_t triangles = 0;
+};
+
+/// Uploads textures, lightmaps, materials, one mesh + instance per model, lights and sky.
+/// Does not commit(). Brush sub-model instances start at identity; movers set their transform.
+WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const UploadOptions& options = {});
+
+/// The renderer material for one world material drawn with one lightmap (-1 = none).
+MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handles, uint32_t material, int32_t lightmap,
+                          float lightScale = 1.0f);
+
+/// Quake's lightmap brightening: value * 2^shift per channel, scaled down as a whole when one
+/// channel would pass 255 (hue kept). RGBA8 in, RGBA8 out.
+std::vector<uint8_t> colorShiftLightmap(const std::vector<uint8_t>& rgba8, int shift);
+
+/// A renderer camera at a spawn point; fovX in degrees over an image of the given aspect (w/h).
+Camera cameraFromSpawn(const q3::WorldCamera& spawn, float aspect, float fovX = 90.0f);
+
+}  // namespace pa::bridge

@@ -1,0 +1,219 @@
+// bench: our BVH against Embree 3 on the same scene and the same rays.
+//   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
+//         [--rays N] [--json]
+// Per-ray figures are single-threaded rays per second (median over the repetitions, ours and
+// Embree interleaved in each repetition); build times use N threads for both (TBB arena).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "renderer/bench/bench_scene.h"
+#include "renderer/bench/frame_timing.h"
+#include "renderer/bench/ray_sets.h"
+#include "renderer/bvh/bvh.h"
+#include "renderer/bvh/testing/embree_oracle.h"
+
+namespace pa::bench {
+namespace {
+
+struct Options {
+  std::string scene, synthetic;
+  uint32_t threads = 1;
+  uint32_t reps = 5;
+  uint32_t rays = 1u << 20;
+  bool json = false;
+};
+
+[[noreturn]] void usage(const std::string& error) {
+  std::fprintf(stderr,
+               "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
+               "[--reps R] [--rays N] [--json]\n",
+               error.c_str());
+  std::exit(2);
+}
+
+uint32_t parseCount(const char* text, const char* flag) {
+  char* end = nullptr;
+  const unsigned long v = std::strtoul(text, &end, 10);
+  if (end == text || *end != '\0' || v == 0 || v > (1ul << 28)) usage(std::string("bad value for ") + flag);
+  return static_cast<uint32_t>(v);
+}
+
+Options parseOptions(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> const char* {
+      if (i + 1 >= argc) usage("missing value after " + a);
+      return argv[++i];
+    };
+    if (a == "--scene") o.scene = value();
+    else if (a == "--synthetic") o.synthetic = value();
+    else if (a == "--threads") o.threads = parseCount(value(), "--threads");
+    else if (a == "--reps") o.reps = parseCount(value(), "--reps");
+    else if (a == "--rays") o.rays = parseCount(value(), "--rays");
+    else if (a == "--json") o.json = true;
+    else usage("unknown argument " + a);
+  }
+  if (o.scene.empty() == o.synthetic.empty()) usage("give exactly one of --scene and --synthetic");
+  return o;
+}
+
+double secondsOf(const std::function<void()>& f) {
+  const auto start = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// Medians and hit counts of one measured quantity, ours and Embree.
+struct Pair {
+  std::vector<double> ours, embree;
+  uint64_t hitsOurs = 0, hitsEmbree = 0;
+};
+
+/// Checksum-carrying tracing loops (the hit counts are printed so the work cannot be elided
+/// and both sides can be seen to agree).
+uint64_t traceClosest(const Blas& blas, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  for (Ray r : rays) {
+    Hit h;
+    hits += blas.intersect(r, h);
+  }
+  return hits;
+}
+uint64_t traceClosest(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  for (Ray r : rays) {
+    Hit h;
+    hits += scene.intersect(r, h);
+  }
+  return hits;
+}
+uint64_t traceOccluded(const Blas& blas, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  for (const Ray& r : rays) hits += blas.occluded(r);
+  return hits;
+}
+uint64_t traceOccluded(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  for (const Ray& r : rays) hits += scene.occluded(r);
+  return hits;
+}
+uint64_t tracePackets(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  Ray packet[16];
+  Hit packetHits[16];
+  for (size_t i = 0; i < rays.size(); i += 16) {
+    const size_t n = std::min<size_t>(16, rays.size() - i);
+    std::copy_n(rays.begin() + i, n, packet);
+    scene.intersect16({packet, n}, {packetHits, n});
+    for (size_t k = 0; k < n; ++k) hits += packetHits[k].valid();
+  }
+  return hits;
+}
+
+double mrays(size_t rays, double seconds) { return double(rays) / seconds * 1e-6; }
+
+}  // namespace
+
+int run(int argc, char** argv) {
+  const Options opt = parseOptions(argc, argv);
+  BenchScene scene = opt.scene.empty() ? makeSyntheticScene(opt.synthetic) : loadGltfScene(opt.scene);
+  const testing::TestMesh& mesh = scene.mesh;
+  tbb::task_arena arena(static_cast<int>(opt.threads));
+  testing::EmbreeDevice device("threads=" + std::to_string(opt.threads));
+
+  // Build times (median over repetitions, interleaved).
+  std::vector<double> buildOurs, buildEmbree;
+  Blas blas;
+  std::unique_ptr<testing::EmbreeScene> embree;
+  for (uint32_t rep = 0; rep < opt.reps; ++rep) {
+    buildOurs.push_back(secondsOf([&] { arena.execute([&] { blas.build(mesh.input()); }); }));
+    buildEmbree.push_back(secondsOf([&] {
+      auto s = std::make_unique<testing::EmbreeScene>(device);
+      s->addMesh(mesh);
+      arena.execute([&] { s->commit(); });
+      embree = std::move(s);
+    }));
+  }
+
+  const RaySets rays = makeRaySets(scene, blas, 1024, 576, opt.rays, 7);
+  Pair incoherent, shadow, primary;
+  for (uint32_t rep = 0; rep < opt.reps; ++rep) {
+    incoherent.ours.push_back(secondsOf([&] { incoherent.hitsOurs = traceClosest(blas, rays.incoherent); }));
+    incoherent.embree.push_back(secondsOf([&] { incoherent.hitsEmbree = traceClosest(*embree, rays.incoherent); }));
+    shadow.ours.push_back(secondsOf([&] { shadow.hitsOurs = traceOccluded(blas, rays.shadow); }));
+    shadow.embree.push_back(secondsOf([&] { shadow.hitsEmbree = traceOccluded(*embree, rays.shadow); }));
+    primary.ours.push_back(secondsOf([&] { primary.hitsOurs = traceClosest(blas, rays.primary); }));
+    primary.embree.push_back(secondsOf([&] { primary.hitsEmbree = tracePackets(*embree, rays.primary); }));
+  }
+  const FrameTimes frames = measureFrames(scene, opt.reps);
+
+  const double bOurs = median(buildOurs) * 1e3, bEmbree = median(buildEmbree) * 1e3;
+  const double iOurs = mrays(rays.incoherent.size(), median(incoherent.ours));
+  const double iEmbree = mrays(rays.incoherent.size(), median(incoherent.embree));
+  const double sOurs = mrays(rays.shadow.size(), median(shadow.ours));
+  const double sEmbree = mrays(rays.shadow.size(), median(shadow.embree));
+  const double pOurs = mrays(rays.primary.size(), median(primary.ours));
+  const double pEmbree = mrays(rays.primary.size(), median(primary.embree));
+  auto frame = [](const std::optional<double>& v) { return v ? std::to_string(*v) : std::string("null"); };
+
+  if (opt.json) {
+    std::printf(
+        "{\"scene\": \"%s\", \"triangles\": %u, \"threads\": %u, \"reps\": %u, \"embree_isa\": \"%s\", "
+        "\"build_ms_ours\": %.3f, \"build_ms_embree\": %.3f, \"build_ratio\": %.3f, "
+        "\"rays_incoherent\": %zu, \"mrays_incoherent_ours\": %.3f, \"mrays_incoherent_embree\": %.3f, "
+        "\"incoherent_ratio\": %.3f, \"rays_shadow\": %zu, \"mrays_shadow_ours\": %.3f, "
+        "\"mrays_shadow_embree\": %.3f, \"shadow_ratio\": %.3f, \"rays_primary\": %zu, "
+        "\"mrays_primary_ours\": %.3f, \"mrays_primary_embree\": %.3f, \"primary_ratio\": %.3f, "
+        "\"hits_incoherent_ours\": %llu, \"hits_incoherent_embree\": %llu, \"hits_shadow_ours\": %llu, "
+        "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, "
+        "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_note\": \"%s\"}\n",
+        scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), bOurs,
+        bEmbree, bOurs / bEmbree, rays.incoherent.size(), iOurs, iEmbree, iOurs / iEmbree, rays.shadow.size(),
+        sOurs, sEmbree, sOurs / sEmbree, rays.primary.size(), pOurs, pEmbree, pOurs / pEmbree,
+        (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
+        (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,
+        (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree,
+        frame(frames.oneThreadMs).c_str(), frame(frames.twoThreadsMs).c_str(), frames.note.c_str());
+    return 0;
+  }
+  std::printf("scene %s: %u triangles, build threads %u, %u repetitions (medians), Embree ISA %s\n",
+              scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str());
+  std::printf("%-28s %12s %12s %8s\n", "", "ours", "embree", "ratio");
+  std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms", bOurs, bEmbree, bOurs / bEmbree);
+  std::printf("%-28s %12.3f %12.3f %8.3f\n", "incoherent Mrays/s (1t)", iOurs, iEmbree, iOurs / iEmbree);
+  std::printf("%-28s %12.3f %12.3f %8.3f\n", "shadow Mrays/s (1t)", sOurs, sEmbree, sOurs / sEmbree);
+  std::printf("%-28s %12.3f %12.3f %8.3f\n", "primary Mrays/s (1t)", pOurs, pEmbree, pOurs / pEmbree);
+  std::printf("hits ours/embree: incoherent %llu/%llu shadow %llu/%llu primary %llu/%llu\n",
+              (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
+              (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,
+              (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree);
+  std::printf("frame ms 640x360 1spp: 1 thread %s, 2 threads %s (%s)\n", frame(frames.oneThreadMs).c_str(),
+              frame(frames.twoThreadsMs).c_str(), frames.note.c_str());
+  return 0;
+}
+
+}  // namespace pa::bench
+
+int main(int argc, char** argv) {
+  try {
+    return pa::bench::run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,45 @@
+#pragma once
+// The basic (reference) BVH: a binary tree built with a binned SAH, multithreaded with TBB.
+// Every faster layout (the 8-wide SIMD BVH) is converted from it and validated against it.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "renderer/bvh/bvh.h"
+#include "renderer/core/bounds.h"
+
+namespace pa::bvh_detail {
+
+/// One node of the binary BVH. Leaves have count > 0 and reference
+/// primIndices[first, first + count); inner nodes have count == 0 and two children.
+struct BinaryNode {
+  Bounds bounds;
+  uint32_t first = 0;
+  uint32_t count = 0;
+  uint32_t left = 0;
+  uint32_t right = 0;
+  bool isLeaf() const { return count > 0; }
+};
+
+/// Binary BVH over primitives given by their bounds. The node array may contain unused
+/// slots (subtrees get fixed slot ranges so the layout does not depend on thread timing);
+/// only nodes reachable from the root (index 0) matter.
+struct BinaryBvh {
+  std::vector<BinaryNode> nodes;
+  std::vector<uint32_t> primIndices;   ///< Leaf order -> input primitive index.
+  uint32_t nodeCount = 0;              ///< Reachable nodes.
+  uint32_t leafCount = 0;              ///< Reachable leaves.
+  bool empty() const { return primIndices.empty(); }
+};
+
+/// Builds over primBounds (each must be finite and non-empty). Deterministic: the result does
+/// not depend on the number of threads. Runs in the caller's TBB arena.
+BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfig& config);
+
+/// Recomputes every reachable node's bounds bottom-up from new primitive bounds.
+void refitBinaryBvh(BinaryBvh& bvh, std::span<const Bounds> primBounds);
+
+/// Validates config values; throws std::invalid_argument with the offending field.
+void validateBuildConfig(const BvhBuildConfig& config);
+
+}  // namespace pa::bvh_detail

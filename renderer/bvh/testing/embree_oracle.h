@@ -1,0 +1,73 @@
+#pragma once
+// Thin RAII wrapper over Embree 3 for the oracle tests and the bench: one device, one scene of
+// triangle meshes or of instances of such scenes; single-ray and 16-ray packet queries that
+// speak our Ray/Hit types.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <embree3/rtcore.h>
+#include <glm/mat4x3.hpp>
+
+#include "renderer/bvh/testing/scene_generators.h"
+#include "renderer/core/ray.h"
+
+namespace pa::testing {
+
+/// Owns an RTCDevice.
+class EmbreeDevice {
+ public:
+  /// config is Embree's device config string (e.g. "threads=1").
+  explicit EmbreeDevice(const std::string& config = "");
+  ~EmbreeDevice();
+  EmbreeDevice(const EmbreeDevice&) = delete;
+  EmbreeDevice& operator=(const EmbreeDevice&) = delete;
+  /// The raw device.
+  RTCDevice get() const { return device_; }
+  /// Widest native packet ISA in words ("AVX-512 (ray16 native)", ...).
+  std::string isaDescription() const;
+
+ private:
+  RTCDevice device_ = nullptr;
+};
+
+/// Build options for an Embree scene.
+struct EmbreeSceneOptions {
+  RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;   ///< Embree's default.
+  bool robust = false;                                  ///< RTC_SCENE_FLAG_ROBUST.
+};
+
+/// An Embree scene. Geometry ids follow insertion order.
+class EmbreeScene {
+ public:
+  explicit EmbreeScene(const EmbreeDevice& device, const EmbreeSceneOptions& options = {});
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  /// Adds a triangle mesh (data copied into Embree buffers); returns its geometry id.
+  uint32_t addMesh(const TestMesh& mesh);
+  /// Adds an instance of a committed scene; returns its geometry id.
+  uint32_t addInstance(const EmbreeScene& scene, const glm::mat4x3& objectToWorld, uint32_t mask = 0xffffffffu);
+  /// Builds the acceleration structure (in the caller's TBB arena).
+  void commit();
+
+  /// Closest hit; fills hit.prim (primID), hit.instance (instID or geomID for a flat scene).
+  bool intersect(Ray& ray, Hit& hit, uint32_t mask = 0xffffffffu) const;
+  /// Any hit.
+  bool occluded(const Ray& ray, uint32_t mask = 0xffffffffu) const;
+  /// 16 rays as one coherent packet (rtcIntersect16); rays.size() <= 16, hits same size.
+  void intersect16(std::span<Ray> rays, std::span<Hit> hits) const;
+
+  /// The raw scene.
+  RTCScene get() const { return scene_; }
+
+ private:
+  RTCDevice device_;
+  RTCScene scene_ = nullptr;
+  bool hasInstances_ = false;
+};
+
+}  // namespace pa::testing

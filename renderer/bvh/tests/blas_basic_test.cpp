@@ -1,0 +1,195 @@
+// Known-answer tests of the Blas / Tlas API.
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "renderer/bvh/bvh.h"
+#include "renderer/bvh/testing/scene_generators.h"
+
+namespace pa {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// One unit right triangle in the z = 0 plane plus one at z = 2.
+testing::TestMesh twoTriangles() {
+  testing::TestMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 2}, {1, 0, 2}, {0, 1, 2}};
+  m.indices = {0, 1, 2, 3, 4, 5};
+  return m;
+}
+
+TEST(Blas, HitsNearestTriangleWithBarycentrics) {
+  const testing::TestMesh m = twoTriangles();
+  Blas blas;
+  blas.build(m.input());
+  EXPECT_EQ(blas.triangleCount(), 2u);
+  Ray ray{{0.25f, 0.5f, -1.0f}, 0.0f, {0, 0, 1}, kInf};
+  Hit hit;
+  ASSERT_TRUE(blas.intersect(ray, hit, {}, 7));
+  EXPECT_FLOAT_EQ(hit.t, 1.0f);
+  EXPECT_FLOAT_EQ(ray.tmax, 1.0f);
+  EXPECT_EQ(hit.prim, 0u);
+  EXPECT_EQ(hit.instance, 7u);
+  EXPECT_FLOAT_EQ(hit.u, 0.25f);
+  EXPECT_FLOAT_EQ(hit.v, 0.5f);
+  // From above, the z = 2 triangle is first; the direction is not normalised: t scales.
+  Ray down{{0.25f, 0.25f, 4.0f}, 0.0f, {0, 0, -2}, kInf};
+  ASSERT_TRUE(blas.intersect(down, hit));
+  EXPECT_FLOAT_EQ(hit.t, 1.0f);
+  EXPECT_EQ(hit.prim, 1u);
+}
+
+TEST(Blas, RespectsRayInterval) {
+  const testing::TestMesh m = twoTriangles();
+  Blas blas;
+  blas.build(m.input());
+  Ray ray{{0.25f, 0.25f, -1.0f}, 1.5f, {0, 0, 1}, kInf};
+  Hit hit;
+  ASSERT_TRUE(blas.intersect(ray, hit));
+  EXPECT_EQ(hit.prim, 1u);
+  Ray shortRay{{0.25f, 0.25f, -1.0f}, 0.0f, {0, 0, 1}, 0.5f};
+  EXPECT_FALSE(blas.intersect(shortRay, hit));
+  EXPECT_FALSE(blas.occluded(shortRay));
+  shortRay.tmax = 1.0f;   // hit exactly at tmax counts
+  EXPECT_TRUE(blas.occluded(shortRay));
+}
+
+TEST(Blas, InvalidRaysReportNoHit) {
+  const testing::TestMesh m = twoTriangles();
+  Blas blas;
+  blas.build(m.input());
+  Hit hit;
+  for (const glm::vec3 dir : {glm::vec3(0.0f), glm::vec3(kNaN, 0, 1), glm::vec3(0, 0, kInf)}) {
+    Ray ray{{0.25f, 0.25f, -1.0f}, 0.0f, dir, kInf};
+    EXPECT_FALSE(blas.intersect(ray, hit));
+    EXPECT_FALSE(blas.occluded(ray));
+  }
+  Ray nanOrigin{{kNaN, 0.25f, -1.0f}, 0.0f, {0, 0, 1}, kInf};
+  EXPECT_FALSE(blas.intersect(nanOrigin, hit));
+  Ray nanRange{{0.25f, 0.25f, -1.0f}, kNaN, {0, 0, 1}, kInf};
+  EXPECT_FALSE(blas.occluded(nanRange));
+  EXPECT_FALSE(hit.valid());
+}
+
+TEST(Blas, DegenerateTrianglesNeverHit) {
+  testing::TestMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 0, 0}, {0, 1, 0}};
+  m.indices = {0, 1, 2, 0, 0, 0, 0, 1, 1, 0, 3, 4};   // collinear, point, line, point-ish (0 == 3)
+  Blas blas;
+  blas.build(m.input());
+  Hit hit;
+  for (const glm::vec3 dir : {glm::vec3(0, 0, 1), glm::vec3(0, 1, 0), glm::vec3(1, 0, 0)}) {
+    for (const glm::vec3 o : {glm::vec3(0.5f, 0, -1), glm::vec3(0, 0, -1), glm::vec3(-1, 0, 0), glm::vec3(0.5f, -1, 0)}) {
+      Ray ray{o, 0.0f, dir, kInf};
+      EXPECT_FALSE(blas.intersect(ray, hit));
+      EXPECT_FALSE(blas.occluded(ray));
+    }
+  }
+}
+
+TEST(Blas, RejectsBadInput) {
+  std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  std::vector<uint32_t> ok = {0, 1, 2}, outOfRange = {0, 1, 3}, notTriples = {0, 1};
+  Blas blas;
+  EXPECT_THROW(blas.build({p, outOfRange, {}}), std::invalid_argument);
+  EXPECT_THROW(blas.build({p, notTriples, {}}), std::invalid_argument);
+  std::vector<uint8_t> wrongMask = {1, 0};
+  EXPECT_THROW(blas.build({p, ok, wrongMask}), std::invalid_argument);
+  p[1].y = kNaN;
+  EXPECT_THROW(blas.build({p, ok, {}}), std::invalid_argument);
+  p[1].y = kInf;
+  EXPECT_THROW(blas.build({p, ok, {}}), std::invalid_argument);
+  BvhBuildConfig bad;
+  bad.binCount = 1;
+  p[1].y = 0.0f;
+  EXPECT_THROW(blas.build({p, ok, {}}, bad), std::invalid_argument);
+}
+
+TEST(Blas, EmptyMeshNeverHits) {
+  Blas blas;
+  blas.build({});
+  Ray ray;
+  Hit hit;
+  EXPECT_FALSE(blas.intersect(ray, hit));
+  EXPECT_TRUE(blas.bounds().empty());
+  Blas unbuilt;
+  EXPECT_FALSE(unbuilt.occluded(ray));
+}
+
+TEST(Blas, MaskedTrianglesGoThroughFilter) {
+  testing::TestMesh m = twoTriangles();
+  m.masked = {1, 0};   // the near triangle is alpha tested
+  Blas blas;
+  blas.build(m.input());
+  auto rejectAll = [](const void*, uint32_t, uint32_t, float, float) { return false; };
+  HitFilter reject{+rejectAll, nullptr};
+  Ray ray{{0.25f, 0.25f, -1.0f}, 0.0f, {0, 0, 1}, kInf};
+  Hit hit;
+  ASSERT_TRUE(blas.intersect(ray, hit, reject));
+  EXPECT_EQ(hit.prim, 1u);   // continued past the rejected hit
+  Ray shortRay{{0.25f, 0.25f, -1.0f}, 0.0f, {0, 0, 1}, 2.0f};
+  EXPECT_FALSE(blas.occluded(shortRay, reject));
+  EXPECT_TRUE(blas.occluded(shortRay));
+  // The filter sees the candidate's ids and barycentrics.
+  struct Seen { uint32_t instance = 0, prim = 0; float u = 0, v = 0; } seen;
+  auto record = [](const void* ctx, uint32_t instance, uint32_t prim, float u, float v) {
+    auto* s = const_cast<Seen*>(static_cast<const Seen*>(ctx));
+    *s = {instance, prim, u, v};
+    return true;
+  };
+  Ray again{{0.25f, 0.5f, -1.0f}, 0.0f, {0, 0, 1}, kInf};
+  ASSERT_TRUE(blas.intersect(again, hit, HitFilter{+record, &seen}, 3));
+  EXPECT_EQ(hit.prim, 0u);
+  EXPECT_EQ(seen.instance, 3u);
+  EXPECT_EQ(seen.prim, 0u);
+  EXPECT_FLOAT_EQ(seen.u, 0.25f);
+  EXPECT_FLOAT_EQ(seen.v, 0.5f);
+}
+
+TEST(Tlas, InstancesTransformMaskAndWorldT) {
+  const testing::TestMesh m = twoTriangles();
+  Blas blas;
+  blas.build(m.input());
+  // Instance 0: moved to z = 10 and scaled by 2; instance 1: identity, mask bit 2 only.
+  glm::mat4x3 moved(2.0f);
+  moved[3] = glm::vec3(0, 0, 10);
+  const std::vector<TlasInstance> instances = {{&blas, moved, 0x1u}, {&blas, glm::mat4x3(1.0f), 0x2u}};
+  Tlas tlas;
+  tlas.build(instances);
+  Ray ray{{0.5f, 0.5f, 20.0f}, 0.0f, {0, 0, -1}, kInf};
+  Hit hit;
+  ASSERT_TRUE(tlas.intersect(ray, hit));
+  EXPECT_FLOAT_EQ(hit.t, 6.0f);   // top triangle of instance 0 at world z = 14
+  EXPECT_EQ(hit.instance, 0u);
+  EXPECT_EQ(hit.prim, 1u);
+  Ray masked{{0.25f, 0.25f, 20.0f}, 0.0f, {0, 0, -1}, kInf};
+  ASSERT_TRUE(tlas.intersect(masked, hit, 0x2u));
+  EXPECT_EQ(hit.instance, 1u);
+  EXPECT_FLOAT_EQ(hit.t, 18.0f);
+  EXPECT_FALSE(tlas.occluded(masked, 0x4u));
+  EXPECT_TRUE(tlas.occluded(masked, 0x1u));
+  EXPECT_FLOAT_EQ(tlas.bounds().max.z, 14.0f);
+}
+
+TEST(Tlas, RejectsBadInstances) {
+  Blas blas;
+  const testing::TestMesh m = twoTriangles();
+  blas.build(m.input());
+  Tlas tlas;
+  std::vector<TlasInstance> nullBlas = {{nullptr, glm::mat4x3(1.0f), 1u}};
+  EXPECT_THROW(tlas.build(nullBlas), std::invalid_argument);
+  std::vector<TlasInstance> singular = {{&blas, glm::mat4x3(0.0f), 1u}};
+  EXPECT_THROW(tlas.build(singular), std::invalid_argument);
+  glm::mat4x3 nan(1.0f);
+  nan[3].x = kNaN;
+  std::vector<TlasInstance> nonFinite = {{&blas, nan, 1u}};
+  EXPECT_THROW(tlas.build(nonFinite), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace pa

@@ -1,0 +1,153 @@
+// Embree 3 as the oracle: the same random rays against the same scenes give the same closest
+// hits (t within 1e-4 relative, same triangle except at shared edges/vertices) and the same
+// any-hit answers.
+#include <random>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
+
+#include "renderer/bvh/bvh.h"
+#include "renderer/bvh/testing/embree_oracle.h"
+#include "renderer/bvh/testing/scene_generators.h"
+#include "renderer/bvh/tests/oracle_compare.h"
+
+namespace pa::testing {
+namespace {
+
+constexpr uint32_t kRayCount = 1u << 20;   // >= 1M rays per scene
+
+/// Any-hit disagreement is acceptable only when one side's closest hit sits on the segment's
+/// end (within tolerance) or on an edge.
+void compareOcclusion(OracleTally& tally, bool ours, bool embree, std::span<const std::pair<bool, Hit>> closest,
+                      float segmentEnd, float sceneScale) {
+  ++tally.rays;
+  if (ours == embree) return;
+  bool explained = false;
+  for (const auto& [hit, h] : closest) {
+    const bool atEnd = hit && std::fabs(h.t - segmentEnd) <= 1e-4f * segmentEnd + 1e-5f * sceneScale;
+    const bool atEdge = hit && h.t <= segmentEnd && minBarycentric(h) < 1e-3f;
+    explained = explained || atEnd || atEdge;
+  }
+  if (explained) {
+    ++tally.edgeCases;
+  } else {
+    ++tally.unexplained;
+    if (tally.firstProblem.empty())
+      tally.firstProblem = std::string("occlusion disagrees: ours ") + (ours ? "occluded" : "clear") +
+                           " segment end " + std::to_string(segmentEnd) + " closest ours t " +
+                           std::to_string(closest[0].second.t) + " embree t " + std::to_string(closest[1].second.t);
+  }
+}
+
+struct OracleResult {
+  OracleTally closest, anyHit;
+};
+
+/// Runs kRayCount rays through both; `traceOurs`/`occludedOurs` wrap Blas or Tlas.
+template <typename Ours>
+OracleResult runOracle(const Ours& ours, const EmbreeScene& embree, const Bounds& sceneBounds, uint32_t seed) {
+  Bounds region = sceneBounds;
+  const glm::vec3 pad = 0.25f * (region.max - region.min);
+  region.min -= pad;
+  region.max += pad;
+  const std::vector<Ray> rays = makeRandomRays(region, kRayCount, seed);
+  const float scale = glm::length(sceneBounds.max - sceneBounds.min);
+  OracleResult result;
+  std::mt19937 rng(seed + 1);
+  std::uniform_real_distribution<float> segment(0.0f, 0.5f * scale);
+  std::vector<float> ends(rays.size());
+  for (float& e : ends) e = segment(rng);
+  // Trace in parallel in fixed chunks, merge tallies in order.
+  constexpr uint32_t chunk = 1u << 14;
+  std::vector<OracleResult> parts(rays.size() / chunk);
+  tbb::parallel_for(size_t(0), parts.size(), [&](size_t c) {
+    for (uint32_t i = uint32_t(c) * chunk; i < uint32_t(c + 1) * chunk; ++i) {
+      Ray a = rays[i], b = rays[i];
+      Hit ha, hb;
+      const bool hitA = ours.intersect(a, ha);
+      const bool hitB = embree.intersect(b, hb);
+      compareClosest(parts[c].closest, hitA, ha, hitB, hb, scale);
+      Ray s = rays[i];
+      s.tmax = ends[i];
+      const std::pair<bool, Hit> closest[2] = {{hitA, ha}, {hitB, hb}};
+      compareOcclusion(parts[c].anyHit, ours.occluded(s), embree.occluded(s), closest, ends[i], scale);
+    }
+  });
+  for (const OracleResult& p : parts) {
+    for (auto [dst, src] : {std::pair{&result.closest, &p.closest}, std::pair{&result.anyHit, &p.anyHit}}) {
+      dst->rays += src->rays;
+      dst->hits += src->hits;
+      dst->sameHits += src->sameHits;
+      dst->edgeCases += src->edgeCases;
+      dst->unexplained += src->unexplained;
+      if (dst->firstProblem.empty()) dst->firstProblem = src->firstProblem;
+    }
+  }
+  return result;
+}
+
+void expectAgreement(const OracleResult& r) {
+  EXPECT_EQ(r.closest.rays, kRayCount);
+  EXPECT_EQ(r.closest.unexplained, 0u) << r.closest.firstProblem;
+  EXPECT_EQ(r.anyHit.unexplained, 0u) << r.anyHit.firstProblem;
+  EXPECT_GT(r.closest.hits, kRayCount / 20) << "scene should be hit by a fair share of rays";
+  EXPECT_LT(r.closest.edgeCases, r.closest.hits / 1000 + 10) << "edge cases should be rare";
+  ::testing::Test::RecordProperty("hits", std::to_string(r.closest.hits));
+  ::testing::Test::RecordProperty("edge_cases", std::to_string(r.closest.edgeCases));
+}
+
+void checkMesh(const TestMesh& mesh, uint32_t seed) {
+  Blas blas;
+  blas.build(mesh.input());
+  EmbreeDevice device;
+  EmbreeScene embree(device);
+  embree.addMesh(mesh);
+  embree.commit();
+  expectAgreement(runOracle(blas, embree, mesh.bounds(), seed));
+}
+
+TEST(EmbreeOracle, RandomTriangleSoup) { checkMesh(makeTriangleSoup(100000, 1), 11); }
+
+TEST(EmbreeOracle, LongThinTriangles) { checkMesh(makeThinTriangles(50000, 2), 12); }
+
+TEST(EmbreeOracle, TessellatedSphere) { checkMesh(makeSphere(20000), 13); }
+
+/// Our Tlas with Blas instances vs Embree instances of one scene.
+struct TlasAdapter {
+  const Tlas& tlas;
+  bool intersect(Ray& r, Hit& h) const { return tlas.intersect(r, h); }
+  bool occluded(const Ray& r) const { return tlas.occluded(r); }
+};
+
+TEST(EmbreeOracle, InstancedCopies) {
+  const TestMesh soup = makeTriangleSoup(5000, 3, 0.1f);
+  const TestMesh sphere = makeSphere(4000, glm::vec3(0.0f), 0.8f);
+  Blas blasSoup, blasSphere;
+  blasSoup.build(soup.input());
+  blasSphere.build(sphere.input());
+  EmbreeDevice device;
+  EmbreeScene embreeSoup(device), embreeSphere(device), embreeTop(device);
+  embreeSoup.addMesh(soup);
+  embreeSoup.commit();
+  embreeSphere.addMesh(sphere);
+  embreeSphere.commit();
+  std::mt19937 rng(5);
+  std::vector<TlasInstance> instances;
+  for (uint32_t i = 0; i < 64; ++i) {
+    const glm::mat4x3 m = makeRandomTransform(rng, 8.0f);
+    const bool isSphere = i % 3 == 0;
+    instances.push_back({isSphere ? &blasSphere : &blasSoup, m, 0xffffffffu});
+    embreeTop.addInstance(isSphere ? embreeSphere : embreeSoup, m);
+  }
+  embreeTop.commit();
+  Tlas tlas;
+  tlas.build(instances);
+  expectAgreement(runOracle(TlasAdapter{tlas}, embreeTop, tlas.bounds(), 14));
+}
+
+}  // namespace
+}  // namespace pa::testing

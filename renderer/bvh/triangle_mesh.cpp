@@ -1,0 +1,77 @@
+#include "renderer/bvh/triangle_mesh.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "renderer/bvh/watertight.h"
+
+namespace pa::bvh_detail {
+namespace {
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+void validatePositions(std::span<const glm::vec3> positions) {
+  for (size_t i = 0; i < positions.size(); ++i)
+    if (!finite(positions[i]))
+      throw std::invalid_argument("BlasInput.positions[" + std::to_string(i) + "] is not finite");
+}
+
+void computeDegenerate(TriangleMesh& mesh) {
+  const uint32_t n = mesh.triangleCount();
+  mesh.degenerate.assign(n, 0);
+  for (uint32_t t = 0; t < n; ++t)
+    mesh.degenerate[t] = isDegenerateTriangle(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2));
+}
+
+}  // namespace
+
+TriangleMesh makeTriangleMesh(const BlasInput& input) {
+  if (input.indices.size() % 3 != 0)
+    throw std::invalid_argument("BlasInput.indices size " + std::to_string(input.indices.size()) +
+                                " is not a multiple of 3");
+  if (input.indices.size() / 3 >= (size_t(1) << 31))
+    throw std::invalid_argument("BlasInput.indices: too many triangles");
+  validatePositions(input.positions);
+  for (size_t i = 0; i < input.indices.size(); ++i)
+    if (input.indices[i] >= input.positions.size())
+      throw std::invalid_argument("BlasInput.indices[" + std::to_string(i) + "] = " +
+                                  std::to_string(input.indices[i]) + " is out of range (" +
+                                  std::to_string(input.positions.size()) + " positions)");
+  if (!input.masked.empty() && input.masked.size() != input.indices.size() / 3)
+    throw std::invalid_argument("BlasInput.masked has " + std::to_string(input.masked.size()) +
+                                " entries for " + std::to_string(input.indices.size() / 3) + " triangles");
+  TriangleMesh mesh;
+  mesh.positions.assign(input.positions.begin(), input.positions.end());
+  mesh.indices.assign(input.indices.begin(), input.indices.end());
+  mesh.masked.assign(input.masked.begin(), input.masked.end());
+  computeDegenerate(mesh);
+  return mesh;
+}
+
+void updatePositions(TriangleMesh& mesh, std::span<const glm::vec3> positions) {
+  if (positions.size() != mesh.positions.size())
+    throw std::invalid_argument("Blas::refit: " + std::to_string(positions.size()) +
+                                " positions given, the mesh has " + std::to_string(mesh.positions.size()));
+  validatePositions(positions);
+  mesh.positions.assign(positions.begin(), positions.end());
+  computeDegenerate(mesh);
+}
+
+std::vector<Bounds> triangleBounds(const TriangleMesh& mesh) {
+  std::vector<Bounds> out(mesh.triangleCount());
+  for (uint32_t t = 0; t < out.size(); ++t) {
+    out[t].extend(mesh.vertex(t, 0));
+    out[t].extend(mesh.vertex(t, 1));
+    out[t].extend(mesh.vertex(t, 2));
+  }
+  return out;
+}
+
+bool isTraceableRay(const Ray& ray) {
+  if (!finite(ray.origin) || !finite(ray.dir)) return false;
+  if (ray.dir.x == 0.0f && ray.dir.y == 0.0f && ray.dir.z == 0.0f) return false;
+  return !std::isnan(ray.tmin) && !std::isnan(ray.tmax) && ray.tmin <= ray.tmax;
+}
+
+}  // namespace pa::bvh_detail

@@ -1,0 +1,41 @@
+#pragma once
+// The BLAS's own copy of its mesh, validated, plus per-triangle flags used by every layout.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "renderer/bvh/bvh.h"
+#include "renderer/core/bounds.h"
+#include "renderer/core/ray.h"
+
+namespace pa::bvh_detail {
+
+/// Validated triangle mesh. degenerate[i] != 0 marks zero-area triangles, which never hit.
+struct TriangleMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<uint32_t> indices;
+  std::vector<uint8_t> masked;       ///< Empty, or one flag per triangle.
+  std::vector<uint8_t> degenerate;   ///< One flag per triangle.
+
+  uint32_t triangleCount() const { return static_cast<uint32_t>(indices.size() / 3); }
+  bool isMasked(uint32_t tri) const { return !masked.empty() && masked[tri] != 0; }
+  glm::vec3 vertex(uint32_t tri, int corner) const { return positions[indices[3 * tri + corner]]; }
+};
+
+/// Copies and validates input; throws std::invalid_argument (non-finite positions, index count
+/// not a multiple of 3, out-of-range indices, masked size mismatch).
+TriangleMesh makeTriangleMesh(const BlasInput& input);
+
+/// Replaces positions (same count) after validation and recomputes the degenerate flags.
+void updatePositions(TriangleMesh& mesh, std::span<const glm::vec3> positions);
+
+/// Bounds of every triangle.
+std::vector<Bounds> triangleBounds(const TriangleMesh& mesh);
+
+/// True when the ray can be traced: finite origin and direction, non-zero direction,
+/// tmin <= tmax and neither NaN. Invalid rays report no hit.
+bool isTraceableRay(const Ray& ray);
+
+}  // namespace pa::bvh_detail

@@ -1,0 +1,75 @@
+#pragma once
+// Watertight ray/triangle intersection (Woop, Benthin, Wald, "Watertight Ray/Triangle
+// Intersection", JCGT 2013): per-ray shear into a space where the ray runs along +z, then
+// 2D edge functions with a double-precision fallback on exact zeros, so rays through shared
+// edges and vertices hit exactly one of the adjacent triangles and never slip between them.
+#include <cmath>
+#include <cstdint>
+#include <utility>
+
+#include <glm/vec3.hpp>
+
+namespace pa::bvh_detail {
+
+/// Per-ray constants of the watertight test.
+struct RayShear {
+  int kx = 0, ky = 1, kz = 2;   ///< Axis permutation: kz is the dominant direction axis.
+  float sx = 0.0f, sy = 0.0f, sz = 1.0f;
+
+  explicit RayShear(const glm::vec3& dir) {
+    const glm::vec3 a{std::fabs(dir.x), std::fabs(dir.y), std::fabs(dir.z)};
+    kz = (a.x > a.y) ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    if (dir[kz] < 0.0f) std::swap(kx, ky);   // keep the winding so the edge signs stay meaningful
+    sx = dir[kx] / dir[kz];
+    sy = dir[ky] / dir[kz];
+    sz = 1.0f / dir[kz];
+  }
+};
+
+/// Result of a successful triangle test: distance and barycentrics of v1 (u) and v2 (v).
+struct TriangleHit {
+  float t, u, v;
+};
+
+/// Tests one triangle; true when hit at t in [tmin, tmax]. Degenerate triangles
+/// (det == 0) never hit. Both faces are hit.
+inline bool intersectTriangleWatertight(const glm::vec3& origin, const RayShear& s, float tmin,
+                                        float tmax, const glm::vec3& v0, const glm::vec3& v1,
+                                        const glm::vec3& v2, TriangleHit& out) {
+  const glm::vec3 a = v0 - origin, b = v1 - origin, c = v2 - origin;
+  const float ax = a[s.kx] - s.sx * a[s.kz], ay = a[s.ky] - s.sy * a[s.kz];
+  const float bx = b[s.kx] - s.sx * b[s.kz], by = b[s.ky] - s.sy * b[s.kz];
+  const float cx = c[s.kx] - s.sx * c[s.kz], cy = c[s.ky] - s.sy * c[s.kz];
+  float u = cx * by - cy * bx;
+  float v = ax * cy - ay * cx;
+  float w = bx * ay - by * ax;
+  if (u == 0.0f || v == 0.0f || w == 0.0f) {   // on an edge in float: decide exactly in double
+    u = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
+    v = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
+    w = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
+  }
+  if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
+  const float det = u + v + w;
+  if (!(det != 0.0f)) return false;
+  const float az = s.sz * a[s.kz], bz = s.sz * b[s.kz], cz = s.sz * c[s.kz];
+  const float tScaled = u * az + v * bz + w * cz;
+  // Compare t against the range without dividing: flip signs so det is positive.
+  const float sign = det < 0.0f ? -1.0f : 1.0f;
+  const float absDet = det * sign, tSigned = tScaled * sign;
+  if (!(tSigned >= tmin * absDet) || !(tSigned <= tmax * absDet)) return false;
+  const float rcp = 1.0f / det;
+  out = {tScaled * rcp, v * rcp, w * rcp};
+  return out.t >= tmin && out.t <= tmax;
+}
+
+/// True when the triangle has zero area (computed in double so only exact degeneracy counts).
+inline bool isDegenerateTriangle(const glm::vec3& v0, const glm::vec3& v1, const glm::vec3& v2) {
+  const double e1x = double(v1.x) - v0.x, e1y = double(v1.y) - v0.y, e1z = double(v1.z) - v0.z;
+  const double e2x = double(v2.x) - v0.x, e2y = double(v2.y) - v0.y, e2z = double(v2.z) - v0.z;
+  const double nx = e1y * e2z - e1z * e2y, ny = e1z * e2x - e1x * e2z, nz = e1x * e2y - e1y * e2x;
+  return nx == 0.0 && ny == 0.0 && nz == 0.0;
+}
+
+}  // namespace pa::bvh_detail

@@ -1,0 +1,55 @@
+#pragma once
+// The 8-wide BVH layout traversed with SIMD slab tests, converted from the binary BVH, with leaf
+// triangles precomputed into 4-wide structure-of-arrays packs for the SIMD watertight test.
+#include <cstdint>
+#include <vector>
+
+#include "renderer/bvh/binary_bvh.h"
+#include "renderer/bvh/triangle_mesh.h"
+#include "renderer/core/ray.h"
+
+namespace pa::bvh_detail {
+
+inline constexpr uint32_t kWideWidth = 8;
+inline constexpr uint32_t kPackWidth = 4;
+
+/// Child reference: inner node index, or (kLeafBit | packCount - 1 << kPackCountShift | firstPack).
+inline constexpr uint32_t kLeafBit = 0x80000000u;
+inline constexpr uint32_t kPackCountShift = 27;   ///< 4 bits: 1..16 packs (64 triangles) per leaf.
+inline constexpr uint32_t kFirstPackMask = (1u << kPackCountShift) - 1;
+
+/// Eight child boxes as structure of arrays; bounds[0] = lower, bounds[1] = upper, then axis.
+/// Unused slots hold an empty box (lower = +inf, upper = -inf) that no ray can enter.
+struct alignas(32) WideNode {
+  float bounds[2][3][kWideWidth];
+  uint32_t child[kWideWidth];
+};
+static_assert(sizeof(WideNode) == 224);
+
+/// Up to four triangles: vertices as structure of arrays (vertex, axis, lane).
+/// Lanes not in validBits (padding, degenerate triangles) are never reported.
+struct alignas(16) TrianglePack {
+  float v[3][3][kPackWidth];
+  uint32_t prim[kPackWidth];
+  uint32_t validBits = 0;    ///< Lanes holding a real, non-degenerate triangle.
+  uint32_t maskedBits = 0;   ///< Lanes whose hits go through the HitFilter.
+};
+
+/// 8-wide BVH; node 0 is the root (when not empty).
+struct WideBvh {
+  std::vector<WideNode> nodes;
+  std::vector<TrianglePack> packs;
+  bool empty() const { return nodes.empty(); }
+};
+
+/// Converts the binary BVH into the 8-wide layout (children chosen by opening the largest box
+/// first) and packs the leaf triangles of mesh.
+WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh);
+
+/// Closest hit, same contract as Blas::intersect (the ray must be traceable).
+bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
+
+/// Any hit, same contract as Blas::occluded (the ray must be traceable).
+bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId);
+
+}  // namespace pa::bvh_detail

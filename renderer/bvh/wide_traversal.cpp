@@ -1,0 +1,245 @@
+// SIMD traversal of the 8-wide BVH: one ray against eight child boxes at a time (conservative
+// slab test, see slab_test.h), nearest child first for closest hits, and four triangles at a
+// time with the watertight test (see watertight.h; same operations in the same order, so the
+// results are bit-identical to the scalar reference).
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+#include "renderer/bvh/simd.h"
+#include "renderer/bvh/slab_test.h"
+#include "renderer/bvh/watertight.h"
+#include "renderer/bvh/wide_bvh.h"
+
+namespace pa::bvh_detail {
+namespace {
+
+using simd::vfloat4;
+using simd::vfloat8;
+
+/// Bound for the stack: the wide tree is no deeper than the binary one (< 128 levels) and each
+/// level pushes at most 7 entries.
+constexpr int kWideStackSize = 7 * 128 + 1;
+
+/// Per-ray constants for the box tests.
+struct BoxRay {
+  vfloat8 ox, oy, oz, idx, idy, idz;
+  int nearX, nearY, nearZ;
+  vfloat8 tmin;
+
+  explicit BoxRay(const Ray& ray)
+      : ox(ray.origin.x), oy(ray.origin.y), oz(ray.origin.z), idx(1.0f / ray.dir.x), idy(1.0f / ray.dir.y),
+        idz(1.0f / ray.dir.z), nearX(ray.dir.x < 0.0f), nearY(ray.dir.y < 0.0f), nearZ(ray.dir.z < 0.0f),
+        tmin(ray.tmin) {}
+
+  /// Entry distances of the eight children and the mask of those the ray enters before tmax.
+  int test(const WideNode& node, float tmax, vfloat8& tNear) const {
+    const vfloat8 nx = (vfloat8::load(node.bounds[nearX][0]) - ox) * idx;
+    const vfloat8 ny = (vfloat8::load(node.bounds[nearY][1]) - oy) * idy;
+    const vfloat8 nz = (vfloat8::load(node.bounds[nearZ][2]) - oz) * idz;
+    const vfloat8 fx = (vfloat8::load(node.bounds[1 - nearX][0]) - ox) * idx;
+    const vfloat8 fy = (vfloat8::load(node.bounds[1 - nearY][1]) - oy) * idy;
+    const vfloat8 fz = (vfloat8::load(node.bounds[1 - nearZ][2]) - oz) * idz;
+    tNear = simd::maxKeep(nx, simd::maxKeep(ny, simd::maxKeep(nz, tmin)));
+    const vfloat8 tFar = simd::minKeep(fx, simd::minKeep(fy, simd::minKeep(fz, vfloat8(tmax)))) *
+                         vfloat8(kRobustFarScale);
+    return (tNear <= tFar).mask();
+  }
+};
+
+/// Per-ray constants for the 4-wide watertight triangle test.
+struct TriangleRay {
+  RayShear shear;
+  vfloat4 ox, oy, oz, sx, sy, sz, tmin;
+
+  explicit TriangleRay(const Ray& ray)
+      : shear(ray.dir), ox(ray.origin[shear.kx]), oy(ray.origin[shear.ky]), oz(ray.origin[shear.kz]),
+        sx(shear.sx), sy(shear.sy), sz(shear.sz), tmin(ray.tmin) {}
+};
+
+/// Lane results of one pack test.
+struct PackCandidates {
+  alignas(16) float t[kPackWidth];   ///< Scaled t (T), not yet divided by det.
+  alignas(16) float det[kPackWidth];
+  alignas(16) float u[kPackWidth];
+  alignas(16) float v[kPackWidth];
+};
+
+/// Watertight test of four triangles; returns the lanes hit within [tmin, tmax].
+int testPack(const TrianglePack& pack, const TriangleRay& r, float tmax, PackCandidates& out) {
+  const int kx = r.shear.kx, ky = r.shear.ky, kz = r.shear.kz;
+  const vfloat4 az = vfloat4::load(pack.v[0][kz]) - r.oz;
+  const vfloat4 bz = vfloat4::load(pack.v[1][kz]) - r.oz;
+  const vfloat4 cz = vfloat4::load(pack.v[2][kz]) - r.oz;
+  const vfloat4 ax = (vfloat4::load(pack.v[0][kx]) - r.ox) - r.sx * az;
+  const vfloat4 ay = (vfloat4::load(pack.v[0][ky]) - r.oy) - r.sy * az;
+  const vfloat4 bx = (vfloat4::load(pack.v[1][kx]) - r.ox) - r.sx * bz;
+  const vfloat4 by = (vfloat4::load(pack.v[1][ky]) - r.oy) - r.sy * bz;
+  const vfloat4 cx = (vfloat4::load(pack.v[2][kx]) - r.ox) - r.sx * cz;
+  const vfloat4 cy = (vfloat4::load(pack.v[2][ky]) - r.oy) - r.sy * cz;
+  vfloat4 u = cx * by - cy * bx;
+  vfloat4 v = ax * cy - ay * cx;
+  vfloat4 w = bx * ay - by * ax;
+  const vfloat4 zero(0.0f);
+  const int valid = static_cast<int>(pack.validBits);
+  if (const int onEdge = ((u == zero) | (v == zero) | (w == zero)).mask() & valid) {
+    // Exact zero in float: decide these lanes in double, as the scalar test does.
+    alignas(16) float f[9][kPackWidth];
+    ax.store(f[0]); ay.store(f[1]); bx.store(f[2]); by.store(f[3]); cx.store(f[4]); cy.store(f[5]);
+    u.store(f[6]); v.store(f[7]); w.store(f[8]);
+    for (int lane = 0; lane < int(kPackWidth); ++lane) {
+      if (!(onEdge >> lane & 1)) continue;
+      const double dax = f[0][lane], day = f[1][lane], dbx = f[2][lane], dby = f[3][lane], dcx = f[4][lane],
+                   dcy = f[5][lane];
+      f[6][lane] = static_cast<float>(dcx * dby - dcy * dbx);
+      f[7][lane] = static_cast<float>(dax * dcy - day * dcx);
+      f[8][lane] = static_cast<float>(dbx * day - dby * dax);
+    }
+    u = vfloat4::load(f[6]);
+    v = vfloat4::load(f[7]);
+    w = vfloat4::load(f[8]);
+  }
+  const int negative = ((u < zero) | (v < zero) | (w < zero)).mask();
+  const int positive = ((u > zero) | (v > zero) | (w > zero)).mask();
+  int hits = valid & ~(negative & positive);
+  if (!hits) return 0;
+  const vfloat4 det = u + v + w;
+  const vfloat4 tScaled = (u * (r.sz * az) + v * (r.sz * bz)) + w * (r.sz * cz);
+  const vfloat4 sign = simd::signBits(det);
+  const vfloat4 absDet = det ^ sign, tSigned = tScaled ^ sign;
+  hits &= ((det != zero) & (tSigned >= r.tmin * absDet) & (tSigned <= vfloat4(tmax) * absDet)).mask();
+  if (!hits) return 0;
+  tScaled.store(out.t);
+  det.store(out.det);
+  v.store(out.u);
+  w.store(out.v);
+  return hits;
+}
+
+/// Decodes a leaf reference into its pack range.
+inline void leafPacks(uint32_t ref, uint32_t& first, uint32_t& count) {
+  first = ref & kFirstPackMask;
+  count = ((ref & ~kLeafBit) >> kPackCountShift) + 1;
+}
+
+inline uint32_t floatKey(float t) { return std::bit_cast<uint32_t>(std::max(t, 0.0f)); }
+
+}  // namespace
+
+bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId) {
+  if (bvh.empty()) return false;
+  const BoxRay boxRay(ray);
+  const TriangleRay triRay(ray);
+  uint64_t stack[kWideStackSize];   // (entry distance bits << 32) | node reference
+  int top = 0;
+  uint32_t current = 0;
+  bool found = false;
+  for (;;) {
+    if (!(current & kLeafBit)) {
+      const WideNode& node = bvh.nodes[current];
+      vfloat8 tNearV;
+      int mask = boxRay.test(node, ray.tmax, tNearV);
+      if (mask != 0) {
+        if ((mask & (mask - 1)) == 0) {   // exactly one child
+          current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
+          continue;
+        }
+        alignas(32) float tNear[kWideWidth];
+        tNearV.store(tNear);
+        uint64_t keys[kWideWidth];
+        int n = 0;
+        while (mask) {
+          const int i = std::countr_zero(static_cast<uint32_t>(mask));
+          mask &= mask - 1;
+          const uint64_t key = (uint64_t(floatKey(tNear[i])) << 32) | node.child[i];
+          int j = n++;
+          while (j > 0 && keys[j - 1] < key) {   // descending: nearest last
+            keys[j] = keys[j - 1];
+            --j;
+          }
+          keys[j] = key;
+        }
+        for (int i = 0; i < n - 1; ++i) stack[top++] = keys[i];
+        current = static_cast<uint32_t>(keys[n - 1]);
+        continue;
+      }
+    } else {
+      uint32_t first, count;
+      leafPacks(current, first, count);
+      for (uint32_t p = first; p < first + count; ++p) {
+        const TrianglePack& pack = bvh.packs[p];
+        PackCandidates c;
+        int lanes = testPack(pack, triRay, ray.tmax, c);
+        while (lanes) {
+          const int lane = std::countr_zero(static_cast<uint32_t>(lanes));
+          lanes &= lanes - 1;
+          const float rcp = 1.0f / c.det[lane];
+          const float t = c.t[lane] * rcp;
+          if (!(t >= ray.tmin && t <= ray.tmax)) continue;
+          const float u = c.u[lane] * rcp, v = c.v[lane] * rcp;
+          if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], u, v)) continue;
+          ray.tmax = t;
+          hit = {t, u, v, pack.prim[lane], instanceId};
+          found = true;
+        }
+      }
+    }
+    // Pop the next entry that may still hold a nearer hit.
+    const float cull = ray.tmax * kRobustFarScale;
+    for (;;) {
+      if (top == 0) return found;
+      const uint64_t entry = stack[--top];
+      if (std::bit_cast<float>(static_cast<uint32_t>(entry >> 32)) <= cull) {
+        current = static_cast<uint32_t>(entry);
+        break;
+      }
+    }
+  }
+}
+
+bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId) {
+  if (bvh.empty()) return false;
+  const BoxRay boxRay(ray);
+  const TriangleRay triRay(ray);
+  uint32_t stack[kWideStackSize];
+  int top = 0;
+  uint32_t current = 0;
+  for (;;) {
+    if (!(current & kLeafBit)) {
+      const WideNode& node = bvh.nodes[current];
+      vfloat8 tNear;
+      int mask = boxRay.test(node, ray.tmax, tNear);
+      if (mask != 0) {
+        current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
+        mask &= mask - 1;
+        while (mask) {
+          stack[top++] = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
+          mask &= mask - 1;
+        }
+        continue;
+      }
+    } else {
+      uint32_t first, count;
+      leafPacks(current, first, count);
+      for (uint32_t p = first; p < first + count; ++p) {
+        const TrianglePack& pack = bvh.packs[p];
+        PackCandidates c;
+        int lanes = testPack(pack, triRay, ray.tmax, c);
+        while (lanes) {
+          const int lane = std::countr_zero(static_cast<uint32_t>(lanes));
+          lanes &= lanes - 1;
+          const float rcp = 1.0f / c.det[lane];
+          const float t = c.t[lane] * rcp;
+          if (!(t >= ray.tmin && t <= ray.tmax)) continue;
+          if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], c.u[lane] * rcp, c.v[lane] * rcp))
+            continue;
+          return true;
+        }
+      }
+    }
+    if (top == 0) return false;
+    current = stack[--top];
+  }
+}
+
+}  // namespace pa::bvh_detail

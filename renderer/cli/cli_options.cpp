@@ -1,0 +1,219 @@
+// pa-render command-line parsing: every value is range-checked with a message naming the option.
+#include "renderer/cli/cli_options.h"
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace pa::cli {
+namespace {
+
+constexpr uint32_t kMaxImageSide = 16384;
+
+/// Parses an unsigned integer in [lo, hi]; false with a message otherwise.
+bool parseUnsigned(std::string_view option, std::string_view text, uint32_t lo, uint32_t hi, uint32_t& out,
+                   std::string& message) {
+  uint64_t value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || value < lo || value > hi) {
+    message = std::string(option) + ": expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+              "], got \"" + std::string(text) + "\"";
+    return false;
+  }
+  out = static_cast<uint32_t>(value);
+  return true;
+}
+
+/// Parses a finite float >= lo (> lo when exclusive).
+bool parseFloat(std::string_view option, std::string_view text, float lo, bool exclusive, float& out,
+                std::string& message) {
+  float value = 0.0f;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  const bool inRange = exclusive ? value > lo : value >= lo;
+  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value) || !inRange) {
+    message = std::string(option) + ": expected a number " + (exclusive ? "> " : ">= ") + std::to_string(lo) +
+              ", got \"" + std::string(text) + "\"";
+    return false;
+  }
+  out = value;
+  return true;
+}
+
+}  // namespace
+
+std::string_view integratorName(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::Lightmap: return "lightmap";
+    case Integrator::Direct: return "direct";
+    case Integrator::Path: return "path";
+  }
+  return "?";
+}
+
+ParseResult parseCommandLine(std::span<const std::string_view> args) {
+  ParseResult result;
+  CliOptions& o = result.options;
+  std::string& message = result.message;
+  std::vector<std::string_view> positional;
+
+  for (size_t i = 0; i < args.size(); ++i) {
+    std::string_view arg = args[i];
+    if (arg == "-h" || arg == "--help") {
+      result.status = ParseStatus::Help;
+      return result;
+    }
+    if (arg.size() < 2 || arg[0] != '-') {
+      positional.push_back(arg);
+      continue;
+    }
+    if (arg == "--") {
+      positional.insert(positional.end(), args.begin() + static_cast<std::ptrdiff_t>(i) + 1, args.end());
+      break;
+    }
+    // Split "--name=value".
+    std::string_view name = arg;
+    std::optional<std::string_view> inlineValue;
+    if (const size_t eq = arg.find('='); eq != std::string_view::npos && arg.starts_with("--")) {
+      name = arg.substr(0, eq);
+      inlineValue = arg.substr(eq + 1);
+    }
+    if (name == "--progress" || name == "--quiet" || name == "-q") {
+      if (inlineValue) {
+        message = std::string(name) + " takes no value";
+        return result;
+      }
+      (name == "--progress" ? o.progress : o.quiet) = true;
+      continue;
+    }
+    std::string_view value;
+    if (inlineValue) {
+      value = *inlineValue;
+    } else if (i + 1 < args.size()) {
+      value = args[++i];
+    } else {
+      message = std::string(name) + ": missing value";
+      return result;
+    }
+    bool ok = true;
+    if (name == "-o" || name == "--output") {
+      o.pngOut = std::filesystem::path(value);
+      ok = !value.empty();
+      if (!ok) message = "-o: empty file name";
+    } else if (name == "--exr") {
+      o.exrOut = std::filesystem::path(value);
+      ok = !value.empty();
+      if (!ok) message = "--exr: empty file name";
+    } else if (name == "--width") {
+      ok = parseUnsigned(name, value, 1, kMaxImageSide, o.width, message);
+    } else if (name == "--height") {
+      ok = parseUnsigned(name, value, 1, kMaxImageSide, o.height, message);
+    } else if (name == "--spp") {
+      ok = parseUnsigned(name, value, 1, 1u << 20, o.samplesPerPixel, message);
+    } else if (name == "--frames") {
+      ok = parseUnsigned(name, value, 1, 1u << 20, o.frames, message);
+    } else if (name == "--bounces") {
+      ok = parseUnsigned(name, value, 0, 1024, o.bounces, message);
+    } else if (name == "--seed") {
+      ok = parseUnsigned(name, value, 0, std::numeric_limits<uint32_t>::max(), o.seed, message);
+    } else if (name == "--threads") {
+      ok = parseUnsigned(name, value, 0, 4096, o.threads, message);
+    } else if (name == "--camera") {
+      ok = parseUnsigned(name, value, 0, 1u << 20, o.camera, message);
+    } else if (name == "--clamp") {
+      ok = parseFloat(name, value, 0.0f, false, o.clamp, message);
+    } else if (name == "--exposure") {
+      ok = parseFloat(name, value, 0.0f, true, o.exposure, message);
+    } else if (name == "--light-scale") {
+      ok = parseFloat(name, value, 0.0f, true, o.lightScale, message);
+    } else if (name == "--integrator") {
+      if (value == "lightmap") o.integrator = Integrator::Lightmap;
+      else if (value == "direct") o.integrator = Integrator::Direct;
+      else if (value == "path") o.integrator = Integrator::Path;
+      else {
+        ok = false;
+        message = "--integrator: expected lightmap, direct or path, got \"" + std::string(value) + "\"";
+      }
+    } else {
+      message = "unknown option " + std::string(name) + " (see --help)";
+      return result;
+    }
+    if (!ok) return result;
+  }
+  if (positional.size() != 1) {
+    message = positional.empty() ? "missing input scene (see --help)"
+                                 : "expected one input scene, got " + std::to_string(positional.size());
+    return result;
+  }
+  o.scene = std::filesystem::path(positional[0]);
+  if (o.pngOut.empty()) {
+    message = "missing -o OUTPUT.png";
+    return result;
+  }
+  if (o.progress && o.quiet) {
+    message = "--progress and --quiet contradict each other";
+    return result;
+  }
+  result.status = ParseStatus::Ok;
+  return result;
+}
+
+std::string usageText(std::string_view program) {
+  std::string text = "Usage: " + std::string(program) + " SCENE -o OUT.png [options]\n";
+  text += R"(
+Renders a scene with the PathArena CPU path tracer and writes a tonemapped PNG
+(and optionally a linear OpenEXR with AOV layers).
+
+Input (the importer is chosen by the file extension):
+  SCENE                  .gltf or .glb (glTF 2.0: meshes, node transforms, metallic-roughness
+                         materials, alpha MASK/BLEND, emissive (+KHR_materials_emissive_strength),
+                         KHR_texture_transform, KHR_lights_punctual, perspective cameras;
+                         scene extras "sky_color": [r,g,b] and "sky_intensity" set the sky)
+
+Output:
+  -o, --output FILE      PNG: exposure, tonemap and sRGB applied by the renderer (required;
+                         missing folders are created)
+  --exr FILE             OpenEXR, 32-bit float: R,G,B = linear mean radiance (no exposure),
+                         albedo.{R,G,B}, normal.{X,Y,Z} (world space), Z = first-hit distance
+                         (inf = sky), variance.Y = variance of the mean's luminance
+
+Image and sampling:
+  --width W, --height H  Image size in pixels (1..16384). Default width 640; a missing side
+                         follows the camera's aspect ratio (16:9 if the camera has none)
+  --spp N                Samples per pixel per frame (default 16)
+  --frames F             Frames accumulated into one image (default 1): total = F x N spp.
+                         The progress bar advances per frame.
+  --integrator NAME      lightmap | direct | path (default path)
+                           lightmap: primary rays x baked light (the stock look)
+                           direct:   direct light with ray-traced shadows + emission
+                           path:     full path tracing (NEE + MIS, Russian roulette)
+  --bounces N            Maximum path length for 'path' (default 4)
+  --clamp X              Clamp each path's contribution to X (0 = off, unbiased; default 0)
+  --seed S               Random seed (default 0); the image depends only on scene, camera,
+                         seed, frames and spp, never on the thread count
+  --threads T            Worker threads (default 0 = all cores)
+
+View:
+  --camera INDEX         Camera of the scene to render (default 0). Without any camera in the
+                         file, a camera framing the whole scene is made up.
+  --exposure E           Linear multiplier before tonemapping (default 1)
+  --light-scale X        glTF photometric units -> renderer units: multiplies light intensities
+                         (candela, lux) and emissive strengths alike (default 1)
+
+Reporting:
+  --progress             Progress bar with ETA on stderr even when stderr is not a terminal
+                         (it is shown by default on a terminal)
+  -q, --quiet            No progress bar, no importer warnings
+  -h, --help             This text
+
+A one-line summary (size, samples, time, output) is always printed on stderr.
+
+Exit status: 0 success, 1 load/render/write failure (message on stderr), 2 usage error.
+
+Example:
+  pa-render renderer/cli/scenes/default_arena.gltf -o out/default.png --spp 64 --exr out/default.exr
+)";
+  return text;
+}
+
+}  // namespace pa::cli

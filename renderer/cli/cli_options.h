@@ -1,0 +1,58 @@
+#pragma once
+// Command line of pa-render: parsing (pure, unit-tested) and the --help text.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "renderer/scene/scene_types.h"
+
+namespace pa::cli {
+
+/// Everything pa-render was asked to do.
+struct CliOptions {
+  std::filesystem::path scene;                  ///< Input scene (importer chosen by extension).
+  std::filesystem::path pngOut;                 ///< Tonemapped 8-bit image (-o).
+  std::optional<std::filesystem::path> exrOut;  ///< Linear radiance + AOV layers (--exr).
+  uint32_t width = 0;                           ///< 0 = derived (see usage text).
+  uint32_t height = 0;
+  uint32_t samplesPerPixel = 16;                ///< Per frame.
+  uint32_t frames = 1;                          ///< Frames accumulated into the image.
+  uint32_t bounces = 4;
+  uint32_t seed = 0;
+  uint32_t threads = 0;                         ///< 0 = all cores.
+  Integrator integrator = Integrator::Path;
+  uint32_t camera = 0;                          ///< Index into the scene's cameras.
+  float clamp = 0.0f;                           ///< Radiance clamp per path, 0 = off.
+  float exposure = 1.0f;
+  float lightScale = 1.0f;                      ///< Photometric -> renderer units (glTF lights, emitters).
+  bool progress = false;                        ///< Force the progress bar even when stderr is not a TTY.
+  bool quiet = false;                           ///< No progress bar and no warnings; summary only.
+};
+
+/// Outcome of parsing.
+enum class ParseStatus : uint8_t {
+  Ok,     ///< options is filled.
+  Help,   ///< --help was given: print usageText() and exit 0.
+  Error,  ///< message says what is wrong: print it and exit 2.
+};
+
+/// Result of parseCommandLine.
+struct ParseResult {
+  ParseStatus status = ParseStatus::Error;
+  CliOptions options;
+  std::string message;
+};
+
+/// Parses arguments (without the program name). Accepts "--opt value" and "--opt=value".
+ParseResult parseCommandLine(std::span<const std::string_view> args);
+
+/// The full --help text.
+std::string usageText(std::string_view program);
+
+/// Integrator name as on the command line ("lightmap", "direct", "path").
+std::string_view integratorName(Integrator integrator);
+
+}  // namespace pa::cli

@@ -1,0 +1,129 @@
+// Import -> commit -> F x render(N spp) -> PNG (+ EXR), with progress and a summary line.
+#include "renderer/cli/render_job.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "renderer/cli/image_output.h"
+#include "renderer/cli/progress.h"
+#include "renderer/cli/scene_importer.h"
+#include "renderer/scene/renderer.h"
+
+namespace pa::cli {
+namespace {
+
+constexpr uint32_t kDefaultWidth = 640;
+constexpr float kDefaultAspect = 16.0f / 9.0f;
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string knownExtensions() {
+  std::string list;
+  for (const auto& importer : sceneImporters())
+    for (std::string_view extension : importer->extensions()) {
+      if (!list.empty()) list += ' ';
+      list += extension;
+    }
+  return list;
+}
+
+}  // namespace
+
+void resolveImageSize(const CliOptions& options, float cameraAspect, uint32_t& width, uint32_t& height) {
+  const float aspect = cameraAspect > 0.0f && std::isfinite(cameraAspect) ? cameraAspect : kDefaultAspect;
+  auto side = [](float value) { return static_cast<uint32_t>(std::clamp(std::lround(value), 1l, 16384l)); };
+  width = options.width;
+  height = options.height;
+  if (width == 0 && height == 0) width = kDefaultWidth;
+  if (height == 0) height = side(static_cast<float>(width) / aspect);
+  if (width == 0) width = side(static_cast<float>(height) * aspect);
+}
+
+int runRenderJob(const CliOptions& options, std::FILE* log) {
+  const SceneImporter* importer = findImporter(options.scene);
+  if (!importer) {
+    std::fprintf(log, "pa-render: %s: unknown scene format \"%s\" (known: %s)\n", options.scene.string().c_str(),
+                 options.scene.extension().string().c_str(), knownExtensions().c_str());
+    return kExitUsage;
+  }
+  try {
+    const auto loadStart = std::chrono::steady_clock::now();
+    RendererConfig config;
+    config.threads = options.threads;
+    Renderer renderer(config);
+    ImportOptions importOptions;
+    importOptions.lightScale = options.lightScale;
+    const ImportedScene scene = importer->load(options.scene, renderer, importOptions);
+    if (!options.quiet)
+      for (const std::string& warning : scene.warnings) std::fprintf(log, "pa-render: warning: %s\n", warning.c_str());
+
+    ImportedCamera camera;
+    if (scene.cameras.empty()) {
+      if (options.camera != 0) {
+        std::fprintf(log, "pa-render: %s: --camera %u requested but the scene has no cameras\n",
+                     options.scene.string().c_str(), options.camera);
+        return kExitFailure;
+      }
+      camera = framingCamera(scene);
+      if (!options.quiet) std::fprintf(log, "pa-render: the scene has no camera; framing the whole scene\n");
+    } else if (options.camera >= scene.cameras.size()) {
+      std::fprintf(log, "pa-render: %s: --camera %u out of range (the scene has %zu cameras)\n",
+                   options.scene.string().c_str(), options.camera, scene.cameras.size());
+      return kExitFailure;
+    } else {
+      camera = scene.cameras[options.camera];
+    }
+    renderer.commit();
+    const double loadSeconds = secondsSince(loadStart);
+
+    RenderSettings settings;
+    resolveImageSize(options, camera.aspectRatio, settings.width, settings.height);
+    settings.integrator = options.integrator;
+    settings.samplesPerPixel = options.samplesPerPixel;
+    settings.maxBounces = options.bounces;
+    settings.radianceClamp = options.clamp;
+    settings.seed = options.seed;
+    settings.accumulate = true;
+    settings.exposure = options.exposure;
+    const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);
+
+    const bool showProgress = !options.quiet && (options.progress || ::isatty(::fileno(log)));
+    ProgressBar progress(options.frames, showProgress, log);
+    progress.update(0);
+    FrameView frame;
+    for (uint32_t f = 0; f < options.frames; ++f) {
+      frame = renderer.render(view, settings);
+      progress.update(f + 1);
+    }
+    progress.finish();
+    const double renderSeconds = progress.elapsedSeconds();
+
+    writePng(options.pngOut, frame.width, frame.height, frame.rgba8);
+    if (options.exrOut) {
+      ExrLayers layers{frame.width, frame.height, frame.radiance, frame.albedo, frame.normal, frame.depth, frame.variance};
+      writeExr(*options.exrOut, layers);
+    }
+    const double samples = static_cast<double>(settings.width) * settings.height * options.samplesPerPixel * options.frames;
+    std::fprintf(log,
+                 "pa-render: %s: %zu triangles, %zu lights, camera \"%s\" | %ux%u, %s (%u bounces), %u frame(s) x %u spp"
+                 " | load %s, render %s (%.2f Msamples/s) | wrote %s%s%s\n",
+                 options.scene.filename().string().c_str(), scene.triangles, scene.lights, camera.name.c_str(),
+                 settings.width, settings.height, std::string(integratorName(options.integrator)).c_str(),
+                 options.bounces, options.frames, options.samplesPerPixel, formatDuration(loadSeconds).c_str(),
+                 formatDuration(renderSeconds).c_str(), samples / std::max(renderSeconds, 1e-9) * 1e-6,
+                 options.pngOut.string().c_str(), options.exrOut ? " and " : "",
+                 options.exrOut ? options.exrOut->string().c_str() : "");
+    return kExitOk;
+  } catch (const std::exception& e) {
+    std::fprintf(log, "pa-render: error: %s\n", e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace pa::cli

@@ -1,0 +1,104 @@
+// pa-render command-line parsing.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "renderer/cli/cli_options.h"
+
+namespace pa::cli {
+namespace {
+
+ParseResult parse(std::vector<std::string_view> args) { return parseCommandLine(args); }
+
+TEST(CliOptions, MinimalCommandUsesDefaults) {
+  const ParseResult r = parse({"scene.gltf", "-o", "out.png"});
+  ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
+  EXPECT_EQ(r.options.scene, "scene.gltf");
+  EXPECT_EQ(r.options.pngOut, "out.png");
+  EXPECT_FALSE(r.options.exrOut.has_value());
+  EXPECT_EQ(r.options.width, 0u);
+  EXPECT_EQ(r.options.samplesPerPixel, 16u);
+  EXPECT_EQ(r.options.frames, 1u);
+  EXPECT_EQ(r.options.bounces, 4u);
+  EXPECT_EQ(r.options.integrator, Integrator::Path);
+  EXPECT_FLOAT_EQ(r.options.exposure, 1.0f);
+}
+
+TEST(CliOptions, ParsesEveryOption) {
+  const ParseResult r = parse({"--width", "320", "--height=200", "--spp", "8", "--bounces", "2", "--seed", "42",
+                               "--threads", "3", "--integrator", "direct", "--camera", "1", "--clamp", "10.5",
+                               "--exposure=2", "--frames", "5", "--exr", "o.exr", "--light-scale", "0.001",
+                               "--progress", "map.glb", "--output", "o.png"});
+  ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
+  const CliOptions& o = r.options;
+  EXPECT_EQ(o.scene, "map.glb");
+  EXPECT_EQ(o.pngOut, "o.png");
+  EXPECT_EQ(o.exrOut, std::filesystem::path("o.exr"));
+  EXPECT_EQ(o.width, 320u);
+  EXPECT_EQ(o.height, 200u);
+  EXPECT_EQ(o.samplesPerPixel, 8u);
+  EXPECT_EQ(o.bounces, 2u);
+  EXPECT_EQ(o.seed, 42u);
+  EXPECT_EQ(o.threads, 3u);
+  EXPECT_EQ(o.integrator, Integrator::Direct);
+  EXPECT_EQ(o.camera, 1u);
+  EXPECT_FLOAT_EQ(o.clamp, 10.5f);
+  EXPECT_FLOAT_EQ(o.exposure, 2.0f);
+  EXPECT_EQ(o.frames, 5u);
+  EXPECT_FLOAT_EQ(o.lightScale, 0.001f);
+  EXPECT_TRUE(o.progress);
+}
+
+TEST(CliOptions, HelpWinsOverEverythingElse) {
+  EXPECT_EQ(parse({"--help"}).status, ParseStatus::Help);
+  EXPECT_EQ(parse({"scene.gltf", "--bogus", "-h"}).status, ParseStatus::Error);  // first error stops parsing
+  EXPECT_EQ(parse({"-h", "--bogus"}).status, ParseStatus::Help);
+}
+
+TEST(CliOptions, RejectsBadInputWithAMessageNamingTheOption) {
+  struct Case {
+    std::vector<std::string_view> args;
+    const char* expected;
+  };
+  const std::vector<Case> cases = {
+      {{}, "missing input scene"},
+      {{"a.gltf"}, "missing -o"},
+      {{"a.gltf", "b.gltf", "-o", "x.png"}, "expected one input scene"},
+      {{"a.gltf", "-o"}, "-o: missing value"},
+      {{"a.gltf", "-o", "x.png", "--width", "0"}, "--width: expected an integer in [1, 16384]"},
+      {{"a.gltf", "-o", "x.png", "--width", "12abc"}, "--width"},
+      {{"a.gltf", "-o", "x.png", "--height", "-5"}, "--height"},
+      {{"a.gltf", "-o", "x.png", "--spp", "0"}, "--spp"},
+      {{"a.gltf", "-o", "x.png", "--frames", "0"}, "--frames"},
+      {{"a.gltf", "-o", "x.png", "--seed", "99999999999"}, "--seed"},
+      {{"a.gltf", "-o", "x.png", "--exposure", "0"}, "--exposure: expected a number > 0"},
+      {{"a.gltf", "-o", "x.png", "--clamp", "nan"}, "--clamp"},
+      {{"a.gltf", "-o", "x.png", "--clamp", "-1"}, "--clamp"},
+      {{"a.gltf", "-o", "x.png", "--integrator", "whitted"}, "--integrator: expected lightmap, direct or path"},
+      {{"a.gltf", "-o", "x.png", "--frobnicate", "1"}, "unknown option --frobnicate"},
+      {{"a.gltf", "-o", "x.png", "--progress=1"}, "--progress takes no value"},
+      {{"a.gltf", "-o", "x.png", "--progress", "--quiet"}, "contradict"},
+  };
+  for (const Case& c : cases) {
+    const ParseResult r = parseCommandLine(c.args);
+    EXPECT_EQ(r.status, ParseStatus::Error) << c.expected;
+    EXPECT_NE(r.message.find(c.expected), std::string::npos) << "got: " << r.message;
+  }
+}
+
+TEST(CliOptions, DoubleDashEndsOptions) {
+  const ParseResult r = parse({"-o", "x.png", "--", "-weird-name.gltf"});
+  ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
+  EXPECT_EQ(r.options.scene, "-weird-name.gltf");
+}
+
+TEST(CliOptions, UsageDocumentsEveryOption) {
+  const std::string usage = usageText("pa-render");
+  for (const char* option : {"-o", "--exr", "--width", "--height", "--spp", "--bounces", "--seed", "--threads",
+                             "--integrator", "--camera", "--clamp", "--exposure", "--frames", "--light-scale",
+                             "--progress", "--quiet", "--help", "Exit status"})
+    EXPECT_NE(usage.find(option), std::string::npos) << option;
+}
+
+}  // namespace
+}  // namespace pa::cli

@@ -1,0 +1,88 @@
+#include "renderer/scene/film/film.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "renderer/scene/sampling/warp.h"
+#include "renderer/scene/textures/texture.h"
+
+namespace pa {
+
+void PixelAccumulator::add(const PixelSample& s) {
+  const bool ok = std::isfinite(s.radiance.x) && std::isfinite(s.radiance.y) && std::isfinite(s.radiance.z);
+  const glm::vec3 r = ok ? s.radiance : glm::vec3(0.0f);
+  for (int c = 0; c < 3; ++c) {
+    radiance[c] += r[c];
+    albedo[c] += s.albedo[c];
+    normal[c] += s.normal[c];
+  }
+  if (std::isfinite(s.depth)) {
+    depthSum += s.depth;
+    ++depthCount;
+  }
+  ++samples;
+  luminance.add(sampling::luminance(r));
+}
+
+glm::vec3 tonemap(const glm::vec3& x, Tonemap op) {
+  switch (op) {
+    case Tonemap::AcesFitted: {
+      const glm::vec3 y = glm::max(x, glm::vec3(0.0f));
+      return glm::clamp((y * (2.51f * y + 0.03f)) / (y * (2.43f * y + 0.59f) + 0.14f), 0.0f, 1.0f);
+    }
+    case Tonemap::Reinhard: {
+      const float l = sampling::luminance(glm::max(x, glm::vec3(0.0f)));
+      if (!(l > 0.0f)) return glm::vec3(0.0f);
+      return glm::clamp(x * (1.0f / (1.0f + l)), 0.0f, 1.0f);
+    }
+    case Tonemap::Clamp:
+      break;
+  }
+  return glm::clamp(x, 0.0f, 1.0f);
+}
+
+void Film::resize(uint32_t width, uint32_t height) {
+  if (width == width_ && height == height_ && pixels_.size() == size_t{width} * height) return;
+  width_ = width;
+  height_ = height;
+  const size_t n = size_t{width} * height;
+  pixels_.assign(n, {});
+  radiance_.assign(n, glm::vec3(0.0f));
+  albedo_.assign(n, glm::vec3(0.0f));
+  normal_.assign(n, glm::vec3(0.0f));
+  depth_.assign(n, 0.0f);
+  variance_.assign(n, 0.0f);
+  rgba8_.assign(n * 4, 0);
+  frames_ = 0;
+}
+
+void Film::reset() {
+  std::fill(pixels_.begin(), pixels_.end(), PixelAccumulator{});
+  frames_ = 0;
+}
+
+void Film::resolveRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op) {
+  for (uint32_t y = rowBegin; y < rowEnd; ++y) {
+    for (uint32_t x = 0; x < width_; ++x) {
+      const size_t i = size_t{y} * width_ + x;
+      const PixelAccumulator& p = pixels_[i];
+      const double inv = p.samples > 0 ? 1.0 / static_cast<double>(p.samples) : 0.0;
+      for (int c = 0; c < 3; ++c) {
+        radiance_[i][c] = static_cast<float>(p.radiance[c] * inv);
+        albedo_[i][c] = static_cast<float>(p.albedo[c] * inv);
+        normal_[i][c] = static_cast<float>(p.normal[c] * inv);
+      }
+      depth_[i] = p.depthCount > 0 ? static_cast<float>(p.depthSum / static_cast<double>(p.depthCount))
+                                   : std::numeric_limits<float>::infinity();
+      variance_[i] = static_cast<float>(p.luminance.varianceOfMean());
+      const glm::vec3 display = tonemap(radiance_[i] * exposure, op);
+      for (int c = 0; c < 3; ++c) {
+        const float encoded = linearToSrgb(display[c]);
+        rgba8_[i * 4 + c] = static_cast<uint8_t>(std::lround(std::clamp(encoded, 0.0f, 1.0f) * 255.0f));
+      }
+      rgba8_[i * 4 + 3] = 255;
+    }
+  }
+}
+
+}  // namespace pa

@@ -1,0 +1,102 @@
+#pragma once
+// Accumulation film: per-pixel running means over any number of frames, kept in double
+// precision (exact to ~1e-12 relative over millions of samples), a Welford variance of each
+// pixel's luminance samples, and the resolved float/RGBA8 buffers handed out by render().
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "renderer/scene/scene_types.h"
+
+namespace pa {
+
+/// Running mean and variance of a stream of values (Welford), in double precision.
+class RunningStats {
+ public:
+  /// Adds one value.
+  void add(double x) {
+    ++count_;
+    const double delta = x - mean_;
+    mean_ += delta / static_cast<double>(count_);
+    m2_ += delta * (x - mean_);
+  }
+  /// Number of values.
+  uint64_t count() const { return count_; }
+  /// Mean of the values (0 when empty).
+  double mean() const { return mean_; }
+  /// Unbiased sample variance (0 with fewer than two values).
+  double variance() const { return count_ > 1 ? m2_ / static_cast<double>(count_ - 1) : 0.0; }
+  /// Variance of the mean estimate: variance() / count().
+  double varianceOfMean() const { return count_ > 1 ? variance() / static_cast<double>(count_) : 0.0; }
+
+ private:
+  uint64_t count_ = 0;
+  double mean_ = 0.0;
+  double m2_ = 0.0;
+};
+
+/// What one camera sample measured.
+struct PixelSample {
+  glm::vec3 radiance{0.0f};
+  glm::vec3 albedo{0.0f};
+  glm::vec3 normal{0.0f};
+  float depth = std::numeric_limits<float>::infinity();
+};
+
+/// Sums of one pixel's samples.
+struct PixelAccumulator {
+  double radiance[3] = {0.0, 0.0, 0.0};
+  double albedo[3] = {0.0, 0.0, 0.0};
+  double normal[3] = {0.0, 0.0, 0.0};
+  double depthSum = 0.0;
+  uint64_t depthCount = 0;
+  uint64_t samples = 0;
+  RunningStats luminance;
+
+  /// Adds one sample (non-finite radiance counts as black so one bad path cannot poison the mean).
+  void add(const PixelSample& s);
+};
+
+/// Maps linear radiance to display-referred [0, 1] (before sRGB encoding).
+glm::vec3 tonemap(const glm::vec3& linear, Tonemap op);
+
+/// The accumulation buffer plus resolved outputs.
+class Film {
+ public:
+  /// Resizes (and clears) when the size differs.
+  void resize(uint32_t width, uint32_t height);
+  /// Clears all sums and the frame count.
+  void reset();
+  /// Accumulator of pixel (x, y); callers give each pixel to one thread at a time.
+  PixelAccumulator& pixel(uint32_t x, uint32_t y) { return pixels_[size_t{y} * width_ + x]; }
+  /// Counts one finished render() call.
+  void finishFrame() { ++frames_; }
+  /// Frames in the mean.
+  uint32_t frames() const { return frames_; }
+  /// Resolves rows [rowBegin, rowEnd) into the float and RGBA8 buffers.
+  void resolveRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op);
+  /// Width in pixels.
+  uint32_t width() const { return width_; }
+  /// Height in pixels.
+  uint32_t height() const { return height_; }
+  /// Resolved buffers, valid after resolveRows over all rows.
+  const std::vector<glm::vec3>& radiance() const { return radiance_; }
+  const std::vector<glm::vec3>& albedo() const { return albedo_; }
+  const std::vector<glm::vec3>& normal() const { return normal_; }
+  const std::vector<float>& depth() const { return depth_; }
+  const std::vector<float>& variance() const { return variance_; }
+  const std::vector<uint8_t>& rgba8() const { return rgba8_; }
+
+ private:
+  uint32_t width_ = 0;
+  uint32_t height_ = 0;
+  uint32_t frames_ = 0;
+  std::vector<PixelAccumulator> pixels_;
+  std::vector<glm::vec3> radiance_, albedo_, normal_;
+  std::vector<float> depth_, variance_;
+  std::vector<uint8_t> rgba8_;
+};
+
+}  // namespace pa

@@ -1,0 +1,39 @@
+#pragma once
+// Primary rays of the game-style camera: pixel (0, 0) is the top-left corner, +x goes right
+// (= -left), +y goes down (= -up); fovX/fovY are full angles in degrees.
+#include <cmath>
+#include <cstdint>
+
+#include <glm/geometric.hpp>
+
+#include "renderer/core/ray.h"
+#include "renderer/scene/scene_types.h"
+
+namespace pa {
+
+/// Generates camera rays for one image size.
+class CameraRays {
+ public:
+  /// Validates the camera (finite, non-degenerate axes, 0 < fov < 180) or throws SceneError.
+  CameraRays(const Camera& camera, uint32_t width, uint32_t height);
+
+  /// Ray through film position (px, py) in pixels (continuous, (0,0) = top-left corner).
+  Ray generate(float px, float py) const {
+    const float sx = (2.0f * px / width_ - 1.0f) * tanHalfX_;
+    const float sy = (1.0f - 2.0f * py / height_) * tanHalfY_;
+    Ray r;
+    r.origin = origin_;
+    r.dir = glm::normalize(forward_ + sx * right_ + sy * up_);
+    return r;
+  }
+  /// Angle subtended by one pixel (ray-cone spread for texture filtering).
+  float pixelSpreadAngle() const { return spread_; }
+
+ private:
+  glm::vec3 origin_, forward_, right_, up_;
+  float tanHalfX_, tanHalfY_;
+  float width_, height_;
+  float spread_;
+};
+
+}  // namespace pa

@@ -1,0 +1,212 @@
+#include "renderer/scene/integrator/integrator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "renderer/scene/integrator/ray_spawn.h"
+#include "renderer/scene/materials/bsdf.h"
+#include "renderer/scene/sampling/warp.h"
+
+namespace pa {
+
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+constexpr uint32_t kExtraDeltaBounces = 8;     // mirror bounces allowed beyond maxBounces
+constexpr uint32_t kRouletteStart = 3;         // scattering events before Russian roulette
+constexpr float kMinCosForFootprint = 0.05f;
+
+// Sampler dimension groups within one path vertex.
+constexpr uint32_t kGroupLight = 1;     // light choice, light point (2), roulette
+constexpr uint32_t kGroupBsdf = 2;      // direction (2), lobe choice
+constexpr uint32_t kGroupRays = 3;      // random bits for stochastic transparency
+
+float maxComponent(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
+
+/// Applies the optional clamp to one contribution. Emitters, sky and additive surfaces seen
+/// directly by the camera (depth 0) are exempt so that light sources keep their look.
+glm::vec3 clampContribution(const glm::vec3& c, uint32_t depth, float limit) {
+  if (limit <= 0.0f || depth == 0) return c;
+  const float m = maxComponent(c);
+  return m > limit ? c * (limit / m) : c;
+}
+
+/// State carried from one path vertex to the next for MIS.
+struct PreviousVertex {
+  bool delta = true;          // camera or mirror: emitters hit next get full weight
+  float bsdfPdf = 0.0f;
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f};
+};
+
+/// Closest hit for the vertex at `depth`: the drawOnTop overlay first for camera rays.
+/// Additive surfaces are collected only when `seeAdditive` (camera and mirror chains): they
+/// are visual effects (glows, flames), not light sources.
+bool traceClosest(const RenderScene& scene, Ray& ray, Hit& hit, uint32_t depth, uint32_t bits, bool seeAdditive,
+                  AdditiveHits& additive, bool& onOverlay) {
+  TraceRequest request;
+  request.kind = depth == 0 ? RayKind::Camera : RayKind::Bounce;
+  request.randomBits = bits;
+  request.additive = seeAdditive ? &additive : nullptr;
+  onOverlay = false;
+  if (depth == 0 && !scene.overlay.empty()) {
+    Ray overlayRay = ray;
+    request.overlay = true;
+    if (scene.intersect(overlayRay, hit, request)) {
+      ray = overlayRay;
+      onOverlay = true;
+      return true;
+    }
+    request.overlay = false;
+  }
+  return scene.intersect(ray, hit, request);
+}
+
+/// Next-event estimation at a surface point; returns the MIS-weighted contribution / beta.
+glm::vec3 sampleDirectLight(const RenderScene& scene, const SurfaceHit& s, const Bsdf& bsdf, const glm::vec3& wo,
+                            const glm::vec3& ng, const glm::vec3& ns, const glm::vec4& u, uint32_t bits) {
+  LightSample ls;
+  if (!scene.lights.sample(s.position, ns, glm::vec3(u.x, u.y, u.z), ls)) return glm::vec3(0.0f);
+  const glm::vec3 f = bsdf.evalCos(wo, ls.wi);
+  if (f == glm::vec3(0.0f)) return glm::vec3(0.0f);
+  Ray shadow;
+  shadow.origin = offsetFromSurface(s.position, glm::dot(ls.wi, ng) > 0.0f ? ng : -ng);
+  if (ls.environment) {
+    shadow.dir = ls.wi;
+    shadow.tmax = kInfinity;
+  } else if (ls.lightNormal != glm::vec3(0.0f)) {
+    // Area light: end just off the light's surface so it does not shadow itself.
+    const glm::vec3 end = offsetFromSurface(ls.lightPoint, ls.lightNormal);
+    shadow.dir = end - shadow.origin;
+    shadow.tmax = 1.0f;
+  } else {
+    shadow.dir = ls.lightPoint - shadow.origin;
+    shadow.tmax = 1.0f;
+  }
+  TraceRequest request;
+  request.kind = RayKind::Shadow;
+  request.randomBits = bits;
+  request.towardEnvironment = ls.environment;
+  if (scene.occluded(shadow, request)) return glm::vec3(0.0f);
+  const float weight = ls.delta ? 1.0f : sampling::powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
+  return f * ls.radiance * (weight / ls.pdf);
+}
+
+/// Radiance arriving from the environment along dir, MIS-weighted against sky sampling.
+glm::vec3 environmentRadiance(const RenderScene& scene, const glm::vec3& dir, const PreviousVertex& prev) {
+  const glm::vec3 le = scene.sky.radiance(dir);
+  if (prev.delta) return le;
+  return le * sampling::powerHeuristic(prev.bsdfPdf, scene.lights.skyPdf(prev.normal, dir));
+}
+
+}  // namespace
+
+PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
+                        float px, float py, const sampling::PixelSampler& sampler) {
+  PixelSample out;
+  Ray ray = camera.generate(px, py);
+  glm::vec3 radiance(0.0f);
+  glm::vec3 beta(1.0f);
+  PreviousVertex prev;
+  float coneWidth = 0.0f;
+  float coneSpread = camera.pixelSpreadAngle();
+  const bool lightmapOnly = settings.integrator == Integrator::Lightmap;
+  const uint32_t maxScatter = settings.integrator == Integrator::Direct ? std::min(1u, settings.maxBounces)
+                                                                         : settings.maxBounces;
+  uint32_t scatterCount = 0;
+
+  for (uint32_t depth = 0;; ++depth) {
+    const uint32_t group = kGroupsPerVertex * depth;
+    AdditiveHits additive;
+    Hit hit;
+    bool onOverlay = false;
+    const bool found =
+        traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
+    radiance += clampContribution(beta * additive.sumBefore(found ? hit.t : kInfinity), depth,
+                                  settings.radianceClamp);
+
+    const glm::vec3 dir = glm::normalize(ray.dir);
+    const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay) : SurfaceHit{};
+    if (!found || s.material->desc.sky) {
+      const glm::vec3 le = lightmapOnly ? scene.sky.radiance(dir) : environmentRadiance(scene, dir, prev);
+      radiance += clampContribution(beta * le, depth, settings.radianceClamp);
+      if (depth == 0) {
+        out.albedo = glm::min(scene.sky.radiance(dir), glm::vec3(1.0f));
+        out.normal = glm::vec3(0.0f);
+        out.depth = kInfinity;
+      }
+      break;
+    }
+
+    const MaterialRecord& m = *s.material;
+    const glm::vec3 wo = -dir;
+    const bool front = glm::dot(s.geometricNormal, wo) > 0.0f;
+    const glm::vec3 ng = front ? s.geometricNormal : -s.geometricNormal;
+    const glm::vec3 ns = front ? s.shadingNormal : -s.shadingNormal;
+    coneWidth += coneSpread * hit.t;
+    const float footprint = coneWidth / std::max(kMinCosForFootprint, glm::dot(ng, wo));
+    const glm::vec3 albedo = glm::clamp(glm::vec3(scene.baseColor(s, footprint)), 0.0f, 1.0f);
+    if (depth == 0) {
+      out.albedo = albedo;
+      out.normal = ns;
+      out.depth = hit.t;
+    }
+
+    const glm::vec3 le = scene.emission(s, front);
+    if (le != glm::vec3(0.0f)) {
+      float weight = 1.0f;
+      if (!prev.delta && !lightmapOnly) {
+        const uint32_t index = scene.emissiveIndex(s);
+        const float lightPdf = index == kNoId ? 0.0f : scene.lights.emissivePdf(index, prev.position, s.position);
+        weight = sampling::powerHeuristic(prev.bsdfPdf, lightPdf);
+      }
+      radiance += clampContribution(beta * le * weight, depth, settings.radianceClamp);
+    }
+
+    if (lightmapOnly) {
+      glm::vec3 baked(1.0f);
+      if (m.desc.useVertexLight) {
+        baked = glm::vec3(s.vertexColor);
+      } else if (m.lightmap != nullptr) {
+        baked = glm::vec3(m.lightmap->sample(s.lightmapUv, 0.0f));
+      }
+      radiance += albedo * baked;
+      break;
+    }
+    if (scatterCount >= maxScatter || depth >= maxScatter + kExtraDeltaBounces) break;
+
+    const Bsdf bsdf(albedo, m.desc.specular, m.desc.roughness, m.desc.mirror, ns, ng);
+    const glm::vec4 uLight = sampler.get4(group + kGroupLight);
+    if (!bsdf.isDelta()) {
+      const glm::vec3 direct =
+          sampleDirectLight(scene, s, bsdf, wo, ng, ns, uLight, sampler.bits(group + kGroupRays + 1000));
+      radiance += clampContribution(beta * direct, depth + 1, settings.radianceClamp);   // never exempt
+    }
+
+    const glm::vec4 uBsdf = sampler.get4(group + kGroupBsdf);
+    BsdfSample bs;
+    if (!bsdf.sample(wo, glm::vec3(uBsdf.x, uBsdf.y, uBsdf.z), bs)) break;
+    beta *= bs.weight;
+    prev = {bs.delta, bs.pdf, s.position, ns};
+    if (!bs.delta) {
+      ++scatterCount;
+      coneSpread = std::max(coneSpread, bs.glossy ? 0.1f : 0.5f);
+    }
+    if (scatterCount >= kRouletteStart && !bs.delta) {
+      const float survive = std::min(1.0f, std::max(0.05f, maxComponent(beta)));
+      if (uLight.w >= survive) break;
+      beta /= survive;
+    }
+    if (!(maxComponent(beta) > 0.0f)) break;
+    ray = Ray{};
+    ray.origin = offsetFromSurface(s.position, glm::dot(bs.wi, ng) > 0.0f ? ng : -ng);
+    ray.dir = bs.wi;
+  }
+  out.radiance = radiance;
+  return out;
+}
+
+}  // namespace pa

@@ -1,0 +1,23 @@
+#pragma once
+// Per-sample light transport for the three presets: Lightmap (primary rays, baked light),
+// Direct (next-event estimation with ray-traced shadows, MIS with BSDF-sampled emitters and
+// sky), Path (the same at every vertex, Russian roulette, maxBounces).
+#include <cstdint>
+
+#include "renderer/scene/film/film.h"
+#include "renderer/scene/integrator/camera_rays.h"
+#include "renderer/scene/sampling/sobol_sampler.h"
+#include "renderer/scene/scene_types.h"
+#include "renderer/scene/world/render_scene.h"
+
+namespace pa {
+
+/// Traces one camera sample through film position (px, py) and returns radiance and AOVs.
+/// A pure function of its arguments (the sampler carries pixel, seed and sample index).
+PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
+                        float px, float py, const sampling::PixelSampler& sampler);
+
+/// Dimension groups of the sampler used per path vertex (group = kGroupsPerVertex * depth + k).
+inline constexpr uint32_t kGroupsPerVertex = 4;
+
+}  // namespace pa

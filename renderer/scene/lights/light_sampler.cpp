@@ -1,0 +1,189 @@
+#include "renderer/scene/lights/light_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "renderer/scene/sampling/warp.h"
+
+namespace pa {
+
+using sampling::kPi;
+
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+double meanComponent(const glm::vec3& c) { return (double{c.r} + c.g + c.b) / 3.0; }
+
+double analyticPower(const LightDesc& l, double sceneRadius) {
+  const double i = meanComponent(l.color) * l.intensity;
+  switch (l.type) {
+    case LightType::Point:
+    case LightType::Spot: {
+      double solidAngle = 4.0 * kPi;
+      if (l.type == LightType::Spot) {
+        const double cosMid = 0.5 * (double{l.cosInnerAngle} + l.cosOuterAngle);
+        solidAngle = 2.0 * kPi * std::max(1e-4, 1.0 - cosMid);
+      }
+      if (l.falloff == Falloff::Linear) {
+        // Mean over [0, range] of E(d) * d^2 for E = I (1 - d / range).
+        return solidAngle * i * double{l.range} * l.range / 12.0;
+      }
+      return solidAngle * i;
+    }
+    case LightType::Directional:
+      return i * kPi * sceneRadius * sceneRadius;
+  }
+  return 0.0;
+}
+
+}  // namespace
+
+float distanceFalloff(const LightDesc& light, float d) {
+  if (light.range > 0.0f && d > light.range) return 0.0f;
+  if (light.falloff == Falloff::Linear) return std::max(0.0f, 1.0f - d / light.range);
+  return 1.0f / std::max(d * d, 1e-8f);
+}
+
+float spotFactor(const LightDesc& light, const glm::vec3& fromLight) {
+  const float c = glm::dot(fromLight, light.direction);
+  const float lo = light.cosOuterAngle;
+  const float hi = light.cosInnerAngle;
+  if (c <= lo) return 0.0f;
+  if (c >= hi) return 1.0f;
+  const float t = (c - lo) / (hi - lo);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+glm::vec3 emittedRadiance(const EmissiveTriangle& tri, glm::vec2 bary, bool frontSide) {
+  if (!frontSide && !tri.twoSided) return glm::vec3(0.0f);
+  glm::vec3 e = tri.emission;
+  if (tri.texture != nullptr) {
+    const glm::vec2 uv = tri.uv0 * (1.0f - bary.x - bary.y) + tri.uv1 * bary.x + tri.uv2 * bary.y;
+    e *= glm::vec3(tri.texture->sample(uv, 0.0f));
+  }
+  return e;
+}
+
+LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<EmissiveTriangle> triangles,
+                           const Sky& sky, const Bounds& sceneBounds)
+    : analytic_(lights.begin(), lights.end()), triangles_(std::move(triangles)) {
+  const double radius =
+      sceneBounds.empty() ? 1.0 : std::max(1e-3, 0.5 * double{glm::length(sceneBounds.max - sceneBounds.min)});
+  std::vector<double> power;
+  power.reserve(analytic_.size() + triangles_.size() + 1);
+  for (const LightDesc& l : analytic_) power.push_back(analyticPower(l, radius));
+  for (const EmissiveTriangle& t : triangles_) {
+    const glm::vec3 mean = t.emission * (t.texture ? glm::vec3(t.texture->average()) : glm::vec3(1.0f));
+    power.push_back(kPi * double{t.area} * meanComponent(mean) * (t.twoSided ? 2.0 : 1.0));
+  }
+  if (!sky.black()) {
+    sky_ = sky;
+    skyEntry_ = static_cast<uint32_t>(power.size());
+    power.push_back(kPi * meanComponent(sky.average()) * kPi * radius * radius);
+  }
+  table_ = sampling::AliasTable(power);
+}
+
+bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec3& u, LightSample& out) const {
+  if (table_.empty()) return false;
+  const uint32_t entry = table_.sample(u.x);
+  const float selection = table_.pdf(entry);
+  if (!(selection > 0.0f)) return false;
+  const glm::vec2 uv(u.y, u.z);
+  bool ok;
+  if (entry < analytic_.size()) {
+    ok = sampleAnalytic(analytic_[entry], p, uv, out);
+  } else if (entry == skyEntry_) {
+    const glm::vec3 wi = sampling::Frame(n).toWorld(sampling::cosineHemisphere(uv));
+    const float pdf = std::max(0.0f, glm::dot(wi, n)) * sampling::kInvPi;
+    if (!(pdf > 0.0f)) return false;
+    out = {};
+    out.wi = wi;
+    out.distance = kInfinity;
+    out.radiance = sky_.radiance(wi);
+    out.pdf = pdf;
+    out.environment = true;
+    ok = true;
+  } else {
+    ok = sampleTriangle(triangles_[entry - analytic_.size()], p, uv, out);
+  }
+  if (!ok) return false;
+  out.pdf *= selection;
+  return out.pdf > 0.0f;
+}
+
+bool LightSampler::sampleAnalytic(const LightDesc& l, const glm::vec3& p, const glm::vec2& u,
+                                  LightSample& out) const {
+  out = {};
+  out.delta = true;
+  out.pdf = 1.0f;
+  const glm::vec3 power = l.color * l.intensity;
+  if (l.type == LightType::Directional) {
+    const glm::vec3 toSun = -l.direction;
+    out.wi = l.angularRadius > 0.0f
+                 ? sampling::Frame(toSun).toWorld(sampling::uniformCone(u, std::cos(l.angularRadius)))
+                 : toSun;
+    out.distance = kInfinity;
+    out.radiance = power;
+    out.environment = true;
+    return true;
+  }
+  glm::vec3 q = l.position;
+  if (l.radius > 0.0f) q += l.radius * sampling::uniformSphere(u);
+  const glm::vec3 d = q - p;
+  const float dist = glm::length(d);
+  if (!(dist > 0.0f)) return false;
+  out.wi = d / dist;
+  out.distance = dist;
+  out.lightPoint = q;
+  float factor = distanceFalloff(l, dist);
+  if (l.type == LightType::Spot) factor *= spotFactor(l, -out.wi);
+  if (!(factor > 0.0f)) return false;
+  out.radiance = power * factor;
+  return true;
+}
+
+bool LightSampler::sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u,
+                                  LightSample& out) const {
+  const glm::vec2 bary = sampling::uniformTriangle(u);
+  const glm::vec3 q = tri.p0 + bary.x * tri.e1 + bary.y * tri.e2;
+  const glm::vec3 d = q - p;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return false;
+  const float dist = std::sqrt(dist2);
+  const glm::vec3 wi = d / dist;
+  const float cosLight = -glm::dot(wi, tri.normal);
+  if (cosLight == 0.0f) return false;
+  const glm::vec3 radiance = emittedRadiance(tri, bary, cosLight > 0.0f);
+  if (radiance == glm::vec3(0.0f)) return false;
+  out = {};
+  out.wi = wi;
+  out.distance = dist;
+  out.radiance = radiance;
+  out.pdf = dist2 / (tri.area * std::abs(cosLight));
+  out.delta = !tri.hittable;
+  out.lightPoint = q;
+  out.lightNormal = cosLight > 0.0f ? tri.normal : -tri.normal;
+  return std::isfinite(out.pdf);
+}
+
+float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& q) const {
+  if (index >= triangles_.size()) return 0.0f;
+  const EmissiveTriangle& tri = triangles_[index];
+  const glm::vec3 d = q - p;
+  const float dist2 = glm::dot(d, d);
+  const float cosLight = std::abs(glm::dot(d, tri.normal)) / std::sqrt(dist2);
+  if (!(cosLight > 0.0f) || !(tri.area > 0.0f)) return 0.0f;
+  return table_.pdf(static_cast<uint32_t>(analytic_.size()) + index) * dist2 / (tri.area * cosLight);
+}
+
+float LightSampler::skyPdf(const glm::vec3& n, const glm::vec3& wi) const {
+  if (skyEntry_ == UINT32_MAX) return 0.0f;
+  return table_.pdf(skyEntry_) * std::max(0.0f, glm::dot(wi, n)) * sampling::kInvPi;
+}
+
+}  // namespace pa

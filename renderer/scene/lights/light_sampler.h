@@ -1,0 +1,83 @@
+#pragma once
+// Light selection and sampling for next-event estimation: analytic lights (point, spot,
+// directional), emissive triangles gathered at commit, and the sky. One alias table picks a
+// light by estimated power; each light is then sampled by solid angle (point-like lights,
+// sun cone, sky cosine lobe) or uniformly by area (triangles, converted to solid angle).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "renderer/core/bounds.h"
+#include "renderer/scene/lights/sky.h"
+#include "renderer/scene/sampling/alias_table.h"
+#include "renderer/scene/scene_types.h"
+#include "renderer/scene/textures/texture.h"
+
+namespace pa {
+
+/// One emissive triangle in world space.
+struct EmissiveTriangle {
+  glm::vec3 p0{0.0f}, e1{0.0f}, e2{0.0f};   ///< Vertex 0 and edges to vertices 1 and 2.
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};      ///< Unit winding normal (front side).
+  float area = 0.0f;
+  glm::vec2 uv0{0.0f}, uv1{0.0f}, uv2{0.0f};   ///< Emission texture coordinates (transformed).
+  glm::vec3 emission{0.0f};                ///< Radiance multiplier.
+  const Texture* texture = nullptr;        ///< Emission map, or null.
+  bool twoSided = true;                    ///< Emits from both faces.
+  bool hittable = true;                    ///< Bounce rays can hit it (else NEE gets full weight).
+};
+
+/// A sampled light connection from a shading point.
+struct LightSample {
+  glm::vec3 wi{0.0f};         ///< Unit direction toward the light.
+  float distance = 0.0f;      ///< To the light point (infinity for sun and sky).
+  glm::vec3 radiance{0.0f};   ///< Arriving radiance (or irradiance for delta lights).
+  float pdf = 0.0f;           ///< Solid-angle pdf including light selection (selection only for delta).
+  bool delta = false;         ///< Cannot be hit by BSDF sampling: no MIS, weight 1.
+  bool environment = false;   ///< Sun or sky: shadow rays pass sky surfaces.
+  glm::vec3 lightPoint{0.0f};   ///< Sampled point on an area light (shadow ray end).
+  glm::vec3 lightNormal{0.0f};  ///< Its geometric normal.
+};
+
+/// Radiance emitted by an emissive triangle at barycentrics (b1, b2) toward a side.
+glm::vec3 emittedRadiance(const EmissiveTriangle& tri, glm::vec2 bary, bool frontSide);
+
+/// Immutable light sampling tables built at commit.
+class LightSampler {
+ public:
+  LightSampler() = default;
+  /// Builds the selection table. `lights` are live analytic lights.
+  LightSampler(std::span<const LightDesc> lights, std::vector<EmissiveTriangle> triangles, const Sky& sky,
+               const Bounds& sceneBounds);
+
+  /// True when there is no light at all.
+  bool empty() const { return table_.empty(); }
+  /// Picks a light and a point on it for shading point p with normal n (facing the viewer).
+  bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec3& u, LightSample& out) const;
+  /// Solid-angle pdf with which sample() picks the emissive triangle `index` at point q from p.
+  float emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& q) const;
+  /// Solid-angle pdf with which sample() picks sky direction wi from a point with normal n.
+  float skyPdf(const glm::vec3& n, const glm::vec3& wi) const;
+  /// The emissive triangles (index as in emissivePdf).
+  std::span<const EmissiveTriangle> triangles() const { return triangles_; }
+
+ private:
+  bool sampleAnalytic(const LightDesc& light, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
+  bool sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
+
+  std::vector<LightDesc> analytic_;
+  std::vector<EmissiveTriangle> triangles_;
+  Sky sky_;
+  uint32_t skyEntry_ = UINT32_MAX;
+  sampling::AliasTable table_;
+};
+
+/// Distance falloff factor of a point or spot light at distance d (0 beyond range).
+float distanceFalloff(const LightDesc& light, float d);
+/// Angular factor of a spot light for a unit direction from the light toward the point.
+float spotFactor(const LightDesc& light, const glm::vec3& fromLight);
+
+}  // namespace pa

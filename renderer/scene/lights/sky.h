@@ -1,0 +1,47 @@
+#pragma once
+// The environment: a constant radiance or a cube map (six textures) times colour * intensity.
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "renderer/scene/scene_types.h"
+#include "renderer/scene/textures/texture.h"
+
+namespace pa {
+
+/// Cube-map face lookup: which face a direction hits and where, (u, v) from the top-left.
+/// Face f looks along its axis (+X, -X, +Y, -Y, +Z, -Z); its image top points to +Z
+/// (+X for the two Z faces) and its image right is axis x top.
+struct CubeLookup {
+  uint32_t face = 0;
+  float u = 0.0f;
+  float v = 0.0f;
+};
+
+/// Face and coordinates for a non-zero direction.
+CubeLookup cubeLookup(const glm::vec3& dir);
+
+/// Immutable sky used while rendering.
+class Sky {
+ public:
+  Sky() = default;
+  /// Resolves texture ids (validated by the caller).
+  Sky(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>& textures);
+
+  /// Radiance arriving from direction dir (pointing away from the scene).
+  glm::vec3 radiance(const glm::vec3& dir) const;
+  /// Mean radiance over all directions (light selection).
+  glm::vec3 average() const { return average_; }
+  /// True when the sky emits nothing.
+  bool black() const { return average_.x <= 0.0f && average_.y <= 0.0f && average_.z <= 0.0f; }
+
+ private:
+  glm::vec3 scale_{0.0f};
+  std::array<std::shared_ptr<const Texture>, 6> faces_{};
+  bool hasFaces_ = false;
+  glm::vec3 average_{0.0f};
+};
+
+}  // namespace pa

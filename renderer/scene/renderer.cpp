@@ -1,0 +1,172 @@
+// pa::Renderer: owns the task arena, the editable scene, the committed scene and the film,
+// and runs tiles of pixels in parallel. See renderer.h for the contract.
+#include "renderer/scene/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <thread>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "renderer/scene/film/film.h"
+#include "renderer/scene/integrator/camera_rays.h"
+#include "renderer/scene/integrator/integrator.h"
+#include "renderer/scene/sampling/sobol_sampler.h"
+#include "renderer/scene/world/render_scene.h"
+#include "renderer/scene/world/scene_store.h"
+
+namespace pa {
+
+namespace {
+
+constexpr uint32_t kTileSize = 16;
+constexpr uint32_t kMaxImageSide = 16384;
+constexpr uint32_t kMaxSamplesPerPixel = 1u << 16;
+
+int arenaConcurrency(uint32_t threads) {
+  return threads == 0 ? tbb::task_arena::automatic : static_cast<int>(threads);
+}
+
+bool sameCamera(const Camera& a, const Camera& b) {
+  return a.origin == b.origin && a.forward == b.forward && a.left == b.left && a.up == b.up && a.fovX == b.fovX &&
+         a.fovY == b.fovY;
+}
+
+/// Settings that change the estimate (exposure and tonemap only change the display).
+bool sameEstimate(const RenderSettings& a, const RenderSettings& b) {
+  return a.width == b.width && a.height == b.height && a.integrator == b.integrator &&
+         a.samplesPerPixel == b.samplesPerPixel && a.maxBounces == b.maxBounces &&
+         a.radianceClamp == b.radianceClamp && a.seed == b.seed;
+}
+
+void validateSettings(const RenderSettings& s) {
+  if (s.width > kMaxImageSide || s.height > kMaxImageSide) {
+    throw SceneError("render: image size " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                     " exceeds " + std::to_string(kMaxImageSide));
+  }
+  if (s.samplesPerPixel == 0 || s.samplesPerPixel > kMaxSamplesPerPixel) {
+    throw SceneError("render: samplesPerPixel must be in [1, " + std::to_string(kMaxSamplesPerPixel) + "]");
+  }
+  if (!std::isfinite(s.exposure) || s.exposure < 0.0f) throw SceneError("render: exposure must be finite and >= 0");
+  if (!std::isfinite(s.radianceClamp) || s.radianceClamp < 0.0f) {
+    throw SceneError("render: radianceClamp must be finite and >= 0");
+  }
+}
+
+}  // namespace
+
+struct Renderer::Impl {
+  explicit Impl(const RendererConfig& c) : config(c), arena(arenaConcurrency(c.threads)) {}
+
+  RendererConfig config;
+  tbb::task_arena arena;
+  SceneStore store;
+  RenderScene scene;
+  Film film;
+  bool sceneChanged = true;   // a commit happened since the last render
+  bool haveLast = false;
+  Camera lastCamera;
+  RenderSettings lastSettings;
+};
+
+Renderer::Renderer(const RendererConfig& config) : impl_(std::make_unique<Impl>(config)) {}
+Renderer::~Renderer() = default;
+
+MeshId Renderer::addMesh(const MeshDesc& mesh) { return impl_->store.addMesh(mesh); }
+void Renderer::updateMesh(MeshId id, const MeshDesc& mesh) { impl_->store.updateMesh(id, mesh); }
+void Renderer::removeMesh(MeshId id) { impl_->store.removeMesh(id); }
+InstanceId Renderer::addInstance(const InstanceDesc& instance) { return impl_->store.addInstance(instance); }
+void Renderer::setInstance(InstanceId id, const InstanceDesc& instance) { impl_->store.setInstance(id, instance); }
+void Renderer::removeInstance(InstanceId id) { impl_->store.removeInstance(id); }
+TextureId Renderer::addTexture(const TextureDesc& texture) { return impl_->store.addTexture(texture); }
+void Renderer::updateTexture(TextureId id, const TextureDesc& texture) { impl_->store.updateTexture(id, texture); }
+MaterialId Renderer::addMaterial(const MaterialDesc& material) { return impl_->store.addMaterial(material); }
+void Renderer::setMaterial(MaterialId id, const MaterialDesc& material) { impl_->store.setMaterial(id, material); }
+LightId Renderer::addLight(const LightDesc& light) { return impl_->store.addLight(light); }
+void Renderer::setLight(LightId id, const LightDesc& light) { impl_->store.setLight(id, light); }
+void Renderer::removeLight(LightId id) { impl_->store.removeLight(id); }
+void Renderer::setSky(const SkyDesc& sky) { impl_->store.setSky(sky); }
+
+void Renderer::commit() {
+  Impl& im = *impl_;
+  if (!im.store.dirty()) return;
+  try {
+    im.arena.execute([&] { im.scene = im.store.commit(); });
+  } catch (const SceneError&) {
+    throw;   // validation failed before anything changed
+  } catch (...) {
+    im.scene = RenderScene{};   // a build failed half-way: render nothing rather than stale pointers
+    throw;
+  }
+  im.sceneChanged = true;
+}
+
+void Renderer::resetAccumulation() { impl_->film.reset(); }
+
+FrameView Renderer::render(const Camera& camera, const RenderSettings& settings) {
+  Impl& im = *impl_;
+  validateSettings(settings);
+  if (settings.width == 0 || settings.height == 0) return FrameView{};
+  const CameraRays rays(camera, settings.width, settings.height);
+
+  im.film.resize(settings.width, settings.height);
+  const bool keep = settings.accumulate && im.haveLast && !im.sceneChanged && sameCamera(camera, im.lastCamera) &&
+                    sameEstimate(settings, im.lastSettings);
+  if (!keep) im.film.reset();
+  im.haveLast = true;
+  im.sceneChanged = false;
+  im.lastCamera = camera;
+  im.lastSettings = settings;
+
+  const uint32_t tilesX = (settings.width + kTileSize - 1) / kTileSize;
+  const uint32_t tilesY = (settings.height + kTileSize - 1) / kTileSize;
+  const uint32_t firstSample = im.film.frames() * settings.samplesPerPixel;
+  const uint32_t seedHash = sampling::hash32(settings.seed);
+  const RenderScene& scene = im.scene;
+  Film& film = im.film;
+
+  im.arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<uint32_t>& r) {
+      for (uint32_t tile = r.begin(); tile != r.end(); ++tile) {
+        const uint32_t x0 = (tile % tilesX) * kTileSize;
+        const uint32_t y0 = (tile / tilesX) * kTileSize;
+        const uint32_t x1 = std::min(x0 + kTileSize, settings.width);
+        const uint32_t y1 = std::min(y0 + kTileSize, settings.height);
+        for (uint32_t y = y0; y < y1; ++y) {
+          for (uint32_t x = x0; x < x1; ++x) {
+            const uint32_t pixelSeed = sampling::hashCombine(seedHash, y * settings.width + x);
+            PixelAccumulator& acc = film.pixel(x, y);
+            for (uint32_t s = 0; s < settings.samplesPerPixel; ++s) {
+              const sampling::PixelSampler sampler(pixelSeed, firstSample + s);
+              const glm::vec4 jitter = sampler.get4(0);
+              acc.add(traceSample(scene, rays, settings, static_cast<float>(x) + jitter.x,
+                                  static_cast<float>(y) + jitter.y, sampler));
+            }
+          }
+        }
+      }
+    });
+    film.finishFrame();
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, settings.height, 8), [&](const tbb::blocked_range<uint32_t>& r) {
+      film.resolveRows(r.begin(), r.end(), settings.exposure, settings.tonemap);
+    });
+  });
+
+  FrameView view;
+  view.width = film.width();
+  view.height = film.height();
+  view.accumulatedFrames = film.frames();
+  view.radiance = film.radiance();
+  view.albedo = film.albedo();
+  view.normal = film.normal();
+  view.depth = film.depth();
+  view.variance = film.variance();
+  view.rgba8 = film.rgba8();
+  return view;
+}
+
+}  // namespace pa

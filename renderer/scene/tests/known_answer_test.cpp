@@ -1,0 +1,219 @@
+// Known-answer tests of the integrators on analytic scenes. Noise bounds: the image mean is
+// compared with the exact value within 4 standard errors, the standard error coming from the
+// film's per-pixel Welford variances (plus a small absolute slack for float rounding).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "scene_builders.h"
+
+namespace pa {
+namespace {
+
+using test::greyStats;
+using test::lookAt;
+using test::settingsFor;
+
+constexpr float kPi = std::numbers::pi_v<float>;
+
+void expectMean(const FrameView& f, double expected, double relativeSlack = 1e-4) {
+  const test::FrameStats s = greyStats(f);
+  const double bound = 4.0 * s.standardError + relativeSlack * expected;
+  EXPECT_NEAR(s.mean, expected, bound) << "standard error " << s.standardError;
+}
+
+/// Convex flat-faceted sphere (albedo a) filling the view under a uniform sky L: every facet
+/// sees the whole sky hemisphere unoccluded, so its radiance is exactly a * L.
+void renderDiffuseSphere(Integrator integrator, float albedo, uint32_t maxBounces) {
+  Renderer r({2});
+  const MaterialId mat = r.addMaterial(test::diffuse(albedo));
+  test::MeshArrays s = test::sphere({0, 0, 0}, 1.0f);
+  s.setMaterial(mat);
+  r.addInstance({r.addMesh(s.desc())});
+  SkyDesc sky;
+  sky.color = glm::vec3(0.8f);
+  r.setSky(sky);
+  r.commit();
+  const Camera cam = lookAt({3.0f, 0.2f, 0.3f}, {0, 0, 0}, 15.0f);   // view entirely inside the silhouette
+  const FrameView f = r.render(cam, settingsFor(integrator, 16, 8, maxBounces));
+  const test::FrameStats st = greyStats(f);
+  // NEE (cosine sky sampling) and BSDF sampling share the estimate 50/50: zero variance.
+  EXPECT_NEAR(st.minValue, albedo * 0.8, 1e-4);
+  EXPECT_NEAR(st.maxValue, albedo * 0.8, 1e-4);
+  for (float d : f.depth) EXPECT_TRUE(std::isfinite(d));
+}
+
+TEST(KnownAnswer, DiffuseSphereUnderUniformSkyDirect) { renderDiffuseSphere(Integrator::Direct, 0.5f, 1); }
+TEST(KnownAnswer, DiffuseSphereUnderUniformSkyPath) { renderDiffuseSphere(Integrator::Path, 0.5f, 8); }
+TEST(KnownAnswer, WhiteFurnaceConvexSphereIsInvisible) { renderDiffuseSphere(Integrator::Path, 1.0f, 8); }
+
+TEST(KnownAnswer, WhiteFurnaceOpenBoxNeedsManyBounces) {
+  // An open box (five quads, albedo 1, two-sided) under a uniform sky L: energy conservation
+  // makes every pixel exactly L once all bounces are followed (the box is non-convex).
+  Renderer r({2});
+  const MaterialId white = r.addMaterial(test::diffuse(1.0f));
+  const std::array<test::MeshArrays, 5> walls{
+      test::quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}),  test::quad({-1, -1, 0}, {2, 0, 0}, {0, 0, 2}),
+      test::quad({-1, 1, 0}, {2, 0, 0}, {0, 0, 2}),   test::quad({-1, -1, 0}, {0, 2, 0}, {0, 0, 2}),
+      test::quad({1, -1, 0}, {0, 2, 0}, {0, 0, 2})};
+  std::vector<test::MeshArrays> keep(walls.begin(), walls.end());
+  for (auto& w : keep) {
+    w.setMaterial(white);
+    r.addInstance({r.addMesh(w.desc())});
+  }
+  SkyDesc sky;
+  sky.color = glm::vec3(1.0f);
+  r.setSky(sky);
+  r.commit();
+  const Camera cam = lookAt({0.2f, 0.1f, 4.0f}, {0, 0, 0.5f}, 40.0f);
+  const FrameView f = r.render(cam, settingsFor(Integrator::Path, 16, 64, 64));
+  expectMean(f, 1.0, 2e-3);
+}
+
+TEST(KnownAnswer, ClosedEmissiveSphereFurnace) {
+  // Inside a closed sphere of albedo a emitting E everywhere, L = E + a L, so L = E / (1 - a).
+  // Exercises emissive-triangle power sampling, MIS between NEE and BSDF hits, roulette.
+  Renderer r({2});
+  MaterialDesc m = test::diffuse(0.5f);
+  m.emission = glm::vec3(1.0f);
+  const MaterialId mat = r.addMaterial(m);
+  test::MeshArrays s = test::sphere({0, 0, 0}, 2.0f, 12, 24);
+  s.setMaterial(mat);
+  r.addInstance({r.addMesh(s.desc())});
+  r.commit();
+  const Camera cam = lookAt({0.3f, -0.2f, 0.1f}, {1, 1, 0.5f}, 90.0f);
+  const FrameView f = r.render(cam, settingsFor(Integrator::Path, 16, 32, 40));
+  expectMean(f, 2.0, 1e-3);   // truncation at 40 bounces: 2 * 0.5^41, negligible
+}
+
+/// Large floor quad at z = 0 (albedo a) and a camera between it and an overhead emitter,
+/// looking straight down at the foot point with a 1 degree field of view.
+struct FloorScene {
+  Renderer renderer{RendererConfig{2}};
+  test::MeshArrays floor = test::quad({-50, -50, 0}, {100, 0, 0}, {0, 100, 0});
+  explicit FloorScene(float albedo) {
+    floor.setMaterial(renderer.addMaterial(test::diffuse(albedo)));
+    renderer.addInstance({renderer.addMesh(floor.desc())});
+  }
+  Camera camera(float height) const { return lookAt({0, 0, height}, {0, 0, 0}, 1.0f); }
+};
+
+TEST(KnownAnswer, PointLightInverseSquare) {
+  // L = albedo / pi * I / d^2 at the foot of a point light of intensity I (W/sr) at height d.
+  FloorScene s(0.6f);
+  LightDesc light;
+  light.position = {0, 0, 2.0f};
+  light.intensity = 10.0f;
+  s.renderer.addLight(light);
+  s.renderer.commit();
+  const double expected = 0.6 / kPi * 10.0 / 4.0;
+  for (Integrator integrator : {Integrator::Direct, Integrator::Path}) {
+    const FrameView f = s.renderer.render(s.camera(1.0f), settingsFor(integrator, 4, 4, 1));
+    const test::FrameStats st = greyStats(f);
+    EXPECT_NEAR(st.mean, expected, 1e-3 * expected);
+  }
+}
+
+TEST(KnownAnswer, SpotAndLinearFalloff) {
+  FloorScene s(1.0f);
+  LightDesc spot;
+  spot.type = LightType::Spot;
+  spot.position = {0, 0, 4.0f};
+  spot.direction = {0, 0, -1};
+  spot.intensity = 16.0f;
+  spot.cosInnerAngle = 0.99f;
+  spot.cosOuterAngle = 0.9f;
+  const LightId id = s.renderer.addLight(spot);
+  s.renderer.commit();
+  const RenderSettings settings = settingsFor(Integrator::Direct, 4, 1, 1);
+  EXPECT_NEAR(greyStats(s.renderer.render(s.camera(1.0f), settings)).mean, 1.0 / kPi * 16.0 / 16.0, 1e-3);
+  // Pointing away: the foot is outside the cone.
+  spot.direction = {1, 0, 0};
+  s.renderer.setLight(id, spot);
+  s.renderer.commit();
+  EXPECT_EQ(greyStats(s.renderer.render(s.camera(1.0f), settings)).mean, 0.0);
+  // Linear falloff: I * (1 - d / range).
+  LightDesc linear;
+  linear.position = {0, 0, 2.0f};
+  linear.intensity = 3.0f;
+  linear.falloff = Falloff::Linear;
+  linear.range = 8.0f;
+  s.renderer.setLight(id, linear);
+  s.renderer.commit();
+  EXPECT_NEAR(greyStats(s.renderer.render(s.camera(1.0f), settings)).mean, 1.0 / kPi * 3.0 * 0.75, 1e-3);
+  // Beyond the range nothing arrives.
+  linear.falloff = Falloff::InverseSquare;
+  linear.range = 1.5f;
+  s.renderer.setLight(id, linear);
+  s.renderer.commit();
+  EXPECT_EQ(greyStats(s.renderer.render(s.camera(1.0f), settings)).mean, 0.0);
+}
+
+TEST(KnownAnswer, DirectionalLightIsIrradiance) {
+  FloorScene s(0.5f);
+  LightDesc sun;
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(1, 0, -1));   // 45 degrees
+  sun.intensity = 2.0f;
+  s.renderer.addLight(sun);
+  s.renderer.commit();
+  const FrameView f = s.renderer.render(s.camera(1.0f), settingsFor(Integrator::Path, 4, 1, 1));
+  EXPECT_NEAR(greyStats(f).mean, 0.5 / kPi * 2.0 * std::sqrt(0.5), 1e-4);
+}
+
+/// On-axis irradiance under a uniform square emitter of half-side a at height h:
+/// E = 4 L X / sqrt(1 + X^2) * atan(X / sqrt(1 + X^2)), X = a / h.
+double squareIrradiance(double radiance, double halfSide, double height) {
+  const double x = halfSide / height;
+  const double s = std::sqrt(1.0 + x * x);
+  return 4.0 * radiance * x / s * std::atan(x / s);
+}
+
+TEST(KnownAnswer, EmissiveSquareOnAxisIrradiance) {
+  // Two triangles of different radiance (3 and 1): by symmetry about the diagonal each gives
+  // half of the square's irradiance, so E = (3 + 1) / 2 * E_unit. Checks power-proportional
+  // triangle selection, area-to-solid-angle pdfs and MIS with BSDF-sampled hits.
+  FloorScene s(1.0f);
+  MaterialDesc bright, dim;
+  bright.emission = glm::vec3(3.0f);
+  dim.emission = glm::vec3(1.0f);
+  bright.twoSided = dim.twoSided = false;
+  const MaterialId b = s.renderer.addMaterial(bright), d = s.renderer.addMaterial(dim);
+  // Facing down: cross(u, v) = -z.
+  test::MeshArrays light = test::quad({-1, -1, 2}, {0, 2, 0}, {2, 0, 0});
+  light.materials = {b, d};
+  s.renderer.addInstance({s.renderer.addMesh(light.desc())});
+  s.renderer.commit();
+  const double expected = squareIrradiance(2.0, 1.0, 2.0) / kPi;   // albedo 1
+  for (Integrator integrator : {Integrator::Direct, Integrator::Path}) {
+    const FrameView f = s.renderer.render(s.camera(1.0f), settingsFor(integrator, 8, 128, 1));
+    expectMean(f, expected, 1e-3);
+  }
+}
+
+TEST(KnownAnswer, LightmapPresetIsAlbedoTimesBakedLight) {
+  Renderer r({2});
+  const std::vector<uint8_t> lm = test::solidPixels(2, 2, 51, 102, 204, 255);
+  TextureDesc lmDesc{2, 2, lm, false};
+  MaterialDesc m = test::diffuse(0.5f);
+  m.lightmapTexture = r.addTexture(lmDesc);
+  m.emission = glm::vec3(0.25f);
+  test::MeshArrays q = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  q.setMaterial(r.addMaterial(m));
+  std::vector<glm::vec2> lmUv(4, glm::vec2(0.5f));
+  MeshDesc desc = q.desc();
+  desc.lightmapUvs = lmUv;
+  r.addInstance({r.addMesh(desc)});
+  r.commit();
+  const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 30.0f), settingsFor(Integrator::Lightmap, 4, 1));
+  EXPECT_NEAR(f.radiance[5].r, 0.25f + 0.5f * 0.2f, 1e-5f);
+  EXPECT_NEAR(f.radiance[5].g, 0.25f + 0.5f * 0.4f, 1e-5f);
+  EXPECT_NEAR(f.radiance[5].b, 0.25f + 0.5f * 0.8f, 1e-5f);
+  EXPECT_NEAR(f.albedo[5].g, 0.5f, 1e-6f);
+  EXPECT_NEAR(f.depth[5], 2.0f, 0.05f);   // jittered rays near the centre: 2 / cos
+  EXPECT_NEAR(f.normal[5].z, 1.0f, 1e-5f);
+}
+
+}  // namespace
+}  // namespace pa

@@ -1,0 +1,221 @@
+// Material behaviour on tiny scenes: alpha mask (and invert), additive, blend, nodraw,
+// shadow casting, sky windows, one-sided culling, mirrors, instance tint and overrides.
+// Most use the Lightmap preset (no lightmap = fullbright base colour) for exact answers.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "scene_builders.h"
+
+namespace pa {
+namespace {
+
+using test::greyStats;
+using test::lookAt;
+using test::settingsFor;
+
+/// A camera at z = 3 looking down at layered quads: a background at z = 0 and a foreground
+/// quad at z = 1, both larger than the view. Sky is blue-ish (0.1, 0.2, 0.3).
+struct Layers {
+  Renderer renderer{RendererConfig{2}};
+  test::MeshArrays back = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  test::MeshArrays front = test::quad({-5, -5, 1}, {10, 0, 0}, {0, 10, 0});
+  MeshId frontMesh = kNoId;
+  Layers(const MaterialDesc& backMaterial, const MaterialDesc& frontMaterial) {
+    back.setMaterial(renderer.addMaterial(backMaterial));
+    front.setMaterial(renderer.addMaterial(frontMaterial));
+    renderer.addInstance({renderer.addMesh(back.desc())});
+    frontMesh = renderer.addMesh(front.desc());
+    renderer.addInstance({frontMesh});
+    SkyDesc sky;
+    sky.color = {0.1f, 0.2f, 0.3f};
+    renderer.setSky(sky);
+    renderer.commit();
+  }
+  glm::vec3 centre(Integrator integrator = Integrator::Lightmap, uint32_t spp = 1) {
+    const FrameView f = renderer.render(lookAt({0, 0, 3}, {0, 0, 0}, 20.0f), settingsFor(integrator, 4, spp, 2));
+    glm::dvec3 sum(0.0);
+    for (const glm::vec3& v : f.radiance) sum += glm::dvec3(v);
+    return glm::vec3(sum / static_cast<double>(f.radiance.size()));
+  }
+};
+
+MaterialDesc coloured(float r, float g, float b) {
+  MaterialDesc m;
+  m.baseColor = {r, g, b, 1.0f};
+  return m;
+}
+
+MaterialDesc withTexture(Renderer& r, MaterialDesc m, uint8_t alpha) {
+  const std::vector<uint8_t> px = test::solidPixels(2, 2, 255, 255, 255, alpha);
+  m.baseTexture = r.addTexture({2, 2, px});
+  return m;
+}
+
+TEST(Materials, AlphaMaskCutsAndInverts) {
+  for (const auto& [alpha, invert, seesFront] :
+       {std::tuple{uint8_t{0}, false, false}, {uint8_t{255}, false, true}, {uint8_t{0}, true, true},
+        {uint8_t{255}, true, false}, {uint8_t{127}, false, false}, {uint8_t{128}, false, true}}) {
+    MaterialDesc front = coloured(0.9f, 0.1f, 0.1f);
+    front.alphaMode = AlphaMode::Mask;
+    front.alphaInvert = invert;
+    // Texture ids are allocated on the layered renderer below, so build the texture there.
+    Layers layers(coloured(0.1f, 0.9f, 0.1f), MaterialDesc{});
+    MaterialDesc textured = withTexture(layers.renderer, front, alpha);
+    layers.renderer.setMaterial(1, textured);
+    layers.renderer.commit();
+    const glm::vec3 c = layers.centre();
+    if (seesFront) {
+      EXPECT_NEAR(c.r, 0.9f, 1e-5f) << int{alpha} << " invert " << invert;
+    } else {
+      EXPECT_NEAR(c.g, 0.9f, 1e-5f) << int{alpha} << " invert " << invert;
+    }
+  }
+}
+
+TEST(Materials, AdditiveAddsAndNeverOccludesOrShadows) {
+  MaterialDesc add = coloured(0.2f, 0.3f, 0.0f);
+  add.alphaMode = AlphaMode::Additive;
+  Layers layers(coloured(0.5f, 0.5f, 0.5f), add);
+  const glm::vec3 c = layers.centre();
+  EXPECT_NEAR(c.r, 0.7f, 1e-5f);
+  EXPECT_NEAR(c.g, 0.8f, 1e-5f);
+  EXPECT_NEAR(c.b, 0.5f, 1e-5f);
+  // Lit from straight above by a sun: the additive layer casts no shadow on the floor.
+  LightDesc sun;
+  sun.type = LightType::Directional;
+  sun.direction = {0, 0, -1};
+  sun.intensity = std::numbers::pi_v<float>;   // floor radiance = albedo
+  layers.renderer.addLight(sun);
+  SkyDesc black;
+  layers.renderer.setSky(black);
+  layers.renderer.commit();
+  const glm::vec3 lit = layers.centre(Integrator::Direct);
+  EXPECT_NEAR(lit.b, 0.5f, 1e-4f);
+  EXPECT_NEAR(lit.r, 0.5f + 0.2f, 1e-4f);
+}
+
+TEST(Materials, BlendIsStochasticCoverage) {
+  MaterialDesc glass = coloured(1.0f, 0.0f, 0.0f);
+  glass.alphaMode = AlphaMode::Blend;
+  glass.opacity = 0.25f;
+  Layers layers(coloured(0.0f, 1.0f, 0.0f), glass);
+  const glm::vec3 c = layers.centre(Integrator::Lightmap, 256);
+  EXPECT_NEAR(c.r, 0.25f, 0.02f);
+  EXPECT_NEAR(c.g, 0.75f, 0.02f);
+  EXPECT_NEAR(c.r + c.g, 1.0f, 1e-5f);
+}
+
+TEST(Materials, InvisibleAndNonShadowCastingSurfaces) {
+  MaterialDesc nodraw = coloured(1.0f, 0.0f, 0.0f);
+  nodraw.visible = false;
+  Layers layers(coloured(0.5f, 0.5f, 0.5f), nodraw);
+  EXPECT_NEAR(layers.centre().r, 0.5f, 1e-5f);   // camera sees through it
+  LightDesc sun;
+  sun.type = LightType::Directional;
+  sun.direction = {0, 0, -1};
+  sun.intensity = std::numbers::pi_v<float>;
+  layers.renderer.addLight(sun);
+  layers.renderer.setSky(SkyDesc{});
+  layers.renderer.commit();
+  EXPECT_NEAR(layers.centre(Integrator::Direct).r, 0.0f, 1e-6f);   // but still casts a shadow
+  nodraw.castsShadows = false;
+  layers.renderer.setMaterial(1, nodraw);
+  layers.renderer.commit();
+  EXPECT_NEAR(layers.centre(Integrator::Direct).r, 0.5f, 1e-4f);
+}
+
+TEST(Materials, SkySurfaceShowsSkyAndPassesSunlight) {
+  MaterialDesc skyWindow;
+  skyWindow.sky = true;
+  Layers layers(coloured(0.5f, 0.5f, 0.5f), skyWindow);
+  const glm::vec3 c = layers.centre();
+  EXPECT_NEAR(c.r, 0.1f, 1e-6f);
+  EXPECT_NEAR(c.b, 0.3f, 1e-6f);
+}
+
+TEST(Materials, OneSidedSurfacesAreCulledFromBehind) {
+  MaterialDesc oneSided = coloured(1.0f, 0.0f, 0.0f);
+  oneSided.twoSided = false;
+  Layers layers(coloured(0.0f, 0.0f, 1.0f), oneSided);
+  EXPECT_NEAR(layers.centre().r, 1.0f, 1e-5f);   // front faces the camera (+z)
+  // Flip the winding: now the camera sees its back and looks through it.
+  layers.front.indices = {0, 2, 1, 0, 3, 2};
+  layers.renderer.updateMesh(layers.frontMesh, layers.front.desc());
+  layers.renderer.commit();
+  EXPECT_NEAR(layers.centre().b, 1.0f, 1e-5f);
+}
+
+TEST(Materials, MirrorReflectsWhatIsInFront) {
+  // A mirror floor facing +z and an emissive ceiling quad behind the camera: the camera,
+  // looking down, sees the ceiling's emission through the mirror (times the mirror colour).
+  Renderer r({2});
+  MaterialDesc mirror = coloured(0.8f, 0.8f, 0.8f);
+  mirror.mirror = true;
+  MaterialDesc lamp = coloured(0.0f, 0.0f, 0.0f);   // black emitter: no light bounces off it
+  lamp.emission = glm::vec3(2.0f);
+  test::MeshArrays floor = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  floor.setMaterial(r.addMaterial(mirror));
+  test::MeshArrays ceiling = test::quad({-5, -5, 4}, {0, 10, 0}, {10, 0, 0});
+  ceiling.setMaterial(r.addMaterial(lamp));
+  r.addInstance({r.addMesh(floor.desc())});
+  r.addInstance({r.addMesh(ceiling.desc())});
+  r.commit();
+  const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 20.0f), settingsFor(Integrator::Path, 4, 4, 2));
+  EXPECT_NEAR(greyStats(f).mean, 1.6, 1e-4);
+}
+
+TEST(Materials, InstanceTintAndMaterialOverride) {
+  Layers layers(coloured(1.0f, 1.0f, 1.0f), coloured(1.0f, 1.0f, 1.0f));
+  InstanceDesc inst{layers.frontMesh};
+  inst.tint = {0.5f, 0.25f, 1.0f, 1.0f};
+  layers.renderer.setInstance(1, inst);
+  layers.renderer.commit();
+  glm::vec3 c = layers.centre();
+  EXPECT_NEAR(c.r, 0.5f, 1e-5f);
+  EXPECT_NEAR(c.g, 0.25f, 1e-5f);
+  // Override with an alpha-masked, fully transparent material: the front layer disappears.
+  MaterialDesc cut = withTexture(layers.renderer, coloured(1, 0, 0), 0);
+  cut.alphaMode = AlphaMode::Mask;
+  inst.materialOverride = layers.renderer.addMaterial(cut);
+  inst.tint = glm::vec4(1.0f);
+  layers.renderer.setInstance(1, inst);
+  layers.renderer.commit();
+  c = layers.centre();
+  EXPECT_NEAR(c.r, 1.0f, 1e-5f);
+  EXPECT_NEAR(c.b, 1.0f, 1e-5f);
+}
+
+TEST(Materials, UvTransformScrollsTheTexture) {
+  // 4x1 texture: left half black, right half white; the quad maps u in [0, 1] across x.
+  // A scroll of 0.5 swaps the halves.
+  Renderer r({1});
+  const std::vector<uint8_t> px{0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255, 255, 255, 255, 255, 255};
+  MaterialDesc m;
+  m.baseTexture = r.addTexture({4, 1, px, false, TextureWrap::Repeat, false});
+  const MaterialId id = r.addMaterial(m);
+  test::MeshArrays q = test::quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0});
+  q.setMaterial(id);
+  r.addInstance({r.addMesh(q.desc())});
+  r.commit();
+  // Looking down with image right = +x (left = -x) and image up = +y.
+  Camera cam;
+  cam.origin = {0, 0, 2};
+  cam.forward = {0, 0, -1};
+  cam.left = {-1, 0, 0};
+  cam.up = {0, 1, 0};
+  cam.fovX = cam.fovY = 40.0f;
+  const RenderSettings s = settingsFor(Integrator::Lightmap, 8, 1);
+  FrameView f = r.render(cam, s);
+  EXPECT_EQ(f.radiance[4 * 8 + 0].r, 0.0f);   // left column: u in [0.14, 0.23], black texels
+  EXPECT_EQ(f.radiance[4 * 8 + 7].r, 1.0f);   // right column: u in [0.77, 0.86], white texels
+  m.uvTransform[2] = glm::vec2(0.5f, 0.0f);
+  r.setMaterial(id, m);
+  r.commit();
+  f = r.render(cam, s);
+  EXPECT_EQ(f.radiance[4 * 8 + 0].r, 1.0f);
+  EXPECT_EQ(f.radiance[4 * 8 + 7].r, 0.0f);
+}
+
+}  // namespace
+}  // namespace pa

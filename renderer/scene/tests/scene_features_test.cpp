@@ -1,0 +1,197 @@
+// Scene features beyond materials: sky cube maps, dynamic mesh refits, drawOnTop overlays,
+// instance masks, mip selection from the ray footprint, emissive textures, radiance clamp.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "renderer/scene/lights/sky.h"
+#include "scene_builders.h"
+
+namespace pa {
+namespace {
+
+using test::greyStats;
+using test::lookAt;
+using test::settingsFor;
+
+glm::vec3 meanRadiance(const FrameView& f) {
+  glm::dvec3 sum(0.0);
+  for (const glm::vec3& v : f.radiance) sum += glm::dvec3(v);
+  return glm::vec3(sum / static_cast<double>(f.radiance.size()));
+}
+
+TEST(Sky, CubeLookupFacesAndOrientation) {
+  EXPECT_EQ(cubeLookup({1, 0, 0}).face, 0u);
+  EXPECT_EQ(cubeLookup({-1, 0.2f, 0}).face, 1u);
+  EXPECT_EQ(cubeLookup({0, 1, 0.5f}).face, 2u);
+  EXPECT_EQ(cubeLookup({0, -1, 0}).face, 3u);
+  EXPECT_EQ(cubeLookup({0.1f, 0, 1}).face, 4u);
+  EXPECT_EQ(cubeLookup({0, 0, -1}).face, 5u);
+  // +X face: image top is +Z, image right is -Y.
+  const CubeLookup up = cubeLookup(glm::normalize(glm::vec3(1, 0, 0.9f)));
+  EXPECT_NEAR(up.v, 0.05f, 1e-5f);
+  const CubeLookup right = cubeLookup(glm::normalize(glm::vec3(1, -0.9f, 0)));
+  EXPECT_NEAR(right.u, 0.95f, 1e-5f);
+  EXPECT_NEAR(cubeLookup({1, 0, 0}).u, 0.5f, 1e-6f);
+  // +Z face: image top is +X, image right is +Y.
+  EXPECT_NEAR(cubeLookup(glm::normalize(glm::vec3(0.9f, 0, 1))).v, 0.05f, 1e-5f);
+  EXPECT_NEAR(cubeLookup(glm::normalize(glm::vec3(0, 0.9f, 1))).u, 0.95f, 1e-5f);
+}
+
+TEST(Sky, CubeMapFacesAreSeenInTheirDirections) {
+  Renderer r({2});
+  SkyDesc sky;
+  sky.color = glm::vec3(1.0f);   // multiplies the cube map
+  sky.intensity = 2.0f;
+  for (uint32_t f = 0; f < 6; ++f) {
+    const auto v = static_cast<uint8_t>(40 * (f + 1));
+    const std::vector<uint8_t> px = test::solidPixels(4, 4, v, v, v, 255);
+    sky.faces[f] = r.addTexture({4, 4, px, false, TextureWrap::Clamp});
+  }
+  r.setSky(sky);
+  r.commit();
+  const glm::vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (uint32_t f = 0; f < 6; ++f) {
+    const FrameView v = r.render(lookAt({0, 0, 0}, dirs[f], 20.0f), settingsFor(Integrator::Path, 4, 1));
+    EXPECT_NEAR(meanRadiance(v).g, 2.0f * 40.0f * (f + 1) / 255.0f, 1e-5f) << f;
+    EXPECT_TRUE(std::isinf(v.depth[0]));
+  }
+}
+
+TEST(Scene, DynamicMeshUpdatesAreVisibleAfterCommit) {
+  Renderer r({2});
+  test::MeshArrays q = test::quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0});
+  MeshDesc d = q.desc();
+  d.dynamic = true;
+  const MeshId mesh = r.addMesh(d);
+  r.addInstance({mesh});
+  r.commit();
+  const Camera cam = lookAt({0, 0, 5}, {0, 0, 0}, 10.0f);
+  const RenderSettings s = settingsFor(Integrator::Lightmap, 4, 1);
+  EXPECT_NEAR(r.render(cam, s).depth[5], 5.0f, 0.05f);
+  for (auto& p : q.positions) p.z = 2.0f;   // same topology: refit
+  d = q.desc();
+  d.dynamic = true;
+  r.updateMesh(mesh, d);
+  EXPECT_NEAR(r.render(cam, s).depth[5], 5.0f, 0.05f);   // not committed yet
+  r.commit();
+  EXPECT_NEAR(r.render(cam, s).depth[5], 3.0f, 0.05f);
+  for (auto& p : q.positions) p.x += 10.0f;   // moved out of view
+  d = q.desc();
+  d.dynamic = true;
+  r.updateMesh(mesh, d);
+  r.commit();
+  EXPECT_TRUE(std::isinf(r.render(cam, s).depth[5]));
+}
+
+TEST(Scene, DrawOnTopInstancesWinOverCloserWorldGeometry) {
+  Renderer r({2});
+  MaterialDesc red, green;
+  red.baseColor = {1, 0, 0, 1};
+  green.baseColor = {0, 1, 0, 1};
+  test::MeshArrays wall = test::quad({-5, -5, 3}, {10, 0, 0}, {0, 10, 0});
+  wall.setMaterial(r.addMaterial(red));
+  test::MeshArrays weapon = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  weapon.setMaterial(r.addMaterial(green));
+  r.addInstance({r.addMesh(wall.desc())});
+  InstanceDesc overlay{r.addMesh(weapon.desc())};
+  overlay.drawOnTop = true;
+  r.addInstance(overlay);
+  r.commit();
+  const glm::vec3 c = meanRadiance(r.render(lookAt({0, 0, 5}, {0, 0, 0}, 20.0f), settingsFor(Integrator::Lightmap, 4, 1)));
+  EXPECT_NEAR(c.g, 1.0f, 1e-5f);
+  EXPECT_NEAR(c.r, 0.0f, 1e-5f);
+}
+
+TEST(Scene, InstanceMasksSelectRayKinds) {
+  // A blocker without the camera bit is invisible but still shadows the floor under a sun.
+  Renderer r({2});
+  test::MeshArrays floor = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  test::MeshArrays blocker = test::quad({-5, -5, 1}, {10, 0, 0}, {0, 10, 0});
+  floor.setMaterial(r.addMaterial(test::diffuse(0.5f)));
+  r.addInstance({r.addMesh(floor.desc())});
+  InstanceDesc b{r.addMesh(blocker.desc())};
+  b.mask = kMaskShadow | kMaskBounce;
+  const InstanceId blockerId = r.addInstance(b);
+  LightDesc sun;
+  sun.type = LightType::Directional;
+  sun.intensity = std::numbers::pi_v<float>;
+  r.addLight(sun);
+  r.commit();
+  const Camera cam = lookAt({0, 0, 3}, {0, 0, 0}, 20.0f);
+  const RenderSettings s = settingsFor(Integrator::Direct, 4, 1, 1);
+  FrameView f = r.render(cam, s);
+  EXPECT_NEAR(f.depth[5], 3.0f, 0.05f);   // sees the floor through the blocker
+  EXPECT_EQ(greyStats(f).maxValue, 0.0);  // in its shadow
+  b.mask = kMaskBounce;                   // no shadow bit: the floor is lit
+  r.setInstance(blockerId, b);
+  r.commit();
+  EXPECT_NEAR(greyStats(r.render(cam, s)).mean, 0.5, 1e-4);
+}
+
+TEST(Scene, DistantFineTexturesUseCoarseMips) {
+  // A 256x256 one-texel checker seen so that each pixel covers ~32x32 texels: the footprint
+  // picks a coarse level, so every single sample is already ~0.5 grey (no aliasing noise).
+  Renderer r({2});
+  std::vector<uint8_t> px(256 * 256 * 4);
+  for (uint32_t y = 0; y < 256; ++y)
+    for (uint32_t x = 0; x < 256; ++x) {
+      const uint8_t v = ((x + y) & 1) ? 255 : 0;
+      uint8_t* p = &px[(y * 256 + x) * 4];
+      p[0] = p[1] = p[2] = v;
+      p[3] = 255;
+    }
+  MaterialDesc m;
+  m.baseTexture = r.addTexture({256, 256, px, false});
+  test::MeshArrays q = test::quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0});
+  q.setMaterial(r.addMaterial(m));
+  r.addInstance({r.addMesh(q.desc())});
+  r.commit();
+  const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 40.0f), settingsFor(Integrator::Lightmap, 8, 1));
+  const test::FrameStats st = greyStats(f);
+  EXPECT_GT(st.minValue, 0.45);
+  EXPECT_LT(st.maxValue, 0.55);
+}
+
+TEST(Scene, EmissiveTextureModulatesEmission) {
+  Renderer r({2});
+  const std::vector<uint8_t> px = test::solidPixels(2, 2, 255, 128, 0, 255);
+  MaterialDesc lamp;
+  lamp.baseColor = {0, 0, 0, 1};
+  lamp.emission = glm::vec3(2.0f);
+  lamp.emissiveTexture = r.addTexture({2, 2, px, false});
+  test::MeshArrays q = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  q.setMaterial(r.addMaterial(lamp));
+  r.addInstance({r.addMesh(q.desc())});
+  r.commit();
+  const glm::vec3 c = meanRadiance(r.render(lookAt({0, 0, 2}, {0, 0, 0}, 20.0f), settingsFor(Integrator::Path, 4, 1)));
+  EXPECT_NEAR(c.r, 2.0f, 1e-5f);
+  EXPECT_NEAR(c.g, 2.0f * 128.0f / 255.0f, 1e-5f);
+  EXPECT_NEAR(c.b, 0.0f, 1e-6f);
+}
+
+TEST(Scene, RadianceClampBoundsIndirectContributions) {
+  // Floor lit by a small, very bright emitter (radiance ~0.14 without clamp): with a clamp of
+  // 0.05 each light contribution is capped, so no pixel exceeds NEE + BSDF hit = 2 * 0.05.
+  Renderer r({2});
+  test::MeshArrays floor = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  floor.setMaterial(r.addMaterial(test::diffuse(0.8f)));
+  r.addInstance({r.addMesh(floor.desc())});
+  MaterialDesc lamp;
+  lamp.baseColor = {0, 0, 0, 1};
+  lamp.emission = glm::vec3(1000.0f);
+  test::MeshArrays small = test::quad({-0.05f, -0.05f, 2}, {0, 0.1f, 0}, {0.1f, 0, 0});
+  small.setMaterial(r.addMaterial(lamp));
+  r.addInstance({r.addMesh(small.desc())});
+  r.commit();
+  RenderSettings s = settingsFor(Integrator::Path, 8, 4, 2);
+  s.radianceClamp = 0.05f;
+  const test::FrameStats clamped = greyStats(r.render(lookAt({1, 1, 1}, {1.5f, 1.5f, 0}, 20.0f), s));
+  EXPECT_LE(clamped.maxValue, 2 * 0.05 + 1e-6);
+  s.radianceClamp = 0.0f;
+  const test::FrameStats unclamped = greyStats(r.render(lookAt({1, 1, 1}, {1.5f, 1.5f, 0}, 20.0f), s));
+  EXPECT_GT(unclamped.mean, clamped.mean);
+}
+
+}  // namespace
+}  // namespace pa

@@ -1,0 +1,81 @@
+// Texture decoding, mip chain, filtering and addressing.
+#include <gtest/gtest.h>
+
+#include "renderer/scene/textures/texture.h"
+#include "scene_builders.h"
+
+namespace pa {
+namespace {
+
+TEST(Texture, SrgbDecodeAndLinearData) {
+  const std::vector<uint8_t> px = test::solidPixels(1, 1, 128, 255, 0, 64);
+  TextureDesc d{1, 1, px};
+  const Texture srgb = Texture::fromDesc(d, "t");
+  EXPECT_NEAR(srgb.sampleFull({0.5f, 0.5f}).r, 0.2158605f, 1e-5f);   // sRGB 128 -> 0.2159
+  EXPECT_NEAR(srgb.sampleFull({0.5f, 0.5f}).g, 1.0f, 1e-6f);
+  EXPECT_NEAR(srgb.sampleFull({0.5f, 0.5f}).a, 64.0f / 255.0f, 1e-6f);   // alpha stays linear
+  d.srgb = false;
+  EXPECT_NEAR(Texture::fromDesc(d, "t").sampleFull({0.5f, 0.5f}).r, 128.0f / 255.0f, 1e-6f);
+  EXPECT_NEAR(linearToSrgb(srgbToLinear(0.3f)), 0.3f, 1e-6f);
+}
+
+TEST(Texture, MipChainAveragesAndFinerLevelsKeepDetail) {
+  // 4x2 checker of black and white (linear data): every coarser level is 0.5 grey.
+  std::vector<uint8_t> px;
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) {
+      const uint8_t v = ((x + y) % 2) ? 255 : 0;
+      px.insert(px.end(), {v, v, v, 255});
+    }
+  const Texture t = Texture::fromDesc({4, 2, px, false}, "checker");
+  ASSERT_EQ(t.levelCount(), 3u);   // 4x2, 2x1, 1x1
+  EXPECT_EQ(t.level(1).width, 2u);
+  EXPECT_EQ(t.level(1).height, 1u);
+  EXPECT_NEAR(t.level(1).texels[0].r, 0.5f, 1e-6f);
+  EXPECT_NEAR(t.average().r, 0.5f, 1e-6f);
+  // Texel centre at level 0 is exact; lod 2 gives the average.
+  EXPECT_NEAR(t.sample({0.125f, 0.25f}, 0.0f).r, 0.0f, 1e-6f);
+  EXPECT_NEAR(t.sample({0.375f, 0.25f}, 0.0f).r, 1.0f, 1e-6f);
+  EXPECT_NEAR(t.sample({0.125f, 0.25f}, 2.0f).r, 0.5f, 1e-6f);
+  EXPECT_NEAR(t.sample({0.125f, 0.25f}, 0.5f).r, 0.25f, 1e-6f);   // halfway between 0 and 0.5
+}
+
+TEST(Texture, BilinearRepeatWrapsAndClampHoldsTheEdge) {
+  // 2x1: left black, right white.
+  const std::vector<uint8_t> px{0, 0, 0, 255, 255, 255, 255, 255};
+  TextureDesc d{2, 1, px, false, TextureWrap::Repeat, false};
+  const Texture rep = Texture::fromDesc(d, "rep");
+  EXPECT_NEAR(rep.sampleFull({0.0f, 0.5f}).r, 0.5f, 1e-6f);    // edge blends with the wrapped texel
+  EXPECT_NEAR(rep.sampleFull({1.25f, 0.5f}).r, 0.0f, 1e-6f);   // 1.25 == 0.25: black texel centre
+  EXPECT_NEAR(rep.sampleFull({-0.25f, 0.5f}).r, 1.0f, 1e-6f);  // -0.25 == 0.75: white texel centre
+  d.wrap = TextureWrap::Clamp;
+  const Texture clamp = Texture::fromDesc(d, "clamp");
+  EXPECT_NEAR(clamp.sampleFull({0.0f, 0.5f}).r, 0.0f, 1e-6f);
+  EXPECT_NEAR(clamp.sampleFull({5.0f, 0.5f}).r, 1.0f, 1e-6f);
+  EXPECT_EQ(clamp.levelCount(), 1u);
+  EXPECT_NEAR(clamp.average().r, 0.5f, 1e-6f);
+}
+
+TEST(Texture, NonFiniteCoordinatesAreSafe) {
+  const std::vector<uint8_t> px = test::solidPixels(2, 2, 10, 20, 30, 255);
+  const Texture t = Texture::fromDesc({2, 2, px}, "t");
+  EXPECT_TRUE(std::isfinite(t.sample({std::nanf(""), 1e30f}, std::nanf("")).r));
+  EXPECT_TRUE(std::isfinite(t.sample({-1e30f, INFINITY}, 100.0f).r));
+}
+
+TEST(Texture, InvalidDescriptionsThrowWithTheReason) {
+  const std::vector<uint8_t> px = test::solidPixels(2, 2, 0, 0, 0, 0);
+  EXPECT_THROW(Texture::fromDesc({0, 2, px}, "t"), SceneError);
+  EXPECT_THROW(Texture::fromDesc({3, 2, px}, "t"), SceneError);   // size mismatch
+  EXPECT_THROW(Texture::fromDesc({kMaxTextureSize + 1, 1, px}, "t"), SceneError);
+  try {
+    Texture::fromDesc({3, 2, px}, "tex 7");
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("tex 7"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("rgba8"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace pa

@@ -1,0 +1,215 @@
+#include "renderer/scene/world/render_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x2.hpp>
+
+#include "renderer/scene/sampling/sobol_sampler.h"
+
+namespace pa {
+
+namespace {
+
+/// What the HitFilter callback sees: the scene, the instance table traced, the ray and options.
+struct FilterContext {
+  const RenderScene* scene;
+  bool overlay;
+  const Ray* ray;
+  const TraceRequest* request;
+};
+
+const std::vector<RenderInstance>& instancesFor(const RenderScene& scene, bool overlay) {
+  return overlay ? scene.overlay : scene.world;
+}
+
+glm::vec3 toWorld(const glm::mat4x3& m, const glm::vec3& p) { return m * glm::vec4(p, 1.0f); }
+
+void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color) {
+  for (uint32_t i = 0; i < hits.count; ++i) {
+    if (hits.entries[i].instance == instance && hits.entries[i].prim == prim) return;   // reported twice
+  }
+  if (hits.count < AdditiveHits::kCapacity) {
+    hits.entries[hits.count++] = {t, instance, prim, color};
+    return;
+  }
+  // Full: keep the closest ones (farther ones are the likeliest to lie behind the hit).
+  auto farthest = std::max_element(hits.entries.begin(), hits.entries.end(),
+                                   [](const auto& a, const auto& b) { return a.t < b.t; });
+  if (farthest->t > t) *farthest = {t, instance, prim, color};
+}
+
+bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, float u, float v) {
+  const auto& ctx = *static_cast<const FilterContext*>(opaque);
+  const auto& instances = instancesFor(*ctx.scene, ctx.overlay);
+  if (instanceIndex >= instances.size()) return true;
+  const RenderInstance& inst = instances[instanceIndex];
+  if (prim >= inst.mesh->geometry.triangleCount()) return true;
+  const MaterialDesc& m = ctx.scene->materialOf(inst, prim).desc;
+  const RayKind kind = ctx.request->kind;
+  if (m.sky) return !(kind == RayKind::Shadow && ctx.request->towardEnvironment);
+  if (kind == RayKind::Shadow) {
+    if (!m.castsShadows || m.alphaMode == AlphaMode::Additive) return false;
+  } else if (!m.visible) {
+    return false;
+  }
+  if (m.alphaMode == AlphaMode::Opaque && (m.twoSided || kind == RayKind::Shadow)) return true;
+
+  Hit hit;
+  hit.u = u;
+  hit.v = v;
+  hit.prim = prim;
+  hit.instance = instanceIndex;
+  const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay);
+  if (!m.twoSided && kind != RayKind::Shadow && glm::dot(s.geometricNormal, ctx.ray->dir) > 0.0f) return false;
+  if (m.alphaMode == AlphaMode::Opaque) return true;
+  const glm::vec4 color = ctx.scene->baseColor(s, 0.0f);
+  switch (m.alphaMode) {
+    case AlphaMode::Mask: {
+      const bool pass = m.alphaInvert ? color.a < m.alphaCutoff : color.a >= m.alphaCutoff;
+      return pass;
+    }
+    case AlphaMode::Blend: {
+      const float coverage = std::clamp(color.a * m.opacity, 0.0f, 1.0f);
+      const uint32_t bits = sampling::hashCombine(sampling::hashCombine(ctx.request->randomBits, instanceIndex), prim);
+      return sampling::toUnitFloat(bits) < coverage;
+    }
+    case AlphaMode::Additive: {
+      if (ctx.request->additive != nullptr) {
+        const glm::vec3 d = ctx.ray->dir;
+        const float t = glm::dot(s.position - ctx.ray->origin, d) / glm::dot(d, d);
+        const glm::vec3 added = glm::vec3(color) + ctx.scene->emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
+        recordAdditive(*ctx.request->additive, t, instanceIndex, prim, added);
+      }
+      return false;
+    }
+    case AlphaMode::Opaque:
+      break;
+  }
+  return true;
+}
+
+uint32_t rayMaskFor(RayKind kind) {
+  switch (kind) {
+    case RayKind::Camera: return kMaskCamera;
+    case RayKind::Bounce: return kMaskBounce;
+    case RayKind::Shadow: return kMaskShadow;
+  }
+  return kMaskAll;
+}
+
+}  // namespace
+
+bool materialNeedsFilter(const MaterialDesc& m) {
+  return m.alphaMode != AlphaMode::Opaque || !m.twoSided || !m.castsShadows || !m.visible || m.sky;
+}
+
+glm::vec3 AdditiveHits::sumBefore(float t) const {
+  glm::vec3 sum(0.0f);
+  for (uint32_t i = 0; i < count; ++i) {
+    if (entries[i].t < t) sum += entries[i].color;
+  }
+  return sum;
+}
+
+const MaterialRecord& RenderScene::materialOf(const RenderInstance& instance, uint32_t prim) const {
+  MaterialId id = instance.materialOverride;
+  if (id == kNoId) id = instance.mesh->geometry.materialOf(prim);
+  return id < materials.size() ? materials[id] : defaultMaterial;
+}
+
+bool RenderScene::intersect(Ray& ray, Hit& hit, const TraceRequest& request) const {
+  const auto& instances = instancesFor(*this, request.overlay);
+  if (instances.empty()) return false;
+  const FilterContext ctx{this, request.overlay, &ray, &request};
+  const HitFilter filter{&acceptCandidate, &ctx};
+  const Tlas& tlas = request.overlay ? overlayTlas : worldTlas;
+  return tlas.intersect(ray, hit, rayMaskFor(request.kind), filter);
+}
+
+bool RenderScene::occluded(const Ray& ray, const TraceRequest& request) const {
+  if (world.empty()) return false;
+  const FilterContext ctx{this, false, &ray, &request};
+  const HitFilter filter{&acceptCandidate, &ctx};
+  return worldTlas.occluded(ray, rayMaskFor(RayKind::Shadow), filter);
+}
+
+SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
+  const RenderInstance& inst = instancesFor(*this, overlayHit)[hit.instance];
+  const MeshGeometry& g = inst.mesh->geometry;
+  SurfaceHit s;
+  s.instance = &inst;
+  s.prim = hit.prim;
+  s.material = &materialOf(inst, hit.prim);
+  s.bary = {hit.u, hit.v};
+  const uint32_t i0 = g.indices[3 * size_t{hit.prim}];
+  const uint32_t i1 = g.indices[3 * size_t{hit.prim} + 1];
+  const uint32_t i2 = g.indices[3 * size_t{hit.prim} + 2];
+  const float w0 = 1.0f - hit.u - hit.v;
+  const glm::vec3 p0 = toWorld(inst.objectToWorld, g.positions[i0]);
+  const glm::vec3 p1 = toWorld(inst.objectToWorld, g.positions[i1]);
+  const glm::vec3 p2 = toWorld(inst.objectToWorld, g.positions[i2]);
+  s.position = w0 * p0 + hit.u * p1 + hit.v * p2;
+  const glm::vec3 cross = glm::cross(p1 - p0, p2 - p0);
+  const float len = glm::length(cross);
+  s.worldArea = 0.5f * len;
+  s.geometricNormal = len > 0.0f ? cross / len : glm::vec3(0.0f, 0.0f, 1.0f);
+  s.shadingNormal = s.geometricNormal;
+  if (!g.normals.empty()) {
+    const glm::vec3 n = inst.normalToWorld * (w0 * g.normals[i0] + hit.u * g.normals[i1] + hit.v * g.normals[i2]);
+    const float nl = glm::length(n);
+    if (nl > 0.0f && std::isfinite(nl)) {
+      // Keep the interpolated normal on the winding normal's side.
+      s.shadingNormal = glm::dot(n, s.geometricNormal) >= 0.0f ? n / nl : -n / nl;
+    }
+  }
+  const glm::mat3x2& t = s.material->desc.uvTransform;
+  if (!g.uvs.empty()) {
+    const glm::vec2 uv = w0 * g.uvs[i0] + hit.u * g.uvs[i1] + hit.v * g.uvs[i2];
+    s.uv = t * glm::vec3(uv, 1.0f);
+    const glm::mat2 linear(t[0], t[1]);
+    const glm::vec2 d1 = linear * (g.uvs[i1] - g.uvs[i0]);
+    const glm::vec2 d2 = linear * (g.uvs[i2] - g.uvs[i0]);
+    s.uvArea = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
+  } else {
+    s.uv = t * glm::vec3(0.0f, 0.0f, 1.0f);
+  }
+  if (!g.lightmapUvs.empty()) {
+    s.lightmapUv = w0 * g.lightmapUvs[i0] + hit.u * g.lightmapUvs[i1] + hit.v * g.lightmapUvs[i2];
+  }
+  if (!g.colors.empty()) s.vertexColor = w0 * g.colors[i0] + hit.u * g.colors[i1] + hit.v * g.colors[i2];
+  return s;
+}
+
+glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint) const {
+  const MaterialRecord& m = *s.material;
+  // With useVertexLight the vertex colour is baked light (Lightmap integrator), not albedo.
+  const glm::vec4 vertex = m.desc.useVertexLight ? glm::vec4(1.0f, 1.0f, 1.0f, s.vertexColor.a) : s.vertexColor;
+  glm::vec4 c = m.desc.baseColor * vertex * s.instance->tint;
+  if (m.base != nullptr) {
+    float lod = 0.0f;
+    if (footprint > 0.0f && s.uvArea > 0.0f && s.worldArea > 0.0f) {
+      const float texels = static_cast<float>(m.base->width()) * static_cast<float>(m.base->height());
+      lod = std::log2(footprint * std::sqrt(s.uvArea * texels / s.worldArea));
+    }
+    c *= m.base->sample(s.uv, lod);
+  }
+  return c;
+}
+
+glm::vec3 RenderScene::emission(const SurfaceHit& s, bool frontSide) const {
+  const MaterialRecord& m = *s.material;
+  if (!m.emits || (!frontSide && !m.desc.twoSided)) return glm::vec3(0.0f);
+  glm::vec3 e = m.desc.emission;
+  if (m.emissive != nullptr) e *= glm::vec3(m.emissive->sample(s.uv, 0.0f));
+  return e;
+}
+
+uint32_t RenderScene::emissiveIndex(const SurfaceHit& s) const {
+  if (s.instance->emissiveOffset == kNoId) return kNoId;
+  const size_t i = size_t{s.instance->emissiveOffset} + s.prim;
+  return i < emissiveLookup.size() ? emissiveLookup[i] : kNoId;
+}
+
+}  // namespace pa

@@ -1,0 +1,125 @@
+#pragma once
+// The committed, immutable scene that render() reads from many threads: resolved materials,
+// placed instances with their TLAS, lights and sky, plus the ray queries that apply material
+// rules (alpha mask, stochastic blend, additive, nodraw, sky, one-sided, shadow casting)
+// through the BVH's HitFilter.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x3.hpp>
+
+#include "renderer/bvh/bvh.h"
+#include "renderer/core/ray.h"
+#include "renderer/scene/lights/light_sampler.h"
+#include "renderer/scene/lights/sky.h"
+#include "renderer/scene/scene_types.h"
+#include "renderer/scene/textures/texture.h"
+#include "renderer/scene/world/mesh_geometry.h"
+
+namespace pa {
+
+/// A material with its textures resolved and its traversal behaviour precomputed.
+struct MaterialRecord {
+  MaterialDesc desc;
+  const Texture* base = nullptr;
+  const Texture* emissive = nullptr;
+  const Texture* lightmap = nullptr;
+  bool filtered = false;   ///< Hits on it must go through the HitFilter.
+  bool emits = false;      ///< Non-zero emission (collected as area light).
+};
+
+/// True when a material needs the HitFilter (anything but an opaque, visible, two-sided,
+/// shadow-casting, non-sky surface).
+bool materialNeedsFilter(const MaterialDesc& m);
+
+/// A placed mesh as seen by rays.
+struct RenderInstance {
+  const MeshRecord* mesh = nullptr;
+  glm::mat4x3 objectToWorld{1.0f};
+  glm::mat3 normalToWorld{1.0f};   ///< Inverse transpose of the linear part.
+  glm::vec4 tint{1.0f};
+  MaterialId materialOverride = kNoId;
+  uint32_t mask = kMaskAll;
+  InstanceId id = kNoId;
+  uint32_t emissiveOffset = kNoId;   ///< Into RenderScene::emissiveLookup (one entry per triangle).
+};
+
+/// Which rays a query traces (selects the instance mask and material rules).
+enum class RayKind : uint8_t { Camera, Bounce, Shadow };
+
+/// Additive surfaces crossed by a ray (they add colour and never stop rays).
+struct AdditiveHits {
+  static constexpr uint32_t kCapacity = 16;
+  struct Entry {
+    float t;
+    uint32_t instance;
+    uint32_t prim;
+    glm::vec3 color;
+  };
+  uint32_t count = 0;
+  std::array<Entry, kCapacity> entries{};
+  /// Sum of the colours of entries closer than t.
+  glm::vec3 sumBefore(float t) const;
+};
+
+/// Options of one ray query.
+struct TraceRequest {
+  RayKind kind = RayKind::Camera;
+  uint32_t randomBits = 0;          ///< Seeds stochastic transparency for this ray.
+  bool towardEnvironment = false;   ///< Shadow ray to sun/sky: sky surfaces let it through.
+  bool overlay = false;             ///< Trace the drawOnTop instances instead of the world.
+  AdditiveHits* additive = nullptr; ///< Collects additive surfaces (camera and bounce rays).
+};
+
+/// Everything the integrator needs about a hit point.
+struct SurfaceHit {
+  const RenderInstance* instance = nullptr;
+  const MaterialRecord* material = nullptr;
+  uint32_t prim = 0;
+  glm::vec2 bary{0.0f};                 ///< (u, v) weights of vertices 1 and 2.
+  glm::vec3 position{0.0f};
+  glm::vec3 geometricNormal{0.0f};      ///< Unit winding normal in world space (front side).
+  glm::vec3 shadingNormal{0.0f};        ///< Unit interpolated normal in world space (front side).
+  glm::vec2 uv{0.0f};                   ///< Base uv after the material's uvTransform.
+  glm::vec2 lightmapUv{0.0f};
+  glm::vec4 vertexColor{1.0f};
+  float worldArea = 0.0f;               ///< Triangle area in world space.
+  float uvArea = 0.0f;                  ///< Triangle area in (transformed) uv space.
+};
+
+/// The committed scene. Filled by SceneStore::commit(); read-only while rendering.
+struct RenderScene {
+  std::vector<std::shared_ptr<const Texture>> textures;
+  std::vector<MaterialRecord> materials;
+  MaterialRecord defaultMaterial;               ///< For kNoId: grey (0.5) diffuse.
+  std::vector<RenderInstance> world;            ///< Indexed by the world TLAS instance index.
+  std::vector<RenderInstance> overlay;          ///< drawOnTop instances.
+  Tlas worldTlas;
+  Tlas overlayTlas;
+  std::vector<uint32_t> emissiveLookup;         ///< Per emissive instance and triangle: light index or kNoId.
+  Sky sky;
+  LightSampler lights;
+  Bounds bounds;
+
+  /// Material of triangle `prim` of an instance (override, mesh material or default).
+  const MaterialRecord& materialOf(const RenderInstance& instance, uint32_t prim) const;
+  /// Closest hit; on a hit shortens ray.tmax and fills hit.
+  bool intersect(Ray& ray, Hit& hit, const TraceRequest& request) const;
+  /// Any blocking hit (shadow rays).
+  bool occluded(const Ray& ray, const TraceRequest& request) const;
+  /// Interpolated surface data at a hit from intersect() with the same `overlay` choice.
+  SurfaceHit surfaceAt(const Hit& hit, bool overlay) const;
+  /// Base colour (texture x baseColor x vertex colour x tint), RGB linear, A = coverage.
+  /// footprint: world-space width of the ray's footprint on the surface (picks the mip level;
+  /// 0 = full resolution).
+  glm::vec4 baseColor(const SurfaceHit& s, float footprint) const;
+  /// Emitted radiance toward the given side (front = the winding normal's side).
+  glm::vec3 emission(const SurfaceHit& s, bool frontSide) const;
+  /// Index of the hit triangle in lights.triangles(), or kNoId.
+  uint32_t emissiveIndex(const SurfaceHit& s) const;
+};
+
+}  // namespace pa

@@ -1,0 +1,417 @@
+#include "renderer/scene/world/scene_store.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <tbb/parallel_for.h>
+
+namespace pa {
+
+namespace {
+
+std::string idName(const char* kind, uint32_t id) { return std::string(kind) + " " + std::to_string(id); }
+
+bool finite(float x) { return std::isfinite(x); }
+template <int N>
+bool finite(const glm::vec<N, float>& v) {
+  for (int i = 0; i < N; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  return true;
+}
+
+void requireFinite(bool ok, const std::string& what, const char* field) {
+  if (!ok) throw SceneError(what + ": " + field + " is not finite");
+}
+
+void requireNonNegative(const glm::vec3& v, const std::string& what, const char* field) {
+  requireFinite(finite(v), what, field);
+  if (v.x < 0.0f || v.y < 0.0f || v.z < 0.0f) throw SceneError(what + ": " + field + " is negative");
+}
+
+glm::mat3 linearPart(const glm::mat4x3& m) { return glm::mat3(m[0], m[1], m[2]); }
+
+}  // namespace
+
+// ---------------------------------------------------------------- validation helpers
+
+void SceneStore::validateMaterial(const MaterialDesc& m, const std::string& what) const {
+  auto checkTexture = [&](TextureId id, const char* field) {
+    if (id != kNoId && id >= textures_.size()) {
+      throw SceneError(what + ": " + field + " = " + std::to_string(id) + " is not a texture (" +
+                       std::to_string(textures_.size()) + " textures)");
+    }
+  };
+  checkTexture(m.baseTexture, "baseTexture");
+  checkTexture(m.emissiveTexture, "emissiveTexture");
+  checkTexture(m.lightmapTexture, "lightmapTexture");
+  requireFinite(finite(m.baseColor), what, "baseColor");
+  requireNonNegative(m.emission, what, "emission");
+  requireFinite(finite(m.alphaCutoff), what, "alphaCutoff");
+  requireFinite(finite(m.opacity), what, "opacity");
+  requireFinite(finite(m.specular), what, "specular");
+  requireFinite(finite(m.roughness), what, "roughness");
+  for (int c = 0; c < 3; ++c) requireFinite(finite(m.uvTransform[c]), what, "uvTransform");
+}
+
+LightDesc SceneStore::validateLight(const LightDesc& in, const std::string& what) const {
+  LightDesc l = in;
+  requireFinite(finite(l.position), what, "position");
+  requireFinite(finite(l.direction), what, "direction");
+  requireNonNegative(l.color, what, "color");
+  requireFinite(finite(l.intensity), what, "intensity");
+  if (l.intensity < 0.0f) throw SceneError(what + ": intensity is negative");
+  requireFinite(finite(l.radius) && finite(l.range) && finite(l.angularRadius), what, "radius/range/angularRadius");
+  if (l.radius < 0.0f || l.range < 0.0f) throw SceneError(what + ": radius and range must be >= 0");
+  if (l.falloff == Falloff::Linear && !(l.range > 0.0f) && l.type != LightType::Directional) {
+    throw SceneError(what + ": Linear falloff needs range > 0");
+  }
+  if (l.type != LightType::Point) {
+    const float len = glm::length(l.direction);
+    if (!(len > 0.0f)) throw SceneError(what + ": direction is zero");
+    l.direction /= len;
+  }
+  if (l.type == LightType::Spot) {
+    requireFinite(finite(l.cosInnerAngle) && finite(l.cosOuterAngle), what, "cosInnerAngle/cosOuterAngle");
+    if (l.cosInnerAngle < l.cosOuterAngle || l.cosInnerAngle > 1.0f || l.cosOuterAngle < -1.0f) {
+      throw SceneError(what + ": spot needs -1 <= cosOuterAngle <= cosInnerAngle <= 1");
+    }
+  }
+  if (l.type == LightType::Directional && (l.angularRadius < 0.0f || l.angularRadius >= 1.5f)) {
+    throw SceneError(what + ": angularRadius must be in [0, 1.5) radians");
+  }
+  return l;
+}
+
+void SceneStore::validateInstance(const InstanceDesc& d, const std::string& what) const {
+  if (d.mesh >= meshes_.size() || meshes_[d.mesh].removed) {
+    throw SceneError(what + ": mesh " + std::to_string(d.mesh) + " does not exist");
+  }
+  for (int c = 0; c < 4; ++c) requireFinite(finite(d.objectToWorld[c]), what, "objectToWorld");
+  const float det = glm::determinant(linearPart(d.objectToWorld));
+  if (!(std::abs(det) > 0.0f) || !std::isfinite(det)) throw SceneError(what + ": objectToWorld is singular");
+  requireFinite(finite(d.tint), what, "tint");
+}
+
+SceneStore::MeshSlot& SceneStore::liveMesh(MeshId id, const char* call) {
+  if (id >= meshes_.size() || meshes_[id].removed) {
+    throw SceneError(std::string(call) + ": mesh " + std::to_string(id) + " does not exist");
+  }
+  return meshes_[id];
+}
+
+// ---------------------------------------------------------------- setters
+
+MeshId SceneStore::addMesh(const MeshDesc& mesh) {
+  const auto id = static_cast<MeshId>(meshes_.size());
+  MeshSlot slot;
+  slot.pending = MeshGeometry::fromDesc(mesh, "addMesh: " + idName("mesh", id));
+  meshes_.push_back(std::move(slot));
+  dirty_ = true;
+  return id;
+}
+
+void SceneStore::updateMesh(MeshId id, const MeshDesc& mesh) {
+  MeshSlot& slot = liveMesh(id, "updateMesh");
+  slot.pending = MeshGeometry::fromDesc(mesh, "updateMesh: " + idName("mesh", id));
+  dirty_ = true;
+}
+
+void SceneStore::removeMesh(MeshId id) {
+  MeshSlot& slot = liveMesh(id, "removeMesh");
+  slot.removed = true;
+  slot.pending.reset();
+  dirty_ = true;
+}
+
+InstanceId SceneStore::addInstance(const InstanceDesc& instance) {
+  const auto id = static_cast<InstanceId>(instances_.size());
+  validateInstance(instance, "addInstance: " + idName("instance", id));
+  instances_.emplace_back(instance);
+  dirty_ = true;
+  return id;
+}
+
+void SceneStore::setInstance(InstanceId id, const InstanceDesc& instance) {
+  if (id >= instances_.size() || !instances_[id]) {
+    throw SceneError("setInstance: instance " + std::to_string(id) + " does not exist");
+  }
+  validateInstance(instance, "setInstance: " + idName("instance", id));
+  instances_[id] = instance;
+  dirty_ = true;
+}
+
+void SceneStore::removeInstance(InstanceId id) {
+  if (id >= instances_.size() || !instances_[id]) {
+    throw SceneError("removeInstance: instance " + std::to_string(id) + " does not exist");
+  }
+  instances_[id].reset();
+  dirty_ = true;
+}
+
+TextureId SceneStore::addTexture(const TextureDesc& texture) {
+  const auto id = static_cast<TextureId>(textures_.size());
+  const std::string what = "addTexture: " + idName("texture", id);
+  textures_.push_back(std::make_shared<const Texture>(Texture::fromDesc(texture, what.c_str())));
+  dirty_ = true;
+  return id;
+}
+
+void SceneStore::updateTexture(TextureId id, const TextureDesc& texture) {
+  if (id >= textures_.size()) {
+    throw SceneError("updateTexture: texture " + std::to_string(id) + " does not exist");
+  }
+  const std::string what = "updateTexture: " + idName("texture", id);
+  textures_[id] = std::make_shared<const Texture>(Texture::fromDesc(texture, what.c_str()));
+  dirty_ = true;
+}
+
+MaterialId SceneStore::addMaterial(const MaterialDesc& material) {
+  const auto id = static_cast<MaterialId>(materials_.size());
+  validateMaterial(material, "addMaterial: " + idName("material", id));
+  materials_.push_back(material);
+  dirty_ = true;
+  return id;
+}
+
+void SceneStore::setMaterial(MaterialId id, const MaterialDesc& material) {
+  if (id >= materials_.size()) {
+    throw SceneError("setMaterial: material " + std::to_string(id) + " does not exist");
+  }
+  validateMaterial(material, "setMaterial: " + idName("material", id));
+  materials_[id] = material;
+  dirty_ = true;
+}
+
+LightId SceneStore::addLight(const LightDesc& light) {
+  const auto id = static_cast<LightId>(lights_.size());
+  lights_.emplace_back(validateLight(light, "addLight: " + idName("light", id)));
+  dirty_ = true;
+  return id;
+}
+
+void SceneStore::setLight(LightId id, const LightDesc& light) {
+  if (id >= lights_.size() || !lights_[id]) {
+    throw SceneError("setLight: light " + std::to_string(id) + " does not exist");
+  }
+  lights_[id] = validateLight(light, "setLight: " + idName("light", id));
+  dirty_ = true;
+}
+
+void SceneStore::removeLight(LightId id) {
+  if (id >= lights_.size() || !lights_[id]) {
+    throw SceneError("removeLight: light " + std::to_string(id) + " does not exist");
+  }
+  lights_[id].reset();
+  dirty_ = true;
+}
+
+void SceneStore::setSky(const SkyDesc& sky) {
+  for (size_t i = 0; i < sky.faces.size(); ++i) {
+    if (sky.faces[i] != kNoId && sky.faces[i] >= textures_.size()) {
+      throw SceneError("setSky: faces[" + std::to_string(i) + "] = " + std::to_string(sky.faces[i]) +
+                       " is not a texture");
+    }
+  }
+  requireNonNegative(sky.color, "setSky", "color");
+  if (!std::isfinite(sky.intensity) || sky.intensity < 0.0f) {
+    throw SceneError("setSky: intensity must be finite and >= 0");
+  }
+  sky_ = sky;
+  dirty_ = true;
+}
+
+// ---------------------------------------------------------------- commit
+
+void SceneStore::validateReferences() const {
+  const size_t materialCount = materials_.size();
+  for (size_t i = 0; i < instances_.size(); ++i) {
+    if (!instances_[i]) continue;
+    const InstanceDesc& d = *instances_[i];
+    if (d.mesh >= meshes_.size() || meshes_[d.mesh].removed) {
+      throw SceneError("commit: instance " + std::to_string(i) + " uses mesh " + std::to_string(d.mesh) +
+                       ", which was removed");
+    }
+    if (d.materialOverride != kNoId && d.materialOverride >= materialCount) {
+      throw SceneError("commit: instance " + std::to_string(i) + " materialOverride = " +
+                       std::to_string(d.materialOverride) + " is not a material (" + std::to_string(materialCount) +
+                       " materials)");
+    }
+  }
+  for (size_t id = 0; id < meshes_.size(); ++id) {
+    const MeshSlot& slot = meshes_[id];
+    if (slot.removed) continue;
+    const MeshGeometry* g = slot.pending ? &*slot.pending : (slot.record ? &slot.record->geometry : nullptr);
+    if (g == nullptr) continue;
+    for (size_t t = 0; t < g->materials.size(); ++t) {
+      const MaterialId m = g->materials[t];
+      if (m != kNoId && m >= materialCount) {
+        throw SceneError("commit: mesh " + std::to_string(id) + " materials[" + std::to_string(t) + "] = " +
+                         std::to_string(m) + " is not a material (" + std::to_string(materialCount) + " materials)");
+      }
+    }
+  }
+}
+
+void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
+  // Meshes used by an instance whose override material needs the filter: filter every triangle.
+  std::vector<uint8_t> overrideFiltered(meshes_.size(), 0);
+  for (const auto& inst : instances_) {
+    if (inst && inst->materialOverride != kNoId && materials[inst->materialOverride].filtered) {
+      overrideFiltered[inst->mesh] = 1;
+    }
+  }
+  struct Job {
+    MeshRecord* record;
+    bool refit;
+  };
+  std::vector<Job> jobs;
+  for (size_t id = 0; id < meshes_.size(); ++id) {
+    MeshSlot& slot = meshes_[id];
+    if (slot.removed) {
+      slot.record.reset();
+      continue;
+    }
+    if (!slot.record) slot.record = std::make_unique<MeshRecord>();
+    MeshRecord& rec = *slot.record;
+    bool geometryChanged = false;
+    bool canRefit = false;
+    if (slot.pending) {
+      MeshGeometry& next = *slot.pending;
+      canRefit = rec.built && next.dynamic && next.positions.size() == rec.geometry.positions.size() &&
+                 next.indices == rec.geometry.indices;
+      rec.geometry = std::move(next);
+      slot.pending.reset();
+      geometryChanged = true;
+    }
+    const MeshGeometry& g = rec.geometry;
+    std::vector<uint8_t> filtered(g.triangleCount());
+    for (uint32_t t = 0; t < g.triangleCount(); ++t) {
+      const MaterialId m = g.materialOf(t);
+      filtered[t] = overrideFiltered[id] || (m != kNoId && materials[m].filtered) ? 1 : 0;
+    }
+    const bool flagsChanged = filtered != rec.filtered;
+    rec.filtered = std::move(filtered);
+    if (!rec.built || flagsChanged || (geometryChanged && !canRefit)) {
+      jobs.push_back({&rec, false});
+    } else if (geometryChanged) {
+      jobs.push_back({&rec, true});
+    }
+  }
+  tbb::parallel_for(size_t{0}, jobs.size(), [&](size_t i) {
+    MeshRecord& rec = *jobs[i].record;
+    if (jobs[i].refit) {
+      rec.blas.refit(rec.geometry.positions);
+    } else {
+      rec.blas.build({rec.geometry.positions, rec.geometry.indices, rec.filtered});
+    }
+    rec.built = true;
+  });
+}
+
+RenderScene SceneStore::commit() {
+  validateReferences();
+  RenderScene scene;
+  scene.textures = textures_;
+  auto texturePtr = [&](TextureId id) { return id == kNoId ? nullptr : scene.textures[id].get(); };
+  auto makeRecord = [&](const MaterialDesc& d) {
+    MaterialRecord r;
+    r.desc = d;
+    r.desc.specular = std::clamp(d.specular, 0.0f, 1.0f);
+    r.desc.roughness = std::clamp(d.roughness, 0.0f, 1.0f);
+    r.desc.opacity = std::clamp(d.opacity, 0.0f, 1.0f);
+    r.base = texturePtr(d.baseTexture);
+    r.emissive = texturePtr(d.emissiveTexture);
+    r.lightmap = texturePtr(d.lightmapTexture);
+    r.filtered = materialNeedsFilter(d);
+    r.emits = d.emission.x > 0.0f || d.emission.y > 0.0f || d.emission.z > 0.0f;
+    return r;
+  };
+  scene.materials.reserve(materials_.size());
+  for (const MaterialDesc& d : materials_) scene.materials.push_back(makeRecord(d));
+  MaterialDesc grey;
+  grey.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+  scene.defaultMaterial = makeRecord(grey);
+
+  buildMeshes(scene.materials);
+
+  std::vector<TlasInstance> worldInputs, overlayInputs;
+  for (size_t id = 0; id < instances_.size(); ++id) {
+    if (!instances_[id]) continue;
+    const InstanceDesc& d = *instances_[id];
+    const MeshRecord* mesh = meshes_[d.mesh].record.get();
+    if (mesh == nullptr || mesh->geometry.triangleCount() == 0) continue;
+    RenderInstance ri;
+    ri.mesh = mesh;
+    ri.objectToWorld = d.objectToWorld;
+    ri.normalToWorld = glm::transpose(glm::inverse(linearPart(d.objectToWorld)));
+    ri.tint = d.tint;
+    ri.materialOverride = d.materialOverride;
+    ri.mask = d.mask;
+    ri.id = static_cast<InstanceId>(id);
+    (d.drawOnTop ? scene.overlay : scene.world).push_back(ri);
+    (d.drawOnTop ? overlayInputs : worldInputs).push_back({&mesh->blas, d.objectToWorld, d.mask});
+  }
+  if (!worldInputs.empty()) scene.worldTlas.build(worldInputs);
+  if (!overlayInputs.empty()) scene.overlayTlas.build(overlayInputs);
+  if (!worldInputs.empty()) scene.bounds = scene.worldTlas.bounds();
+
+  // Emissive triangles of world instances become area lights.
+  std::vector<EmissiveTriangle> emissive;
+  for (RenderInstance& inst : scene.world) {
+    const MeshGeometry& g = inst.mesh->geometry;
+    const uint32_t offset = static_cast<uint32_t>(scene.emissiveLookup.size());
+    bool any = false;
+    for (uint32_t t = 0; t < g.triangleCount(); ++t) {
+      const MaterialRecord& m = scene.materialOf(inst, t);
+      // Sky windows show the sky, additive surfaces add on camera/bounce rays: neither is a light.
+      if (!m.emits || m.desc.sky || m.desc.alphaMode == AlphaMode::Additive) continue;
+      if (!any) {
+        scene.emissiveLookup.resize(size_t{offset} + g.triangleCount(), kNoId);
+        inst.emissiveOffset = offset;
+        any = true;
+      }
+      const uint32_t i0 = g.indices[3 * t], i1 = g.indices[3 * t + 1], i2 = g.indices[3 * t + 2];
+      EmissiveTriangle tri;
+      tri.p0 = inst.objectToWorld * glm::vec4(g.positions[i0], 1.0f);
+      const glm::vec3 p1 = inst.objectToWorld * glm::vec4(g.positions[i1], 1.0f);
+      const glm::vec3 p2 = inst.objectToWorld * glm::vec4(g.positions[i2], 1.0f);
+      tri.e1 = p1 - tri.p0;
+      tri.e2 = p2 - tri.p0;
+      const glm::vec3 cross = glm::cross(tri.e1, tri.e2);
+      const float len = glm::length(cross);
+      if (!(len > 0.0f) || !std::isfinite(len)) continue;   // zero-area triangles emit nothing
+      tri.normal = cross / len;
+      tri.area = 0.5f * len;
+      if (!g.uvs.empty()) {
+        const glm::mat3x2& uvt = m.desc.uvTransform;
+        tri.uv0 = uvt * glm::vec3(g.uvs[i0], 1.0f);
+        tri.uv1 = uvt * glm::vec3(g.uvs[i1], 1.0f);
+        tri.uv2 = uvt * glm::vec3(g.uvs[i2], 1.0f);
+      } else {
+        tri.uv0 = tri.uv1 = tri.uv2 = m.desc.uvTransform * glm::vec3(0.0f, 0.0f, 1.0f);
+      }
+      tri.emission = m.desc.emission;
+      tri.texture = m.emissive;
+      tri.twoSided = m.desc.twoSided;
+      tri.hittable = m.desc.visible && !m.desc.sky && (inst.mask & kMaskBounce) != 0;
+      scene.emissiveLookup[size_t{offset} + t] = static_cast<uint32_t>(emissive.size());
+      emissive.push_back(tri);
+    }
+  }
+
+  std::vector<LightDesc> lights;
+  for (const auto& l : lights_) {
+    if (l) lights.push_back(*l);
+  }
+  scene.sky = Sky(sky_, scene.textures);
+  scene.lights = LightSampler(lights, std::move(emissive), scene.sky, scene.bounds);
+  dirty_ = false;
+  return scene;
+}
+
+}  // namespace pa

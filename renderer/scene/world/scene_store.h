@@ -1,0 +1,79 @@
+#pragma once
+// The editable scene behind pa::Renderer's setters: validated copies of everything the user
+// hands in, with stable ids. commit() turns it into an immutable RenderScene (building and
+// refitting BLASes, the TLAS and the light tables).
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "renderer/scene/scene_types.h"
+#include "renderer/scene/textures/texture.h"
+#include "renderer/scene/world/mesh_geometry.h"
+#include "renderer/scene/world/render_scene.h"
+
+namespace pa {
+
+/// Editable scene state; every setter validates and throws SceneError.
+class SceneStore {
+ public:
+  /// Adds a mesh (copied, validated).
+  MeshId addMesh(const MeshDesc& mesh);
+  /// Replaces a mesh's data at the next commit.
+  void updateMesh(MeshId id, const MeshDesc& mesh);
+  /// Removes a mesh at the next commit.
+  void removeMesh(MeshId id);
+  /// Adds an instance.
+  InstanceId addInstance(const InstanceDesc& instance);
+  /// Replaces an instance.
+  void setInstance(InstanceId id, const InstanceDesc& instance);
+  /// Removes an instance.
+  void removeInstance(InstanceId id);
+  /// Adds a texture.
+  TextureId addTexture(const TextureDesc& texture);
+  /// Replaces a texture.
+  void updateTexture(TextureId id, const TextureDesc& texture);
+  /// Adds a material.
+  MaterialId addMaterial(const MaterialDesc& material);
+  /// Replaces a material.
+  void setMaterial(MaterialId id, const MaterialDesc& material);
+  /// Adds an analytic light.
+  LightId addLight(const LightDesc& light);
+  /// Replaces a light.
+  void setLight(LightId id, const LightDesc& light);
+  /// Removes a light.
+  void removeLight(LightId id);
+  /// Sets the environment.
+  void setSky(const SkyDesc& sky);
+
+  /// True when something changed since the last successful commit.
+  bool dirty() const { return dirty_; }
+  /// Validates cross references, builds acceleration structures and light tables into a new
+  /// RenderScene. Run inside the renderer's task arena. Throws SceneError (leaving the
+  /// store unchanged) when an instance uses a removed mesh or an id is out of range.
+  RenderScene commit();
+
+ private:
+  struct MeshSlot {
+    std::unique_ptr<MeshRecord> record;        ///< Committed data (null before the first commit).
+    std::optional<MeshGeometry> pending;       ///< Data for the next commit.
+    bool removed = false;                      ///< removeMesh() was called.
+  };
+
+  void validateReferences() const;
+  void validateMaterial(const MaterialDesc& m, const std::string& what) const;
+  LightDesc validateLight(const LightDesc& l, const std::string& what) const;
+  void validateInstance(const InstanceDesc& d, const std::string& what) const;
+  MeshSlot& liveMesh(MeshId id, const char* call);
+  void buildMeshes(const std::vector<MaterialRecord>& materials);
+
+  std::vector<MeshSlot> meshes_;
+  std::vector<std::optional<InstanceDesc>> instances_;
+  std::vector<std::shared_ptr<const Texture>> textures_;
+  std::vector<MaterialDesc> materials_;
+  std::vector<std::optional<LightDesc>> lights_;
+  SkyDesc sky_;
+  bool dirty_ = true;
+};
+
+}  // namespace pa
