@@ -200,8 +200,9 @@ namespace pa {
 namespace {
 
 /// Floor of albedo 1 under a cube-map sky whose +Z face has radiance `top` and whose other
-/// faces have radiance `sides` (linear data, color 1). Returns the frame looking down at it.
-FrameView renderUnderCubeSky(float top, float sides, Integrator integrator, uint32_t spp) {
+/// faces have radiance `sides` (linear data, color 1). Returns the statistics of the frame
+/// looking down at it (the frame itself dies with the renderer).
+test::FrameStats renderUnderCubeSky(float top, float sides, Integrator integrator, uint32_t spp) {
   Renderer r({2});
   SkyDesc sky;
   sky.color = glm::vec3(1.0f);
@@ -215,7 +216,7 @@ FrameView renderUnderCubeSky(float top, float sides, Integrator integrator, uint
   floor.setMaterial(r.addMaterial(test::diffuse(1.0f)));
   r.addInstance({r.addMesh(floor.desc())});
   r.commit();
-  return r.render(lookAt({0, 0, 1}, {0, 0, 0}, 1.0f), settingsFor(integrator, 8, spp, 1));
+  return greyStats(r.render(lookAt({0, 0, 1}, {0, 0, 0}, 1.0f), settingsFor(integrator, 8, spp, 1)));
 }
 
 TEST(Sky, CubeMapImportanceSamplingKnownAnswer) {
@@ -231,11 +232,11 @@ TEST(Sky, CubeMapImportanceSamplingKnownAnswer) {
     }
   const double expected = 1.0 / std::numbers::pi * projected;   // albedo 1, B = 1
   for (Integrator integrator : {Integrator::Direct, Integrator::Path}) {
-    const test::FrameStats s = greyStats(renderUnderCubeSky(1.0f, 0.0f, integrator, 64));
+    const test::FrameStats s = renderUnderCubeSky(1.0f, 0.0f, integrator, 64);
     EXPECT_NEAR(s.mean, expected, 4.0 * s.standardError + 1e-3 * expected) << s.standardError;
   }
   // A uniform cube map is a uniform sky: radiance = albedo * L.
-  const test::FrameStats uniform = greyStats(renderUnderCubeSky(0.6f, 0.6f, Integrator::Path, 64));
+  const test::FrameStats uniform = renderUnderCubeSky(0.6f, 0.6f, Integrator::Path, 64);
   const double l = 153.0 / 255.0;
   EXPECT_NEAR(uniform.mean, l, 4.0 * uniform.standardError + 1e-3 * l);
 }
