@@ -396,8 +396,13 @@ std::vector<int> rootNodes(const tinygltf::Model& model, const LoadOptions& opti
   if (static_cast<size_t>(sceneIndex) >= model.scenes.size())
     fail("scene " + std::to_string(sceneIndex) + " out of range (file has " + std::to_string(model.scenes.size()) +
          " scenes)");
-  scene.sceneExtras = convertExtras(model.scenes[static_cast<size_t>(sceneIndex)].extras);
-  return model.scenes[static_cast<size_t>(sceneIndex)].nodes;
+  const tinygltf::Scene& source = model.scenes[static_cast<size_t>(sceneIndex)];
+  scene.sceneExtras = convertExtras(source.extras);
+  // Metadata may also sit on the root nodes (assets_converter's map node): merge, scene first.
+  for (int root : source.nodes)
+    if (root >= 0 && static_cast<size_t>(root) < model.nodes.size())
+      scene.sceneExtras.merge(convertExtras(model.nodes[static_cast<size_t>(root)].extras));
+  return source.nodes;
 }
 
 }  // namespace
