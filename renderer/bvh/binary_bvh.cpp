@@ -175,10 +175,12 @@ class Builder {
   Builder(std::span<const Bounds> primBounds, const BvhBuildConfig& config, BinaryBvh& out)
       : config_(config), out_(out), refs_(primBounds.size()), scratch_(primBounds.size()),
         nodes_(2 * std::max<size_t>(primBounds.size(), 1)), primCount_(static_cast<uint32_t>(primBounds.size())) {
-    for (size_t i = 0; i < primBounds.size(); ++i) {
-      const __m128 id = _mm_castsi128_ps(_mm_cvtsi32_si128(static_cast<int>(i)));
-      refs_[i] = {_mm_insert_ps(load3(primBounds[i].min), id, 0x30), load3(primBounds[i].max)};
-    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, primBounds.size(), 1 << 14), [&](const auto& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        const __m128 id = _mm_castsi128_ps(_mm_cvtsi32_si128(static_cast<int>(i)));
+        refs_[i] = {_mm_insert_ps(load3(primBounds[i].min), id, 0x30), load3(primBounds[i].max)};
+      }
+    });
   }
 
   void run() {
