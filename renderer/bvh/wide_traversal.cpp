@@ -1,5 +1,5 @@
 // SIMD traversal of the 8-wide BVH: one ray against eight child boxes at a time (conservative
-// slab test, see slab_test.h), nearest child first for closest hits, and four triangles at a
+// slab test, see slab_test.h), nearest child first for closest hits (any-hit rays skip even that), and four triangles at a
 // time with the watertight test (see watertight.h; same operations in the same order, so the
 // results are bit-identical to the scalar reference).
 #include <algorithm>
@@ -124,26 +124,32 @@ inline void leafPacks(uint32_t ref, uint32_t& first, uint32_t& count) {
 
 inline uint32_t floatKey(float t) { return std::bit_cast<uint32_t>(std::max(t, 0.0f)); }
 
-/// Pushes all hit children but the nearest onto the stack, farthest first, and returns the
-/// nearest. Entries are (entry distance bits << 32) | child reference. mask has >= 2 bits.
-inline uint32_t pushOrdered(const WideNode& node, int mask, vfloat8 tNearV, uint64_t* stack, int& top) {
+/// Pushes all hit children but the nearest onto the stack (in node order: a full sort measured
+/// slower, and entries farther than the closest hit so far are culled when popped) and returns
+/// the nearest. Entries are (entry distance bits << 32) | child reference. mask has >= 2 bits.
+/// The stack top is passed by value and returned so it stays in a register.
+struct PushResult {
+  uint32_t nearest;
+  int top;
+};
+[[gnu::always_inline]] inline PushResult pushOrdered(const WideNode& node, int mask, vfloat8 tNearV, uint64_t* stack,
+                                                    int top) {
   alignas(32) float tNear[kWideWidth];
   tNearV.store(tNear);
-  uint64_t keys[kWideWidth];
-  int n = 0;
+  // Nearest child is traversed next; the others are pushed unsorted (culled on pop by distance).
+  uint64_t best = ~uint64_t(0);
   while (mask) {
     const int i = std::countr_zero(static_cast<uint32_t>(mask));
     mask &= mask - 1;
     const uint64_t key = (uint64_t(floatKey(tNear[i])) << 32) | node.child[i];
-    int j = n++;
-    while (j > 0 && keys[j - 1] < key) {   // descending: nearest last
-      keys[j] = keys[j - 1];
-      --j;
+    if (key < best) {
+      if (best != ~uint64_t(0)) stack[top++] = best;
+      best = key;
+    } else {
+      stack[top++] = key;
     }
-    keys[j] = key;
   }
-  for (int i = 0; i < n - 1; ++i) stack[top++] = keys[i];
-  return static_cast<uint32_t>(keys[n - 1]);
+  return {static_cast<uint32_t>(best), top};
 }
 
 }  // namespace
@@ -166,7 +172,9 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
           current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
           continue;
         }
-        current = pushOrdered(node, mask, tNearV, stack, top);
+        const PushResult pushed = pushOrdered(node, mask, tNearV, stack, top);
+        current = pushed.nearest;
+        top = pushed.top;
         continue;
       }
     } else {
@@ -207,7 +215,9 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
   if (bvh.empty()) return false;
   const BoxRay boxRay(ray);
   const TriangleRay triRay(ray);
-  uint64_t stack[kWideStackSize];   // nearest-first order finds an occluder sooner
+  // Children are visited in node order, not sorted by distance: any occluder ends the search,
+  // and skipping the sort measured faster (docs/performance.md).
+  uint32_t stack[kWideStackSize];
   int top = 0;
   uint32_t current = 0;
   for (;;) {
@@ -216,8 +226,12 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
       vfloat8 tNear;
       const int mask = boxRay.test(node, ray.tmax, tNear);
       if (mask != 0) {
-        current = (mask & (mask - 1)) == 0 ? node.child[std::countr_zero(static_cast<uint32_t>(mask))]
-                                           : pushOrdered(node, mask, tNear, stack, top);
+        int rest = mask & (mask - 1);
+        current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
+        while (rest) {
+          stack[top++] = node.child[std::countr_zero(static_cast<uint32_t>(rest))];
+          rest &= rest - 1;
+        }
         continue;
       }
     } else {
@@ -240,7 +254,7 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
       }
     }
     if (top == 0) return false;
-    current = static_cast<uint32_t>(stack[--top]);
+    current = stack[--top];
   }
 }
 
