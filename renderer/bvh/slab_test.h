@@ -29,7 +29,7 @@ struct SlabRay {
 
   explicit SlabRay(const glm::vec3& o, const glm::vec3& d)
       : origin(o), invDir(1.0f / d.x, 1.0f / d.y, 1.0f / d.z),
-        nearX(d.x < 0.0f), nearY(d.y < 0.0f), nearZ(d.z < 0.0f) {}
+        nearX(std::signbit(d.x)), nearY(std::signbit(d.y)), nearZ(std::signbit(d.z)) {}
 };
 
 /// NaN-tolerant max/min: when a is NaN the result is b.

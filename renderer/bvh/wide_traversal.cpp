@@ -2,6 +2,7 @@
 // slab test, see slab_test.h), nearest child first for closest hits (any-hit rays skip even that), and four triangles at a
 // time with the watertight test (see watertight.h; same operations in the same order, so the
 // results are bit-identical to the scalar reference).
+#include <cmath>
 #include <algorithm>
 #include <bit>
 #include <cstring>
@@ -29,7 +30,7 @@ struct BoxRay {
 
   explicit BoxRay(const Ray& ray)
       : ox(ray.origin.x), oy(ray.origin.y), oz(ray.origin.z), idx(1.0f / ray.dir.x), idy(1.0f / ray.dir.y),
-        idz(1.0f / ray.dir.z), nearX(ray.dir.x < 0.0f), nearY(ray.dir.y < 0.0f), nearZ(ray.dir.z < 0.0f),
+        idz(1.0f / ray.dir.z), nearX(std::signbit(ray.dir.x)), nearY(std::signbit(ray.dir.y)), nearZ(std::signbit(ray.dir.z)),
         tmin(ray.tmin) {}
 
   /// Entry distances of the eight children and the mask of those the ray enters before tmax.

@@ -201,3 +201,34 @@ TEST(Extremes, ZeroAreaTrianglesInALargeMeshNeverHit) {
 
 }  // namespace
 }  // namespace pa::testing
+
+namespace pa::testing {
+namespace {
+
+/// Axis-aligned rays whose zero direction components are -0 must hit like +0 ones
+/// (the slab test picks near planes by the sign bit, and 1/-0 is -inf).
+TEST(Extremes, NegativeZeroDirectionComponentsHit) {
+  const std::vector<glm::vec3> positions = {{-1, -1, 5}, {1, -1, 5}, {1, 1, 5}, {-1, 1, 5}};
+  const std::vector<uint32_t> indices = {0, 1, 2, 0, 2, 3};
+  Blas blas;
+  blas.build({positions, indices, {}});
+  Tlas tlas;
+  const TlasInstance instance{&blas, glm::mat4x3(1.0f), 0xffffffffu};
+  tlas.build(std::span<const TlasInstance>(&instance, 1));
+  for (const glm::vec3 dir : {glm::vec3(-0.0f, -0.0f, 1.0f), glm::vec3(0.0f, -0.0f, 1.0f), glm::vec3(-0.0f, 0.0f, 1.0f)}) {
+    Ray ray;
+    ray.origin = {0.25f, -0.25f, 0.0f};
+    ray.dir = dir;
+    Hit hit;
+    EXPECT_TRUE(blas.intersect(ray, hit));
+    EXPECT_FLOAT_EQ(hit.t, 5.0f);
+    EXPECT_TRUE(blas.occluded(Ray{ray.origin, 0.0f, dir, 100.0f}));
+    Ray worldRay{ray.origin, 0.0f, dir, std::numeric_limits<float>::infinity()};
+    Hit worldHit;
+    EXPECT_TRUE(tlas.intersect(worldRay, worldHit));
+    EXPECT_TRUE(tlas.occluded(Ray{ray.origin, 0.0f, dir, 100.0f}));
+  }
+}
+
+}  // namespace
+}  // namespace pa::testing

@@ -91,11 +91,6 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
   return true;
 }
 
-/// Turns -0 direction components into +0 (x + 0 = +0 for x = -0). Workaround: the BVH's slab
-/// test picks the near plane from the sign bit test d < 0 but divides by -0 to -inf, so rays
-/// with a -0 component miss everything (reported to the bvh owner).
-glm::vec3 withoutNegativeZeros(const glm::vec3& d) { return d + glm::vec3(0.0f); }
-
 uint32_t rayMaskFor(RayKind kind) {
   switch (kind) {
     case RayKind::Camera: return kMaskCamera;
@@ -128,7 +123,6 @@ const MaterialRecord& RenderScene::materialOf(const RenderInstance& instance, ui
 bool RenderScene::intersect(Ray& ray, Hit& hit, const TraceRequest& request) const {
   const auto& instances = instancesFor(*this, request.overlay);
   if (instances.empty()) return false;
-  ray.dir = withoutNegativeZeros(ray.dir);
   const FilterContext ctx{this, request.overlay, &ray, &request};
   const HitFilter filter{&acceptCandidate, &ctx};
   const Tlas& tlas = request.overlay ? overlayTlas : worldTlas;
@@ -138,7 +132,6 @@ bool RenderScene::intersect(Ray& ray, Hit& hit, const TraceRequest& request) con
 bool RenderScene::occluded(const Ray& shadowRay, const TraceRequest& request) const {
   if (world.empty()) return false;
   Ray ray = shadowRay;
-  ray.dir = withoutNegativeZeros(ray.dir);
   const FilterContext ctx{this, false, &ray, &request};
   const HitFilter filter{&acceptCandidate, &ctx};
   return worldTlas.occluded(ray, rayMaskFor(RayKind::Shadow), filter);
