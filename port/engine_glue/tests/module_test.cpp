@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "fake_engine.h"
+#include "port/q3formats/vfs/game_filesystem.h"
 
 namespace {
 
@@ -60,6 +61,13 @@ std::vector<uint8_t> tinyMd3() {
   }
   return bytes;
 }
+
+/// Unmounts the game data before static destruction (physfs' registry is a static too).
+class UnmountGameData : public ::testing::Environment {
+ public:
+  void TearDown() override { fake::engine().game.reset(); }
+};
+const auto* const kUnmount = ::testing::AddGlobalTestEnvironment(new UnmountGameData);
 
 class ModuleTest : public ::testing::Test {
  protected:
