@@ -7,8 +7,10 @@
 #
 # Why the frames are the same moment in every run: with `timedemo 1` the client sets the demo
 # clock to base + 50 ms * (frames rendered since the first active frame) (ioquake3 cl_cgame.c,
-# CL_SetCGameTime), whatever the wall-clock speed; `wait N` counts engine frames, and both
-# screenshot implementations capture the frame whose EndFrame follows the command.
+# CL_SetCGameTime), whatever the wall-clock speed, and `wait N` counts command-buffer ticks
+# (measured: two per rendered frame here), the same in every run. "Frame N" names tick N.
+# Measured: stock opengl1's screenshot shows the frame finished before the command, ours the
+# frame ending after it, one rendered frame (2 ticks) later; fidelity_test.sh compensates.
 # Exit 77 when the engine, the game data or xvfb-run are missing.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
