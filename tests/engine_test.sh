@@ -4,6 +4,7 @@
 # SCENARIO demo: plays part of OpenArena's demo088-test1 and takes a screenshot with the
 #   module's screenshotPNG command; the picture must show HUD (and world) pixels.
 # SCENARIO restarts: loads oa_dm1, vid_restart, oa_dm2, back to oa_dm1: no crash, no fallback.
+# The preset is lightmap (the cheapest, closest to the stock look) unless PATHTRACER_TEST_PRESET says.
 # Both check the log proves our module was loaded, not the stock opengl2 fallback.
 # Exit 77 (skipped) when the engine or the game data are not installed.
 set -euo pipefail
@@ -54,6 +55,7 @@ HOME="$work/home" timeout 300 xvfb-run -a -s "-screen 0 1024x768x24" "$engine" \
   +set com_basegame baseoa +set fs_basepath "$work/basepath" +set com_homepath .openarena \
   +set com_legacyprotocol 71 +set com_protocol 71 +set cl_renderer pathtracer \
   +set r_mode 3 +set r_fullscreen 0 +set s_initsound 0 +set r_pt_scale 0.25 \
+  +set r_pt_preset "${PATHTRACER_TEST_PRESET:-lightmap}" \
   +set com_maxfps 60 +set bot_enable 0 \
   "${start[@]}" +exec pathtracer_test.cfg >"$log" 2>&1
 status=$?
@@ -66,6 +68,9 @@ fail() { echo "FAIL: $*"; echo "---- engine log (tail) ----"; tail -n 60 "$log";
 grep -q "PathArena path tracer renderer" "$log" || fail "our module's banner is missing"
 grep -q 'Trying to load "renderer_opengl' "$log" && fail "engine fell back to a stock renderer"
 grep -E -q "Received signal|Segmentation|Sys_Error|ERROR:" "$log" && fail "engine reported a crash or error"
+# fs_basepath is our folder: the game's pk3s and native modules must come through the baseoa link.
+grep -q "basepath/baseoa/pak0.pk3" "$log" || fail "OpenArena pk3s not found through basepath/baseoa"
+grep -E -q "Loading DLL file: .*basepath/baseoa/.*cgamex86_64.so" "$log" || fail "cgame .so not loaded through basepath/baseoa"
 
 case "$scenario" in
   demo)

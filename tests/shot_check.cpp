@@ -2,7 +2,7 @@
 //  - the picture is not black,
 //  - the HUD band (bottom 20% of the picture) has bright, saturated pixels (numbers, icons),
 //  - the 3D view (the middle of the picture) shows a world: many distinct colours and
-//    mostly non-black pixels (skipped with --no-world).
+//    at least a quarter of non-black pixels (skipped with --no-world).
 // Prints the measured figures either way.
 #include <stb_image.h>
 
@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
   bool ok = true;
   if (nonBlackFraction < 0.01) { std::printf("FAIL: picture is black\n"); ok = false; }
   if (hudFraction < 0.002) { std::printf("FAIL: no HUD pixels in the bottom band\n"); ok = false; }
-  if (checkWorld && (viewFraction < 0.5 || viewColours.size() < 64)) {
+  if (checkWorld && (viewFraction < 0.25 || viewColours.size() < 64)) {
     std::printf("FAIL: the 3D view shows no world\n");
     ok = false;
   }

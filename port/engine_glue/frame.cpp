@@ -1,6 +1,7 @@
 // A frame: BeginFrame, 3D views (ClearScene, adds, RenderScene), 2D (SetColor,
 // DrawStretchPic, DrawStretchRaw), EndFrame. Everything is drawn in call order.
 #include <cmath>
+#include <optional>
 
 #include "port/engine_glue/module.h"
 #include "port/engine_glue/views.h"
@@ -36,7 +37,23 @@ void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
   }
   window_.swap();
   frameOpen_ = false;
-  if (frontEndMsec != nullptr) *frontEndMsec = engine_.milliseconds() - frameStartMs_;
+  const int now = engine_.milliseconds();
+  if (frontEndMsec != nullptr) *frontEndMsec = traceMsThisFrame_;
+  if (backEndMsec != nullptr) *backEndMsec = now - frameStartMs_ - traceMsThisFrame_;
+  stats_.frames += 1;
+  stats_.traceMs += traceMsThisFrame_;
+  traceMsThisFrame_ = 0;
+  if (now - stats_.sinceMs >= 2000) {
+    if (settings_.tracer(engine_).printStats && stats_.frames > 0) {
+      engine_.print(q3abi::PRINT_ALL,
+                    "pathtracer: %.1f fps, %.1f ms tracing per frame, %d views, %s preset\n",
+                    1000.0 * stats_.frames / (now - stats_.sinceMs),
+                    double(stats_.traceMs) / stats_.frames, stats_.views,
+                    presetName(settings_.tracer(engine_).preset));
+    }
+    stats_ = FrameStats{};
+    stats_.sinceMs = now;
+  }
 }
 
 void Module::clearScene() { scene_.clear(); }
@@ -69,6 +86,7 @@ void Module::renderScene(const q3abi::refdef_t* view) {
   if (!std::isfinite(view->fov_x) || !std::isfinite(view->fov_y)) return;
   if (views_) {
     std::optional<TracedPicture> picture;
+    const int start = engine_.milliseconds();
     try {
       picture = views_->render(*view, scene_, settings_.tracer(engine_), shaders_, models_,
                                noWorld ? nullptr : world_.get());
@@ -76,6 +94,8 @@ void Module::renderScene(const q3abi::refdef_t* view) {
       // Keep playing (2D still works); say it a few times, not every frame.
       if (renderFailures_++ < 3) engine_.warn(std::string("RenderScene: ") + error.what());
     }
+    traceMsThisFrame_ += engine_.milliseconds() - start;
+    stats_.views += 1;
     if (picture) {
       overlay_.drawPixels(0, picture->rgba, picture->width, picture->height,
                           static_cast<float>(view->x), static_cast<float>(view->y),

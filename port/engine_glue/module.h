@@ -39,6 +39,14 @@ struct VideoFrameRequest {
   bool motionJpeg = false;
 };
 
+/// Frame timing gathered for r_pt_stats.
+struct FrameStats {
+  int sinceMs = 0;
+  int frames = 0;
+  int views = 0;
+  long long traceMs = 0;
+};
+
 /// All of the renderer's state.
 class Module {
  public:
@@ -124,6 +132,8 @@ class Module {
   bool frameOpen_ = false;         ///< Between BeginFrame and EndFrame.
   int lastShotNumber_ = 0;
   int renderFailures_ = 0;
+  int traceMsThisFrame_ = 0;
+  FrameStats stats_;
   int frameStartMs_ = 0;
 };
 

@@ -40,7 +40,7 @@ void Settings::registerCvars(const Engine& engine) {
   customHeight_ = engine.cvar("r_customheight", "1024", CVAR_ARCHIVE | CVAR_LATCH,
                               "Window height when r_mode is -1");
   fullscreen_ = engine.cvar("r_fullscreen", "1", CVAR_ARCHIVE | CVAR_LATCH, "Fullscreen window");
-  preset_ = engine.cvar("r_pt_preset", "path", CVAR_ARCHIVE,
+  preset_ = engine.cvar("r_pt_preset", "lightmap", CVAR_ARCHIVE,
                         "Path tracer quality: lightmap | direct | path | reference");
   spp_ = engine.cvar("r_pt_spp", "1", CVAR_ARCHIVE, "Samples per pixel per frame (1..256)");
   if (spp_ != nullptr) ri.Cvar_CheckRange(spp_, 1, 256, 1);
@@ -53,6 +53,8 @@ void Settings::registerCvars(const Engine& engine) {
                          "Render threads (0 = all cores); applies after vid_restart");
   if (threads_ != nullptr) ri.Cvar_CheckRange(threads_, 0, 256, 1);
   seed_ = engine.cvar("r_pt_seed", "0", 0, "Random seed of the sampler");
+  stats_ = engine.cvar("r_pt_stats", "0", 0,
+                       "Print traced views per second and milliseconds per traced frame");
 }
 
 VideoModeRequest Settings::videoMode() const {
@@ -81,6 +83,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
     out.resolutionScale = std::clamp(scale_->value, 0.1f, 1.0f);
   if (threads_ != nullptr) out.threads = std::clamp(threads_->integer, 0, 256);
   if (seed_ != nullptr) out.seed = static_cast<uint32_t>(seed_->integer);
+  out.printStats = stats_ != nullptr && stats_->integer != 0;
   return out;
 }
 

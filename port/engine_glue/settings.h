@@ -26,6 +26,7 @@ struct TracerSettings {
   float resolutionScale = 0.5f;
   int threads = 0;
   uint32_t seed = 0;
+  bool printStats = false;   ///< r_pt_stats
 };
 
 /// Pointers to the engine's cvars (owned by the engine, valid while the module is loaded).
@@ -49,6 +50,7 @@ class Settings {
   q3abi::cvar_t* scale_ = nullptr;
   q3abi::cvar_t* threads_ = nullptr;
   q3abi::cvar_t* seed_ = nullptr;
+  q3abi::cvar_t* stats_ = nullptr;
 };
 
 }  // namespace glue

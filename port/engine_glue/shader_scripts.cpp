@@ -2,6 +2,7 @@
 
 #include <GL/gl.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdlib>
 
@@ -189,7 +190,14 @@ void ShaderScripts::addScript(std::string_view text) {
 
 void ShaderScripts::load(const Engine& engine) {
   bodies_.clear();
-  for (const std::string& file : engine.listFiles("scripts", ".shader")) {
+  // The engine concatenates the alphabetically sorted scripts in reverse, so the definition in
+  // the alphabetically last script wins: feed them last-first to our first-wins index.
+  std::vector<std::string> files = engine.listFiles("scripts", ".shader");
+  std::sort(files.begin(), files.end(), [](const std::string& a, const std::string& b) {
+    return normalizeName(a) < normalizeName(b);
+  });
+  std::reverse(files.begin(), files.end());
+  for (const std::string& file : files) {
     const auto bytes = engine.readFile("scripts/" + file);
     if (!bytes) continue;
     addScript(std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()));

@@ -2,6 +2,8 @@
 // -> pa_scene_bridge); per view, brush sub-models get their entity transforms, every MD3 entity
 // becomes a dynamic mesh instance, effects and polygons one world-space dynamic mesh, dynamic
 // lights reuse a pool of renderer lights, and the frame is traced at r_pt_scale resolution.
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -10,6 +12,8 @@
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/entity_geometry.h"
@@ -56,10 +60,54 @@ pa::Integrator integratorFor(Preset preset) {
   }
 }
 
+/// False for entities whose axes are degenerate (the game hides some that way).
+bool placeable(const glm::mat4x3& m) {
+  const float det = glm::determinant(glm::mat3(m));
+  return std::isfinite(det) && std::fabs(det) > 1e-9f;
+}
+
 bool sameInstance(const pa::InstanceDesc& a, const pa::InstanceDesc& b) {
   return a.mesh == b.mesh && a.mask == b.mask && a.drawOnTop == b.drawOnTop &&
          a.materialOverride == b.materialOverride && a.objectToWorld == b.objectToWorld &&
          a.tint == b.tint;
+}
+
+/// How a multiplicative blend darkens: by the source colour, or by its inverse.
+enum class Darkening : uint8_t { None, BySourceColor, ByInverseSourceColor };
+
+Darkening filterAsDarkening(const BlendFunc& blend) {
+  constexpr unsigned kZero = 0, kSrcColor = 0x0300, kOneMinusSrcColor = 0x0301, kDstColor = 0x0306;
+  // dst * src: (DST_COLOR, ZERO) or (ZERO, SRC_COLOR); dst * (1 - src): (ZERO, ONE_MINUS_SRC_COLOR).
+  if ((blend.src == kDstColor && blend.dst == kZero) || (blend.src == kZero && blend.dst == kSrcColor))
+    return Darkening::BySourceColor;
+  if (blend.src == kZero && blend.dst == kOneMinusSrcColor) return Darkening::ByInverseSourceColor;
+  return Darkening::None;
+}
+
+/// Black RGBA whose alpha is how much `image` darkens what is behind it.
+std::shared_ptr<const Image> darkeningImage(const std::shared_ptr<const Image>& image, Darkening mode) {
+  if (!image) return nullptr;
+  auto out = std::make_shared<Image>();
+  out->width = image->width;
+  out->height = image->height;
+  out->rgba.assign(image->rgba.size(), 0);
+  for (size_t i = 0; i + 3 < image->rgba.size(); i += 4) {
+    const int luminance = (image->rgba[i] * 54 + image->rgba[i + 1] * 183 + image->rgba[i + 2] * 19) >> 8;
+    out->rgba[i + 3] = static_cast<uint8_t>(mode == Darkening::BySourceColor ? 255 - luminance : luminance);
+  }
+  return out;
+}
+
+/// The engine dlclose()s the module on vid_restart and at exit. The tracer's thread pool (oneTBB)
+/// keeps worker threads alive for the whole process; if libtbb were unloaded with the module,
+/// those threads would run unmapped code. Mark the already loaded libtbb "never unload".
+void pinThreadPoolLibrary(const Engine& engine) {
+#ifdef PATHARENA_TBB_SONAME
+  if (dlopen(PATHARENA_TBB_SONAME, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE) == nullptr)
+    engine.warn(std::string("could not pin ") + PATHARENA_TBB_SONAME + ": " + dlerror());
+#else
+  (void)engine;
+#endif
 }
 
 }  // namespace
@@ -128,9 +176,14 @@ struct ViewRenderer::Impl {
       } else if (src == 0x0302 /*GL_SRC_ALPHA*/ && dst == 0x0303 /*GL_ONE_MINUS_SRC_ALPHA*/) {
         desc.alphaMode = pa::AlphaMode::Blend;
         desc.castsShadows = false;
+      } else if (const auto darken = filterAsDarkening(look.blend); darken != Darkening::None) {
+        // Multiplicative filters (bullet marks, blob shadows) darken what is behind. The tracer
+        // has no multiply mode: draw them as black with an alpha of how much they darken.
+        desc.baseTexture = texture(darkeningImage(entry.frames.empty() ? nullptr : entry.frames[0], darken));
+        desc.alphaMode = pa::AlphaMode::Blend;
+        desc.castsShadows = false;
       } else if (look.blend.blends()) {
-        // Multiplicative filters (marks, shadows) darken what is behind: not modelled yet.
-        desc.visible = false;
+        desc.visible = false;   // other exotic blends: not drawn
         desc.castsShadows = false;
       }
       if (look.alphaTest != AlphaTest::None && desc.alphaMode == pa::AlphaMode::Opaque) {
@@ -227,6 +280,7 @@ struct ViewRenderer::Impl {
 bool ViewRenderer::available() { return true; }
 
 ViewRenderer::ViewRenderer(const Engine& engine, int threads) : impl_(new Impl{engine, threads}) {
+  pinThreadPoolLibrary(engine);
   impl_->resetRenderer();
 }
 
@@ -252,12 +306,11 @@ void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>& bsp
   q3::ShaderLibrary library;
   std::vector<std::string> scripts;
   for (const std::string& name : engine.listFiles("scripts", ".shader")) scripts.push_back("scripts/" + name);
-  library.addScriptsInEngineOrder(scripts, [&](const std::string& path) -> std::optional<std::vector<std::byte>> {
-    auto bytes = engine.readFile(path);
-    if (!bytes) return std::nullopt;
-    const auto* p = reinterpret_cast<const std::byte*>(bytes->data());
-    return std::vector<std::byte>(p, p + bytes->size());
-  });
+  for (const std::string& path : q3::scriptsInPriorityOrder(scripts)) {
+    const auto bytes = engine.readFile(path);
+    if (!bytes) continue;
+    library.addScript(std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()), path);
+  }
   const q3::FileLoader loader = [&](std::string_view path) -> std::optional<std::vector<std::byte>> {
     auto bytes = engine.readFile(std::string(path));
     if (!bytes) return std::nullopt;
@@ -309,7 +362,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     const bool onTop = (e.renderfx & q3abi::RF_DEPTHHACK) != 0;
     if (e.reType != q3abi::RT_MODEL) continue;
     const ModelEntry* model = models.model(e.hModel);
-    if (model == nullptr) continue;
+    if (model == nullptr || !placeable(entityTransform(e))) continue;
     if (model->kind == ModelKind::Brush) {
       const auto index = static_cast<size_t>(model->brushIndex);
       if (!withWorld || index >= brushPlaced.size()) continue;

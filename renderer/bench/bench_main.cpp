@@ -1,10 +1,12 @@
 // bench: our BVH against Embree 3 on the same scene and the same rays.
 //   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
-//         [--rays N] [--json]
-// Per-ray figures are single-threaded rays per second (median over the repetitions, ours and
-// Embree interleaved in each repetition); build times use N threads for both (TBB arena).
+//         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames]
+// Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
+// the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
+// (and process CPU) with N threads for both (one TBB arena; Embree's device also gets N threads).
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -29,12 +31,14 @@ struct Options {
   uint32_t reps = 5;
   uint32_t rays = 1u << 20;
   bool json = false;
+  bool frames = true;
+  BvhBuildConfig build;
 };
 
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json]\n",
+               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames]\n",
                error.c_str());
   std::exit(2);
 }
@@ -60,16 +64,35 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--reps") o.reps = parseCount(value(), "--reps");
     else if (a == "--rays") o.rays = parseCount(value(), "--rays");
     else if (a == "--json") o.json = true;
+    else if (a == "--no-frames") o.frames = false;
+    else if (a == "--bins") o.build.binCount = parseCount(value(), "--bins");
+    else if (a == "--max-leaf") o.build.maxLeafTriangles = parseCount(value(), "--max-leaf");
+    else if (a == "--traversal-cost") o.build.traversalCost = std::strtof(value(), nullptr);
     else usage("unknown argument " + a);
   }
   if (o.scene.empty() == o.synthetic.empty()) usage("give exactly one of --scene and --synthetic");
   return o;
 }
 
-double secondsOf(const std::function<void()>& f) {
+double clockSeconds(clockid_t clock) {
+  timespec ts{};
+  clock_gettime(clock, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+/// Wall-clock seconds of f.
+double wallSeconds(const std::function<void()>& f) {
   const auto start = std::chrono::steady_clock::now();
   f();
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// CPU seconds f spends on the calling thread: the per-ray loops are single-threaded, and on a
+/// shared machine this excludes time the thread waits for a core (see docs/performance.md).
+double threadCpuSeconds(const std::function<void()>& f) {
+  const double start = clockSeconds(CLOCK_THREAD_CPUTIME_ID);
+  f();
+  return clockSeconds(CLOCK_THREAD_CPUTIME_ID) - start;
 }
 
 double median(std::vector<double> v) {
@@ -137,32 +160,38 @@ int run(int argc, char** argv) {
   testing::EmbreeDevice device("threads=" + std::to_string(opt.threads));
 
   // Build times (median over repetitions, interleaved).
-  std::vector<double> buildOurs, buildEmbree;
+  std::vector<double> buildOurs, buildEmbree, buildCpuOurs, buildCpuEmbree;
   Blas blas;
   std::unique_ptr<testing::EmbreeScene> embree;
   for (uint32_t rep = 0; rep < opt.reps; ++rep) {
-    buildOurs.push_back(secondsOf([&] { arena.execute([&] { blas.build(mesh.input()); }); }));
-    buildEmbree.push_back(secondsOf([&] {
+    double cpu = clockSeconds(CLOCK_PROCESS_CPUTIME_ID);
+    buildOurs.push_back(wallSeconds([&] { arena.execute([&] { blas.build(mesh.input(), opt.build); }); }));
+    buildCpuOurs.push_back(clockSeconds(CLOCK_PROCESS_CPUTIME_ID) - cpu);
+    embree.reset();
+    cpu = clockSeconds(CLOCK_PROCESS_CPUTIME_ID);
+    buildEmbree.push_back(wallSeconds([&] {
       auto s = std::make_unique<testing::EmbreeScene>(device);
       s->addMesh(mesh);
       arena.execute([&] { s->commit(); });
       embree = std::move(s);
     }));
+    buildCpuEmbree.push_back(clockSeconds(CLOCK_PROCESS_CPUTIME_ID) - cpu);
   }
 
   const RaySets rays = makeRaySets(scene, blas, 1024, 576, opt.rays, 7);
   Pair incoherent, shadow, primary;
   for (uint32_t rep = 0; rep < opt.reps; ++rep) {
-    incoherent.ours.push_back(secondsOf([&] { incoherent.hitsOurs = traceClosest(blas, rays.incoherent); }));
-    incoherent.embree.push_back(secondsOf([&] { incoherent.hitsEmbree = traceClosest(*embree, rays.incoherent); }));
-    shadow.ours.push_back(secondsOf([&] { shadow.hitsOurs = traceOccluded(blas, rays.shadow); }));
-    shadow.embree.push_back(secondsOf([&] { shadow.hitsEmbree = traceOccluded(*embree, rays.shadow); }));
-    primary.ours.push_back(secondsOf([&] { primary.hitsOurs = traceClosest(blas, rays.primary); }));
-    primary.embree.push_back(secondsOf([&] { primary.hitsEmbree = tracePackets(*embree, rays.primary); }));
+    incoherent.ours.push_back(threadCpuSeconds([&] { incoherent.hitsOurs = traceClosest(blas, rays.incoherent); }));
+    incoherent.embree.push_back(threadCpuSeconds([&] { incoherent.hitsEmbree = traceClosest(*embree, rays.incoherent); }));
+    shadow.ours.push_back(threadCpuSeconds([&] { shadow.hitsOurs = traceOccluded(blas, rays.shadow); }));
+    shadow.embree.push_back(threadCpuSeconds([&] { shadow.hitsEmbree = traceOccluded(*embree, rays.shadow); }));
+    primary.ours.push_back(threadCpuSeconds([&] { primary.hitsOurs = traceClosest(blas, rays.primary); }));
+    primary.embree.push_back(threadCpuSeconds([&] { primary.hitsEmbree = tracePackets(*embree, rays.primary); }));
   }
-  const FrameTimes frames = measureFrames(scene, opt.reps);
+  const FrameTimes frames = opt.frames ? measureFrames(scene, std::min(opt.reps, 3u)) : FrameTimes{{}, {}, "skipped (--no-frames)"};
 
   const double bOurs = median(buildOurs) * 1e3, bEmbree = median(buildEmbree) * 1e3;
+  const double bCpuOurs = median(buildCpuOurs) * 1e3, bCpuEmbree = median(buildCpuEmbree) * 1e3;
   const double iOurs = mrays(rays.incoherent.size(), median(incoherent.ours));
   const double iEmbree = mrays(rays.incoherent.size(), median(incoherent.embree));
   const double sOurs = mrays(rays.shadow.size(), median(shadow.ours));
@@ -175,6 +204,7 @@ int run(int argc, char** argv) {
     std::printf(
         "{\"scene\": \"%s\", \"triangles\": %u, \"threads\": %u, \"reps\": %u, \"embree_isa\": \"%s\", "
         "\"build_ms_ours\": %.3f, \"build_ms_embree\": %.3f, \"build_ratio\": %.3f, "
+        "\"build_cpu_ms_ours\": %.3f, \"build_cpu_ms_embree\": %.3f, \"build_cpu_ratio\": %.3f, "
         "\"rays_incoherent\": %zu, \"mrays_incoherent_ours\": %.3f, \"mrays_incoherent_embree\": %.3f, "
         "\"incoherent_ratio\": %.3f, \"rays_shadow\": %zu, \"mrays_shadow_ours\": %.3f, "
         "\"mrays_shadow_embree\": %.3f, \"shadow_ratio\": %.3f, \"rays_primary\": %zu, "
@@ -183,7 +213,7 @@ int run(int argc, char** argv) {
         "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, "
         "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_note\": \"%s\"}\n",
         scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), bOurs,
-        bEmbree, bOurs / bEmbree, rays.incoherent.size(), iOurs, iEmbree, iOurs / iEmbree, rays.shadow.size(),
+        bEmbree, bOurs / bEmbree, bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree, rays.incoherent.size(), iOurs, iEmbree, iOurs / iEmbree, rays.shadow.size(),
         sOurs, sEmbree, sOurs / sEmbree, rays.primary.size(), pOurs, pEmbree, pOurs / pEmbree,
         (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
         (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,
@@ -194,7 +224,8 @@ int run(int argc, char** argv) {
   std::printf("scene %s: %u triangles, build threads %u, %u repetitions (medians), Embree ISA %s\n",
               scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str());
   std::printf("%-28s %12s %12s %8s\n", "", "ours", "embree", "ratio");
-  std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms", bOurs, bEmbree, bOurs / bEmbree);
+  std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms (wall)", bOurs, bEmbree, bOurs / bEmbree);
+  std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms (process CPU)", bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "incoherent Mrays/s (1t)", iOurs, iEmbree, iOurs / iEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "shadow Mrays/s (1t)", sOurs, sEmbree, sOurs / sEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "primary Mrays/s (1t)", pOurs, pEmbree, pOurs / pEmbree);

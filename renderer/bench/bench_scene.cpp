@@ -27,6 +27,7 @@ BenchScene loadGltfScene(const std::string& path) {
   const gltf::TriangleSoup soup = gltf::flattenTriangles(scene);
   BenchScene out;
   out.name = path;
+  out.gltfPath = path;
   out.mesh.positions = soup.positions;
   out.mesh.indices = soup.indices;
   if (out.mesh.triangleCount() == 0) throw std::runtime_error(path + ": no triangles in the default scene");

@@ -24,6 +24,7 @@ struct BenchScene {
   testing::TestMesh mesh;
   BenchCamera camera;
   bool cameraFromFile = false;
+  std::string gltfPath;   ///< Source file; empty for synthetic scenes.
 };
 
 /// Loads a glTF/glb file; throws std::runtime_error with the reason.

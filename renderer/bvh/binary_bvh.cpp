@@ -1,18 +1,26 @@
 // Binned SAH build of the reference binary BVH.
 //
+// Costs: SAH counts triangles in blocks of four (the leaf packs of the wide layout), so a
+// leaf of 1..4 triangles costs one pack test. Leaves hold at most maxLeafTriangles.
 // Parallelism: large ranges bin in parallel (tbb::parallel_reduce; min/max/count merges are
-// exact and order independent) and their two children are built as parallel tasks. Each
-// subtree over n primitives owns the fixed node slot range [slot, slot + 2n - 1), so the tree
-// and its layout are identical whatever the thread count.
+// exact and order independent) and their two children are built as parallel tasks. Nodes are
+// allocated in pairs from an atomic counter while building, then renumbered depth-first, so
+// the tree and its layout are identical whatever the thread count.
 #include "renderer/bvh/binary_bvh.h"
 
 #include <algorithm>
-#include <array>
+#include <atomic>
+#include <cstdlib>
+#include <memory>
 #include <cmath>
+#include <limits>
+#include <new>
 #include <numeric>
 #include <stdexcept>
 #include <string>
 
+#include <immintrin.h>
+#include <sys/mman.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -22,153 +30,226 @@ namespace pa::bvh_detail {
 namespace {
 
 constexpr uint32_t kMaxBins = 64;
-constexpr uint32_t kBinGrain = 2048;   // primitives per binning task
+constexpr uint32_t kBinGrain = 4096;   // primitives per parallel binning task
+constexpr uint32_t kSahBlock = 4;      // triangles per leaf pack
 // Past this depth splits are object medians, so the depth stays below kMaxSahDepth + 32 and
-// traversal stacks of 128 entries cannot overflow even for pathological inputs.
+// traversal stacks of 128 levels cannot overflow even for pathological inputs.
 constexpr uint32_t kMaxSahDepth = 64;
 
+/// Box as two SSE registers (x, y, z, unused).
+struct Box {
+  __m128 lo = _mm_set1_ps(std::numeric_limits<float>::infinity());
+  __m128 hi = _mm_set1_ps(-std::numeric_limits<float>::infinity());
+  void extend(__m128 p) { lo = _mm_min_ps(lo, p); hi = _mm_max_ps(hi, p); }
+  void extend(const Box& b) { lo = _mm_min_ps(lo, b.lo); hi = _mm_max_ps(hi, b.hi); }
+  Bounds toBounds() const {
+    alignas(16) float l[4], h[4];
+    _mm_store_ps(l, lo);
+    _mm_store_ps(h, hi);
+    Bounds b;
+    b.min = {l[0], l[1], l[2]};
+    b.max = {h[0], h[1], h[2]};
+    return b;
+  }
+  float halfArea() const {
+    alignas(16) float d[4];
+    _mm_store_ps(d, _mm_sub_ps(hi, lo));
+    if (!(d[0] >= 0.0f)) return 0.0f;   // empty
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+  }
+};
+
+inline __m128 load3(const glm::vec3& v) { return _mm_setr_ps(v.x, v.y, v.z, 0.0f); }
+
+/// A primitive's box with its index in lane 3 of `lo` (as raw bits). The builder partitions
+/// these in place, so binning and partitioning stream through memory.
+struct PrimRef {
+  __m128 lo, hi;
+  uint32_t prim() const { return static_cast<uint32_t>(_mm_extract_ps(lo, 3)); }
+  /// Twice the centroid (lane 3 unused); the factor 2 cancels in the bin mapping.
+  __m128 centroid2() const { return _mm_add_ps(lo, hi); }
+  Box box() const { return {lo, hi}; }
+};
+
+/// One bin; no default member initialisers, so a BinSet only initialises the bins it uses.
 struct Bin {
-  Bounds bounds;
-  Bounds centroids;
-  uint32_t count = 0;
-  void merge(const Bin& o) {
-    bounds.extend(o.bounds);
-    centroids.extend(o.centroids);
-    count += o.count;
-  }
+  Box box;
+  uint32_t count;
 };
 
-/// Bins along all three axes for one range.
+/// Bins along all three axes for one range (only the first binCount of each axis are used).
 struct BinSet {
-  std::array<std::array<Bin, kMaxBins>, 3> axis;
-  void merge(const BinSet& o, uint32_t binCount) {
+  uint32_t binCount;
+  union {   // left uninitialised beyond binCount: small nodes use few bins
+    Bin bins[3][kMaxBins];
+  };
+  explicit BinSet(uint32_t n) : binCount(n) {
     for (int a = 0; a < 3; ++a)
-      for (uint32_t i = 0; i < binCount; ++i) axis[a][i].merge(o.axis[a][i]);
+      for (uint32_t i = 0; i < binCount; ++i) {
+        new (&bins[a][i].box) Box();
+        bins[a][i].count = 0;
+      }
+  }
+  BinSet(const BinSet& o) : binCount(o.binCount) {
+    for (int a = 0; a < 3; ++a) std::copy_n(o.bins[a], binCount, bins[a]);
+  }
+  BinSet& operator=(const BinSet& o) {
+    binCount = o.binCount;
+    for (int a = 0; a < 3; ++a) std::copy_n(o.bins[a], binCount, bins[a]);
+    return *this;
+  }
+  void merge(const BinSet& o) {
+    for (int a = 0; a < 3; ++a)
+      for (uint32_t i = 0; i < binCount; ++i) {
+        bins[a][i].box.extend(o.bins[a][i].box);
+        bins[a][i].count += o.bins[a][i].count;
+      }
   }
 };
 
-/// Maps a centroid coordinate to its bin; the same formula is used for binning and partition.
+/// Maps a (doubled) centroid to bins on the three axes; used for binning and partition alike.
 struct BinMapping {
-  glm::vec3 origin{0.0f};
-  glm::vec3 scale{0.0f};   // 0 on axes with no centroid extent
-  uint32_t binCount = 1;
-
-  BinMapping(const Bounds& centroidBounds, uint32_t bins) : origin(centroidBounds.min), binCount(bins) {
-    const glm::vec3 extent = centroidBounds.max - centroidBounds.min;
-    for (int a = 0; a < 3; ++a)
-      scale[a] = extent[a] > 0.0f ? float(bins) * 0.99999f / extent[a] : 0.0f;
+  __m128 origin, scale;
+  alignas(16) float scaleLanes[4];
+  uint32_t binCount;
+  BinMapping(const Box& centroids, uint32_t bins) : binCount(bins) {
+    origin = centroids.lo;
+    alignas(16) float extent[4];
+    _mm_store_ps(extent, _mm_sub_ps(centroids.hi, centroids.lo));
+    for (int a = 0; a < 3; ++a) scaleLanes[a] = extent[a] > 0.0f ? float(bins) * 0.99999f / extent[a] : 0.0f;
+    scaleLanes[3] = 0.0f;
+    scale = _mm_load_ps(scaleLanes);
   }
-  uint32_t bin(const glm::vec3& c, int a) const {
-    const float f = (c[a] - origin[a]) * scale[a];
-    const auto i = static_cast<int64_t>(f);
-    return static_cast<uint32_t>(std::clamp<int64_t>(i, 0, binCount - 1));
+  /// Bin index per axis (lanes 0..2).
+  __m128i bins(__m128 centroid) const {
+    const __m128i i = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(centroid, origin), scale));
+    return _mm_min_epi32(_mm_max_epi32(i, _mm_setzero_si128()), _mm_set1_epi32(int(binCount) - 1));
+  }
+  uint32_t bin(__m128 centroid, int axis) const {
+    alignas(16) int32_t b[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(b), bins(centroid));
+    return static_cast<uint32_t>(b[axis]);
   }
 };
 
 struct Split {
   int axis = -1;
-  uint32_t bin = 0;       // left side = bins [0, bin]
-  float cost = 0.0f;
-  Bounds leftBounds, rightBounds, leftCentroids, rightCentroids;
-  uint32_t leftCount = 0;
+  uint32_t bin = 0;   // left side = bins [0, bin]
+  float cost = std::numeric_limits<float>::infinity();
+  Box left, right;
+};
+
+inline float blocks(uint32_t n) { return float((n + kSahBlock - 1) / kSahBlock); }
+
+/// Uninitialised build-time array. Large ones are 2 MiB aligned and marked for transparent
+/// huge pages: a build touches all of it once, and 4 KiB page faults were a visible share of
+/// the build time.
+template <typename T>
+class ScratchArray {
+ public:
+  explicit ScratchArray(size_t count) {
+    constexpr size_t kHuge = size_t(2) << 20;
+    const size_t bytes = std::max<size_t>(count * sizeof(T), 64);
+    const bool huge = bytes >= kHuge;
+    const size_t alignment = huge ? kHuge : 64;
+    size_ = (bytes + alignment - 1) / alignment * alignment;
+    data_ = static_cast<T*>(std::aligned_alloc(alignment, size_));
+    if (data_ == nullptr) throw std::bad_alloc();
+    if (huge) madvise(data_, size_, MADV_HUGEPAGE);   // a hint; failure is harmless
+  }
+  ~ScratchArray() { std::free(data_); }
+  ScratchArray(const ScratchArray&) = delete;
+  ScratchArray& operator=(const ScratchArray&) = delete;
+  T* data() { return data_; }
+  const T* data() const { return data_; }
+  T& operator[](size_t i) { return data_[i]; }
+  const T& operator[](size_t i) const { return data_[i]; }
+
+ private:
+  T* data_ = nullptr;
+  size_t size_ = 0;
 };
 
 class Builder {
  public:
   Builder(std::span<const Bounds> primBounds, const BvhBuildConfig& config, BinaryBvh& out)
-      : bounds_(primBounds), config_(config), out_(out), centroids_(primBounds.size()) {}
+      : config_(config), out_(out), refs_(primBounds.size()), scratch_(primBounds.size()),
+        nodes_(2 * std::max<size_t>(primBounds.size(), 1)), primCount_(static_cast<uint32_t>(primBounds.size())) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, primBounds.size(), 1 << 14), [&](const auto& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        const __m128 id = _mm_castsi128_ps(_mm_cvtsi32_si128(static_cast<int>(i)));
+        refs_[i] = {_mm_insert_ps(load3(primBounds[i].min), id, 0x30), load3(primBounds[i].max)};
+      }
+    });
+  }
 
   void run() {
-    const auto n = static_cast<uint32_t>(bounds_.size());
+    const uint32_t n = primCount_;
+    nextNode_ = 1;   // nodes_ holds the worst case, 2n - 1 nodes; only built ones are touched
+    Box all, centroids;
+    rangeBoxes(0, n, all, centroids);
+    buildNode(0, 0, n, all, centroids, 0);
     out_.primIndices.resize(n);
-    std::iota(out_.primIndices.begin(), out_.primIndices.end(), 0u);
-    out_.nodes.assign(size_t(2) * n - 1, BinaryNode{});
-    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kBinGrain), [&](const auto& r) {
-      for (uint32_t i = r.begin(); i < r.end(); ++i) centroids_[i] = bounds_[i].center();
-    });
-    Bin all = rangeBounds(0, n);
-    buildNode(0, 0, n, all.bounds, all.centroids, 0);
-    // Count reachable nodes and leaves.
-    uint32_t nodes = 0, leaves = 0;
-    std::vector<uint32_t> stack{0};
-    while (!stack.empty()) {
-      const BinaryNode& node = out_.nodes[stack.back()];
-      stack.pop_back();
-      ++nodes;
-      if (node.isLeaf()) {
-        ++leaves;
-      } else {
-        stack.push_back(node.left);
-        stack.push_back(node.right);
-      }
-    }
-    out_.nodeCount = nodes;
-    out_.leafCount = leaves;
+    for (uint32_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].prim();
+    renumberDepthFirst();
   }
 
  private:
   bool parallel(uint32_t count) const { return count >= config_.parallelThreshold; }
-
-  Bin rangeBounds(uint32_t begin, uint32_t end) const {
-    auto body = [&](const tbb::blocked_range<uint32_t>& r, Bin acc) {
-      for (uint32_t i = r.begin(); i < r.end(); ++i) {
-        const uint32_t p = out_.primIndices[i];
-        acc.bounds.extend(bounds_[p]);
-        acc.centroids.extend(centroids_[p]);
-        ++acc.count;
-      }
-      return acc;
-    };
-    if (!parallel(end - begin)) return body({begin, end}, Bin{});
-    return tbb::parallel_reduce(tbb::blocked_range<uint32_t>(begin, end, kBinGrain), Bin{}, body,
-                                [](Bin a, const Bin& b) { a.merge(b); return a; });
+  void rangeBoxes(uint32_t begin, uint32_t end, Box& bounds, Box& centroids) const {
+    for (uint32_t i = begin; i < end; ++i) {
+      bounds.extend(refs_[i].box());
+      centroids.extend(refs_[i].centroid2());
+    }
   }
 
-  void binRange(const BinMapping& map, uint32_t begin, uint32_t end, BinSet& bins) const {
+  void binRange(const BinMapping& map, uint32_t begin, uint32_t end, BinSet& set) const {
+    alignas(16) int32_t b[4];
     for (uint32_t i = begin; i < end; ++i) {
-      const uint32_t p = out_.primIndices[i];
-      const glm::vec3& c = centroids_[p];
+      const PrimRef& ref = refs_[i];
+      _mm_store_si128(reinterpret_cast<__m128i*>(b), map.bins(ref.centroid2()));
       for (int a = 0; a < 3; ++a) {
-        Bin& b = bins.axis[a][map.bin(c, a)];
-        b.bounds.extend(bounds_[p]);
-        b.centroids.extend(c);
-        ++b.count;
+        Bin& bin = set.bins[a][b[a]];
+        bin.box.extend(ref.box());
+        ++bin.count;
       }
     }
   }
 
-  Split findSplit(uint32_t begin, uint32_t end, const Bounds& centroidBounds) const {
-    const uint32_t binCount = config_.binCount;
-    const BinMapping map(centroidBounds, binCount);
-    BinSet bins;
+  Split findSplit(uint32_t begin, uint32_t end, const BinMapping& map) const {
+    const uint32_t binCount = map.binCount;
+    BinSet set(binCount);
     if (parallel(end - begin)) {
-      bins = tbb::parallel_reduce(
-          tbb::blocked_range<uint32_t>(begin, end, kBinGrain), BinSet{},
+      set = tbb::parallel_reduce(
+          tbb::blocked_range<uint32_t>(begin, end, kBinGrain), BinSet(binCount),
           [&](const tbb::blocked_range<uint32_t>& r, BinSet acc) {
             binRange(map, r.begin(), r.end(), acc);
             return acc;
           },
-          [binCount](BinSet a, const BinSet& b) { a.merge(b, binCount); return a; });
+          [](BinSet a, const BinSet& b) { a.merge(b); return a; });
     } else {
-      binRange(map, begin, end, bins);
+      binRange(map, begin, end, set);
     }
     Split best;
-    best.cost = std::numeric_limits<float>::infinity();
+    const uint32_t count = end - begin;
     for (int a = 0; a < 3; ++a) {
-      if (map.scale[a] == 0.0f) continue;
-      const auto& axisBins = bins.axis[a];
-      // Sweep from the right to get the right-side areas, then from the left.
-      std::array<float, kMaxBins> rightArea{};
-      Bin acc;
+      if (map.scaleLanes[a] == 0.0f) continue;
+      const Bin* bins = set.bins[a];
+      float rightCost[kMaxBins];
+      Box acc;
+      uint32_t accCount = 0;
       for (uint32_t i = binCount - 1; i > 0; --i) {
-        acc.merge(axisBins[i]);
-        rightArea[i - 1] = acc.bounds.halfArea() * float(acc.count);
+        acc.extend(bins[i].box);
+        accCount += bins[i].count;
+        rightCost[i - 1] = acc.halfArea() * blocks(accCount);
       }
-      Bin left;
+      Box left;
+      uint32_t leftCount = 0;
       for (uint32_t i = 0; i + 1 < binCount; ++i) {
-        left.merge(axisBins[i]);
-        if (left.count == 0 || left.count == end - begin) continue;
-        const float cost = left.bounds.halfArea() * float(left.count) + rightArea[i];
+        left.extend(bins[i].box);
+        leftCount += bins[i].count;
+        if (leftCount == 0 || leftCount == count) continue;
+        const float cost = left.halfArea() * blocks(leftCount) + rightCost[i];
         if (cost < best.cost) {
           best.cost = cost;
           best.axis = a;
@@ -176,65 +257,79 @@ class Builder {
         }
       }
     }
-    if (best.axis >= 0) {
-      Bin l, r;
-      for (uint32_t i = 0; i < binCount; ++i) (i <= best.bin ? l : r).merge(bins.axis[best.axis][i]);
-      best.leftBounds = l.bounds;
-      best.rightBounds = r.bounds;
-      best.leftCentroids = l.centroids;
-      best.rightCentroids = r.centroids;
-      best.leftCount = l.count;
-    }
+    if (best.axis >= 0)
+      for (uint32_t i = 0; i < binCount; ++i) (i <= best.bin ? best.left : best.right).extend(set.bins[best.axis][i].box);
     return best;
   }
 
-  void makeLeaf(uint32_t slot, uint32_t begin, uint32_t end, const Bounds& nodeBounds) {
-    BinaryNode& node = out_.nodes[slot];
-    node.bounds = nodeBounds;
+  void makeLeaf(uint32_t slot, uint32_t begin, uint32_t end, const Box& box) {
+    BinaryNode& node = *new (&nodes_[slot]) BinaryNode();
+    node.bounds = box.toBounds();
     node.first = begin;
     node.count = end - begin;
   }
 
-  void buildNode(uint32_t slot, uint32_t begin, uint32_t end, const Bounds& nodeBounds,
-                 const Bounds& centroidBounds, uint32_t depth) {
+  /// Partitions [begin, end) by the split; returns the middle and the children's centroid
+  /// boxes. Branch-free through the scratch buffer (the left/right test is unpredictable),
+  /// keeping each side in input order, so the result is deterministic.
+  uint32_t partition(uint32_t begin, uint32_t end, const BinMapping& map, const Split& split, Box& leftCentroids,
+                     Box& rightCentroids) {
+    PrimRef* refs = refs_.data();
+    PrimRef* out = scratch_.data();
+    int64_t left = begin, right = int64_t(end) - 1;
+    const __m128i limit = _mm_set1_epi32(static_cast<int>(split.bin) + 1);
+    // Right-side elements are written from the end backwards and reversed afterwards.
+    for (uint32_t i = begin; i < end; ++i) {
+      const PrimRef ref = refs[i];
+      const __m128 c = ref.centroid2();
+      const int leftAxes = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(limit, map.bins(c))));
+      const bool isLeft = (leftAxes >> split.axis) & 1;
+      out[left] = ref;
+      out[right] = ref;
+      left += isLeft;
+      right -= !isLeft;
+      const __m128 keep = _mm_castsi128_ps(_mm_set1_epi32(isLeft ? -1 : 0));
+      leftCentroids.lo = _mm_blendv_ps(leftCentroids.lo, _mm_min_ps(leftCentroids.lo, c), keep);
+      leftCentroids.hi = _mm_blendv_ps(leftCentroids.hi, _mm_max_ps(leftCentroids.hi, c), keep);
+      rightCentroids.lo = _mm_blendv_ps(_mm_min_ps(rightCentroids.lo, c), rightCentroids.lo, keep);
+      rightCentroids.hi = _mm_blendv_ps(_mm_max_ps(rightCentroids.hi, c), rightCentroids.hi, keep);
+    }
+    const auto mid = static_cast<uint32_t>(left);
+    std::copy(out + begin, out + mid, refs + begin);
+    std::reverse_copy(out + mid, out + end, refs + mid);
+    return mid;
+  }
+
+  void buildNode(uint32_t slot, uint32_t begin, uint32_t end, const Box& box, const Box& centroids, uint32_t depth) {
     const uint32_t count = end - begin;
-    if (count == 1) return makeLeaf(slot, begin, end, nodeBounds);
-    const Split split = depth < kMaxSahDepth ? findSplit(begin, end, centroidBounds) : Split{};
-    const float area = nodeBounds.halfArea();
+    if (count == 1) return makeLeaf(slot, begin, end, box);
+    // Small nodes need no more bins than primitives (deterministic: depends on count only).
+    const BinMapping map(centroids, std::min(config_.binCount, std::max(4u, count)));
+    const Split split = depth < kMaxSahDepth ? findSplit(begin, end, map) : Split{};
     uint32_t mid;
-    Bin left, right;
+    Box left, right, leftCentroids, rightCentroids;
     if (split.axis >= 0) {
-      const float splitCost =
-          config_.traversalCost + (area > 0.0f ? split.cost / area : float(count));
-      if (count <= config_.maxLeafTriangles && float(count) <= splitCost)
-        return makeLeaf(slot, begin, end, nodeBounds);
-      const BinMapping map(centroidBounds, config_.binCount);
-      const int axis = split.axis;
-      const uint32_t splitBin = split.bin;
-      auto* first = out_.primIndices.data() + begin;
-      auto* pivot = std::stable_partition(first, first + count, [&](uint32_t p) {
-        return map.bin(centroids_[p], axis) <= splitBin;
-      });
-      mid = begin + static_cast<uint32_t>(pivot - first);
-      left.bounds = split.leftBounds;
-      left.centroids = split.leftCentroids;
-      right.bounds = split.rightBounds;
-      right.centroids = split.rightCentroids;
+      const float area = box.halfArea();
+      const float splitCost = config_.traversalCost + (area > 0.0f ? split.cost / area : blocks(count));
+      if (count <= config_.maxLeafTriangles && blocks(count) <= splitCost) return makeLeaf(slot, begin, end, box);
+      mid = partition(begin, end, map, split, leftCentroids, rightCentroids);
+      left = split.left;
+      right = split.right;
     } else {
       // All centroids coincide (or the tree is too deep): split at the object median.
-      if (count <= config_.maxLeafTriangles) return makeLeaf(slot, begin, end, nodeBounds);
+      if (count <= config_.maxLeafTriangles) return makeLeaf(slot, begin, end, box);
       mid = begin + count / 2;
-      left = rangeBounds(begin, mid);
-      right = rangeBounds(mid, end);
+      rangeBoxes(begin, mid, left, leftCentroids);
+      rangeBoxes(mid, end, right, rightCentroids);
     }
-    BinaryNode& node = out_.nodes[slot];
-    node.bounds = nodeBounds;
+    BinaryNode& node = *new (&nodes_[slot]) BinaryNode();
+    node.bounds = box.toBounds();
     node.count = 0;
-    node.left = slot + 1;
-    node.right = slot + 2 * (mid - begin);
+    node.left = nextNode_.fetch_add(2, std::memory_order_relaxed);
+    node.right = node.left + 1;
     const uint32_t leftSlot = node.left, rightSlot = node.right;
-    auto buildLeft = [&, leftSlot] { buildNode(leftSlot, begin, mid, left.bounds, left.centroids, depth + 1); };
-    auto buildRight = [&, rightSlot] { buildNode(rightSlot, mid, end, right.bounds, right.centroids, depth + 1); };
+    auto buildLeft = [&] { buildNode(leftSlot, begin, mid, left, leftCentroids, depth + 1); };
+    auto buildRight = [&] { buildNode(rightSlot, mid, end, right, rightCentroids, depth + 1); };
     if (parallel(count)) {
       tbb::parallel_invoke(buildLeft, buildRight);
     } else {
@@ -243,10 +338,39 @@ class Builder {
     }
   }
 
-  std::span<const Bounds> bounds_;
+  /// Copies the nodes into out_.nodes in depth-first order (left child = parent + 1), which
+  /// removes the dependence on task timing and keeps children after their parents.
+  void renumberDepthFirst() {
+    const uint32_t total = nextNode_.load();
+    out_.nodes.resize(total);
+    uint32_t leaves = 0, written = 0;
+    std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, kInvalidId}};   // (source, parent to patch)
+    while (!stack.empty()) {
+      const auto [source, parent] = stack.back();
+      stack.pop_back();
+      const uint32_t target = written++;
+      if (parent != kInvalidId) out_.nodes[parent].right = target;   // left is always parent + 1
+      BinaryNode node = nodes_[source];
+      if (node.isLeaf()) {
+        ++leaves;
+      } else {
+        stack.push_back({node.right, target});
+        stack.push_back({node.left, kInvalidId});
+        node.left = target + 1;
+      }
+      out_.nodes[target] = node;
+    }
+    out_.nodeCount = written;
+    out_.leafCount = leaves;
+  }
+
   const BvhBuildConfig& config_;
   BinaryBvh& out_;
-  std::vector<glm::vec3> centroids_;
+  ScratchArray<PrimRef> refs_;
+  ScratchArray<PrimRef> scratch_;   // partition buffer, disjoint ranges per task
+  ScratchArray<BinaryNode> nodes_;  // build-time nodes, indexed by allocation order
+  uint32_t primCount_;
+  std::atomic<uint32_t> nextNode_{1};
 };
 
 }  // namespace
@@ -271,23 +395,8 @@ BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfi
 }
 
 void refitBinaryBvh(BinaryBvh& bvh, std::span<const Bounds> primBounds) {
-  if (bvh.empty()) return;
-  // Post-order without recursion: children always have larger slots than their parent,
-  // so a reverse sweep over reachable slots in decreasing order visits children first.
-  std::vector<uint32_t> order;
-  order.reserve(bvh.nodeCount);
-  std::vector<uint32_t> stack{0};
-  while (!stack.empty()) {
-    const uint32_t i = stack.back();
-    stack.pop_back();
-    order.push_back(i);
-    if (!bvh.nodes[i].isLeaf()) {
-      stack.push_back(bvh.nodes[i].left);
-      stack.push_back(bvh.nodes[i].right);
-    }
-  }
-  std::sort(order.begin(), order.end(), std::greater<>());
-  for (uint32_t i : order) {
+  // Depth-first order puts children after their parents: a reverse sweep updates children first.
+  for (size_t i = bvh.nodes.size(); i-- > 0;) {
     BinaryNode& node = bvh.nodes[i];
     Bounds b;
     if (node.isLeaf()) {

@@ -21,14 +21,13 @@ struct BinaryNode {
   bool isLeaf() const { return count > 0; }
 };
 
-/// Binary BVH over primitives given by their bounds. The node array may contain unused
-/// slots (subtrees get fixed slot ranges so the layout does not depend on thread timing);
-/// only nodes reachable from the root (index 0) matter.
+/// Binary BVH over primitives given by their bounds. Nodes are in depth-first order: the root
+/// is node 0, a left child directly follows its parent, children come after their parents.
 struct BinaryBvh {
   std::vector<BinaryNode> nodes;
   std::vector<uint32_t> primIndices;   ///< Leaf order -> input primitive index.
-  uint32_t nodeCount = 0;              ///< Reachable nodes.
-  uint32_t leafCount = 0;              ///< Reachable leaves.
+  uint32_t nodeCount = 0;              ///< Nodes (== nodes.size()).
+  uint32_t leafCount = 0;              ///< Leaves.
   bool empty() const { return primIndices.empty(); }
 };
 

@@ -6,6 +6,9 @@
 
 #include "renderer/bvh/watertight.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace pa::bvh_detail {
 namespace {
 
@@ -20,8 +23,10 @@ void validatePositions(std::span<const glm::vec3> positions) {
 void computeDegenerate(TriangleMesh& mesh) {
   const uint32_t n = mesh.triangleCount();
   mesh.degenerate.assign(n, 0);
-  for (uint32_t t = 0; t < n; ++t)
-    mesh.degenerate[t] = isDegenerateTriangle(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2));
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 1 << 14), [&](const auto& r) {
+    for (uint32_t t = r.begin(); t < r.end(); ++t)
+      mesh.degenerate[t] = isDegenerateTriangle(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2));
+  });
 }
 
 }  // namespace
@@ -60,11 +65,14 @@ void updatePositions(TriangleMesh& mesh, std::span<const glm::vec3> positions) {
 
 std::vector<Bounds> triangleBounds(const TriangleMesh& mesh) {
   std::vector<Bounds> out(mesh.triangleCount());
-  for (uint32_t t = 0; t < out.size(); ++t) {
-    out[t].extend(mesh.vertex(t, 0));
-    out[t].extend(mesh.vertex(t, 1));
-    out[t].extend(mesh.vertex(t, 2));
-  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, out.size(), 1 << 14), [&](const auto& r) {
+    for (size_t t = r.begin(); t < r.end(); ++t) {
+      const auto tri = static_cast<uint32_t>(t);
+      out[t].extend(mesh.vertex(tri, 0));
+      out[t].extend(mesh.vertex(tri, 1));
+      out[t].extend(mesh.vertex(tri, 2));
+    }
+  });
   return out;
 }
 

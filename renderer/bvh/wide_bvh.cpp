@@ -5,6 +5,9 @@
 #include <limits>
 #include <stdexcept>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace pa::bvh_detail {
 namespace {
 
@@ -14,8 +17,8 @@ class Collapser {
       : binary_(binary), mesh_(mesh), out_(out) {}
 
   void run() {
+    packLeaves();
     out_.nodes.reserve(binary_.nodeCount / 4 + 1);
-    out_.packs.reserve(binary_.primIndices.size() / 2 + 1);
     out_.nodes.emplace_back();
     fillNode(0, 0);
   }
@@ -60,7 +63,7 @@ class Collapser {
         node.bounds[1][axis][i] = c.bounds.max[axis];
       }
       if (c.isLeaf()) {
-        node.child[i] = makeLeaf(c);
+        node.child[i] = leafRef_[children[i]];
       } else {
         node.child[i] = static_cast<uint32_t>(out_.nodes.size());
         out_.nodes.emplace_back();
@@ -71,39 +74,68 @@ class Collapser {
       if (!binary_.nodes[children[i]].isLeaf()) fillNode(node.child[i], children[i]);
   }
 
-  uint32_t makeLeaf(const BinaryNode& leaf) {
-    const auto first = static_cast<uint32_t>(out_.packs.size());
-    const uint32_t packCount = (leaf.count + kPackWidth - 1) / kPackWidth;
-    if (packCount > 16 || first + packCount > kFirstPackMask)
-      throw std::invalid_argument("BVH leaf too large for the wide layout");
-    for (uint32_t p = 0; p < packCount; ++p) {
-      TrianglePack pack{};
-      for (uint32_t lane = 0; lane < kPackWidth; ++lane) {
-        const uint32_t k = p * kPackWidth + lane;
-        if (k >= leaf.count) {
-          // Padding repeats the first triangle's vertices so the math stays finite.
-          for (int vtx = 0; vtx < 3; ++vtx)
-            for (int axis = 0; axis < 3; ++axis) pack.v[vtx][axis][lane] = pack.v[vtx][axis][0];
-          pack.prim[lane] = kInvalidId;
-          continue;
-        }
-        const uint32_t tri = binary_.primIndices[leaf.first + k];
-        for (int vtx = 0; vtx < 3; ++vtx) {
-          const glm::vec3 p3 = mesh_.vertex(tri, vtx);
-          for (int axis = 0; axis < 3; ++axis) pack.v[vtx][axis][lane] = p3[axis];
-        }
-        pack.prim[lane] = tri;
-        if (!mesh_.degenerate[tri]) pack.validBits |= 1u << lane;
-        if (mesh_.isMasked(tri)) pack.maskedBits |= 1u << lane;
+  /// Packs every leaf's triangles (in parallel), leaves in depth-first order, and records each
+  /// binary leaf's wide leaf reference.
+  void packLeaves() {
+    std::vector<uint32_t> leaves;
+    std::vector<uint32_t> stack{0};
+    while (!stack.empty()) {
+      const BinaryNode& n = binary_.nodes[stack.back()];
+      const uint32_t index = stack.back();
+      stack.pop_back();
+      if (n.isLeaf()) {
+        leaves.push_back(index);
+      } else {
+        stack.push_back(n.right);
+        stack.push_back(n.left);
       }
-      out_.packs.push_back(pack);
     }
-    return kLeafBit | ((packCount - 1) << kPackCountShift) | first;
+    std::vector<uint32_t> firstPack(leaves.size() + 1, 0);
+    for (size_t i = 0; i < leaves.size(); ++i) {
+      const uint32_t packs = (binary_.nodes[leaves[i]].count + kPackWidth - 1) / kPackWidth;
+      if (packs > 16) throw std::invalid_argument("BVH leaf too large for the wide layout");
+      firstPack[i + 1] = firstPack[i] + packs;
+    }
+    if (firstPack.back() > kFirstPackMask) throw std::invalid_argument("too many triangles for the wide layout");
+    out_.packs.resize(firstPack.back());
+    leafRef_.assign(binary_.nodes.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        const BinaryNode& leaf = binary_.nodes[leaves[i]];
+        const uint32_t first = firstPack[i], count = firstPack[i + 1] - first;
+        for (uint32_t p = 0; p < count; ++p) out_.packs[first + p] = makePack(leaf, p);
+        leafRef_[leaves[i]] = kLeafBit | ((count - 1) << kPackCountShift) | first;
+      }
+    });
+  }
+
+  TrianglePack makePack(const BinaryNode& leaf, uint32_t p) const {
+    TrianglePack pack{};
+    for (uint32_t lane = 0; lane < kPackWidth; ++lane) {
+      const uint32_t k = p * kPackWidth + lane;
+      if (k >= leaf.count) {
+        // Padding repeats the first triangle's vertices so the math stays finite.
+        for (int vtx = 0; vtx < 3; ++vtx)
+          for (int axis = 0; axis < 3; ++axis) pack.v[vtx][axis][lane] = pack.v[vtx][axis][0];
+        pack.prim[lane] = kInvalidId;
+        continue;
+      }
+      const uint32_t tri = binary_.primIndices[leaf.first + k];
+      for (int vtx = 0; vtx < 3; ++vtx) {
+        const glm::vec3 p3 = mesh_.vertex(tri, vtx);
+        for (int axis = 0; axis < 3; ++axis) pack.v[vtx][axis][lane] = p3[axis];
+      }
+      pack.prim[lane] = tri;
+      if (!mesh_.degenerate[tri]) pack.validBits |= 1u << lane;
+      if (mesh_.isMasked(tri)) pack.maskedBits |= 1u << lane;
+    }
+    return pack;
   }
 
   const BinaryBvh& binary_;
   const TriangleMesh& mesh_;
   WideBvh& out_;
+  std::vector<uint32_t> leafRef_;   // binary leaf node -> wide leaf reference
 };
 
 }  // namespace

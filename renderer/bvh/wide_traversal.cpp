@@ -1,5 +1,5 @@
 // SIMD traversal of the 8-wide BVH: one ray against eight child boxes at a time (conservative
-// slab test, see slab_test.h), nearest child first for closest hits, and four triangles at a
+// slab test, see slab_test.h), nearest child first for closest hits (any-hit rays skip even that), and four triangles at a
 // time with the watertight test (see watertight.h; same operations in the same order, so the
 // results are bit-identical to the scalar reference).
 #include <algorithm>
@@ -124,6 +124,34 @@ inline void leafPacks(uint32_t ref, uint32_t& first, uint32_t& count) {
 
 inline uint32_t floatKey(float t) { return std::bit_cast<uint32_t>(std::max(t, 0.0f)); }
 
+/// Pushes all hit children but the nearest onto the stack (in node order: a full sort measured
+/// slower, and entries farther than the closest hit so far are culled when popped) and returns
+/// the nearest. Entries are (entry distance bits << 32) | child reference. mask has >= 2 bits.
+/// The stack top is passed by value and returned so it stays in a register.
+struct PushResult {
+  uint32_t nearest;
+  int top;
+};
+[[gnu::always_inline]] inline PushResult pushOrdered(const WideNode& node, int mask, vfloat8 tNearV, uint64_t* stack,
+                                                    int top) {
+  alignas(32) float tNear[kWideWidth];
+  tNearV.store(tNear);
+  // Nearest child is traversed next; the others are pushed unsorted (culled on pop by distance).
+  uint64_t best = ~uint64_t(0);
+  while (mask) {
+    const int i = std::countr_zero(static_cast<uint32_t>(mask));
+    mask &= mask - 1;
+    const uint64_t key = (uint64_t(floatKey(tNear[i])) << 32) | node.child[i];
+    if (key < best) {
+      if (best != ~uint64_t(0)) stack[top++] = best;
+      best = key;
+    } else {
+      stack[top++] = key;
+    }
+  }
+  return {static_cast<uint32_t>(best), top};
+}
+
 }  // namespace
 
 bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId) {
@@ -144,23 +172,9 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
           current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
           continue;
         }
-        alignas(32) float tNear[kWideWidth];
-        tNearV.store(tNear);
-        uint64_t keys[kWideWidth];
-        int n = 0;
-        while (mask) {
-          const int i = std::countr_zero(static_cast<uint32_t>(mask));
-          mask &= mask - 1;
-          const uint64_t key = (uint64_t(floatKey(tNear[i])) << 32) | node.child[i];
-          int j = n++;
-          while (j > 0 && keys[j - 1] < key) {   // descending: nearest last
-            keys[j] = keys[j - 1];
-            --j;
-          }
-          keys[j] = key;
-        }
-        for (int i = 0; i < n - 1; ++i) stack[top++] = keys[i];
-        current = static_cast<uint32_t>(keys[n - 1]);
+        const PushResult pushed = pushOrdered(node, mask, tNearV, stack, top);
+        current = pushed.nearest;
+        top = pushed.top;
         continue;
       }
     } else {
@@ -201,6 +215,8 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
   if (bvh.empty()) return false;
   const BoxRay boxRay(ray);
   const TriangleRay triRay(ray);
+  // Children are visited in node order, not sorted by distance: any occluder ends the search,
+  // and skipping the sort measured faster (docs/performance.md).
   uint32_t stack[kWideStackSize];
   int top = 0;
   uint32_t current = 0;
@@ -208,13 +224,13 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
     if (!(current & kLeafBit)) {
       const WideNode& node = bvh.nodes[current];
       vfloat8 tNear;
-      int mask = boxRay.test(node, ray.tmax, tNear);
+      const int mask = boxRay.test(node, ray.tmax, tNear);
       if (mask != 0) {
+        int rest = mask & (mask - 1);
         current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
-        mask &= mask - 1;
-        while (mask) {
-          stack[top++] = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
-          mask &= mask - 1;
+        while (rest) {
+          stack[top++] = node.child[std::countr_zero(static_cast<uint32_t>(rest))];
+          rest &= rest - 1;
         }
         continue;
       }

@@ -51,6 +51,15 @@ std::string_view integratorName(Integrator integrator) {
   return "?";
 }
 
+std::string_view tonemapName(Tonemap tonemap) {
+  switch (tonemap) {
+    case Tonemap::AcesFitted: return "aces";
+    case Tonemap::Reinhard: return "reinhard";
+    case Tonemap::Clamp: return "clamp";
+  }
+  return "?";
+}
+
 ParseResult parseCommandLine(std::span<const std::string_view> args) {
   ParseResult result;
   CliOptions& o = result.options;
@@ -134,6 +143,14 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
         ok = false;
         message = "--integrator: expected lightmap, direct or path, got \"" + std::string(value) + "\"";
       }
+    } else if (name == "--tonemap") {
+      if (value == "aces") o.tonemap = Tonemap::AcesFitted;
+      else if (value == "reinhard") o.tonemap = Tonemap::Reinhard;
+      else if (value == "clamp") o.tonemap = Tonemap::Clamp;
+      else {
+        ok = false;
+        message = "--tonemap: expected aces, reinhard or clamp, got \"" + std::string(value) + "\"";
+      }
     } else {
       message = "unknown option " + std::string(name) + " (see --help)";
       return result;
@@ -197,6 +214,9 @@ View:
   --camera INDEX         Camera of the scene to render (default 0). Without any camera in the
                          file, a camera framing the whole scene is made up.
   --exposure E           Linear multiplier before tonemapping (default 1)
+  --tonemap NAME         PNG display transform: aces (filmic, default) | reinhard (luminance,
+                         hue kept) | clamp (no curve: the stock renderer's look, best with
+                         --integrator lightmap)
   --light-scale X        glTF photometric units -> renderer units: multiplies light intensities
                          (candela, lux) and emissive strengths alike (default 1)
 

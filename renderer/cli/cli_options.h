@@ -24,6 +24,7 @@ struct CliOptions {
   uint32_t seed = 0;
   uint32_t threads = 0;                         ///< 0 = all cores.
   Integrator integrator = Integrator::Path;
+  Tonemap tonemap = Tonemap::AcesFitted;        ///< Display transform of the PNG.
   uint32_t camera = 0;                          ///< Index into the scene's cameras.
   float clamp = 0.0f;                           ///< Radiance clamp per path, 0 = off.
   float exposure = 1.0f;
@@ -54,5 +55,8 @@ std::string usageText(std::string_view program);
 
 /// Integrator name as on the command line ("lightmap", "direct", "path").
 std::string_view integratorName(Integrator integrator);
+
+/// Tonemap name as on the command line ("aces", "reinhard", "clamp").
+std::string_view tonemapName(Tonemap tonemap);
 
 }  // namespace pa::cli

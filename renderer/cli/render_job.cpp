@@ -91,6 +91,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.seed = options.seed;
     settings.accumulate = true;
     settings.exposure = options.exposure;
+    settings.tonemap = options.tonemap;
     const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);
 
     const bool showProgress = !options.quiet && (options.progress || ::isatty(::fileno(log)));

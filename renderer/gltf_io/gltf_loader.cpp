@@ -271,6 +271,10 @@ class SceneBuilder {
     if (depth > kMaxNodeDepth) fail(what + ": node hierarchy deeper than " + std::to_string(kMaxNodeDepth));
     const tinygltf::Node& node = model_.nodes[index];
     const glm::dmat4 world = parent * localTransform(node, what);
+    for (int column = 0; column < 4; ++column)
+      for (int row = 0; row < 3; ++row)
+        if (!std::isfinite(static_cast<float>(world[column][row])))
+          fail(what + ": world transform overflows (non-finite in single precision)");
     onPath_[index] = true;
     if (node.mesh >= 0) addInstance(node, world, what);
     else if (node.mesh < -1) fail(what + ".mesh " + std::to_string(node.mesh) + " out of range");
@@ -392,8 +396,13 @@ std::vector<int> rootNodes(const tinygltf::Model& model, const LoadOptions& opti
   if (static_cast<size_t>(sceneIndex) >= model.scenes.size())
     fail("scene " + std::to_string(sceneIndex) + " out of range (file has " + std::to_string(model.scenes.size()) +
          " scenes)");
-  scene.sceneExtras = convertExtras(model.scenes[static_cast<size_t>(sceneIndex)].extras);
-  return model.scenes[static_cast<size_t>(sceneIndex)].nodes;
+  const tinygltf::Scene& source = model.scenes[static_cast<size_t>(sceneIndex)];
+  scene.sceneExtras = convertExtras(source.extras);
+  // Metadata may also sit on the root nodes (assets_converter's map node): merge, scene first.
+  for (int root : source.nodes)
+    if (root >= 0 && static_cast<size_t>(root) < model.nodes.size())
+      scene.sceneExtras.merge(convertExtras(model.nodes[static_cast<size_t>(root)].extras));
+  return source.nodes;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // File reading, GLB header validation and image decoding for the glTF importer.
 #include "renderer/gltf_io/gltf_model_reader.h"
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -123,7 +124,13 @@ tinygltf::Model readModel(const std::filesystem::path& path, bool decodeImages,
     while (!error.empty() && (error.back() == '\n' || error.back() == '\r')) error.pop_back();
     throw std::runtime_error(name + ": glTF parse error: " + (error.empty() ? "unknown error" : error));
   }
-  if (!warning.empty()) warnings.push_back(warning);
+  // tinygltf joins its warnings with newlines: one entry per line.
+  size_t start = 0;
+  while (start < warning.size()) {
+    const size_t end = std::min(warning.find('\n', start), warning.size());
+    if (end > start) warnings.push_back(warning.substr(start, end - start));
+    start = end + 1;
+  }
   return model;
 }
 

@@ -124,7 +124,9 @@ struct GltfScene {
   std::vector<GltfImage> images;
   std::vector<GltfLight> lights;
   std::vector<GltfCamera> cameras;   ///< In node order of the scene traversal.
-  Extras sceneExtras;                ///< Extras of the glTF scene (e.g. "sky_color").
+  /// Extras of the glTF scene (e.g. "sky_color"), then of its root nodes for keys not yet
+  /// present (assets_converter keeps map metadata such as "quake.sky.color" on the root node).
+  Extras sceneExtras;
   std::vector<std::string> warnings; ///< Unsupported features that were skipped.
 };
 

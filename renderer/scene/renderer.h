@@ -78,6 +78,8 @@ class Renderer {
 
   /// Renders one frame of settings.samplesPerPixel samples per pixel and returns the film.
   /// Accumulation continues while camera, settings and scene are unchanged since the last call.
+  /// The returned views stay valid until the next render() call; width or height 0 renders
+  /// nothing and returns an empty view. Sees the scene as of the last commit().
   FrameView render(const Camera& camera, const RenderSettings& settings);
 
   /// Forgets the accumulated frames (next render starts a new mean).

@@ -17,15 +17,25 @@
 //   from behind for camera and bounce rays (not for shadow rays).
 // - Vertex colours multiply the base colour, except with useVertexLight where they are baked
 //   light: used by the Lightmap integrator only, ignored by Direct/Path.
+// - Blend surfaces are stochastic coverage: a ray stops on them with probability
+//   alpha * opacity (hashed per ray and triangle), for camera, bounce and shadow rays alike.
 // - Additive surfaces add their colour (base colour + emission) to camera rays and mirror
 //   reflections only: they neither occlude, shadow nor light other surfaces.
 // - Sky surfaces (sky = true) show the sky; they are transparent to shadow rays aimed at the
 //   sun or sky and block the others.
+// - Integrators: Lightmap = emission + base colour x (lightmap texture at lightmapUvs, or the
+//   vertex colour with useVertexLight, or 1 when neither: fullbright). Direct = emission +
+//   one light sample per camera sample (lights picked by power) with MIS against one BSDF
+//   sample. Path = the same at every vertex.
 // - maxBounces counts diffuse/glossy scattering events: 0 = emission and sky only,
 //   1 = direct lighting, N = paths of up to N scattering vertices. Mirror bounces are free
 //   (capped at maxBounces + 8 in total).
 // - radianceClamp caps each light contribution of a path (light samples and emitters reached
 //   by bounces) at that maximum RGB component; what the camera sees directly is never clamped.
+// - Sky cube map: face f looks from the centre along its axis (+X, -X, +Y, -Y, +Z, -Z); its
+//   image top points to +Z (to +X for the two Z faces) and its image right is axis x top
+//   (+X face: right = -Y; +Y face: right = +X; +Z face: right = +Y; -Z face: right = -Y).
+//   The faces are multiplied by color * intensity (set color to 1 to see them as they are).
 // - Textures sample with (0, 0) at the top-left texel corner.
 #include <array>
 #include <cstdint>

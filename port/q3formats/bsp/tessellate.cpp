@@ -5,6 +5,7 @@
 #include <cmath>
 #include <bit>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <tuple>
 #include <unordered_map>
@@ -53,23 +54,65 @@ PatchControlGrid controlGrid(const BspFile& bsp, const BspSurface& s) {
                                                               static_cast<size_t>(s.numVerts))};
 }
 
+/// Snaps points closer than `distance` onto the first such point seen, so that neighbouring
+/// patches written with float noise (15.9999943 against 16) share boundary curves exactly.
+class PointWelder {
+ public:
+  explicit PointWelder(float distance) : distance_(distance), cell_(2 * distance) {}
+
+  glm::vec3 weld(const glm::vec3& p) {
+    int64_t c[3];
+    for (int k = 0; k < 3; ++k)
+      c[k] = static_cast<int64_t>(std::floor(std::clamp(p[k] / cell_, -1e15f, 1e15f)));
+    for (int64_t dx = -1; dx <= 1; ++dx)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          const auto it = cells_.find(cellKey(c[0] + dx, c[1] + dy, c[2] + dz));
+          if (it == cells_.end()) continue;
+          for (const glm::vec3& q : it->second)
+            if (glm::distance(p, q) <= distance_) return q;
+        }
+    cells_[cellKey(c[0], c[1], c[2])].push_back(p);
+    return p;
+  }
+
+ private:
+  static uint64_t cellKey(int64_t x, int64_t y, int64_t z) {
+    uint64_t h = 1469598103934665603ull;
+    for (int64_t v : {x, y, z}) h = (h ^ static_cast<uint64_t>(v)) * 1099511628211ull;
+    return h;
+  }
+  float distance_, cell_;
+  std::unordered_map<uint64_t, std::vector<glm::vec3>> cells_;
+};
+
 }  // namespace
 
 std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const TessellationOptions& options) {
   if (!(options.maxError > 0) || !std::isfinite(options.maxError))
     throw std::invalid_argument("tessellation maxError must be a positive number");
+  if (!(options.weldDistance >= 0 && options.weldDistance <= 1))
+    throw std::invalid_argument("tessellation weldDistance must be in [0, 1]");
   if (options.maxSegmentsPerSpan < 1 || options.maxSegmentsPerSpan > 1024)
     throw std::invalid_argument("tessellation maxSegmentsPerSpan must be in [1, 1024]");
   const int segmentCap = std::bit_floor(static_cast<unsigned>(options.maxSegmentsPerSpan));
 
   // Patches first: their subdivision depends on their neighbours.
-  std::vector<size_t> patchSurface;
+  std::vector<std::vector<BspDrawVert>> controls;  // welded copies of the control points
   std::vector<PatchControlGrid> grids;
   std::vector<PatchSubdivision> subdivisions;
-  for (size_t i = 0; i < bsp.surfaces.size(); ++i) {
-    if (bsp.surfaces[i].type != SurfaceType::Patch) continue;
-    patchSurface.push_back(i);
-    grids.push_back(controlGrid(bsp, bsp.surfaces[i]));
+  PointWelder welder(options.weldDistance);
+  for (const auto& s : bsp.surfaces) {
+    if (s.type != SurfaceType::Patch) continue;
+    const auto source = controlGrid(bsp, s).points;
+    auto& welded = controls.emplace_back(source.begin(), source.end());
+    if (options.stitchPatches && options.weldDistance > 0)
+      for (auto& v : welded) v.position = welder.weld(v.position);
+  }
+  for (size_t k = 0, i = 0; i < bsp.surfaces.size(); ++i) {
+    const auto& s = bsp.surfaces[i];
+    if (s.type != SurfaceType::Patch) continue;
+    grids.push_back({s.patchWidth, s.patchHeight, controls[k++]});
     subdivisions.push_back(requiredSubdivision(grids.back(), options.maxError, segmentCap));
   }
   if (options.stitchPatches) matchSharedPatchEdges(grids, subdivisions);
@@ -121,6 +164,7 @@ PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float t
   };
   std::vector<Edge> edges;
   std::vector<Point> points;
+  PointWelder welder(std::max(tolerance, 1e-6f));  // near-equal vertices count as shared
   for (size_t m = 0; m < meshes.size(); ++m) {
     const auto& mesh = meshes[m];
     if (mesh.type != SurfaceType::Patch) continue;
@@ -132,7 +176,8 @@ PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float t
       }
     for (const auto& [edge, count] : uses) {
       if (count != 1) continue;
-      const glm::vec3 a = mesh.vertices[edge.first].position, b = mesh.vertices[edge.second].position;
+      const glm::vec3 a = welder.weld(mesh.vertices[edge.first].position);
+      const glm::vec3 b = welder.weld(mesh.vertices[edge.second].position);
       const glm::vec3 dir = unitOrZero(b - a);
       edges.push_back({a, b, m, mesh.model});
       points.push_back({a, dir, m, mesh.model});
@@ -160,8 +205,24 @@ PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float t
       for (int y = y0; y <= y1; ++y)
         for (int z = z0; z <= z1; ++z) cells[cellKey(x, y, z)].push_back(e);
   }
+  // A crack needs the other edge's two ends on this mesh's boundary without this mesh having
+  // that edge itself: both patches follow the same curve between the two vertices but cut it
+  // differently. (A boundary that only touches tangentially at one vertex is not a crack.)
+  using PointKey = std::tuple<float, float, float>;
+  auto key = [](const glm::vec3& p) { return PointKey{p.x, p.y, p.z}; };
+  std::set<std::pair<size_t, PointKey>> boundaryVertex;
+  std::set<std::tuple<size_t, PointKey, PointKey>> boundaryEdge;
+  for (const auto& e : edges) {
+    boundaryVertex.insert({e.mesh, key(e.a)});
+    boundaryVertex.insert({e.mesh, key(e.b)});
+    boundaryEdge.insert({e.mesh, std::min(key(e.a), key(e.b)), std::max(key(e.a), key(e.b))});
+  }
+  auto followsSameCurve = [&](size_t mesh, const Edge& other) {
+    return boundaryVertex.contains({mesh, key(other.a)}) && boundaryVertex.contains({mesh, key(other.b)}) &&
+           !boundaryEdge.contains({mesh, std::min(key(other.a), key(other.b)), std::max(key(other.a), key(other.b))});
+  };
   // A vertex is counted once per mesh even though two boundary edges list it.
-  std::map<std::tuple<size_t, float, float, float>, int> counted;
+  std::set<std::pair<size_t, PointKey>> counted;
   constexpr float kParallel = 0.985f;  // within 10 degrees
   for (const auto& pt : points) {
     const auto it = cells.find(cellKey(cellOf(pt.p.x), cellOf(pt.p.y), cellOf(pt.p.z)));
@@ -178,7 +239,8 @@ PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float t
       if (t * len <= tolerance || (1 - t) * len <= tolerance) continue;  // at an endpoint
       const float distance = glm::length(edge.a + t * d - pt.p);
       if (distance > reach) continue;
-      if (!counted.emplace(std::tuple{pt.mesh, pt.p.x, pt.p.y, pt.p.z}, 1).second) break;
+      if (distance > tolerance && !followsSameCurve(pt.mesh, edge)) continue;
+      if (!counted.insert({pt.mesh, key(pt.p)}).second) break;
       if (distance <= tolerance) ++stats.tJunctions;
       else ++stats.cracks;
       break;

@@ -12,8 +12,9 @@ namespace q3 {
 struct TessellationOptions {
   float maxError = 4.0f;             ///< max distance surface <-> triangles, world units (r_subdivisions)
   int maxSegmentsPerSpan = 64;       ///< cap per 3x3 piece and direction (power of two)
-  size_t maxTotalVertices = 1u << 25;  ///< budget for all output; exceeding it throws FormatError
+  size_t maxTotalVertices = 1u << 22;  ///< budget for all output (real maps: < 120k); over it: FormatError
   bool stitchPatches = true;         ///< equalise subdivision along boundaries shared by patches
+  float weldDistance = 0.01f;        ///< with stitching: patch control points this close become one
 };
 
 /// One mesh per drawable surface, in surface order; flares and empty surfaces are skipped.
@@ -27,7 +28,8 @@ std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const Tessellati
 struct PatchSeamStats {
   size_t boundaryEdges = 0;  ///< patch edges used by one triangle of their own mesh
   size_t tJunctions = 0;     ///< seam vertices on the other edge (distance <= tolerance)
-  size_t cracks = 0;         ///< seam vertices off the other edge (tolerance < distance <= gapLimit)
+  size_t cracks = 0;  ///< seam vertices off the other edge (tolerance < distance <= gapLimit) between
+                      ///< two vertices that both patches share: the same curve cut differently
 };
 /// Measures T-junctions and cracks between patch boundaries.
 PatchSeamStats measurePatchSeams(const std::vector<SurfaceMesh>& meshes, float tolerance = 0.01f,

@@ -18,35 +18,96 @@ void checkInputSize(std::span<const std::byte> bytes, const std::string& name) {
     throw FormatError(name, "image", "file of " + std::to_string(bytes.size()) + " bytes is too large");
 }
 
+std::string failureReason() {
+  const char* why = stbi_failure_reason();
+  return why ? why : "unknown reason";
+}
+
 uint8_t at(std::span<const std::byte> bytes, size_t i) { return static_cast<uint8_t>(bytes[i]); }
 
-/// stb_image reads zeros past the end of an uncompressed TGA; we refuse a truncated one instead.
-/// (RLE TGAs cannot be measured without decoding: a short one decodes with black padding.)
-void checkUncompressedTgaLength(std::span<const std::byte> bytes, int w, int h, const std::string& name) {
+/// stb_image reads zeros past the end of a TGA, so a 45-byte file can claim 8192x8192 and make it
+/// allocate and fill 256 MiB. Refuse a TGA shorter than its pixels need: exact for uncompressed
+/// files, a lower bound for RLE (a packet covers at most 128 pixels with 1 + pixel-size bytes).
+void checkTgaLength(std::span<const std::byte> bytes, int w, int h, const std::string& name) {
   if (bytes.size() < 18) return;
   const bool otherFormat = (at(bytes, 0) == 0x89 && at(bytes, 1) == 'P') ||
                            (at(bytes, 0) == 0xFF && at(bytes, 1) == 0xD8) ||
                            (at(bytes, 0) == 'B' && at(bytes, 1) == 'M');
   const uint8_t type = at(bytes, 2);
-  if (otherFormat || type < 1 || type > 3) return;
+  const bool rle = type >= 9 && type <= 11;
+  if (otherFormat || !((type >= 1 && type <= 3) || rle)) return;
   const size_t idLength = at(bytes, 0);
   const size_t mapLength = at(bytes, 1) ? (at(bytes, 5) | (at(bytes, 6) << 8)) : 0;
   const size_t mapEntryBytes = (at(bytes, 7) + 7u) / 8u;
   const size_t pixelBytes = (at(bytes, 16) + 7u) / 8u;
-  const size_t need = 18 + idLength + mapLength * mapEntryBytes +
-                      static_cast<size_t>(w) * static_cast<size_t>(h) * pixelBytes;
+  const size_t pixels = static_cast<size_t>(w) * static_cast<size_t>(h);
+  const size_t pixelData = rle ? (pixels + 127) / 128 * (1 + pixelBytes) : pixels * pixelBytes;
+  const size_t need = 18 + idLength + mapLength * mapEntryBytes + pixelData;
   if (bytes.size() < need)
     throw FormatError(name, "TGA pixel data",
-                      "truncated: " + std::to_string(bytes.size()) + " of " + std::to_string(need) + " bytes");
+                      std::string("truncated: ") + std::to_string(bytes.size()) + " bytes, " +
+                          (rle ? "at least " : "") + std::to_string(need) + " needed");
+}
+
+/// stb_image 2.27 (Debian bookworm) does not check that a JPEG Huffman table holds at most 256
+/// codes and writes past its tables when it does (found by q3_fuzz_image; fixed upstream in 2.28).
+/// Walk every marker segment, including those between progressive scans, and refuse such files.
+void checkJpegHuffmanTables(std::span<const std::byte> bytes, const std::string& name) {
+  if (bytes.size() < 4 || at(bytes, 0) != 0xFF || at(bytes, 1) != 0xD8) return;
+  size_t pos = 2;
+  while (pos + 4 <= bytes.size()) {
+    if (at(bytes, pos) != 0xFF) {  // entropy-coded data: skip to the next real marker
+      ++pos;
+      continue;
+    }
+    const uint8_t marker = at(bytes, pos + 1);
+    if (marker == 0x00 || marker == 0xFF || (marker >= 0xD0 && marker <= 0xD7)) {  // stuffing, fill, RSTn
+      ++pos;
+      continue;
+    }
+    if (marker == 0xD9) return;  // EOI
+    const size_t length = (static_cast<size_t>(at(bytes, pos + 2)) << 8) | at(bytes, pos + 3);
+    const size_t end = pos + 2 + length;
+    if (marker == 0xC4) {  // DHT: tables of (class/id, 16 counts, values)
+      size_t t = pos + 4;
+      while (t < end && t < bytes.size()) {
+        size_t codes = 0;  // stb reads zeros past the end: a cut-off header counts what is there
+        for (size_t i = 1; i <= 16 && t + i < bytes.size(); ++i) codes += at(bytes, t + i);
+        if (codes > 256)
+          throw FormatError(name, "JPEG huffman table", std::to_string(codes) + " codes, at most 256");
+        t += 17 + codes;
+      }
+    }
+    if (length < 2) return;  // stb rejects it
+    pos = end;
+  }
+}
+
+/// Only the formats the engine loads reach stb (it also decodes GIF, PSD, PIC, PNM and HDR, which
+/// would widen what a hostile pk3 can reach). PNG, JPEG and BMP are known by their magic numbers;
+/// anything else must have a plausible TGA header (no other format's magic can pass that test).
+void checkFormatIsAllowed(std::span<const std::byte> bytes, const std::string& name) {
+  if (bytes.size() >= 8 && at(bytes, 0) == 0x89 && at(bytes, 1) == 'P' && at(bytes, 2) == 'N' && at(bytes, 3) == 'G') return;
+  if (bytes.size() >= 3 && at(bytes, 0) == 0xFF && at(bytes, 1) == 0xD8 && at(bytes, 2) == 0xFF) return;
+  if (bytes.size() >= 2 && at(bytes, 0) == 'B' && at(bytes, 1) == 'M') return;
+  if (bytes.size() >= 18) {
+    const uint8_t mapType = at(bytes, 1), type = at(bytes, 2), bpp = at(bytes, 16);
+    const bool tgaType = type == 1 || type == 2 || type == 3 || type == 9 || type == 10 || type == 11;
+    const bool tgaBpp = bpp == 8 || bpp == 15 || bpp == 16 || bpp == 24 || bpp == 32;
+    if (mapType <= 1 && tgaType && tgaBpp) return;
+  }
+  throw FormatError(name, "image format", "not a TGA, JPEG, PNG or BMP file");
 }
 
 }  // namespace
 
 std::array<int, 2> imageSize(std::span<const std::byte> bytes, const std::string& name) {
   checkInputSize(bytes, name);
+  checkFormatIsAllowed(bytes, name);
+  checkJpegHuffmanTables(bytes, name);  // before stbi_info: its header pass builds the tables too
   int w = 0, h = 0, comp = 0;
   if (!stbi_info_from_memory(data(bytes), static_cast<int>(bytes.size()), &w, &h, &comp))
-    throw FormatError(name, "image header", std::string("unreadable: ") + stbi_failure_reason());
+    throw FormatError(name, "image header", "unreadable: " + failureReason());
   return {w, h};
 }
 
@@ -56,11 +117,11 @@ Image decodeImage(std::span<const std::byte> bytes, const std::string& name) {
     throw FormatError(name, "image size",
                       std::to_string(w) + "x" + std::to_string(h) + " outside 1.." +
                           std::to_string(ImageLimits::maxDimension));
-  checkUncompressedTgaLength(bytes, w, h, name);
+  checkTgaLength(bytes, w, h, name);
   int dw = 0, dh = 0, comp = 0;
   std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
       stbi_load_from_memory(data(bytes), static_cast<int>(bytes.size()), &dw, &dh, &comp, 4), stbi_image_free);
-  if (!pixels) throw FormatError(name, "image data", std::string("cannot decode: ") + stbi_failure_reason());
+  if (!pixels) throw FormatError(name, "image data", "cannot decode: " + failureReason());
   if (dw != w || dh != h)
     throw FormatError(name, "image size", "header and decoded sizes differ");
   Image image;

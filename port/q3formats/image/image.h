@@ -29,8 +29,9 @@ struct ImageLimits {
 };
 
 /// Decodes TGA (uncompressed and RLE; true-colour 16/24/32 bit, grey, colour-mapped; either
-/// origin), JPG, PNG or BMP. The size is read first and refused beyond ImageLimits; failures
-/// throw FormatError naming `name`. The result is always RGBA8, top row first.
+/// origin), JPG, PNG or BMP (other formats stb knows are refused). The size is read first and
+/// refused beyond ImageLimits; failures throw FormatError naming `name` and the field.
+/// The result is always RGBA8, top row first.
 Image decodeImage(std::span<const std::byte> bytes, const std::string& name);
 
 /// Width and height from the header only (no decode); throws FormatError if unreadable.

@@ -101,6 +101,7 @@ class ScriptParser {
     warnings_.push_back({file_, line, current_ ? current_->name : "", keyword, message, false, 1});
   }
   void unknown(const std::string& keyword, const std::string& context, int line) {
+    if (current_) ++current_->unknownKeywords;
     auto it = unknownIndex_.find(keyword);
     if (it != unknownIndex_.end()) {
       ++warnings_[it->second].count;
@@ -219,7 +220,7 @@ class ScriptParser {
       auto name = word();
       if (!name) return warn(k, "missing surfaceparm name", line);
       if (auto bit = surfaceParmFromName(*name)) def.surfaceParms |= static_cast<uint64_t>(*bit);
-      else unknown(toLowerAscii(*name), "surfaceparm", line);
+      else unknown("surfaceparm " + toLowerAscii(*name), "surfaceparm", line);
     } else if (k == "cull") {
       auto mode = word();
       if (!mode) return warn(k, "missing cull mode", line);

@@ -177,6 +177,8 @@ struct ShaderDef {
   std::vector<CompilerDirective> compilerDirectives;  ///< other q3map_*/qer_*/tess* lines
   std::vector<ShaderStage> stages;
   bool implicit = false;            ///< made from an image, not from a script
+  int unknownKeywords = 0;          ///< unknown keywords met; the stock renderer would fall back
+                                    ///< to its default shader when > 0, we keep what we understood
 
   /// True if the SurfaceParm bit is set.
   bool has(SurfaceParm p) const { return (surfaceParms & static_cast<uint64_t>(p)) != 0; }

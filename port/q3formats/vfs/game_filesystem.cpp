@@ -15,7 +15,7 @@
 namespace q3 {
 namespace {
 
-constexpr size_t kMaxFileBytes = size_t{1} << 30;  // 1 GiB: larger entries are refused
+constexpr size_t kMaxFileBytes = size_t{1} << 28;  // 256 MiB: larger entries (zip bombs) are refused
 
 std::string physfsError() {
   return PHYSFS_getErrorByCode(PHYSFS_getLastErrorCode());
@@ -165,7 +165,7 @@ std::optional<std::vector<std::byte>> GameFileSystem::readFile(std::string_view 
     std::error_code ec;
     const auto size = std::filesystem::file_size(*loose, ec);
     if (!in || ec) throw FormatError(loose->string(), "file", "cannot be read");
-    if (size > kMaxFileBytes) throw FormatError(loose->string(), "file", "larger than 1 GiB");
+    if (size > kMaxFileBytes) throw FormatError(loose->string(), "file", "larger than 256 MiB");
     std::vector<std::byte> bytes(size);
     in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size));
     if (static_cast<size_t>(in.gcount()) != size) throw FormatError(loose->string(), "file", "short read");

@@ -33,7 +33,7 @@ class GameFileSystem {
   GameFileSystem& operator=(const GameFileSystem&) = delete;
 
   /// Contents of a game path (e.g. "scripts/base.shader"); nullopt if it does not exist.
-  /// Throws FormatError if the entry exists but cannot be read (corrupt archive).
+  /// Throws FormatError if the entry exists but cannot be read (corrupt archive) or is over 256 MiB.
   std::optional<std::vector<std::byte>> readFile(std::string_view path) const;
   /// True if readFile(path) would find something.
   bool exists(std::string_view path) const;

@@ -209,12 +209,12 @@ void buildArena(ModelBuilder& builder) {
   lamp.name = "lamp";
   lamp.type = "point";
   lamp.color = {1.0, 0.8, 0.6};
-  lamp.intensity = 15.0;
+  lamp.intensity = 30.0;
   tinygltf::Light sun;
   sun.name = "sun";
   sun.type = "directional";
   sun.color = {1.0, 0.95, 0.85};
-  sun.intensity = 3.0;
+  sun.intensity = 1.5;
   builder.model().lights = {lamp, sun};
   tinygltf::Node lampNode = node("lamp", -1, {-2.0f, 2.6f, 1.5f});
   lampNode.extensions["KHR_lights_punctual"] = Value(Value::Object{{"light", Value(0)}});
@@ -241,7 +241,7 @@ void buildArena(ModelBuilder& builder) {
 
   builder.model().scenes[0].name = "default_arena";
   builder.model().scenes[0].extras = Value(Value::Object{
-      {"sky_color", Value(Value::Array{Value(0.55), Value(0.7), Value(1.0)})}, {"sky_intensity", Value(1.5)}});
+      {"sky_color", Value(Value::Array{Value(0.55), Value(0.7), Value(1.0)})}, {"sky_intensity", Value(1.0)}});
 }
 
 }  // namespace

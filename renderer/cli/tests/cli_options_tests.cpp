@@ -21,6 +21,7 @@ TEST(CliOptions, MinimalCommandUsesDefaults) {
   EXPECT_EQ(r.options.frames, 1u);
   EXPECT_EQ(r.options.bounces, 4u);
   EXPECT_EQ(r.options.integrator, Integrator::Path);
+  EXPECT_EQ(r.options.tonemap, Tonemap::AcesFitted);
   EXPECT_FLOAT_EQ(r.options.exposure, 1.0f);
 }
 
@@ -28,7 +29,7 @@ TEST(CliOptions, ParsesEveryOption) {
   const ParseResult r = parse({"--width", "320", "--height=200", "--spp", "8", "--bounces", "2", "--seed", "42",
                                "--threads", "3", "--integrator", "direct", "--camera", "1", "--clamp", "10.5",
                                "--exposure=2", "--frames", "5", "--exr", "o.exr", "--light-scale", "0.001",
-                               "--progress", "map.glb", "--output", "o.png"});
+                               "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png"});
   ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
   const CliOptions& o = r.options;
   EXPECT_EQ(o.scene, "map.glb");
@@ -47,6 +48,7 @@ TEST(CliOptions, ParsesEveryOption) {
   EXPECT_EQ(o.frames, 5u);
   EXPECT_FLOAT_EQ(o.lightScale, 0.001f);
   EXPECT_TRUE(o.progress);
+  EXPECT_EQ(o.tonemap, Tonemap::Clamp);
 }
 
 TEST(CliOptions, HelpWinsOverEverythingElse) {
@@ -75,6 +77,7 @@ TEST(CliOptions, RejectsBadInputWithAMessageNamingTheOption) {
       {{"a.gltf", "-o", "x.png", "--clamp", "nan"}, "--clamp"},
       {{"a.gltf", "-o", "x.png", "--clamp", "-1"}, "--clamp"},
       {{"a.gltf", "-o", "x.png", "--integrator", "whitted"}, "--integrator: expected lightmap, direct or path"},
+      {{"a.gltf", "-o", "x.png", "--tonemap", "filmic"}, "--tonemap: expected aces, reinhard or clamp"},
       {{"a.gltf", "-o", "x.png", "--frobnicate", "1"}, "unknown option --frobnicate"},
       {{"a.gltf", "-o", "x.png", "--progress=1"}, "--progress takes no value"},
       {{"a.gltf", "-o", "x.png", "--progress", "--quiet"}, "contradict"},
@@ -95,7 +98,7 @@ TEST(CliOptions, DoubleDashEndsOptions) {
 TEST(CliOptions, UsageDocumentsEveryOption) {
   const std::string usage = usageText("pa-render");
   for (const char* option : {"-o", "--exr", "--width", "--height", "--spp", "--bounces", "--seed", "--threads",
-                             "--integrator", "--camera", "--clamp", "--exposure", "--frames", "--light-scale",
+                             "--integrator", "--camera", "--clamp", "--exposure", "--tonemap", "--frames", "--light-scale",
                              "--progress", "--quiet", "--help", "Exit status"})
     EXPECT_NE(usage.find(option), std::string::npos) << option;
 }

@@ -215,6 +215,19 @@ TEST_F(GltfLoaderTest, IndexBeyondVertexCountIsAClearError) {
   EXPECT_NE(message.find("index 7 at position 2 >= vertex count 3"), std::string::npos) << message;
 }
 
+TEST_F(GltfLoaderTest, OverflowingTransformIsAClearError) {
+  ModelBuilder builder;
+  tinygltf::Node parent;
+  parent.scale = {1e30, 1e30, 1e30};
+  const int parentIndex = builder.addNode(parent);
+  tinygltf::Node child = meshNode(addMesh(builder, kTriangle, {}));
+  child.scale = {1e30, 1e30, 1e30};
+  builder.addNode(child, parentIndex);
+  builder.writeGltf(file("huge.gltf"));
+  const std::string message = errorOf([&] { loadTriangles(file("huge.gltf")); });
+  EXPECT_NE(message.find("nodes[1]: world transform overflows"), std::string::npos) << message;
+}
+
 TEST_F(GltfLoaderTest, NodeCycleIsAClearError) {
   ModelBuilder builder;
   const int a = builder.addNode(meshNode(addMesh(builder, kTriangle, {})));

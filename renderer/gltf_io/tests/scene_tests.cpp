@@ -331,7 +331,8 @@ TEST(GltfConverterConventions, ReadsLightmapsAndQuakeExtras) {
   tinygltf::Node node;
   node.mesh = 0;
   builder.addNode(node);
-  builder.model().scenes[0].extras = Value(Value::Object{
+  // assets_converter keeps the map metadata on the root node, not on the scene.
+  builder.model().nodes[0].extras = Value(Value::Object{
       {"quake", Value(Value::Object{{"lightmapOverbrightScale", Value(4.0)},
                                     {"sky", Value(Value::Object{{"color", Value(Value::Array{Value(1.0), Value(0.5), Value(0.25)})}})}})}});
   builder.writeGlb(path);

@@ -6,7 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/scene/integrator/ray_spawn.h"
+#include "renderer/bvh/ray_offset.h"
 #include "renderer/scene/materials/bsdf.h"
 #include "renderer/scene/sampling/warp.h"
 
@@ -20,8 +20,8 @@ constexpr uint32_t kRouletteStart = 3;         // scattering events before Russi
 constexpr float kMinCosForFootprint = 0.05f;
 
 // Sampler dimension groups within one path vertex.
-constexpr uint32_t kGroupLight = 1;     // light choice, light point (2), roulette
-constexpr uint32_t kGroupBsdf = 2;      // direction (2), lobe choice
+constexpr uint32_t kGroupLight = 1;     // light choice, light point (2), sky cell
+constexpr uint32_t kGroupBsdf = 2;      // direction (2), lobe choice, roulette
 constexpr uint32_t kGroupRays = 3;      // random bits for stochastic transparency
 
 float maxComponent(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
@@ -69,17 +69,17 @@ bool traceClosest(const RenderScene& scene, Ray& ray, Hit& hit, uint32_t depth, 
 glm::vec3 sampleDirectLight(const RenderScene& scene, const SurfaceHit& s, const Bsdf& bsdf, const glm::vec3& wo,
                             const glm::vec3& ng, const glm::vec3& ns, const glm::vec4& u, uint32_t bits) {
   LightSample ls;
-  if (!scene.lights.sample(s.position, ns, glm::vec3(u.x, u.y, u.z), ls)) return glm::vec3(0.0f);
+  if (!scene.lights.sample(s.position, ns, u, ls)) return glm::vec3(0.0f);
   const glm::vec3 f = bsdf.evalCos(wo, ls.wi);
   if (f == glm::vec3(0.0f)) return glm::vec3(0.0f);
   Ray shadow;
-  shadow.origin = offsetFromSurface(s.position, glm::dot(ls.wi, ng) > 0.0f ? ng : -ng);
+  shadow.origin = offsetRayOrigin(s.position, glm::dot(ls.wi, ng) > 0.0f ? ng : -ng);
   if (ls.environment) {
     shadow.dir = ls.wi;
     shadow.tmax = kInfinity;
   } else if (ls.lightNormal != glm::vec3(0.0f)) {
     // Area light: end just off the light's surface so it does not shadow itself.
-    const glm::vec3 end = offsetFromSurface(ls.lightPoint, ls.lightNormal);
+    const glm::vec3 end = offsetRayOrigin(ls.lightPoint, ls.lightNormal);
     shadow.dir = end - shadow.origin;
     shadow.tmax = 1.0f;
   } else {
@@ -197,12 +197,12 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     }
     if (scatterCount >= kRouletteStart && !bs.delta) {
       const float survive = std::min(1.0f, std::max(0.05f, maxComponent(beta)));
-      if (uLight.w >= survive) break;
+      if (uBsdf.w >= survive) break;
       beta /= survive;
     }
     if (!(maxComponent(beta) > 0.0f)) break;
     ray = Ray{};
-    ray.origin = offsetFromSurface(s.position, glm::dot(bs.wi, ng) > 0.0f ? ng : -ng);
+    ray.origin = offsetRayOrigin(s.position, glm::dot(bs.wi, ng) > 0.0f ? ng : -ng);
     ray.dir = bs.wi;
   }
   out.radiance = radiance;

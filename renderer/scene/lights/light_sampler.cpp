@@ -88,7 +88,7 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
   table_ = sampling::AliasTable(power);
 }
 
-bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec3& u, LightSample& out) const {
+bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const {
   if (table_.empty()) return false;
   const uint32_t entry = table_.sample(u.x);
   const float selection = table_.pdf(entry);
@@ -98,8 +98,14 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
   if (entry < analytic_.size()) {
     ok = sampleAnalytic(analytic_[entry], p, uv, out);
   } else if (entry == skyEntry_) {
-    const glm::vec3 wi = sampling::Frame(n).toWorld(sampling::cosineHemisphere(uv));
-    const float pdf = std::max(0.0f, glm::dot(wi, n)) * sampling::kInvPi;
+    glm::vec3 wi;
+    float pdf;
+    if (sky_.importanceSampled()) {
+      if (!sky_.sample(glm::vec3(u.w, u.y, u.z), wi, pdf)) return false;
+    } else {
+      wi = sampling::Frame(n).toWorld(sampling::cosineHemisphere(uv));
+      pdf = std::max(0.0f, glm::dot(wi, n)) * sampling::kInvPi;
+    }
     if (!(pdf > 0.0f)) return false;
     out = {};
     out.wi = wi;
@@ -183,7 +189,9 @@ float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::v
 
 float LightSampler::skyPdf(const glm::vec3& n, const glm::vec3& wi) const {
   if (skyEntry_ == UINT32_MAX) return 0.0f;
-  return table_.pdf(skyEntry_) * std::max(0.0f, glm::dot(wi, n)) * sampling::kInvPi;
+  const float directional =
+      sky_.importanceSampled() ? sky_.pdf(wi) : std::max(0.0f, glm::dot(wi, n)) * sampling::kInvPi;
+  return table_.pdf(skyEntry_) * directional;
 }
 
 }  // namespace pa

@@ -9,6 +9,7 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "renderer/core/bounds.h"
 #include "renderer/scene/lights/sky.h"
@@ -55,8 +56,9 @@ class LightSampler {
 
   /// True when there is no light at all.
   bool empty() const { return table_.empty(); }
-  /// Picks a light and a point on it for shading point p with normal n (facing the viewer).
-  bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec3& u, LightSample& out) const;
+  /// Picks a light (u.x) and a point on it (u.y, u.z; u.w for the sky's cell choice) for
+  /// shading point p with normal n (facing the viewer).
+  bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const;
   /// Solid-angle pdf with which sample() picks the emissive triangle `index` at point q from p.
   float emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& q) const;
   /// Solid-angle pdf with which sample() picks sky direction wi from a point with normal n.

@@ -6,6 +6,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "renderer/scene/sampling/alias_table.h"
 #include "renderer/scene/scene_types.h"
 #include "renderer/scene/textures/texture.h"
 
@@ -23,9 +24,13 @@ struct CubeLookup {
 /// Face and coordinates for a non-zero direction.
 CubeLookup cubeLookup(const glm::vec3& dir);
 
-/// Immutable sky used while rendering.
+/// Immutable sky used while rendering. Cube-map skies are importance sampled: a
+/// kImportanceGrid^2 grid per face, cells weighted by luminance x solid angle.
 class Sky {
  public:
+  /// Sampling grid cells per face side.
+  static constexpr uint32_t kImportanceGrid = 32;
+
   Sky() = default;
   /// Resolves texture ids (validated by the caller).
   Sky(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>& textures);
@@ -34,6 +39,12 @@ class Sky {
   glm::vec3 radiance(const glm::vec3& dir) const;
   /// Mean radiance over all directions (light selection).
   glm::vec3 average() const { return average_; }
+  /// True when directions are drawn from the cube-map distribution (else: cosine lobes).
+  bool importanceSampled() const { return !table_.empty(); }
+  /// Draws a direction from the cube-map distribution; pdf in solid angle.
+  bool sample(const glm::vec3& u, glm::vec3& dir, float& pdf) const;
+  /// Solid-angle pdf of sample() producing dir.
+  float pdf(const glm::vec3& dir) const;
   /// True when the sky emits nothing.
   bool black() const { return average_.x <= 0.0f && average_.y <= 0.0f && average_.z <= 0.0f; }
 
@@ -42,6 +53,9 @@ class Sky {
   std::array<std::shared_ptr<const Texture>, 6> faces_{};
   bool hasFaces_ = false;
   glm::vec3 average_{0.0f};
+  sampling::AliasTable table_;
+
+  void buildImportance();
 };
 
 }  // namespace pa

@@ -195,3 +195,51 @@ TEST(Scene, RadianceClampBoundsIndirectContributions) {
 
 }  // namespace
 }  // namespace pa
+
+namespace pa {
+namespace {
+
+/// Floor of albedo 1 under a cube-map sky whose +Z face has radiance `top` and whose other
+/// faces have radiance `sides` (linear data, color 1). Returns the statistics of the frame
+/// looking down at it (the frame itself dies with the renderer).
+test::FrameStats renderUnderCubeSky(float top, float sides, Integrator integrator, uint32_t spp) {
+  Renderer r({2});
+  SkyDesc sky;
+  sky.color = glm::vec3(1.0f);
+  for (uint32_t f = 0; f < 6; ++f) {
+    const auto v = static_cast<uint8_t>(std::lround(255.0f * (f == 4 ? top : sides)));
+    const std::vector<uint8_t> px = test::solidPixels(8, 8, v, v, v, 255);
+    sky.faces[f] = r.addTexture({8, 8, px, false, TextureWrap::Clamp});
+  }
+  r.setSky(sky);
+  test::MeshArrays floor = test::quad({-50, -50, 0}, {100, 0, 0}, {0, 100, 0});
+  floor.setMaterial(r.addMaterial(test::diffuse(1.0f)));
+  r.addInstance({r.addMesh(floor.desc())});
+  r.commit();
+  return greyStats(r.render(lookAt({0, 0, 1}, {0, 0, 0}, 1.0f), settingsFor(integrator, 8, spp, 1)));
+}
+
+TEST(Sky, CubeMapImportanceSamplingKnownAnswer) {
+  // Only the top face is lit: E = B * integral over the face z = 1 of cos / r^2 dA
+  //   = B * integral over [-1,1]^2 of 1 / (1 + x^2 + y^2)^2, integrated numerically here.
+  double projected = 0.0;
+  constexpr int kN = 1000;
+  for (int j = 0; j < kN; ++j)
+    for (int i = 0; i < kN; ++i) {
+      const double x = -1.0 + (i + 0.5) * 2.0 / kN, y = -1.0 + (j + 0.5) * 2.0 / kN;
+      const double r2 = 1.0 + x * x + y * y;
+      projected += (4.0 / (kN * kN)) / (r2 * r2);
+    }
+  const double expected = 1.0 / std::numbers::pi * projected;   // albedo 1, B = 1
+  for (Integrator integrator : {Integrator::Direct, Integrator::Path}) {
+    const test::FrameStats s = renderUnderCubeSky(1.0f, 0.0f, integrator, 64);
+    EXPECT_NEAR(s.mean, expected, 4.0 * s.standardError + 1e-3 * expected) << s.standardError;
+  }
+  // A uniform cube map is a uniform sky: radiance = albedo * L.
+  const test::FrameStats uniform = renderUnderCubeSky(0.6f, 0.6f, Integrator::Path, 64);
+  const double l = 153.0 / 255.0;
+  EXPECT_NEAR(uniform.mean, l, 4.0 * uniform.standardError + 1e-3 * l);
+}
+
+}  // namespace
+}  // namespace pa

@@ -56,30 +56,31 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
   }
   if (m.alphaMode == AlphaMode::Opaque && (m.twoSided || kind == RayKind::Shadow)) return true;
 
-  Hit hit;
-  hit.u = u;
-  hit.v = v;
-  hit.prim = prim;
-  hit.instance = instanceIndex;
-  const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay);
-  if (!m.twoSided && kind != RayKind::Shadow && glm::dot(s.geometricNormal, ctx.ray->dir) > 0.0f) return false;
-  if (m.alphaMode == AlphaMode::Opaque) return true;
-  const glm::vec4 color = ctx.scene->baseColor(s, 0.0f);
+  if (!m.twoSided && kind != RayKind::Shadow && glm::dot(ctx.scene->windingNormal(inst, prim), ctx.ray->dir) > 0.0f) {
+    return false;
+  }
   switch (m.alphaMode) {
     case AlphaMode::Mask: {
-      const bool pass = m.alphaInvert ? color.a < m.alphaCutoff : color.a >= m.alphaCutoff;
-      return pass;
+      const float alpha = ctx.scene->coverageAt(inst, prim, {u, v});
+      return m.alphaInvert ? alpha < m.alphaCutoff : alpha >= m.alphaCutoff;
     }
     case AlphaMode::Blend: {
-      const float coverage = std::clamp(color.a * m.opacity, 0.0f, 1.0f);
+      const float coverage = std::clamp(ctx.scene->coverageAt(inst, prim, {u, v}) * m.opacity, 0.0f, 1.0f);
       const uint32_t bits = sampling::hashCombine(sampling::hashCombine(ctx.request->randomBits, instanceIndex), prim);
       return sampling::toUnitFloat(bits) < coverage;
     }
     case AlphaMode::Additive: {
       if (ctx.request->additive != nullptr) {
+        Hit hit;
+        hit.u = u;
+        hit.v = v;
+        hit.prim = prim;
+        hit.instance = instanceIndex;
+        const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay);
         const glm::vec3 d = ctx.ray->dir;
         const float t = glm::dot(s.position - ctx.ray->origin, d) / glm::dot(d, d);
-        const glm::vec3 added = glm::vec3(color) + ctx.scene->emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
+        const glm::vec3 added =
+            glm::vec3(ctx.scene->baseColor(s, 0.0f)) + ctx.scene->emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
         recordAdditive(*ctx.request->additive, t, instanceIndex, prim, added);
       }
       return false;
@@ -89,6 +90,11 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
   }
   return true;
 }
+
+/// Turns -0 direction components into +0 (x + 0 = +0 for x = -0). Workaround: the BVH's slab
+/// test picks the near plane from the sign bit test d < 0 but divides by -0 to -inf, so rays
+/// with a -0 component miss everything (reported to the bvh owner).
+glm::vec3 withoutNegativeZeros(const glm::vec3& d) { return d + glm::vec3(0.0f); }
 
 uint32_t rayMaskFor(RayKind kind) {
   switch (kind) {
@@ -122,14 +128,17 @@ const MaterialRecord& RenderScene::materialOf(const RenderInstance& instance, ui
 bool RenderScene::intersect(Ray& ray, Hit& hit, const TraceRequest& request) const {
   const auto& instances = instancesFor(*this, request.overlay);
   if (instances.empty()) return false;
+  ray.dir = withoutNegativeZeros(ray.dir);
   const FilterContext ctx{this, request.overlay, &ray, &request};
   const HitFilter filter{&acceptCandidate, &ctx};
   const Tlas& tlas = request.overlay ? overlayTlas : worldTlas;
   return tlas.intersect(ray, hit, rayMaskFor(request.kind), filter);
 }
 
-bool RenderScene::occluded(const Ray& ray, const TraceRequest& request) const {
+bool RenderScene::occluded(const Ray& shadowRay, const TraceRequest& request) const {
   if (world.empty()) return false;
+  Ray ray = shadowRay;
+  ray.dir = withoutNegativeZeros(ray.dir);
   const FilterContext ctx{this, false, &ray, &request};
   const HitFilter filter{&acceptCandidate, &ctx};
   return worldTlas.occluded(ray, rayMaskFor(RayKind::Shadow), filter);
@@ -180,6 +189,31 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
   }
   if (!g.colors.empty()) s.vertexColor = w0 * g.colors[i0] + hit.u * g.colors[i1] + hit.v * g.colors[i2];
   return s;
+}
+
+glm::vec3 RenderScene::windingNormal(const RenderInstance& inst, uint32_t prim) const {
+  const MeshGeometry& g = inst.mesh->geometry;
+  const glm::vec3 p0 = toWorld(inst.objectToWorld, g.positions[g.indices[3 * size_t{prim}]]);
+  const glm::vec3 p1 = toWorld(inst.objectToWorld, g.positions[g.indices[3 * size_t{prim} + 1]]);
+  const glm::vec3 p2 = toWorld(inst.objectToWorld, g.positions[g.indices[3 * size_t{prim} + 2]]);
+  return glm::cross(p1 - p0, p2 - p0);
+}
+
+float RenderScene::coverageAt(const RenderInstance& inst, uint32_t prim, glm::vec2 bary) const {
+  const MeshGeometry& g = inst.mesh->geometry;
+  const MaterialRecord& m = materialOf(inst, prim);
+  const uint32_t i0 = g.indices[3 * size_t{prim}];
+  const uint32_t i1 = g.indices[3 * size_t{prim} + 1];
+  const uint32_t i2 = g.indices[3 * size_t{prim} + 2];
+  const float w0 = 1.0f - bary.x - bary.y;
+  float alpha = m.desc.baseColor.a * inst.tint.a;
+  if (!g.colors.empty()) alpha *= w0 * g.colors[i0].a + bary.x * g.colors[i1].a + bary.y * g.colors[i2].a;
+  if (m.base != nullptr) {
+    glm::vec2 uv(0.0f);
+    if (!g.uvs.empty()) uv = w0 * g.uvs[i0] + bary.x * g.uvs[i1] + bary.y * g.uvs[i2];
+    alpha *= m.base->sampleFull(m.desc.uvTransform * glm::vec3(uv, 1.0f)).a;
+  }
+  return alpha;
 }
 
 glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint) const {

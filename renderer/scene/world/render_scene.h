@@ -60,7 +60,7 @@ struct AdditiveHits {
     glm::vec3 color;
   };
   uint32_t count = 0;
-  std::array<Entry, kCapacity> entries{};
+  std::array<Entry, kCapacity> entries;   ///< First `count` are valid.
   /// Sum of the colours of entries closer than t.
   glm::vec3 sumBefore(float t) const;
 };
@@ -118,6 +118,11 @@ struct RenderScene {
   glm::vec4 baseColor(const SurfaceHit& s, float footprint) const;
   /// Emitted radiance toward the given side (front = the winding normal's side).
   glm::vec3 emission(const SurfaceHit& s, bool frontSide) const;
+  /// Unnormalised world-space winding normal of a triangle (front side).
+  glm::vec3 windingNormal(const RenderInstance& instance, uint32_t prim) const;
+  /// Alpha coverage at barycentrics (full-resolution texture alpha x baseColor.a x vertex alpha
+  /// x tint alpha): the cheap path used by alpha tests during traversal.
+  float coverageAt(const RenderInstance& instance, uint32_t prim, glm::vec2 bary) const;
   /// Index of the hit triangle in lights.triangles(), or kNoId.
   uint32_t emissiveIndex(const SurfaceHit& s) const;
 };

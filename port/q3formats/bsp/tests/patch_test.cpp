@@ -180,6 +180,20 @@ TEST(Patch, SharedEdgesGetIdenticalVerticesInAnyOrientation) {
     }
 }
 
+TEST(Patch, ControlPointsWithFloatNoiseAreWeldedBeforeStitching) {
+  // Shipped maps store one patch's corner as 15.9999943 and its neighbour's as 16.
+  auto pair = sharedEdgePair(false, false);
+  for (int y = 0; y < 3; ++y) pair[0].controls[y * 3 + 2].z += 6e-6f * (y + 1);
+  const BspFile bsp = mapWithPatches(pair);
+  TessellationOptions noWeld;
+  noWeld.weldDistance = 0;
+  EXPECT_GT(measurePatchSeams(tessellateSurfaces(bsp, noWeld)).cracks, 0u);
+  const auto meshes = tessellateSurfaces(bsp);
+  EXPECT_EQ(verticesOnPlaneX0(meshes[0]), verticesOnPlaneX0(meshes[1]));
+  const auto seams = measurePatchSeams(meshes);
+  EXPECT_EQ(seams.tJunctions + seams.cracks, 0u);
+}
+
 TEST(Patch, StitchingPropagatesAlongAChainOfPatches) {
   // A - B - C side by side; only C is strongly curved along y, and A must follow it through B.
   auto row = [](float x0, float bulge) {

@@ -30,8 +30,16 @@ double msSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// Slowest map seen so far (parse + tessellate, best of the repeats).
+struct Summary {
+  size_t maps = 0;
+  double slowestMs = 0;
+  std::string slowest;
+};
+
 /// Prints one line per map; returns false if the map is malformed.
-bool report(const std::string& label, const std::vector<std::byte>& bytes, const Settings& settings) {
+bool report(const std::string& label, const std::vector<std::byte>& bytes, const Settings& settings,
+            Summary& summary) {
   double bestParse = 1e30, bestTess = 1e30;
   q3::BspFile bsp;
   std::vector<q3::SurfaceMesh> meshes;
@@ -54,7 +62,12 @@ bool report(const std::string& label, const std::vector<std::byte>& bytes, const
     vertices += m.vertices.size();
     patches += m.type == q3::SurfaceType::Patch;
   }
-  const auto entities = q3::parseEntities(bsp.entities, label);
+  std::vector<q3::Entity> entities;
+  try {
+    entities = q3::parseEntities(bsp.entities, label);
+  } catch (const q3::FormatError& e) {
+    bsp.warnings.push_back(e.what());  // geometry is still usable without entities
+  }
   std::printf("%-44s %6.1f MB surf %5zu patches %4zu tris: faces %7zu soups %6zu patches %7zu verts %7zu "
               "models %3zu spawns %2zu lights %4zu | parse %6.1f ms tessellate %6.1f ms total %6.1f ms",
               label.c_str(), static_cast<double>(bytes.size()) / 1e6, bsp.surfaces.size(), patches,
@@ -67,6 +80,11 @@ bool report(const std::string& label, const std::vector<std::byte>& bytes, const
                 seams.cracks);
   }
   std::printf("\n");
+  ++summary.maps;
+  if (bestParse + bestTess > summary.slowestMs) {
+    summary.slowestMs = bestParse + bestTess;
+    summary.slowest = label;
+  }
   for (const auto& w : bsp.warnings) std::printf("    warning: %s\n", w.c_str());
   return true;
 }
@@ -91,23 +109,26 @@ int main(int argc, char** argv) {
     q3::tools::Pk3Reader pk3(argv[0]);
     if (specs.empty()) specs = q3::tools::openArenaMapArchives();
     bool ok = true;
+    Summary summary;
     for (const auto& spec : specs) {
       const auto colon = spec.find(".pk3:");
       if (colon != std::string::npos) {
         pk3.mount(spec.substr(0, colon + 4));
-        ok &= report(spec, pk3.read(spec.substr(colon + 5)), settings);
+        ok &= report(spec, pk3.read(spec.substr(colon + 5)), settings, summary);
       } else if (spec.ends_with(".pk3")) {
         pk3.mount(spec);
-        for (const auto& map : pk3.listMaps()) ok &= report(spec + ":" + map, pk3.read(map), settings);
+        for (const auto& map : pk3.listMaps()) ok &= report(spec + ":" + map, pk3.read(map), settings, summary);
       } else {
         std::ifstream in(spec, std::ios::binary);
         if (!in) throw std::runtime_error("cannot open " + spec);
         std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         std::vector<std::byte> bytes(raw.size());
         std::transform(raw.begin(), raw.end(), bytes.begin(), [](char c) { return std::byte(c); });
-        ok &= report(spec, bytes, settings);
+        ok &= report(spec, bytes, settings, summary);
       }
     }
+    std::printf("%zu maps; slowest parse + tessellate: %.1f ms (%s)\n", summary.maps, summary.slowestMs,
+                summary.slowest.c_str());
     return ok ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "q3bsp-stats: %s\n", e.what());

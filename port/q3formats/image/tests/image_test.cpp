@@ -151,6 +151,15 @@ TEST(Image, MalformedInputsThrow) {
   Bytes truncated = tgaHeader(2, 4, 4, 32, 0);
   put(truncated, {1, 2, 3});
   EXPECT_THROW(q3::decodeImage(truncated, "short.tga"), q3::FormatError);
+  // A 45-byte RLE TGA claiming 6168x6168 (found by the fuzzer): refused, not zero-filled.
+  Bytes bomb = tgaHeader(10, 6168, 6168, 8, 0);
+  put(bomb, {0x80, 1, 0x80, 2});
+  try {
+    q3::decodeImage(bomb, "bomb.tga");
+    FAIL() << "accepted";
+  } catch (const q3::FormatError& e) {
+    EXPECT_EQ(e.field(), "TGA pixel data");
+  }
   Bytes badRle = tgaHeader(10, 4, 4, 24, 0);
   put(badRle, {0xFF, 1, 2, 3});  // run of 128 for a 16-pixel image, then EOF
   EXPECT_NO_FATAL_FAILURE({
@@ -173,4 +182,59 @@ TEST(Image, FallbackIsAMagentaBlackChecker) {
   EXPECT_NEAR(mean[3], 1.0f, 1e-6);
 }
 
+}  // namespace
+
+namespace {
+TEST(Image, RefusesJpegHuffmanTablesWithMoreThan256Codes) {
+  // stb_image 2.27 writes past its Huffman tables for these (found by q3_fuzz_image).
+  Bytes b;
+  put(b, {0xFF, 0xD8});                                                  // SOI
+  put(b, {0xFF, 0xC0, 0x00, 0x0B, 8, 0x00, 0x08, 0x00, 0x08, 1, 1, 0x11, 0});  // SOF0 8x8 grey
+  const int codes = 16 * 20;
+  const int length = 2 + 17 + codes;
+  put(b, {0xFF, 0xC4, length >> 8, length & 0xFF, 0x00});  // DHT, DC table 0
+  for (int i = 0; i < 16; ++i) put(b, {20});
+  for (int i = 0; i < codes; ++i) put(b, {i & 0xFF});
+  put(b, {0xFF, 0xD9});  // EOI
+  try {
+    q3::decodeImage(b, "evil.jpg");
+    FAIL() << "accepted";
+  } catch (const q3::FormatError& e) {
+    EXPECT_EQ(e.field(), "JPEG huffman table");
+  }
+  // The header-only size query parses the tables too (a DHT before SOF), so it checks as well.
+  Bytes early;
+  put(early, {0xFF, 0xD8});
+  put(early, {0xFF, 0xC4, length >> 8, length & 0xFF, 0x00});
+  for (int i = 0; i < 16; ++i) put(early, {20});
+  for (int i = 0; i < codes; ++i) put(early, {i & 0xFF});
+  EXPECT_THROW(q3::imageSize(early, "early.jpg"), q3::FormatError);
+  // A table header cut off by the end of the file: stb reads the missing counts as zeros but
+  // still uses the ones present (third fuzz finding).
+  Bytes cut;
+  put(cut, {0xFF, 0xD8, 0xFF, 0xC4, 0x01, 0x00, 0x00});
+  for (int i = 0; i < 5; ++i) put(cut, {255});
+  EXPECT_THROW(q3::imageSize(cut, "cut.jpg"), q3::FormatError);
+}
+}  // namespace
+
+namespace {
+TEST(Image, RefusesFormatsTheEngineDoesNotLoad) {
+  Bytes gif;
+  for (char c : std::string("GIF89a")) gif.push_back(std::byte(c));
+  put(gif, {1, 0, 1, 0, 0, 0, 0, 0x2C, 0, 0, 0, 0, 1, 0, 1, 0, 0, 2, 2, 0x44, 0x01, 0, 0x3B});
+  try {
+    q3::decodeImage(gif, "x.gif");
+    FAIL() << "accepted";
+  } catch (const q3::FormatError& e) {
+    EXPECT_EQ(e.field(), "image format");
+  }
+  Bytes pnm;
+  for (char c : std::string("P6\n1 1\n255\n")) pnm.push_back(std::byte(c));
+  put(pnm, {1, 2, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  EXPECT_THROW(q3::decodeImage(pnm, "x.ppm"), q3::FormatError);
+  Bytes tgaBadType = tgaHeader(7, 1, 1, 24, 0);
+  put(tgaBadType, {1, 2, 3});
+  EXPECT_THROW(q3::decodeImage(tgaBadType, "x.tga"), q3::FormatError);
+}
 }  // namespace

@@ -210,8 +210,12 @@ TEST(ShaderParser, UnknownKeywordsAreCollectedOncePerKeyword) {
     }
   }
   EXPECT_EQ(frob, 1);
+  EXPECT_EQ(script.warnings[1].keyword, "surfaceparm wibble");
+  EXPECT_EQ(script.warnings[2].keyword, "tcmod wobble");
   EXPECT_EQ(script.warnings.size(), 3u);  // frobnicate, wibble, tcmod wobble
   EXPECT_EQ(script.shaders[0].stages.size(), 1u);
+  EXPECT_EQ(script.shaders[0].unknownKeywords, 4);
+  EXPECT_EQ(script.shaders[1].unknownKeywords, 1);
 }
 
 TEST(ShaderParser, BadArgumentsWarnWithoutThrowing) {

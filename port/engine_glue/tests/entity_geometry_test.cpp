@@ -1,0 +1,95 @@
+// Known answers for the camera-facing geometry of effects and for polygon fans.
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include "port/engine_glue/entity_geometry.h"
+#include "port/engine_glue/scene.h"
+
+namespace glue {
+namespace {
+
+q3abi::refEntity_t entity(int type) {
+  q3abi::refEntity_t e{};
+  e.reType = type;
+  e.shaderRGBA[0] = e.shaderRGBA[1] = e.shaderRGBA[2] = e.shaderRGBA[3] = 255;
+  e.customShader = 7;
+  return e;
+}
+
+TEST(EntityGeometry, SpriteIsAViewerFacingSquareOfTwiceTheRadius) {
+  auto e = entity(q3abi::RT_SPRITE);
+  e.origin[0] = 100;
+  e.radius = 10;
+  const Viewer viewer{{0, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  GeometryBatch batch;
+  ASSERT_TRUE(appendEffect(e, viewer, batch));
+  ASSERT_EQ(batch.positions.size(), 4u);
+  EXPECT_EQ(batch.triangles(), 2u);
+  EXPECT_EQ(batch.positions[0], glm::vec3(100, 10, 10));    // +left +up: top-left, uv (0,0)
+  EXPECT_EQ(batch.positions[2], glm::vec3(100, -10, -10));  // -left -up: bottom-right, uv (1,1)
+  EXPECT_EQ(batch.uvs[2], glm::vec2(1, 1));
+  EXPECT_EQ(batch.triangleShaders[0], 7);
+  EXPECT_NEAR(std::fabs(batch.normals[0].x), 1.0f, 1e-6f);   // faces the viewer along x
+  EXPECT_EQ(batch.colors[0], glm::vec4(1.0f));
+}
+
+TEST(EntityGeometry, RotatedSpriteTurnsInTheViewPlane) {
+  auto e = entity(q3abi::RT_SPRITE);
+  e.radius = 1;
+  e.rotation = 90;
+  e.origin[0] = 5;
+  const Viewer viewer{{0, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  GeometryBatch batch;
+  ASSERT_TRUE(appendEffect(e, viewer, batch));
+  // left' = up, up' = -left: the first corner (left' + up') is (0, -1, 1) from the origin.
+  EXPECT_NEAR(batch.positions[0].y, -1.0f, 1e-5f);
+  EXPECT_NEAR(batch.positions[0].z, 1.0f, 1e-5f);
+}
+
+TEST(EntityGeometry, RailCoreSpansOldOriginToOriginWithItsWidth) {
+  auto e = entity(q3abi::RT_RAIL_CORE);
+  e.oldorigin[0] = 0;
+  e.origin[0] = 100;
+  const Viewer viewer{{50, 0, 100}, {0, 1, 0}, {0, 0, 1}};   // above the beam
+  GeometryBatch batch;
+  ASSERT_TRUE(appendEffect(e, viewer, batch));
+  ASSERT_EQ(batch.positions.size(), 4u);
+  EXPECT_NEAR(glm::distance(batch.positions[0], batch.positions[3]), 6.0f, 1e-4f);   // r_railCoreWidth
+  EXPECT_NEAR(glm::distance(batch.positions[0], batch.positions[1]), 100.0f, 1e-4f);
+  EXPECT_NEAR(std::fabs(batch.normals[0].z), 1.0f, 1e-5f);   // turned towards the viewer above
+}
+
+TEST(EntityGeometry, ModelsAndPortalsAreNotEffects) {
+  GeometryBatch batch;
+  const Viewer viewer;
+  EXPECT_FALSE(appendEffect(entity(q3abi::RT_MODEL), viewer, batch));
+  EXPECT_FALSE(appendEffect(entity(q3abi::RT_PORTALSURFACE), viewer, batch));
+  auto degenerate = entity(q3abi::RT_SPRITE);
+  degenerate.radius = 0;
+  EXPECT_FALSE(appendEffect(degenerate, viewer, batch));
+  EXPECT_TRUE(batch.positions.empty());
+}
+
+TEST(EntityGeometry, PolygonsBecomeTriangleFansWithTheirColours) {
+  SceneFrame scene;
+  q3abi::polyVert_t verts[5]{};
+  for (int i = 0; i < 5; ++i) {
+    verts[i].xyz[0] = float(i);
+    verts[i].xyz[1] = float(i * i);
+    verts[i].modulate[0] = 255;
+    verts[i].modulate[3] = 128;
+  }
+  ASSERT_TRUE(scene.addPolys(3, 5, verts, 1));
+  GeometryBatch batch;
+  appendPolys(scene.polys(), scene.polyVerts(), batch);
+  EXPECT_EQ(batch.triangles(), 3u);
+  EXPECT_EQ(batch.indices[3], 0u);   // every triangle starts at the first vertex
+  EXPECT_EQ(batch.triangleShaders[2], 3);
+  EXPECT_FLOAT_EQ(batch.colors[0].r, 1.0f);
+  EXPECT_FLOAT_EQ(batch.colors[0].g, 0.0f);
+  EXPECT_NEAR(batch.colors[0].a, 128.0f / 255.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace glue

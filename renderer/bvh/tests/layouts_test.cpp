@@ -1,0 +1,206 @@
+// The wide SIMD layout against the basic binary BVH, refit against rebuild, build determinism
+// across thread counts, and the ray origin offset helper.
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <tbb/task_arena.h>
+
+#include "renderer/bvh/binary_bvh.h"
+#include "renderer/bvh/bvh.h"
+#include "renderer/bvh/ray_offset.h"
+#include "renderer/bvh/reference_traversal.h"
+#include "renderer/bvh/testing/scene_generators.h"
+#include "renderer/bvh/triangle_mesh.h"
+#include "renderer/bvh/wide_bvh.h"
+
+namespace pa::testing {
+namespace {
+
+using namespace pa::bvh_detail;
+
+/// Built layouts of one mesh.
+struct Layouts {
+  TriangleMesh mesh;
+  BinaryBvh binary;
+  WideBvh wide;
+  explicit Layouts(const TestMesh& m, const BvhBuildConfig& config = {}) : mesh(makeTriangleMesh(m.input())) {
+    binary = buildBinaryBvh(triangleBounds(mesh), config);
+    wide = collapseToWide(binary, mesh);
+  }
+};
+
+/// Wide and reference traversals must return the same t bit for bit (same arithmetic); the
+/// triangle may differ only on an exact tie.
+void expectSameAsReference(const TestMesh& m, const BvhBuildConfig& config, uint32_t seed) {
+  const Layouts l(m, config);
+  Bounds region = m.bounds();
+  region.min -= glm::vec3(0.5f);
+  region.max += glm::vec3(0.5f);
+  const std::vector<Ray> rays = makeRandomRays(region, 200000, seed);
+  uint32_t hits = 0;
+  for (const Ray& r : rays) {
+    Ray a = r, b = r;
+    Hit ha, hb;
+    const bool hitA = intersectWide(l.wide, a, ha, {}, 0);
+    const bool hitB = intersectReference(l.mesh, l.binary, b, hb, {}, 0);
+    ASSERT_EQ(hitA, hitB);
+    if (!hitA) continue;
+    ++hits;
+    ASSERT_EQ(ha.t, hb.t);
+    if (ha.prim == hb.prim) {
+      ASSERT_EQ(ha.u, hb.u);
+      ASSERT_EQ(ha.v, hb.v);
+    }
+    Ray s = r;
+    s.tmax = ha.t * 0.5f;
+    ASSERT_EQ(occludedWide(l.wide, s, {}, 0), occludedReference(l.mesh, l.binary, s, {}, 0));
+    s.tmax = ha.t * 1.0001f;
+    ASSERT_TRUE(occludedWide(l.wide, s, {}, 0));
+  }
+  EXPECT_GT(hits, rays.size() / 50);
+}
+
+TEST(WideLayout, AgreesWithBasicBvh) {
+  expectSameAsReference(makeTriangleSoup(30000, 31), {}, 1);
+  expectSameAsReference(makeThinTriangles(30000, 32), {}, 2);
+  expectSameAsReference(makeSphere(10000), {}, 3);
+}
+
+TEST(WideLayout, AgreesWithBasicBvhForEveryLeafSize) {
+  const TestMesh m = makeTriangleSoup(5000, 33);
+  for (uint32_t leaf : {1u, 3u, 4u, 5u, 16u, 64u}) {
+    BvhBuildConfig config;
+    config.maxLeafTriangles = leaf;
+    config.traversalCost = 0.0f;   // pushes leaves towards the bound
+    expectSameAsReference(m, config, 10 + leaf);
+  }
+}
+
+TEST(WideLayout, LeavesRespectMaxLeafTriangles) {
+  const TestMesh m = makeTriangleSoup(5000, 34);
+  for (uint32_t leaf : {1u, 2u, 8u}) {
+    BvhBuildConfig config;
+    config.maxLeafTriangles = leaf;
+    config.traversalCost = 100.0f;   // SAH would like large leaves
+    const Layouts l(m, config);
+    for (const BinaryNode& n : l.binary.nodes)
+      if (n.isLeaf()) {
+        EXPECT_LE(n.count, leaf);
+      }
+  }
+}
+
+/// Animated mesh: refit to new positions must give the same hits as a fresh build.
+TEST(Refit, EqualsRebuild) {
+  const TestMesh base = makeSphere(8000);
+  TestMesh moved = base;
+  for (glm::vec3& p : moved.positions) p += 0.3f * glm::vec3(std::sin(4.0f * p.y), std::cos(3.0f * p.z), 0.5f * p.x);
+  Blas refitted, rebuilt;
+  refitted.build(base.input());
+  refitted.refit(moved.positions);
+  rebuilt.build(moved.input());
+  EXPECT_EQ(refitted.bounds().min, rebuilt.bounds().min);
+  EXPECT_EQ(refitted.bounds().max, rebuilt.bounds().max);
+  const std::vector<Ray> rays = makeRandomRays({glm::vec3(-2.0f), glm::vec3(2.0f)}, 200000, 35);
+  uint32_t hits = 0;
+  for (const Ray& r : rays) {
+    Ray a = r, b = r;
+    Hit ha, hb;
+    const bool hitA = refitted.intersect(a, ha), hitB = rebuilt.intersect(b, hb);
+    ASSERT_EQ(hitA, hitB);
+    if (!hitA) continue;
+    ++hits;
+    ASSERT_EQ(ha.t, hb.t);
+    ASSERT_EQ(refitted.occluded(r), rebuilt.occluded(r));
+  }
+  EXPECT_GT(hits, rays.size() / 10);
+  std::vector<glm::vec3> wrongCount(3);
+  EXPECT_THROW(refitted.refit(wrongCount), std::invalid_argument);
+}
+
+TEST(Build, DeterministicForAnyThreadCount) {
+  const TestMesh m = makeTriangleSoup(60000, 36);
+  const TriangleMesh mesh = makeTriangleMesh(m.input());
+  const std::vector<Bounds> bounds = triangleBounds(mesh);
+  BvhBuildConfig config;
+  config.parallelThreshold = 1024;
+  auto buildWith = [&](int threads) {
+    tbb::task_arena arena(threads);
+    BinaryBvh out;
+    arena.execute([&] { out = buildBinaryBvh(bounds, config); });
+    return out;
+  };
+  const BinaryBvh one = buildWith(1), two = buildWith(2), four = buildWith(4);
+  for (const BinaryBvh* other : {&two, &four}) {
+    ASSERT_EQ(one.primIndices, other->primIndices);
+    ASSERT_EQ(one.nodeCount, other->nodeCount);
+    ASSERT_EQ(one.nodes.size(), other->nodes.size());
+    for (size_t i = 0; i < one.nodes.size(); ++i) {
+      ASSERT_EQ(one.nodes[i].count, other->nodes[i].count);
+      ASSERT_EQ(one.nodes[i].left, other->nodes[i].left);
+      ASSERT_EQ(one.nodes[i].right, other->nodes[i].right);
+      ASSERT_EQ(one.nodes[i].bounds.min, other->nodes[i].bounds.min);
+    }
+  }
+}
+
+TEST(RayOffset, KnownValuesNearAndFarFromOrigin) {
+  // Near the origin the offset is absolute: n / 65536.
+  const glm::vec3 near = offsetRayOrigin(glm::vec3(0.0f), glm::vec3(0, 0, 1));
+  EXPECT_FLOAT_EQ(near.z, 1.0f / 65536.0f);
+  EXPECT_EQ(near.x, 0.0f);
+  // Far away it moves by 256 * n ulps in the direction of the normal.
+  auto ulps = [](float f, int k) { return std::bit_cast<float>(std::bit_cast<int32_t>(f) + k); };
+  const glm::vec3 far = offsetRayOrigin(glm::vec3(1000.0f, -1000.0f, 1000.0f), glm::vec3(1, 1, -1));
+  EXPECT_EQ(far.x, ulps(1000.0f, 256));
+  EXPECT_EQ(far.y, ulps(-1000.0f, -256));   // magnitude shrinks: moves towards +y
+  EXPECT_EQ(far.z, ulps(1000.0f, -256));
+  EXPECT_GT(far.y, -1000.0f);
+  EXPECT_LT(far.z, 1000.0f);
+}
+
+/// Secondary rays leaving offset hit points never re-hit the surface they leave, near the
+/// origin and far from it, for reflection and transmission.
+TEST(RayOffset, AvoidsSelfIntersection) {
+  for (const glm::vec3 offset : {glm::vec3(0.0f), glm::vec3(1e4f, -3e4f, 2e4f), glm::vec3(1e5f, 1e5f, -1e5f)}) {
+    TestMesh mesh = makeSphere(20000, offset, 5.0f);
+    Blas blas;
+    blas.build(mesh.input());
+    std::mt19937 rng(37);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const std::vector<Ray> primary = makeRaysFromPoint(offset + glm::vec3(0.5f, 0.2f, -0.3f), 50000, 38);
+    uint32_t selfHits = 0, transmissionMisses = 0, tested = 0;
+    for (Ray r : primary) {
+      Hit hit;
+      if (!blas.intersect(r, hit)) continue;
+      ++tested;
+      const glm::vec3 a = mesh.positions[mesh.indices[3 * hit.prim]];
+      const glm::vec3 b = mesh.positions[mesh.indices[3 * hit.prim + 1]];
+      const glm::vec3 c = mesh.positions[mesh.indices[3 * hit.prim + 2]];
+      glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+      if (glm::dot(n, r.dir) > 0.0f) n = -n;   // faces the incoming ray (inside)
+      const glm::vec3 p = (1.0f - hit.u - hit.v) * a + hit.u * b + hit.v * c;
+      // Reflection: a random direction in the hemisphere of n, must not re-hit at t ~ 0.
+      glm::vec3 d(u(rng), u(rng), u(rng));
+      if (glm::dot(d, n) < 0.0f) d = -d;
+      d += 1e-3f * n;
+      Ray bounce{offsetRayOrigin(p, n), 0.0f, d, std::numeric_limits<float>::infinity()};
+      Hit again;
+      if (blas.intersect(bounce, again) && again.prim == hit.prim) ++selfHits;
+      // Transmission: through the surface, must leave the sphere (no hit on this triangle).
+      Ray through{offsetRayOrigin(p, -n), 0.0f, -d, std::numeric_limits<float>::infinity()};
+      if (blas.intersect(through, again) && again.prim == hit.prim) ++transmissionMisses;
+    }
+    EXPECT_GT(tested, 40000u);
+    EXPECT_EQ(selfHits, 0u) << "offset " << offset.x;
+    EXPECT_EQ(transmissionMisses, 0u) << "offset " << offset.x;
+  }
+}
+
+}  // namespace
+}  // namespace pa::testing

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# capture_frames.sh OUT_DIR RENDERER MODULE FRAMES [engine args...]
+# Plays OpenArena's demo088-test1 as a timedemo in Debian's ioquake3 under xvfb-run and writes
+# OUT_DIR/frame_NNNN.tga (uncompressed TGA: stock opengl1 of this engine has no screenshotPNG) at each engine frame number in FRAMES (e.g. "60 120 180"), plus
+# OUT_DIR/engine.log.  RENDERER: "pathtracer" (MODULE is our .so) or "opengl1" (MODULE ignored).
+# Size: CAPTURE_WIDTH x CAPTURE_HEIGHT (640x360 by default).
+#
+# Why the frames are the same moment in every run: with `timedemo 1` the client sets the demo
+# clock to base + 50 ms * (frames rendered since the first active frame) (ioquake3 cl_cgame.c,
+# CL_SetCGameTime), whatever the wall-clock speed; `wait N` counts engine frames, and both
+# screenshot implementations capture the frame whose EndFrame follows the command.
+# Exit 77 when the engine, the game data or xvfb-run are missing.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source "$here/engine_env.sh"
+out="$1"; renderer="$2"; module="$3"; frames="$4"; shift 4
+width="${CAPTURE_WIDTH:-640}"; height="${CAPTURE_HEIGHT:-360}"
+pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not installed"; exit 77; }
+
+work="$(mktemp -d /tmp/pa-capture.XXXXXX)"
+trap 'rm -rf "$work"' EXIT
+if [[ "$renderer" == pathtracer ]]; then pa_engine_prepare "$work" "$module"; else pa_engine_prepare "$work"; fi
+cfg="$(pa_engine_cfg "$work" capture)"
+previous=0
+: >"$cfg"
+for frame in $frames; do
+  [[ "$frame" =~ ^[0-9]+$ && "$frame" -gt "$previous" ]] || { echo "frames must increase: $frames"; exit 2; }
+  printf 'wait %d\nscreenshot frame_%04d\n' $((frame - previous)) "$frame" >>"$cfg"
+  previous="$frame"
+done
+printf 'wait 5\nquit\n' >>"$cfg"
+
+mkdir -p "$out"
+set +e
+pa_engine_run "$work" "$out/engine.log" "${CAPTURE_TIMEOUT:-400}" "$width" "$height" "$renderer" \
+  +set timedemo 1 +set com_maxfps 0 +set cg_drawFPS 0 "$@" +demo demo088-test1 +exec capture.cfg
+status=$?
+set -e
+cp "$work"/home/baseoa/screenshots/frame_*.tga "$out/" 2>/dev/null || true
+if [[ $status -ne 0 ]]; then echo "engine exited with status $status (log: $out/engine.log)"; exit 1; fi
+pa_engine_used_renderer "$out/engine.log" "$renderer" || { echo "renderer $renderer was not used (log: $out/engine.log)"; exit 1; }
+for frame in $frames; do
+  [[ -f "$out/$(printf 'frame_%04d.tga' "$frame")" ]] || { echo "frame $frame was not captured (log: $out/engine.log)"; exit 1; }
+done
+echo "captured $(wc -w <<<"$frames") frames with $renderer into $out"

@@ -1,0 +1,73 @@
+# Shared shell helpers (source this file) to run Debian's unmodified ioquake3 with OpenArena
+# under xvfb-run, with either our module (cl_renderer pathtracer) or a stock renderer.
+# Used by tests/fidelity/capture_frames.sh and scripts/engine_bench.sh.
+#   pa_engine_available              -> 0 when the engine, the game data and xvfb-run exist
+#   pa_engine_prepare WORK [MODULE]  -> WORK/basepath (module + baseoa link) and WORK/home
+#   pa_engine_cfg WORK NAME          -> prints the path of WORK's NAME.cfg (the engine execs it)
+#   pa_engine_run WORK LOG SECONDS WIDTH HEIGHT RENDERER [engine args...]
+#        RENDERER is "pathtracer" (our module) or a stock name such as "opengl1".
+#        Returns the engine's exit status (124 on timeout).
+PA_ENGINE="${PA_ENGINE:-/usr/lib/ioquake3/ioquake3}"
+PA_GAME_DIR="${PA_GAME_DIR:-/usr/lib/openarena/baseoa}"
+
+pa_engine_available() {
+  [[ -x "$PA_ENGINE" && -d "$PA_GAME_DIR" ]] && command -v xvfb-run >/dev/null
+}
+
+pa_engine_prepare() {
+  local work="$1" module="${2:-}"
+  mkdir -p "$work/basepath" "$work/home/baseoa"
+  if [[ -n "$module" ]]; then
+    cp -f "$module" "$work/basepath/renderer_pathtracer_x86_64.so"
+    cp -f "$module" "$work/basepath/renderer_pathtracer.so"
+  fi
+  ln -sfn "$PA_GAME_DIR" "$work/basepath/baseoa"
+}
+
+pa_engine_cfg() { echo "$1/home/baseoa/$2.cfg"; }
+
+pa_engine_run() {
+  local work="$1" log="$2" seconds="$3" width="$4" height="$5" renderer="$6"
+  shift 6
+  # fs_homepath is given explicitly: screenshots land in WORK/home/baseoa/screenshots.
+  HOME="$work/home" timeout "$seconds" xvfb-run -a -s "-screen 0 ${width}x${height}x24" "$PA_ENGINE" \
+    +set com_basegame baseoa +set fs_basepath "$work/basepath" +set fs_homepath "$work/home" \
+    +set com_legacyprotocol 71 +set com_protocol 71 +set cl_renderer "$renderer" \
+    +set r_mode -1 +set r_customwidth "$width" +set r_customheight "$height" +set r_fullscreen 0 \
+    +set s_initsound 0 +set bot_enable 0 +set com_introplayed 1 +set cl_allowDownload 0 \
+    "$@" >"$log" 2>&1
+}
+
+# True when LOG shows the engine ran RENDERER (ours prints its banner; a stock one must not
+# have been replaced by a fallback).
+pa_engine_used_renderer() {
+  local log="$1" renderer="$2"
+  if [[ "$renderer" == pathtracer ]]; then
+    grep -q "PathArena path tracer renderer" "$log" && ! grep -q 'Trying to load "renderer_opengl' "$log"
+  else
+    grep -q "Trying to load \"renderer_${renderer}" "$log" && ! grep -q "failed to load\|Falling back" "$log"
+  fi
+}
+
+# pa_demo_truncate OUT MESSAGES: writes OpenArena's demo088-test1 (from pak6-patch088.pk3) cut
+# after MESSAGES server messages, with the end-of-demo marker (-1, -1) appended, so that a
+# timedemo of it ends by itself and prints its "N frames X seconds Y fps" line. The full demo
+# has 3389 messages (about 170 s of game at 20 snapshots/s). Needs python3 (zip + struct).
+pa_demo_truncate() {
+  local out="$1" messages="$2"
+  python3 - "$PA_GAME_DIR/pak6-patch088.pk3" "$out" "$messages" <<'PY'
+import struct, sys, zipfile
+pk3, out, limit = sys.argv[1], sys.argv[2], int(sys.argv[3])
+data = zipfile.ZipFile(pk3).read("demos/demo088-test1.dm_71")
+offset = count = 0
+while count < limit and offset + 8 <= len(data):
+    sequence, length = struct.unpack_from("<ii", data, offset)
+    if length < 0 or offset + 8 + length > len(data):
+        break
+    offset += 8 + length
+    count += 1
+with open(out, "wb") as f:
+    f.write(data[:offset] + struct.pack("<ii", -1, -1))
+print(count)
+PY
+}

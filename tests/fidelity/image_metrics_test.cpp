@@ -1,0 +1,75 @@
+// Known-answer tests for PSNR and SSIM.
+#include "tests/fidelity/image_metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace pa::fidelity {
+namespace {
+
+RgbImage filled(int width, int height, std::uint8_t value) {
+  return RgbImage{width, height, std::vector<std::uint8_t>(static_cast<size_t>(width) * height * 3, value)};
+}
+
+RgbImage checkerboard(int width, int height, std::uint8_t low, std::uint8_t high) {
+  RgbImage image = filled(width, height, low);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if ((x + y) % 2)
+        for (int c = 0; c < 3; ++c) image.pixels[(static_cast<size_t>(y) * width + x) * 3 + c] = high;
+  return image;
+}
+
+TEST(ImageMetrics, IdenticalImagesHaveInfinitePsnrAndUnitSsim) {
+  const auto image = checkerboard(32, 24, 10, 200);
+  const auto result = compare(image, image);
+  EXPECT_EQ(result.mse, 0);
+  EXPECT_TRUE(std::isinf(result.psnr));
+  EXPECT_DOUBLE_EQ(result.ssim, 1.0);
+  EXPECT_EQ(result.maxAbsDiff, 0);
+}
+
+TEST(ImageMetrics, ConstantOffsetGivesKnownPsnr) {
+  // Every sample differs by 10: MSE 100, PSNR = 20 log10(255 / 10) = 28.1308 dB.
+  const auto result = compare(filled(16, 16, 100), filled(16, 16, 110));
+  EXPECT_DOUBLE_EQ(result.mse, 100);
+  EXPECT_NEAR(result.psnr, 28.1308, 1e-4);
+  EXPECT_EQ(result.maxAbsDiff, 10);
+}
+
+TEST(ImageMetrics, FlatImagesSsimIsTheLuminanceTerm) {
+  // No variance: SSIM = (2 mu_a mu_b + C1) / (mu_a^2 + mu_b^2 + C1), C1 = (0.01 * 255)^2.
+  const double c1 = 2.55 * 2.55;
+  const double expected = (2 * 100.0 * 150.0 + c1) / (100.0 * 100.0 + 150.0 * 150.0 + c1);
+  EXPECT_NEAR(compare(filled(20, 20, 100), filled(20, 20, 150)).ssim, expected, 1e-12);
+}
+
+TEST(ImageMetrics, InvertedStructureHasNegativeSsim) {
+  // Same means and variances, perfectly anti-correlated: SSIM close to -1.
+  const auto result = compare(checkerboard(24, 24, 50, 200), checkerboard(24, 24, 200, 50));
+  EXPECT_LT(result.ssim, -0.9);
+}
+
+TEST(ImageMetrics, LumaUsesBt601Weights) {
+  RgbImage image{1, 1, {255, 0, 0}};
+  EXPECT_NEAR(luma(image)[0], 0.299 * 255, 1e-12);
+  image.pixels = {0, 0, 255};
+  EXPECT_NEAR(luma(image)[0], 0.114 * 255, 1e-12);
+}
+
+TEST(ImageMetrics, RejectsMismatchedOrTinyImages) {
+  EXPECT_THROW(compare(filled(16, 16, 0), filled(16, 17, 0)), std::invalid_argument);
+  EXPECT_THROW(compare(filled(10, 10, 0), filled(10, 10, 0)), std::invalid_argument);
+}
+
+TEST(ImageMetrics, DifferenceImageScalesAndClamps) {
+  const auto diff = differenceImage(filled(2, 2, 100), filled(2, 2, 110), 4);
+  EXPECT_EQ(diff.pixels[0], 40);
+  const auto clamped = differenceImage(filled(2, 2, 0), filled(2, 2, 200), 4);
+  EXPECT_EQ(clamped.pixels[0], 255);
+}
+
+}  // namespace
+}  // namespace pa::fidelity

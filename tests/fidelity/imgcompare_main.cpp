@@ -1,0 +1,79 @@
+// pa-imgcompare A B [--diff OUT.png] [--gain G] [--min-psnr DB] [--min-ssim S] [--json]
+// Compares two images of the same size (PNG, TGA, JPEG): PSNR over the R, G, B samples and
+// SSIM on BT.601 luma with an 11x11 Gaussian window (sigma 1.5), see image_metrics.h.
+// Prints "psnr_db=P ssim=S mse=M max_abs_diff=D" (or one JSON object with --json).
+// Exit 0: compared and above the thresholds; 1: below a threshold; 2: usage or file error.
+#include "tests/fidelity/image_metrics.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+
+namespace {
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: pa-imgcompare A B [--diff OUT.png] [--gain G] [--min-psnr DB] [--min-ssim S] [--json]\n");
+  return 2;
+}
+
+bool parseNumber(const char* text, double& value) {
+  char* end = nullptr;
+  value = std::strtod(text, &end);
+  return end != text && *end == '\0' && std::isfinite(value);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string pathA, pathB, diffPath;
+  double gain = 4, minPsnr = -1, minSsim = -2;
+  bool json = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool hasValue = i + 1 < argc;
+    if (arg == "--diff" && hasValue) {
+      diffPath = argv[++i];
+    } else if (arg == "--gain" && hasValue) {
+      if (!parseNumber(argv[++i], gain) || gain <= 0) return usage();
+    } else if (arg == "--min-psnr" && hasValue) {
+      if (!parseNumber(argv[++i], minPsnr)) return usage();
+    } else if (arg == "--min-ssim" && hasValue) {
+      if (!parseNumber(argv[++i], minSsim)) return usage();
+    } else if (arg == "--json") {
+      json = true;
+    } else if (!arg.empty() && arg[0] != '-' && pathA.empty()) {
+      pathA = arg;
+    } else if (!arg.empty() && arg[0] != '-' && pathB.empty()) {
+      pathB = arg;
+    } else {
+      return usage();
+    }
+  }
+  if (pathA.empty() || pathB.empty()) return usage();
+  try {
+    const auto a = pa::fidelity::loadRgb(pathA);
+    const auto b = pa::fidelity::loadRgb(pathB);
+    const auto result = pa::fidelity::compare(a, b);
+    if (!diffPath.empty()) pa::fidelity::savePng(diffPath, pa::fidelity::differenceImage(a, b, gain));
+    // JSON has no infinity: identical images report psnr_db 999.
+    const double psnr = std::isinf(result.psnr) ? 999.0 : result.psnr;
+    if (json)
+      std::printf("{\"psnr_db\": %.3f, \"ssim\": %.5f, \"mse\": %.4f, \"max_abs_diff\": %.0f, \"width\": %d, \"height\": %d}\n",
+                  psnr, result.ssim, result.mse, result.maxAbsDiff, a.width, a.height);
+    else
+      std::printf("psnr_db=%.3f ssim=%.5f mse=%.4f max_abs_diff=%.0f\n", psnr, result.ssim, result.mse,
+                  result.maxAbsDiff);
+    if (result.psnr < minPsnr || result.ssim < minSsim) {
+      std::fprintf(stderr, "pa-imgcompare: below threshold (psnr %.3f < %.3f or ssim %.5f < %.5f)\n", psnr,
+                   minPsnr, result.ssim, minSsim);
+      return 1;
+    }
+    return 0;
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "pa-imgcompare: %s\n", error.what());
+    return 2;
+  }
+}
