@@ -20,3 +20,10 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 echo "setup: all packages present"
+
+# Khronos glTF validator for the converter's tests (npm registry; pinned by package-lock.json).
+validator_dir="$(cd "$(dirname "$0")/.." && pwd)/assets_converter/tests/gltf_validator"
+if command -v npm >/dev/null 2>&1 && [ ! -d "$validator_dir/node_modules/gltf-validator" ]; then
+  echo "setup: installing gltf-validator (npm ci)"
+  npm ci --prefix "$validator_dir" --no-audit --no-fund --loglevel=error || echo "setup: WARNING: gltf-validator install failed; its test will be skipped"
+fi
