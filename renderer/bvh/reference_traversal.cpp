@@ -16,7 +16,7 @@ bool intersectReference(const TriangleMesh& mesh, const BinaryBvh& bvh, Ray& ray
       const uint32_t tri = bvh.primIndices[k];
       if (mesh.degenerate[tri]) continue;
       TriangleHit th;
-      if (!intersectTriangleWatertight(ray.origin, shear, ray.tmin, ray.tmax, mesh.vertex(tri, 0),
+      if (!intersectTriangleWatertight(ray.origin, ray.dir, shear, ray.tmin, ray.tmax, mesh.vertex(tri, 0),
                                        mesh.vertex(tri, 1), mesh.vertex(tri, 2), th))
         continue;
       if (mesh.isMasked(tri) && !filter(instanceId, tri, th.u, th.v)) continue;
@@ -38,7 +38,7 @@ bool occludedReference(const TriangleMesh& mesh, const BinaryBvh& bvh, const Ray
       const uint32_t tri = bvh.primIndices[k];
       if (mesh.degenerate[tri]) continue;
       TriangleHit th;
-      if (!intersectTriangleWatertight(ray.origin, shear, ray.tmin, ray.tmax, mesh.vertex(tri, 0),
+      if (!intersectTriangleWatertight(ray.origin, ray.dir, shear, ray.tmin, ray.tmax, mesh.vertex(tri, 0),
                                        mesh.vertex(tri, 1), mesh.vertex(tri, 2), th))
         continue;
       if (mesh.isMasked(tri) && !filter(instanceId, tri, th.u, th.v)) continue;

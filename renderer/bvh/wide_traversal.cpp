@@ -117,6 +117,12 @@ int testPack(const TrianglePack& pack, const TriangleRay& r, float tmax, PackCan
   return hits;
 }
 
+/// Accurate hit distance of one pack lane (see planeHitDistance).
+inline float packPlaneDistance(const TrianglePack& pack, int lane, const Ray& ray, float fallback) {
+  const auto vertex = [&](int k) { return glm::vec3(pack.v[k][0][lane], pack.v[k][1][lane], pack.v[k][2][lane]); };
+  return planeHitDistance(ray.origin, ray.dir, vertex(0), vertex(1), vertex(2), fallback);
+}
+
 /// Decodes a leaf reference into its pack range.
 inline void leafPacks(uint32_t ref, uint32_t& first, uint32_t& count) {
   first = ref & kFirstPackMask;
@@ -189,7 +195,7 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
           const int lane = std::countr_zero(static_cast<uint32_t>(lanes));
           lanes &= lanes - 1;
           const float rcp = 1.0f / c.det[lane];
-          const float t = c.t[lane] * rcp;
+          const float t = packPlaneDistance(pack, lane, ray, c.t[lane] * rcp);
           if (!(t >= ray.tmin && t <= ray.tmax)) continue;
           const float u = c.u[lane] * rcp, v = c.v[lane] * rcp;
           if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], u, v)) continue;
@@ -246,7 +252,7 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
           const int lane = std::countr_zero(static_cast<uint32_t>(lanes));
           lanes &= lanes - 1;
           const float rcp = 1.0f / c.det[lane];
-          const float t = c.t[lane] * rcp;
+          const float t = packPlaneDistance(pack, lane, ray, c.t[lane] * rcp);
           if (!(t >= ray.tmin && t <= ray.tmax)) continue;
           if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], c.u[lane] * rcp, c.v[lane] * rcp))
             continue;
