@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -36,6 +37,24 @@ AlphaMode alphaModeOf(q3::WorldAlphaMode mode) {
     case q3::WorldAlphaMode::Additive: return AlphaMode::Additive;
   }
   return AlphaMode::Opaque;
+}
+
+/// q3map_surfacelight: constant radiance of the light's colour; shown through its texture
+/// (glow stage, else base) scaled so the texture's mean keeps the emitted power.
+void setSurfaceLightEmission(const q3::WorldScene& scene, const WorldHandles& handles, const q3::WorldMaterial& m,
+                             float lightScale, MaterialDesc& desc) {
+  int32_t shown = m.emissiveTexture >= 0 ? m.emissiveTexture : m.baseTexture;
+  glm::vec3 radiance = m.emission * q3::surfaceLightRadiance(m.surfaceLight) * lightScale;
+  if (shown >= 0 && size_t(shown) < scene.textures.size() && size_t(shown) < handles.textures.size() &&
+      validImage(scene.textures[size_t(shown)].image)) {
+    glm::vec3 mean = meanLinearColor(scene.textures[size_t(shown)].image);
+    float luminance = 0.2126f * mean.r + 0.7152f * mean.g + 0.0722f * mean.b;
+    if (luminance > 1e-3f && handles.textures[size_t(shown)] != kNoId) {
+      desc.emissiveTexture = handles.textures[size_t(shown)];
+      radiance /= luminance;
+    }
+  }
+  desc.emission = radiance;
 }
 
 }  // namespace
@@ -83,25 +102,28 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   // uv animation at time 0 is the static scale; scrolling is applied per frame by the glue.
   desc.uvTransform = glm::mat3x2(glm::vec2(m.uvScale.x, 0.0f), glm::vec2(0.0f, m.uvScale.y), glm::vec2(0.0f));
 
-  if (m.surfaceLight > 0.0f) {
-    // q3map_surfacelight: constant radiance of the light's colour; shown through its texture
-    // (glow stage, else base) scaled so the texture's mean keeps the emitted power.
-    int32_t shown = m.emissiveTexture >= 0 ? m.emissiveTexture : m.baseTexture;
-    glm::vec3 radiance = m.emission * q3::surfaceLightRadiance(m.surfaceLight) * lightScale;
-    if (shown >= 0 && size_t(shown) < scene.textures.size() && validImage(scene.textures[size_t(shown)].image)) {
-      glm::vec3 mean = meanLinearColor(scene.textures[size_t(shown)].image);
-      float luminance = 0.2126f * mean.r + 0.7152f * mean.g + 0.0722f * mean.b;
-      if (luminance > 1e-3f) {
-        desc.emissiveTexture = texture(shown);
-        radiance /= luminance;
-      }
-    }
-    desc.emission = radiance;
-  } else if (m.emissiveTexture >= 0) {
+  if (m.surfaceLight > 0.0f && m.alphaMode != q3::WorldAlphaMode::Additive) {
+    setSurfaceLightEmission(scene, handles, m, lightScale, desc);
+  } else if (m.surfaceLight <= 0.0f && m.emissiveTexture >= 0) {
     // Glow stages: the texture at its own brightness.
     desc.emissiveTexture = texture(m.emissiveTexture);
     desc.emission = glm::vec3(1.0f);
   }
+  // Additive surface lights (flames) are drawn as plain additive surfaces: the renderer does
+  // not sample additive surfaces as lights, so their light goes to surfaceLightProxy().
+  return desc;
+}
+
+std::optional<MaterialDesc> surfaceLightProxy(const q3::WorldScene& scene, const WorldHandles& handles,
+                                              uint32_t material, float lightScale) {
+  const q3::WorldMaterial& m = scene.materials.at(material);
+  if (!(m.surfaceLight > 0.0f) || m.alphaMode != q3::WorldAlphaMode::Additive || m.sky) return std::nullopt;
+  MaterialDesc desc;
+  desc.visible = false;        // never hit: sampled as a light only (NEE at full weight)
+  desc.castsShadows = false;
+  desc.twoSided = m.twoSided;
+  desc.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  setSurfaceLightEmission(scene, handles, m, lightScale, desc);
   return desc;
 }
 
@@ -164,11 +186,22 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
         colors.push_back(vertexLight ? glm::vec4(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b), c.a)
                                      : glm::vec4(1.0f, 1.0f, 1.0f, c.a));
       }
+      MaterialId proxy = kNoId;
+      if (auto found = handles.lightProxies.find(mesh.material); found != handles.lightProxies.end()) {
+        proxy = found->second;
+      } else if (auto desc = surfaceLightProxy(scene, handles, mesh.material, options.lightScale)) {
+        proxy = handles.lightProxies.emplace(mesh.material, renderer.addMaterial(*desc)).first->second;
+      }
       for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
         uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
         if (a >= n || b >= n || c >= n) continue;
         indices.insert(indices.end(), {base + a, base + b, base + c});
         triangleMaterials.push_back(it->second);
+        ++handles.triangles;
+        if (proxy != kNoId) {   // the same triangle again, as the invisible emitter
+          indices.insert(indices.end(), {base + a, base + b, base + c});
+          triangleMaterials.push_back(proxy);
+        }
       }
     }
     if (indices.empty()) {
@@ -189,7 +222,6 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
     InstanceDesc instance;
     instance.mesh = id;
     handles.modelInstances.push_back(renderer.addInstance(instance));
-    handles.triangles += triangleMaterials.size();
   }
 
   if (options.lights) {

@@ -11,6 +11,7 @@
 // space and lin(a) * lin(b) ~= lin(a * b) for a power-law transfer.
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -32,6 +33,7 @@ struct WorldHandles {
   std::vector<TextureId> textures;          ///< Per WorldScene::textures (kNoId when empty).
   std::vector<TextureId> lightmaps;         ///< Per WorldScene::lightmaps.
   std::map<std::pair<uint32_t, int32_t>, MaterialId> materials;   ///< (material, lightmap) -> id.
+  std::map<uint32_t, MaterialId> lightProxies;   ///< Material -> invisible emitter (additive surface lights).
   std::vector<MeshId> modelMeshes;          ///< Per WorldScene::models: one mesh (kNoId when empty).
   std::vector<InstanceId> modelInstances;   ///< Per model: identity instance (kNoId when empty).
   std::vector<LightId> lights;              ///< Per WorldScene::lights that was added.
@@ -45,6 +47,11 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
 /// The renderer material for one world material drawn with one lightmap (-1 = none).
 MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handles, uint32_t material, int32_t lightmap,
                           float lightScale = 1.0f);
+
+/// The invisible light-only twin of an additive q3map_surfacelight material (flames): the
+/// renderer never samples additive surfaces as lights, q3map2 does. nullopt for other materials.
+std::optional<MaterialDesc> surfaceLightProxy(const q3::WorldScene& scene, const WorldHandles& handles,
+                                              uint32_t material, float lightScale = 1.0f);
 
 /// Quake's lightmap brightening: value * 2^shift per channel, scaled down as a whole when one
 /// channel would pass 255 (hue kept). RGBA8 in, RGBA8 out.

@@ -1,8 +1,10 @@
 // uploadWorld on synthetic worlds, checked through real renders: the lightmapped look and
 // the direct-light look agree where Quake shows a texture unmodified.
 #include <cmath>
+#include <numbers>
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <gtest/gtest.h>
 
 #include "port/q3formats/world/world_lights.h"
@@ -140,6 +142,58 @@ TEST(SceneBridge, CameraFromSpawnKeepsAxesAndDerivesVerticalFov) {
   EXPECT_EQ(camera.origin, glm::vec3(1, 2, 3));
   EXPECT_FLOAT_EQ(camera.fovX, 90.0f);
   EXPECT_NEAR(camera.fovY, 58.7155f, 1e-3f);   // 2 atan(tan 45 / (16/9))
+}
+
+}  // namespace
+}  // namespace pa::bridge
+
+namespace pa::bridge {
+namespace {
+
+TEST(SceneBridge, AdditiveSurfaceLightLightsTheMapWithoutGlaringItself) {
+  // q3map2 lights maps from additive surface-light shaders too (flames, sfx/flame2 in oa_dm1,
+  // q3map_surfacelight 30000 in oa_ctf2); the renderer samples no additive surface as a light.
+  q3::WorldScene scene = wallScene(64, false);
+  q3::WorldMaterial flame;
+  flame.shaderName = "textures/sfx/flame";
+  flame.baseTexture = 0;
+  flame.alphaMode = q3::WorldAlphaMode::Additive;
+  flame.surfaceLight = 1000.0f;
+  flame.emission = glm::vec3(1.0f);
+  flame.castsShadows = false;
+  scene.materials.push_back(flame);
+  // A 20x20 quad out of the camera's view, 50 units in front of the wall, 70 to the side.
+  q3::WorldMesh quad;
+  quad.material = 1;
+  quad.positions = {{50, 60, -10}, {50, 80, -10}, {50, 80, 10}, {50, 60, 10}};
+  quad.normals.assign(4, glm::vec3(-1, 0, 0));
+  quad.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  quad.lightmapUvs = quad.uvs;
+  quad.colors.assign(4, glm::vec4(1.0f));
+  quad.indices = {0, 2, 1, 0, 3, 2};
+  scene.models[0].meshes.push_back(quad);
+
+  Renderer renderer;
+  UploadOptions options;
+  options.sky = false;
+  WorldHandles handles = uploadWorld(scene, renderer, options);
+  renderer.commit();
+  EXPECT_EQ(handles.lightProxies.size(), 1u);
+  EXPECT_EQ(handles.triangles, 4u);
+  // Drawn as an additive texture, not at q3map2's radiance (11.7 for 1000).
+  EXPECT_EQ(materialDesc(scene, handles, 1, -1).emission, glm::vec3(0.0f));
+  // Small-source estimate E = L * A * cos_r * cos_e / d^2 (white wall radiance E / pi),
+  // averaged over the wall points seen by centreRadiance's 8x8 pixel centres.
+  const float halfWidth = 200.0f * std::tan(glm::radians(10.0f));
+  float expected = 0.0f;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j) {
+      const glm::vec3 wall(0.0f, halfWidth * ((i + 0.5f) / 4.0f - 1.0f), halfWidth * ((j + 0.5f) / 4.0f - 1.0f));
+      const glm::vec3 toLight = glm::vec3(50.0f, 70.0f, 0.0f) - wall;
+      const float d2 = glm::dot(toLight, toLight), cosine = toLight.x / std::sqrt(d2);
+      expected += q3::surfaceLightRadiance(1000.0f) * 400.0f * cosine * cosine / d2 / std::numbers::pi_v<float> / 64.0f;
+    }
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 64), expected, 0.1f * expected);
 }
 
 }  // namespace
