@@ -69,14 +69,12 @@ inline bool intersectTriangleWatertight(const glm::vec3& origin, const glm::vec3
   if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
   const float det = u + v + w;
   if (!(det != 0.0f)) return false;
+  // The range test uses the accurate plane distance only: the sheared-space distance can be
+  // far off on slivers, so culling with it would reject hits whose true t is in range.
   const float az = s.sz * a[s.kz], bz = s.sz * b[s.kz], cz = s.sz * c[s.kz];
-  const float tScaled = u * az + v * bz + w * cz;
-  // Compare t against the range without dividing: flip signs so det is positive.
-  const float sign = det < 0.0f ? -1.0f : 1.0f;
-  const float absDet = det * sign, tSigned = tScaled * sign;
-  if (!(tSigned >= tmin * absDet) || !(tSigned <= tmax * absDet)) return false;
   const float rcp = 1.0f / det;
-  out = {planeHitDistance(origin, dir, v0, v1, v2, tScaled * rcp), v * rcp, w * rcp};
+  const float tSheared = (u * az + v * bz + w * cz) * rcp;
+  out = {planeHitDistance(origin, dir, v0, v1, v2, tSheared), v * rcp, w * rcp};
   return out.t >= tmin && out.t <= tmax;
 }
 

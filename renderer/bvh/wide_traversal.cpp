@@ -60,14 +60,14 @@ struct TriangleRay {
 
 /// Lane results of one pack test.
 struct PackCandidates {
-  alignas(16) float t[kPackWidth];   ///< Scaled t (T), not yet divided by det.
+  alignas(16) float t[kPackWidth];   ///< Sheared-space t (T), not yet divided by det; fallback only.
   alignas(16) float det[kPackWidth];
   alignas(16) float u[kPackWidth];
   alignas(16) float v[kPackWidth];
 };
 
-/// Watertight test of four triangles; returns the lanes hit within [tmin, tmax].
-int testPack(const TrianglePack& pack, const TriangleRay& r, float tmax, PackCandidates& out) {
+/// Watertight test of four triangles; returns the lanes the ray line passes through (any t).
+int testPack(const TrianglePack& pack, const TriangleRay& r, PackCandidates& out) {
   const int kx = r.shear.kx, ky = r.shear.ky, kz = r.shear.kz;
   const vfloat4 az = vfloat4::load(pack.v[0][kz]) - r.oz;
   const vfloat4 bz = vfloat4::load(pack.v[1][kz]) - r.oz;
@@ -106,9 +106,8 @@ int testPack(const TrianglePack& pack, const TriangleRay& r, float tmax, PackCan
   if (!hits) return 0;
   const vfloat4 det = u + v + w;
   const vfloat4 tScaled = (u * (r.sz * az) + v * (r.sz * bz)) + w * (r.sz * cz);
-  const vfloat4 sign = simd::signBits(det);
-  const vfloat4 absDet = det ^ sign, tSigned = tScaled ^ sign;
-  hits &= ((det != zero) & (tSigned >= r.tmin * absDet) & (tSigned <= vfloat4(tmax) * absDet)).mask();
+  // No range test on the sheared distance (inaccurate on slivers): callers test the plane distance.
+  hits &= (det != zero).mask();
   if (!hits) return 0;
   tScaled.store(out.t);
   det.store(out.det);
@@ -190,7 +189,7 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
       for (uint32_t p = first; p < first + count; ++p) {
         const TrianglePack& pack = bvh.packs[p];
         PackCandidates c;
-        int lanes = testPack(pack, triRay, ray.tmax, c);
+        int lanes = testPack(pack, triRay, c);
         while (lanes) {
           const int lane = std::countr_zero(static_cast<uint32_t>(lanes));
           lanes &= lanes - 1;
@@ -247,7 +246,7 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
       for (uint32_t p = first; p < first + count; ++p) {
         const TrianglePack& pack = bvh.packs[p];
         PackCandidates c;
-        int lanes = testPack(pack, triRay, ray.tmax, c);
+        int lanes = testPack(pack, triRay, c);
         while (lanes) {
           const int lane = std::countr_zero(static_cast<uint32_t>(lanes));
           lanes &= lanes - 1;
