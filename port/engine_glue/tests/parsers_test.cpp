@@ -44,11 +44,12 @@ TEST(ShaderScripts, FirstDefinitionWinsAndFirstVisibleStageIsTheLook) {
   EXPECT_FALSE(scripts.find("textures/none"));
 }
 
-TEST(ShaderScripts, UnterminatedAndGarbageScriptsDoNotHang) {
+TEST(ShaderScripts, MalformedScriptsAreSkippedWhole) {
   ShaderScripts scripts;
-  scripts.addScript("}}}{ broken\n{\n { map x.tga\n");
-  scripts.addScript("\"quoted name\" { { map y.tga } }");
+  EXPECT_FALSE(scripts.addScript("textures/a/ok { { map ok.tga } }\nbroken\n{\n { map x.tga\n"));
+  EXPECT_TRUE(scripts.addScript("\"quoted name\" { { map y.tga } }"));
   scripts.addScript("/* never closed");
+  EXPECT_FALSE(scripts.find("textures/a/ok"));   // the engine ignores the whole broken file
   EXPECT_TRUE(scripts.find("quoted name"));
 }
 
