@@ -3,13 +3,10 @@
 
 #include <GL/gl.h>
 
-#include <cstring>
-
 #include "port/engine_glue/models.h"
 #include "port/engine_glue/settings.h"
 #include "port/engine_glue/shader_scripts.h"
 #include "port/engine_glue/window.h"
-#include "port/q3formats/common/format_error.h"
 
 namespace glue {
 namespace {
@@ -60,19 +57,6 @@ TEST(Skins, SurfaceShaderPairsSkipTags) {
   EXPECT_EQ(pairs[0].second, "models/players/x/head.tga");
   EXPECT_EQ(pairs[1].first, "u_torso");
   EXPECT_EQ(pairs[1].second, "models/t.tga");
-}
-
-TEST(Md3Info, RejectsTruncatedAndLyingHeaders) {
-  std::vector<uint8_t> bytes(108, 0);
-  std::memcpy(bytes.data(), "IDP3", 4);
-  int32_t v = 15;
-  std::memcpy(&bytes[4], &v, 4);
-  v = 1;
-  std::memcpy(&bytes[76], &v, 4);     // one frame...
-  v = 100000;
-  std::memcpy(&bytes[92], &v, 4);     // ...far outside the file
-  EXPECT_THROW(readMd3Info(bytes, "lying.md3"), q3::FormatError);
-  EXPECT_THROW(readMd3Info({'I', 'D'}, "short.md3"), q3::FormatError);
 }
 
 TEST(VideoModes, StockTable) {
