@@ -18,29 +18,6 @@ constexpr size_t kMaxSkins = 1024;
 
 }  // namespace
 
-std::vector<std::pair<std::string, std::string>> parseSkin(std::string_view text) {
-  std::vector<std::pair<std::string, std::string>> pairs;
-  size_t start = 0;
-  while (start < text.size()) {
-    size_t end = text.find_first_of("\r\n", start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    start = end + 1;
-    const size_t comma = line.find(',');
-    if (comma == std::string_view::npos) continue;
-    auto trim = [](std::string_view s) {
-      while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '"')) s.remove_prefix(1);
-      while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '"')) s.remove_suffix(1);
-      return s;
-    };
-    const std::string surface = normalizeName(trim(line.substr(0, comma)));
-    const std::string_view shader = trim(line.substr(comma + 1));
-    if (surface.empty() || surface.rfind("tag_", 0) == 0 || shader.empty()) continue;
-    pairs.emplace_back(surface, std::string(shader));
-  }
-  return pairs;
-}
-
 ModelRegistry::ModelRegistry() { clear(); }
 
 void ModelRegistry::clear() {

@@ -14,6 +14,7 @@
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/ioq3_abi.h"
 #include "port/q3formats/model/md3.h"
+#include "port/q3formats/model/skin.h"
 
 namespace glue {
 
@@ -69,9 +70,6 @@ class ModelRegistry {
   std::unordered_map<std::string, q3abi::qhandle_t> skinsByName_;
 };
 
-/// Parses .skin text into (surface, shader) pairs: lower-case surface names, tag_ lines skipped.
-std::vector<std::pair<std::string, std::string>> parseSkin(std::string_view text);
-
 template <typename RegisterShader>
 q3abi::qhandle_t ModelRegistry::registerSkin(const Engine& engine, const std::string& name,
                                              RegisterShader&& registerShader) {
@@ -91,8 +89,11 @@ q3abi::qhandle_t ModelRegistry::registerSkin(const Engine& engine, const std::st
     return 0;
   }
   const std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
-  for (auto& [surface, shader] : parseSkin(text))
-    skin.surfaces.emplace_back(surface, registerShader(shader));
+  const q3::Skin parsed = q3::parseSkin(text, name);
+  for (const std::string& warning : parsed.warnings)
+    engine.print(q3abi::PRINT_DEVELOPER, "RegisterSkin: %s\n", warning.c_str());
+  for (const q3::SkinSurface& surface : parsed.surfaces)
+    skin.surfaces.emplace_back(surface.surface, registerShader(surface.shader));
   return addSkin(std::move(skin));
 }
 

@@ -1,9 +1,8 @@
-// Known-answer tests of the module's own small parsers.
+// Known-answer tests of the module's own pure functions (shader looks, video modes, presets).
 #include <gtest/gtest.h>
 
 #include <GL/gl.h>
 
-#include "port/engine_glue/models.h"
 #include "port/engine_glue/settings.h"
 #include "port/engine_glue/shader_scripts.h"
 #include "port/engine_glue/window.h"
@@ -48,15 +47,6 @@ TEST(ShaderScripts, MalformedScriptsAreSkippedWhole) {
   scripts.addScript("/* never closed");
   EXPECT_FALSE(scripts.find("textures/a/ok"));   // the engine ignores the whole broken file
   EXPECT_TRUE(scripts.find("quoted name"));
-}
-
-TEST(Skins, SurfaceShaderPairsSkipTags) {
-  const auto pairs = parseSkin("tag_head,\r\nH_Head,models/players/x/head.tga\n\nu_torso , \"models/t.tga\"\njunk\n");
-  ASSERT_EQ(pairs.size(), 2u);
-  EXPECT_EQ(pairs[0].first, "h_head");
-  EXPECT_EQ(pairs[0].second, "models/players/x/head.tga");
-  EXPECT_EQ(pairs[1].first, "u_torso");
-  EXPECT_EQ(pairs[1].second, "models/t.tga");
 }
 
 TEST(VideoModes, StockTable) {
