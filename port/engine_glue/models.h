@@ -1,6 +1,6 @@
 #pragma once
 // Model and skin handles: RegisterModel (MD3 files, inline "*N" brush models), RegisterSkin,
-// LerpTag and ModelBounds. Handle 0 is "no model" / "no skin", like the stock renderer.
+// LerpTag and ModelBounds. MD3 files are parsed by q3formats (q3::parseMd3), like the converter. Handle 0 is "no model" / "no skin", like the stock renderer.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -13,35 +13,12 @@
 
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/ioq3_abi.h"
+#include "port/q3formats/model/md3.h"
+#include "port/q3formats/model/skin.h"
 
 namespace glue {
 
 class Engine;
-
-/// One tag of one frame.
-struct Md3Tag {
-  std::string name;
-  glm::vec3 origin{0.0f};
-  std::array<glm::vec3, 3> axis{};
-};
-
-/// One frame's bounds.
-struct Md3FrameBounds {
-  glm::vec3 mins{0.0f};
-  glm::vec3 maxs{0.0f};
-};
-
-/// What the glue itself needs of an MD3 (geometry goes to the path tracer separately).
-struct Md3Info {
-  std::vector<Md3FrameBounds> frames;
-  int tagsPerFrame = 0;
-  std::vector<Md3Tag> tags;          ///< frames.size() * tagsPerFrame, frame-major
-  std::vector<std::string> surfaceNames;
-  std::vector<std::vector<std::string>> surfaceShaders;   ///< per surface, its shader names
-};
-
-/// Reads the frame, tag and surface-name tables of an MD3 file (throws q3::FormatError).
-Md3Info readMd3Info(const std::vector<uint8_t>& bytes, const std::string& file);
 
 /// Kinds of registered models.
 enum class ModelKind : uint8_t { Bad, Md3, Brush };
@@ -51,8 +28,7 @@ struct ModelEntry {
   std::string name;
   ModelKind kind = ModelKind::Bad;
   int brushIndex = 0;                         ///< Brush: the world's submodel number.
-  std::vector<std::shared_ptr<const Md3Info>> lods;   ///< Md3: LOD 0 first.
-  std::vector<std::shared_ptr<const std::vector<uint8_t>>> lodBytes;   ///< raw files per LOD
+  std::vector<std::shared_ptr<const q3::Md3Model>> lods;   ///< Md3: LOD 0 first (q3formats).
 };
 
 /// One skin: surface name -> shader handle.
@@ -94,9 +70,6 @@ class ModelRegistry {
   std::unordered_map<std::string, q3abi::qhandle_t> skinsByName_;
 };
 
-/// Parses .skin text into (surface, shader) pairs: lower-case surface names, tag_ lines skipped.
-std::vector<std::pair<std::string, std::string>> parseSkin(std::string_view text);
-
 template <typename RegisterShader>
 q3abi::qhandle_t ModelRegistry::registerSkin(const Engine& engine, const std::string& name,
                                              RegisterShader&& registerShader) {
@@ -116,8 +89,11 @@ q3abi::qhandle_t ModelRegistry::registerSkin(const Engine& engine, const std::st
     return 0;
   }
   const std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
-  for (auto& [surface, shader] : parseSkin(text))
-    skin.surfaces.emplace_back(surface, registerShader(shader));
+  const q3::Skin parsed = q3::parseSkin(text, name);
+  for (const std::string& warning : parsed.warnings)
+    engine.print(q3abi::PRINT_DEVELOPER, "RegisterSkin: %s\n", warning.c_str());
+  for (const q3::SkinSurface& surface : parsed.surfaces)
+    skin.surfaces.emplace_back(surface.surface, registerShader(surface.shader));
   return addSkin(std::move(skin));
 }
 

@@ -85,9 +85,9 @@ q3abi::qhandle_t Module::registerModel(const char* name) {
   // Register the MD3's own shaders now, like the stock renderer does at load.
   if (const ModelEntry* entry = models_.model(handle); entry != nullptr && entry->kind == ModelKind::Md3)
     for (const auto& lod : entry->lods)
-      for (const auto& shaders : lod->surfaceShaders)
-        for (const std::string& shader : shaders)
-          if (!shader.empty()) registerShader(shader.c_str());
+      for (const q3::Md3Surface& surface : lod->surfaces)
+        for (const q3::Md3Shader& shader : surface.shaders)
+          if (!shader.name.empty()) registerShader(shader.name.c_str());
   return handle;
 }
 

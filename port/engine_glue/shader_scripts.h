@@ -1,13 +1,15 @@
 #pragma once
 // What the module needs from a shader: its first visible stage (image, blend, alpha test,
-// colour source) and the surface flags. Scripts (scripts/*.shader) are indexed once per
-// registration; the first definition of a name wins, like the stock renderer.
+// colour source) and the surface flags. Scripts (scripts/*.shader) are parsed by q3formats
+// (q3::ShaderLibrary, the same reader the converter uses); this file only turns a parsed
+// q3::ShaderDef into the module's drawable summary.
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
+
+#include "port/q3formats/shader/shader_library.h"
 
 namespace glue {
 
@@ -21,8 +23,8 @@ struct BlendFunc {
   bool blends() const { return !(src == 1 && dst == 0); }
 };
 
-/// Alpha test of a stage.
-enum class AlphaTest : uint8_t { None, Gt0, Lt128, Ge128 };
+/// Alpha test of a stage (the library's enum).
+using AlphaTest = q3::AlphaTest;
 
 /// The drawable summary of a shader.
 struct ShaderLook {
@@ -40,23 +42,26 @@ struct ShaderLook {
   bool fromScript = false;
 };
 
+/// The drawable summary of a parsed shader: its first stage that is not the lightmap.
+ShaderLook lookOfShader(const q3::ShaderDef& shader);
+
 /// The index of every shader script in the game file system.
 class ShaderScripts {
  public:
-  /// Reads scripts/*.shader through the engine (replaces any earlier index).
+  /// Reads scripts/*.shader through the engine in the engine's priority order (replaces any
+  /// earlier index); a malformed script is skipped with a warning, as the engine does.
   void load(const Engine& engine);
-  /// Parses one script's text into the index (first definition of a name wins).
-  void addScript(std::string_view text);
-  /// The look of shader `name`, or nullopt when no script defines it.
+  /// Parses one script's text into the index (first definition of a name wins). False (and
+  /// nothing added) when the script is malformed.
+  bool addScript(std::string_view text, const std::string& file = "<memory>");
+  /// The look of shader `name` (case-insensitive, extension ignored), or nullopt when no
+  /// script defines it.
   std::optional<ShaderLook> find(std::string_view name) const;
   /// Number of shader definitions indexed.
-  size_t size() const { return bodies_.size(); }
+  size_t size() const { return library_.size(); }
 
  private:
-  std::unordered_map<std::string, std::string> bodies_;   ///< lower-case name -> "{...}" text
+  q3::ShaderLibrary library_;
 };
-
-/// Parses the body ("{ ... }") of one shader into a look.
-ShaderLook parseShaderBody(std::string_view body);
 
 }  // namespace glue

@@ -121,7 +121,6 @@ struct ViewRenderer::Impl {
   std::vector<pa::InstanceDesc> brushInstances;       ///< Current description per world model.
   std::map<std::pair<std::string, MaterialUse>, pa::MaterialId> materials;
   std::unordered_map<const Image*, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
-  std::unordered_map<std::string, std::shared_ptr<const q3::Md3Model>> md3s;
   std::vector<DynamicSlot> slots;
   std::vector<pa::LightId> lights;
   std::vector<bool> lightOn;
@@ -198,20 +197,9 @@ struct ViewRenderer::Impl {
     return id;
   }
 
-  /// The parsed geometry of an MD3 model (LOD 0), cached.
-  const q3::Md3Model* md3(const ModelEntry& entry) {
-    if (entry.lodBytes.empty()) return nullptr;
-    if (const auto found = md3s.find(entry.name); found != md3s.end()) return found->second.get();
-    std::shared_ptr<const q3::Md3Model> model;
-    try {
-      const auto& bytes = *entry.lodBytes[0];
-      model = std::make_shared<const q3::Md3Model>(
-          q3::parseMd3(std::as_bytes(std::span(bytes)), entry.name));
-    } catch (const q3::FormatError& error) {
-      engine.warn(std::string("model geometry: ") + error.what());
-    }
-    md3s.emplace(entry.name, model);
-    return model.get();
+  /// The parsed geometry of an MD3 model (LOD 0), parsed once at registration.
+  static const q3::Md3Model* md3(const ModelEntry& entry) {
+    return entry.lods.empty() ? nullptr : entry.lods[0].get();
   }
 
   /// Puts a batch into dynamic slot `index` (creating it on first use).
@@ -288,7 +276,6 @@ ViewRenderer::~ViewRenderer() = default;
 
 void ViewRenderer::clearWorld() {
   impl_->resetRenderer();
-  impl_->md3s.clear();
 }
 
 void ViewRenderer::shadersChanged() {

@@ -1,15 +1,11 @@
-// Known-answer tests of the module's own small parsers.
+// Known-answer tests of the module's own pure functions (shader looks, video modes, presets).
 #include <gtest/gtest.h>
 
 #include <GL/gl.h>
 
-#include <cstring>
-
-#include "port/engine_glue/models.h"
 #include "port/engine_glue/settings.h"
 #include "port/engine_glue/shader_scripts.h"
 #include "port/engine_glue/window.h"
-#include "port/q3formats/common/format_error.h"
 
 namespace glue {
 namespace {
@@ -44,34 +40,13 @@ TEST(ShaderScripts, FirstDefinitionWinsAndFirstVisibleStageIsTheLook) {
   EXPECT_FALSE(scripts.find("textures/none"));
 }
 
-TEST(ShaderScripts, UnterminatedAndGarbageScriptsDoNotHang) {
+TEST(ShaderScripts, MalformedScriptsAreSkippedWhole) {
   ShaderScripts scripts;
-  scripts.addScript("}}}{ broken\n{\n { map x.tga\n");
-  scripts.addScript("\"quoted name\" { { map y.tga } }");
+  EXPECT_FALSE(scripts.addScript("textures/a/ok { { map ok.tga } }\nbroken\n{\n { map x.tga\n"));
+  EXPECT_TRUE(scripts.addScript("\"quoted name\" { { map y.tga } }"));
   scripts.addScript("/* never closed");
+  EXPECT_FALSE(scripts.find("textures/a/ok"));   // the engine ignores the whole broken file
   EXPECT_TRUE(scripts.find("quoted name"));
-}
-
-TEST(Skins, SurfaceShaderPairsSkipTags) {
-  const auto pairs = parseSkin("tag_head,\r\nH_Head,models/players/x/head.tga\n\nu_torso , \"models/t.tga\"\njunk\n");
-  ASSERT_EQ(pairs.size(), 2u);
-  EXPECT_EQ(pairs[0].first, "h_head");
-  EXPECT_EQ(pairs[0].second, "models/players/x/head.tga");
-  EXPECT_EQ(pairs[1].first, "u_torso");
-  EXPECT_EQ(pairs[1].second, "models/t.tga");
-}
-
-TEST(Md3Info, RejectsTruncatedAndLyingHeaders) {
-  std::vector<uint8_t> bytes(108, 0);
-  std::memcpy(bytes.data(), "IDP3", 4);
-  int32_t v = 15;
-  std::memcpy(&bytes[4], &v, 4);
-  v = 1;
-  std::memcpy(&bytes[76], &v, 4);     // one frame...
-  v = 100000;
-  std::memcpy(&bytes[92], &v, 4);     // ...far outside the file
-  EXPECT_THROW(readMd3Info(bytes, "lying.md3"), q3::FormatError);
-  EXPECT_THROW(readMd3Info({'I', 'D'}, "short.md3"), q3::FormatError);
 }
 
 TEST(VideoModes, StockTable) {
