@@ -156,6 +156,9 @@ int run(int argc, char** argv) {
   const Options opt = parseOptions(argc, argv);
   BenchScene scene = opt.scene.empty() ? makeSyntheticScene(opt.synthetic) : loadGltfScene(opt.scene);
   const testing::TestMesh& mesh = scene.mesh;
+  // Frames first: an Embree device made with "threads=N" limits TBB's parallelism for the whole
+  // process while it lives, which would cap the renderer's 2-thread arena at N.
+  const FrameTimes frames = opt.frames ? measureFrames(scene, std::min(opt.reps, 3u)) : FrameTimes{{}, {}, "skipped (--no-frames)"};
   tbb::task_arena arena(static_cast<int>(opt.threads));
   testing::EmbreeDevice device("threads=" + std::to_string(opt.threads));
 
@@ -188,7 +191,6 @@ int run(int argc, char** argv) {
     primary.ours.push_back(threadCpuSeconds([&] { primary.hitsOurs = traceClosest(blas, rays.primary); }));
     primary.embree.push_back(threadCpuSeconds([&] { primary.hitsEmbree = tracePackets(*embree, rays.primary); }));
   }
-  const FrameTimes frames = opt.frames ? measureFrames(scene, std::min(opt.reps, 3u)) : FrameTimes{{}, {}, "skipped (--no-frames)"};
 
   const double bOurs = median(buildOurs) * 1e3, bEmbree = median(buildEmbree) * 1e3;
   const double bCpuOurs = median(buildCpuOurs) * 1e3, bCpuEmbree = median(buildCpuEmbree) * 1e3;
