@@ -49,7 +49,7 @@ Camera toRendererCamera(const BenchCamera& c) {
   cam.left = -right;
   cam.up = glm::cross(right, cam.forward);
   const float fovY = c.yfov;
-  const float fovX = 2.0f * std::atan(std::tan(0.5f * fovY) * float(kWidth) / float(kHeight));
+  const float fovX = fovAcross(fovY, float(kWidth) / float(kHeight));
   cam.fovY = glm::degrees(fovY);
   cam.fovX = glm::degrees(fovX);
   return cam;

@@ -68,7 +68,7 @@ Camera toRendererCamera(const ImportedCamera& camera, float aspect) {
   out.left = camera.left;
   out.up = camera.up;
   out.fovY = glm::degrees(camera.yfovRadians);
-  out.fovX = glm::degrees(2.0f * std::atan(std::tan(0.5f * camera.yfovRadians) * aspect));
+  out.fovX = glm::degrees(fovAcross(camera.yfovRadians, aspect));
   return out;
 }
 

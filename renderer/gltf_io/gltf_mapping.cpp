@@ -136,7 +136,7 @@ Camera toCamera(const GltfCamera& camera, float imageAspect) {
   out.left = camera.left;
   out.up = camera.up;
   out.fovY = glm::degrees(camera.yfov);
-  out.fovX = glm::degrees(2.0f * std::atan(std::tan(0.5f * camera.yfov) * imageAspect));
+  out.fovX = glm::degrees(fovAcross(camera.yfov, imageAspect));
   return out;
 }
 

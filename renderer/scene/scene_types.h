@@ -38,6 +38,7 @@
 //   The faces are multiplied by color * intensity (set color to 1 to see them as they are).
 // - Textures sample with (0, 0) at the top-left texel corner.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <stdexcept>
@@ -184,6 +185,12 @@ struct Camera {
   float fovX = 90.0f;
   float fovY = 73.74f;
 };
+
+/// Field of view (radians) across the other image axis: fovX from fovY with ratio = width/height,
+/// fovY from fovX with ratio = height/width.
+inline float fovAcross(float fovRadians, float ratio) {
+  return 2.0f * std::atan(std::tan(0.5f * fovRadians) * ratio);
+}
 
 /// What the integrator computes per pixel.
 enum class Integrator : uint8_t {
