@@ -1,6 +1,10 @@
 #pragma once
-// The loaded map as the glue needs it: the entity string (GetEntityToken), brush sub-model
-// bounds (ModelBounds, "*N" models), and the data behind LightForPoint / inPVS / MarkFragments.
+// The loaded map as the module's game-side queries need it, on top of the one formats library
+// (port/q3formats/bsp): GetEntityToken over the entity lump, brush sub-model bounds
+// (ModelBounds of "*N"), LightForPoint (light grid), inPVS (BSP tree + visibility rows) and
+// MarkFragments (decals clipped against the same tessellated triangles the tracer draws).
+// Every query follows the stock opengl1 renderer of ioquake3 (see the comments in
+// world_queries.cpp for the engine behaviour each one keeps).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -8,84 +12,71 @@
 #include <glm/vec3.hpp>
 
 #include "port/engine_glue/ioq3_abi.h"
+#include "port/q3formats/bsp/bsp_file.h"
+#include "port/q3formats/common/tokenizer.h"
 
 namespace glue {
 
-/// A brush sub-model of the map ("*0" is the world itself).
-struct BrushModel {
-  glm::vec3 mins{0.0f};
-  glm::vec3 maxs{0.0f};
-  int firstSurface = 0;
-  int numSurfaces = 0;
+/// How a BSP surface takes decals (the engine's R_BoxSurfaces_r / R_MarkFragments rules).
+enum class MarkKind : uint8_t {
+  None,   ///< never listed: SURF_NOIMPACT / SURF_NOMARKS / fog, flares, brush-model surfaces
+  Face,   ///< planar face: listed when its plane crosses the decal box and faces the projector
+  Patch,  ///< curved patch: always listed, each triangle tested for facing
+  Soup,   ///< triangle soup: listed (it takes one of the 64 places) but never marked
 };
 
-/// A BSP plane.
-struct WorldPlane {
-  glm::vec3 normal{0.0f};
-  float dist = 0.0f;
-};
-
-/// A BSP node: children >= 0 are nodes, < 0 are leaves (-1 - leaf).
-struct WorldNode {
-  int plane = 0;
-  int children[2] = {0, 0};
-};
-
-/// The triangles of one drawable surface, for MarkFragments.
+/// One surface's decal data: its triangles in Quake winding (clockwise seen from the front).
 struct MarkSurface {
-  glm::vec3 mins{0.0f};
-  glm::vec3 maxs{0.0f};
-  uint32_t firstIndex = 0;       ///< into World::markIndices_
-  uint32_t numIndices = 0;
-  bool planar = false;
+  MarkKind kind = MarkKind::None;
+  glm::vec3 planeNormal{0.0f};   ///< Face: the plane the engine tests (lightmapVecs[2])
+  float planeDist = 0.0f;        ///< Face: planeNormal . first vertex
+  uint32_t firstCorner = 0;      ///< into World::markCorners_, 3 per triangle
+  uint32_t numCorners = 0;
 };
 
-/// One BSP file, validated.
+/// One BSP file, parsed and validated by q3::parseBsp.
 class World {
  public:
-  /// Parses the map's header and the lumps the glue reads itself (throws q3::FormatError).
+  /// Parses and tessellates the map (throws q3::FormatError naming the file and field).
   World(const std::vector<uint8_t>& bytes, const std::string& name);
+  World(const World&) = delete;             // the entity tokenizer views bsp_.entities
+  World& operator=(const World&) = delete;
 
   /// "maps/NAME.bsp" as given to LoadWorld.
-  const std::string& name() const { return name_; }
-  /// Sub-models, index 0 = the world.
-  const std::vector<BrushModel>& brushModels() const { return brushModels_; }
-  /// GetEntityToken: copies the next token of the entity string; false at the end.
+  const std::string& name() const { return bsp_.fileName; }
+  /// The parsed map.
+  const q3::BspFile& bsp() const { return bsp_; }
+  /// Sub-models, index 0 = the world ("*N" is index N).
+  const std::vector<q3::BspModel>& brushModels() const { return bsp_.models; }
+  /// GetEntityToken: copies the next token of the entity string (COM_Parse rules, truncated to
+  /// size - 1). At the end it writes "", rewinds to the start and returns false.
   bool nextEntityToken(char* buffer, int size);
-  /// The raw entity string.
-  const std::string& entityString() const { return entities_; }
-  /// LightForPoint: trilinear light-grid sample (0..255 scale); false without a grid.
+  /// LightForPoint: the light grid at a point in the engine's 0..255 scale (map overbright
+  /// shift applied, ambient x r_ambientScale); false when the map has no usable grid.
   bool lightForPoint(const float* point, float* ambient, float* directed, float* direction) const;
-  /// inPVS: can a point in p1's cluster see p2's cluster? True when the map has no vis data.
+  /// inPVS: is p2's cluster in the potentially visible set of p1's cluster?
   bool inPVS(const float* p1, const float* p2) const;
-  /// MarkFragments: clips a decal polygon projected along `projection` against the world's
-  /// triangles; returns the number of fragments written.
+  /// MarkFragments: clips the decal polygon `points`, swept along `projection`, against the
+  /// world's faces and patches; writes at most maxPoints points and maxFragments fragments.
   int markFragments(int numPoints, const float (*points)[3], const float* projection,
                     int maxPoints, float* pointBuffer, int maxFragments,
                     q3abi::markFragment_t* fragments) const;
-  /// Leaf index containing a point.
+  /// Leaf index containing a point (the engine's R_PointInLeaf).
   int leafAt(const glm::vec3& point) const;
-  /// Cluster of a leaf (-1 = solid / outside).
+  /// Cluster of a leaf (-1 = solid / outside / no such leaf).
   int clusterOf(int leaf) const;
 
  private:
-  std::string name_;
-  std::string entities_;
-  size_t entityParsePoint_ = 0;
-  std::vector<BrushModel> brushModels_;
-  std::vector<WorldPlane> planes_;
-  std::vector<WorldNode> nodes_;
-  std::vector<int> leafClusters_;
-  int numClusters_ = 0;
-  int clusterBytes_ = 0;
-  std::vector<uint8_t> vis_;
-  glm::vec3 gridOrigin_{0.0f};
-  glm::vec3 gridSize_{64.0f, 64.0f, 128.0f};
-  int gridBounds_[3] = {0, 0, 0};
-  std::vector<uint8_t> grid_;          ///< 8 bytes per point, colours already overbright-shifted
-  std::vector<glm::vec3> markVertices_;
-  std::vector<uint32_t> markIndices_;
-  std::vector<MarkSurface> markSurfaces_;
+  /// BSP surfaces the box [mins, maxs] reaches through the tree, in the engine's order, that
+  /// may take a decal projected along `dir` (at most 64, as the engine's list).
+  std::vector<uint32_t> surfacesInBox(const glm::vec3& mins, const glm::vec3& maxs,
+                                      const glm::vec3& dir) const;
+
+  q3::BspFile bsp_;
+  q3::Tokenizer entityTokens_;
+  q3::BspLightGrid shiftedGrid_;          ///< colours brightened as the engine does at load
+  std::vector<MarkSurface> markSurfaces_;  ///< per BSP surface
+  std::vector<glm::vec3> markCorners_;
 };
 
 }  // namespace glue

@@ -384,11 +384,12 @@ TEST_F(ModuleTest, RealMapLoadsAndAnswersQueries) {
   EXPECT_EQ(re_->inPVS(spawn, spawn), 1);
   const float far[3] = {1e6f, 1e6f, 1e6f};
   EXPECT_EQ(re_->inPVS(spawn, far), 0);
-  // A decal projected down onto the floor under the spawn point.
+  // A decal projected down onto the floor under the spawn point, wound clockwise seen along
+  // the projection as the cgame's CG_ImpactMark does (the other winding clips everything).
   const q3abi::vec3_t quad[4] = {{spawn[0] - 8, spawn[1] - 8, spawn[2] - 20},
-                                 {spawn[0] + 8, spawn[1] - 8, spawn[2] - 20},
+                                 {spawn[0] - 8, spawn[1] + 8, spawn[2] - 20},
                                  {spawn[0] + 8, spawn[1] + 8, spawn[2] - 20},
-                                 {spawn[0] - 8, spawn[1] + 8, spawn[2] - 20}};
+                                 {spawn[0] + 8, spawn[1] - 8, spawn[2] - 20}};
   const float down[3] = {0, 0, -64};
   q3abi::vec3_t points[384];
   q3abi::markFragment_t fragments[128];
