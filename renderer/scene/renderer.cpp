@@ -91,6 +91,8 @@ void Renderer::setLight(LightId id, const LightDesc& light) { impl_->store.setLi
 void Renderer::removeLight(LightId id) { impl_->store.removeLight(id); }
 void Renderer::setSky(const SkyDesc& sky) { impl_->store.setSky(sky); }
 
+void Renderer::setPortals(std::span<const PortalDesc> portals) { impl_->store.setPortals(portals); }
+
 void Renderer::commit() {
   Impl& im = *impl_;
   if (!im.store.dirty()) return;

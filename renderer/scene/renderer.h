@@ -71,6 +71,8 @@ class Renderer {
 
   /// Sets the environment.
   void setSky(const SkyDesc& sky);
+  /// Replaces every portal (mirror-material windows to elsewhere; see scene_types.h).
+  void setPortals(std::span<const PortalDesc> portals);
 
   /// Makes all changes since the last commit visible to render(): builds changed BLASes,
   /// rebuilds the TLAS and the light sampling tables; resets accumulation if anything changed.

@@ -30,6 +30,11 @@
 // - maxBounces counts diffuse/glossy scattering events: 0 = emission and sky only,
 //   1 = direct lighting, N = paths of up to N scattering vertices. Mirror bounces are free
 //   (capped at maxBounces + 8 in total).
+// - Portals (setPortals): a ray that hits the front of a mirror material lying on a portal's
+//   plane does not reflect: it leaves from transform * hit point along mat3(transform) * its
+//   direction (Quake III's mirrors and portal cameras), unweighted, for every ray but shadow
+//   rays and in every integrator (Lightmap too), as a free bounce like a mirror's. Off every portal plane, or from behind, a
+//   mirror material stays a mirror.
 // - radianceClamp caps each light contribution of a path (light samples and emitters reached
 //   by bounces) at that maximum RGB component; what the camera sees directly is never clamped.
 // - Sky cube map: face f looks from the centre along its axis (+X, -X, +Y, -Y, +Z, -Z); its
@@ -174,6 +179,15 @@ struct SkyDesc {
   glm::vec3 color{0.0f};                    ///< Constant radiance, or multiplier of the cube map.
   std::array<TextureId, 6> faces{kNoId, kNoId, kNoId, kNoId, kNoId, kNoId};
   float intensity = 1.0f;
+};
+
+/// A portal: the plane of a window (mirror-material surfaces on it) and where rays that enter it
+/// come out. transform maps a point on the plane, and (its 3x3 part) a direction, to the other
+/// side: a reflection about the plane for a mirror, a frame change for a portal camera.
+struct PortalDesc {
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};   ///< Unit plane normal, pointing to the side it is seen from.
+  float distance = 0.0f;               ///< Plane: dot(normal, p) = distance.
+  glm::mat4x3 transform{1.0f};         ///< Affine map from this side to the far side (invertible).
 };
 
 /// A game-style camera: origin and three axes (forward, left, up), field of view in degrees.

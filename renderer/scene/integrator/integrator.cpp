@@ -117,23 +117,25 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
   const uint32_t maxScatter = settings.integrator == Integrator::Direct ? std::min(1u, settings.maxBounces)
                                                                          : settings.maxBounces;
   uint32_t scatterCount = 0;
+  uint32_t portalsCrossed = 0;   // what the camera sees through a portal counts as seen directly
 
   for (uint32_t depth = 0;; ++depth) {
+    const uint32_t viewDepth = depth - portalsCrossed;
     const uint32_t group = kGroupsPerVertex * depth;
     AdditiveHits additive;
     Hit hit;
     bool onOverlay = false;
     const bool found =
         traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
-    radiance += clampContribution(beta * additive.sumBefore(found ? hit.t : kInfinity), depth,
+    radiance += clampContribution(beta * additive.sumBefore(found ? hit.t : kInfinity), viewDepth,
                                   settings.radianceClamp);
 
     const glm::vec3 dir = glm::normalize(ray.dir);
     const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay) : SurfaceHit{};
     if (!found || s.material->desc.sky) {
       const glm::vec3 le = lightmapOnly ? scene.sky.radiance(dir) : environmentRadiance(scene, dir, prev);
-      radiance += clampContribution(beta * le, depth, settings.radianceClamp);
-      if (depth == 0) {
+      radiance += clampContribution(beta * le, viewDepth, settings.radianceClamp);
+      if (viewDepth == 0) {
         out.albedo = glm::min(scene.sky.radiance(dir), glm::vec3(1.0f));
         out.normal = glm::vec3(0.0f);
         out.depth = kInfinity;
@@ -142,6 +144,23 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     }
 
     const MaterialRecord& m = *s.material;
+    if (m.desc.mirror && !scene.portals.empty()) {
+      const PortalDesc* portal = scene.portalAt(s.position, s.geometricNormal);
+      if (portal != nullptr && glm::dot(dir, portal->normal) < 0.0f) {
+        if (depth >= maxScatter + kExtraDeltaBounces) break;
+        const glm::mat3 linear(portal->transform);
+        const glm::vec3 exit = portal->transform * glm::vec4(s.position, 1.0f);
+        const glm::vec3 exitDir = glm::normalize(linear * dir);
+        const glm::vec3 exitSide = glm::normalize(linear * -portal->normal);
+        ray = Ray{};
+        ray.origin = offsetRayOrigin(exit, exitSide);
+        ray.dir = exitDir;
+        prev.delta = true;   // nothing samples lights through a portal: what it reaches counts fully
+        coneWidth += coneSpread * hit.t;
+        ++portalsCrossed;
+        continue;
+      }
+    }
     const glm::vec3 wo = -dir;
     const bool front = glm::dot(s.geometricNormal, wo) > 0.0f;
     const glm::vec3 ng = front ? s.geometricNormal : -s.geometricNormal;
@@ -149,7 +168,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     coneWidth += coneSpread * hit.t;
     const float footprint = coneWidth / std::max(kMinCosForFootprint, glm::dot(ng, wo));
     const glm::vec3 albedo = glm::clamp(glm::vec3(scene.baseColor(s, footprint)), 0.0f, 1.0f);
-    if (depth == 0) {
+    if (viewDepth == 0) {
       out.albedo = albedo;
       out.normal = ns;
       out.depth = hit.t;
@@ -163,7 +182,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
         const float lightPdf = index == kNoId ? 0.0f : scene.lights.emissivePdf(index, prev.position, s.position);
         weight = sampling::powerHeuristic(prev.bsdfPdf, lightPdf);
       }
-      radiance += clampContribution(beta * le * weight, depth, settings.radianceClamp);
+      radiance += clampContribution(beta * le * weight, viewDepth, settings.radianceClamp);
     }
 
     if (lightmapOnly) {

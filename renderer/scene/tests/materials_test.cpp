@@ -165,6 +165,62 @@ TEST(Materials, MirrorReflectsWhatIsInFront) {
   EXPECT_NEAR(greyStats(f).mean, 1.6, 1e-4);
 }
 
+TEST(Materials, PortalShowsTheViewFromItsOtherSide) {
+  // A mirror quad facing the camera on the plane x = 5, a blue lamp behind the camera (what the
+  // mirror reflects) and a green lamp far away at (100, 40, 0) facing -y. With a portal on the
+  // quad's plane that turns +x into +y and moves (5, 0, 0) to (100, 0, 0), the camera sees green.
+  Renderer r({2});
+  MaterialDesc mirror = coloured(0.8f, 0.8f, 0.8f);
+  mirror.mirror = true;
+  auto lamp = [&](const glm::vec3& colour) {
+    MaterialDesc m = coloured(0.0f, 0.0f, 0.0f);
+    m.emission = colour;
+    return r.addMaterial(m);
+  };
+  test::MeshArrays window = test::quad({5, -2, -2}, {0, 0, 4}, {0, 4, 0});   // front faces -x
+  window.setMaterial(r.addMaterial(mirror));
+  test::MeshArrays behind = test::quad({-5, -50, -50}, {0, 100, 0}, {0, 0, 100});   // faces +x
+  behind.setMaterial(lamp({0.0f, 0.0f, 1.0f}));
+  test::MeshArrays far = test::quad({50, 40, -50}, {0, 0, 100}, {100, 0, 0});   // faces -y
+  far.setMaterial(lamp({0.0f, 1.0f, 0.0f}));
+  for (auto* mesh : {&window, &behind, &far}) r.addInstance({r.addMesh(mesh->desc())});
+  r.commit();
+  const Camera camera = lookAt({0, 0, 0}, {1, 0, 0}, 10.0f);
+  auto centre = [&](Integrator integrator) {
+    const FrameView f = r.render(camera, settingsFor(integrator, 4, 2, 2));
+    glm::vec3 sum(0.0f);
+    for (const glm::vec3& c : f.radiance) sum += c;
+    return sum / float(f.radiance.size());
+  };
+  // No portal: a mirror, tinted by its colour.
+  EXPECT_NEAR(centre(Integrator::Path).b, 0.8f, 1e-4f);
+
+  PortalDesc portal;
+  portal.normal = {-1, 0, 0};
+  portal.distance = -5;
+  const glm::mat3 turn(glm::vec3(0, 1, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 0, 1));   // +x -> +y
+  portal.transform = glm::mat4x3(turn[0], turn[1], turn[2], glm::vec3(100, 0, 0) - turn * glm::vec3(5, 0, 0));
+  r.setPortals(std::span(&portal, 1));
+  r.commit();
+  for (Integrator integrator : {Integrator::Path, Integrator::Direct, Integrator::Lightmap}) {
+    const glm::vec3 c = centre(integrator);
+    EXPECT_NEAR(c.g, 1.0f, 1e-4f) << int(integrator);   // unweighted: the lamp itself
+    EXPECT_NEAR(c.b, 0.0f, 1e-4f) << int(integrator);
+  }
+  // Seen from behind (the plane's back side) the quad is a mirror again: camera at x = 10
+  // looking -x sees the mirror's reflection of the empty +x side (the green lamp is out of view).
+  const FrameView back = r.render(lookAt({10, 0, 0}, {0, 0, 0}, 10.0f), settingsFor(Integrator::Path, 4, 2, 2));
+  for (const glm::vec3& c : back.radiance) EXPECT_NEAR(c.g, 0.0f, 1e-4f);
+
+  // Hostile portals are refused with the reason.
+  PortalDesc flat = portal;
+  flat.transform = glm::mat4x3(0.0f);
+  EXPECT_THROW(r.setPortals(std::span(&flat, 1)), SceneError);
+  PortalDesc nan = portal;
+  nan.distance = std::nanf("");
+  EXPECT_THROW(r.setPortals(std::span(&nan, 1)), SceneError);
+}
+
 TEST(Materials, InstanceTintAndMaterialOverride) {
   Layers layers(coloured(1.0f, 1.0f, 1.0f), coloured(1.0f, 1.0f, 1.0f));
   InstanceDesc inst{layers.frontMesh};

@@ -233,6 +233,19 @@ glm::vec3 RenderScene::emission(const SurfaceHit& s, bool frontSide) const {
   return e;
 }
 
+const PortalDesc* RenderScene::portalAt(const glm::vec3& position, const glm::vec3& normal) const {
+  // Points on the plane within a quarter unit (plus float slack far from the origin), surfaces
+  // parallel to it within about 2.5 degrees (either winding).
+  constexpr float kPlaneSlack = 0.25f, kRelativeSlack = 1e-5f, kMinAlignment = 0.999f;
+  for (const PortalDesc& portal : portals) {
+    const float offset = glm::dot(portal.normal, position) - portal.distance;
+    if (std::fabs(offset) > kPlaneSlack + kRelativeSlack * std::fabs(portal.distance)) continue;
+    if (std::fabs(glm::dot(portal.normal, normal)) < kMinAlignment) continue;
+    return &portal;
+  }
+  return nullptr;
+}
+
 uint32_t RenderScene::emissiveIndex(const SurfaceHit& s) const {
   if (s.instance->emissiveOffset == kNoId) return kNoId;
   const size_t i = size_t{s.instance->emissiveOffset} + s.prim;

@@ -101,6 +101,7 @@ struct RenderScene {
   Tlas overlayTlas;
   std::vector<uint32_t> emissiveLookup;         ///< Per emissive instance and triangle: light index or kNoId.
   Sky sky;
+  std::vector<PortalDesc> portals;              ///< Mirror-material windows (see scene_types.h).
   LightSampler lights;
   Bounds bounds;
 
@@ -123,6 +124,8 @@ struct RenderScene {
   /// Alpha coverage at barycentrics (full-resolution texture alpha x baseColor.a x vertex alpha
   /// x tint alpha): the cheap path used by alpha tests during traversal.
   float coverageAt(const RenderInstance& instance, uint32_t prim, glm::vec2 bary) const;
+  /// The portal whose plane holds a surface point with this (unit) geometric normal, or null.
+  const PortalDesc* portalAt(const glm::vec3& position, const glm::vec3& normal) const;
   /// Index of the hit triangle in lights.triangles(), or kNoId.
   uint32_t emissiveIndex(const SurfaceHit& s) const;
 };

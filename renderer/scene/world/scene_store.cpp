@@ -225,6 +225,25 @@ void SceneStore::setSky(const SkyDesc& sky) {
   dirty_ = true;
 }
 
+void SceneStore::setPortals(std::span<const PortalDesc> portals) {
+  std::vector<PortalDesc> valid;
+  for (size_t i = 0; i < portals.size(); ++i) {
+    const std::string what = "setPortals: portal " + std::to_string(i);
+    PortalDesc p = portals[i];
+    requireFinite(finite(p.normal) && std::isfinite(p.distance), what, "plane");
+    for (int c = 0; c < 4; ++c) requireFinite(finite(p.transform[c]), what, "transform");
+    const float length = glm::length(p.normal);
+    if (!(length > 1e-6f)) throw SceneError(what + ": normal has zero length");
+    p.normal /= length;
+    p.distance /= length;
+    const float det = glm::determinant(glm::mat3(p.transform));
+    if (!(std::fabs(det) > 1e-6f)) throw SceneError(what + ": transform is not invertible");
+    valid.push_back(p);
+  }
+  portals_ = std::move(valid);
+  dirty_ = true;
+}
+
 // ---------------------------------------------------------------- commit
 
 void SceneStore::validateReferences() const {
@@ -408,6 +427,7 @@ RenderScene SceneStore::commit() {
   for (const auto& l : lights_) {
     if (l) lights.push_back(*l);
   }
+  scene.portals = portals_;
   scene.sky = Sky(sky_, scene.textures);
   scene.lights = LightSampler(lights, std::move(emissive), scene.sky, scene.bounds);
   dirty_ = false;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "renderer/scene/scene_types.h"
@@ -45,6 +46,8 @@ class SceneStore {
   void removeLight(LightId id);
   /// Sets the environment.
   void setSky(const SkyDesc& sky);
+  /// Replaces the portals (normals are normalised).
+  void setPortals(std::span<const PortalDesc> portals);
 
   /// True when something changed since the last successful commit.
   bool dirty() const { return dirty_; }
@@ -73,6 +76,7 @@ class SceneStore {
   std::vector<MaterialDesc> materials_;
   std::vector<std::optional<LightDesc>> lights_;
   SkyDesc sky_;
+  std::vector<PortalDesc> portals_;
   bool dirty_ = true;
 };
 
