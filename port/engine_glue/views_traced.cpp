@@ -18,6 +18,7 @@
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/entity_geometry.h"
 #include "port/engine_glue/models.h"
+#include "port/engine_glue/portals.h"
 #include "port/engine_glue/scene.h"
 #include "port/engine_glue/shaders.h"
 #include "port/engine_glue/views.h"
@@ -130,6 +131,7 @@ struct ViewRenderer::Impl {
   std::vector<pa::MaterialId> triangleMaterials;
   std::vector<uint8_t> picture;
   uint32_t frameCounter = 0;
+  PortalViews portals;   ///< Mirrors and portal cameras (portals.h).
 
   void resetRenderer() {
     renderer = std::make_unique<pa::Renderer>(pa::RendererConfig{static_cast<uint32_t>(threads)});
@@ -142,6 +144,7 @@ struct ViewRenderer::Impl {
     lights.clear();
     lightOn.clear();
     headlight = pa::kNoId;
+    portals.clear();
     defaultMaterial = renderer->addMaterial(pa::MaterialDesc{});
   }
 
@@ -283,13 +286,13 @@ void ViewRenderer::shadersChanged() {
   impl_->materials.clear();
 }
 
-void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>& bspBytes,
+void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>&,
                              const ShaderScripts&, ImageCache&) {
   Impl& d = *impl_;
   d.resetRenderer();
   const Engine& engine = d.engine;
   const int start = engine.milliseconds();
-  const q3::BspFile bsp = q3::parseBsp(std::as_bytes(std::span(bspBytes)), world.name());
+  const q3::BspFile& bsp = world.bsp();
   q3::ShaderLibrary library;
   std::vector<std::string> scripts;
   for (const std::string& name : engine.listFiles("scripts", ".shader")) scripts.push_back("scripts/" + name);
@@ -308,6 +311,7 @@ void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>& bsp
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
   d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer);
+  d.portals.load(bsp, *d.worldScene);
   d.brushInstances.assign(d.world.modelInstances.size(), pa::InstanceDesc{});
   for (size_t m = 0; m < d.world.modelInstances.size(); ++m) {
     d.brushInstances[m].mesh = m < d.world.modelMeshes.size() ? d.world.modelMeshes[m] : pa::kNoId;
@@ -442,6 +446,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     off.intensity = 0.0f;
     d.setLight(i, off, false);
   }
+  if (withWorld) d.portals.update(scene.entities(), view.time, *d.renderer);
   d.renderer->commit();
 
   pa::RenderSettings rs;
