@@ -61,22 +61,23 @@ std::vector<PortalPlane> findPortalPlanes(const q3::BspFile& bsp, const std::vec
     const q3::BspSurface& s = bsp.surfaces[index];
     const auto shader = static_cast<size_t>(s.shader);
     if (shader >= portalShader.size() || !portalShader[shader] || s.numVerts < 3) continue;
+    if (s.type != q3::SurfaceType::Planar && s.type != q3::SurfaceType::TriangleSoup) continue;   // patches: no plane
     const auto vertex = [&](int32_t k) { return bsp.drawVerts[static_cast<size_t>(s.firstVert + k)].position; };
+    const auto corner = [&](int32_t k) { return vertex(bsp.drawIndexes[static_cast<size_t>(s.firstIndex + k)]); };
     PortalPlane plane;
-    if (s.type == q3::SurfaceType::Planar) {
-      plane.normal = s.lightmapVecs[2];
-    } else if (s.type == q3::SurfaceType::TriangleSoup && s.numIndexes >= 3) {
-      const auto corner = [&](int32_t k) { return vertex(bsp.drawIndexes[static_cast<size_t>(s.firstIndex + k)]); };
+    glm::vec3 onPlane = vertex(0);
+    if (s.type == q3::SurfaceType::Planar) plane.normal = s.lightmapVecs[2];
+    // Soups use their first triangle (PlaneFromPoints on Quake's clockwise winding). So do faces
+    // without a stored normal: q3map leaves it zero on `nolightmap` faces, which every portal
+    // shader of OpenArena is, and the engine then has no usable plane at all.
+    if (!(glm::length(plane.normal) > 1e-6f) && s.numIndexes >= 3) {
       plane.normal = glm::cross(corner(2) - corner(0), corner(1) - corner(0));
-    } else {
-      continue;
+      onPlane = corner(0);
     }
     const float length = glm::length(plane.normal);
     if (!(length > 1e-6f) || !std::isfinite(length)) continue;
     plane.normal /= length;
-    plane.dist = glm::dot(plane.normal, s.type == q3::SurfaceType::Planar
-                                            ? vertex(0)
-                                            : vertex(bsp.drawIndexes[static_cast<size_t>(s.firstIndex)]));
+    plane.dist = glm::dot(plane.normal, onPlane);
     if (!std::isfinite(plane.dist)) continue;
     bool known = false;
     for (const PortalPlane& p : planes) known = known || samePlane(p, plane);

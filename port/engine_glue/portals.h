@@ -28,8 +28,9 @@ struct PortalPlane {
   float dist = 0.0f;                   ///< dot(normal, p) = dist on the plane.
 };
 
-/// Distinct planes of the world model's portal surfaces: planar faces (the face plane) and
-/// triangle soups (the plane of their first triangle); patches have no plane and are skipped.
+/// Distinct planes of the world model's portal surfaces: planar faces (the face plane, or the
+/// plane of their first triangle when the file stores none) and triangle soups (the plane of
+/// their first triangle); patches have no plane and are skipped.
 /// `portalShader` flags the BSP shader lump entries whose shader is a portal.
 std::vector<PortalPlane> findPortalPlanes(const q3::BspFile& bsp, const std::vector<bool>& portalShader);
 

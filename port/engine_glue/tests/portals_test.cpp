@@ -1,12 +1,18 @@
 // Portal surfaces: the planes found in a map and the engine's mirror / portal-camera mapping.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <filesystem>
+
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
 #include "port/engine_glue/portals.h"
 #include "port/q3formats/bsp/tests/bsp_writer.h"
+#include "port/q3formats/shader/shader_library.h"
+#include "port/q3formats/vfs/game_filesystem.h"
 #include "port/q3formats/world/world_scene.h"
+#include "port/scene_bridge/scene_bridge.h"
 #include "renderer/scene/renderer.h"
 
 namespace glue {
@@ -39,6 +45,13 @@ TEST(Portals, PlanesOfPortalFacesOfTheWorldModelOnce) {
   EXPECT_TRUE(near(planes[0].normal, {0, 0, 1}));
   EXPECT_FLOAT_EQ(planes[0].dist, 0.0f);
   EXPECT_TRUE(findPortalPlanes(bsp, {false, true}).empty());
+  // q3map stores no face normal on nolightmap faces (all of OpenArena's portals): the plane
+  // comes from the first triangle, clockwise seen from the front.
+  w.surfaces[0].lightmapVecs[2] = glm::vec3(0.0f);
+  const q3::BspFile noNormal = q3::parseBsp(w.build(), "maps/nonormal.bsp");
+  const auto fromTriangle = findPortalPlanes(noNormal, {true, false});
+  ASSERT_EQ(fromTriangle.size(), 1u);
+  EXPECT_TRUE(near(fromTriangle[0].normal, {0, 0, 1}));
   EXPECT_TRUE(findPortalPlanes(bsp, {}).empty());
 }
 
@@ -152,6 +165,93 @@ TEST(Portals, ViewsHandTheRendererThePortalsOfThisFrame) {
   EXPECT_NEAR(seen(), 1.0f, 1e-5f);   // the lamp, reflected by the portal
   views.update({}, 0, renderer);      // the entity is gone: no portal any more
   EXPECT_NEAR(seen(), 0.5f, 1e-5f);
+}
+
+/// The cgame's RT_PORTALSURFACE entity for a misc_portal_surface aimed at a misc_portal_camera
+/// (CG_Portal): axis[0] the camera's direction, axis[1] minus the engine's perpendicular,
+/// skinNum the camera's roll in degrees.
+q3abi::refEntity_t cgamePortal(const glm::vec3& surface, const glm::vec3& camera, const glm::vec3& forward,
+                               float rollDegrees) {
+  q3abi::refEntity_t e = portalEntity(surface, camera);
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::fabs(forward[k]) < std::fabs(forward[axis])) axis = k;
+  glm::vec3 e1(0.0f);
+  e1[axis] = 1.0f;
+  const glm::vec3 left = -glm::normalize(e1 - glm::dot(e1, forward) * forward);
+  const glm::vec3 up = glm::cross(forward, left);
+  for (int k = 0; k < 3; ++k) {
+    e.axis[0][k] = forward[k];
+    e.axis[1][k] = left[k];
+    e.axis[2][k] = up[k];
+  }
+  e.skinNum = static_cast<int>(rollDegrees);
+  return e;
+}
+
+TEST(PortalsRealMap, TheWindowShowsWhatTheRemoteCameraSees) {
+  // oa_dm5: a misc_portal_surface at (1096, 200, 256) on the face x = 1104 (seen from -x),
+  // aimed at a misc_portal_camera at (1312, -944, 248) looking along -x, rolled 180 degrees.
+  const std::filesystem::path dir = "/usr/share/games/openarena/baseoa";
+  if (!std::filesystem::exists(dir / "pak1-maps.pk3")) GTEST_SKIP() << "OpenArena data not installed";
+  const q3::GameFileSystem game(dir);
+  const auto bytes = game.readFile("maps/oa_dm5.bsp");
+  ASSERT_TRUE(bytes);
+  const q3::BspFile bsp = q3::parseBsp(*bytes, "maps/oa_dm5.bsp");
+  q3::ShaderLibrary shaders;
+  shaders.addScriptsInEngineOrder(game.listFiles("scripts", ".shader"),
+                                  [&](const std::string& path) { return game.readFile(path); });
+  q3::WorldBuildOptions options;
+  options.loadTextures = false;   // flat colours: the test compares geometry seen, not looks
+  const q3::WorldScene scene = q3::buildWorldScene(
+      bsp, shaders, [&](std::string_view path) { return game.readFile(path); }, options);
+  PortalViews views;
+  views.load(bsp, scene);
+  EXPECT_EQ(views.planes().size(), 4u);   // two back-to-back windows, each a pair of faces
+
+  pa::Renderer renderer({2});
+  pa::bridge::uploadWorld(scene, renderer);
+  const glm::vec3 cameraAt(1312, -944, 248);
+  const q3abi::refEntity_t portal = cgamePortal({1096, 200, 256}, cameraAt, {-1, 0, 0}, 180.0f);
+  views.update(std::span(&portal, 1), 0, renderer);
+  renderer.commit();
+
+  // What a narrow view from the corridor sees through the window, pixel by pixel, must be what
+  // the same rays see when they start at the remote camera: the portal's own mapping.
+  const PortalPlane window{{-1, 0, 0}, -1104};
+  const auto desc = portalFor(window, std::span(&portal, 1), 0);
+  ASSERT_TRUE(desc);
+  EXPECT_TRUE(near(mapPoint(*desc, {1104, 200, 256}), cameraAt));
+  // The viewer stands half a unit in front of the window, so the mapped viewpoint is half a unit
+  // behind the remote camera, in the open (a viewer farther away maps into the wall behind it).
+  pa::Camera viewer;
+  viewer.origin = {1103.5f, 200, 256};
+  viewer.fovX = viewer.fovY = 40.0f;
+  pa::Camera remote = viewer;
+  remote.origin = mapPoint(*desc, viewer.origin);
+  remote.forward = mapDirection(*desc, viewer.forward);
+  remote.left = mapDirection(*desc, viewer.left);
+  remote.up = mapDirection(*desc, viewer.up);
+  pa::RenderSettings settings;
+  settings.width = settings.height = 8;
+  settings.integrator = pa::Integrator::Lightmap;
+  const pa::FrameView seen = renderer.render(viewer, settings);
+  const std::vector<glm::vec3> through(seen.radiance.begin(), seen.radiance.end());
+  const pa::FrameView direct = renderer.render(remote, settings);
+  float difference = 0.0f, signal = 0.0f;
+  for (size_t i = 0; i < through.size(); ++i) {
+    difference += glm::distance(through[i], direct.radiance[i]);
+    signal += glm::length(direct.radiance[i]);
+  }
+  EXPECT_GT(signal, 0.0f);
+  EXPECT_LT(difference, 1e-3f * signal);
+  // Without the portal entity the window is the mirror material again: another picture.
+  views.update({}, 0, renderer);
+  renderer.commit();
+  const pa::FrameView mirrored = renderer.render(viewer, settings);
+  float changed = 0.0f;
+  for (size_t i = 0; i < through.size(); ++i) changed += glm::distance(through[i], mirrored.radiance[i]);
+  EXPECT_GT(changed, 0.05f * signal);
 }
 
 }  // namespace
