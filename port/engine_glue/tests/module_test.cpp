@@ -343,6 +343,27 @@ TEST_F(ModuleTest, MissingMapDropsWithItsName) {
   EXPECT_NE(e.lastError.find("maps/nowhere.bsp"), std::string::npos);
 }
 
+TEST_F(ModuleTest, MalformedMapDropsNamingTheFileAndField) {
+  begin();
+  fake::FakeEngine& e = fake::engine();
+  // A valid header whose surfaces lump points far outside the file.
+  std::vector<uint8_t> bsp(8 + 17 * 8, 0);
+  std::memcpy(bsp.data(), "IBSP", 4);
+  bsp[4] = 46;
+  const int32_t outside = 1 << 30, length = 104;
+  std::memcpy(bsp.data() + 8 + 13 * 8, &outside, 4);
+  std::memcpy(bsp.data() + 12 + 13 * 8, &length, 4);
+  e.files["maps/broken.bsp"] = bsp;
+  e.errorJumpArmed = true;
+  if (setjmp(e.errorJump) == 0) {
+    re_->LoadWorld("maps/broken.bsp");
+    ADD_FAILURE() << "LoadWorld returned";
+  }
+  EXPECT_EQ(e.lastErrorLevel, q3abi::ERR_DROP);
+  EXPECT_NE(e.lastError.find("maps/broken.bsp"), std::string::npos) << e.lastError;
+  EXPECT_NE(e.lastError.find("surfaces"), std::string::npos) << e.lastError;
+}
+
 TEST_F(ModuleTest, ScreenshotNamesFollowTheEngineConvention) {
   begin();
   re_->BeginFrame(0);
