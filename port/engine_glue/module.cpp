@@ -109,7 +109,7 @@ void Module::loadWorld(const char* name) {
   }
   if (views_) {
     try {
-      views_->loadWorld(*world_, *bytes, scripts_, images_);
+      views_->loadWorld(*world_, scripts_, images_);
     } catch (const std::exception& error) {
       world_.reset();
       throw DropError(std::string("LoadWorld: ") + name + ": " + error.what());

@@ -34,9 +34,8 @@ class ViewRenderer {
   ViewRenderer(const ViewRenderer&) = delete;
   ViewRenderer& operator=(const ViewRenderer&) = delete;
 
-  /// Builds the world's meshes, materials and lights from the BSP bytes.
-  void loadWorld(const World& world, const std::vector<uint8_t>& bspBytes,
-                 const ShaderScripts& scripts, ImageCache& images);
+  /// Builds the world's meshes, materials and lights from the parsed map.
+  void loadWorld(const World& world, const ShaderScripts& scripts, ImageCache& images);
   /// Drops the world (map change).
   void clearWorld();
   /// RemapShader happened: materials must be re-resolved.

@@ -1,5 +1,5 @@
-// ViewRenderer over pa::Renderer. The map is parsed once per LoadWorld (q3_bsp -> q3::WorldScene
-// -> pa_scene_bridge); per view, brush sub-models get their entity transforms, every MD3 entity
+// ViewRenderer over pa::Renderer. The map is parsed once per LoadWorld (glue::World's q3::BspFile
+// -> q3::WorldScene -> pa_scene_bridge; portal surfaces -> PortalViews, portals.h); per view, brush sub-models get their entity transforms, every MD3 entity
 // becomes a dynamic mesh instance, effects and polygons one world-space dynamic mesh, dynamic
 // lights reuse a pool of renderer lights, and the frame is traced at r_pt_scale resolution.
 #include <dlfcn.h>
@@ -286,8 +286,7 @@ void ViewRenderer::shadersChanged() {
   impl_->materials.clear();
 }
 
-void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>&,
-                             const ShaderScripts&, ImageCache&) {
+void ViewRenderer::loadWorld(const World& world, const ShaderScripts&, ImageCache&) {
   Impl& d = *impl_;
   d.resetRenderer();
   const Engine& engine = d.engine;

@@ -14,8 +14,7 @@ ViewRenderer::ViewRenderer(const Engine& engine, int) : impl_(new Impl{engine}) 
 ViewRenderer::~ViewRenderer() = default;
 bool ViewRenderer::available() { return false; }
 
-void ViewRenderer::loadWorld(const World&, const std::vector<uint8_t>&, const ShaderScripts&,
-                             ImageCache&) {}
+void ViewRenderer::loadWorld(const World&, const ShaderScripts&, ImageCache&) {}
 void ViewRenderer::clearWorld() {}
 void ViewRenderer::shadersChanged() {}
 
