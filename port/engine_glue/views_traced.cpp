@@ -1,7 +1,9 @@
 // ViewRenderer over pa::Renderer. The map is parsed once per LoadWorld (glue::World's q3::BspFile
-// -> q3::WorldScene -> pa_scene_bridge; portal surfaces -> PortalViews, portals.h); per view, brush sub-models get their entity transforms, every MD3 entity
-// becomes a dynamic mesh instance, effects and polygons one world-space dynamic mesh, dynamic
-// lights reuse a pool of renderer lights, and the frame is traced at r_pt_scale resolution.
+// -> q3::WorldScene -> pa_scene_bridge; portal surfaces -> PortalViews, portals.h); per view,
+// brush sub-models get their entity transforms, every MD3 entity becomes a dynamic mesh
+// instance, effects and polygons one world-space dynamic mesh, dynamic lights reuse a pool of
+// renderer lights, portals follow the frame's RT_PORTALSURFACE entities, and the frame is traced
+// at r_pt_scale resolution.
 #include <dlfcn.h>
 
 #include <algorithm>
