@@ -145,8 +145,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
 
     const MaterialRecord& m = *s.material;
     if (m.desc.mirror && !scene.portals.empty()) {
-      const PortalDesc* portal = scene.portalAt(s.position, s.geometricNormal);
-      if (portal != nullptr && glm::dot(dir, portal->normal) < 0.0f) {
+      if (const PortalDesc* portal = scene.portalAt(s.position, s.geometricNormal, dir)) {
         if (depth >= maxScatter + kExtraDeltaBounces) break;
         const glm::mat3 linear(portal->transform);
         const glm::vec3 exit = portal->transform * glm::vec4(s.position, 1.0f);

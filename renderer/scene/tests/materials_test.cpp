@@ -207,6 +207,17 @@ TEST(Materials, PortalShowsTheViewFromItsOtherSide) {
     EXPECT_NEAR(c.g, 1.0f, 1e-4f) << int(integrator);   // unweighted: the lamp itself
     EXPECT_NEAR(c.b, 0.0f, 1e-4f) << int(integrator);
   }
+  // A second portal on the same plane facing the other way (listed first) does not take the
+  // rays that enter from the front.
+  PortalDesc backwards = portal;
+  backwards.normal = {1, 0, 0};
+  backwards.distance = 5;
+  const PortalDesc both[2] = {backwards, portal};
+  r.setPortals(both);
+  r.commit();
+  EXPECT_NEAR(centre(Integrator::Path).g, 1.0f, 1e-4f);
+  r.setPortals(std::span(&portal, 1));
+  r.commit();
   // Seen from behind (the plane's back side) the quad is a mirror again: camera at x = 10
   // looking -x sees the mirror's reflection of the empty +x side (the green lamp is out of view).
   const FrameView back = r.render(lookAt({10, 0, 0}, {0, 0, 0}, 10.0f), settingsFor(Integrator::Path, 4, 2, 2));

@@ -233,7 +233,8 @@ glm::vec3 RenderScene::emission(const SurfaceHit& s, bool frontSide) const {
   return e;
 }
 
-const PortalDesc* RenderScene::portalAt(const glm::vec3& position, const glm::vec3& normal) const {
+const PortalDesc* RenderScene::portalAt(const glm::vec3& position, const glm::vec3& normal,
+                                        const glm::vec3& direction) const {
   // Points on the plane within a quarter unit (plus float slack far from the origin), surfaces
   // parallel to it within about 2.5 degrees (either winding).
   constexpr float kPlaneSlack = 0.25f, kRelativeSlack = 1e-5f, kMinAlignment = 0.999f;
@@ -241,6 +242,7 @@ const PortalDesc* RenderScene::portalAt(const glm::vec3& position, const glm::ve
     const float offset = glm::dot(portal.normal, position) - portal.distance;
     if (std::fabs(offset) > kPlaneSlack + kRelativeSlack * std::fabs(portal.distance)) continue;
     if (std::fabs(glm::dot(portal.normal, normal)) < kMinAlignment) continue;
+    if (!(glm::dot(portal.normal, direction) < 0.0f)) continue;   // seen from behind
     return &portal;
   }
   return nullptr;

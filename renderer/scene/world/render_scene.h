@@ -124,8 +124,9 @@ struct RenderScene {
   /// Alpha coverage at barycentrics (full-resolution texture alpha x baseColor.a x vertex alpha
   /// x tint alpha): the cheap path used by alpha tests during traversal.
   float coverageAt(const RenderInstance& instance, uint32_t prim, glm::vec2 bary) const;
-  /// The portal whose plane holds a surface point with this (unit) geometric normal, or null.
-  const PortalDesc* portalAt(const glm::vec3& position, const glm::vec3& normal) const;
+  /// The portal entered by a ray along `direction` hitting a surface point with this (unit)
+  /// geometric normal: one whose plane holds the point and faces the ray; null if none.
+  const PortalDesc* portalAt(const glm::vec3& position, const glm::vec3& normal, const glm::vec3& direction) const;
   /// Index of the hit triangle in lights.triangles(), or kNoId.
   uint32_t emissiveIndex(const SurfaceHit& s) const;
 };
