@@ -424,7 +424,16 @@ TEST_F(ModuleTest, RealMapLoadsAndAnswersQueries) {
       EXPECT_LE(std::fabs(v[1] - spawn[1]), 8.01f);
     }
   }
-  EXPECT_GT(re_->RegisterModel("*1"), 0);
+  const q3abi::qhandle_t door = re_->RegisterModel("*1");
+  EXPECT_GT(door, 0);
+  float mins[3], maxs[3];
+  re_->ModelBounds(door, mins, maxs);   // oa_dm1's model 1, as stored in the models lump
+  EXPECT_EQ(mins[0], -400.0f);
+  EXPECT_EQ(mins[1], 1560.0f);
+  EXPECT_EQ(mins[2], -4.0f);
+  EXPECT_EQ(maxs[0], -336.0f);
+  EXPECT_EQ(maxs[1], 1624.0f);
+  EXPECT_EQ(maxs[2], 4.0f);
   EXPECT_EQ(re_->RegisterModel("*9999"), 0);
   re_->EndRegistration();
   re_->Shutdown(0);

@@ -180,6 +180,16 @@ TEST(WorldMarks, NoMarksShadersAndMoversAreSkipped) {
   EXPECT_TRUE(marks(movers, squareFacingDown({16, 16, 40}, 4), {0, 0, -20}).empty());
 }
 
+TEST(WorldModels, BrushModelBoundsComeFromTheModelsLump) {
+  auto w = q3::testing::sampleMap();   // model 0 the world, model 1 the door
+  World world(bytesOf(w.build()), "maps/models.bsp");
+  ASSERT_EQ(world.brushModels().size(), 2u);
+  EXPECT_EQ(world.brushModels()[0].mins, glm::vec3(0, 0, -64));
+  EXPECT_EQ(world.brushModels()[1].mins, glm::vec3(0, 0, 32));
+  EXPECT_EQ(world.brushModels()[1].maxs, glm::vec3(32, 32, 32));
+  EXPECT_EQ(world.name(), "maps/models.bsp");
+}
+
 TEST(WorldHostile, MalformedMapsThrowFormatErrors) {
   auto w = q3::testing::sampleMap();
   w.lumpOverride[3] = {1 << 30, 36};   // nodes lump outside the file
