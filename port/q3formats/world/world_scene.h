@@ -198,7 +198,8 @@ struct WorldBuildOptions {
   bool keepInvisible = false;      ///< Keep nodraw/hint/skip surfaces that do not emit.
   int patchSubdivisions = 4;       ///< Patch error tolerance in Quake units (r_subdivisions).
   /// Add point lights estimated from the light grid where no light entity, sun or surface
-  /// light explains it (maps whose compiler stripped their `light` entities).
+  /// light explains it, on maps with fewer than 16 light entities (maps whose compiler
+  /// stripped their `light` entities).
   bool estimateLights = true;
 };
 
