@@ -59,12 +59,15 @@ class VoteVolume {
     std::vector<float> tmp(votes_.size());
     const std::array<size_t, 3> stride{1, size_t(dims_[0]), size_t(dims_[0]) * size_t(dims_[1])};
     for (int axis = 0; axis < 3; ++axis) {
-      for (size_t i = 0; i < votes_.size(); ++i) {
-        const int c = coord(i, axis);
-        const float prev = c > 0 ? votes_[i - stride[axis]] : 0.0f;
-        const float next = c + 1 < dims_[axis] ? votes_[i + stride[axis]] : 0.0f;
-        tmp[i] = prev + votes_[i] + next;
-      }
+      size_t i = 0;
+      for (int z = 0; z < dims_[2]; ++z)
+        for (int y = 0; y < dims_[1]; ++y)
+          for (int x = 0; x < dims_[0]; ++x, ++i) {
+            const int c = axis == 0 ? x : axis == 1 ? y : z;
+            const float prev = c > 0 ? votes_[i - stride[axis]] : 0.0f;
+            const float next = c + 1 < dims_[axis] ? votes_[i + stride[axis]] : 0.0f;
+            tmp[i] = prev + votes_[i] + next;
+          }
       votes_.swap(tmp);
     }
   }
@@ -92,11 +95,6 @@ class VoteVolume {
   std::vector<float> votes_;
 
   size_t index(int x, int y, int z) const { return (size_t(z) * size_t(dims_[1]) + size_t(y)) * size_t(dims_[0]) + size_t(x); }
-  int coord(size_t i, int axis) const {
-    if (axis == 0) return int(i % size_t(dims_[0]));
-    if (axis == 1) return int((i / size_t(dims_[0])) % size_t(dims_[1]));
-    return int(i / (size_t(dims_[0]) * size_t(dims_[1])));
-  }
   size_t voxelAt(const glm::vec3& p) const {
     const glm::vec3 f = (p - mins_) / voxel_;
     if (!(f.x >= 0.0f && f.y >= 0.0f && f.z >= 0.0f)) return SIZE_MAX;
@@ -202,23 +200,20 @@ bool nearestPoint(const std::vector<Line>& lines, const std::vector<size_t>& mem
 }
 
 /// Coarse bins listing the lines that cross them, so that the lines near a point are found
-/// without visiting every line. Bins are wider than the largest line tolerance, so the lines
-/// within tolerance of p all cross one of the 27 bins around p's bin.
+/// without visiting every line. Bins are at least as wide as the largest line tolerance, so
+/// the lines within tolerance of p all cross one of the 27 bins around p's bin.
 class LineIndex {
  public:
   LineIndex(const std::vector<Line>& lines, glm::vec3 mins, glm::vec3 maxs, float binSize)
       : mins_(mins), bin_(binSize), seen_(lines.size(), UINT32_MAX) {
     for (int k = 0; k < 3; ++k) dims_[k] = std::max(1, int(std::ceil((maxs[k] - mins[k]) / binSize)) + 1);
-    bins_.resize(size_t(dims_[0]) * size_t(dims_[1]) * size_t(dims_[2]));
-    for (size_t i = 0; i < lines.size(); ++i) {
-      size_t last = SIZE_MAX;
-      for (float t = 0.0f; t <= lines[i].length + 0.5f * bin_; t += 0.5f * bin_) {
-        const size_t b = binAt(lines[i].origin + std::min(t, lines[i].length) * lines[i].direction);
-        if (b == SIZE_MAX) break;
-        if (b != last && (bins_[b].empty() || bins_[b].back() != uint32_t(i))) bins_[b].push_back(uint32_t(i));
-        last = b;
-      }
-    }
+    // Compressed rows: count the lines per bin, then fill.
+    start_.assign(size_t(dims_[0]) * size_t(dims_[1]) * size_t(dims_[2]) + 1, 0);
+    for (size_t i = 0; i < lines.size(); ++i) forBinsOf(lines[i], [&](size_t b) { ++start_[b + 1]; });
+    for (size_t b = 1; b < start_.size(); ++b) start_[b] += start_[b - 1];
+    entries_.resize(start_.back());
+    std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (size_t i = 0; i < lines.size(); ++i) forBinsOf(lines[i], [&](size_t b) { entries_[fill[b]++] = uint32_t(i); });
   }
 
   /// Calls f(line index) once for every line crossing a bin next to p.
@@ -232,7 +227,9 @@ class LineIndex {
         for (int dx = -1; dx <= 1; ++dx) {
           const float x = c.x + float(dx), y = c.y + float(dy), z = c.z + float(dz);
           if (x < 0 || y < 0 || z < 0 || x >= float(dims_[0]) || y >= float(dims_[1]) || z >= float(dims_[2])) continue;
-          for (uint32_t line : bins_[(size_t(z) * size_t(dims_[1]) + size_t(y)) * size_t(dims_[0]) + size_t(x)]) {
+          const size_t b = (size_t(z) * size_t(dims_[1]) + size_t(y)) * size_t(dims_[0]) + size_t(x);
+          for (uint32_t e = start_[b]; e < start_[b + 1]; ++e) {
+            const uint32_t line = entries_[e];
             if (seen_[line] == stamp_) continue;
             seen_[line] = stamp_;
             f(size_t(line));
@@ -244,9 +241,22 @@ class LineIndex {
   glm::vec3 mins_;
   float bin_;
   std::array<int, 3> dims_{};
-  std::vector<std::vector<uint32_t>> bins_;
+  std::vector<uint32_t> start_;     // bin b lists entries_[start_[b], start_[b + 1])
+  std::vector<uint32_t> entries_;
   std::vector<uint32_t> seen_;
   uint32_t stamp_ = 0;
+
+  /// Calls f(bin) once for each bin the line crosses (sampled every half bin).
+  template <typename F>
+  void forBinsOf(const Line& line, F&& f) const {
+    size_t last = SIZE_MAX;
+    for (float t = 0.0f; t <= line.length + 0.5f * bin_; t += 0.5f * bin_) {
+      const size_t b = binAt(line.origin + std::min(t, line.length) * line.direction);
+      if (b == SIZE_MAX) break;
+      if (b != last) f(b);
+      last = b;
+    }
+  }
 
   size_t binAt(const glm::vec3& p) const {
     const glm::vec3 f = (p - mins_) / bin_;
@@ -394,13 +404,14 @@ std::vector<WorldLight> estimateLightsFromGrid(const WorldLightGrid& grid, const
   for (const Line& line : lines) votes.addLine(line);
   votes.blur();
   const auto peaks = votes.peaks(options.minVotes);
-  // Bins wider than twice the largest tolerance a line can have.
+  // Bins as wide as the largest tolerance a line can have (the 27 around p cover it).
   LineIndex index(lines, mins, maxs,
-                  std::max(4.0f * voxel, 2.0f * (options.lineTolerance + options.angularTolerance * options.maxLineLength)));
+                  std::max(2.0f * voxel, options.lineTolerance + options.angularTolerance * options.maxLineLength));
   stats.peaks = peaks.size();
 
   std::vector<std::vector<size_t>> memberLists;   // per light: the lines that located it
-  for (const auto& [strength, peak] : peaks) {
+  for (size_t p = 0; p < std::min(peaks.size(), options.maxPeaks); ++p) {
+    const glm::vec3 peak = peaks[p].second;
     if (lights.size() >= options.maxLights) break;
     // Refine: gather the lines through the current estimate, move it to their nearest point.
     glm::vec3 position = peak;

@@ -32,10 +32,10 @@ struct KnownLighting {
 struct LightEstimateOptions {
   float minDirected = 12.0f;        ///< Grid points whose directed colour (max channel, 0..255) is weaker do not vote.
   float voxelSize = 16.0f;          ///< Accumulator voxel edge (Quake units); grown when the map is huge.
-  size_t maxVoxels = size_t(1) << 22;  ///< Accumulator budget (floats).
+  size_t maxVoxels = size_t(1) << 21;  ///< Accumulator budget (floats).
   float maxLightValue = 20000.0f;   ///< Brightest plausible light value: bounds how far a line is followed.
   float maxLineLength = 2048.0f;    ///< Lines end here at the latest (Quake units).
-  float minVotes = 15.0f;           ///< Peak threshold (votes summed over 3x3x3 voxels: ~3 per line).
+  float minVotes = 24.0f;           ///< Peak threshold (votes summed over 3x3x3 voxels: ~3 per line).
   size_t minLines = 6;              ///< A light must be confirmed by this many grid points.
   float lineTolerance = 24.0f;      ///< Distance (units) within which a line counts as passing through a light...
   float angularTolerance = 0.03f;   ///< ...plus this much per unit of distance (direction bytes are 1.4 degrees apart).
@@ -53,6 +53,7 @@ struct LightEstimateOptions {
   float pointFalloffSlope = -1.0f;
   float minFalloffSlope = -0.5f;    ///< A flatter falloff is never a point light.
   size_t maxLights = 1024;          ///< Upper bound on the number of estimated lights.
+  size_t maxPeaks = 2048;           ///< Strongest accumulator peaks examined (bounds the time on sky-lit maps).
 };
 
 /// What the estimator did (for logs and measurements).

@@ -84,9 +84,9 @@ void check(const q3::GameWorlds& game, const std::string& map, bool render) {
         ++precise;
         break;
       }
-  std::printf("%-28s grid %7zu lines %6zu real %4zu est %4zu | found %4zu (%5.1f%% of light value) "
+  std::printf("%-28s grid %7zu lines %6zu peaks %6zu real %4zu est %4zu | found %4zu (%5.1f%% of light value) "
               "precision %5.1f%% | pos err median %5.1f | value ratio median %5.2f | %6.1f ms",
-              map.c_str(), stats.gridPoints, stats.votingLines, real.size(), estimated.size(), found,
+              map.c_str(), stats.gridPoints, stats.votingLines, stats.peaks, real.size(), estimated.size(), found,
               realPower > 0 ? 100.0 * foundPower / realPower : 0.0,
               estimated.empty() ? 0.0 : 100.0 * double(precise) / double(estimated.size()), median(errors),
               median(ratios), ms);
