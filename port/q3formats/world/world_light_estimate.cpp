@@ -281,19 +281,6 @@ std::vector<size_t> linesThrough(const std::vector<Line>& lines, LineIndex& inde
   return members;
 }
 
-/// Direction q3map2 would store at p if only `lights` (all but `skip`) lit it, ignoring
-/// occlusion: the contributions summed with weights |colour| (zero vector when unlit).
-glm::vec3 blendedDirection(const glm::vec3& p, const std::vector<WorldLight>& lights, size_t skip) {
-  glm::vec3 sum(0.0f);
-  for (size_t j = 0; j < lights.size(); ++j) {
-    if (j == skip) continue;
-    const glm::vec3 toLight = lights[j].position - p;
-    const float d = std::max(kMinLightDistance, glm::length(toLight));
-    sum += (lights[j].quakeIntensity * glm::length(lights[j].color) / (d * d * d)) * toLight;
-  }
-  return sum;
-}
-
 /// Lines of `members` whose direction the lights in `others` (marked true in `use`) do not
 /// explain: q3map2's blend of those lights would point elsewhere.
 size_t unexplainedLines(const std::vector<Line>& lines, const std::vector<size_t>& members,

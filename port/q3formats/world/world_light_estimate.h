@@ -10,7 +10,11 @@
 // positions, refines each by least squares over the lines that pass close to it, and fits the
 // light value from the directed magnitudes with q3map2's inverse-square falloff. Lines already
 // explained by the scene's own lights (entity lights, suns, surface lights) are left out.
+// A candidate is kept only when its lines agree on one light value and fall off like a point
+// light (crossings of lines towards area lights or the sky do neither), and when the blend
+// q3map2 would store from the other lights does not already explain its lines.
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
