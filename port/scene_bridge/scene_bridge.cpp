@@ -252,32 +252,51 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
     }
   }
 
-  if (options.sky) {
-    SkyDesc sky;
-    sky.color = scene.sky.color;
-    sky.intensity = options.skyIntensity;
-    bool allFaces = true;
-    for (size_t f = 0; f < 6; ++f) {
-      int32_t t = scene.sky.faces[f];
-      TextureId id = t >= 0 && size_t(t) < handles.textures.size() ? handles.textures[size_t(t)] : kNoId;
-      sky.faces[f] = id;
-      allFaces = allFaces && id != kNoId;
-    }
-    if (allFaces) {
-      sky.color = glm::vec3(1.0f);   // the box shows as drawn
-    } else {
-      sky.faces.fill(kNoId);
-      if (scene.sky.surfaceLight > 0.0f) {
-        // q3map2 lit the map through the sky surfaces as area lights of this radiance.
-        glm::vec3 hue = scene.sky.color;
-        float peak = std::max({hue.r, hue.g, hue.b});
-        hue = peak > 0.0f ? hue / peak : glm::vec3(1.0f);
-        sky.color = hue * q3::surfaceLightRadiance(scene.sky.surfaceLight) * options.lightScale;
-      }
-    }
-    renderer.setSky(sky);
-  }
+  if (options.sky) renderer.setSky(skyDesc(scene, handles, options));
   return handles;
+}
+
+SkyDesc skyDesc(const q3::WorldScene& scene, const WorldHandles& handles, const UploadOptions& options) {
+  SkyDesc sky;
+  sky.color = scene.sky.color;
+  sky.intensity = options.skyIntensity;
+  bool allFaces = true;
+  glm::vec3 faceMean(0.0f);
+  for (size_t f = 0; f < 6; ++f) {
+    const int32_t t = scene.sky.faces[f];
+    const bool valid = t >= 0 && size_t(t) < handles.textures.size() && handles.textures[size_t(t)] != kNoId;
+    sky.faces[f] = valid ? handles.textures[size_t(t)] : kNoId;
+    allFaces = allFaces && valid;
+    if (valid) faceMean += meanLinearColor(scene.textures[size_t(t)].image) / 6.0f;
+  }
+  // What q3map2 lit the map with through the sky: its dome of sky-light suns as a uniform
+  // radiance; a sky shader with only q3map_sun lit it by the sun alone (an analytic light).
+  const float skyLight = q3::skyLightRadiance(scene.sky.skyLight, scene.sky.skyLightIterations);
+  const float compiled = q3::surfaceLightRadiance(scene.sky.surfaceLight) + skyLight;
+  if (allFaces) {
+    sky.color = glm::vec3(1.0f);   // the box shows as drawn...
+    const float shown = 0.2126f * faceMean.r + 0.7152f * faceMean.g + 0.0722f * faceMean.b;
+    if (skyLight > 0.0f) {         // ...and lights as compiled, however dark it looks
+      sky.lightingScale = skyLight * options.lightScale / std::max(shown, 1e-4f);
+    } else if (scene.sky.sunLit && !(scene.sky.surfaceLight > 0.0f)) {
+      sky.lightingScale = 0.0f;
+    }
+    // A box with q3map_surfacelight keeps its look as its light: on oa_dm6 (space box,
+    // q3map_surfacelight 100) the q3map2 surface-light radiance is ~40x brighter than the
+    // baked lightmaps, the box as drawn within 4x.
+    return sky;
+  }
+  sky.faces.fill(kNoId);
+  if (compiled > 0.0f) {
+    // q3map2 lit the map through the sky surfaces as area lights of this radiance.
+    glm::vec3 hue = scene.sky.color;
+    const float peak = std::max({hue.r, hue.g, hue.b});
+    hue = peak > 0.0f ? hue / peak : glm::vec3(1.0f);
+    sky.color = hue * compiled * options.lightScale;
+  } else if (scene.sky.sunLit) {
+    sky.lightingScale = 0.0f;
+  }
+  return sky;
 }
 
 Camera cameraFromSpawn(const q3::WorldCamera& spawn, float aspect, float fovX) {

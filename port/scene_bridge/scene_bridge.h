@@ -44,6 +44,13 @@ struct WorldHandles {
 /// Does not commit(). Brush sub-model instances start at identity; movers set their transform.
 WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const UploadOptions& options = {});
 
+/// The sky: the box faces (or the average colour) as they look, lighting the map as q3map2
+/// did: SkyDesc::lightingScale brings the box's mean to the radiance of the sky shader's
+/// q3map_skylight, or to 0 when the shader lit the map by q3map_sun alone. Other boxes keep
+/// their look as their light; a box-less sky shows and lights with the radiance of its
+/// q3map_surfacelight + q3map_skylight.
+SkyDesc skyDesc(const q3::WorldScene& scene, const WorldHandles& handles, const UploadOptions& options = {});
+
 /// The renderer material for one world material drawn with one lightmap (-1 = none).
 MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handles, uint32_t material, int32_t lightmap,
                           float lightScale = 1.0f);

@@ -179,6 +179,10 @@ struct SkyDesc {
   glm::vec3 color{0.0f};                    ///< Constant radiance, or multiplier of the cube map.
   std::array<TextureId, 6> faces{kNoId, kNoId, kNoId, kNoId, kNoId, kNoId};
   float intensity = 1.0f;
+  /// Extra multiplier where the sky lights surfaces (light samples, rays after a diffuse or
+  /// glossy bounce); what the camera and mirrors see stays color * intensity. Lets a dark
+  /// cube map light a scene as brightly as its author intended. 0 = the sky lights nothing.
+  float lightingScale = 1.0f;
 };
 
 /// A portal: the plane of a window (mirror-material surfaces on it) and where rays that enter it

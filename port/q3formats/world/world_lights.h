@@ -11,6 +11,7 @@
 // Our renderer: a Lambertian surface of albedo a under irradiance E has radiance a * E / pi;
 // exposure 1 maps radiance 1 to white. Matching a * (value / 64) = a * E / pi gives
 // E = pi * value / 64, hence the factors below (scene length unit = Quake unit).
+#include <cmath>
 #include <numbers>
 
 namespace q3 {
@@ -40,6 +41,20 @@ inline float sunIrradiance(float sunIntensity) { return std::numbers::pi_v<float
 /// q3map2 gives the light value 0.75 * value * F, i.e. irradiance pi * 0.75 * value * F / 64.
 inline float surfaceLightRadiance(float surfaceLight) {
   return surfaceLight * kQ3mapFormFactorValueScale * kQ3mapAreaScale / kQ3FullBright;
+}
+
+/// Uniform sky radiance that lights an upward surface like q3map_skylight (value, iterations):
+/// q3map2 spreads `value` over 4(n-1)^2 + 1 suns on n-1 elevation rings (90/n degrees apart,
+/// the first at half a step) plus one at the zenith, so an unshadowed upward surface receives
+/// value * mean(sin elevation); a uniform sky of radiance L gives irradiance pi * L.
+inline float skyLightRadiance(float value, int iterations) {
+  if (!(value > 0.0f) || iterations < 2) return 0.0f;
+  const int rings = iterations - 1, perRing = 4 * rings;
+  const double step = std::numbers::pi / 2.0 / iterations;
+  double sum = 1.0;   // the zenith sun
+  for (int i = 0; i < rings; ++i) sum += perRing * std::sin((i + 0.5) * step);
+  const double meanSin = sum / double(perRing * rings + 1);
+  return float(double(value) * meanSin / kQ3FullBright);
 }
 
 }  // namespace q3

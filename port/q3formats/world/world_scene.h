@@ -140,6 +140,9 @@ struct WorldSky {
   glm::vec3 color{0.0f};                  ///< Average colour of the box (or of the sky texture).
   float cloudHeight = 0.0f;               ///< skyParms cloud height (data only).
   float surfaceLight = 0.0f;              ///< q3map_surfacelight of the sky shader (q3map2 sky light), 0 = none.
+  float skyLight = 0.0f;                  ///< q3map_skylight value (q3map2's dome of suns), 0 = none.
+  int skyLightIterations = 0;             ///< q3map_skylight iterations (q3map2 ignores fewer than 2).
+  bool sunLit = false;                    ///< The sky shader has q3map_sun: the compiler lit the map by it.
 };
 
 /// A viewpoint: spawn points and the intermission camera.
@@ -194,6 +197,10 @@ struct WorldBuildOptions {
   bool loadTextures = true;        ///< False: keep paths only (images left empty).
   bool keepInvisible = false;      ///< Keep nodraw/hint/skip surfaces that do not emit.
   int patchSubdivisions = 4;       ///< Patch error tolerance in Quake units (r_subdivisions).
+  /// Add point lights estimated from the light grid where no light entity, sun or surface
+  /// light explains it, on maps with fewer than 16 light entities (maps whose compiler
+  /// stripped their `light` entities).
+  bool estimateLights = true;
 };
 
 /// Builds the scene of a parsed map. Throws FormatError only for a malformed BSP; content

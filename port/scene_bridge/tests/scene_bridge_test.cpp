@@ -198,3 +198,74 @@ TEST(SceneBridge, AdditiveSurfaceLightLightsTheMapWithoutGlaringItself) {
 
 }  // namespace
 }  // namespace pa::bridge
+
+namespace pa::bridge {
+namespace {
+
+/// A sky box of six uniform faces of sRGB grey `value`, handles 0..5.
+std::pair<q3::WorldScene, WorldHandles> skyBoxScene(uint8_t value) {
+  q3::WorldScene scene;
+  WorldHandles handles;
+  std::vector<uint8_t> rgba(16, value);
+  for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 255;
+  for (uint32_t f = 0; f < 6; ++f) {
+    scene.textures.push_back({"sky", "sky.tga", q3::WorldImage{2, 2, rgba}, true, false});
+    scene.sky.faces[f] = int32_t(f);
+    handles.textures.push_back(f);
+  }
+  return {scene, handles};
+}
+
+TEST(SceneBridgeSky, SkyLightOfQ3map2IsItsDomeOfSunsOnAnUpwardSurface) {
+  // 2 iterations: 4 suns at 22.5 degrees and one at the zenith share the value.
+  EXPECT_NEAR(q3::skyLightRadiance(64.0f, 2), (1.0 + 4.0 * std::sin(std::numbers::pi / 8.0)) / 5.0, 1e-6);
+  EXPECT_EQ(q3::skyLightRadiance(64.0f, 1), 0.0f);   // q3map2 needs 2 iterations
+  EXPECT_EQ(q3::skyLightRadiance(-5.0f, 4), 0.0f);
+  // Many iterations approach a uniform dome: mean sin(elevation) over elevation = 2 / pi.
+  EXPECT_NEAR(q3::skyLightRadiance(64.0f, 200), 2.0 / std::numbers::pi, 0.01);
+}
+
+TEST(SceneBridgeSky, DarkBoxLightsWithTheCompiledRadianceAndLooksAsDrawn) {
+  auto [scene, handles] = skyBoxScene(32);
+  scene.sky.surfaceLight = 100.0f;
+  scene.sky.skyLight = 50.0f;
+  scene.sky.skyLightIterations = 3;
+  const SkyDesc sky = skyDesc(scene, handles);
+  EXPECT_EQ(sky.color, glm::vec3(1.0f));
+  for (uint32_t f = 0; f < 6; ++f) EXPECT_EQ(sky.faces[f], f);
+  const float shown = srgbToLinear(32.0f / 255.0f);
+  const float compiled = q3::skyLightRadiance(50.0f, 3);   // a box's surface light is not used
+  EXPECT_NEAR(sky.lightingScale * shown, compiled, 1e-4f * compiled);
+  EXPECT_GT(sky.lightingScale, 10.0f);   // this box is far darker than its light
+
+  UploadOptions brighter;
+  brighter.lightScale = 2.0f;
+  EXPECT_NEAR(skyDesc(scene, handles, brighter).lightingScale, 2.0f * sky.lightingScale, 1e-3f * sky.lightingScale);
+}
+
+TEST(SceneBridgeSky, SunOnlySkyLightsNothingAndUnlitSkyKeepsItsLook) {
+  auto [scene, handles] = skyBoxScene(200);
+  scene.sky.sunLit = true;
+  EXPECT_EQ(skyDesc(scene, handles).lightingScale, 0.0f);
+  scene.sky.surfaceLight = 100.0f;   // sun and surface light (oa_dm6): the box lights as drawn
+  EXPECT_EQ(skyDesc(scene, handles).lightingScale, 1.0f);
+  scene.sky.sunLit = false;
+  scene.sky.surfaceLight = 0.0f;
+  EXPECT_EQ(skyDesc(scene, handles).lightingScale, 1.0f);
+
+  // No box: the constant colour carries the compiled radiance (seen and lighting alike).
+  q3::WorldScene flat;
+  flat.sky.color = glm::vec3(0.2f, 0.4f, 0.8f);
+  flat.sky.skyLight = 64.0f;
+  flat.sky.skyLightIterations = 2;
+  const SkyDesc constant = skyDesc(flat, WorldHandles{});
+  EXPECT_NEAR(constant.color.b, q3::skyLightRadiance(64.0f, 2), 1e-6f);
+  EXPECT_NEAR(constant.color.r, 0.25f * q3::skyLightRadiance(64.0f, 2), 1e-6f);
+  EXPECT_EQ(constant.lightingScale, 1.0f);
+  flat.sky.skyLight = 0.0f;
+  flat.sky.sunLit = true;
+  EXPECT_EQ(skyDesc(flat, WorldHandles{}).lightingScale, 0.0f);
+}
+
+}  // namespace
+}  // namespace pa::bridge

@@ -95,9 +95,11 @@ glm::vec3 sampleDirectLight(const RenderScene& scene, const SurfaceHit& s, const
   return f * ls.radiance * (weight / ls.pdf);
 }
 
-/// Radiance arriving from the environment along dir, MIS-weighted against sky sampling.
-glm::vec3 environmentRadiance(const RenderScene& scene, const glm::vec3& dir, const PreviousVertex& prev) {
-  const glm::vec3 le = scene.sky.radiance(dir);
+/// Radiance arriving from the environment along dir, MIS-weighted against sky sampling. Seen
+/// (camera and mirror chains) until the path has scattered, lighting radiance after that.
+glm::vec3 environmentRadiance(const RenderScene& scene, const glm::vec3& dir, const PreviousVertex& prev,
+                              bool scattered) {
+  const glm::vec3 le = scattered ? scene.sky.lightingRadiance(dir) : scene.sky.radiance(dir);
   if (prev.delta) return le;
   return le * sampling::powerHeuristic(prev.bsdfPdf, scene.lights.skyPdf(prev.normal, dir));
 }
@@ -133,7 +135,8 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     const glm::vec3 dir = glm::normalize(ray.dir);
     const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay) : SurfaceHit{};
     if (!found || s.material->desc.sky) {
-      const glm::vec3 le = lightmapOnly ? scene.sky.radiance(dir) : environmentRadiance(scene, dir, prev);
+      const glm::vec3 le =
+          lightmapOnly ? scene.sky.radiance(dir) : environmentRadiance(scene, dir, prev, scatterCount > 0);
       radiance += clampContribution(beta * le, viewDepth, settings.radianceClamp);
       if (viewDepth == 0) {
         out.albedo = glm::min(scene.sky.radiance(dir), glm::vec3(1.0f));

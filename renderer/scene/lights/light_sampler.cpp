@@ -110,7 +110,7 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
     out = {};
     out.wi = wi;
     out.distance = kInfinity;
-    out.radiance = sky_.radiance(wi);
+    out.radiance = sky_.lightingRadiance(wi);
     out.pdf = pdf;
     out.environment = true;
     ok = true;

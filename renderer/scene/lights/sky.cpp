@@ -59,7 +59,7 @@ CubeLookup cubeLookup(const glm::vec3& d) {
 }
 
 Sky::Sky(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>& textures)
-    : scale_(desc.color * desc.intensity) {
+    : scale_(desc.color * desc.intensity), lightingScale_(desc.lightingScale) {
   glm::vec3 faceMean(0.0f);
   for (size_t i = 0; i < 6; ++i) {
     if (desc.faces[i] == kNoId) continue;
@@ -68,10 +68,10 @@ Sky::Sky(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>&
   }
   if (hasFaces_) {
     for (const auto& f : faces_) faceMean += f ? glm::vec3(f->average()) : glm::vec3(0.0f);
-    average_ = scale_ * faceMean / 6.0f;
+    average_ = lightingScale_ * scale_ * faceMean / 6.0f;
     buildImportance();
   } else {
-    average_ = scale_;
+    average_ = lightingScale_ * scale_;
   }
 }
 

@@ -35,9 +35,11 @@ class Sky {
   /// Resolves texture ids (validated by the caller).
   Sky(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>& textures);
 
-  /// Radiance arriving from direction dir (pointing away from the scene).
+  /// Radiance seen along dir (pointing away from the scene) by the camera and mirrors.
   glm::vec3 radiance(const glm::vec3& dir) const;
-  /// Mean radiance over all directions (light selection).
+  /// Radiance along dir where the sky lights a surface (radiance x SkyDesc::lightingScale).
+  glm::vec3 lightingRadiance(const glm::vec3& dir) const { return lightingScale_ * radiance(dir); }
+  /// Mean lighting radiance over all directions (light selection).
   glm::vec3 average() const { return average_; }
   /// True when directions are drawn from the cube-map distribution (else: cosine lobes).
   bool importanceSampled() const { return !table_.empty(); }
@@ -45,11 +47,12 @@ class Sky {
   bool sample(const glm::vec3& u, glm::vec3& dir, float& pdf) const;
   /// Solid-angle pdf of sample() producing dir.
   float pdf(const glm::vec3& dir) const;
-  /// True when the sky emits nothing.
+  /// True when the sky lights nothing.
   bool black() const { return average_.x <= 0.0f && average_.y <= 0.0f && average_.z <= 0.0f; }
 
  private:
   glm::vec3 scale_{0.0f};
+  float lightingScale_ = 1.0f;
   std::array<std::shared_ptr<const Texture>, 6> faces_{};
   bool hasFaces_ = false;
   glm::vec3 average_{0.0f};

@@ -48,6 +48,31 @@ TEST(KnownAnswer, DiffuseSphereUnderUniformSkyDirect) { renderDiffuseSphere(Inte
 TEST(KnownAnswer, DiffuseSphereUnderUniformSkyPath) { renderDiffuseSphere(Integrator::Path, 0.5f, 8); }
 TEST(KnownAnswer, WhiteFurnaceConvexSphereIsInvisible) { renderDiffuseSphere(Integrator::Path, 1.0f, 8); }
 
+/// SkyDesc::lightingScale k: the sphere is lit by k * L, the sky seen past it stays L.
+void renderSkyLightingScale(Integrator integrator, float lightingScale) {
+  Renderer r({2});
+  test::MeshArrays s = test::sphere({0, 0, 0}, 1.0f);
+  s.setMaterial(r.addMaterial(test::diffuse(0.5f)));
+  r.addInstance({r.addMesh(s.desc())});
+  SkyDesc sky;
+  sky.color = glm::vec3(0.8f);
+  sky.lightingScale = lightingScale;
+  r.setSky(sky);
+  r.commit();
+  const test::FrameStats lit =
+      greyStats(r.render(lookAt({3.0f, 0.2f, 0.3f}, {0, 0, 0}, 15.0f), settingsFor(integrator, 16, 8, 8)));
+  EXPECT_NEAR(lit.minValue, 0.5 * 0.8 * lightingScale, 1e-4);
+  EXPECT_NEAR(lit.maxValue, 0.5 * 0.8 * lightingScale, 1e-4);
+  const test::FrameStats seen =
+      greyStats(r.render(lookAt({3.0f, 0.2f, 0.3f}, {6.0f, 0.2f, 0.3f}, 15.0f), settingsFor(integrator, 16, 8, 8)));
+  EXPECT_NEAR(seen.minValue, 0.8, 1e-5);
+  EXPECT_NEAR(seen.maxValue, 0.8, 1e-5);
+}
+
+TEST(KnownAnswer, SkyLightingScaleBrightensTheLightNotTheLookDirect) { renderSkyLightingScale(Integrator::Direct, 2.5f); }
+TEST(KnownAnswer, SkyLightingScaleBrightensTheLightNotTheLookPath) { renderSkyLightingScale(Integrator::Path, 2.5f); }
+TEST(KnownAnswer, SkyLightingScaleZeroLightsNothing) { renderSkyLightingScale(Integrator::Path, 0.0f); }
+
 TEST(KnownAnswer, WhiteFurnaceOpenBoxNeedsManyBounces) {
   // An open box (five quads, albedo 1, two-sided) under a uniform sky L: energy conservation
   // makes every pixel exactly L once all bounces are followed (the box is non-convex).

@@ -67,6 +67,9 @@ TEST(Validation, OutOfRangeIdsAreRejected) {
   SkyDesc sky;
   sky.faces[3] = 9;
   expectSceneError([&] { r.setSky(sky); }, "faces[3]");
+  SkyDesc negativeLighting;
+  negativeLighting.lightingScale = -1.0f;
+  expectSceneError([&] { r.setSky(negativeLighting); }, "lightingScale");
   expectSceneError([&] { r.setLight(4, {}); }, "light 4");
   expectSceneError([&] { r.removeInstance(100); }, "instance 100");
 }

@@ -221,6 +221,9 @@ void SceneStore::setSky(const SkyDesc& sky) {
   if (!std::isfinite(sky.intensity) || sky.intensity < 0.0f) {
     throw SceneError("setSky: intensity must be finite and >= 0");
   }
+  if (!std::isfinite(sky.lightingScale) || sky.lightingScale < 0.0f) {
+    throw SceneError("setSky: lightingScale must be finite and >= 0");
+  }
   sky_ = sky;
   dirty_ = true;
 }
