@@ -198,8 +198,9 @@ Output:
                          albedo.{R,G,B}, normal.{X,Y,Z} (world space), Z = first-hit distance
                          (inf = sky), variance.Y = variance of the mean's luminance
   --stats FILE           JSON summary for scripts: scene, camera (index, name), triangles,
-                         lights, image size, integrator, spp, frames, load and render
-                         seconds, sky_fraction (pixels whose first hit is sky or nothing)
+                         lights, image size, integrator, tonemap, exposure, spp, frames, load
+                         and render seconds, sky_fraction (pixels whose first hit is sky or
+                         nothing)
 
 Image and sampling:
   --width W, --height H  Image size in pixels (1..16384). Default width 640; a missing side

@@ -142,6 +142,8 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
           {"width", settings.width},
           {"height", settings.height},
           {"integrator", integratorName(options.integrator)},
+          {"tonemap", tonemapName(options.tonemap)},
+          {"exposure", options.exposure},
           {"spp", options.samplesPerPixel},
           {"frames", options.frames},
           {"load_seconds", loadSeconds},

@@ -100,6 +100,8 @@ TEST_F(PaRenderTest, StatsJsonDescribesTheRenderAndCountsSkyPixelsOfTheDepthAov)
   EXPECT_EQ(stats.at("width"), 40);
   EXPECT_EQ(stats.at("height"), 24);
   EXPECT_EQ(stats.at("integrator"), "direct");
+  EXPECT_EQ(stats.at("tonemap"), "aces");
+  EXPECT_EQ(stats.at("exposure"), 1.0);
   EXPECT_EQ(stats.at("spp"), 1);
   EXPECT_EQ(stats.at("frames"), 1);
   EXPECT_EQ(stats.at("camera_index"), 0);
