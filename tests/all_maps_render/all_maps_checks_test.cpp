@@ -25,21 +25,24 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 TEST(ImageStats, LumaBlackAndSkyOfFourPixels) {
-  // black, white, pure green, grey 128; the last pixel saw the sky.
-  const std::vector<uint8_t> rgba = {0, 0, 0, 255, 255, 255, 255, 255, 0, 255, 0, 255, 128, 128, 128, 255};
-  const std::vector<float> depth = {1.0f, 2.0f, 3.0f, kInf};
+  // black, white, pure green, grey 128, black sky; the last two pixels saw the sky.
+  const std::vector<uint8_t> rgba = {0, 0, 0, 255, 255, 255, 255, 255, 0, 255, 0, 255, 128, 128, 128, 255, 0, 0, 0, 255};
+  const std::vector<float> depth = {1.0f, 2.0f, 3.0f, kInf, kInf};
   const ImageStats s = computeImageStats(rgba, depth);
-  EXPECT_NEAR(s.meanLuma, (0.0 + 1.0 + 0.7152 + 128.0 / 255.0) / 4.0, 1e-9);
-  EXPECT_DOUBLE_EQ(s.blackFraction, 0.25);
-  EXPECT_DOUBLE_EQ(s.skyFraction, 0.25);
+  EXPECT_NEAR(s.meanLuma, (0.0 + 1.0 + 0.7152 + 128.0 / 255.0 + 0.0) / 5.0, 1e-9);
+  EXPECT_DOUBLE_EQ(s.blackFraction, 1.0 / 3.0);   // of the three world pixels; the black sky does not count
+  EXPECT_DOUBLE_EQ(s.skyFraction, 0.4);
 }
 
 TEST(ImageStats, NanDepthCountsAsSkyAndDarkPixelsAreBlack) {
-  const std::vector<uint8_t> rgba = {9, 9, 9, 255, 11, 11, 11, 255};   // luma 9/255 < 10/255 < 11/255
-  const std::vector<float> depth = {std::nanf(""), 5.0f};
-  const ImageStats s = computeImageStats(rgba, depth);
+  PlausibilityThresholds t;
+  t.blackLuma = 10.0 / 255.0;
+  const std::vector<uint8_t> rgba = {0, 0, 0, 255, 9, 9, 9, 255, 11, 11, 11, 255};   // 9/255 < 10/255 < 11/255
+  const std::vector<float> depth = {std::nanf(""), 5.0f, 5.0f};
+  const ImageStats s = computeImageStats(rgba, depth, t);
   EXPECT_DOUBLE_EQ(s.blackFraction, 0.5);
-  EXPECT_DOUBLE_EQ(s.skyFraction, 0.5);
+  EXPECT_NEAR(s.skyFraction, 1.0 / 3.0, 1e-12);
+  EXPECT_DOUBLE_EQ(computeImageStats(std::span(rgba).first(4), std::span(depth).first(1), t).blackFraction, 0.0);
 }
 
 TEST(ImageStats, RejectsMismatchedSizes) {

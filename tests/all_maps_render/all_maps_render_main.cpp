@@ -34,7 +34,8 @@ constexpr int kExitSkip = 77;   // CTest SKIP_RETURN_CODE: the game data is not 
 constexpr const char* kUsage = R"(Usage: pa-all-maps --pa-render PATH --out DIR [options]
 
 Renders every map of the game folder from its first player spawn point with pa-render, in the
-lightmap and direct integrators, and checks that each picture is plausible (not black, not all
+lightmap integrator (stock look: --tonemap clamp) and the direct integrator (default --tonemap
+aces), and checks that each picture is plausible (not black, not all
 sky, spawn inside the level). Writes DIR/results.md, DIR/results.tsv, DIR/contact_sheet.png and
 the renders (DIR/renders/MAP_INTEGRATOR.{png,exr,json,log}).
 
@@ -48,6 +49,9 @@ the renders (DIR/renders/MAP_INTEGRATOR.{png,exr,json,log}).
   --direct-spp N          Samples per pixel of the direct renders (default 4)
   --threads T             pa-render --threads (default 0 = all cores)
   --columns C             Contact sheet cells per row (default 6)
+  --reuse                 Re-check the renders an earlier run left in DIR/renders instead of
+                          rendering again, where its --stats JSON shows the same settings;
+                          the others are rendered
 
 Exit status: 0 every check passed (known problems aside), 1 a check failed, 2 usage error,
 77 the game folder or its maps are missing (a skip for CTest).
@@ -63,6 +67,7 @@ struct Options {
   uint32_t lightmapSpp = 2, directSpp = 4;
   uint32_t threads = 0;
   uint32_t columns = 6;
+  bool reuse = false;
 };
 
 bool parseCount(std::string_view text, uint32_t lo, uint32_t hi, uint32_t& out) {
@@ -87,6 +92,10 @@ std::string parseOptions(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
     const std::string_view name = argv[i];
     if (name == "-h" || name == "--help") return "help";
+    if (name == "--reuse") {
+      o.reuse = true;
+      continue;
+    }
     if (i + 1 >= argc) return std::string(name) + ": missing value";
     const std::string_view value = argv[++i];
     bool ok = true;
@@ -118,8 +127,10 @@ std::string readTextFile(const fs::path& path) {
 /// "maps/oa_dm1.bsp" -> "oa_dm1".
 std::string mapName(const std::string& gamePath) { return fs::path(gamePath).stem().string(); }
 
+/// An integrator and the display transform its pictures are judged in.
 struct IntegratorRun {
   const char* name;
+  const char* tonemap;
   uint32_t spp;
 };
 
@@ -131,7 +142,9 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::
   result.archive = fs::path(game.sourceOf(gamePath)).filename().string();
   result.mapExpectedBecause = knownProblemReason(known, result.map, "*").value_or("");
   const PlausibilityThresholds thresholds;
-  const std::vector<IntegratorRun> runs = {{"lightmap", o.lightmapSpp}, {"direct", o.directSpp}};
+  // The lightmap integrator reproduces the stock renderer, so it is judged in the stock look
+  // (clamp: no curve); the direct integrator in pa-render's default filmic curve.
+  const std::vector<IntegratorRun> runs = {{"lightmap", "clamp", o.lightmapSpp}, {"direct", "aces", o.directSpp}};
   images.assign(runs.size(), RgbaImage{});
   try {
     const auto bytes = game.readFile(gamePath);
@@ -154,12 +167,14 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::
     request.paRender = o.paRender;
     request.scene = o.gameDir / gamePath;
     request.integrator = runs[k].name;
+    request.tonemap = runs[k].tonemap;
     request.camera = result.survey.spawn->cameraIndex;
     request.width = o.width;
     request.height = o.height;
     request.samplesPerPixel = runs[k].spp;
     request.threads = o.threads;
     request.outputStem = o.out / "renders" / (result.map + "_" + runs[k].name);
+    request.reuseExisting = o.reuse;
     RenderResult rendered = runPaRender(request);
 
     IntegratorOutcome outcome;
@@ -168,7 +183,7 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::
     outcome.wallMilliseconds = rendered.wallMilliseconds;
     outcome.renderMilliseconds = rendered.renderMilliseconds;
     if (!rendered.ok()) {
-      std::string log = rendered.log;
+      std::string log = rendered.exitCode != 0 ? rendered.log : "";   // its last line is the error message
       while (!log.empty() && log.back() == '\n') log.pop_back();
       outcome.problems.push_back(rendered.error + (log.empty() ? "" : " (" + log.substr(log.rfind('\n') + 1) + ")"));
     } else if (rendered.cameraName != result.survey.spawn->cameraName) {

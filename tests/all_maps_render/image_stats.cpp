@@ -35,11 +35,13 @@ ImageStats computeImageStats(std::span<const uint8_t> rgba8, std::span<const flo
     const uint8_t* p = &rgba8[i * 4];
     const double luma = (0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]) / 255.0;
     lumaSum += luma;
-    if (luma < thresholds.blackLuma) ++black;
     if (!std::isfinite(depth[i])) ++sky;
+    else if (luma < thresholds.blackLuma) ++black;   // a black night sky is no missing light
   }
   const double count = static_cast<double>(pixels);
-  return {lumaSum / count, static_cast<double>(black) / count, static_cast<double>(sky) / count};
+  const size_t world = pixels - sky;
+  return {lumaSum / count, world > 0 ? static_cast<double>(black) / static_cast<double>(world) : 0.0,
+          static_cast<double>(sky) / count};
 }
 
 std::vector<std::string> implausibilityReasons(const ImageStats& stats, const PlausibilityThresholds& thresholds) {
@@ -47,7 +49,7 @@ std::vector<std::string> implausibilityReasons(const ImageStats& stats, const Pl
   if (stats.meanLuma < thresholds.minMeanLuma)
     reasons.push_back("dark: mean luma " + number(stats.meanLuma) + " < " + number(thresholds.minMeanLuma));
   if (stats.blackFraction > thresholds.maxBlackFraction)
-    reasons.push_back("black: " + percent(stats.blackFraction) + " black pixels > " +
+    reasons.push_back("black: " + percent(stats.blackFraction) + " of the world pixels black > " +
                       percent(thresholds.maxBlackFraction));
   if (stats.skyFraction > thresholds.maxSkyFraction)
     reasons.push_back("sky: " + percent(stats.skyFraction) + " sky/void pixels > " + percent(thresholds.maxSkyFraction));

@@ -10,7 +10,7 @@ namespace pa::allmaps {
 /// Figures of one rendered image.
 struct ImageStats {
   double meanLuma = 0.0;       ///< Mean display luma of the PNG, 0..1 (Rec. 709 weights on sRGB values).
-  double blackFraction = 0.0;  ///< Pixels whose display luma is below PlausibilityThresholds::blackLuma.
+  double blackFraction = 0.0;  ///< Share of the world pixels (not sky) darker than PlausibilityThresholds::blackLuma.
   double skyFraction = 0.0;    ///< Pixels whose first hit is the sky or nothing (EXR depth not finite).
 };
 

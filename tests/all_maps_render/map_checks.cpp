@@ -86,8 +86,9 @@ void writeMarkdownReport(std::ostream& out, const std::vector<MapResult>& result
       if (std::find(integrators.begin(), integrators.end(), o.integrator) == integrators.end())
         integrators.push_back(o.integrator);
 
-  out << "Plausible: mean luma >= " << format("%.3f", thresholds.minMeanLuma) << ", black pixels (luma < "
-      << format("%.3f", thresholds.blackLuma) << ") <= " << format("%.0f%%", 100 * thresholds.maxBlackFraction)
+  out << "Plausible: mean luma >= " << format("%.3f", thresholds.minMeanLuma) << ", black world pixels (luma < "
+      << format("%.3f", thresholds.blackLuma) << ", sky excluded) <= "
+      << format("%.0f%%", 100 * thresholds.maxBlackFraction)
       << ", sky/void pixels <= " << format("%.0f%%", 100 * thresholds.maxSkyFraction)
       << ", spawn eye in a leaf of the level (PVS cluster >= 0).\n\n";
   out << "| map | tris | lights | spawn (camera: origin) | cluster |";

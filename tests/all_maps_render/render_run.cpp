@@ -20,7 +20,7 @@ namespace {
 
 /// Runs argv[0] with stdout and stderr sent to `logPath`; returns the exit status (-1 if it
 /// could not start or did not exit normally).
-int runProcess(const std::vector<std::string>& argv, const std::filesystem::path& logPath) {
+int runAndWait(const std::vector<std::string>& argv, const std::filesystem::path& logPath) {
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
@@ -42,9 +42,37 @@ int runProcess(const std::vector<std::string>& argv, const std::filesystem::path
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/// runAndWait, timed.
+int runProcess(const std::vector<std::string>& argv, const std::filesystem::path& logPath, double& milliseconds) {
+  const auto start = std::chrono::steady_clock::now();
+  const int status = runAndWait(argv, logPath);
+  milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return status;
+}
+
+/// pa-render's command line for a request.
+std::vector<std::string> renderCommand(const RenderRequest& r, const std::filesystem::path& png,
+                                       const std::filesystem::path& exr, const std::filesystem::path& json) {
+  return {r.paRender.string(), r.scene.string(), "-o", png.string(), "--exr", exr.string(), "--stats", json.string(),
+          "--integrator", r.integrator, "--tonemap", r.tonemap, "--camera", std::to_string(r.camera), "--width", std::to_string(r.width),
+          "--height", std::to_string(r.height), "--spp", std::to_string(r.samplesPerPixel), "--threads",
+          std::to_string(r.threads), "--seed", "0", "--quiet"};
+}
+
 std::string readText(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// True when the --stats file at `json` was written by a render with the settings of `r`.
+bool madeWithSettings(const std::filesystem::path& json, const RenderRequest& r) {
+  if (!std::filesystem::exists(json)) return false;
+  const nlohmann::json stats = nlohmann::json::parse(readText(json), nullptr, false);
+  if (!stats.is_object()) return false;
+  return stats.value("scene", "") == r.scene.string() && stats.value("integrator", "") == r.integrator &&
+         stats.value("tonemap", "") == r.tonemap && stats.value("camera_index", -1) == int64_t{r.camera} &&
+         stats.value("width", 0u) == r.width && stats.value("height", 0u) == r.height &&
+         stats.value("spp", 0u) == r.samplesPerPixel;
 }
 
 RgbaImage readPng(const std::filesystem::path& path) {
@@ -111,15 +139,14 @@ RenderResult runPaRender(const RenderRequest& r) {
     return p;
   };
   const std::filesystem::path png = output(".png"), exr = output(".exr"), json = output(".json"), log = output(".log");
-  for (const auto& p : {png, exr, json}) std::filesystem::remove(p);
-  const std::vector<std::string> argv = {
-      r.paRender.string(), r.scene.string(), "-o", png.string(), "--exr", exr.string(), "--stats", json.string(),
-      "--integrator", r.integrator, "--camera", std::to_string(r.camera), "--width", std::to_string(r.width),
-      "--height", std::to_string(r.height), "--spp", std::to_string(r.samplesPerPixel), "--threads",
-      std::to_string(r.threads), "--seed", "0", "--quiet"};
-  const auto start = std::chrono::steady_clock::now();
-  result.exitCode = runProcess(argv, log);
-  result.wallMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const bool reuse = r.reuseExisting && std::filesystem::exists(png) && std::filesystem::exists(exr) &&
+                     madeWithSettings(json, r);
+  if (!reuse) {
+    for (const auto& p : {png, exr, json}) std::filesystem::remove(p);
+    result.exitCode = runProcess(renderCommand(r, png, exr, json), log, result.wallMilliseconds);
+  } else {
+    result.exitCode = 0;
+  }
   result.log = readText(log);
   if (result.exitCode != 0) {
     result.error = "pa-render exited with " + std::to_string(result.exitCode);
@@ -131,6 +158,8 @@ RenderResult runPaRender(const RenderRequest& r) {
     result.triangles = stats.at("triangles").get<uint64_t>();
     result.lights = stats.at("lights").get<uint64_t>();
     result.renderMilliseconds = 1000.0 * stats.at("render_seconds").get<double>();
+    if (reuse)   // the process time of the earlier run is not kept: report its load + render
+      result.wallMilliseconds = result.renderMilliseconds + 1000.0 * stats.at("load_seconds").get<double>();
     result.image = readPng(png);
     uint32_t width = 0, height = 0;
     result.depth = readExrChannel(exr, "Z", width, height);

@@ -14,12 +14,14 @@ struct RenderRequest {
   std::filesystem::path paRender;    ///< The pa-render executable.
   std::filesystem::path scene;       ///< GAMEDIR/maps/NAME.bsp (resolved by pa-render's .bsp importer).
   std::string integrator;            ///< "lightmap" or "direct".
+  std::string tonemap;               ///< "clamp", "aces" or "reinhard".
   uint32_t camera = 0;               ///< --camera index.
   uint32_t width = 160;
   uint32_t height = 90;
   uint32_t samplesPerPixel = 4;
   uint32_t threads = 0;              ///< 0 = pa-render's default (all cores).
   std::filesystem::path outputStem;  ///< Writes STEM.png, STEM.exr, STEM.json, STEM.log.
+  bool reuseExisting = false;        ///< Read STEM.* left by an earlier run with these settings instead of rendering.
 };
 
 /// What came back.
@@ -38,8 +40,9 @@ struct RenderResult {
   bool ok() const { return exitCode == 0 && error.empty(); }
 };
 
-/// Runs pa-render (quiet, fixed seed) and reads its outputs back. Never throws for a failed
-/// render: the reason is in `error` (and `log`).
+/// Runs pa-render (quiet, fixed seed) and reads its outputs back (or only reads them, with
+/// reuseExisting when STEM.json says they were made with the same settings). Never throws for a failed render:
+/// the reason is in `error` (and `log`).
 RenderResult runPaRender(const RenderRequest& request);
 
 /// The channel `name` of a single-part scanline OpenEXR, as floats; throws std::runtime_error
