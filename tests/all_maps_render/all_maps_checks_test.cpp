@@ -25,11 +25,11 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 TEST(ImageStats, LumaBlackAndSkyOfFourPixels) {
-  // black, white, pure green, grey 128, black sky; the last two pixels saw the sky.
+  // black, white, pure green, then grey 128 and black that saw the sky.
   const std::vector<uint8_t> rgba = {0, 0, 0, 255, 255, 255, 255, 255, 0, 255, 0, 255, 128, 128, 128, 255, 0, 0, 0, 255};
   const std::vector<float> depth = {1.0f, 2.0f, 3.0f, kInf, kInf};
   const ImageStats s = computeImageStats(rgba, depth);
-  EXPECT_NEAR(s.meanLuma, (0.0 + 1.0 + 0.7152 + 128.0 / 255.0 + 0.0) / 5.0, 1e-9);
+  EXPECT_NEAR(s.meanLuma, (0.0 + 1.0 + 0.7152) / 3.0, 1e-9);   // the world pixels only
   EXPECT_DOUBLE_EQ(s.blackFraction, 1.0 / 3.0);   // of the three world pixels; the black sky does not count
   EXPECT_DOUBLE_EQ(s.skyFraction, 0.4);
 }
@@ -42,7 +42,10 @@ TEST(ImageStats, NanDepthCountsAsSkyAndDarkPixelsAreBlack) {
   const ImageStats s = computeImageStats(rgba, depth, t);
   EXPECT_DOUBLE_EQ(s.blackFraction, 0.5);
   EXPECT_NEAR(s.skyFraction, 1.0 / 3.0, 1e-12);
-  EXPECT_DOUBLE_EQ(computeImageStats(std::span(rgba).first(4), std::span(depth).first(1), t).blackFraction, 0.0);
+  const ImageStats allSky = computeImageStats(std::span(rgba).first(4), std::span(depth).first(1), t);
+  EXPECT_DOUBLE_EQ(allSky.blackFraction, 0.0);
+  EXPECT_DOUBLE_EQ(allSky.meanLuma, 0.0);
+  EXPECT_DOUBLE_EQ(allSky.skyFraction, 1.0);
 }
 
 TEST(ImageStats, RejectsMismatchedSizes) {

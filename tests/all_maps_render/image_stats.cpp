@@ -34,20 +34,22 @@ ImageStats computeImageStats(std::span<const uint8_t> rgba8, std::span<const flo
   for (size_t i = 0; i < pixels; ++i) {
     const uint8_t* p = &rgba8[i * 4];
     const double luma = (0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]) / 255.0;
+    if (!std::isfinite(depth[i])) {   // a night sky is no missing light: judge the world only
+      ++sky;
+      continue;
+    }
     lumaSum += luma;
-    if (!std::isfinite(depth[i])) ++sky;
-    else if (luma < thresholds.blackLuma) ++black;   // a black night sky is no missing light
+    if (luma < thresholds.blackLuma) ++black;
   }
-  const double count = static_cast<double>(pixels);
-  const size_t world = pixels - sky;
-  return {lumaSum / count, world > 0 ? static_cast<double>(black) / static_cast<double>(world) : 0.0,
-          static_cast<double>(sky) / count};
+  const double world = static_cast<double>(pixels - sky);
+  if (world == 0.0) return {0.0, 0.0, 1.0};
+  return {lumaSum / world, static_cast<double>(black) / world, static_cast<double>(sky) / static_cast<double>(pixels)};
 }
 
 std::vector<std::string> implausibilityReasons(const ImageStats& stats, const PlausibilityThresholds& thresholds) {
   std::vector<std::string> reasons;
   if (stats.meanLuma < thresholds.minMeanLuma)
-    reasons.push_back("dark: mean luma " + number(stats.meanLuma) + " < " + number(thresholds.minMeanLuma));
+    reasons.push_back("dark: world mean luma " + number(stats.meanLuma) + " < " + number(thresholds.minMeanLuma));
   if (stats.blackFraction > thresholds.maxBlackFraction)
     reasons.push_back("black: " + percent(stats.blackFraction) + " of the world pixels black > " +
                       percent(thresholds.maxBlackFraction));

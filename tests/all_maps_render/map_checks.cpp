@@ -86,7 +86,7 @@ void writeMarkdownReport(std::ostream& out, const std::vector<MapResult>& result
       if (std::find(integrators.begin(), integrators.end(), o.integrator) == integrators.end())
         integrators.push_back(o.integrator);
 
-  out << "Plausible: mean luma >= " << format("%.3f", thresholds.minMeanLuma) << ", black world pixels (luma < "
+  out << "Plausible: world (not sky) mean luma >= " << format("%.3f", thresholds.minMeanLuma) << ", black world pixels (luma < "
       << format("%.3f", thresholds.blackLuma) << ", sky excluded) <= "
       << format("%.0f%%", 100 * thresholds.maxBlackFraction)
       << ", sky/void pixels <= " << format("%.0f%%", 100 * thresholds.maxSkyFraction)
