@@ -113,6 +113,10 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
       o.exrOut = std::filesystem::path(value);
       ok = !value.empty();
       if (!ok) message = "--exr: empty file name";
+    } else if (name == "--stats") {
+      o.statsOut = std::filesystem::path(value);
+      ok = !value.empty();
+      if (!ok) message = "--stats: empty file name";
     } else if (name == "--width") {
       ok = parseUnsigned(name, value, 1, kMaxImageSide, o.width, message);
     } else if (name == "--height") {
@@ -193,6 +197,10 @@ Output:
   --exr FILE             OpenEXR, 32-bit float: R,G,B = linear mean radiance (no exposure),
                          albedo.{R,G,B}, normal.{X,Y,Z} (world space), Z = first-hit distance
                          (inf = sky), variance.Y = variance of the mean's luminance
+  --stats FILE           JSON summary for scripts: scene, camera (index, name), triangles,
+                         lights, image size, integrator, tonemap, exposure, spp, frames, load
+                         and render seconds, sky_fraction (pixels whose first hit is sky or
+                         nothing)
 
 Image and sampling:
   --width W, --height H  Image size in pixels (1..16384). Default width 640; a missing side

@@ -16,6 +16,7 @@ struct CliOptions {
   std::filesystem::path scene;                  ///< Input scene (importer chosen by extension).
   std::filesystem::path pngOut;                 ///< Tonemapped 8-bit image (-o).
   std::optional<std::filesystem::path> exrOut;  ///< Linear radiance + AOV layers (--exr).
+  std::optional<std::filesystem::path> statsOut;  ///< Machine-readable summary as JSON (--stats).
   uint32_t width = 0;                           ///< 0 = derived (see usage text).
   uint32_t height = 0;
   uint32_t samplesPerPixel = 16;                ///< Per frame.

@@ -6,7 +6,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
+#include <stdexcept>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "renderer/cli/image_output.h"
 #include "renderer/cli/progress.h"
@@ -31,6 +35,24 @@ std::string knownExtensions() {
       list += extension;
     }
   return list;
+}
+
+/// Fraction of pixels whose first hit is the sky or nothing (depth not finite).
+double skyFraction(std::span<const float> depth) {
+  if (depth.empty()) return 0.0;
+  const auto sky = std::count_if(depth.begin(), depth.end(), [](float d) { return !std::isfinite(d); });
+  return static_cast<double>(sky) / static_cast<double>(depth.size());
+}
+
+/// Writes the --stats JSON; throws std::runtime_error when the file cannot be written.
+void writeStats(const std::filesystem::path& path, const nlohmann::json& stats) {
+  if (const std::filesystem::path parent = path.parent_path(); !parent.empty()) {
+    std::error_code error;
+    std::filesystem::create_directories(parent, error);
+  }
+  std::ofstream out(path);
+  out << stats.dump(2) << '\n';
+  if (!out.flush()) throw std::runtime_error(path.string() + ": cannot write stats");
 }
 
 }  // namespace
@@ -109,6 +131,27 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     if (options.exrOut) {
       ExrLayers layers{frame.width, frame.height, frame.radiance, frame.albedo, frame.normal, frame.depth, frame.variance};
       writeExr(*options.exrOut, layers);
+    }
+    if (options.statsOut) {
+      nlohmann::json stats = {
+          {"scene", options.scene.string()},
+          {"camera_index", scene.cameras.empty() ? nlohmann::json(nullptr) : nlohmann::json(options.camera)},
+          {"camera", camera.name},
+          {"triangles", scene.triangles},
+          {"lights", scene.lights},
+          {"width", settings.width},
+          {"height", settings.height},
+          {"integrator", integratorName(options.integrator)},
+          {"tonemap", tonemapName(options.tonemap)},
+          {"exposure", options.exposure},
+          {"spp", options.samplesPerPixel},
+          {"frames", options.frames},
+          {"load_seconds", loadSeconds},
+          {"render_seconds", renderSeconds},
+          {"sky_fraction", skyFraction(frame.depth)},
+          {"warnings", scene.warnings.size()},
+      };
+      writeStats(*options.statsOut, stats);
     }
     const double samples = static_cast<double>(settings.width) * settings.height * options.samplesPerPixel * options.frames;
     std::fprintf(log,

@@ -16,6 +16,7 @@ TEST(CliOptions, MinimalCommandUsesDefaults) {
   EXPECT_EQ(r.options.scene, "scene.gltf");
   EXPECT_EQ(r.options.pngOut, "out.png");
   EXPECT_FALSE(r.options.exrOut.has_value());
+  EXPECT_FALSE(r.options.statsOut.has_value());
   EXPECT_EQ(r.options.width, 0u);
   EXPECT_EQ(r.options.samplesPerPixel, 16u);
   EXPECT_EQ(r.options.frames, 1u);
@@ -29,12 +30,13 @@ TEST(CliOptions, ParsesEveryOption) {
   const ParseResult r = parse({"--width", "320", "--height=200", "--spp", "8", "--bounces", "2", "--seed", "42",
                                "--threads", "3", "--integrator", "direct", "--camera", "1", "--clamp", "10.5",
                                "--exposure=2", "--frames", "5", "--exr", "o.exr", "--light-scale", "0.001",
-                               "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png"});
+                               "--stats", "s.json", "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png"});
   ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
   const CliOptions& o = r.options;
   EXPECT_EQ(o.scene, "map.glb");
   EXPECT_EQ(o.pngOut, "o.png");
   EXPECT_EQ(o.exrOut, std::filesystem::path("o.exr"));
+  EXPECT_EQ(o.statsOut, std::filesystem::path("s.json"));
   EXPECT_EQ(o.width, 320u);
   EXPECT_EQ(o.height, 200u);
   EXPECT_EQ(o.samplesPerPixel, 8u);
@@ -97,7 +99,7 @@ TEST(CliOptions, DoubleDashEndsOptions) {
 
 TEST(CliOptions, UsageDocumentsEveryOption) {
   const std::string usage = usageText("pa-render");
-  for (const char* option : {"-o", "--exr", "--width", "--height", "--spp", "--bounces", "--seed", "--threads",
+  for (const char* option : {"-o", "--exr", "--stats", "--width", "--height", "--spp", "--bounces", "--seed", "--threads",
                              "--integrator", "--camera", "--clamp", "--exposure", "--tonemap", "--frames", "--light-scale",
                              "--progress", "--quiet", "--help", "Exit status"})
     EXPECT_NE(usage.find(option), std::string::npos) << option;

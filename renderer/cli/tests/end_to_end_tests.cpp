@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <stb_image.h>
 #include <tinyexr.h>
 
@@ -83,6 +85,51 @@ TEST_F(PaRenderTest, RendersTheDefaultArenaTiny) {
   ASSERT_EQ(ParseEXRHeaderFromFile(&header, &version, file("arena.exr").c_str(), &error), TINYEXR_SUCCESS);
   EXPECT_EQ(header.num_channels, 11);
   FreeEXRHeader(&header);
+}
+
+TEST_F(PaRenderTest, StatsJsonDescribesTheRenderAndCountsSkyPixelsOfTheDepthAov) {
+  std::string log;
+  ASSERT_EQ(runPaRender(arena() + " -o " + file("s.png") + " --width 40 --height 24 --spp 1 --integrator direct --exr " +
+                            file("s.exr") + " --stats " + file("out/s.json"),
+                        log),
+            0)
+      << log;
+  std::ifstream in(file("out/s.json"));
+  ASSERT_TRUE(in.good());
+  const nlohmann::json stats = nlohmann::json::parse(in);
+  EXPECT_EQ(stats.at("width"), 40);
+  EXPECT_EQ(stats.at("height"), 24);
+  EXPECT_EQ(stats.at("integrator"), "direct");
+  EXPECT_EQ(stats.at("tonemap"), "aces");
+  EXPECT_EQ(stats.at("exposure"), 1.0);
+  EXPECT_EQ(stats.at("spp"), 1);
+  EXPECT_EQ(stats.at("frames"), 1);
+  EXPECT_EQ(stats.at("camera_index"), 0);
+  EXPECT_GT(stats.at("triangles").get<int>(), 0);
+  EXPECT_GE(stats.at("lights").get<int>(), 1);
+  EXPECT_GE(stats.at("render_seconds").get<double>(), 0.0);
+
+  EXRVersion version;
+  ASSERT_EQ(ParseEXRVersionFromFile(&version, file("s.exr").c_str()), TINYEXR_SUCCESS);
+  EXRHeader header;
+  InitEXRHeader(&header);
+  const char* error = nullptr;
+  ASSERT_EQ(ParseEXRHeaderFromFile(&header, &version, file("s.exr").c_str(), &error), TINYEXR_SUCCESS);
+  for (int c = 0; c < header.num_channels; ++c) header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+  EXRImage image;
+  InitEXRImage(&image);
+  ASSERT_EQ(LoadEXRImageFromFile(&image, &header, file("s.exr").c_str(), &error), TINYEXR_SUCCESS);
+  int sky = 0;
+  for (int c = 0; c < header.num_channels; ++c) {
+    if (std::string(header.channels[c].name) != "Z") continue;
+    const float* z = reinterpret_cast<const float*>(image.images[c]);
+    for (int i = 0; i < image.width * image.height; ++i) sky += std::isfinite(z[i]) ? 0 : 1;
+  }
+  const int pixels = image.width * image.height;
+  FreeEXRImage(&image);
+  FreeEXRHeader(&header);
+  EXPECT_GT(sky, 0) << "the bundled camera sees the sky through the window";
+  EXPECT_DOUBLE_EQ(stats.at("sky_fraction").get<double>(), double(sky) / double(pixels));
 }
 
 TEST_F(PaRenderTest, ImageDoesNotDependOnThreadCount) {

@@ -1,0 +1,174 @@
+// Running pa-render as a child process (fork/exec, no shell) and reading PNG/EXR/JSON back.
+#include "tests/all_maps_render/render_run.h"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+#include <stb_image.h>
+#include <tinyexr.h>
+
+namespace pa::allmaps {
+namespace {
+
+/// Runs argv[0] with stdout and stderr sent to `logPath`; returns the exit status (-1 if it
+/// could not start or did not exit normally).
+int runAndWait(const std::vector<std::string>& argv, const std::filesystem::path& logPath) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const pid_t child = ::fork();
+  if (child < 0) return -1;
+  if (child == 0) {
+    const int log = ::open(logPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (log >= 0) {
+      ::dup2(log, STDOUT_FILENO);
+      ::dup2(log, STDERR_FILENO);
+      ::close(log);
+    }
+    ::execv(args[0], args.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  while (::waitpid(child, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// runAndWait, timed.
+int runProcess(const std::vector<std::string>& argv, const std::filesystem::path& logPath, double& milliseconds) {
+  const auto start = std::chrono::steady_clock::now();
+  const int status = runAndWait(argv, logPath);
+  milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return status;
+}
+
+/// pa-render's command line for a request.
+std::vector<std::string> renderCommand(const RenderRequest& r, const std::filesystem::path& png,
+                                       const std::filesystem::path& exr, const std::filesystem::path& json) {
+  return {r.paRender.string(), r.scene.string(), "-o", png.string(), "--exr", exr.string(), "--stats", json.string(),
+          "--integrator", r.integrator, "--tonemap", r.tonemap, "--camera", std::to_string(r.camera), "--width", std::to_string(r.width),
+          "--height", std::to_string(r.height), "--spp", std::to_string(r.samplesPerPixel), "--threads",
+          std::to_string(r.threads), "--seed", "0", "--quiet"};
+}
+
+std::string readText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// True when the --stats file at `json` was written by a render with the settings of `r`.
+bool madeWithSettings(const std::filesystem::path& json, const RenderRequest& r) {
+  if (!std::filesystem::exists(json)) return false;
+  const nlohmann::json stats = nlohmann::json::parse(readText(json), nullptr, false);
+  if (!stats.is_object()) return false;
+  return stats.value("scene", "") == r.scene.string() && stats.value("integrator", "") == r.integrator &&
+         stats.value("tonemap", "") == r.tonemap && stats.value("camera_index", -1) == int64_t{r.camera} &&
+         stats.value("width", 0u) == r.width && stats.value("height", 0u) == r.height &&
+         stats.value("spp", 0u) == r.samplesPerPixel;
+}
+
+RgbaImage readPng(const std::filesystem::path& path) {
+  int width = 0, height = 0, channels = 0;
+  stbi_uc* pixels = stbi_load(path.c_str(), &width, &height, &channels, 4);
+  if (!pixels) throw std::runtime_error(path.string() + ": cannot read PNG");
+  RgbaImage image{static_cast<uint32_t>(width), static_cast<uint32_t>(height),
+                  std::vector<uint8_t>(pixels, pixels + size_t(width) * size_t(height) * 4)};
+  stbi_image_free(pixels);
+  return image;
+}
+
+}  // namespace
+
+std::vector<float> readExrChannel(const std::filesystem::path& path, const std::string& name, uint32_t& width,
+                                  uint32_t& height) {
+  const std::string file = path.string();
+  EXRVersion version;
+  if (ParseEXRVersionFromFile(&version, file.c_str()) != TINYEXR_SUCCESS)
+    throw std::runtime_error(file + ": not an OpenEXR file");
+  if (version.multipart || version.tiled) throw std::runtime_error(file + ": expected a single-part scanline EXR");
+  EXRHeader header;
+  InitEXRHeader(&header);
+  const char* error = nullptr;
+  auto fail = [&](const std::string& what) -> std::runtime_error {
+    std::string message = file + ": " + what;
+    if (error) {
+      message += std::string(": ") + error;
+      FreeEXRErrorMessage(error);
+    }
+    return std::runtime_error(message);
+  };
+  if (ParseEXRHeaderFromFile(&header, &version, file.c_str(), &error) != TINYEXR_SUCCESS) throw fail("bad header");
+  for (int c = 0; c < header.num_channels; ++c) header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+  EXRImage image;
+  InitEXRImage(&image);
+  if (LoadEXRImageFromFile(&image, &header, file.c_str(), &error) != TINYEXR_SUCCESS) {
+    FreeEXRHeader(&header);
+    throw fail("cannot decode");
+  }
+  std::vector<float> values;
+  bool found = false;
+  for (int c = 0; c < header.num_channels && !found; ++c) {
+    if (name != header.channels[c].name) continue;
+    const float* plane = reinterpret_cast<const float*>(image.images[c]);
+    values.assign(plane, plane + size_t(image.width) * size_t(image.height));
+    found = true;
+  }
+  width = static_cast<uint32_t>(image.width);
+  height = static_cast<uint32_t>(image.height);
+  FreeEXRImage(&image);
+  FreeEXRHeader(&header);
+  if (!found) throw std::runtime_error(file + ": no channel \"" + name + "\"");
+  return values;
+}
+
+RenderResult runPaRender(const RenderRequest& r) {
+  RenderResult result;
+  const std::filesystem::path stem = r.outputStem;
+  std::filesystem::create_directories(stem.parent_path());
+  auto output = [&](const char* extension) {
+    std::filesystem::path p = stem;
+    p += extension;
+    return p;
+  };
+  const std::filesystem::path png = output(".png"), exr = output(".exr"), json = output(".json"), log = output(".log");
+  const bool reuse = r.reuseExisting && std::filesystem::exists(png) && std::filesystem::exists(exr) &&
+                     madeWithSettings(json, r);
+  if (!reuse) {
+    for (const auto& p : {png, exr, json}) std::filesystem::remove(p);
+    result.exitCode = runProcess(renderCommand(r, png, exr, json), log, result.wallMilliseconds);
+  } else {
+    result.exitCode = 0;
+  }
+  result.log = readText(log);
+  if (result.exitCode != 0) {
+    result.error = "pa-render exited with " + std::to_string(result.exitCode);
+    return result;
+  }
+  try {
+    const nlohmann::json stats = nlohmann::json::parse(readText(json));
+    result.cameraName = stats.at("camera").get<std::string>();
+    result.triangles = stats.at("triangles").get<uint64_t>();
+    result.lights = stats.at("lights").get<uint64_t>();
+    result.renderMilliseconds = 1000.0 * stats.at("render_seconds").get<double>();
+    if (reuse)   // the process time of the earlier run is not kept: report its load + render
+      result.wallMilliseconds = result.renderMilliseconds + 1000.0 * stats.at("load_seconds").get<double>();
+    result.image = readPng(png);
+    uint32_t width = 0, height = 0;
+    result.depth = readExrChannel(exr, "Z", width, height);
+    if (width != result.image.width || height != result.image.height)
+      throw std::runtime_error(exr.string() + ": size differs from the PNG's");
+  } catch (const std::exception& e) {
+    result.error = e.what();
+  }
+  return result;
+}
+
+}  // namespace pa::allmaps

@@ -1,0 +1,53 @@
+#pragma once
+// One pa-render invocation of a map and what it left behind: PNG, EXR depth, --stats JSON.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "tests/all_maps_render/contact_sheet.h"
+
+namespace pa::allmaps {
+
+/// What to render.
+struct RenderRequest {
+  std::filesystem::path paRender;    ///< The pa-render executable.
+  std::filesystem::path scene;       ///< GAMEDIR/maps/NAME.bsp (resolved by pa-render's .bsp importer).
+  std::string integrator;            ///< "lightmap" or "direct".
+  std::string tonemap;               ///< "clamp", "aces" or "reinhard".
+  uint32_t camera = 0;               ///< --camera index.
+  uint32_t width = 160;
+  uint32_t height = 90;
+  uint32_t samplesPerPixel = 4;
+  uint32_t threads = 0;              ///< 0 = pa-render's default (all cores).
+  std::filesystem::path outputStem;  ///< Writes STEM.png, STEM.exr, STEM.json, STEM.log.
+  bool reuseExisting = false;        ///< Read STEM.* left by an earlier run with these settings instead of rendering.
+};
+
+/// What came back.
+struct RenderResult {
+  int exitCode = -1;                 ///< pa-render's exit status (-1: did not run / killed).
+  std::string log;                   ///< Its stderr (warnings, summary or error message).
+  double wallMilliseconds = 0.0;     ///< Whole process: load + render + write.
+  double renderMilliseconds = 0.0;   ///< Render only (from --stats).
+  std::string cameraName;            ///< Camera pa-render reports having used.
+  uint64_t triangles = 0;
+  uint64_t lights = 0;
+  RgbaImage image;                   ///< The PNG.
+  std::vector<float> depth;          ///< The EXR Z channel (inf = sky/nothing).
+  std::string error;                 ///< Non-empty when something above could not be obtained.
+  /// True when the render ran and every output was read back.
+  bool ok() const { return exitCode == 0 && error.empty(); }
+};
+
+/// Runs pa-render (quiet, fixed seed) and reads its outputs back (or only reads them, with
+/// reuseExisting when STEM.json says they were made with the same settings). Never throws for a failed render:
+/// the reason is in `error` (and `log`).
+RenderResult runPaRender(const RenderRequest& request);
+
+/// The channel `name` of a single-part scanline OpenEXR, as floats; throws std::runtime_error
+/// naming the file when it cannot be read or has no such channel.
+std::vector<float> readExrChannel(const std::filesystem::path& path, const std::string& name, uint32_t& width,
+                                  uint32_t& height);
+
+}  // namespace pa::allmaps
