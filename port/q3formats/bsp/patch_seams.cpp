@@ -147,7 +147,9 @@ struct Insertion {
 /// Boundary vertices of all patches, each position once per model, for segment queries.
 class PointGrid {
  public:
-  explicit PointGrid(float cell) : cells_(cell), cell_(cell) {}
+  PointGrid(float cell, size_t expectedPoints) : cells_(cell, expectedPoints), cell_(cell) {
+    lastQuery_.reserve(expectedPoints);
+  }
 
   void add(int32_t model, const glm::vec3& p) {
     const auto c = cells_.cellOf(p);
@@ -295,12 +297,16 @@ PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float
   std::vector<bool> usable(patches.size());
   for (size_t p = 0; p < patches.size(); ++p) usable[p] = describeGrid(patches[p], frames[p]);
 
+  size_t boundaryEstimate = 0;  // grid vertices on the outline of every patch
+  for (const auto& frame : frames)
+    if (frame.columns > 0) boundaryEstimate += 2 * (frame.columns + frame.parameters.size() / frame.columns);
+
   // 1. Weld boundary vertices of all patches of a model onto one another.
   std::map<int32_t, PointWelder> welders;
   for (size_t p = 0; p < patches.size(); ++p) {
     if (!usable[p]) continue;
     auto& mesh = *patches[p].mesh;
-    auto& welder = welders.try_emplace(mesh.model, tolerance).first->second;
+    auto& welder = welders.try_emplace(mesh.model, tolerance, mesh.model == 0 ? boundaryEstimate : 0).first->second;
     // welder.weld is a function of the position, so coincident vertices stay coincident.
     std::vector<uint8_t> done(mesh.vertices.size(), 0);
     for (const auto& e : boundaryEdges(mesh, frames[p].columns))
@@ -319,6 +325,7 @@ PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float
 
   // 2. Boundary edges (with how far their curve strays from the chord) and boundary points.
   std::vector<SeamEdge> edges;
+  edges.reserve(boundaryEstimate);
   double totalLength = 0;
   float meanReach = 0;
   for (size_t p = 0; p < patches.size(); ++p) {
@@ -342,7 +349,8 @@ PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float
   if (edges.empty()) return repair;
   meanReach /= static_cast<float>(edges.size());
   // Cells of twice the mean edge length and reach: a typical query reads a few cells.
-  PointGrid points(std::max(static_cast<float>(2 * totalLength / static_cast<double>(edges.size())) + 2 * meanReach, 1e-3f));
+  PointGrid points(std::max(static_cast<float>(2 * totalLength / static_cast<double>(edges.size())) + 2 * meanReach, 1e-3f),
+                   edges.size());
   for (const auto& e : edges)
     for (const glm::vec3& p : {e.a, e.b}) points.add(patches[e.patch].mesh->model, p);
 

@@ -3,6 +3,7 @@
 // (internal to q3_bsp).
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -19,8 +20,13 @@ class PointCells {
   using Cell = std::array<int64_t, 3>;
   static constexpr uint32_t kNone = ~0u;
 
-  /// `cellSize` > 0, world units.
-  explicit PointCells(float cellSize) : cell_(cellSize) {}
+  /// `cellSize` > 0, world units; room for `expectedPoints` without regrowing.
+  explicit PointCells(float cellSize, size_t expectedPoints = 0) : cell_(cellSize) {
+    points_.reserve(expectedPoints);
+    next_.reserve(expectedPoints);
+    keys_.assign(std::bit_ceil(std::max<size_t>(64, 2 * expectedPoints)), 0);
+    heads_.assign(keys_.size(), kNone);
+  }
 
   /// The cell holding world point p.
   Cell cellOf(const glm::vec3& p) const {
@@ -100,8 +106,9 @@ class PointCells {
 /// always get the same answer.
 class PointWelder {
  public:
-  /// `distance` > 0: points at most this far apart are merged.
-  explicit PointWelder(float distance) : distance_(distance), cells_(16 * distance) {}
+  /// `distance` > 0: points at most this far apart are merged; `expectedPoints` sizes the table.
+  explicit PointWelder(float distance, size_t expectedPoints = 0)
+      : distance_(distance), cells_(16 * distance, expectedPoints) {}
 
   /// The representative of `p`.
   glm::vec3 weld(const glm::vec3& p) {
