@@ -152,10 +152,6 @@ class PointGrid {
   }
 
   void add(int32_t model, const glm::vec3& p) {
-    const auto c = cells_.cellOf(p);
-    bool known = false;
-    cells_.forEachIn(model, c, c, [&](uint32_t id) { known = known || cells_.point(id) == p; });
-    if (known) return;
     cells_.add(p, model);
     lastQuery_.push_back(0);
   }
@@ -301,38 +297,48 @@ PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float
   for (const auto& frame : frames)
     if (frame.columns > 0) boundaryEstimate += 2 * (frame.columns + frame.parameters.size() / frame.columns);
 
-  // 1. Weld boundary vertices of all patches of a model onto one another.
+  // 1. Per patch: weld its boundary vertices onto those of patches before it (same model), then
+  //    list its boundary edges, with how far their curve strays from the chord, and vertices.
   std::map<int32_t, PointWelder> welders;
+  std::vector<SeamEdge> edges;
+  edges.reserve(boundaryEstimate);
+  std::vector<std::pair<glm::vec3, int32_t>> boundaryPoints;  // (position, model), once per patch
+  boundaryPoints.reserve(boundaryEstimate);
+  double totalLength = 0;
+  float meanReach = 0;
+  std::vector<uint8_t> seen;
   for (size_t p = 0; p < patches.size(); ++p) {
     if (!usable[p]) continue;
     auto& mesh = *patches[p].mesh;
     auto& welder = welders.try_emplace(mesh.model, tolerance, mesh.model == 0 ? boundaryEstimate : 0).first->second;
     // welder.weld is a function of the position, so coincident vertices stay coincident.
-    std::vector<uint8_t> done(mesh.vertices.size(), 0);
-    for (const auto& e : boundaryEdges(mesh, frames[p].columns))
+    auto boundary = boundaryEdges(mesh, frames[p].columns);
+    seen.assign(mesh.vertices.size(), 0);
+    bool moved = false;
+    for (const auto& e : boundary)
       for (uint32_t corner : {e.slot, (e.slot + 1) % 3}) {
         const uint32_t k = mesh.indices[3 * e.triangle + corner];
-        if (done[k]) continue;
-        done[k] = 1;
+        if (seen[k]) continue;
+        seen[k] = 1;
         glm::vec3& position = mesh.vertices[k].position;
         const glm::vec3 welded = welder.weld(position);
         if (welded == position) continue;
         position = welded;
+        moved = true;
         ++repair.weldedVertices;
       }
-    repair.droppedTriangles += dropDegenerateTriangles(mesh);
-  }
-
-  // 2. Boundary edges (with how far their curve strays from the chord) and boundary points.
-  std::vector<SeamEdge> edges;
-  edges.reserve(boundaryEstimate);
-  double totalLength = 0;
-  float meanReach = 0;
-  for (size_t p = 0; p < patches.size(); ++p) {
-    if (!usable[p]) continue;
-    const auto& mesh = *patches[p].mesh;
-    for (const auto& te : boundaryEdges(mesh, frames[p].columns)) {
+    if (moved) {  // welding may have closed triangles or made two boundary edges coincide
+      repair.droppedTriangles += dropDegenerateTriangles(mesh);
+      boundary = boundaryEdges(mesh, frames[p].columns);
+    }
+    seen.assign(mesh.vertices.size(), 0);
+    for (const auto& te : boundary) {
       const uint32_t ia = mesh.indices[3 * te.triangle + te.slot], ib = mesh.indices[3 * te.triangle + (te.slot + 1) % 3];
+      for (uint32_t k : {ia, ib})
+        if (!seen[k]) {
+          seen[k] = 1;
+          boundaryPoints.emplace_back(mesh.vertices[k].position, mesh.model);
+        }
       SeamEdge e{static_cast<uint32_t>(p), te, mesh.vertices[ia].position, mesh.vertices[ib].position,
                  frames[p].parameters[ia], frames[p].parameters[ib], 0};
       const glm::vec2 mid = 0.5f * (e.pa + e.pb);
@@ -350,9 +356,8 @@ PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float
   meanReach /= static_cast<float>(edges.size());
   // Cells of twice the mean edge length and reach: a typical query reads a few cells.
   PointGrid points(std::max(static_cast<float>(2 * totalLength / static_cast<double>(edges.size())) + 2 * meanReach, 1e-3f),
-                   edges.size());
-  for (const auto& e : edges)
-    for (const glm::vec3& p : {e.a, e.b}) points.add(patches[e.patch].mesh->model, p);
+                   boundaryPoints.size());
+  for (const auto& [position, model] : boundaryPoints) points.add(model, position);
 
   // 3. Boundary points lying on a boundary's curve, strictly inside an edge. (A patch's own
   // vertex qualifies only where its surface folds into a sliver thinner than the tolerance; the
