@@ -31,7 +31,10 @@ class PointCells {
   /// The cell holding world point p.
   Cell cellOf(const glm::vec3& p) const {
     Cell c;
-    for (int k = 0; k < 3; ++k) c[k] = static_cast<int64_t>(std::floor(std::clamp(p[k] / cell_, -1e15f, 1e15f)));
+    for (int k = 0; k < 3; ++k) {
+      const float q = p[k] / cell_;  // NaN and overflow land in the outermost cells
+      c[k] = static_cast<int64_t>(q >= -1e15f && q <= 1e15f ? std::floor(q) : (q > 0 ? 1e15f : -1e15f));
+    }
     return c;
   }
   /// Adds p under `tag` (points of different tags never meet); returns its id.

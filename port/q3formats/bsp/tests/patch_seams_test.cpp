@@ -216,5 +216,19 @@ TEST(PatchSeams, DifferentModelsAreNotStitched) {
   EXPECT_EQ(measurePatchSeams(meshes).tJunctions, 0u);
 }
 
+TEST(PatchSeams, HugeCoordinatesNeitherCrashNorHang) {
+  // Finite control points whose surface evaluation overflows to inf (and NaN in differences).
+  const float big = 3e38f;
+  PatchSpec wild{3, 3, {{-big, 0, 0}, {big, big, 0}, {-big, big, big}, {0, 0, 0}, {big, -big, big},
+                        {0, big, -big}, {-big, -big, 0}, {big, 0, big}, {-big, big, -big}}};
+  PatchSpec neighbour{3, 3, {{-big, 0, 0}, {big, big, 0}, {-big, big, big}, {0, 1, 0}, {1, 1, 1},
+                             {2, 2, 2}, {3, 3, 3}, {4, 4, 4}, {5, 5, 5}}};
+  const BspFile bsp = mapWithPatches({wild, neighbour});
+  std::vector<SurfaceMesh> meshes;
+  ASSERT_NO_THROW(meshes = tessellateSurfaces(bsp));
+  for (const auto& m : meshes)
+    for (uint32_t i : m.indices) ASSERT_LT(i, m.vertices.size());
+}
+
 }  // namespace
 }  // namespace q3
