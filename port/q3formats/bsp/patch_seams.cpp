@@ -108,6 +108,12 @@ struct PatchFrame {
 
 /// Whether the mesh still is tessellatePatch's grid; fills its parameters and orientation.
 bool describeGrid(const TessellatedPatch& patch, PatchFrame& frame) {
+  if (!patch.grid || !patch.subdivision || !patch.mesh) return false;
+  const PatchControlGrid& grid = *patch.grid;
+  if (grid.spansU() < 1 || grid.spansV() < 1 || grid.points.size() < static_cast<size_t>(grid.width) * grid.height ||
+      patch.subdivision->uSegments.size() != static_cast<size_t>(grid.spansU()) ||
+      patch.subdivision->vSegments.size() != static_cast<size_t>(grid.spansV()))
+    return false;
   const auto us = patchGridParameters(patch.subdivision->uSegments);
   const auto vs = patchGridParameters(patch.subdivision->vSegments);
   const auto& mesh = *patch.mesh;

@@ -28,7 +28,8 @@
 namespace q3 {
 
 /// One patch mesh straight out of tessellatePatch (its vertices are exactly the grid of
-/// `subdivision`, starting at index 0), with the control grid it came from.
+/// `subdivision`, starting at index 0), with the control grid it came from. Entries that do not
+/// fit together (null, sizes that disagree) are left untouched.
 struct TessellatedPatch {
   const PatchControlGrid* grid = nullptr;
   const PatchSubdivision* subdivision = nullptr;

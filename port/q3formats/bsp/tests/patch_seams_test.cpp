@@ -216,6 +216,28 @@ TEST(PatchSeams, DifferentModelsAreNotStitched) {
   EXPECT_EQ(measurePatchSeams(meshes).tJunctions, 0u);
 }
 
+TEST(PatchSeams, InconsistentInputIsLeftAlone) {
+  const glm::vec3 y(0, 1, 0);
+  const BspFile bsp = mapWithPatches({patchOnEdge({glm::vec3(0), 128.0f * y, 256.0f * y}, -1, 0),
+                                      patchOnEdge({64.0f * y, 128.0f * y, 192.0f * y}, 1, 0)});
+  std::vector<PatchControlGrid> grids = {gridOf(bsp, 0), gridOf(bsp, 1)};
+  std::vector<PatchSubdivision> subs = {requiredSubdivision(grids[0], 4, 64), requiredSubdivision(grids[1], 4, 64)};
+  std::vector<SurfaceMesh> meshes(2);
+  for (size_t k = 0; k < 2; ++k) {
+    meshes[k].type = SurfaceType::Patch;
+    tessellatePatch(grids[k], subs[k], meshes[k]);
+  }
+  const auto original = meshes;
+  PatchSubdivision wrong = subs[0];
+  wrong.uSegments.push_back(1);  // one span too many for the grid
+  const std::vector<TessellatedPatch> patches = {
+      {&grids[0], &wrong, &meshes[0]}, {nullptr, &subs[1], &meshes[1]}, {&grids[1], &subs[1], nullptr}};
+  const auto repair = closePatchSeams(patches, 0.1f);
+  EXPECT_EQ(repair.insertedVertices + repair.weldedVertices + repair.splitTriangles, 0u);
+  for (size_t k = 0; k < 2; ++k) EXPECT_EQ(meshes[k].indices, original[k].indices);
+  EXPECT_EQ(closePatchSeams(patches, -1.0f).insertedVertices, 0u);
+}
+
 TEST(PatchSeams, HugeCoordinatesNeitherCrashNorHang) {
   // Finite control points whose surface evaluation overflows to inf (and NaN in differences).
   const float big = 3e38f;
