@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 
 #include "port/q3formats/bsp/point_welder.h"
 
@@ -225,11 +226,12 @@ MeshVertex surfaceVertex(const PatchControlGrid& grid, glm::vec2 p, bool flipped
   return v;
 }
 
-/// Splits the triangles named in `insertions` (sorted by triangle, slot, t); returns the number
-/// of triangles split.
-size_t splitTriangles(const TessellatedPatch& patch, const PatchFrame& frame, std::vector<Insertion>& insertions,
-                      PatchSeamRepair& repair) {
-  auto& mesh = *patch.mesh;
+/// Splits the triangles of `mesh` named in `insertions`; returns the number of triangles split.
+/// edgeVertex(corner, nextCorner, t) makes the vertex at fraction t of an edge (its position is
+/// then replaced by the inserted one); centerVertex(corners) the vertex at a triangle's middle.
+template <class EdgeVertex, class CenterVertex>
+size_t splitTriangles(SurfaceMesh& mesh, std::vector<Insertion>& insertions, EdgeVertex&& edgeVertex,
+                      CenterVertex&& centerVertex, PatchSeamRepair& repair) {
   std::sort(insertions.begin(), insertions.end(), [](const Insertion& x, const Insertion& y) {
     return std::tuple(x.edge.triangle, x.edge.slot, x.t) < std::tuple(y.edge.triangle, y.edge.slot, y.t);
   });
@@ -240,21 +242,16 @@ size_t splitTriangles(const TessellatedPatch& patch, const PatchFrame& frame, st
     while (last < insertions.size() && insertions[last].edge.triangle == triangle) ++last;
     const std::array<uint32_t, 3> corner = {mesh.indices[3 * triangle], mesh.indices[3 * triangle + 1],
                                             mesh.indices[3 * triangle + 2]};
-    glm::vec3 normalSum(0);
-    for (uint32_t c : corner) normalSum += mesh.vertices[c].normal;
-    const float sumLength = glm::length(normalSum);
-    const glm::vec3 fallback = sumLength > 1e-6f ? normalSum / sumLength : mesh.vertices[corner[0]].normal;
 
     // The triangle's outline with the new vertices in order, and which slots got any.
     std::vector<uint32_t> outline;
     int slotsUsed = 0, usedSlot = 0;
     for (uint32_t slot = 0, k = first; slot < 3; ++slot) {
       outline.push_back(corner[slot]);
-      const glm::vec2 p0 = frame.parameters[corner[slot]], p1 = frame.parameters[corner[(slot + 1) % 3]];
       bool any = false;
       for (; k < last && insertions[k].edge.slot == slot; ++k) {
         if (any && insertions[k].position == mesh.vertices[outline.back()].position) continue;
-        MeshVertex v = surfaceVertex(*patch.grid, p0 + insertions[k].t * (p1 - p0), frame.flipped, fallback);
+        MeshVertex v = edgeVertex(corner[slot], corner[(slot + 1) % 3], insertions[k].t);
         v.position = insertions[k].position;
         outline.push_back(static_cast<uint32_t>(mesh.vertices.size()));
         mesh.vertices.push_back(v);
@@ -272,11 +269,9 @@ size_t splitTriangles(const TessellatedPatch& patch, const PatchFrame& frame, st
       const uint32_t apex = corner[(usedSlot + 2) % 3];
       for (size_t k = 0; k + 2 < n; ++k) fan.push_back({apex, outline[(start + k) % n], outline[(start + k + 1) % n]});
     } else {
-      // Several edges split: fan around the surface point at the triangle's parameter centroid.
-      const glm::vec2 centroid =
-          (frame.parameters[corner[0]] + frame.parameters[corner[1]] + frame.parameters[corner[2]]) / 3.0f;
+      // Several edges split: fan around a new vertex in the triangle's middle.
       const uint32_t center = static_cast<uint32_t>(mesh.vertices.size());
-      mesh.vertices.push_back(surfaceVertex(*patch.grid, centroid, frame.flipped, fallback));
+      mesh.vertices.push_back(centerVertex(corner));
       for (size_t k = 0; k < outline.size(); ++k) fan.push_back({center, outline[k], outline[(k + 1) % outline.size()]});
     }
     for (size_t k = 0; k < fan.size(); ++k) {
@@ -290,9 +285,88 @@ size_t splitTriangles(const TessellatedPatch& patch, const PatchFrame& frame, st
   return split;
 }
 
+/// Splits patch triangles: new vertices are the patch's own surface at their parameters.
+size_t splitPatchTriangles(const TessellatedPatch& patch, const PatchFrame& frame, std::vector<Insertion>& insertions,
+                           PatchSeamRepair& repair) {
+  auto& mesh = *patch.mesh;
+  auto fallbackNormal = [&](uint32_t a, uint32_t b, uint32_t c) {
+    const glm::vec3 sum = mesh.vertices[a].normal + mesh.vertices[b].normal + mesh.vertices[c].normal;
+    const float length = glm::length(sum);
+    return length > 1e-6f ? sum / length : mesh.vertices[a].normal;
+  };
+  auto edgeVertex = [&](uint32_t a, uint32_t b, float t) {
+    const glm::vec2 p = frame.parameters[a] + t * (frame.parameters[b] - frame.parameters[a]);
+    return surfaceVertex(*patch.grid, p, frame.flipped, fallbackNormal(a, b, a));
+  };
+  auto centerVertex = [&](const std::array<uint32_t, 3>& c) {
+    const glm::vec2 p = (frame.parameters[c[0]] + frame.parameters[c[1]] + frame.parameters[c[2]]) / 3.0f;
+    return surfaceVertex(*patch.grid, p, frame.flipped, fallbackNormal(c[0], c[1], c[2]));
+  };
+  return splitTriangles(mesh, insertions, edgeVertex, centerVertex, repair);
+}
+
+/// Vertex attributes blended linearly (planar faces); the normal is renormalised.
+MeshVertex blendVertices(const MeshVertex* v[3], const float w[3]) {
+  MeshVertex out;
+  glm::vec4 color(0);
+  for (int k = 0; k < 3; ++k) {
+    out.position += w[k] * v[k]->position;
+    out.normal += w[k] * v[k]->normal;
+    out.uv += w[k] * v[k]->uv;
+    out.lightmapUv += w[k] * v[k]->lightmapUv;
+    color += w[k] * glm::vec4(v[k]->color[0], v[k]->color[1], v[k]->color[2], v[k]->color[3]);
+  }
+  const float length = glm::length(out.normal);
+  out.normal = length > 1e-6f ? out.normal / length : v[0]->normal;
+  for (int c = 0; c < 4; ++c) out.color[c] = static_cast<uint8_t>(std::clamp(std::round(color[c]), 0.0f, 255.0f));
+  return out;
+}
+
+/// Splits planar-face triangles: new vertices interpolate their edge (or corners) linearly.
+size_t splitFaceTriangles(SurfaceMesh& mesh, std::vector<Insertion>& insertions, PatchSeamRepair& repair) {
+  auto edgeVertex = [&](uint32_t a, uint32_t b, float t) {
+    const MeshVertex* v[3] = {&mesh.vertices[a], &mesh.vertices[b], &mesh.vertices[b]};
+    const float w[3] = {1 - t, t, 0};
+    return blendVertices(v, w);
+  };
+  auto centerVertex = [&](const std::array<uint32_t, 3>& c) {
+    const MeshVertex* v[3] = {&mesh.vertices[c[0]], &mesh.vertices[c[1]], &mesh.vertices[c[2]]};
+    const float w[3] = {1.0f / 3, 1.0f / 3, 1.0f / 3};
+    return blendVertices(v, w);
+  };
+  return splitTriangles(mesh, insertions, edgeVertex, centerVertex, repair);
+}
+
+/// Edges of an arbitrary triangle mesh used by one triangle (vertices compared by position).
+std::vector<TriangleEdge> meshBoundaryEdges(const SurfaceMesh& mesh) {
+  struct Use {
+    PositionKey lo, hi;
+    TriangleEdge edge;
+  };
+  std::vector<Use> uses;
+  const uint32_t triangles = static_cast<uint32_t>(mesh.indices.size() / 3);
+  for (uint32_t t = 0; t < triangles; ++t)
+    for (uint32_t slot = 0; slot < 3; ++slot) {
+      const uint32_t ia = mesh.indices[3 * t + slot], ib = mesh.indices[3 * t + (slot + 1) % 3];
+      if (ia >= mesh.vertices.size() || ib >= mesh.vertices.size()) return {};
+      const auto a = keyOf(mesh.vertices[ia].position), b = keyOf(mesh.vertices[ib].position);
+      if (a == b) continue;
+      uses.push_back({std::min(a, b), std::max(a, b), {t, slot}});
+    }
+  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) { return std::tie(x.lo, x.hi) < std::tie(y.lo, y.hi); });
+  std::vector<TriangleEdge> out;
+  for (size_t k = 0; k < uses.size(); ++k) {
+    const bool samePrevious = k > 0 && uses[k - 1].lo == uses[k].lo && uses[k - 1].hi == uses[k].hi;
+    const bool sameNext = k + 1 < uses.size() && uses[k + 1].lo == uses[k].lo && uses[k + 1].hi == uses[k].hi;
+    if (!samePrevious && !sameNext) out.push_back(uses[k].edge);
+  }
+  return out;
+}
+
 }  // namespace
 
-PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float tolerance) {
+PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float tolerance,
+                                std::span<SurfaceMesh* const> faces) {
   PatchSeamRepair repair;
   if (!(tolerance > 0) || !std::isfinite(tolerance)) return repair;
   std::vector<PatchFrame> frames(patches.size());
@@ -303,16 +377,35 @@ PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float
   for (const auto& frame : frames)
     if (frame.columns > 0) boundaryEstimate += 2 * (frame.columns + frame.parameters.size() / frame.columns);
 
+  // 0. Planar faces are fixed geometry: their boundary vertices come first in the welders, so
+  //    patch vertices within tolerance snap onto them. (They are not inserted into patch edges:
+  //    at pinched patches that folds triangles over, +250 on the OpenArena maps.)
+  std::map<int32_t, PointWelder> welders;
+  std::vector<std::vector<TriangleEdge>> faceBoundaries(faces.size());
+  std::vector<uint8_t> seen;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    if (!faces[f]) continue;
+    const auto& mesh = *faces[f];
+    faceBoundaries[f] = meshBoundaryEdges(mesh);
+    auto& welder = welders.try_emplace(mesh.model, tolerance, mesh.model == 0 ? boundaryEstimate : 0).first->second;
+    seen.assign(mesh.vertices.size(), 0);
+    for (const auto& e : faceBoundaries[f])
+      for (uint32_t corner : {e.slot, (e.slot + 1) % 3}) {
+        const uint32_t k = mesh.indices[3 * e.triangle + corner];
+        if (seen[k]) continue;
+        seen[k] = 1;
+        welder.weld(mesh.vertices[k].position);
+      }
+  }
+
   // 1. Per patch: weld its boundary vertices onto those of patches before it (same model), then
   //    list its boundary edges, with how far their curve strays from the chord, and vertices.
-  std::map<int32_t, PointWelder> welders;
   std::vector<SeamEdge> edges;
   edges.reserve(boundaryEstimate);
   std::vector<std::pair<glm::vec3, int32_t>> boundaryPoints;  // (position, model), once per patch
   boundaryPoints.reserve(boundaryEstimate);
   double totalLength = 0;
   float meanReach = 0;
-  std::vector<uint8_t> seen;
   for (size_t p = 0; p < patches.size(); ++p) {
     if (!usable[p]) continue;
     auto& mesh = *patches[p].mesh;
@@ -361,8 +454,9 @@ PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float
   if (edges.empty()) return repair;
   meanReach /= static_cast<float>(edges.size());
   // Cells of twice the mean edge length and reach: a typical query reads a few cells.
-  PointGrid points(std::max(static_cast<float>(2 * totalLength / static_cast<double>(edges.size())) + 2 * meanReach, 1e-3f),
-                   boundaryPoints.size());
+  const float cellSize =
+      std::max(static_cast<float>(2 * totalLength / static_cast<double>(edges.size())) + 2 * meanReach, 1e-3f);
+  PointGrid points(cellSize, boundaryPoints.size());
   for (const auto& [position, model] : boundaryPoints) points.add(model, position);
 
   // 3. Boundary points lying on a boundary's curve, strictly inside an edge. (A patch's own
@@ -385,11 +479,37 @@ PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float
     }
   }
 
+  // 3b. Patch boundary points lying on a planar face's boundary edge (straight), strictly inside.
+  std::vector<std::vector<Insertion>> faceInsertions(faces.size());
+  {
+    for (size_t f = 0; f < faces.size(); ++f)
+      for (const auto& te : faceBoundaries[f]) {
+        const auto& mesh = *faces[f];
+        const glm::vec3 a = mesh.vertices[mesh.indices[3 * te.triangle + te.slot]].position;
+        const glm::vec3 b = mesh.vertices[mesh.indices[3 * te.triangle + (te.slot + 1) % 3]].position;
+        const glm::vec3 d = b - a;
+        const float length2 = glm::dot(d, d);
+        if (!(length2 > 4 * tolerance * tolerance)) continue;
+        points.near(mesh.model, a, b, tolerance, candidates);
+        for (const glm::vec3& v : candidates) {
+          if (glm::distance(v, a) <= tolerance || glm::distance(v, b) <= tolerance) continue;
+          const float along = glm::dot(v - a, d) / length2;
+          if (along > 0 && along < 1 && glm::distance(a + along * d, v) <= tolerance)
+            faceInsertions[f].push_back({te, along, v});
+        }
+      }
+  }
+
   // 4. Split the triangles of those edges.
   for (size_t p = 0; p < patches.size(); ++p) {
     if (insertions[p].empty()) continue;
-    repair.splitTriangles += splitTriangles(patches[p], frames[p], insertions[p], repair);
+    repair.splitTriangles += splitPatchTriangles(patches[p], frames[p], insertions[p], repair);
     repair.droppedTriangles += dropDegenerateTriangles(*patches[p].mesh);
+  }
+  for (size_t f = 0; f < faces.size(); ++f) {
+    if (faceInsertions[f].empty()) continue;
+    repair.splitTriangles += splitFaceTriangles(*faces[f], faceInsertions[f], repair);
+    repair.droppedTriangles += dropDegenerateTriangles(*faces[f]);
   }
   return repair;
 }

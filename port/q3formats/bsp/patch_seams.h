@@ -48,6 +48,11 @@ struct PatchSeamRepair {
 /// Welds and inserts boundary vertices so that patches of the same model whose boundaries
 /// follow one curve (within `tolerance`, world units) share every vertex along it.
 /// Boundaries farther than 16 units from their chord (beyond any sane error bound) are skipped.
-PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float tolerance);
+/// Planar faces in `faces` (null entries skipped) take part as fixed geometry: patch boundary
+/// vertices within `tolerance` snap onto their boundary vertices, and patch boundary vertices
+/// lying on their (straight) boundary edges are inserted into them, attributes interpolated
+/// linearly. Face vertices are not inserted into patch edges.
+PatchSeamRepair closePatchSeams(std::span<const TessellatedPatch> patches, float tolerance,
+                                std::span<SurfaceMesh* const> faces = {});
 
 }  // namespace q3

@@ -125,7 +125,10 @@ std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const Tessellati
   if (options.stitchPatches && options.seamTolerance > 0) {
     std::vector<TessellatedPatch> patches;
     for (const auto& [m, p] : patchMeshes) patches.push_back({&grids[p], &subdivisions[p], &meshes[m]});
-    closePatchSeams(patches, options.seamTolerance);
+    std::vector<SurfaceMesh*> faces;
+    for (auto& mesh : meshes)
+      if (mesh.type == SurfaceType::Planar) faces.push_back(&mesh);
+    closePatchSeams(patches, options.seamTolerance, faces);
   }
   return meshes;
 }

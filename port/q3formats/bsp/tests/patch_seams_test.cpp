@@ -216,6 +216,50 @@ TEST(PatchSeams, DifferentModelsAreNotStitched) {
   EXPECT_EQ(measurePatchSeams(meshes).tJunctions, 0u);
 }
 
+TEST(PatchSeams, PatchVerticesAreInsertedIntoPlanarFaceEdges) {
+  // A floor quad (x in [0, 128]) beside a patch on x < 0 whose shared edge is the straight line
+  // x = 0, z = 0 but which bulges further out (so it is cut along y), and whose corner is 0.05
+  // off the quad's corner.
+  testing::BspWriter w;
+  const glm::vec3 up(0, 0, 1);
+  w.addQuad({glm::vec3(0, 0, 0), glm::vec3(128, 0, 0), glm::vec3(0, 256, 0), glm::vec3(128, 256, 0)}, up);
+  Controls controls;
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x) controls.push_back({-64.0f * x, 128.0f * y, x == 2 && y == 1 ? 120.0f : 0.0f});
+  controls[0].y = -0.05f;
+  w.addPatch(3, 3, controls, up);
+  w.finishWorld({-1024, -1024, -1024}, {1024, 1024, 1024});
+  const BspFile bsp = parseBsp(w.build(), "faces.bsp");
+
+  TessellationOptions open;
+  open.seamTolerance = 0;
+  const auto before = tessellateSurfaces(bsp, open);
+  ASSERT_EQ(before.size(), 2u);
+  EXPECT_GT(openEdgesOnPlaneX0(before), 0u);
+  EXPECT_GT(before[1].vertices.size(), 6u) << "the patch must be cut along the shared edge";
+
+  const auto meshes = tessellateSurfaces(bsp);
+  ASSERT_EQ(meshes.size(), 2u);
+  EXPECT_EQ(openEdgesOnPlaneX0(meshes), 0u);  // face and patch meet vertex for vertex
+  const auto& face = meshes[0];
+  EXPECT_GT(face.indices.size(), before[0].indices.size());
+  for (size_t t = 0; t < face.indices.size(); t += 3) {
+    const auto& a = face.vertices[face.indices[t]];
+    const auto& b = face.vertices[face.indices[t + 1]];
+    const auto& c = face.vertices[face.indices[t + 2]];
+    EXPECT_GT(glm::cross(b.position - a.position, c.position - a.position).z, 0.0f);  // CCW from +z, not degenerate
+    for (const auto* v : {&a, &b, &c}) {
+      EXPECT_EQ(v->position.z, 0.0f);                        // still planar
+      EXPECT_NEAR(v->uv.y, v->position.y / 256, 1e-5f);      // attributes interpolated along the edge
+      EXPECT_EQ(v->normal, up);
+    }
+  }
+  bool snapped = false;  // the patch corner moved onto the face corner
+  for (const auto& v : meshes[1].vertices) snapped |= v.position == glm::vec3(0);
+  EXPECT_TRUE(snapped);
+  EXPECT_LE(measuredError(gridOf(bsp, 1), meshes[1]), 4.1f);
+}
+
 TEST(PatchSeams, InconsistentInputIsLeftAlone) {
   const glm::vec3 y(0, 1, 0);
   const BspFile bsp = mapWithPatches({patchOnEdge({glm::vec3(0), 128.0f * y, 256.0f * y}, -1, 0),

@@ -65,10 +65,11 @@ TEST(RealMaps, EveryOpenArenaMapParsesAndTessellates) {
   EXPECT_GE(maps, 40u);
   EXPECT_EQ(stitchedCracks, 0u);
   EXPECT_GT(looseCracks, 0u);
-  // Left (measured 56): vertices of trim patches laid over a closed pillar, on the pillar's seam
-  // line (a boundary by index, not by position: nothing can open there), and two identical
-  // degenerate patches folding within 0.01 of their own edge. Without seam closing: 900.
-  EXPECT_LE(tJunctions, 64u);
+  // Left (measured 70; 900 without seam closing): vertices of trim patches laid over a closed
+  // pillar, on the pillar's seam line (a boundary by index, not by position: nothing can open
+  // there), vertices closer than the 0.1 tolerance to a pinched patch corner, and two identical
+  // degenerate patches folding onto their own edge.
+  EXPECT_LE(tJunctions, 80u);
   std::printf("[ info ] %zu maps; patch seam cracks: %zu stitched, %zu unstitched; T-junctions %zu\n", maps,
               stitchedCracks, looseCracks, tJunctions);
 }
