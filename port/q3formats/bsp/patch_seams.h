@@ -14,6 +14,9 @@
 //     corner, or around a new interior surface point when several of its edges get vertices).
 // Afterwards both sides of a shared curve carry the union of both cuts: the same vertices at
 // bit-identical positions, so their edges coincide and no crack or T-junction remains.
+// Planar faces, if given, are fixed geometry: patch vertices weld onto their boundary vertices
+// (step 1) and patch boundary vertices on their straight edges are inserted into them (step 2,
+// attributes interpolated linearly); face vertices are not inserted into patches.
 //
 // Error bound: new vertices lie within `tolerance` of the patch's own surface (their attributes
 // are the patch's own at the found parameters; their position is the neighbour's exactly), and
