@@ -257,23 +257,35 @@ void anglesToAxes(const glm::vec3& anglesDeg, glm::vec3& forward, glm::vec3& lef
   up = {cr * sp * cy + sr * sy, cr * sp * sy - sr * cy, cr * cp};
 }
 
+namespace {
+
+/// Deathmatch/start/intermission spawns (0), CTF team spawns (1), or not a spawn point (-1).
+int spawnRank(std::string_view cls) {
+  for (const char* name : {"info_player_deathmatch", "info_player_start", "info_player_intermission"})
+    if (equalsIgnoreCase(cls, name)) return 0;
+  for (const char* name : {"team_CTF_redspawn", "team_CTF_bluespawn", "team_CTF_redplayer", "team_CTF_blueplayer"})
+    if (equalsIgnoreCase(cls, name)) return 1;
+  return -1;
+}
+
+}  // namespace
+
 std::vector<SpawnCamera> readSpawnCameras(const std::vector<Entity>& entities) {
   std::vector<SpawnCamera> cameras;
-  for (const auto& e : entities) {
-    const std::string_view cls = e.className();
-    const bool intermission = equalsIgnoreCase(cls, "info_player_intermission");
-    if (!intermission && !equalsIgnoreCase(cls, "info_player_deathmatch") &&
-        !equalsIgnoreCase(cls, "info_player_start"))
-      continue;
-    SpawnCamera cam;
-    cam.className = std::string(cls);
-    cam.origin = e.getVec3("origin").value_or(glm::vec3(0));
-    cam.eye = intermission ? cam.origin : cam.origin + glm::vec3(0, 0, kSpawnEyeHeight);
-    if (const auto angles = e.getVec3("angles")) cam.angles = *angles;
-    else cam.angles = {0, e.getFloat("angle", 0), 0};
-    anglesToAxes(cam.angles, cam.forward, cam.left, cam.up);
-    cameras.push_back(cam);
-  }
+  for (int rank : {0, 1})
+    for (const auto& e : entities) {
+      const std::string_view cls = e.className();
+      if (spawnRank(cls) != rank) continue;
+      const bool intermission = equalsIgnoreCase(cls, "info_player_intermission");
+      SpawnCamera cam;
+      cam.className = std::string(cls);
+      cam.origin = e.getVec3("origin").value_or(glm::vec3(0));
+      cam.eye = intermission ? cam.origin : cam.origin + glm::vec3(0, 0, kSpawnEyeHeight);
+      if (const auto angles = e.getVec3("angles")) cam.angles = *angles;
+      else cam.angles = {0, e.getFloat("angle", 0), 0};
+      anglesToAxes(cam.angles, cam.forward, cam.left, cam.up);
+      cameras.push_back(cam);
+    }
   return cameras;
 }
 

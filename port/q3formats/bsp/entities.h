@@ -76,13 +76,15 @@ inline constexpr float kSpawnEyeHeight = 35.0f;
 
 /// A spawn point turned into a camera (Quake axes: forward, left, up; Z is up).
 struct SpawnCamera {
-  std::string className;  ///< info_player_deathmatch, info_player_start, info_player_intermission
+  std::string className;  ///< info_player_deathmatch/start/intermission or team_CTF_{red,blue}{spawn,player}
   glm::vec3 origin{0};    ///< entity origin
   glm::vec3 eye{0};       ///< origin + kSpawnEyeHeight (intermission: origin itself)
   glm::vec3 angles{0};    ///< pitch, yaw, roll in degrees ("angles", or "angle" = yaw)
   glm::vec3 forward{1, 0, 0}, left{0, 1, 0}, up{0, 0, 1};
 };
-/// Spawn points (deathmatch, start, intermission), in entity order.
+/// Spawn points: deathmatch, start and intermission ones in entity order, then the CTF team
+/// spawns (team_CTF_redspawn/bluespawn/redplayer/blueplayer) in entity order, so CTF-only maps
+/// have cameras too.
 std::vector<SpawnCamera> readSpawnCameras(const std::vector<Entity>& entities);
 
 /// Quake angle convention: pitch (down positive), yaw (about +Z), roll -> forward, left, up.

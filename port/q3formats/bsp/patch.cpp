@@ -98,6 +98,46 @@ std::vector<std::pair<int, float>> gridLines(const std::vector<int>& segments) {
   return lines;
 }
 
+/// Every attribute of the surface at (t, s) in piece (i, j); the normal is the unit analytic
+/// S_u x S_v (zero where it vanishes), `stored` the interpolated file normal (not normalised).
+MeshVertex evaluatePieceVertex(const PatchControlGrid& grid, int i, float t, int j, float s, glm::vec3& stored) {
+  const auto wu = bernstein(t), du = bernsteinDerivative(t);
+  const auto wv = bernstein(s), dv = bernsteinDerivative(s);
+  glm::vec3 pos[3], dpos[3], nrm[3];
+  glm::vec2 st[3], lm[3];
+  glm::vec4 col[3];
+  auto rgba = [](const BspDrawVert& d) { return glm::vec4(d.color[0], d.color[1], d.color[2], d.color[3]); };
+  for (int b = 0; b < 3; ++b) {
+    const auto& c0 = grid.at(2 * i, 2 * j + b);
+    const auto& c1 = grid.at(2 * i + 1, 2 * j + b);
+    const auto& c2 = grid.at(2 * i + 2, 2 * j + b);
+    pos[b] = blend(c0.position, c1.position, c2.position, wu);
+    dpos[b] = blend(c0.position, c1.position, c2.position, du);
+    nrm[b] = blend(c0.normal, c1.normal, c2.normal, wu);
+    st[b] = blend(c0.st, c1.st, c2.st, wu);
+    lm[b] = blend(c0.lightmap, c1.lightmap, c2.lightmap, wu);
+    col[b] = blend(rgba(c0), rgba(c1), rgba(c2), wu);
+  }
+  MeshVertex vertex;
+  vertex.position = blend(pos[0], pos[1], pos[2], wv);
+  vertex.uv = blend(st[0], st[1], st[2], wv);
+  vertex.lightmapUv = blend(lm[0], lm[1], lm[2], wv);
+  const glm::vec4 color = blend(col[0], col[1], col[2], wv);
+  for (int k = 0; k < 4; ++k)
+    vertex.color[k] = static_cast<uint8_t>(std::clamp(std::round(color[k]), 0.0f, 255.0f));
+  const glm::vec3 analytic = glm::cross(blend(dpos[0], dpos[1], dpos[2], wv), blend(pos[0], pos[1], pos[2], dv));
+  const float len = glm::length(analytic);
+  vertex.normal = (len > 1e-6f && std::isfinite(len)) ? analytic / len : glm::vec3(0);
+  stored = blend(nrm[0], nrm[1], nrm[2], wv);
+  return vertex;
+}
+
+/// Piece index and local parameter of a patch parameter in [0, spans].
+std::pair<int, float> pieceOf(float x, int spans) {
+  const int i = std::clamp(static_cast<int>(std::floor(x)), 0, spans - 1);
+  return {i, x - static_cast<float>(i)};
+}
+
 }  // namespace
 
 float patchPieceErrorBound(const PatchControlGrid& grid, int i, int j, int nu, int nv) {
@@ -175,14 +215,29 @@ void matchSharedPatchEdges(std::span<const PatchControlGrid> grids, std::span<Pa
 }
 
 glm::vec3 evaluatePatchPosition(const PatchControlGrid& grid, float u, float v) {
-  const int i = std::clamp(static_cast<int>(std::floor(u)), 0, grid.spansU() - 1);
-  const int j = std::clamp(static_cast<int>(std::floor(v)), 0, grid.spansV() - 1);
-  const auto wu = bernstein(u - static_cast<float>(i)), wv = bernstein(v - static_cast<float>(j));
+  const auto [i, t] = pieceOf(u, grid.spansU());
+  const auto [j, s] = pieceOf(v, grid.spansV());
+  const auto wu = bernstein(t), wv = bernstein(s);
   glm::vec3 rows[3];
   for (int b = 0; b < 3; ++b)
     rows[b] = blend(grid.at(2 * i, 2 * j + b).position, grid.at(2 * i + 1, 2 * j + b).position,
                     grid.at(2 * i + 2, 2 * j + b).position, wu);
   return blend(rows[0], rows[1], rows[2], wv);
+}
+
+MeshVertex evaluatePatchVertex(const PatchControlGrid& grid, float u, float v, glm::vec3* storedNormal) {
+  const auto [i, t] = pieceOf(u, grid.spansU());
+  const auto [j, s] = pieceOf(v, grid.spansV());
+  glm::vec3 stored;
+  MeshVertex vertex = evaluatePieceVertex(grid, i, t, j, s, stored);
+  if (storedNormal) *storedNormal = stored;
+  return vertex;
+}
+
+std::vector<float> patchGridParameters(const std::vector<int>& segments) {
+  std::vector<float> out;
+  for (const auto& [span, t] : gridLines(segments)) out.push_back(static_cast<float>(span) + t);
+  return out;
 }
 
 size_t patchVertexCount(const PatchSubdivision& subdivision) {
@@ -200,43 +255,13 @@ void tessellatePatch(const PatchControlGrid& grid, const PatchSubdivision& subdi
   storedNormals.reserve(columns.size() * rows.size());
   double orientation = 0;
 
-  for (const auto& [j, s] : rows) {
-    const auto wv = bernstein(s), dv = bernsteinDerivative(s);
+  for (const auto& [j, s] : rows)
     for (const auto& [i, t] : columns) {
-      const auto wu = bernstein(t), du = bernsteinDerivative(t);
-      glm::vec3 pos[3], dpos[3], nrm[3];
-      glm::vec2 st[3], lm[3];
-      glm::vec4 col[3];
-      for (int b = 0; b < 3; ++b) {
-        const auto& c0 = grid.at(2 * i, 2 * j + b);
-        const auto& c1 = grid.at(2 * i + 1, 2 * j + b);
-        const auto& c2 = grid.at(2 * i + 2, 2 * j + b);
-        pos[b] = blend(c0.position, c1.position, c2.position, wu);
-        dpos[b] = blend(c0.position, c1.position, c2.position, du);
-        nrm[b] = blend(c0.normal, c1.normal, c2.normal, wu);
-        st[b] = blend(c0.st, c1.st, c2.st, wu);
-        lm[b] = blend(c0.lightmap, c1.lightmap, c2.lightmap, wu);
-        auto rgba = [](const BspDrawVert& d) { return glm::vec4(d.color[0], d.color[1], d.color[2], d.color[3]); };
-        col[b] = blend(rgba(c0), rgba(c1), rgba(c2), wu);
-      }
-      MeshVertex vertex;
-      vertex.position = blend(pos[0], pos[1], pos[2], wv);
-      vertex.uv = blend(st[0], st[1], st[2], wv);
-      vertex.lightmapUv = blend(lm[0], lm[1], lm[2], wv);
-      const glm::vec4 rgba = blend(col[0], col[1], col[2], wv);
-      for (int k = 0; k < 4; ++k)
-        vertex.color[k] = static_cast<uint8_t>(std::clamp(std::round(rgba[k]), 0.0f, 255.0f));
-      const glm::vec3 su = blend(dpos[0], dpos[1], dpos[2], wv);
-      const glm::vec3 sv = blend(pos[0], pos[1], pos[2], dv);
-      const glm::vec3 analytic = glm::cross(su, sv);
-      const glm::vec3 stored = blend(nrm[0], nrm[1], nrm[2], wv);
-      const float len = glm::length(analytic);
-      vertex.normal = (len > 1e-6f && std::isfinite(len)) ? analytic / len : glm::vec3(0);
-      orientation += glm::dot(vertex.normal, stored);
+      glm::vec3 stored;
+      mesh.vertices.push_back(evaluatePieceVertex(grid, i, t, j, s, stored));
+      orientation += glm::dot(mesh.vertices.back().normal, stored);
       storedNormals.push_back(stored);
-      mesh.vertices.push_back(vertex);
     }
-  }
 
   // S_u x S_v is the front of a CCW (u, v) triangle; flip when the file's normals disagree.
   const bool flip = orientation < 0;

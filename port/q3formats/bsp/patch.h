@@ -49,8 +49,18 @@ void matchSharedPatchEdges(std::span<const PatchControlGrid> grids, std::span<Pa
 /// Surface point at patch parameters u in [0, spansU], v in [0, spansV].
 glm::vec3 evaluatePatchPosition(const PatchControlGrid& grid, float u, float v);
 
-/// Appends the patch's grid vertices and triangles (CCW seen from the front) to `mesh`.
-/// Normals are analytic, oriented like the stored control normals.
+/// Every attribute of the surface at (u, v): position, uv, lightmap uv, colour, and the unit
+/// analytic normal S_u x S_v, not yet oriented like the file's normals (zero where it vanishes).
+/// `storedNormal`, if given, receives the interpolated file normal (not normalised).
+MeshVertex evaluatePatchVertex(const PatchControlGrid& grid, float u, float v, glm::vec3* storedNormal = nullptr);
+
+/// Patch parameters (span index + fraction) of the grid lines tessellatePatch cuts along one
+/// direction: its vertex (column c, row r) is at (patchGridParameters(u)[c], patchGridParameters(v)[r]).
+std::vector<float> patchGridParameters(const std::vector<int>& segments);
+
+/// Appends the patch's grid vertices (row-major, see patchGridParameters) and triangles (CCW seen
+/// from the front) to `mesh`. Normals are analytic, oriented like the stored control normals.
+/// Triangles with two coincident corners (collapsed rows or columns) are left out.
 void tessellatePatch(const PatchControlGrid& grid, const PatchSubdivision& subdivision, SurfaceMesh& mesh);
 
 /// Number of vertices tessellatePatch will produce.

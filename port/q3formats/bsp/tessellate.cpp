@@ -13,6 +13,8 @@
 #include <glm/geometric.hpp>
 
 #include "port/q3formats/bsp/patch.h"
+#include "port/q3formats/bsp/patch_seams.h"
+#include "port/q3formats/bsp/point_welder.h"
 #include "port/q3formats/common/format_error.h"
 
 namespace q3 {
@@ -54,38 +56,6 @@ PatchControlGrid controlGrid(const BspFile& bsp, const BspSurface& s) {
                                                               static_cast<size_t>(s.numVerts))};
 }
 
-/// Snaps points closer than `distance` onto the first such point seen, so that neighbouring
-/// patches written with float noise (15.9999943 against 16) share boundary curves exactly.
-class PointWelder {
- public:
-  explicit PointWelder(float distance) : distance_(distance), cell_(2 * distance) {}
-
-  glm::vec3 weld(const glm::vec3& p) {
-    int64_t c[3];
-    for (int k = 0; k < 3; ++k)
-      c[k] = static_cast<int64_t>(std::floor(std::clamp(p[k] / cell_, -1e15f, 1e15f)));
-    for (int64_t dx = -1; dx <= 1; ++dx)
-      for (int64_t dy = -1; dy <= 1; ++dy)
-        for (int64_t dz = -1; dz <= 1; ++dz) {
-          const auto it = cells_.find(cellKey(c[0] + dx, c[1] + dy, c[2] + dz));
-          if (it == cells_.end()) continue;
-          for (const glm::vec3& q : it->second)
-            if (glm::distance(p, q) <= distance_) return q;
-        }
-    cells_[cellKey(c[0], c[1], c[2])].push_back(p);
-    return p;
-  }
-
- private:
-  static uint64_t cellKey(int64_t x, int64_t y, int64_t z) {
-    uint64_t h = 1469598103934665603ull;
-    for (int64_t v : {x, y, z}) h = (h ^ static_cast<uint64_t>(v)) * 1099511628211ull;
-    return h;
-  }
-  float distance_, cell_;
-  std::unordered_map<uint64_t, std::vector<glm::vec3>> cells_;
-};
-
 }  // namespace
 
 std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const TessellationOptions& options) {
@@ -93,6 +63,8 @@ std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const Tessellati
     throw std::invalid_argument("tessellation maxError must be a positive number");
   if (!(options.weldDistance >= 0 && options.weldDistance <= 1))
     throw std::invalid_argument("tessellation weldDistance must be in [0, 1]");
+  if (!(options.seamTolerance >= 0 && options.seamTolerance <= 1))
+    throw std::invalid_argument("tessellation seamTolerance must be in [0, 1]");
   if (options.maxSegmentsPerSpan < 1 || options.maxSegmentsPerSpan > 1024)
     throw std::invalid_argument("tessellation maxSegmentsPerSpan must be in [1, 1024]");
   const int segmentCap = std::bit_floor(static_cast<unsigned>(options.maxSegmentsPerSpan));
@@ -130,6 +102,7 @@ std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const Tessellati
   std::vector<SurfaceMesh> meshes;
   meshes.reserve(bsp.surfaces.size());
   size_t nextPatch = 0;
+  std::vector<std::pair<size_t, size_t>> patchMeshes;  // (mesh, patch)
   for (size_t i = 0; i < bsp.surfaces.size(); ++i) {
     const auto& s = bsp.surfaces[i];
     if (s.type == SurfaceType::Flare) continue;
@@ -142,11 +115,20 @@ std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const Tessellati
     mesh.model = models[i];
     if (s.type == SurfaceType::Patch) {
       tessellatePatch(grids[nextPatch], subdivisions[nextPatch], mesh);
+      if (!mesh.indices.empty()) patchMeshes.emplace_back(meshes.size(), nextPatch);
       ++nextPatch;
     } else {
       copyIndexedSurface(bsp, s, mesh);
     }
     if (!mesh.indices.empty()) meshes.push_back(std::move(mesh));
+  }
+  if (options.stitchPatches && options.seamTolerance > 0) {
+    std::vector<TessellatedPatch> patches;
+    for (const auto& [m, p] : patchMeshes) patches.push_back({&grids[p], &subdivisions[p], &meshes[m]});
+    std::vector<SurfaceMesh*> faces;
+    for (auto& mesh : meshes)
+      if (mesh.type == SurfaceType::Planar) faces.push_back(&mesh);
+    closePatchSeams(patches, options.seamTolerance, faces);
   }
   return meshes;
 }

@@ -15,9 +15,13 @@ struct TessellationOptions {
   size_t maxTotalVertices = 1u << 22;  ///< budget for all output (real maps: < 120k); over it: FormatError
   bool stitchPatches = true;         ///< equalise subdivision along boundaries shared by patches
   float weldDistance = 0.01f;        ///< with stitching: patch control points this close become one
+  float seamTolerance = 0.1f;        ///< with stitching: boundary vertices this close to another patch's
+                                     ///< boundary curve are shared (closePatchSeams); 0 = off
 };
 
 /// One mesh per drawable surface, in surface order; flares and empty surfaces are skipped.
+/// With stitchPatches, patch boundaries that follow one curve share every vertex along it
+/// (patch_seams.h), and patch triangles stay within maxError + seamTolerance of the surface.
 /// Throws FormatError if the output would exceed options.maxTotalVertices and
 /// std::invalid_argument for nonsensical options.
 std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const TessellationOptions& options = {});
@@ -26,7 +30,8 @@ std::vector<SurfaceMesh> tessellateSurfaces(const BspFile& bsp, const Tessellati
 /// one patch lying beside the interior of another patch's boundary edge that runs the same way
 /// (the two boundaries follow one curve but were cut differently).
 struct PatchSeamStats {
-  size_t boundaryEdges = 0;  ///< patch edges used by one triangle of their own mesh
+  size_t boundaryEdges = 0;  ///< patch edges used by one triangle of their own mesh (vertices compared
+                             ///< by position: a closed cylinder's seam is no boundary)
   size_t tJunctions = 0;     ///< seam vertices on the other edge (distance <= tolerance)
   size_t cracks = 0;  ///< seam vertices off the other edge (tolerance < distance <= gapLimit) between
                       ///< two vertices that both patches share: the same curve cut differently

@@ -136,7 +136,8 @@ TEST(Entities, SpawnPointsBecomeCameras) {
       "{ \"classname\" \"team_CTF_redspawn\" \"origin\" \"0 0 0\" }",
       "m.bsp");
   const auto cams = readSpawnCameras(e);
-  ASSERT_EQ(cams.size(), 3u);
+  ASSERT_EQ(cams.size(), 4u);
+  EXPECT_EQ(cams[3].className, "team_CTF_redspawn");
   expectVec(cams[0].eye, {10, 20, 30 + kSpawnEyeHeight});
   expectVec(cams[0].forward, {0, 1, 0});
   expectVec(cams[0].left, {-1, 0, 0});
@@ -153,6 +154,31 @@ TEST(Entities, SpawnPointsBecomeCameras) {
   // Roll 30 about forward (-x): left tilts towards +z... up and left stay perpendicular to forward.
   expectVec(cams[2].forward, {-1, 0, 0});
   EXPECT_NEAR(std::abs(cams[2].up.z), std::cos(30.0f * 3.14159265f / 180.0f), 1e-5f);
+}
+
+TEST(Entities, CtfTeamSpawnsBecomeCamerasAfterTheDeathmatchOnes) {
+  const auto e = parseEntities(
+      "{ \"classname\" \"team_CTF_bluespawn\" \"origin\" \"1 0 0\" \"angle\" \"180\" }"
+      "{ \"classname\" \"team_ctf_redplayer\" \"origin\" \"2 0 0\" }"
+      "{ \"classname\" \"info_player_deathmatch\" \"origin\" \"3 0 0\" }"
+      "{ \"classname\" \"team_CTF_blueplayer\" \"origin\" \"4 0 0\" }"
+      "{ \"classname\" \"team_CTF_redflag\" \"origin\" \"5 0 0\" }"
+      "{ \"classname\" \"team_CTF_redspawn\" \"origin\" \"6 0 0\" }",
+      "ctf.bsp");
+  const auto cams = readSpawnCameras(e);
+  ASSERT_EQ(cams.size(), 5u);  // the flag is not a spawn point
+  const float expectedX[] = {3, 1, 2, 4, 6};
+  for (size_t k = 0; k < cams.size(); ++k) {
+    EXPECT_EQ(cams[k].origin.x, expectedX[k]);
+    expectVec(cams[k].eye, cams[k].origin + glm::vec3(0, 0, kSpawnEyeHeight));  // standing eye height
+  }
+  EXPECT_EQ(cams[1].className, "team_CTF_bluespawn");
+  expectVec(cams[1].forward, {-1, 0, 0});
+
+  // A CTF-only map still gets cameras.
+  const auto ctfOnly = parseEntities("{ \"classname\" \"team_CTF_redplayer\" \"origin\" \"0 0 8\" }", "ctf.bsp");
+  ASSERT_EQ(readSpawnCameras(ctfOnly).size(), 1u);
+  expectVec(readSpawnCameras(ctfOnly)[0].eye, {0, 0, 8 + kSpawnEyeHeight});
 }
 
 }  // namespace

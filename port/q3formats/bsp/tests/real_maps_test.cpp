@@ -20,7 +20,7 @@ constexpr const char* kBaseoa = "/usr/share/games/openarena/baseoa";
 TEST(RealMaps, EveryOpenArenaMapParsesAndTessellates) {
   if (!std::filesystem::exists(kBaseoa)) GTEST_SKIP() << kBaseoa << " not installed";
   tools::Pk3Reader pk3("q3_bsp_tests");
-  size_t maps = 0, stitchedCracks = 0, looseCracks = 0;
+  size_t maps = 0, stitchedCracks = 0, looseCracks = 0, tJunctions = 0;
   for (const auto& archive : tools::openArenaMapArchives(kBaseoa)) {
     pk3.mount(archive);
     for (const auto& path : pk3.listMaps()) {
@@ -52,7 +52,10 @@ TEST(RealMaps, EveryOpenArenaMapParsesAndTessellates) {
         const auto& world = bsp.models[0];
         EXPECT_TRUE(std::isfinite(sampleLightGrid(bsp.lightGrid, 0.5f * (world.mins + world.maxs)).ambient.x));
       }
-      stitchedCracks += measurePatchSeams(meshes).cracks;
+      const auto seams = measurePatchSeams(meshes);
+      EXPECT_EQ(seams.cracks, 0u);  // every patch boundary shared with another is cut identically
+      stitchedCracks += seams.cracks;
+      tJunctions += seams.tJunctions;
       TessellationOptions loose;
       loose.stitchPatches = false;
       looseCracks += measurePatchSeams(tessellateSurfaces(bsp, loose)).cracks;
@@ -60,9 +63,15 @@ TEST(RealMaps, EveryOpenArenaMapParsesAndTessellates) {
     }
   }
   EXPECT_GE(maps, 40u);
-  // Stitching must remove seam cracks; the rest are curves that meet without sharing control points.
-  EXPECT_LT(stitchedCracks, looseCracks);
-  std::printf("[ info ] %zu maps; patch seam cracks: %zu stitched, %zu unstitched\n", maps, stitchedCracks, looseCracks);
+  EXPECT_EQ(stitchedCracks, 0u);
+  EXPECT_GT(looseCracks, 0u);
+  // Left (measured 70; 900 without seam closing): vertices of trim patches laid over a closed
+  // pillar, on the pillar's seam line (a boundary by index, not by position: nothing can open
+  // there), vertices closer than the 0.1 tolerance to a pinched patch corner, and two identical
+  // degenerate patches folding onto their own edge.
+  EXPECT_LE(tJunctions, 80u);
+  std::printf("[ info ] %zu maps; patch seam cracks: %zu stitched, %zu unstitched; T-junctions %zu\n", maps,
+              stitchedCracks, looseCracks, tJunctions);
 }
 
 }  // namespace

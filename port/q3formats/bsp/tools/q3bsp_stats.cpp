@@ -1,6 +1,6 @@
 // q3bsp-stats: parses and tessellates maps, printing counts and timings.
 //
-//   q3bsp-stats [--error UNITS] [--no-stitch] [--seams] [--repeat N] [SPEC...]
+//   q3bsp-stats [--error UNITS] [--no-stitch] [--seam-tolerance UNITS] [--seams] [--repeat N] [SPEC...]
 //   SPEC: ARCHIVE.pk3 (every map in it), ARCHIVE.pk3:maps/NAME.bsp, or a loose FILE.bsp.
 //   Without SPEC: every map of the installed OpenArena archives.
 #include <algorithm>
@@ -98,10 +98,11 @@ int main(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--error" && i + 1 < argc) settings.options.maxError = std::strtof(argv[++i], nullptr);
     else if (arg == "--repeat" && i + 1 < argc) settings.repeat = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--seam-tolerance" && i + 1 < argc) settings.options.seamTolerance = std::strtof(argv[++i], nullptr);
     else if (arg == "--no-stitch") settings.options.stitchPatches = false;
     else if (arg == "--seams") settings.seams = true;
     else if (arg == "--help" || arg == "-h") {
-      std::printf("usage: %s [--error UNITS] [--no-stitch] [--seams] [--repeat N] [ARCHIVE.pk3[:maps/X.bsp] | FILE.bsp]...\n", argv[0]);
+      std::printf("usage: %s [--error UNITS] [--no-stitch] [--seam-tolerance UNITS] [--seams] [--repeat N] [ARCHIVE.pk3[:maps/X.bsp] | FILE.bsp]...\n", argv[0]);
       return 0;
     } else specs.push_back(arg);
   }
