@@ -44,6 +44,10 @@ ShaderLook lookOfShader(const q3::ShaderDef& shader) {
                        stage.rgbGen == q3::RgbGen::ExactVertex ||
                        stage.rgbGen == q3::RgbGen::LightingDiffuse;
     look.vertexAlpha = stage.alphaGen == q3::AlphaGen::Vertex;
+    look.rgbGen = stage.rgbGen;
+    look.constColor = stage.constColor;
+    look.alphaGen = stage.alphaGen;
+    look.constAlpha = stage.constAlpha;
     return look;
   }
   if (shader.stages.empty() && !look.sky) look.nodraw = true;

@@ -17,9 +17,11 @@
 
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/entity_geometry.h"
+#include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/models.h"
 #include "port/engine_glue/scene.h"
 #include "port/engine_glue/shaders.h"
+#include "port/engine_glue/sky_cube.h"
 #include "port/engine_glue/views.h"
 #include "port/engine_glue/world.h"
 #include "port/q3formats/bsp/bsp_file.h"
@@ -34,6 +36,7 @@ namespace glue {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
+constexpr int kStockSkyFaceSize = 256;   // texels a side of the baked stock sky
 
 /// A reusable dynamic mesh + instance.
 struct DynamicSlot {
@@ -98,6 +101,68 @@ std::shared_ptr<const Image> darkeningImage(const std::shared_ptr<const Image>& 
   return out;
 }
 
+/// Where the stock renderer takes a model surface's colour from (its stage's rgbGen).
+enum class ModelColorSource : uint8_t { EntityLight, White, Entity, OneMinusEntity, Const };
+
+ModelColorSource modelColorSource(const ShaderEntry& entry) {
+  const ShaderLook& look = entry.look;
+  if (!look.fromScript) return ModelColorSource::EntityLight;   // implicit model shader: lightingDiffuse
+  switch (look.rgbGen) {
+    case q3::RgbGen::LightingDiffuse: return ModelColorSource::EntityLight;
+    case q3::RgbGen::Entity: return ModelColorSource::Entity;
+    case q3::RgbGen::OneMinusEntity: return ModelColorSource::OneMinusEntity;
+    case q3::RgbGen::Const: return ModelColorSource::Const;
+    default: return ModelColorSource::White;   // identity / identityLighting (1 without overbright)
+  }
+}
+
+float byteToLinear(float byte) {
+  const float c = std::clamp(byte / 255.0f, 0.0f, 1.0f);
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/// Lightmap preset: each vertex of an MD3 batch gets the colour the stock renderer gives it
+/// (grid light per vertex normal, entity colour, constant or white). Stock multiplies texture
+/// and colour bytes in gamma space; the tracer multiplies linear values, so the bytes are
+/// linearised (lin(a) * lin(b) ~ lin(a * b)).
+void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld,
+                         const EntityLight& light, ShaderRegistry& shaders, GeometryBatch& batch) {
+  const glm::mat3 axes(toWorld);
+  std::vector<bool> done(batch.positions.size(), false);
+  for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
+    const ModelColorSource source = modelColorSource(shaders.resolve(batch.triangleShaders[t]));
+    const ShaderLook& look = shaders.resolve(batch.triangleShaders[t]).look;
+    for (size_t corner = 0; corner < 3; ++corner) {
+      const uint32_t v = batch.indices[t * 3 + corner];
+      if (v >= batch.positions.size() || done[v]) continue;
+      done[v] = true;
+      glm::vec3 bytes(255.0f);
+      switch (source) {
+        case ModelColorSource::EntityLight: {
+          glm::vec3 normal = axes * batch.normals[v];
+          const float length = glm::length(normal);
+          normal = length > 1e-12f ? normal / length : glm::vec3(0.0f, 0.0f, 1.0f);
+          bytes = diffuseVertexLight(light, normal);
+          break;
+        }
+        case ModelColorSource::Entity:
+          bytes = glm::vec3(e.shaderRGBA[0], e.shaderRGBA[1], e.shaderRGBA[2]);
+          break;
+        case ModelColorSource::OneMinusEntity:
+          bytes = glm::vec3(255 - e.shaderRGBA[0], 255 - e.shaderRGBA[1], 255 - e.shaderRGBA[2]);
+          break;
+        case ModelColorSource::Const:
+          bytes = glm::vec3(look.constColor[0], look.constColor[1], look.constColor[2]) * 255.0f;
+          break;
+        case ModelColorSource::White:
+          break;
+      }
+      batch.colors[v] = glm::vec4(byteToLinear(bytes.r), byteToLinear(bytes.g), byteToLinear(bytes.b),
+                                  batch.colors[v].a);
+    }
+  }
+}
+
 /// The engine dlclose()s the module on vid_restart and at exit. The tracer's thread pool (oneTBB)
 /// keeps worker threads alive for the whole process; if libtbb were unloaded with the module,
 /// those threads would run unmapped code. Mark the already loaded libtbb "never unload".
@@ -130,6 +195,13 @@ struct ViewRenderer::Impl {
   std::vector<pa::MaterialId> triangleMaterials;
   std::vector<uint8_t> picture;
   uint32_t frameCounter = 0;
+  pa::SkyDesc bridgeSky;               ///< The world's sky for the traced presets.
+  pa::SkyDesc stockSky;                ///< The stock look (far box + clouds) for the lightmap preset.
+  bool stockSkyReady = false;
+  bool stockSkyShown = false;
+  SkyBaker skyBaker;
+  SkyCube skyCube;
+  double skyBakedAt = 0.0;
 
   void resetRenderer() {
     renderer = std::make_unique<pa::Renderer>(pa::RendererConfig{static_cast<uint32_t>(threads)});
@@ -143,6 +215,46 @@ struct ViewRenderer::Impl {
     lightOn.clear();
     headlight = pa::kNoId;
     defaultMaterial = renderer->addMaterial(pa::MaterialDesc{});
+    bridgeSky = stockSky = pa::SkyDesc{};
+    stockSkyReady = stockSkyShown = false;
+  }
+
+  /// Bakes the map's sky shader as opengl1 draws it (far box under scrolling cloud layers)
+  /// into six renderer textures; the lightmap preset shows it instead of the bridge's sky.
+  void prepareStockSky(const q3::ShaderLibrary& library, ImageCache& images) {
+    stockSkyReady = false;
+    if (!worldScene || worldScene->sky.shaderName.empty()) return;
+    const q3::ShaderDef* shader = library.find(worldScene->sky.shaderName);
+    if (shader == nullptr) return;
+    const SkyImageLoader load = [&](const std::string& path) { return images.load(engine, path); };
+    if (!skyBaker.prepare(*shader, load, kStockSkyFaceSize)) return;
+    skyBaker.bake(0.0, skyCube);
+    skyBakedAt = 0.0;
+    stockSky = pa::SkyDesc{};
+    stockSky.color = glm::vec3(1.0f);
+    for (size_t f = 0; f < 6; ++f) stockSky.faces[f] = renderer->addTexture(skyFaceDesc(f));
+    stockSkyReady = true;
+  }
+
+  pa::TextureDesc skyFaceDesc(size_t face) const {
+    pa::TextureDesc desc;
+    desc.width = desc.height = static_cast<uint32_t>(skyCube.size);
+    desc.rgba8 = skyCube.faces[face];
+    desc.wrap = pa::TextureWrap::Clamp;
+    return desc;
+  }
+
+  /// Shows the stock sky (moved to shader time `seconds`) or the bridge's one.
+  void selectSky(bool stockLook, double seconds) {
+    const bool stock = stockLook && stockSkyReady;
+    if (stock && skyBaker.animated() && seconds != skyBakedAt) {
+      skyBaker.bake(seconds, skyCube);
+      skyBakedAt = seconds;
+      for (size_t f = 0; f < 6; ++f) renderer->updateTexture(stockSky.faces[f], skyFaceDesc(f));
+    }
+    if (stock == stockSkyShown) return;
+    renderer->setSky(stock ? stockSky : bridgeSky);
+    stockSkyShown = stock;
   }
 
   pa::TextureId texture(const std::shared_ptr<const Image>& image) {
@@ -284,7 +396,7 @@ void ViewRenderer::shadersChanged() {
 }
 
 void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>& bspBytes,
-                             const ShaderScripts&, ImageCache&) {
+                             const ShaderScripts&, ImageCache& images) {
   Impl& d = *impl_;
   d.resetRenderer();
   const Engine& engine = d.engine;
@@ -308,6 +420,8 @@ void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>& bsp
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
   d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer);
+  d.bridgeSky = pa::bridge::worldSkyDesc(*d.worldScene, d.world);
+  d.prepareStockSky(library, images);
   d.brushInstances.assign(d.world.modelInstances.size(), pa::InstanceDesc{});
   for (size_t m = 0; m < d.world.modelInstances.size(); ++m) {
     d.brushInstances[m].mesh = m < d.world.modelMeshes.size() ? d.world.modelMeshes[m] : pa::kNoId;
@@ -380,19 +494,12 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     appendMd3(*md3, e, surfaceShaders, d.batch);
     if (d.batch.indices.empty()) continue;
     if (lightmapLook) {
-      // The stock look: light-grid ambient + directed light at the entity.
-      float ambient[3] = {96, 96, 96}, directed[3] = {160, 160, 160}, dir[3] = {0.57f, 0.57f, 0.57f};
       const float* at = (e.renderfx & q3abi::RF_LIGHTING_ORIGIN) ? e.lightingOrigin : e.origin;
-      if (world != nullptr) world->lightForPoint(at, ambient, directed, dir);
-      const glm::mat4x3 m = entityTransform(e);
-      for (size_t v = 0; v < d.batch.positions.size(); ++v) {
-        const glm::vec3 n = glm::normalize(glm::mat3(m) * d.batch.normals[v]);
-        const float lambert = std::max(0.0f, n.x * dir[0] + n.y * dir[1] + n.z * dir[2]);
-        glm::vec3 light(ambient[0] + directed[0] * lambert, ambient[1] + directed[1] * lambert,
-                        ambient[2] + directed[2] * lambert);
-        if (e.renderfx & q3abi::RF_MINLIGHT) light = glm::max(light, glm::vec3(20.0f));
-        d.batch.colors[v] = glm::vec4(glm::min(light / 255.0f, glm::vec3(1.0f)), 1.0f);
-      }
+      const glm::vec3 lightOrigin(at[0], at[1], at[2]);
+      EntityLight light;
+      if (!withWorld || !lightGridAt(d.worldScene->lightGrid, lightOrigin, light)) light = noWorldLight();
+      light = finishEntityLight(light, lightOrigin, scene.lights());
+      lightModelLikeStock(e, entityTransform(e), light, shaders, d.batch);
     }
     d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop);
   }
@@ -442,6 +549,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     off.intensity = 0.0f;
     d.setLight(i, off, false);
   }
+  if (withWorld) d.selectSky(lightmapLook, view.time * 0.001);
   d.renderer->commit();
 
   pa::RenderSettings rs;
@@ -454,6 +562,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   rs.accumulate = settings.preset == Preset::Reference;
   rs.radianceClamp = settings.preset == Preset::Reference ? 0.0f : 10.0f;
   rs.seed = settings.seed + (rs.accumulate ? 0u : d.frameCounter++);
+  // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does.
+  if (lightmapLook) rs.tonemap = pa::Tonemap::Clamp;
   const pa::FrameView frame = d.renderer->render(camera, rs);
 
   d.picture.assign(frame.rgba8.begin(), frame.rgba8.end());

@@ -127,6 +127,32 @@ std::optional<MaterialDesc> surfaceLightProxy(const q3::WorldScene& scene, const
   return desc;
 }
 
+SkyDesc worldSkyDesc(const q3::WorldScene& scene, const WorldHandles& handles, const UploadOptions& options) {
+  SkyDesc sky;
+  sky.color = scene.sky.color;
+  sky.intensity = options.skyIntensity;
+  bool allFaces = true;
+  for (size_t f = 0; f < 6; ++f) {
+    int32_t t = scene.sky.faces[f];
+    TextureId id = t >= 0 && size_t(t) < handles.textures.size() ? handles.textures[size_t(t)] : kNoId;
+    sky.faces[f] = id;
+    allFaces = allFaces && id != kNoId;
+  }
+  if (allFaces) {
+    sky.color = glm::vec3(1.0f);   // the box shows as drawn
+  } else {
+    sky.faces.fill(kNoId);
+    if (scene.sky.surfaceLight > 0.0f) {
+      // q3map2 lit the map through the sky surfaces as area lights of this radiance.
+      glm::vec3 hue = scene.sky.color;
+      float peak = std::max({hue.r, hue.g, hue.b});
+      hue = peak > 0.0f ? hue / peak : glm::vec3(1.0f);
+      sky.color = hue * q3::surfaceLightRadiance(scene.sky.surfaceLight) * options.lightScale;
+    }
+  }
+  return sky;
+}
+
 WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const UploadOptions& options) {
   WorldHandles handles;
   for (const q3::WorldTexture& t : scene.textures) {
@@ -252,31 +278,7 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
     }
   }
 
-  if (options.sky) {
-    SkyDesc sky;
-    sky.color = scene.sky.color;
-    sky.intensity = options.skyIntensity;
-    bool allFaces = true;
-    for (size_t f = 0; f < 6; ++f) {
-      int32_t t = scene.sky.faces[f];
-      TextureId id = t >= 0 && size_t(t) < handles.textures.size() ? handles.textures[size_t(t)] : kNoId;
-      sky.faces[f] = id;
-      allFaces = allFaces && id != kNoId;
-    }
-    if (allFaces) {
-      sky.color = glm::vec3(1.0f);   // the box shows as drawn
-    } else {
-      sky.faces.fill(kNoId);
-      if (scene.sky.surfaceLight > 0.0f) {
-        // q3map2 lit the map through the sky surfaces as area lights of this radiance.
-        glm::vec3 hue = scene.sky.color;
-        float peak = std::max({hue.r, hue.g, hue.b});
-        hue = peak > 0.0f ? hue / peak : glm::vec3(1.0f);
-        sky.color = hue * q3::surfaceLightRadiance(scene.sky.surfaceLight) * options.lightScale;
-      }
-    }
-    renderer.setSky(sky);
-  }
+  if (options.sky) renderer.setSky(worldSkyDesc(scene, handles, options));
   return handles;
 }
 

@@ -44,6 +44,10 @@ struct WorldHandles {
 /// Does not commit(). Brush sub-model instances start at identity; movers set their transform.
 WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const UploadOptions& options = {});
 
+/// The sky uploadWorld sets (box faces, or the colour / q3map2 sky-light radiance); textures
+/// must be uploaded already (handles.textures).
+SkyDesc worldSkyDesc(const q3::WorldScene& scene, const WorldHandles& handles, const UploadOptions& options = {});
+
 /// The renderer material for one world material drawn with one lightmap (-1 = none).
 MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handles, uint32_t material, int32_t lightmap,
                           float lightScale = 1.0f);

@@ -1,0 +1,183 @@
+// Known answers for the lightmap preset's stock-look helpers: entity lighting from the light
+// grid (entity_lighting.h) and the baked stock sky (sky_cube.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include <glm/geometric.hpp>
+
+#include "port/engine_glue/entity_lighting.h"
+#include "port/engine_glue/scene.h"
+#include "port/engine_glue/sky_cube.h"
+
+namespace glue {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+TEST(EntityLighting, ColorShiftKeepsHueWhenSaturating) {
+  EXPECT_EQ(colorShiftLight({10, 20, 30}, 2), glm::vec3(40, 80, 120));
+  // 256, 128, 64 passes 255: scaled by 255/256 with integer truncation, as the engine does.
+  EXPECT_EQ(colorShiftLight({64, 32, 16}, 2), glm::vec3(255, 127, 63));
+  EXPECT_EQ(colorShiftLight({0, 0, 0}, 2), glm::vec3(0));
+}
+
+q3::WorldLightGrid twoPointGrid() {
+  q3::WorldLightGrid grid;
+  grid.origin = {0, 0, 0};
+  grid.cellSize = {64, 64, 128};
+  grid.counts = {2, 1, 1};
+  // Longitude 0 -> direction (0, 0, 1) whatever the latitude.
+  grid.samples = {{10, 10, 10, 20, 20, 20, 0, 0}, {30, 30, 30, 40, 40, 40, 0, 0}};
+  return grid;
+}
+
+TEST(EntityLighting, GridIsShiftedInterpolatedAndScaled) {
+  EntityLight light;
+  ASSERT_TRUE(lightGridAt(twoPointGrid(), {16, 0, 0}, light));
+  // x = 16 of 64: weights 0.75 / 0.25 of the shifted samples (40, 120 ambient; 80, 160 directed).
+  EXPECT_NEAR(light.ambient.r, (0.75f * 40 + 0.25f * 120) * 0.6f, 1e-3f);
+  EXPECT_NEAR(light.directed.g, 0.75f * 80 + 0.25f * 160, 1e-3f);
+  EXPECT_NEAR(light.direction.z, 1.0f, 1e-5f);
+}
+
+TEST(EntityLighting, SamplesInWallsAreSkippedAndWeightsRenormalised) {
+  q3::WorldLightGrid grid = twoPointGrid();
+  grid.samples[1] = {0, 0, 0, 90, 90, 90, 0, 0};   // no ambient: inside a wall
+  EntityLight light;
+  ASSERT_TRUE(lightGridAt(grid, {32, 0, 0}, light));
+  EXPECT_NEAR(light.ambient.r, 40 * 0.6f, 1e-3f);
+  EXPECT_NEAR(light.directed.r, 80, 1e-3f);
+}
+
+TEST(EntityLighting, EmptyGridIsRefused) {
+  EntityLight light;
+  EXPECT_FALSE(lightGridAt(q3::WorldLightGrid{}, {0, 0, 0}, light));
+  q3::WorldLightGrid truncated = twoPointGrid();
+  truncated.samples.pop_back();
+  EXPECT_FALSE(lightGridAt(truncated, {0, 0, 0}, light));
+}
+
+TEST(EntityLighting, MinimumLightDynamicLightsAndClamp) {
+  EntityLight light;
+  light.ambient = {100, 240, 0};
+  light.directed = {50, 50, 50};
+  light.direction = {0, 0, 1};
+  DynamicLight red;
+  red.origin = {32, 0, 0};
+  red.radius = 100;
+  red.color = {1, 0, 0};
+  const DynamicLight lights[] = {red};
+  const EntityLight lit = finishEntityLight(light, {0, 0, 0}, lights);
+  EXPECT_EQ(lit.ambient, glm::vec3(132, 255, 32));
+  const float power = 16.0f * 100 * 100 / (32 * 32);
+  EXPECT_NEAR(lit.directed.r, 50 + power, 1e-2f);
+  EXPECT_NEAR(lit.directed.g, 50, 1e-4f);
+  // The direction turns towards the light: (power, 0, |directed|) normalised.
+  const glm::vec3 expected = glm::normalize(glm::vec3(power, 0, std::sqrt(3.0f) * 50));
+  EXPECT_NEAR(lit.direction.x, expected.x, 1e-4f);
+  EXPECT_NEAR(lit.direction.z, expected.z, 1e-4f);
+}
+
+TEST(EntityLighting, VertexLightIsAmbientPlusLambertClampedPerChannel) {
+  EntityLight light;
+  light.ambient = {40, 100, 200};
+  light.directed = {100, 100, 100};
+  light.direction = {0, 0, 1};
+  EXPECT_EQ(diffuseVertexLight(light, {0, 0, -1}), glm::vec3(40, 100, 200));
+  EXPECT_EQ(diffuseVertexLight(light, {0, 0, 1}), glm::vec3(140, 200, 255));
+  EXPECT_EQ(diffuseVertexLight(light, glm::normalize(glm::vec3(1, 0, 1))), glm::vec3(110, 170, 255));
+  const EntityLight none = noWorldLight();
+  EXPECT_EQ(none.ambient, glm::vec3(150));
+  EXPECT_NEAR(glm::length(none.direction), 1.0f, 1e-6f);
+}
+
+TEST(SkyCube, CloudCoordinatesOfTheZenithAndTheHorizon) {
+  const glm::vec2 up = cloudTexCoords({0, 0, 1}, 1024);
+  EXPECT_NEAR(up.x, kPi / 2, 1e-5f);
+  EXPECT_NEAR(up.y, kPi / 2, 1e-5f);
+  // Horizontal ray: meets the dome at distance sqrt(2Rh + h^2), height R above its centre.
+  const float r = 4096, h = 1024;
+  const float p = std::sqrt(2 * r * h + h * h);
+  const glm::vec2 east = cloudTexCoords({1, 0, 0}, h);
+  EXPECT_NEAR(east.x, std::acos(p / (r + h)), 1e-4f);
+  EXPECT_NEAR(east.y, kPi / 2, 1e-5f);
+  // The length of the direction does not matter; cloud height 0 means 512.
+  EXPECT_NEAR(cloudTexCoords({3, 0, 0}, h).x, east.x, 1e-5f);
+  EXPECT_NEAR(cloudTexCoords({1, 0, 0}, 0).x, cloudTexCoords({1, 0, 0}, 512).x, 1e-6f);
+}
+
+TEST(SkyCube, FaceDirectionsFollowTheTracerConvention) {
+  const glm::vec3 centre = skyCubeDirection(0, 1, 1, 3);
+  EXPECT_EQ(centre, glm::vec3(1, 0, 0));
+  // Face +X: image right is -Y, image top is +Z.
+  EXPECT_LT(skyCubeDirection(0, 2, 1, 3).y, 0.0f);
+  EXPECT_GT(skyCubeDirection(0, 1, 0, 3).z, 0.0f);
+  EXPECT_EQ(skyCubeDirection(4, 1, 1, 3), glm::vec3(0, 0, 1));
+}
+
+std::shared_ptr<const Image> solid(uint8_t r, uint8_t g, uint8_t b) {
+  auto image = std::make_shared<Image>();
+  image->width = image->height = 4;
+  for (int i = 0; i < 16; ++i) image->rgba.insert(image->rgba.end(), {r, g, b, 255});
+  return image;
+}
+
+glm::ivec3 texel(const SkyCube& cube, int face, int x, int y) {
+  const uint8_t* p = &cube.faces[size_t(face)][(size_t(y) * cube.size + x) * 4];
+  return {p[0], p[1], p[2]};
+}
+
+TEST(SkyCube, FarBoxImagesLandOnTheStockSides) {
+  // Stock draws rt on +X, lf on -X, bk on +Y, ft on -Y, up on +Z, dn on -Z.
+  std::map<std::string, std::shared_ptr<const Image>> files = {
+      {"env/box_rt", solid(10, 0, 0)}, {"env/box_bk", solid(20, 0, 0)}, {"env/box_lf", solid(30, 0, 0)},
+      {"env/box_ft", solid(40, 0, 0)}, {"env/box_up", solid(50, 0, 0)}, {"env/box_dn", solid(60, 0, 0)}};
+  q3::ShaderDef shader;
+  shader.sky = q3::SkyParms{"env/box", 512, ""};
+  SkyBaker baker;
+  ASSERT_TRUE(baker.prepare(shader, [&](const std::string& path) { return files[path]; }, 8));
+  EXPECT_FALSE(baker.animated());
+  SkyCube cube;
+  baker.bake(0.0, cube);
+  ASSERT_EQ(cube.size, 8);
+  const int expected[6] = {10, 30, 20, 40, 50, 60};
+  for (int face = 0; face < 6; ++face) EXPECT_EQ(texel(cube, face, 4, 4).x, expected[face]) << "face " << face;
+}
+
+TEST(SkyCube, CloudStagesBlendOverTheBoxExceptBelow) {
+  q3::ShaderDef shader;
+  shader.sky = q3::SkyParms{"", 512, ""};
+  q3::ShaderStage add;
+  add.textures = {"clouds_add"};
+  add.hasBlend = true;
+  add.srcBlend = add.dstBlend = q3::BlendFactor::One;
+  q3::ShaderStage filter = add;
+  filter.textures = {"clouds_filter"};
+  filter.srcBlend = q3::BlendFactor::DstColor;
+  filter.dstBlend = q3::BlendFactor::Zero;
+  filter.tcMods.push_back(q3::TcMod{});   // scroll 0 0: animated, same picture
+  shader.stages = {add, filter};
+  std::map<std::string, std::shared_ptr<const Image>> files = {{"clouds_add", solid(200, 100, 50)},
+                                                               {"clouds_filter", solid(128, 255, 0)}};
+  SkyBaker baker;
+  ASSERT_TRUE(baker.prepare(shader, [&](const std::string& path) { return files[path]; }, 4));
+  EXPECT_TRUE(baker.animated());
+  SkyCube cube;
+  baker.bake(3.0, cube);
+  // (0 + add) * filter: 200 * 128 / 255 = 100.4, 100 * 1, 50 * 0.
+  EXPECT_EQ(texel(cube, 4, 1, 1), glm::ivec3(100, 100, 0));
+  EXPECT_EQ(texel(cube, 0, 2, 3), glm::ivec3(100, 100, 0));
+  EXPECT_EQ(texel(cube, 5, 1, 1), glm::ivec3(0, 0, 0));   // no clouds on the bottom face
+}
+
+TEST(SkyCube, NothingToBakeWithoutBoxOrStages) {
+  q3::ShaderDef shader;
+  shader.sky = q3::SkyParms{"env/missing", 512, ""};
+  SkyBaker baker;
+  EXPECT_FALSE(baker.prepare(shader, [](const std::string&) { return nullptr; }, 8));
+}
+
+}  // namespace
+}  // namespace glue
