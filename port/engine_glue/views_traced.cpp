@@ -16,6 +16,7 @@
 #include <glm/matrix.hpp>
 
 #include "port/engine_glue/engine.h"
+#include "port/engine_glue/dlight_overlay.h"
 #include "port/engine_glue/entity_geometry.h"
 #include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/models.h"
@@ -27,6 +28,7 @@
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/common/format_error.h"
 #include "port/q3formats/model/md3.h"
+#include "port/q3formats/shader/material.h"
 #include "port/q3formats/shader/shader_library.h"
 #include "port/q3formats/world/world_scene.h"
 #include "port/scene_bridge/scene_bridge.h"
@@ -102,7 +104,7 @@ std::shared_ptr<const Image> darkeningImage(const std::shared_ptr<const Image>& 
 }
 
 /// Where the stock renderer takes a model surface's colour from (its stage's rgbGen).
-enum class ModelColorSource : uint8_t { EntityLight, White, Entity, OneMinusEntity, Const };
+enum class ModelColorSource : uint8_t { EntityLight, White, Entity, OneMinusEntity };
 
 ModelColorSource modelColorSource(const ShaderEntry& entry) {
   const ShaderLook& look = entry.look;
@@ -111,8 +113,8 @@ ModelColorSource modelColorSource(const ShaderEntry& entry) {
     case q3::RgbGen::LightingDiffuse: return ModelColorSource::EntityLight;
     case q3::RgbGen::Entity: return ModelColorSource::Entity;
     case q3::RgbGen::OneMinusEntity: return ModelColorSource::OneMinusEntity;
-    case q3::RgbGen::Const: return ModelColorSource::Const;
-    default: return ModelColorSource::White;   // identity / identityLighting (1 without overbright)
+    default: return ModelColorSource::White;   // identity / identityLighting (1 without overbright);
+                                               // const colours are the material's base colour
   }
 }
 
@@ -122,7 +124,7 @@ float byteToLinear(float byte) {
 }
 
 /// Lightmap preset: each vertex of an MD3 batch gets the colour the stock renderer gives it
-/// (grid light per vertex normal, entity colour, constant or white). Stock multiplies texture
+/// (grid light per vertex normal, entity colour or white). Stock multiplies texture
 /// and colour bytes in gamma space; the tracer multiplies linear values, so the bytes are
 /// linearised (lin(a) * lin(b) ~ lin(a * b)).
 void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld,
@@ -131,7 +133,6 @@ void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld
   std::vector<bool> done(batch.positions.size(), false);
   for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
     const ModelColorSource source = modelColorSource(shaders.resolve(batch.triangleShaders[t]));
-    const ShaderLook& look = shaders.resolve(batch.triangleShaders[t]).look;
     for (size_t corner = 0; corner < 3; ++corner) {
       const uint32_t v = batch.indices[t * 3 + corner];
       if (v >= batch.positions.size() || done[v]) continue;
@@ -151,9 +152,6 @@ void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld
         case ModelColorSource::OneMinusEntity:
           bytes = glm::vec3(255 - e.shaderRGBA[0], 255 - e.shaderRGBA[1], 255 - e.shaderRGBA[2]);
           break;
-        case ModelColorSource::Const:
-          bytes = glm::vec3(look.constColor[0], look.constColor[1], look.constColor[2]) * 255.0f;
-          break;
         case ModelColorSource::White:
           break;
       }
@@ -161,6 +159,37 @@ void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld
                                   batch.colors[v].a);
     }
   }
+}
+
+/// World surfaces whose shader has no lightmap stage and no vertex-colour stage are drawn by
+/// opengl1 at full texture brightness (rgbGen identityLighting), whatever q3map2 baked into
+/// their vertex colours: whiten those colours (the lightmap preset multiplies them in; the
+/// traced presets ignore vertex colours of vertex-lit surfaces). Also records the colour of each
+/// material's glow stage (rgbGen const of the first additive stage), which the stock look adds.
+void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
+                    std::unordered_map<uint32_t, glm::vec3>& glowColors) {
+  std::vector<bool> unlit(scene.materials.size(), false);
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const q3::WorldMaterial& m = scene.materials[i];
+    const q3::ShaderDef* def = m.fromScript ? library.find(m.shaderName) : nullptr;
+    if (def == nullptr) continue;
+    unlit[i] = q3::deriveMaterial(*def).lighting == q3::LightingMode::Unlit;
+    for (size_t s = 1; s < def->stages.size(); ++s) {
+      const q3::ShaderStage& stage = def->stages[s];
+      if (stage.source != q3::TextureSource::Image || !stage.blends() || stage.dstBlend != q3::BlendFactor::One ||
+          stage.tcGen == q3::TcGen::Environment)
+        continue;
+      if (stage.rgbGen == q3::RgbGen::Const)
+        glowColors[uint32_t(i)] = glm::vec3(byteToLinear(stage.constColor[0] * 255.0f),
+                                            byteToLinear(stage.constColor[1] * 255.0f),
+                                            byteToLinear(stage.constColor[2] * 255.0f));
+      break;
+    }
+  }
+  for (q3::WorldModel& model : scene.models)
+    for (q3::WorldMesh& mesh : model.meshes)
+      if (mesh.material < unlit.size() && unlit[mesh.material])
+        for (glm::vec4& color : mesh.colors) color = glm::vec4(1.0f, 1.0f, 1.0f, color.a);
 }
 
 /// The engine dlclose()s the module on vid_restart and at exit. The tracer's thread pool (oneTBB)
@@ -199,9 +228,16 @@ struct ViewRenderer::Impl {
   pa::SkyDesc stockSky;                ///< The stock look (far box + clouds) for the lightmap preset.
   bool stockSkyReady = false;
   bool stockSkyShown = false;
+  bool stockEmissionShown = false;     ///< World surface lights drawn the stock way.
+  std::unordered_map<uint32_t, glm::vec3> glowColors;   ///< World material -> glow stage colour (linear).
   SkyBaker skyBaker;
   SkyCube skyCube;
   double skyBakedAt = 0.0;
+  DlightOverlayBuilder dlightBuilder;  ///< The world's triangles for the stock dynamic-light pass.
+  DlightOverlay dlightOverlay;
+  DynamicSlot dlightSlot;
+  std::unordered_map<uint32_t, pa::MaterialId> dlightMaterials;   ///< Per world material.
+  std::vector<pa::MaterialId> dlightTriangleMaterials;
 
   void resetRenderer() {
     renderer = std::make_unique<pa::Renderer>(pa::RendererConfig{static_cast<uint32_t>(threads)});
@@ -216,7 +252,87 @@ struct ViewRenderer::Impl {
     headlight = pa::kNoId;
     defaultMaterial = renderer->addMaterial(pa::MaterialDesc{});
     bridgeSky = stockSky = pa::SkyDesc{};
-    stockSkyReady = stockSkyShown = false;
+    dlightBuilder = DlightOverlayBuilder{};
+    dlightSlot = DynamicSlot{};
+    dlightMaterials.clear();
+    glowColors.clear();
+    stockSkyReady = stockSkyShown = stockEmissionShown = false;
+  }
+
+  /// The additive twin of a world material that carries the stock dynamic-light pass.
+  pa::MaterialId dlightMaterial(uint32_t worldMaterial) {
+    if (const auto found = dlightMaterials.find(worldMaterial); found != dlightMaterials.end()) return found->second;
+    pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, worldMaterial, -1);
+    desc.alphaMode = pa::AlphaMode::Additive;
+    desc.useVertexLight = false;   // the vertex colour is what the pass adds
+    desc.lightmapTexture = pa::kNoId;
+    desc.emissiveTexture = pa::kNoId;
+    desc.emission = glm::vec3(0.0f);
+    desc.mirror = false;
+    desc.specular = 0.0f;
+    desc.castsShadows = false;
+    desc.twoSided = true;
+    desc.visible = true;
+    const pa::MaterialId id = renderer->addMaterial(desc);
+    dlightMaterials.emplace(worldMaterial, id);
+    return id;
+  }
+
+  /// Lightmap preset: the world brightened by dynamic lights the stock way (dlight_overlay.h),
+  /// seen by camera rays only. Hidden in the traced presets, which light with real lights.
+  void drawStockDlights(std::span<const DynamicLight> lights, bool show) {
+    dlightOverlay.clear();
+    if (show && worldScene) dlightBuilder.build(lights, dlightOverlay);
+    if (dlightOverlay.indices.empty()) {
+      if (dlightSlot.visible && dlightSlot.instance != pa::kNoId) {
+        pa::InstanceDesc hidden;
+        hidden.mesh = dlightSlot.mesh;
+        hidden.mask = 0;
+        renderer->setInstance(dlightSlot.instance, hidden);
+        dlightSlot.visible = false;
+      }
+      return;
+    }
+    dlightTriangleMaterials.resize(dlightOverlay.triangleMaterials.size());
+    for (size_t t = 0; t < dlightOverlay.triangleMaterials.size(); ++t)
+      dlightTriangleMaterials[t] = dlightMaterial(dlightOverlay.triangleMaterials[t]);
+    pa::MeshDesc mesh;
+    mesh.positions = dlightOverlay.positions;
+    mesh.indices = dlightOverlay.indices;
+    mesh.normals = dlightOverlay.normals;
+    mesh.uvs = dlightOverlay.uvs;
+    mesh.colors = dlightOverlay.colors;
+    mesh.materials = dlightTriangleMaterials;
+    mesh.dynamic = true;
+    if (dlightSlot.mesh == pa::kNoId) dlightSlot.mesh = renderer->addMesh(mesh);
+    else renderer->updateMesh(dlightSlot.mesh, mesh);
+    pa::InstanceDesc instance;
+    instance.mesh = dlightSlot.mesh;
+    instance.mask = pa::kMaskCamera;
+    if (dlightSlot.instance == pa::kNoId) dlightSlot.instance = renderer->addInstance(instance);
+    else renderer->setInstance(dlightSlot.instance, instance);
+    dlightSlot.visible = true;
+  }
+
+  /// The stock renderer shows a q3map_surfacelight surface through its stages only (its light
+  /// is baked in the lightmaps): in the lightmap preset such surfaces glow only through their
+  /// additive glow stage, at the texture's own brightness. The traced presets keep the
+  /// bridge's emitters.
+  void selectWorldEmission(bool stockLook) {
+    if (stockLook == stockEmissionShown || !worldScene) return;
+    for (const auto& [key, id] : world.materials) {
+      const q3::WorldMaterial& m = worldScene->materials.at(key.first);
+      if (!(m.surfaceLight > 0.0f) || m.alphaMode == q3::WorldAlphaMode::Additive) continue;
+      pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, key.first, key.second);
+      if (stockLook) {
+        const bool glows = m.emissiveTexture >= 0 && size_t(m.emissiveTexture) < world.textures.size();
+        desc.emissiveTexture = glows ? world.textures[size_t(m.emissiveTexture)] : pa::kNoId;
+        const auto colour = glowColors.find(key.first);
+        desc.emission = glows ? (colour != glowColors.end() ? colour->second : glm::vec3(1.0f)) : glm::vec3(0.0f);
+      }
+      renderer->setMaterial(id, desc);
+    }
+    stockEmissionShown = stockLook;
   }
 
   /// Bakes the map's sky shader as opengl1 draws it (far box under scrolling cloud layers)
@@ -302,6 +418,11 @@ struct ViewRenderer::Impl {
         desc.alphaCutoff = look.alphaTest == AlphaTest::Gt0 ? 1.0f / 255.0f : 0.5f;
         desc.alphaInvert = look.alphaTest == AlphaTest::Lt128;
       }
+    }
+    if (look.rgbGen == q3::RgbGen::Const) {
+      // rgbGen const: the stage's colour, whatever the blend (orange muzzle flashes).
+      desc.baseColor = glm::vec4(byteToLinear(look.constColor[0] * 255.0f), byteToLinear(look.constColor[1] * 255.0f),
+                                 byteToLinear(look.constColor[2] * 255.0f), 1.0f);
     }
     if (entry.isDefault) desc.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
     const pa::MaterialId id = renderer->addMaterial(desc);
@@ -419,9 +540,11 @@ void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>& bsp
   d.worldScene = q3::buildWorldScene(bsp, library, loader);
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
+  stockWorldLook(*d.worldScene, library, d.glowColors);
   d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer);
   d.bridgeSky = pa::bridge::worldSkyDesc(*d.worldScene, d.world);
   d.prepareStockSky(library, images);
+  d.dlightBuilder.prepare(*d.worldScene);
   d.brushInstances.assign(d.world.modelInstances.size(), pa::InstanceDesc{});
   for (size_t m = 0; m < d.world.modelInstances.size(); ++m) {
     d.brushInstances[m].mesh = m < d.world.modelMeshes.size() ? d.world.modelMeshes[m] : pa::kNoId;
@@ -549,7 +672,11 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     off.intensity = 0.0f;
     d.setLight(i, off, false);
   }
-  if (withWorld) d.selectSky(lightmapLook, view.time * 0.001);
+  if (withWorld) {
+    d.selectSky(lightmapLook, view.time * 0.001);
+    d.selectWorldEmission(lightmapLook);
+  }
+  d.drawStockDlights(scene.lights(), withWorld && lightmapLook);
   d.renderer->commit();
 
   pa::RenderSettings rs;

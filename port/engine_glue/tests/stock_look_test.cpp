@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "port/engine_glue/dlight_overlay.h"
 #include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/scene.h"
 #include "port/engine_glue/sky_cube.h"
@@ -177,6 +178,73 @@ TEST(SkyCube, NothingToBakeWithoutBoxOrStages) {
   shader.sky = q3::SkyParms{"env/missing", 512, ""};
   SkyBaker baker;
   EXPECT_FALSE(baker.prepare(shader, [](const std::string&) { return nullptr; }, 8));
+}
+
+TEST(DlightOverlay, BlobIsFullInTheMiddleAndZeroAtTheRim) {
+  EXPECT_FLOAT_EQ(stockDlightBlob({0.5f, 0.5f}), 1.0f);
+  EXPECT_FLOAT_EQ(stockDlightBlob({0.0f, 0.0f}), 0.0f);
+  EXPECT_FLOAT_EQ(stockDlightBlob({1.0f, 0.5f}), 0.0f);
+  EXPECT_GT(stockDlightBlob({0.75f, 0.5f}), 0.3f);   // 4 texels out: 4000 / 12.25 -> 255
+}
+
+TEST(DlightOverlay, LightIsModulatedByHeightAndOnlyLightsTheFront) {
+  DynamicLight light;
+  light.origin = {0, 0, 100};
+  light.radius = 300;
+  light.color = {1, 1, 0};
+  const glm::vec3 up(0, 0, 1);
+  EXPECT_EQ(stockDlightAt(light, {0, 0, 0}, up), glm::vec3(1, 1, 0));
+  EXPECT_EQ(stockDlightAt(light, {0, 0, 0}, -up), glm::vec3(0));        // behind the surface
+  // 225 below the light: modulate 2 * (300 - 225) / 300 = 0.5 (bytes truncated).
+  EXPECT_NEAR(stockDlightAt(light, {0, 0, -125}, up).r, 127.0f / 255.0f, 1e-6f);
+  EXPECT_EQ(stockDlightAt(light, {0, 0, -250}, up), glm::vec3(0));      // out of reach in height
+}
+
+q3::WorldScene floorScene() {
+  q3::WorldScene scene;
+  q3::WorldMaterial material;
+  material.shaderName = "textures/test/floor";
+  scene.materials.push_back(material);
+  q3::WorldImage lightmap{2, 2, std::vector<uint8_t>(16, 32)};   // stored 32 -> 128 after the shift
+  scene.lightmaps.push_back(lightmap);
+  q3::WorldMesh mesh;
+  mesh.lightmap = 0;
+  mesh.positions = {{-32, -32, 0}, {32, -32, 0}, {32, 32, 0}, {-32, 32, 0}};
+  mesh.normals.assign(4, {0, 0, 1});
+  mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  mesh.lightmapUvs = mesh.uvs;
+  mesh.colors.assign(4, glm::vec4(1.0f));
+  mesh.indices = {0, 1, 2, 0, 2, 3};
+  scene.models.resize(1);
+  scene.models[0].meshes.push_back(mesh);
+  return scene;
+}
+
+TEST(DlightOverlay, LitTrianglesAreCopiedAboveTheSurfaceWithWhatTheBlendAdds) {
+  DlightOverlayBuilder builder;
+  builder.prepare(floorScene());
+  ASSERT_EQ(builder.triangles(), 2u);
+  DynamicLight light;
+  light.origin = {0, 0, 40};
+  light.radius = 400;
+  light.color = {1, 0, 0};
+  DlightOverlay overlay;
+  builder.build(std::span<const DynamicLight>(&light, 1), overlay);
+  ASSERT_FALSE(overlay.indices.empty());
+  EXPECT_EQ(overlay.indices.size() / 3, overlay.triangleMaterials.size());
+  for (const glm::vec3& p : overlay.positions) EXPECT_GT(p.z, 0.0f);
+  // Every vertex is within 2 blob texels of the centre: full red. Baked 128 (linear 0.216) times
+  // (1 + 1)^2.2 - 1; no green or blue added.
+  const float expected = 0.2158605f * (std::pow(2.0f, 2.2f) - 1.0f);
+  for (const glm::vec4& c : overlay.colors) {
+    EXPECT_NEAR(c.r, expected, 1e-3f);
+    EXPECT_EQ(c.g, 0.0f);
+  }
+  DynamicLight far = light;
+  far.origin = {5000, 0, 40};
+  overlay.clear();
+  builder.build(std::span<const DynamicLight>(&far, 1), overlay);
+  EXPECT_TRUE(overlay.indices.empty());
 }
 
 }  // namespace
