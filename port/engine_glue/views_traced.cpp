@@ -47,8 +47,42 @@ struct DynamicSlot {
   bool visible = false;
 };
 
-/// Kinds of materials made from one shader.
-enum class MaterialUse : uint8_t { Model, Effect };
+/// Kinds of materials made from one shader. StockEffect: an effect in the lightmap preset, where
+/// alpha-blended effects (smoke puffs) are drawn as premultiplied additive layers: the tracer
+/// blends stochastically (one sample per pixel would speckle), and over the dark scenes behind
+/// smoke, src * a + dst * (1 - a) is close to src * a + dst.
+enum class MaterialUse : uint8_t { Model, Effect, StockEffect };
+
+/// True for the stock alpha blend (GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA).
+bool isAlphaBlend(const BlendFunc& blend) {
+  return blend.src == 0x0302 /*GL_SRC_ALPHA*/ && blend.dst == 0x0303 /*GL_ONE_MINUS_SRC_ALPHA*/;
+}
+
+/// RGBA with the colour multiplied by alpha (alpha kept).
+std::shared_ptr<const Image> premultipliedImage(const std::shared_ptr<const Image>& image) {
+  if (!image) return nullptr;
+  auto out = std::make_shared<Image>(*image);
+  for (size_t i = 0; i + 3 < out->rgba.size(); i += 4)
+    for (size_t c = 0; c < 3; ++c) out->rgba[i + c] = static_cast<uint8_t>((out->rgba[i + c] * out->rgba[i + 3] + 127) / 255);
+  return out;
+}
+
+/// Lightmap preset: vertex colours of alpha-blended effect triangles premultiplied by their
+/// alpha, to go with MaterialUse::StockEffect.
+void premultiplyBlendedEffects(ShaderRegistry& shaders, GeometryBatch& batch) {
+  std::vector<bool> done(batch.colors.size(), false);
+  for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
+    const ShaderLook& look = shaders.resolve(batch.triangleShaders[t]).look;
+    if (!look.fromScript || !isAlphaBlend(look.blend)) continue;
+    for (size_t corner = 0; corner < 3; ++corner) {
+      const uint32_t v = batch.indices[t * 3 + corner];
+      if (v >= batch.colors.size() || done[v]) continue;
+      done[v] = true;
+      glm::vec4& c = batch.colors[v];
+      c = glm::vec4(glm::vec3(c) * c.a, c.a);
+    }
+  }
+}
 
 glm::mat4x3 entityTransform(const q3abi::refEntity_t& e) {
   glm::mat4x3 m(1.0f);
@@ -400,7 +434,11 @@ struct ViewRenderer::Impl {
       if (dst == 1 /*GL_ONE*/) {
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.castsShadows = false;
-      } else if (src == 0x0302 /*GL_SRC_ALPHA*/ && dst == 0x0303 /*GL_ONE_MINUS_SRC_ALPHA*/) {
+      } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
+        desc.baseTexture = texture(premultipliedImage(entry.frames.empty() ? nullptr : entry.frames[0]));
+        desc.alphaMode = pa::AlphaMode::Additive;
+        desc.castsShadows = false;
+      } else if (isAlphaBlend(look.blend)) {
         desc.alphaMode = pa::AlphaMode::Blend;
         desc.castsShadows = false;
       } else if (const auto darken = filterAsDarkening(look.blend); darken != Darkening::None) {
@@ -644,8 +682,11 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   for (const q3abi::refEntity_t& e : scene.entities())
     if (e.reType != q3abi::RT_MODEL) appendEffect(e, viewer, d.batch);
   appendPolys(scene.polys(), scene.polyVerts(), d.batch);
-  if (!d.batch.indices.empty())
-    d.fillSlot(slot++, shaders, MaterialUse::Effect, glm::mat4x3(1.0f), pa::kMaskAll, false);
+  if (!d.batch.indices.empty()) {
+    if (lightmapLook) premultiplyBlendedEffects(shaders, d.batch);
+    d.fillSlot(slot++, shaders, lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect, glm::mat4x3(1.0f),
+               pa::kMaskAll, false);
+  }
   d.hideSlotsFrom(slot);
 
   // Dynamic lights (radius = reach, linear falloff as in Quake); a headlight for model views.
