@@ -33,6 +33,7 @@ ShaderLook lookOfShader(const q3::ShaderDef& shader) {
   look.nodraw = shader.has(q3::SurfaceParm::NoDraw);
   look.translucent = shader.has(q3::SurfaceParm::Trans);
   look.surfaceLight = shader.surfaceLight;
+  for (const q3::Deform& deform : shader.deforms) look.autosprite = look.autosprite || deform.kind == q3::DeformKind::AutoSprite;
   for (const q3::ShaderStage& stage : shader.stages) {
     if (stage.source == q3::TextureSource::Lightmap) continue;
     if (stage.source == q3::TextureSource::Image) look.images = stage.textures;

@@ -40,6 +40,7 @@ struct ShaderLook {
   std::array<float, 3> constColor{1, 1, 1};  ///< rgbGen const.
   q3::AlphaGen alphaGen = q3::AlphaGen::Default;   ///< The stage's alphaGen as written.
   float constAlpha = 1.0f;                   ///< alphaGen const.
+  bool autosprite = false;           ///< deformVertexes autosprite: quads face the viewer.
   bool sky = false;                  ///< surfaceparm sky.
   bool nodraw = false;               ///< surfaceparm nodraw or no drawable stage.
   bool translucent = false;          ///< surfaceparm trans.

@@ -652,7 +652,9 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
       surfaceShaders.push_back(shader);
     }
     d.batch.clear();
-    appendMd3(*md3, e, surfaceShaders, d.batch);
+    std::vector<bool> autosprite(surfaceShaders.size());
+    for (size_t s = 0; s < surfaceShaders.size(); ++s) autosprite[s] = shaders.resolve(surfaceShaders[s]).look.autosprite;
+    appendMd3(*md3, e, surfaceShaders, d.batch, autosprite, spriteAxesFor(e, viewer));
     if (d.batch.indices.empty()) continue;
     if (lightmapLook) {
       const float* at = (e.renderfx & q3abi::RF_LIGHTING_ORIGIN) ? e.lightingOrigin : e.origin;
