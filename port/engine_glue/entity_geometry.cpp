@@ -48,6 +48,7 @@ void GeometryBatch::clear() {
   colors.clear();
   indices.clear();
   triangleShaders.clear();
+  triangleLayers.clear();
 }
 
 void GeometryBatch::addQuad(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,

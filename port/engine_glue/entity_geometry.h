@@ -28,6 +28,7 @@ struct GeometryBatch {
   std::vector<glm::vec4> colors;       ///< Linear RGBA multipliers.
   std::vector<uint32_t> indices;
   std::vector<q3abi::qhandle_t> triangleShaders;
+  std::vector<uint32_t> triangleLayers;   ///< Shader layer per triangle (0 = first stage); may be empty.
 
   /// Forgets everything (keeps capacity).
   void clear();

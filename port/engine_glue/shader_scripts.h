@@ -46,9 +46,13 @@ struct ShaderLook {
   bool translucent = false;          ///< surfaceparm trans.
   float surfaceLight = 0.0f;         ///< q3map_surfacelight (emission, for the path tracer).
   bool fromScript = false;
+  /// When the first stage is additive: the shader's later additive image stages, each a look
+  /// of its own (multi-layer glows such as muzzle flashes).
+  std::vector<ShaderLook> layers;
 };
 
-/// The drawable summary of a parsed shader: its first stage that is not the lightmap.
+/// The drawable summary of a parsed shader: its first stage that is not the lightmap (plus the
+/// later additive stages of an additive shader, as layers).
 ShaderLook lookOfShader(const q3::ShaderDef& shader);
 
 /// The index of every shader script in the game file system.

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <map>
 #include <optional>
+#include <tuple>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -226,6 +227,21 @@ void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
         for (glm::vec4& color : mesh.colors) color = glm::vec4(1.0f, 1.0f, 1.0f, color.a);
 }
 
+/// Repeats the triangles of shaders that have extra additive layers once per layer
+/// (batch.triangleLayers tells which layer each triangle draws).
+void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch) {
+  const size_t count = batch.triangles();
+  batch.triangleLayers.assign(count, 0);
+  for (size_t t = 0; t < count; ++t) {
+    const size_t layers = shaders.resolve(batch.triangleShaders[t]).look.layers.size();
+    for (size_t layer = 1; layer <= layers; ++layer) {
+      batch.indices.insert(batch.indices.end(), {batch.indices[t * 3], batch.indices[t * 3 + 1], batch.indices[t * 3 + 2]});
+      batch.triangleShaders.push_back(batch.triangleShaders[t]);
+      batch.triangleLayers.push_back(static_cast<uint32_t>(layer));
+    }
+  }
+}
+
 /// The engine dlclose()s the module on vid_restart and at exit. The tracer's thread pool (oneTBB)
 /// keeps worker threads alive for the whole process; if libtbb were unloaded with the module,
 /// those threads would run unmapped code. Mark the already loaded libtbb "never unload".
@@ -247,7 +263,8 @@ struct ViewRenderer::Impl {
   std::optional<q3::WorldScene> worldScene;
   pa::bridge::WorldHandles world;
   std::vector<pa::InstanceDesc> brushInstances;       ///< Current description per world model.
-  std::map<std::pair<std::string, MaterialUse>, pa::MaterialId> materials;
+  /// (shader name, use, layer, animation frame) -> renderer material.
+  std::map<std::tuple<std::string, MaterialUse, uint32_t, uint32_t>, pa::MaterialId> materials;
   std::unordered_map<const Image*, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
   std::vector<DynamicSlot> slots;
   std::vector<pa::LightId> lights;
@@ -420,14 +437,25 @@ struct ViewRenderer::Impl {
   }
 
   /// The renderer material of a shader handle (resolving RemapShader).
-  pa::MaterialId material(ShaderRegistry& shaders, q3abi::qhandle_t handle, MaterialUse use) {
+  /// `layer` 0 is the shader's first stage, k > 0 its look.layers[k - 1]; animMap stages show
+  /// the frame of shader time `seconds`.
+  pa::MaterialId material(ShaderRegistry& shaders, q3abi::qhandle_t handle, MaterialUse use, uint32_t layer,
+                          double seconds) {
     const ShaderEntry& entry = shaders.resolve(handle);
-    const auto key = std::make_pair(entry.name, use);
+    if (layer > entry.look.layers.size() || layer > entry.layerFrames.size()) layer = 0;
+    const ShaderLook& look = layer == 0 ? entry.look : entry.look.layers[layer - 1];
+    const auto& frames = layer == 0 ? entry.frames : entry.layerFrames[layer - 1];
+    uint32_t frameIndex = 0;
+    if (frames.size() > 1 && look.animFrequency > 0.0f && std::isfinite(seconds)) {
+      const double step = std::floor(std::max(seconds, 0.0) * look.animFrequency);
+      frameIndex = static_cast<uint32_t>(std::fmod(step, double(frames.size())));
+    }
+    const std::shared_ptr<const Image> image = frames.empty() ? nullptr : frames[frameIndex];
+    const auto key = std::make_tuple(entry.name, use, layer, frameIndex);
     if (const auto found = materials.find(key); found != materials.end()) return found->second;
     pa::MaterialDesc desc;
-    desc.baseTexture = texture(entry.frames.empty() ? nullptr : entry.frames[0]);
+    desc.baseTexture = texture(image);
     desc.useVertexLight = use == MaterialUse::Model;
-    const ShaderLook& look = entry.look;
     if (look.nodraw) desc.visible = false;
     if (look.fromScript) {
       const unsigned src = look.blend.src, dst = look.blend.dst;
@@ -435,7 +463,7 @@ struct ViewRenderer::Impl {
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.castsShadows = false;
       } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
-        desc.baseTexture = texture(premultipliedImage(entry.frames.empty() ? nullptr : entry.frames[0]));
+        desc.baseTexture = texture(premultipliedImage(image));
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.castsShadows = false;
       } else if (isAlphaBlend(look.blend)) {
@@ -444,7 +472,7 @@ struct ViewRenderer::Impl {
       } else if (const auto darken = filterAsDarkening(look.blend); darken != Darkening::None) {
         // Multiplicative filters (bullet marks, blob shadows) darken what is behind. The tracer
         // has no multiply mode: draw them as black with an alpha of how much they darken.
-        desc.baseTexture = texture(darkeningImage(entry.frames.empty() ? nullptr : entry.frames[0], darken));
+        desc.baseTexture = texture(darkeningImage(image, darken));
         desc.alphaMode = pa::AlphaMode::Blend;
         desc.castsShadows = false;
       } else if (look.blend.blends()) {
@@ -475,15 +503,16 @@ struct ViewRenderer::Impl {
 
   /// Puts a batch into dynamic slot `index` (creating it on first use).
   void fillSlot(size_t index, ShaderRegistry& shaders, MaterialUse use, const glm::mat4x3& transform,
-                uint32_t mask, bool onTop) {
+                uint32_t mask, bool onTop, double seconds) {
     if (slots.size() <= index) slots.resize(index + 1);
     DynamicSlot& slot = slots[index];
+    addShaderLayers(shaders, batch);
     triangleMaterials.resize(batch.triangles());
-    std::map<q3abi::qhandle_t, pa::MaterialId> local;
+    std::map<std::pair<q3abi::qhandle_t, uint32_t>, pa::MaterialId> local;
     for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
-      const q3abi::qhandle_t shader = batch.triangleShaders[t];
-      auto found = local.find(shader);
-      if (found == local.end()) found = local.emplace(shader, material(shaders, shader, use)).first;
+      const auto key = std::make_pair(batch.triangleShaders[t], t < batch.triangleLayers.size() ? batch.triangleLayers[t] : 0u);
+      auto found = local.find(key);
+      if (found == local.end()) found = local.emplace(key, material(shaders, key.first, use, key.second, seconds)).first;
       triangleMaterials[t] = found->second;
     }
     pa::MeshDesc mesh;
@@ -613,6 +642,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   camera.fovY = std::clamp(view.fov_y, 1.0f, 179.0f);
   const Viewer viewer{camera.origin, camera.left, camera.up};
   const bool lightmapLook = settings.preset == Preset::Lightmap;
+  const double seconds = view.time * 0.001;   // the stock shader time of this view
 
   // The world and its brush models: hidden in model-only views, placed by their entities.
   std::vector<bool> brushPlaced(d.world.modelInstances.size(), false);
@@ -664,7 +694,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
       light = finishEntityLight(light, lightOrigin, scene.lights());
       lightModelLikeStock(e, entityTransform(e), light, shaders, d.batch);
     }
-    d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop);
+    d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop, seconds);
   }
   for (size_t m = 0; m < brushPlaced.size(); ++m) {
     pa::InstanceDesc desc = d.brushInstances[m];
@@ -687,7 +717,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   if (!d.batch.indices.empty()) {
     if (lightmapLook) premultiplyBlendedEffects(shaders, d.batch);
     d.fillSlot(slot++, shaders, lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect, glm::mat4x3(1.0f),
-               pa::kMaskAll, false);
+               pa::kMaskAll, false, seconds);
   }
   d.hideSlotsFrom(slot);
 
@@ -716,7 +746,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     d.setLight(i, off, false);
   }
   if (withWorld) {
-    d.selectSky(lightmapLook, view.time * 0.001);
+    d.selectSky(lightmapLook, seconds);
     d.selectWorldEmission(lightmapLook);
   }
   d.drawStockDlights(scene.lights(), withWorld && lightmapLook);
