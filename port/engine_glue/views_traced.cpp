@@ -25,6 +25,7 @@
 #include "port/engine_glue/shaders.h"
 #include "port/engine_glue/sky_cube.h"
 #include "port/engine_glue/views.h"
+#include "port/engine_glue/world_sprites.h"
 #include "port/engine_glue/world.h"
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/common/format_error.h"
@@ -265,7 +266,7 @@ struct ViewRenderer::Impl {
   std::vector<pa::InstanceDesc> brushInstances;       ///< Current description per world model.
   /// (shader name, use, layer, animation frame) -> renderer material.
   std::map<std::tuple<std::string, MaterialUse, uint32_t, uint32_t>, pa::MaterialId> materials;
-  std::unordered_map<const Image*, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
+  std::map<std::pair<const Image*, bool>, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
   std::vector<DynamicSlot> slots;
   std::vector<pa::LightId> lights;
   std::vector<bool> lightOn;
@@ -281,6 +282,11 @@ struct ViewRenderer::Impl {
   bool stockSkyShown = false;
   bool stockEmissionShown = false;     ///< World surface lights drawn the stock way.
   std::unordered_map<uint32_t, glm::vec3> glowColors;   ///< World material -> glow stage colour (linear).
+  WorldSprites worldSprites;                        ///< deformVertexes autosprite world surfaces.
+  std::vector<uint32_t> spriteMaterials;            ///< Their world materials (static copy hidden).
+  std::unordered_map<std::string, q3abi::qhandle_t> spriteHandles;
+  const ShaderScripts* scripts = nullptr;           ///< The module's, while a world is loaded.
+  ImageCache* images = nullptr;
   SkyBaker skyBaker;
   SkyCube skyCube;
   double skyBakedAt = 0.0;
@@ -307,7 +313,32 @@ struct ViewRenderer::Impl {
     dlightSlot = DynamicSlot{};
     dlightMaterials.clear();
     glowColors.clear();
+    worldSprites = WorldSprites{};
+    spriteMaterials.clear();
+    spriteHandles.clear();
     stockSkyReady = stockSkyShown = stockEmissionShown = false;
+  }
+
+  /// Hides the static copies of the autosprite world surfaces (drawn per view instead).
+  void prepareWorldSprites(const q3::ShaderLibrary& library) {
+    spriteMaterials = worldSprites.prepare(*worldScene, library);
+    for (const auto& [key, id] : world.materials) {
+      if (std::find(spriteMaterials.begin(), spriteMaterials.end(), key.first) == spriteMaterials.end()) continue;
+      pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, key.first, key.second);
+      desc.visible = false;
+      desc.castsShadows = false;
+      renderer->setMaterial(id, desc);
+    }
+  }
+
+  /// The shader handle of an autosprite world shader (registered on first use; 0 if it fails).
+  q3abi::qhandle_t spriteHandle(ShaderRegistry& shaders, const std::string& name) {
+    if (const auto found = spriteHandles.find(name); found != spriteHandles.end()) return found->second;
+    q3abi::qhandle_t handle = shaders.find(name);
+    if (handle == 0 && scripts != nullptr && images != nullptr)
+      handle = shaders.registerShader(engine, *scripts, *images, name, true);
+    spriteHandles.emplace(name, handle);
+    return handle;
   }
 
   /// The additive twin of a world material that carries the stock dynamic-light pass.
@@ -374,6 +405,7 @@ struct ViewRenderer::Impl {
     for (const auto& [key, id] : world.materials) {
       const q3::WorldMaterial& m = worldScene->materials.at(key.first);
       if (!(m.surfaceLight > 0.0f) || m.alphaMode == q3::WorldAlphaMode::Additive) continue;
+      if (std::find(spriteMaterials.begin(), spriteMaterials.end(), key.first) != spriteMaterials.end()) continue;
       pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, key.first, key.second);
       if (stockLook) {
         const bool glows = m.emissiveTexture >= 0 && size_t(m.emissiveTexture) < world.textures.size();
@@ -424,15 +456,18 @@ struct ViewRenderer::Impl {
     stockSkyShown = stock;
   }
 
-  pa::TextureId texture(const std::shared_ptr<const Image>& image) {
+  /// The renderer texture of an image, repeating or clamped to its edges (clampMap).
+  pa::TextureId texture(const std::shared_ptr<const Image>& image, bool clamp = false) {
     if (!image) return pa::kNoId;
-    if (const auto found = textures.find(image.get()); found != textures.end()) return found->second.second;
+    const auto key = std::make_pair(image.get(), clamp);
+    if (const auto found = textures.find(key); found != textures.end()) return found->second.second;
     pa::TextureDesc desc;
     desc.width = static_cast<uint32_t>(image->width);
     desc.height = static_cast<uint32_t>(image->height);
     desc.rgba8 = image->rgba;
+    desc.wrap = clamp ? pa::TextureWrap::Clamp : pa::TextureWrap::Repeat;
     const pa::TextureId id = renderer->addTexture(desc);
-    textures.emplace(image.get(), std::make_pair(image, id));
+    textures.emplace(key, std::make_pair(image, id));
     return id;
   }
 
@@ -454,7 +489,7 @@ struct ViewRenderer::Impl {
     const auto key = std::make_tuple(entry.name, use, layer, frameIndex);
     if (const auto found = materials.find(key); found != materials.end()) return found->second;
     pa::MaterialDesc desc;
-    desc.baseTexture = texture(image);
+    desc.baseTexture = texture(image, look.clamp);
     desc.useVertexLight = use == MaterialUse::Model;
     if (look.nodraw) desc.visible = false;
     if (look.fromScript) {
@@ -463,7 +498,7 @@ struct ViewRenderer::Impl {
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.castsShadows = false;
       } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
-        desc.baseTexture = texture(premultipliedImage(image));
+        desc.baseTexture = texture(premultipliedImage(image), look.clamp);
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.castsShadows = false;
       } else if (isAlphaBlend(look.blend)) {
@@ -472,7 +507,7 @@ struct ViewRenderer::Impl {
       } else if (const auto darken = filterAsDarkening(look.blend); darken != Darkening::None) {
         // Multiplicative filters (bullet marks, blob shadows) darken what is behind. The tracer
         // has no multiply mode: draw them as black with an alpha of how much they darken.
-        desc.baseTexture = texture(darkeningImage(image, darken));
+        desc.baseTexture = texture(darkeningImage(image, darken), look.clamp);
         desc.alphaMode = pa::AlphaMode::Blend;
         desc.castsShadows = false;
       } else if (look.blend.blends()) {
@@ -584,7 +619,7 @@ void ViewRenderer::shadersChanged() {
 }
 
 void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>& bspBytes,
-                             const ShaderScripts&, ImageCache& images) {
+                             const ShaderScripts& moduleScripts, ImageCache& images) {
   Impl& d = *impl_;
   d.resetRenderer();
   const Engine& engine = d.engine;
@@ -612,6 +647,9 @@ void ViewRenderer::loadWorld(const World& world, const std::vector<uint8_t>& bsp
   d.bridgeSky = pa::bridge::worldSkyDesc(*d.worldScene, d.world);
   d.prepareStockSky(library, images);
   d.dlightBuilder.prepare(*d.worldScene);
+  d.scripts = &moduleScripts;
+  d.images = &images;
+  d.prepareWorldSprites(library);
   d.brushInstances.assign(d.world.modelInstances.size(), pa::InstanceDesc{});
   for (size_t m = 0; m < d.world.modelInstances.size(); ++m) {
     d.brushInstances[m].mesh = m < d.world.modelMeshes.size() ? d.world.modelMeshes[m] : pa::kNoId;
@@ -714,6 +752,9 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   for (const q3abi::refEntity_t& e : scene.entities())
     if (e.reType != q3abi::RT_MODEL) appendEffect(e, viewer, d.batch);
   appendPolys(scene.polys(), scene.polyVerts(), d.batch);
+  if (withWorld)
+    d.worldSprites.append(seconds, viewer, [&](const std::string& name) { return d.spriteHandle(shaders, name); },
+                          d.batch);
   if (!d.batch.indices.empty()) {
     if (lightmapLook) premultiplyBlendedEffects(shaders, d.batch);
     d.fillSlot(slot++, shaders, lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect, glm::mat4x3(1.0f),

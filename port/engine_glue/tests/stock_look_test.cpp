@@ -11,6 +11,8 @@
 #include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/scene.h"
 #include "port/engine_glue/sky_cube.h"
+#include "port/engine_glue/world_sprites.h"
+#include "port/q3formats/shader/shader_library.h"
 
 namespace glue {
 namespace {
@@ -245,6 +247,35 @@ TEST(DlightOverlay, LitTrianglesAreCopiedAboveTheSurfaceWithWhatTheBlendAdds) {
   overlay.clear();
   builder.build(std::span<const DynamicLight>(&far, 1), overlay);
   EXPECT_TRUE(overlay.indices.empty());
+}
+
+TEST(WorldSprites, AutospriteQuadsFaceTheViewerAndMoveWithTheirWaves) {
+  q3::ShaderLibrary library;
+  ASSERT_TRUE(library.addScript(
+      "textures/fx/puff\n{\n deformVertexes autosprite\n deformVertexes move 0 0 100 sawtooth 0 1 0 0.5\n"
+      " {\n  clampmap puff.tga\n  blendfunc blend\n  alphaGen wave sawtooth 1 -1 0 0.5\n }\n}\n",
+      "fx.shader"));
+  q3::WorldScene scene = floorScene();
+  scene.materials[0].shaderName = "textures/fx/puff";
+  scene.materials[0].fromScript = true;
+  WorldSprites sprites;
+  const std::vector<uint32_t> materials = sprites.prepare(scene, library);
+  ASSERT_EQ(materials, std::vector<uint32_t>{0});
+  ASSERT_EQ(sprites.size(), 1u);
+  const Viewer viewer{{-500, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  GeometryBatch batch;
+  // t = 1 s: sawtooth at phase 0.5 -> moved up 50 units; alpha 1 - 0.5.
+  sprites.append(1.0, viewer, [](const std::string& name) { return name == "textures/fx/puff" ? 5 : 0; }, batch);
+  ASSERT_EQ(batch.positions.size(), 4u);
+  EXPECT_EQ(batch.triangleShaders[0], 5);
+  const float radius = 32.0f * std::sqrt(2.0f) * 0.707f;
+  EXPECT_NEAR(batch.positions[0].x, 0.0f, 1e-4f);
+  EXPECT_NEAR(batch.positions[0].y, radius, 1e-3f);
+  EXPECT_NEAR(batch.positions[0].z, 50.0f + radius, 1e-3f);
+  EXPECT_NEAR(batch.colors[0].a, 0.5f, 1e-5f);
+  GeometryBatch none;
+  sprites.append(1.0, viewer, [](const std::string&) { return 0; }, none);
+  EXPECT_TRUE(none.positions.empty());   // no shader handle: nothing drawn
 }
 
 }  // namespace
