@@ -753,8 +753,12 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     if (e.reType != q3abi::RT_MODEL) appendEffect(e, viewer, d.batch);
   appendPolys(scene.polys(), scene.polyVerts(), d.batch);
   if (withWorld)
-    d.worldSprites.append(seconds, viewer, [&](const std::string& name) { return d.spriteHandle(shaders, name); },
-                          d.batch);
+    d.worldSprites.append(
+        seconds, viewer, [&](const std::string& name) { return d.spriteHandle(shaders, name); },
+        [&](uint32_t model) -> const glm::mat4x3* {
+          return model < brushPlaced.size() && brushPlaced[model] ? &d.brushInstances[model].objectToWorld : nullptr;
+        },
+        d.batch);
   if (!d.batch.indices.empty()) {
     if (lightmapLook) premultiplyBlendedEffects(shaders, d.batch);
     d.fillSlot(slot++, shaders, lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect, glm::mat4x3(1.0f),

@@ -28,31 +28,33 @@ std::vector<uint32_t> WorldSprites::prepare(const q3::WorldScene& scene, const q
   kinds_.clear();
   quads_.clear();
   std::vector<uint32_t> materials;
-  if (scene.models.empty()) return materials;
   std::unordered_map<uint32_t, uint32_t> kindOfMaterial;
-  for (const q3::WorldMesh& mesh : scene.models[0].meshes) {
-    if (mesh.material >= scene.materials.size() || mesh.positions.size() < 4) continue;
-    const q3::WorldMaterial& m = scene.materials[mesh.material];
-    const q3::ShaderDef* shader = m.fromScript ? library.find(m.shaderName) : nullptr;
-    if (shader == nullptr || !hasAutosprite(*shader) || shader->stages.empty()) continue;
-    auto found = kindOfMaterial.find(mesh.material);
-    if (found == kindOfMaterial.end()) {
-      Kind kind;
-      kind.shaderName = m.shaderName;
-      for (const q3::Deform& d : shader->deforms)
-        if (d.kind == q3::DeformKind::Move) kind.moves.push_back(d);
-      kind.stage = shader->stages.front();
-      found = kindOfMaterial.emplace(mesh.material, uint32_t(kinds_.size())).first;
-      kinds_.push_back(std::move(kind));
-      materials.push_back(mesh.material);
-    }
-    // The world builder keeps each surface's vertices together: four per quad.
-    for (size_t v = 0; v + 3 < mesh.positions.size(); v += 4) {
-      Quad quad;
-      quad.centre = 0.25f * (mesh.positions[v] + mesh.positions[v + 1] + mesh.positions[v + 2] + mesh.positions[v + 3]);
-      quad.radius = glm::length(mesh.positions[v] - quad.centre) * 0.707f;
-      quad.kind = found->second;
-      if (std::isfinite(quad.radius) && quad.radius > 0.0f) quads_.push_back(quad);
+  for (size_t model = 0; model < scene.models.size(); ++model) {
+    for (const q3::WorldMesh& mesh : scene.models[model].meshes) {
+      if (mesh.material >= scene.materials.size() || mesh.positions.size() < 4) continue;
+      const q3::WorldMaterial& m = scene.materials[mesh.material];
+      const q3::ShaderDef* shader = m.fromScript ? library.find(m.shaderName) : nullptr;
+      if (shader == nullptr || !hasAutosprite(*shader) || shader->stages.empty()) continue;
+      auto found = kindOfMaterial.find(mesh.material);
+      if (found == kindOfMaterial.end()) {
+        Kind kind;
+        kind.shaderName = m.shaderName;
+        for (const q3::Deform& d : shader->deforms)
+          if (d.kind == q3::DeformKind::Move) kind.moves.push_back(d);
+        kind.stage = shader->stages.front();
+        found = kindOfMaterial.emplace(mesh.material, uint32_t(kinds_.size())).first;
+        kinds_.push_back(std::move(kind));
+        materials.push_back(mesh.material);
+      }
+      // The world builder keeps each surface's vertices together: four per quad.
+      for (size_t v = 0; v + 3 < mesh.positions.size(); v += 4) {
+        Quad quad;
+        quad.centre = 0.25f * (mesh.positions[v] + mesh.positions[v + 1] + mesh.positions[v + 2] + mesh.positions[v + 3]);
+        quad.radius = glm::length(mesh.positions[v] - quad.centre) * 0.707f;
+        quad.kind = found->second;
+        quad.model = static_cast<uint32_t>(model);
+        if (std::isfinite(quad.radius) && quad.radius > 0.0f) quads_.push_back(quad);
+      }
     }
   }
   return materials;
@@ -60,7 +62,7 @@ std::vector<uint32_t> WorldSprites::prepare(const q3::WorldScene& scene, const q
 
 void WorldSprites::append(double seconds, const Viewer& viewer,
                           const std::function<q3abi::qhandle_t(const std::string&)>& handleOf,
-                          GeometryBatch& out) const {
+                          const Placement& placement, GeometryBatch& out) const {
   struct KindNow {
     q3abi::qhandle_t handle = 0;
     glm::vec3 offset{0.0f};
@@ -83,7 +85,13 @@ void WorldSprites::append(double seconds, const Viewer& viewer,
   for (const Quad& quad : quads_) {
     const KindNow& n = now[quad.kind];
     if (n.handle == 0) continue;
-    const glm::vec3 mid = quad.centre + n.offset;
+    glm::vec3 centre = quad.centre;
+    if (quad.model != 0) {
+      const glm::mat4x3* toWorld = placement ? placement(quad.model) : nullptr;
+      if (toWorld == nullptr) continue;   // the mover is not drawn this view
+      centre = *toWorld * glm::vec4(centre, 1.0f);
+    }
+    const glm::vec3 mid = centre + n.offset;
     const glm::vec3 left = viewer.left * quad.radius, up = viewer.up * quad.radius;
     const auto base = static_cast<uint32_t>(out.positions.size());
     out.addQuad(mid + left + up, mid - left + up, mid - left - up, mid + left - up, n.color, n.handle);

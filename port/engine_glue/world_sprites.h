@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat4x3.hpp>
 #include <glm/vec3.hpp>
 
 #include "port/engine_glue/entity_geometry.h"
@@ -26,13 +27,18 @@ namespace glue {
 /// The autosprite quads of a map's world model.
 class WorldSprites {
  public:
-  /// Collects, from world model 0, the meshes whose material's shader has deformVertexes
-  /// autosprite, four vertices per quad. Returns the world material indices concerned.
+  /// Collects, from the world and its brush models, the meshes whose material's shader has
+  /// deformVertexes autosprite, four vertices per quad. Returns the world material indices
+  /// concerned.
   std::vector<uint32_t> prepare(const q3::WorldScene& scene, const q3::ShaderLibrary& library);
+  /// Where brush model `model` is this view (model space to world), nullptr when not drawn.
+  using Placement = std::function<const glm::mat4x3*(uint32_t model)>;
   /// Appends the quads at shader time `seconds`, facing `viewer`; `handleOf(shaderName)` gives
-  /// the shader handle that draws a material (0 leaves the sprite out).
+  /// the shader handle that draws a material (0 leaves the sprite out); quads of brush models
+  /// follow `placement` (the world, model 0, is never moved).
   void append(double seconds, const Viewer& viewer,
-              const std::function<q3abi::qhandle_t(const std::string&)>& handleOf, GeometryBatch& out) const;
+              const std::function<q3abi::qhandle_t(const std::string&)>& handleOf, const Placement& placement,
+              GeometryBatch& out) const;
   /// Number of quads.
   size_t size() const { return quads_.size(); }
 
@@ -46,6 +52,7 @@ class WorldSprites {
     glm::vec3 centre{0.0f};
     float radius = 0.0f;
     uint32_t kind = 0;
+    uint32_t model = 0;   ///< 0 = world, else a brush model ("*N").
   };
   std::vector<Kind> kinds_;
   std::vector<Quad> quads_;

@@ -265,7 +265,7 @@ TEST(WorldSprites, AutospriteQuadsFaceTheViewerAndMoveWithTheirWaves) {
   const Viewer viewer{{-500, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   GeometryBatch batch;
   // t = 1 s: sawtooth at phase 0.5 -> moved up 50 units; alpha 1 - 0.5.
-  sprites.append(1.0, viewer, [](const std::string& name) { return name == "textures/fx/puff" ? 5 : 0; }, batch);
+  sprites.append(1.0, viewer, [](const std::string& name) { return name == "textures/fx/puff" ? 5 : 0; }, {}, batch);
   ASSERT_EQ(batch.positions.size(), 4u);
   EXPECT_EQ(batch.triangleShaders[0], 5);
   const float radius = 32.0f * std::sqrt(2.0f) * 0.707f;
@@ -274,8 +274,33 @@ TEST(WorldSprites, AutospriteQuadsFaceTheViewerAndMoveWithTheirWaves) {
   EXPECT_NEAR(batch.positions[0].z, 50.0f + radius, 1e-3f);
   EXPECT_NEAR(batch.colors[0].a, 0.5f, 1e-5f);
   GeometryBatch none;
-  sprites.append(1.0, viewer, [](const std::string&) { return 0; }, none);
+  sprites.append(1.0, viewer, [](const std::string&) { return 0; }, {}, none);
   EXPECT_TRUE(none.positions.empty());   // no shader handle: nothing drawn
+}
+
+TEST(WorldSprites, BrushModelSpritesFollowTheirEntity) {
+  q3::ShaderLibrary library;
+  ASSERT_TRUE(library.addScript("textures/fx/ball\n{\n deformVertexes autosprite\n {\n  map ball.tga\n  blendfunc add\n }\n}\n",
+                                "fx.shader"));
+  q3::WorldScene scene = floorScene();
+  scene.materials[0].shaderName = "textures/fx/ball";
+  scene.materials[0].fromScript = true;
+  scene.models.push_back(scene.models[0]);   // "*1": the same card on a mover
+  scene.models[0].meshes.clear();
+  WorldSprites sprites;
+  sprites.prepare(scene, library);
+  ASSERT_EQ(sprites.size(), 1u);
+  const Viewer viewer{{-500, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  glm::mat4x3 moved(1.0f);
+  moved[3] = glm::vec3(0, 0, 300);
+  GeometryBatch batch;
+  sprites.append(0.0, viewer, [](const std::string&) { return 2; },
+                 [&](uint32_t model) { return model == 1 ? &moved : nullptr; }, batch);
+  ASSERT_EQ(batch.positions.size(), 4u);
+  EXPECT_NEAR(0.25f * (batch.positions[0].z + batch.positions[1].z + batch.positions[2].z + batch.positions[3].z), 300.0f, 1e-3f);
+  GeometryBatch hidden;
+  sprites.append(0.0, viewer, [](const std::string&) { return 2; }, [](uint32_t) { return nullptr; }, hidden);
+  EXPECT_TRUE(hidden.positions.empty());   // the mover is not in this view
 }
 
 }  // namespace
