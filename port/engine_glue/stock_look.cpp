@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
@@ -128,10 +129,21 @@ void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
       break;
     }
   }
-  for (q3::WorldModel& model : scene.models)
-    for (q3::WorldMesh& mesh : model.meshes)
-      if (mesh.material < unlit.size() && unlit[mesh.material])
+  for (q3::WorldModel& model : scene.models) {
+    for (q3::WorldMesh& mesh : model.meshes) {
+      if (mesh.material >= unlit.size()) continue;
+      if (unlit[mesh.material]) {
         for (glm::vec4& color : mesh.colors) color = glm::vec4(1.0f, 1.0f, 1.0f, color.a);
+      } else if (scene.materials[mesh.material].vertexLit || mesh.lightmap < 0) {
+        // Baked vertex light is brightened at load like lightmaps (tr_bsp.c shifts every
+        // draw vertex colour by r_mapOverBrightBits - overbrightBits).
+        for (glm::vec4& color : mesh.colors) {
+          const glm::vec3 shifted = colorShiftLight(glm::round(glm::vec3(color) * 255.0f), kLightOverbrightShift);
+          color = glm::vec4(shifted / 255.0f, color.a);
+        }
+      }
+    }
+  }
 }
 
 /// Repeats the triangles of shaders that have extra additive layers once per layer

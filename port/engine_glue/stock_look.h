@@ -49,7 +49,8 @@ void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch);
 /// World surfaces whose shader has no lightmap stage and no vertex-colour stage (q3::deriveMaterial
 /// says Unlit) are drawn by opengl1 at full texture brightness (rgbGen identityLighting): their
 /// vertex colours become white (the lightmap preset multiplies them in; the traced presets ignore
-/// vertex colours of vertex-lit surfaces). Also records each material's glow colour (rgbGen const
+/// vertex colours of vertex-lit surfaces); the vertex colours of vertex-lit surfaces get the
+/// stock overbright shift (x4, hue kept). Also records each material's glow colour (rgbGen const
 /// of its first additive stage, linear), which the stock look adds.
 void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
                     std::unordered_map<uint32_t, glm::vec3>& glowColors);

@@ -11,6 +11,7 @@
 #include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/scene.h"
 #include "port/engine_glue/sky_cube.h"
+#include "port/engine_glue/stock_look.h"
 #include "port/engine_glue/world_sprites.h"
 #include "port/q3formats/shader/shader_library.h"
 
@@ -301,6 +302,31 @@ TEST(WorldSprites, BrushModelSpritesFollowTheirEntity) {
   GeometryBatch hidden;
   sprites.append(0.0, viewer, [](const std::string&) { return 2; }, [](uint32_t) { return nullptr; }, hidden);
   EXPECT_TRUE(hidden.positions.empty());   // the mover is not in this view
+}
+
+TEST(StockWorldLook, UnlitShadersAreWhitenedAndVertexLightIsShifted) {
+  q3::ShaderLibrary library;
+  ASSERT_TRUE(library.addScript(
+      "textures/test/unlit\n{\n {\n  map a.tga\n }\n {\n  map glow.tga\n  blendfunc add\n  rgbGen const ( 1 0 0 )\n }\n}\n",
+      "test.shader"));
+  q3::WorldScene scene = floorScene();
+  scene.materials[0].shaderName = "textures/test/unlit";
+  scene.materials[0].fromScript = true;
+  scene.materials.push_back(q3::WorldMaterial{});   // implicit, vertex lit
+  scene.models[0].meshes.push_back(scene.models[0].meshes[0]);
+  scene.models[0].meshes[1].material = 1;
+  scene.models[0].meshes[1].lightmap = -1;
+  for (glm::vec4& c : scene.models[0].meshes[0].colors) c = glm::vec4(0.2f, 0.2f, 0.2f, 0.5f);
+  for (glm::vec4& c : scene.models[0].meshes[1].colors) c = glm::vec4(32 / 255.0f, 16 / 255.0f, 8 / 255.0f, 1.0f);
+  std::unordered_map<uint32_t, glm::vec3> glow;
+  stockWorldLook(scene, library, glow);
+  EXPECT_EQ(scene.models[0].meshes[0].colors[0], glm::vec4(1, 1, 1, 0.5f));   // unlit: full bright
+  const glm::vec4 shifted = scene.models[0].meshes[1].colors[0];             // x4
+  EXPECT_NEAR(shifted.r * 255.0f, 128.0f, 1e-3f);
+  EXPECT_NEAR(shifted.g * 255.0f, 64.0f, 1e-3f);
+  ASSERT_EQ(glow.count(0), 1u);
+  EXPECT_EQ(glow[0], glm::vec3(1, 0, 0));
+  EXPECT_EQ(glow.count(1), 0u);
 }
 
 }  // namespace
