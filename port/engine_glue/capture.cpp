@@ -101,7 +101,11 @@ void Module::screenshotCommand(const char* extension) {
     engine_.warn("levelshot: no map loaded");
     return;
   }
-  pendingShots_.push_back(std::move(request));
+  // Between frames the back buffer still holds the frame just finished (it was swapped, not
+  // cleared): read it now, as the stock renderer's screenshot command does. Inside a frame the
+  // picture is not complete yet: capture at EndFrame.
+  if (frameOpen_) pendingShots_.push_back(std::move(request));
+  else takeScreenshot(request);
 }
 
 std::string Module::nextScreenshotName(const std::string& extension) {

@@ -48,6 +48,7 @@ void GeometryBatch::clear() {
   colors.clear();
   indices.clear();
   triangleShaders.clear();
+  triangleLayers.clear();
 }
 
 void GeometryBatch::addQuad(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
@@ -134,14 +135,49 @@ void appendPolys(const std::vector<ScenePoly>& polys, const std::vector<q3abi::p
   }
 }
 
+SpriteAxes spriteAxesFor(const q3abi::refEntity_t& entity, const Viewer& viewer) {
+  SpriteAxes axes;
+  glm::vec3 left, up;
+  for (int k = 0; k < 3; ++k) {
+    const glm::vec3 axis = vec(entity.axis[k]);
+    left[k] = glm::dot(viewer.left, axis);
+    up[k] = glm::dot(viewer.up, axis);
+  }
+  if (entity.nonNormalizedAxes) {
+    // The stock renderer divides by the first axis' length to undo the entity's scale.
+    const float length = glm::length(vec(entity.axis[0]));
+    if (length > 1e-6f) {
+      left /= length;
+      up /= length;
+    }
+  }
+  axes.left = left;
+  axes.up = up;
+  return axes;
+}
+
 void appendMd3(const q3::Md3Model& model, const q3abi::refEntity_t& entity,
-               const std::vector<q3abi::qhandle_t>& surfaceShaders, GeometryBatch& out) {
+               const std::vector<q3abi::qhandle_t>& surfaceShaders, GeometryBatch& out,
+               const std::vector<bool>& autosprite, const SpriteAxes& axes) {
   std::vector<q3::Md3Vec3> positions, normals;
   const glm::vec4 white(1.0f);
   for (size_t s = 0; s < model.surfaces.size(); ++s) {
     const q3::Md3Surface& surface = model.surfaces[s];
     q3::lerpSurface(surface, model.frames.size(), entity.frame, entity.oldframe,
                     std::isfinite(entity.backlerp) ? entity.backlerp : 0.0f, positions, normals);
+    const q3abi::qhandle_t shader = s < surfaceShaders.size() ? surfaceShaders[s] : 0;
+    if (s < autosprite.size() && autosprite[s] && surface.numVerts >= 4) {
+      for (int v = 0; v + 3 < surface.numVerts; v += 4) {
+        glm::vec3 corners[4];
+        for (int c = 0; c < 4; ++c) corners[c] = {positions[v + c][0], positions[v + c][1], positions[v + c][2]};
+        const glm::vec3 mid = 0.25f * (corners[0] + corners[1] + corners[2] + corners[3]);
+        const float radius = glm::length(corners[0] - mid) * 0.707f;
+        const glm::vec3 left = axes.left * radius, up = axes.up * radius;
+        // The stock quad stamp: (mid + left + up) at (0, 0), then (1, 0), (1, 1), (0, 1).
+        out.addQuad(mid + left + up, mid - left + up, mid - left - up, mid + left - up, white, shader);
+      }
+      continue;
+    }
     const auto base = static_cast<uint32_t>(out.positions.size());
     for (int v = 0; v < surface.numVerts; ++v) {
       out.positions.emplace_back(positions[v][0], positions[v][1], positions[v][2]);
@@ -152,7 +188,7 @@ void appendMd3(const q3::Md3Model& model, const q3abi::refEntity_t& entity,
     // MD3 triangles wind clockwise seen from the front, like the BSP: flip to counter-clockwise.
     for (const auto& tri : surface.triangles) {
       out.indices.insert(out.indices.end(), {base + tri[0], base + tri[2], base + tri[1]});
-      out.triangleShaders.push_back(s < surfaceShaders.size() ? surfaceShaders[s] : 0);
+      out.triangleShaders.push_back(shader);
     }
   }
 }

@@ -28,6 +28,7 @@ struct GeometryBatch {
   std::vector<glm::vec4> colors;       ///< Linear RGBA multipliers.
   std::vector<uint32_t> indices;
   std::vector<q3abi::qhandle_t> triangleShaders;
+  std::vector<uint32_t> triangleLayers;   ///< Shader layer per triangle (0 = first stage); may be empty.
 
   /// Forgets everything (keeps capacity).
   void clear();
@@ -57,8 +58,21 @@ bool appendEffect(const q3abi::refEntity_t& entity, const Viewer& viewer, Geomet
 void appendPolys(const std::vector<ScenePoly>& polys, const std::vector<q3abi::polyVert_t>& verts,
                  GeometryBatch& out);
 
-/// Appends an MD3 entity's frame (model space) with one shader per surface.
+/// The viewer's left and up directions in an entity's model space (deformVertexes autosprite).
+struct SpriteAxes {
+  glm::vec3 left{0.0f, 1.0f, 0.0f};
+  glm::vec3 up{0.0f, 0.0f, 1.0f};
+};
+
+/// The viewer's axes in the model space of an entity (its axes may carry scale).
+SpriteAxes spriteAxesFor(const q3abi::refEntity_t& entity, const Viewer& viewer);
+
+/// Appends an MD3 entity's frame (model space) with one shader per surface. Surfaces whose
+/// `autosprite` flag is set are turned, four vertices at a time, into quads facing the viewer
+/// (same centre, radius |corner - centre| / sqrt 2, texture 0..1), as the stock renderer's
+/// deformVertexes autosprite does.
 void appendMd3(const q3::Md3Model& model, const q3abi::refEntity_t& entity,
-               const std::vector<q3abi::qhandle_t>& surfaceShaders, GeometryBatch& out);
+               const std::vector<q3abi::qhandle_t>& surfaceShaders, GeometryBatch& out,
+               const std::vector<bool>& autosprite = {}, const SpriteAxes& axes = {});
 
 }  // namespace glue

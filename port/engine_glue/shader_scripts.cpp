@@ -26,6 +26,26 @@ unsigned glBlendFactor(q3::BlendFactor factor) {
 
 }  // namespace
 
+namespace {
+
+/// Copies one stage's image, blend, test and colour sources into `look`.
+void takeStage(const q3::ShaderStage& stage, ShaderLook& look) {
+  if (stage.source == q3::TextureSource::Image) look.images = stage.textures;
+  look.animFrequency = stage.animFrequency;
+  look.clamp = stage.clamp;
+  if (stage.hasBlend) look.blend = {glBlendFactor(stage.srcBlend), glBlendFactor(stage.dstBlend)};
+  look.alphaTest = stage.alphaTest;
+  look.vertexColor = stage.rgbGen == q3::RgbGen::Vertex || stage.rgbGen == q3::RgbGen::ExactVertex ||
+                     stage.rgbGen == q3::RgbGen::LightingDiffuse;
+  look.vertexAlpha = stage.alphaGen == q3::AlphaGen::Vertex;
+  look.rgbGen = stage.rgbGen;
+  look.constColor = stage.constColor;
+  look.alphaGen = stage.alphaGen;
+  look.constAlpha = stage.constAlpha;
+}
+
+}  // namespace
+
 ShaderLook lookOfShader(const q3::ShaderDef& shader) {
   ShaderLook look;
   look.fromScript = !shader.implicit;
@@ -33,20 +53,28 @@ ShaderLook lookOfShader(const q3::ShaderDef& shader) {
   look.nodraw = shader.has(q3::SurfaceParm::NoDraw);
   look.translucent = shader.has(q3::SurfaceParm::Trans);
   look.surfaceLight = shader.surfaceLight;
-  for (const q3::ShaderStage& stage : shader.stages) {
-    if (stage.source == q3::TextureSource::Lightmap) continue;
-    if (stage.source == q3::TextureSource::Image) look.images = stage.textures;
-    look.animFrequency = stage.animFrequency;
-    look.clamp = stage.clamp;
-    if (stage.hasBlend) look.blend = {glBlendFactor(stage.srcBlend), glBlendFactor(stage.dstBlend)};
-    look.alphaTest = stage.alphaTest;
-    look.vertexColor = stage.rgbGen == q3::RgbGen::Vertex ||
-                       stage.rgbGen == q3::RgbGen::ExactVertex ||
-                       stage.rgbGen == q3::RgbGen::LightingDiffuse;
-    look.vertexAlpha = stage.alphaGen == q3::AlphaGen::Vertex;
+  for (const q3::Deform& deform : shader.deforms)
+    look.autosprite = look.autosprite || deform.kind == q3::DeformKind::AutoSprite;
+  size_t first = 0;
+  while (first < shader.stages.size() && shader.stages[first].source == q3::TextureSource::Lightmap) ++first;
+  if (first == shader.stages.size()) {
+    if (shader.stages.empty() && !look.sky) look.nodraw = true;
     return look;
   }
-  if (shader.stages.empty() && !look.sky) look.nodraw = true;
+  takeStage(shader.stages[first], look);
+  // Later additive image stages (a second glow over the first): drawn as extra layers.
+  if (look.blend.dst == GL_ONE) {
+    for (size_t s = first + 1; s < shader.stages.size(); ++s) {
+      const q3::ShaderStage& stage = shader.stages[s];
+      if (stage.source != q3::TextureSource::Image || stage.textures.empty() || !stage.blends() ||
+          stage.dstBlend != q3::BlendFactor::One || stage.tcGen == q3::TcGen::Environment)
+        continue;
+      ShaderLook layer;
+      layer.fromScript = look.fromScript;
+      takeStage(stage, layer);
+      look.layers.push_back(std::move(layer));
+    }
+  }
   return look;
 }
 

@@ -3,6 +3,7 @@
 // colour source) and the surface flags. Scripts (scripts/*.shader) are parsed by q3formats
 // (q3::ShaderLibrary, the same reader the converter uses); this file only turns a parsed
 // q3::ShaderDef into the module's drawable summary.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -35,14 +36,23 @@ struct ShaderLook {
   AlphaTest alphaTest = AlphaTest::None;
   bool vertexColor = false;          ///< rgbGen vertex: SetColor / polygon colours tint it.
   bool vertexAlpha = false;          ///< alphaGen vertex.
+  q3::RgbGen rgbGen = q3::RgbGen::Default;   ///< The stage's rgbGen as written.
+  std::array<float, 3> constColor{1, 1, 1};  ///< rgbGen const.
+  q3::AlphaGen alphaGen = q3::AlphaGen::Default;   ///< The stage's alphaGen as written.
+  float constAlpha = 1.0f;                   ///< alphaGen const.
+  bool autosprite = false;           ///< deformVertexes autosprite: quads face the viewer.
   bool sky = false;                  ///< surfaceparm sky.
   bool nodraw = false;               ///< surfaceparm nodraw or no drawable stage.
   bool translucent = false;          ///< surfaceparm trans.
   float surfaceLight = 0.0f;         ///< q3map_surfacelight (emission, for the path tracer).
   bool fromScript = false;
+  /// When the first stage is additive: the shader's later additive image stages, each a look
+  /// of its own (multi-layer glows such as muzzle flashes).
+  std::vector<ShaderLook> layers;
 };
 
-/// The drawable summary of a parsed shader: its first stage that is not the lightmap.
+/// The drawable summary of a parsed shader: its first stage that is not the lightmap (plus the
+/// later additive stages of an additive shader, as layers).
 ShaderLook lookOfShader(const q3::ShaderDef& shader);
 
 /// The index of every shader script in the game file system.

@@ -71,6 +71,15 @@ q3abi::qhandle_t ShaderRegistry::registerShader(const Engine& engine, const Shad
     entry.frames.push_back(image ? image : defaultImage());
   }
   if (entry.frames.empty()) entry.frames.push_back(whiteImage());
+  for (const ShaderLook& layer : entry.look.layers) {
+    std::vector<std::shared_ptr<const Image>> frames;
+    for (const std::string& imageName : layer.images) {
+      auto image = images.load(engine, imageName);
+      frames.push_back(image ? image : defaultImage());
+    }
+    if (frames.empty()) frames.push_back(whiteImage());
+    entry.layerFrames.push_back(std::move(frames));
+  }
 
   const auto handle = static_cast<q3abi::qhandle_t>(entries_.size());
   entries_.push_back(std::move(entry));

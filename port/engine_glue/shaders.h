@@ -18,6 +18,7 @@ struct ShaderEntry {
   std::string name;                                   ///< As registered (normalised).
   ShaderLook look;
   std::vector<std::shared_ptr<const Image>> frames;   ///< look.images decoded (default on failure).
+  std::vector<std::vector<std::shared_ptr<const Image>>> layerFrames;   ///< Per look.layers.
   std::vector<unsigned> glTextures;                   ///< Lazily uploaded, one per frame.
   bool clampToEdge = false;
   q3abi::qhandle_t remappedTo = 0;                    ///< RemapShader target (0 = none).

@@ -4,6 +4,8 @@
 // instance, effects and polygons one world-space dynamic mesh, dynamic lights reuse a pool of
 // renderer lights, portals follow the frame's RT_PORTALSURFACE entities, and the frame is traced
 // at r_pt_scale resolution.
+// The lightmap preset adds the stock opengl1 look (README "The lightmap preset's stock look"):
+// baked sky, dynamic-light overlay, world autosprites, stock model colours (stock_look.h).
 #include <dlfcn.h>
 
 #include <algorithm>
@@ -11,23 +13,30 @@
 #include <cstring>
 #include <map>
 #include <optional>
+#include <tuple>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "port/engine_glue/dlight_overlay.h"
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/entity_geometry.h"
+#include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/models.h"
 #include "port/engine_glue/portals.h"
 #include "port/engine_glue/scene.h"
 #include "port/engine_glue/shaders.h"
+#include "port/engine_glue/sky_cube.h"
+#include "port/engine_glue/stock_look.h"
 #include "port/engine_glue/views.h"
+#include "port/engine_glue/world_sprites.h"
 #include "port/engine_glue/world.h"
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/common/format_error.h"
 #include "port/q3formats/model/md3.h"
+#include "port/q3formats/shader/material.h"
 #include "port/q3formats/shader/shader_library.h"
 #include "port/q3formats/world/world_scene.h"
 #include "port/scene_bridge/scene_bridge.h"
@@ -37,6 +46,7 @@ namespace glue {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
+constexpr int kStockSkyFaceSize = 256;   // texels a side of the baked stock sky
 
 /// A reusable dynamic mesh + instance.
 struct DynamicSlot {
@@ -45,8 +55,11 @@ struct DynamicSlot {
   bool visible = false;
 };
 
-/// Kinds of materials made from one shader.
-enum class MaterialUse : uint8_t { Model, Effect };
+/// Kinds of materials made from one shader. StockEffect: an effect in the lightmap preset, where
+/// alpha-blended effects (smoke puffs) are drawn as premultiplied additive layers: the tracer
+/// blends stochastically (one sample per pixel would speckle), and over the dark scenes behind
+/// smoke, src * a + dst * (1 - a) is close to src * a + dst.
+enum class MaterialUse : uint8_t { Model, Effect, StockEffect };
 
 glm::mat4x3 entityTransform(const q3abi::refEntity_t& e) {
   glm::mat4x3 m(1.0f);
@@ -122,8 +135,9 @@ struct ViewRenderer::Impl {
   std::optional<q3::WorldScene> worldScene;
   pa::bridge::WorldHandles world;
   std::vector<pa::InstanceDesc> brushInstances;       ///< Current description per world model.
-  std::map<std::pair<std::string, MaterialUse>, pa::MaterialId> materials;
-  std::unordered_map<const Image*, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
+  /// (shader name, use, layer, animation frame) -> renderer material.
+  std::map<std::tuple<std::string, MaterialUse, uint32_t, uint32_t>, pa::MaterialId> materials;
+  std::map<std::pair<const Image*, bool>, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
   std::vector<DynamicSlot> slots;
   std::vector<pa::LightId> lights;
   std::vector<bool> lightOn;
@@ -134,6 +148,25 @@ struct ViewRenderer::Impl {
   std::vector<uint8_t> picture;
   uint32_t frameCounter = 0;
   PortalViews portals;   ///< Mirrors and portal cameras (portals.h).
+  pa::SkyDesc bridgeSky;               ///< The world's sky for the traced presets.
+  pa::SkyDesc stockSky;                ///< The stock look (far box + clouds) for the lightmap preset.
+  bool stockSkyReady = false;
+  bool stockSkyShown = false;
+  bool stockEmissionShown = false;     ///< World surface lights drawn the stock way.
+  std::unordered_map<uint32_t, glm::vec3> glowColors;   ///< World material -> glow stage colour (linear).
+  WorldSprites worldSprites;                        ///< deformVertexes autosprite world surfaces.
+  std::vector<uint32_t> spriteMaterials;            ///< Their world materials (static copy hidden).
+  std::unordered_map<std::string, q3abi::qhandle_t> spriteHandles;
+  const ShaderScripts* scripts = nullptr;           ///< The module's, while a world is loaded.
+  ImageCache* images = nullptr;
+  SkyBaker skyBaker;
+  SkyCube skyCube;
+  double skyBakedAt = 0.0;
+  DlightOverlayBuilder dlightBuilder;  ///< The world's triangles for the stock dynamic-light pass.
+  DlightOverlay dlightOverlay;
+  DynamicSlot dlightSlot;
+  std::unordered_map<uint32_t, pa::MaterialId> dlightMaterials;   ///< Per world material.
+  std::vector<pa::MaterialId> dlightTriangleMaterials;
 
   void resetRenderer() {
     renderer = std::make_unique<pa::Renderer>(pa::RendererConfig{static_cast<uint32_t>(threads)});
@@ -148,42 +181,206 @@ struct ViewRenderer::Impl {
     headlight = pa::kNoId;
     portals.clear();
     defaultMaterial = renderer->addMaterial(pa::MaterialDesc{});
+    bridgeSky = stockSky = pa::SkyDesc{};
+    dlightBuilder = DlightOverlayBuilder{};
+    dlightSlot = DynamicSlot{};
+    dlightMaterials.clear();
+    glowColors.clear();
+    worldSprites = WorldSprites{};
+    spriteMaterials.clear();
+    spriteHandles.clear();
+    stockSkyReady = stockSkyShown = stockEmissionShown = false;
   }
 
-  pa::TextureId texture(const std::shared_ptr<const Image>& image) {
+  /// Hides the static copies of the autosprite world surfaces (drawn per view instead).
+  void prepareWorldSprites(const q3::ShaderLibrary& library) {
+    spriteMaterials = worldSprites.prepare(*worldScene, library);
+    for (const auto& [key, id] : world.materials) {
+      if (std::find(spriteMaterials.begin(), spriteMaterials.end(), key.first) == spriteMaterials.end()) continue;
+      pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, key.first, key.second);
+      desc.visible = false;
+      desc.castsShadows = false;
+      renderer->setMaterial(id, desc);
+    }
+  }
+
+  /// The shader handle of an autosprite world shader (registered on first use; 0 if it fails).
+  q3abi::qhandle_t spriteHandle(ShaderRegistry& shaders, const std::string& name) {
+    if (const auto found = spriteHandles.find(name); found != spriteHandles.end()) return found->second;
+    q3abi::qhandle_t handle = shaders.find(name);
+    if (handle == 0 && scripts != nullptr && images != nullptr)
+      handle = shaders.registerShader(engine, *scripts, *images, name, true);
+    spriteHandles.emplace(name, handle);
+    return handle;
+  }
+
+  /// The additive twin of a world material that carries the stock dynamic-light pass.
+  pa::MaterialId dlightMaterial(uint32_t worldMaterial) {
+    if (const auto found = dlightMaterials.find(worldMaterial); found != dlightMaterials.end()) return found->second;
+    pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, worldMaterial, -1);
+    desc.alphaMode = pa::AlphaMode::Additive;
+    desc.useVertexLight = false;   // the vertex colour is what the pass adds
+    desc.lightmapTexture = pa::kNoId;
+    desc.emissiveTexture = pa::kNoId;
+    desc.emission = glm::vec3(0.0f);
+    desc.mirror = false;
+    desc.specular = 0.0f;
+    desc.castsShadows = false;
+    desc.twoSided = true;
+    desc.visible = true;
+    const pa::MaterialId id = renderer->addMaterial(desc);
+    dlightMaterials.emplace(worldMaterial, id);
+    return id;
+  }
+
+  /// Lightmap preset: the world brightened by dynamic lights the stock way (dlight_overlay.h),
+  /// seen by camera rays only. Hidden in the traced presets, which light with real lights.
+  void drawStockDlights(std::span<const DynamicLight> lights, bool show) {
+    dlightOverlay.clear();
+    if (show && worldScene) dlightBuilder.build(lights, dlightOverlay);
+    if (dlightOverlay.indices.empty()) {
+      if (dlightSlot.visible && dlightSlot.instance != pa::kNoId) {
+        pa::InstanceDesc hidden;
+        hidden.mesh = dlightSlot.mesh;
+        hidden.mask = 0;
+        renderer->setInstance(dlightSlot.instance, hidden);
+        dlightSlot.visible = false;
+      }
+      return;
+    }
+    dlightTriangleMaterials.resize(dlightOverlay.triangleMaterials.size());
+    for (size_t t = 0; t < dlightOverlay.triangleMaterials.size(); ++t)
+      dlightTriangleMaterials[t] = dlightMaterial(dlightOverlay.triangleMaterials[t]);
+    pa::MeshDesc mesh;
+    mesh.positions = dlightOverlay.positions;
+    mesh.indices = dlightOverlay.indices;
+    mesh.normals = dlightOverlay.normals;
+    mesh.uvs = dlightOverlay.uvs;
+    mesh.colors = dlightOverlay.colors;
+    mesh.materials = dlightTriangleMaterials;
+    mesh.dynamic = true;
+    if (dlightSlot.mesh == pa::kNoId) dlightSlot.mesh = renderer->addMesh(mesh);
+    else renderer->updateMesh(dlightSlot.mesh, mesh);
+    pa::InstanceDesc instance;
+    instance.mesh = dlightSlot.mesh;
+    instance.mask = pa::kMaskCamera;
+    if (dlightSlot.instance == pa::kNoId) dlightSlot.instance = renderer->addInstance(instance);
+    else renderer->setInstance(dlightSlot.instance, instance);
+    dlightSlot.visible = true;
+  }
+
+  /// The stock renderer shows a q3map_surfacelight surface through its stages only (its light
+  /// is baked in the lightmaps): in the lightmap preset such surfaces glow only through their
+  /// additive glow stage, at the texture's own brightness. The traced presets keep the
+  /// bridge's emitters.
+  void selectWorldEmission(bool stockLook) {
+    if (stockLook == stockEmissionShown || !worldScene) return;
+    for (const auto& [key, id] : world.materials) {
+      const q3::WorldMaterial& m = worldScene->materials.at(key.first);
+      if (!(m.surfaceLight > 0.0f) || m.alphaMode == q3::WorldAlphaMode::Additive) continue;
+      if (std::find(spriteMaterials.begin(), spriteMaterials.end(), key.first) != spriteMaterials.end()) continue;
+      pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, key.first, key.second);
+      if (stockLook) {
+        const bool glows = m.emissiveTexture >= 0 && size_t(m.emissiveTexture) < world.textures.size();
+        desc.emissiveTexture = glows ? world.textures[size_t(m.emissiveTexture)] : pa::kNoId;
+        const auto colour = glowColors.find(key.first);
+        desc.emission = glows ? (colour != glowColors.end() ? colour->second : glm::vec3(1.0f)) : glm::vec3(0.0f);
+      }
+      renderer->setMaterial(id, desc);
+    }
+    stockEmissionShown = stockLook;
+  }
+
+  /// Bakes the map's sky shader as opengl1 draws it (far box under scrolling cloud layers)
+  /// into six renderer textures; the lightmap preset shows it instead of the bridge's sky.
+  void prepareStockSky(const q3::ShaderLibrary& library, ImageCache& images) {
+    stockSkyReady = false;
+    if (!worldScene || worldScene->sky.shaderName.empty()) return;
+    const q3::ShaderDef* shader = library.find(worldScene->sky.shaderName);
+    if (shader == nullptr) return;
+    const SkyImageLoader load = [&](const std::string& path) { return images.load(engine, path); };
+    if (!skyBaker.prepare(*shader, load, kStockSkyFaceSize)) return;
+    skyBaker.bake(0.0, skyCube);
+    skyBakedAt = 0.0;
+    stockSky = pa::SkyDesc{};
+    stockSky.color = glm::vec3(1.0f);
+    for (size_t f = 0; f < 6; ++f) stockSky.faces[f] = renderer->addTexture(skyFaceDesc(f));
+    stockSkyReady = true;
+  }
+
+  pa::TextureDesc skyFaceDesc(size_t face) const {
+    pa::TextureDesc desc;
+    desc.width = desc.height = static_cast<uint32_t>(skyCube.size);
+    desc.rgba8 = skyCube.faces[face];
+    desc.wrap = pa::TextureWrap::Clamp;
+    return desc;
+  }
+
+  /// Shows the stock sky (moved to shader time `seconds`) or the bridge's one.
+  void selectSky(bool stockLook, double seconds) {
+    const bool stock = stockLook && stockSkyReady;
+    if (stock && skyBaker.animated() && seconds != skyBakedAt) {
+      skyBaker.bake(seconds, skyCube);
+      skyBakedAt = seconds;
+      for (size_t f = 0; f < 6; ++f) renderer->updateTexture(stockSky.faces[f], skyFaceDesc(f));
+    }
+    if (stock == stockSkyShown) return;
+    renderer->setSky(stock ? stockSky : bridgeSky);
+    stockSkyShown = stock;
+  }
+
+  /// The renderer texture of an image, repeating or clamped to its edges (clampMap).
+  pa::TextureId texture(const std::shared_ptr<const Image>& image, bool clamp = false) {
     if (!image) return pa::kNoId;
-    if (const auto found = textures.find(image.get()); found != textures.end()) return found->second.second;
+    const auto key = std::make_pair(image.get(), clamp);
+    if (const auto found = textures.find(key); found != textures.end()) return found->second.second;
     pa::TextureDesc desc;
     desc.width = static_cast<uint32_t>(image->width);
     desc.height = static_cast<uint32_t>(image->height);
     desc.rgba8 = image->rgba;
+    desc.wrap = clamp ? pa::TextureWrap::Clamp : pa::TextureWrap::Repeat;
     const pa::TextureId id = renderer->addTexture(desc);
-    textures.emplace(image.get(), std::make_pair(image, id));
+    textures.emplace(key, std::make_pair(image, id));
     return id;
   }
 
   /// The renderer material of a shader handle (resolving RemapShader).
-  pa::MaterialId material(ShaderRegistry& shaders, q3abi::qhandle_t handle, MaterialUse use) {
+  /// `layer` 0 is the shader's first stage, k > 0 its look.layers[k - 1]; animMap stages show
+  /// the frame of shader time `seconds`.
+  pa::MaterialId material(ShaderRegistry& shaders, q3abi::qhandle_t handle, MaterialUse use, uint32_t layer,
+                          double seconds) {
     const ShaderEntry& entry = shaders.resolve(handle);
-    const auto key = std::make_pair(entry.name, use);
+    if (layer > entry.look.layers.size() || layer > entry.layerFrames.size()) layer = 0;
+    const ShaderLook& look = layer == 0 ? entry.look : entry.look.layers[layer - 1];
+    const auto& frames = layer == 0 ? entry.frames : entry.layerFrames[layer - 1];
+    uint32_t frameIndex = 0;
+    if (frames.size() > 1 && look.animFrequency > 0.0f && std::isfinite(seconds)) {
+      const double step = std::floor(std::max(seconds, 0.0) * look.animFrequency);
+      frameIndex = static_cast<uint32_t>(std::fmod(step, double(frames.size())));
+    }
+    const std::shared_ptr<const Image> image = frames.empty() ? nullptr : frames[frameIndex];
+    const auto key = std::make_tuple(entry.name, use, layer, frameIndex);
     if (const auto found = materials.find(key); found != materials.end()) return found->second;
     pa::MaterialDesc desc;
-    desc.baseTexture = texture(entry.frames.empty() ? nullptr : entry.frames[0]);
+    desc.baseTexture = texture(image, look.clamp);
     desc.useVertexLight = use == MaterialUse::Model;
-    const ShaderLook& look = entry.look;
     if (look.nodraw) desc.visible = false;
     if (look.fromScript) {
-      const unsigned src = look.blend.src, dst = look.blend.dst;
+      const unsigned dst = look.blend.dst;
       if (dst == 1 /*GL_ONE*/) {
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.castsShadows = false;
-      } else if (src == 0x0302 /*GL_SRC_ALPHA*/ && dst == 0x0303 /*GL_ONE_MINUS_SRC_ALPHA*/) {
+      } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
+        desc.baseTexture = texture(premultipliedImage(image), look.clamp);
+        desc.alphaMode = pa::AlphaMode::Additive;
+        desc.castsShadows = false;
+      } else if (isAlphaBlend(look.blend)) {
         desc.alphaMode = pa::AlphaMode::Blend;
         desc.castsShadows = false;
       } else if (const auto darken = filterAsDarkening(look.blend); darken != Darkening::None) {
         // Multiplicative filters (bullet marks, blob shadows) darken what is behind. The tracer
         // has no multiply mode: draw them as black with an alpha of how much they darken.
-        desc.baseTexture = texture(darkeningImage(entry.frames.empty() ? nullptr : entry.frames[0], darken));
+        desc.baseTexture = texture(darkeningImage(image, darken), look.clamp);
         desc.alphaMode = pa::AlphaMode::Blend;
         desc.castsShadows = false;
       } else if (look.blend.blends()) {
@@ -195,6 +392,11 @@ struct ViewRenderer::Impl {
         desc.alphaCutoff = look.alphaTest == AlphaTest::Gt0 ? 1.0f / 255.0f : 0.5f;
         desc.alphaInvert = look.alphaTest == AlphaTest::Lt128;
       }
+    }
+    if (look.rgbGen == q3::RgbGen::Const) {
+      // rgbGen const: the stage's colour, whatever the blend (orange muzzle flashes).
+      desc.baseColor = glm::vec4(byteToLinear(look.constColor[0] * 255.0f), byteToLinear(look.constColor[1] * 255.0f),
+                                 byteToLinear(look.constColor[2] * 255.0f), 1.0f);
     }
     if (entry.isDefault) desc.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
     const pa::MaterialId id = renderer->addMaterial(desc);
@@ -209,15 +411,16 @@ struct ViewRenderer::Impl {
 
   /// Puts a batch into dynamic slot `index` (creating it on first use).
   void fillSlot(size_t index, ShaderRegistry& shaders, MaterialUse use, const glm::mat4x3& transform,
-                uint32_t mask, bool onTop) {
+                uint32_t mask, bool onTop, double seconds) {
     if (slots.size() <= index) slots.resize(index + 1);
     DynamicSlot& slot = slots[index];
+    addShaderLayers(shaders, batch);
     triangleMaterials.resize(batch.triangles());
-    std::map<q3abi::qhandle_t, pa::MaterialId> local;
+    std::map<std::pair<q3abi::qhandle_t, uint32_t>, pa::MaterialId> local;
     for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
-      const q3abi::qhandle_t shader = batch.triangleShaders[t];
-      auto found = local.find(shader);
-      if (found == local.end()) found = local.emplace(shader, material(shaders, shader, use)).first;
+      const auto key = std::make_pair(batch.triangleShaders[t], t < batch.triangleLayers.size() ? batch.triangleLayers[t] : 0u);
+      auto found = local.find(key);
+      if (found == local.end()) found = local.emplace(key, material(shaders, key.first, use, key.second, seconds)).first;
       triangleMaterials[t] = found->second;
     }
     pa::MeshDesc mesh;
@@ -288,7 +491,7 @@ void ViewRenderer::shadersChanged() {
   impl_->materials.clear();
 }
 
-void ViewRenderer::loadWorld(const World& world, const ShaderScripts&, ImageCache&) {
+void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScripts, ImageCache& images) {
   Impl& d = *impl_;
   d.resetRenderer();
   const Engine& engine = d.engine;
@@ -311,8 +514,15 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts&, ImageCach
   d.worldScene = q3::buildWorldScene(bsp, library, loader);
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
+  stockWorldLook(*d.worldScene, library, d.glowColors);
   d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer);
   d.portals.load(bsp, *d.worldScene);
+  d.bridgeSky = pa::bridge::skyDesc(*d.worldScene, d.world);
+  d.prepareStockSky(library, images);
+  d.dlightBuilder.prepare(*d.worldScene);
+  d.scripts = &moduleScripts;
+  d.images = &images;
+  d.prepareWorldSprites(library);
   d.brushInstances.assign(d.world.modelInstances.size(), pa::InstanceDesc{});
   for (size_t m = 0; m < d.world.modelInstances.size(); ++m) {
     d.brushInstances[m].mesh = m < d.world.modelMeshes.size() ? d.world.modelMeshes[m] : pa::kNoId;
@@ -343,6 +553,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   camera.fovY = std::clamp(view.fov_y, 1.0f, 179.0f);
   const Viewer viewer{camera.origin, camera.left, camera.up};
   const bool lightmapLook = settings.preset == Preset::Lightmap;
+  const double seconds = view.time * 0.001;   // the stock shader time of this view
 
   // The world and its brush models: hidden in model-only views, placed by their entities.
   std::vector<bool> brushPlaced(d.world.modelInstances.size(), false);
@@ -382,24 +593,19 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
       surfaceShaders.push_back(shader);
     }
     d.batch.clear();
-    appendMd3(*md3, e, surfaceShaders, d.batch);
+    std::vector<bool> autosprite(surfaceShaders.size());
+    for (size_t s = 0; s < surfaceShaders.size(); ++s) autosprite[s] = shaders.resolve(surfaceShaders[s]).look.autosprite;
+    appendMd3(*md3, e, surfaceShaders, d.batch, autosprite, spriteAxesFor(e, viewer));
     if (d.batch.indices.empty()) continue;
     if (lightmapLook) {
-      // The stock look: light-grid ambient + directed light at the entity.
-      float ambient[3] = {96, 96, 96}, directed[3] = {160, 160, 160}, dir[3] = {0.57f, 0.57f, 0.57f};
       const float* at = (e.renderfx & q3abi::RF_LIGHTING_ORIGIN) ? e.lightingOrigin : e.origin;
-      if (world != nullptr) world->lightForPoint(at, ambient, directed, dir);
-      const glm::mat4x3 m = entityTransform(e);
-      for (size_t v = 0; v < d.batch.positions.size(); ++v) {
-        const glm::vec3 n = glm::normalize(glm::mat3(m) * d.batch.normals[v]);
-        const float lambert = std::max(0.0f, n.x * dir[0] + n.y * dir[1] + n.z * dir[2]);
-        glm::vec3 light(ambient[0] + directed[0] * lambert, ambient[1] + directed[1] * lambert,
-                        ambient[2] + directed[2] * lambert);
-        if (e.renderfx & q3abi::RF_MINLIGHT) light = glm::max(light, glm::vec3(20.0f));
-        d.batch.colors[v] = glm::vec4(glm::min(light / 255.0f, glm::vec3(1.0f)), 1.0f);
-      }
+      const glm::vec3 lightOrigin(at[0], at[1], at[2]);
+      EntityLight light;
+      if (!withWorld || !lightGridAt(d.worldScene->lightGrid, lightOrigin, light)) light = noWorldLight();
+      light = finishEntityLight(light, lightOrigin, scene.lights());
+      lightModelLikeStock(e, entityTransform(e), light, shaders, d.batch);
     }
-    d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop);
+    d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop, seconds);
   }
   for (size_t m = 0; m < brushPlaced.size(); ++m) {
     pa::InstanceDesc desc = d.brushInstances[m];
@@ -419,8 +625,18 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   for (const q3abi::refEntity_t& e : scene.entities())
     if (e.reType != q3abi::RT_MODEL) appendEffect(e, viewer, d.batch);
   appendPolys(scene.polys(), scene.polyVerts(), d.batch);
-  if (!d.batch.indices.empty())
-    d.fillSlot(slot++, shaders, MaterialUse::Effect, glm::mat4x3(1.0f), pa::kMaskAll, false);
+  if (withWorld)
+    d.worldSprites.append(
+        seconds, viewer, [&](const std::string& name) { return d.spriteHandle(shaders, name); },
+        [&](uint32_t model) -> const glm::mat4x3* {
+          return model < brushPlaced.size() && brushPlaced[model] ? &d.brushInstances[model].objectToWorld : nullptr;
+        },
+        d.batch);
+  if (!d.batch.indices.empty()) {
+    if (lightmapLook) premultiplyBlendedEffects(shaders, d.batch);
+    d.fillSlot(slot++, shaders, lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect, glm::mat4x3(1.0f),
+               pa::kMaskAll, false, seconds);
+  }
   d.hideSlotsFrom(slot);
 
   // Dynamic lights (radius = reach, linear falloff as in Quake); a headlight for model views.
@@ -447,7 +663,12 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     off.intensity = 0.0f;
     d.setLight(i, off, false);
   }
-  if (withWorld) d.portals.update(scene.entities(), view.time, *d.renderer);
+  if (withWorld) {
+    d.portals.update(scene.entities(), view.time, *d.renderer);
+    d.selectSky(lightmapLook, seconds);
+    d.selectWorldEmission(lightmapLook);
+  }
+  d.drawStockDlights(scene.lights(), withWorld && lightmapLook);
   d.renderer->commit();
 
   pa::RenderSettings rs;
@@ -460,6 +681,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   rs.accumulate = settings.preset == Preset::Reference;
   rs.radianceClamp = settings.preset == Preset::Reference ? 0.0f : 10.0f;
   rs.seed = settings.seed + (rs.accumulate ? 0u : d.frameCounter++);
+  // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does.
+  if (lightmapLook) rs.tonemap = pa::Tonemap::Clamp;
   const pa::FrameView frame = d.renderer->render(camera, rs);
 
   d.picture.assign(frame.rgba8.begin(), frame.rgba8.end());

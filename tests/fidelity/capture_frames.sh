@@ -9,8 +9,8 @@
 # clock to base + 50 ms * (frames rendered since the first active frame) (ioquake3 cl_cgame.c,
 # CL_SetCGameTime), whatever the wall-clock speed, and `wait N` counts command-buffer ticks
 # (measured: two per rendered frame here), the same in every run. "Frame N" names tick N.
-# Measured: stock opengl1's screenshot shows the frame finished before the command, ours the
-# frame ending after it, one rendered frame (2 ticks) later; fidelity_test.sh compensates.
+# Both stock opengl1 and our module read back the frame finished before the screenshot command,
+# so the same tick is the same moment (README.md, "How frames are made the same moment").
 # Exit 77 when the engine, the game data or xvfb-run are missing.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"

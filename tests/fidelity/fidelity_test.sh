@@ -11,13 +11,13 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 module="$1"; compare="$2"; out="${3:-}"
 frames="${FIDELITY_FRAMES:-40 80 120 160 200}"
-# Measured: the stock screenshot issued at wait-tick N+2 (two command-buffer ticks = one rendered
-# frame) shows the moment our module's screenshot shows at tick N: stock opengl1 reads back the
-# frame finished before the command, our module the frame that ends after it. README.md has the proof.
-stock_offset="${FIDELITY_STOCK_TICK_OFFSET:-2}"
+# The glue's screenshot command reads back the frame finished before the command, as stock
+# opengl1 does, so the same wait-tick is the same moment (README.md: before that fix the stock
+# frame at tick N+2 matched ours at N; FIDELITY_STOCK_TICK_OFFSET kept for such comparisons).
+stock_offset="${FIDELITY_STOCK_TICK_OFFSET:-0}"
 stock_frames="$(for f in $frames; do printf '%d ' $((f + stock_offset)); done)"
-min_psnr="${FIDELITY_MIN_PSNR:-13.5}"
-min_ssim="${FIDELITY_MIN_SSIM:-0.50}"
+min_psnr="${FIDELITY_MIN_PSNR:-20.0}"
+min_ssim="${FIDELITY_MIN_SSIM:-0.75}"
 if [[ -z "$out" ]]; then out="$(mktemp -d /tmp/pa-fidelity.XXXXXX)"; trap 'rm -rf "$out"' EXIT; fi
 mkdir -p "$out"
 # Same cvars for both: no console notify lines (the screenshot messages differ), no FPS counter.

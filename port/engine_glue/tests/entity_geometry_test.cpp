@@ -5,6 +5,7 @@
 
 #include "port/engine_glue/entity_geometry.h"
 #include "port/engine_glue/scene.h"
+#include "port/q3formats/model/md3.h"
 
 namespace glue {
 namespace {
@@ -89,6 +90,48 @@ TEST(EntityGeometry, PolygonsBecomeTriangleFansWithTheirColours) {
   EXPECT_FLOAT_EQ(batch.colors[0].r, 1.0f);
   EXPECT_FLOAT_EQ(batch.colors[0].g, 0.0f);
   EXPECT_NEAR(batch.colors[0].a, 128.0f / 255.0f, 1e-6f);
+}
+
+TEST(EntityGeometry, AutospriteSurfacesBecomeViewerFacingQuads) {
+  // One frame, one surface: a quad lying flat (z = 0) of half-diagonal 10 * sqrt 2 around (5, 0, 0).
+  q3::Md3Model model;
+  model.frames.resize(1);
+  q3::Md3Surface surface;
+  surface.numVerts = 4;
+  surface.positions = {{{15, 10, 0}}, {{-5, 10, 0}}, {{-5, -10, 0}}, {{15, -10, 0}}};
+  surface.normals.assign(4, {{0, 0, 1}});
+  surface.texCoords.assign(4, {{0, 0}});
+  surface.triangles = {{{0, 1, 2}}, {{0, 2, 3}}};
+  model.surfaces.push_back(surface);
+  auto e = entity(q3abi::RT_MODEL);
+  e.axis[0][0] = e.axis[1][1] = e.axis[2][2] = 1;
+  const Viewer viewer{{-100, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  GeometryBatch flat, sprite;
+  appendMd3(model, e, {3}, flat);
+  EXPECT_EQ(flat.positions[0], glm::vec3(15, 10, 0));
+  appendMd3(model, e, {3}, sprite, {true}, spriteAxesFor(e, viewer));
+  ASSERT_EQ(sprite.positions.size(), 4u);
+  EXPECT_EQ(sprite.triangles(), 2u);
+  EXPECT_EQ(sprite.triangleShaders[0], 3);
+  // Radius 10 * sqrt 2 * 0.707 ~ 10: the quad stands up facing -X, centred on (5, 0, 0).
+  EXPECT_NEAR(sprite.positions[0].x, 5.0f, 1e-4f);
+  EXPECT_NEAR(sprite.positions[0].y, 10.0f * 1.41421356f * 0.707f, 1e-3f);
+  EXPECT_NEAR(sprite.positions[0].z, 10.0f * 1.41421356f * 0.707f, 1e-3f);
+  EXPECT_EQ(sprite.uvs[2], glm::vec2(1, 1));
+}
+
+TEST(EntityGeometry, SpriteAxesAreTheViewerAxesInModelSpace) {
+  auto e = entity(q3abi::RT_MODEL);
+  // Entity turned 90 degrees about Z and scaled 2x: model x = world y.
+  e.axis[0][1] = 2;
+  e.axis[1][0] = -2;
+  e.axis[2][2] = 2;
+  e.nonNormalizedAxes = 1;
+  const Viewer viewer{{0, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const SpriteAxes axes = spriteAxesFor(e, viewer);
+  EXPECT_NEAR(axes.left.x, 1.0f, 1e-6f);   // world left (+Y) is model +X
+  EXPECT_NEAR(axes.left.y, 0.0f, 1e-6f);
+  EXPECT_NEAR(axes.up.z, 1.0f, 1e-6f);
 }
 
 }  // namespace

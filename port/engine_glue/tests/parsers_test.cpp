@@ -40,6 +40,29 @@ TEST(ShaderScripts, FirstDefinitionWinsAndFirstVisibleStageIsTheLook) {
   EXPECT_FALSE(scripts.find("textures/none"));
 }
 
+TEST(ShaderScripts, AdditiveShadersKeepLaterGlowStagesAsLayersAndTheirColours) {
+  ShaderScripts scripts;
+  scripts.addScript(
+      "cmuz_flash\n{\n deformVertexes autosprite\n"
+      " {\n  map muz3.tga\n  blendfunc add\n  rgbGen const ( 1 0.5 0.25 )\n }\n"
+      " {\n  map muz6.tga\n  blendfunc add\n  rgbGen const ( 0.5 0.25 0 )\n }\n"
+      " {\n  map env.tga\n  blendfunc add\n  tcGen environment\n }\n}\n"
+      "opaque\n{\n {\n  map a.tga\n }\n {\n  map b.tga\n  blendfunc add\n }\n}\n");
+  const auto flash = scripts.find("cmuz_flash");
+  ASSERT_TRUE(flash);
+  EXPECT_TRUE(flash->autosprite);
+  EXPECT_EQ(flash->rgbGen, q3::RgbGen::Const);
+  EXPECT_FLOAT_EQ(flash->constColor[1], 0.5f);
+  ASSERT_EQ(flash->layers.size(), 1u);   // the environment stage is not a layer
+  EXPECT_EQ(flash->layers[0].images[0], "muz6.tga");
+  EXPECT_FLOAT_EQ(flash->layers[0].constColor[0], 0.5f);
+  EXPECT_EQ(flash->layers[0].blend.dst, unsigned(GL_ONE));
+  const auto opaque = scripts.find("opaque");
+  ASSERT_TRUE(opaque);
+  EXPECT_TRUE(opaque->layers.empty());   // only additive shaders get layers
+  EXPECT_FALSE(opaque->autosprite);
+}
+
 TEST(ShaderScripts, MalformedScriptsAreSkippedWhole) {
   ShaderScripts scripts;
   EXPECT_FALSE(scripts.addScript("textures/a/ok { { map ok.tga } }\nbroken\n{\n { map x.tga\n"));

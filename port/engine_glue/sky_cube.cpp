@@ -1,0 +1,204 @@
+#include "port/engine_glue/sky_cube.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
+
+#include "port/q3formats/shader/material.h"   // uvTransformAt
+
+namespace glue {
+namespace {
+
+constexpr float kSkyRadius = 4096.0f;        // tr_sky.c radiusWorld
+constexpr float kDefaultCloudHeight = 512.0f; // skyParms cloud height 0 means this
+constexpr int kBottomFace = 5;
+
+/// Axis, image-top and image-right vectors of pa's cube faces (+X, -X, +Y, -Y, +Z, -Z).
+struct FaceBasis {
+  glm::vec3 axis, top, right;
+};
+constexpr std::array<FaceBasis, 6> kFaces{{
+    {{1, 0, 0}, {0, 0, 1}, {0, -1, 0}},
+    {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+    {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},
+    {{0, -1, 0}, {0, 0, 1}, {-1, 0, 0}},
+    {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},
+    {{0, 0, -1}, {1, 0, 0}, {0, -1, 0}},
+}};
+
+/// The stock far box: image suffixes in skyParms order, and for each side of the box (+X, -X,
+/// +Y, -Y, +Z, -Z) which image it shows (tr_sky.c sky_texorder).
+constexpr std::array<const char*, 6> kBoxSuffix{"_rt", "_bk", "_lf", "_ft", "_up", "_dn"};
+constexpr std::array<int, 6> kBoxImageOfSide{0, 2, 1, 3, 4, 5};
+
+/// Which far-box image a direction shows and where (u right, v down, in [0, 1]): the inverse of
+/// the stock MakeSkyVec (side k spans (s, t) in [-1, 1]^2 through its st_to_vec axes).
+struct BoxLookup {
+  int image = 0;
+  glm::vec2 uv{0.0f};
+};
+BoxLookup stockBoxLookup(const glm::vec3& d) {
+  const glm::vec3 a = glm::abs(d);
+  int side;
+  float s, t;
+  if (a.x >= a.y && a.x >= a.z) {
+    side = d.x >= 0.0f ? 0 : 1;
+    s = (side == 0 ? -d.y : d.y) / a.x;
+    t = d.z / a.x;
+  } else if (a.y >= a.z) {
+    side = d.y >= 0.0f ? 2 : 3;
+    s = (side == 2 ? d.x : -d.x) / a.y;
+    t = d.z / a.y;
+  } else {
+    side = d.z >= 0.0f ? 4 : 5;
+    s = -d.y / a.z;
+    t = (side == 4 ? -d.x : d.x) / a.z;
+  }
+  return {kBoxImageOfSide[size_t(side)], {0.5f * (s + 1.0f), 0.5f * (1.0f - t)}};
+}
+
+/// Bilinear RGBA in [0, 1] at texture coordinates (s, t), repeating or clamped.
+glm::vec4 sampleImage(const Image& image, glm::vec2 st, bool clamp) {
+  const int w = image.width, h = image.height;
+  float x = st.x * float(w) - 0.5f, y = st.y * float(h) - 0.5f;
+  if (!std::isfinite(x) || !std::isfinite(y)) x = y = 0.0f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float ax = x - fx, ay = y - fy;
+  auto wrap = [clamp](long i, int n) {
+    if (clamp) return static_cast<int>(std::clamp<long>(i, 0, n - 1));
+    const long m = i % n;
+    return static_cast<int>(m < 0 ? m + n : m);
+  };
+  const long ix = static_cast<long>(std::clamp(fx, -1e9f, 1e9f));
+  const long iy = static_cast<long>(std::clamp(fy, -1e9f, 1e9f));
+  const int x0 = wrap(ix, w), x1 = wrap(ix + 1, w), y0 = wrap(iy, h), y1 = wrap(iy + 1, h);
+  auto texel = [&](int px, int py) {
+    const uint8_t* p = &image.rgba[(size_t(py) * w + px) * 4];
+    return glm::vec4(p[0], p[1], p[2], p[3]) * (1.0f / 255.0f);
+  };
+  return (texel(x0, y0) * (1 - ax) + texel(x1, y0) * ax) * (1 - ay) +
+         (texel(x0, y1) * (1 - ax) + texel(x1, y1) * ax) * ay;
+}
+
+glm::vec3 blendFactor(q3::BlendFactor f, const glm::vec4& src, const glm::vec3& dst) {
+  switch (f) {
+    case q3::BlendFactor::Zero: return glm::vec3(0.0f);
+    case q3::BlendFactor::One: return glm::vec3(1.0f);
+    case q3::BlendFactor::SrcColor: return glm::vec3(src);
+    case q3::BlendFactor::OneMinusSrcColor: return glm::vec3(1.0f) - glm::vec3(src);
+    case q3::BlendFactor::DstColor: return dst;
+    case q3::BlendFactor::OneMinusDstColor: return glm::vec3(1.0f) - dst;
+    case q3::BlendFactor::SrcAlpha: return glm::vec3(src.a);
+    case q3::BlendFactor::OneMinusSrcAlpha: return glm::vec3(1.0f - src.a);
+    case q3::BlendFactor::DstAlpha: return glm::vec3(1.0f);        // the framebuffer's alpha is 1
+    case q3::BlendFactor::OneMinusDstAlpha: return glm::vec3(0.0f);
+    case q3::BlendFactor::SrcAlphaSaturate: return glm::vec3(0.0f);  // min(src alpha, 1 - dst alpha)
+  }
+  return glm::vec3(1.0f);
+}
+
+/// The stage's colour multiplier (rgbGen, alphaGen) at `seconds`; sky vertices are white.
+glm::vec4 stageColor(const q3::ShaderStage& stage, double seconds) {
+  glm::vec4 color(1.0f);
+  if (stage.rgbGen == q3::RgbGen::Const)
+    color = glm::vec4(stage.constColor[0], stage.constColor[1], stage.constColor[2], 1.0f);
+  else if (stage.rgbGen == q3::RgbGen::Wave)
+    color = glm::vec4(glm::vec3(std::clamp(stage.rgbWave.evaluate(seconds), 0.0f, 1.0f)), 1.0f);
+  if (stage.alphaGen == q3::AlphaGen::Const) color.a = stage.constAlpha;
+  else if (stage.alphaGen == q3::AlphaGen::Wave) color.a = std::clamp(stage.alphaWave.evaluate(seconds), 0.0f, 1.0f);
+  return glm::clamp(color, 0.0f, 1.0f);
+}
+
+}  // namespace
+
+glm::vec3 skyCubeDirection(int face, int x, int y, int size) {
+  const FaceBasis& f = kFaces[static_cast<size_t>(std::clamp(face, 0, 5))];
+  const float u = (float(x) + 0.5f) / float(size), v = (float(y) + 0.5f) / float(size);
+  return f.axis + f.right * (2.0f * u - 1.0f) + f.top * (1.0f - 2.0f * v);
+}
+
+glm::vec2 cloudTexCoords(const glm::vec3& direction, float cloudHeight) {
+  const float h = cloudHeight > 0.0f ? cloudHeight : kDefaultCloudHeight;
+  const float r = kSkyRadius;
+  const float lengthSquared = glm::dot(direction, direction);
+  if (!(lengthSquared > 0.0f)) return glm::vec2(0.0f);
+  // |p d + (0, 0, r)| = r + h, the positive root.
+  const float b = direction.z * r;
+  const float p = (-b + std::sqrt(b * b + lengthSquared * (2.0f * r * h + h * h))) / lengthSquared;
+  glm::vec3 v = direction * p;
+  v.z += r;
+  v = glm::normalize(v);
+  return {std::acos(std::clamp(v.x, -1.0f, 1.0f)), std::acos(std::clamp(v.y, -1.0f, 1.0f))};
+}
+
+bool SkyBaker::prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, int size) {
+  size_ = std::clamp(size, 8, 1024);
+  layers_.clear();
+  farBox_ = {};
+  animated_ = false;
+  bool anyFace = false;
+  if (shader.sky && !shader.sky->farBox.empty()) {
+    for (size_t i = 0; i < 6; ++i) {
+      farBox_[i] = load(shader.sky->farBox + kBoxSuffix[i]);
+      anyFace = anyFace || farBox_[i] != nullptr;
+    }
+  }
+  for (const q3::ShaderStage& stage : shader.stages) {
+    if (stage.source != q3::TextureSource::Image || stage.textures.empty()) continue;
+    auto image = load(stage.textures.front());
+    if (!image) continue;
+    layers_.push_back({stage, std::move(image)});
+    animated_ = animated_ || !stage.tcMods.empty() || stage.rgbGen == q3::RgbGen::Wave ||
+                stage.alphaGen == q3::AlphaGen::Wave;
+  }
+  if (!anyFace && layers_.empty()) return false;
+  const float height = shader.sky ? shader.sky->cloudHeight : kDefaultCloudHeight;
+  cloudCoords_.assign(size_t(kBottomFace) * size_ * size_, glm::vec2(0.0f));
+  for (int face = 0; face < kBottomFace; ++face)
+    for (int y = 0; y < size_; ++y)
+      for (int x = 0; x < size_; ++x)
+        cloudCoords_[(size_t(face) * size_ + y) * size_ + x] =
+            cloudTexCoords(skyCubeDirection(face, x, y, size_), height);
+  return true;
+}
+
+void SkyBaker::bake(double seconds, SkyCube& out) const {
+  out.size = size_;
+  std::vector<q3::UvAffine> transforms;
+  std::vector<glm::vec4> colors;
+  for (const Layer& layer : layers_) {
+    transforms.push_back(q3::uvTransformAt(layer.stage.tcMods, seconds));
+    colors.push_back(stageColor(layer.stage, seconds));
+  }
+  for (int face = 0; face < 6; ++face) {
+    std::vector<uint8_t>& pixels = out.faces[size_t(face)];
+    pixels.assign(size_t(size_) * size_ * 4, 255);
+    for (int y = 0; y < size_; ++y)
+      for (int x = 0; x < size_; ++x) {
+        glm::vec3 color(0.0f);
+        const BoxLookup where = stockBoxLookup(skyCubeDirection(face, x, y, size_));
+        if (const Image* box = farBox_[size_t(where.image)].get()) color = glm::vec3(sampleImage(*box, where.uv, true));
+        if (face != kBottomFace) {
+          const glm::vec2 st = cloudCoords_[(size_t(face) * size_ + y) * size_ + x];
+          for (size_t l = 0; l < layers_.size(); ++l) {
+            const Layer& layer = layers_[l];
+            const auto uv = transforms[l].apply(st.x, st.y);
+            const glm::vec4 src = sampleImage(*layer.image, {uv[0], uv[1]}, layer.stage.clamp) * colors[l];
+            if (!layer.stage.blends()) {
+              color = glm::vec3(src);
+              continue;
+            }
+            color = glm::clamp(glm::vec3(src) * blendFactor(layer.stage.srcBlend, src, color) +
+                                   color * blendFactor(layer.stage.dstBlend, src, color),
+                               0.0f, 1.0f);
+          }
+        }
+        uint8_t* p = &pixels[(size_t(y) * size_ + x) * 4];
+        for (int c = 0; c < 3; ++c) p[c] = static_cast<uint8_t>(std::lround(color[c] * 255.0f));
+      }
+  }
+}
+
+}  // namespace glue

@@ -1,0 +1,64 @@
+#pragma once
+// The stock sky as a cube map for the tracer's environment (pa::SkyDesc): opengl1 draws a sky
+// shader's far box (skyParms <farbox>) and then its stages as cloud layers, each mapped onto a
+// dome of radius 4096 raised by the cloud height (ioquake3 tr_sky.c R_InitSkyTexCoords,
+// FillCloudBox; the bottom face gets no clouds). We bake the same picture per direction into six
+// faces in pa's face order (+X, -X, +Y, -Y, +Z, -Z) and orientation, at a given shader time so
+// that scrolling clouds move as in the stock renderer.
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "port/engine_glue/images.h"
+#include "port/q3formats/shader/shader_types.h"
+
+namespace glue {
+
+/// Loads a game image by path (any extension), nullptr when it cannot be read.
+using SkyImageLoader = std::function<std::shared_ptr<const Image>(const std::string& path)>;
+
+/// World direction (not normalised) through texel centre (x, y) of cube face `face` (0..5) with
+/// `size` texels a side, in pa's cube convention (renderer/scene/lights/sky.cpp cubeLookup).
+glm::vec3 skyCubeDirection(int face, int x, int y, int size);
+
+/// The stock cloud-layer texture coordinates (before tcMods) of a world direction (Z up):
+/// the ray from the eye meets a sphere of radius 4096 + cloudHeight centred 4096 units below
+/// the eye; s and t are the arc cosines of that point's unit x and y.
+glm::vec2 cloudTexCoords(const glm::vec3& direction, float cloudHeight);
+
+/// Six RGBA8 faces of `size` x `size` texels.
+struct SkyCube {
+  int size = 0;
+  std::array<std::vector<uint8_t>, 6> faces;
+};
+
+/// Bakes a sky shader's stock look.
+class SkyBaker {
+ public:
+  /// Reads the shader's far box and cloud stage images. False (and nothing to bake) when the
+  /// shader has neither a far box nor an image stage.
+  bool prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, int size);
+  /// True when the clouds move with time (a stage has tcMods or wave colours).
+  bool animated() const { return animated_; }
+  /// The faces at shader time `seconds`.
+  void bake(double seconds, SkyCube& out) const;
+
+ private:
+  struct Layer {
+    q3::ShaderStage stage;
+    std::shared_ptr<const Image> image;
+  };
+  std::array<std::shared_ptr<const Image>, 6> farBox_;   ///< skyParms suffix order: rt bk lf ft up dn.
+  std::vector<Layer> layers_;
+  int size_ = 0;
+  std::vector<glm::vec2> cloudCoords_;   ///< Per texel of faces 0..4 (the bottom has no clouds).
+  bool animated_ = false;
+};
+
+}  // namespace glue

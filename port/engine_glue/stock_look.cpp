@@ -1,0 +1,164 @@
+#include "port/engine_glue/stock_look.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+
+#include "port/q3formats/shader/material.h"
+#include "port/q3formats/shader/shader_library.h"
+
+namespace glue {
+namespace {
+
+/// Where the stock renderer takes a model surface's colour from (its stage's rgbGen).
+enum class ModelColorSource : uint8_t { EntityLight, White, Entity, OneMinusEntity };
+
+ModelColorSource modelColorSource(const ShaderEntry& entry) {
+  const ShaderLook& look = entry.look;
+  if (!look.fromScript) return ModelColorSource::EntityLight;   // implicit model shader: lightingDiffuse
+  switch (look.rgbGen) {
+    case q3::RgbGen::LightingDiffuse: return ModelColorSource::EntityLight;
+    case q3::RgbGen::Entity: return ModelColorSource::Entity;
+    case q3::RgbGen::OneMinusEntity: return ModelColorSource::OneMinusEntity;
+    default: return ModelColorSource::White;   // identity / identityLighting (1 without overbright);
+                                               // const colours are the material's base colour
+  }
+}
+
+}  // namespace
+
+/// True for the stock alpha blend (GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA).
+bool isAlphaBlend(const BlendFunc& blend) {
+  return blend.src == 0x0302 /*GL_SRC_ALPHA*/ && blend.dst == 0x0303 /*GL_ONE_MINUS_SRC_ALPHA*/;
+}
+
+/// RGBA with the colour multiplied by alpha (alpha kept).
+std::shared_ptr<const Image> premultipliedImage(const std::shared_ptr<const Image>& image) {
+  if (!image) return nullptr;
+  auto out = std::make_shared<Image>(*image);
+  for (size_t i = 0; i + 3 < out->rgba.size(); i += 4)
+    for (size_t c = 0; c < 3; ++c) out->rgba[i + c] = static_cast<uint8_t>((out->rgba[i + c] * out->rgba[i + 3] + 127) / 255);
+  return out;
+}
+
+/// Lightmap preset: vertex colours of alpha-blended effect triangles premultiplied by their
+/// alpha, to go with MaterialUse::StockEffect.
+void premultiplyBlendedEffects(ShaderRegistry& shaders, GeometryBatch& batch) {
+  std::vector<bool> done(batch.colors.size(), false);
+  for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
+    const ShaderLook& look = shaders.resolve(batch.triangleShaders[t]).look;
+    if (!look.fromScript || !isAlphaBlend(look.blend)) continue;
+    for (size_t corner = 0; corner < 3; ++corner) {
+      const uint32_t v = batch.indices[t * 3 + corner];
+      if (v >= batch.colors.size() || done[v]) continue;
+      done[v] = true;
+      glm::vec4& c = batch.colors[v];
+      c = glm::vec4(glm::vec3(c) * c.a, c.a);
+    }
+  }
+}
+
+float byteToLinear(float byte) {
+  const float c = std::clamp(byte / 255.0f, 0.0f, 1.0f);
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/// Lightmap preset: each vertex of an MD3 batch gets the colour the stock renderer gives it
+/// (grid light per vertex normal, entity colour or white). Stock multiplies texture
+/// and colour bytes in gamma space; the tracer multiplies linear values, so the bytes are
+/// linearised (lin(a) * lin(b) ~ lin(a * b)).
+void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld,
+                         const EntityLight& light, ShaderRegistry& shaders, GeometryBatch& batch) {
+  const glm::mat3 axes(toWorld);
+  std::vector<bool> done(batch.positions.size(), false);
+  for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
+    const ModelColorSource source = modelColorSource(shaders.resolve(batch.triangleShaders[t]));
+    for (size_t corner = 0; corner < 3; ++corner) {
+      const uint32_t v = batch.indices[t * 3 + corner];
+      if (v >= batch.positions.size() || done[v]) continue;
+      done[v] = true;
+      glm::vec3 bytes(255.0f);
+      switch (source) {
+        case ModelColorSource::EntityLight: {
+          glm::vec3 normal = axes * batch.normals[v];
+          const float length = glm::length(normal);
+          normal = length > 1e-12f ? normal / length : glm::vec3(0.0f, 0.0f, 1.0f);
+          bytes = diffuseVertexLight(light, normal);
+          break;
+        }
+        case ModelColorSource::Entity:
+          bytes = glm::vec3(e.shaderRGBA[0], e.shaderRGBA[1], e.shaderRGBA[2]);
+          break;
+        case ModelColorSource::OneMinusEntity:
+          bytes = glm::vec3(255 - e.shaderRGBA[0], 255 - e.shaderRGBA[1], 255 - e.shaderRGBA[2]);
+          break;
+        case ModelColorSource::White:
+          break;
+      }
+      batch.colors[v] = glm::vec4(byteToLinear(bytes.r), byteToLinear(bytes.g), byteToLinear(bytes.b),
+                                  batch.colors[v].a);
+    }
+  }
+}
+
+/// World surfaces whose shader has no lightmap stage and no vertex-colour stage are drawn by
+/// opengl1 at full texture brightness (rgbGen identityLighting), whatever q3map2 baked into
+/// their vertex colours: whiten those colours (the lightmap preset multiplies them in; the
+/// traced presets ignore vertex colours of vertex-lit surfaces). Also records the colour of each
+/// material's glow stage (rgbGen const of the first additive stage), which the stock look adds.
+void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
+                    std::unordered_map<uint32_t, glm::vec3>& glowColors) {
+  std::vector<bool> unlit(scene.materials.size(), false);
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const q3::WorldMaterial& m = scene.materials[i];
+    const q3::ShaderDef* def = m.fromScript ? library.find(m.shaderName) : nullptr;
+    if (def == nullptr) continue;
+    unlit[i] = q3::deriveMaterial(*def).lighting == q3::LightingMode::Unlit;
+    for (size_t s = 1; s < def->stages.size(); ++s) {
+      const q3::ShaderStage& stage = def->stages[s];
+      if (stage.source != q3::TextureSource::Image || !stage.blends() || stage.dstBlend != q3::BlendFactor::One ||
+          stage.tcGen == q3::TcGen::Environment)
+        continue;
+      if (stage.rgbGen == q3::RgbGen::Const)
+        glowColors[uint32_t(i)] = glm::vec3(byteToLinear(stage.constColor[0] * 255.0f),
+                                            byteToLinear(stage.constColor[1] * 255.0f),
+                                            byteToLinear(stage.constColor[2] * 255.0f));
+      break;
+    }
+  }
+  for (q3::WorldModel& model : scene.models) {
+    for (q3::WorldMesh& mesh : model.meshes) {
+      if (mesh.material >= unlit.size()) continue;
+      if (unlit[mesh.material]) {
+        for (glm::vec4& color : mesh.colors) color = glm::vec4(1.0f, 1.0f, 1.0f, color.a);
+      } else if (scene.materials[mesh.material].vertexLit || mesh.lightmap < 0) {
+        // Baked vertex light is brightened at load like lightmaps (tr_bsp.c shifts every
+        // draw vertex colour by r_mapOverBrightBits - overbrightBits).
+        for (glm::vec4& color : mesh.colors) {
+          const glm::vec3 shifted = colorShiftLight(glm::round(glm::vec3(color) * 255.0f), kLightOverbrightShift);
+          color = glm::vec4(shifted / 255.0f, color.a);
+        }
+      }
+    }
+  }
+}
+
+/// Repeats the triangles of shaders that have extra additive layers once per layer
+/// (batch.triangleLayers tells which layer each triangle draws).
+void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch) {
+  const size_t count = batch.triangles();
+  batch.triangleLayers.assign(count, 0);
+  for (size_t t = 0; t < count; ++t) {
+    const size_t layers = shaders.resolve(batch.triangleShaders[t]).look.layers.size();
+    for (size_t layer = 1; layer <= layers; ++layer) {
+      batch.indices.insert(batch.indices.end(), {batch.indices[t * 3], batch.indices[t * 3 + 1], batch.indices[t * 3 + 2]});
+      batch.triangleShaders.push_back(batch.triangleShaders[t]);
+      batch.triangleLayers.push_back(static_cast<uint32_t>(layer));
+    }
+  }
+}
+
+}  // namespace glue

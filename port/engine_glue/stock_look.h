@@ -1,0 +1,58 @@
+#pragma once
+// Lightmap preset helpers that make traced views look like the stock opengl1 renderer's
+// picture: model vertex colours, blended effects, extra shader layers and the world's unlit
+// surfaces (used by views_traced.cpp; each function says which stock behaviour it follows).
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+
+#include <glm/mat4x3.hpp>
+#include <glm/vec3.hpp>
+
+#include "port/engine_glue/entity_geometry.h"
+#include "port/engine_glue/entity_lighting.h"
+#include "port/engine_glue/images.h"
+#include "port/engine_glue/ioq3_abi.h"
+#include "port/engine_glue/shaders.h"
+#include "port/q3formats/world/world_scene.h"
+
+namespace q3 {
+class ShaderLibrary;
+}
+
+namespace glue {
+
+/// An 8-bit gamma-space value (0..255) as linear light, the sRGB transfer undone.
+float byteToLinear(float byte);
+
+/// True for the stock alpha blend (GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA).
+bool isAlphaBlend(const BlendFunc& blend);
+
+/// RGBA with the colour multiplied by alpha (alpha kept).
+std::shared_ptr<const Image> premultipliedImage(const std::shared_ptr<const Image>& image);
+
+/// Vertex colours of alpha-blended effect triangles premultiplied by their alpha (the lightmap
+/// preset draws such effects as premultiplied additive layers).
+void premultiplyBlendedEffects(ShaderRegistry& shaders, GeometryBatch& batch);
+
+/// Each vertex of an MD3 batch gets the colour the stock renderer gives it: grid light per
+/// vertex normal (rgbGen lightingDiffuse, implicit model shaders), entity colour or white.
+/// Stock multiplies texture and colour bytes in gamma space; the tracer multiplies linear
+/// values, so the bytes are linearised (lin(a) * lin(b) ~ lin(a * b)).
+void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld, const EntityLight& light,
+                         ShaderRegistry& shaders, GeometryBatch& batch);
+
+/// Repeats the triangles of shaders that have extra additive layers once per layer
+/// (batch.triangleLayers tells which layer each triangle draws).
+void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch);
+
+/// World surfaces whose shader has no lightmap stage and no vertex-colour stage (q3::deriveMaterial
+/// says Unlit) are drawn by opengl1 at full texture brightness (rgbGen identityLighting): their
+/// vertex colours become white (the lightmap preset multiplies them in; the traced presets ignore
+/// vertex colours of vertex-lit surfaces); the vertex colours of vertex-lit surfaces get the
+/// stock overbright shift (x4, hue kept). Also records each material's glow colour (rgbGen const
+/// of its first additive stage, linear), which the stock look adds.
+void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
+                    std::unordered_map<uint32_t, glm::vec3>& glowColors);
+
+}  // namespace glue

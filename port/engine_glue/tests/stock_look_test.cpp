@@ -1,0 +1,333 @@
+// Known answers for the lightmap preset's stock-look helpers: entity lighting from the light
+// grid (entity_lighting.h) and the baked stock sky (sky_cube.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include <glm/geometric.hpp>
+
+#include "port/engine_glue/dlight_overlay.h"
+#include "port/engine_glue/entity_lighting.h"
+#include "port/engine_glue/scene.h"
+#include "port/engine_glue/sky_cube.h"
+#include "port/engine_glue/stock_look.h"
+#include "port/engine_glue/world_sprites.h"
+#include "port/q3formats/shader/shader_library.h"
+
+namespace glue {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+TEST(EntityLighting, ColorShiftKeepsHueWhenSaturating) {
+  EXPECT_EQ(colorShiftLight({10, 20, 30}, 2), glm::vec3(40, 80, 120));
+  // 256, 128, 64 passes 255: scaled by 255/256 with integer truncation, as the engine does.
+  EXPECT_EQ(colorShiftLight({64, 32, 16}, 2), glm::vec3(255, 127, 63));
+  EXPECT_EQ(colorShiftLight({0, 0, 0}, 2), glm::vec3(0));
+}
+
+q3::WorldLightGrid twoPointGrid() {
+  q3::WorldLightGrid grid;
+  grid.origin = {0, 0, 0};
+  grid.cellSize = {64, 64, 128};
+  grid.counts = {2, 1, 1};
+  // Longitude 0 -> direction (0, 0, 1) whatever the latitude.
+  grid.samples = {{10, 10, 10, 20, 20, 20, 0, 0}, {30, 30, 30, 40, 40, 40, 0, 0}};
+  return grid;
+}
+
+TEST(EntityLighting, GridIsShiftedInterpolatedAndScaled) {
+  EntityLight light;
+  ASSERT_TRUE(lightGridAt(twoPointGrid(), {16, 0, 0}, light));
+  // x = 16 of 64: weights 0.75 / 0.25 of the shifted samples (40, 120 ambient; 80, 160 directed).
+  EXPECT_NEAR(light.ambient.r, (0.75f * 40 + 0.25f * 120) * 0.6f, 1e-3f);
+  EXPECT_NEAR(light.directed.g, 0.75f * 80 + 0.25f * 160, 1e-3f);
+  EXPECT_NEAR(light.direction.z, 1.0f, 1e-5f);
+}
+
+TEST(EntityLighting, SamplesInWallsAreSkippedAndWeightsRenormalised) {
+  q3::WorldLightGrid grid = twoPointGrid();
+  grid.samples[1] = {0, 0, 0, 90, 90, 90, 0, 0};   // no ambient: inside a wall
+  EntityLight light;
+  ASSERT_TRUE(lightGridAt(grid, {32, 0, 0}, light));
+  EXPECT_NEAR(light.ambient.r, 40 * 0.6f, 1e-3f);
+  EXPECT_NEAR(light.directed.r, 80, 1e-3f);
+}
+
+TEST(EntityLighting, EmptyGridIsRefused) {
+  EntityLight light;
+  EXPECT_FALSE(lightGridAt(q3::WorldLightGrid{}, {0, 0, 0}, light));
+  q3::WorldLightGrid truncated = twoPointGrid();
+  truncated.samples.pop_back();
+  EXPECT_FALSE(lightGridAt(truncated, {0, 0, 0}, light));
+}
+
+TEST(EntityLighting, MinimumLightDynamicLightsAndClamp) {
+  EntityLight light;
+  light.ambient = {100, 240, 0};
+  light.directed = {50, 50, 50};
+  light.direction = {0, 0, 1};
+  DynamicLight red;
+  red.origin = {32, 0, 0};
+  red.radius = 100;
+  red.color = {1, 0, 0};
+  const DynamicLight lights[] = {red};
+  const EntityLight lit = finishEntityLight(light, {0, 0, 0}, lights);
+  EXPECT_EQ(lit.ambient, glm::vec3(132, 255, 32));
+  const float power = 16.0f * 100 * 100 / (32 * 32);
+  EXPECT_NEAR(lit.directed.r, 50 + power, 1e-2f);
+  EXPECT_NEAR(lit.directed.g, 50, 1e-4f);
+  // The direction turns towards the light: (power, 0, |directed|) normalised.
+  const glm::vec3 expected = glm::normalize(glm::vec3(power, 0, std::sqrt(3.0f) * 50));
+  EXPECT_NEAR(lit.direction.x, expected.x, 1e-4f);
+  EXPECT_NEAR(lit.direction.z, expected.z, 1e-4f);
+}
+
+TEST(EntityLighting, VertexLightIsAmbientPlusLambertClampedPerChannel) {
+  EntityLight light;
+  light.ambient = {40, 100, 200};
+  light.directed = {100, 100, 100};
+  light.direction = {0, 0, 1};
+  EXPECT_EQ(diffuseVertexLight(light, {0, 0, -1}), glm::vec3(40, 100, 200));
+  EXPECT_EQ(diffuseVertexLight(light, {0, 0, 1}), glm::vec3(140, 200, 255));
+  EXPECT_EQ(diffuseVertexLight(light, glm::normalize(glm::vec3(1, 0, 1))), glm::vec3(110, 170, 255));
+  const EntityLight none = noWorldLight();
+  EXPECT_EQ(none.ambient, glm::vec3(150));
+  EXPECT_NEAR(glm::length(none.direction), 1.0f, 1e-6f);
+}
+
+TEST(SkyCube, CloudCoordinatesOfTheZenithAndTheHorizon) {
+  const glm::vec2 up = cloudTexCoords({0, 0, 1}, 1024);
+  EXPECT_NEAR(up.x, kPi / 2, 1e-5f);
+  EXPECT_NEAR(up.y, kPi / 2, 1e-5f);
+  // Horizontal ray: meets the dome at distance sqrt(2Rh + h^2), height R above its centre.
+  const float r = 4096, h = 1024;
+  const float p = std::sqrt(2 * r * h + h * h);
+  const glm::vec2 east = cloudTexCoords({1, 0, 0}, h);
+  EXPECT_NEAR(east.x, std::acos(p / (r + h)), 1e-4f);
+  EXPECT_NEAR(east.y, kPi / 2, 1e-5f);
+  // The length of the direction does not matter; cloud height 0 means 512.
+  EXPECT_NEAR(cloudTexCoords({3, 0, 0}, h).x, east.x, 1e-5f);
+  EXPECT_NEAR(cloudTexCoords({1, 0, 0}, 0).x, cloudTexCoords({1, 0, 0}, 512).x, 1e-6f);
+}
+
+TEST(SkyCube, FaceDirectionsFollowTheTracerConvention) {
+  const glm::vec3 centre = skyCubeDirection(0, 1, 1, 3);
+  EXPECT_EQ(centre, glm::vec3(1, 0, 0));
+  // Face +X: image right is -Y, image top is +Z.
+  EXPECT_LT(skyCubeDirection(0, 2, 1, 3).y, 0.0f);
+  EXPECT_GT(skyCubeDirection(0, 1, 0, 3).z, 0.0f);
+  EXPECT_EQ(skyCubeDirection(4, 1, 1, 3), glm::vec3(0, 0, 1));
+}
+
+std::shared_ptr<const Image> solid(uint8_t r, uint8_t g, uint8_t b) {
+  auto image = std::make_shared<Image>();
+  image->width = image->height = 4;
+  for (int i = 0; i < 16; ++i) image->rgba.insert(image->rgba.end(), {r, g, b, 255});
+  return image;
+}
+
+glm::ivec3 texel(const SkyCube& cube, int face, int x, int y) {
+  const uint8_t* p = &cube.faces[size_t(face)][(size_t(y) * cube.size + x) * 4];
+  return {p[0], p[1], p[2]};
+}
+
+TEST(SkyCube, FarBoxImagesLandOnTheStockSides) {
+  // Stock draws rt on +X, lf on -X, bk on +Y, ft on -Y, up on +Z, dn on -Z.
+  std::map<std::string, std::shared_ptr<const Image>> files = {
+      {"env/box_rt", solid(10, 0, 0)}, {"env/box_bk", solid(20, 0, 0)}, {"env/box_lf", solid(30, 0, 0)},
+      {"env/box_ft", solid(40, 0, 0)}, {"env/box_up", solid(50, 0, 0)}, {"env/box_dn", solid(60, 0, 0)}};
+  q3::ShaderDef shader;
+  shader.sky = q3::SkyParms{"env/box", 512, ""};
+  SkyBaker baker;
+  ASSERT_TRUE(baker.prepare(shader, [&](const std::string& path) { return files[path]; }, 8));
+  EXPECT_FALSE(baker.animated());
+  SkyCube cube;
+  baker.bake(0.0, cube);
+  ASSERT_EQ(cube.size, 8);
+  const int expected[6] = {10, 30, 20, 40, 50, 60};
+  for (int face = 0; face < 6; ++face) EXPECT_EQ(texel(cube, face, 4, 4).x, expected[face]) << "face " << face;
+}
+
+TEST(SkyCube, CloudStagesBlendOverTheBoxExceptBelow) {
+  q3::ShaderDef shader;
+  shader.sky = q3::SkyParms{"", 512, ""};
+  q3::ShaderStage add;
+  add.textures = {"clouds_add"};
+  add.hasBlend = true;
+  add.srcBlend = add.dstBlend = q3::BlendFactor::One;
+  q3::ShaderStage filter = add;
+  filter.textures = {"clouds_filter"};
+  filter.srcBlend = q3::BlendFactor::DstColor;
+  filter.dstBlend = q3::BlendFactor::Zero;
+  filter.tcMods.push_back(q3::TcMod{});   // scroll 0 0: animated, same picture
+  shader.stages = {add, filter};
+  std::map<std::string, std::shared_ptr<const Image>> files = {{"clouds_add", solid(200, 100, 50)},
+                                                               {"clouds_filter", solid(128, 255, 0)}};
+  SkyBaker baker;
+  ASSERT_TRUE(baker.prepare(shader, [&](const std::string& path) { return files[path]; }, 4));
+  EXPECT_TRUE(baker.animated());
+  SkyCube cube;
+  baker.bake(3.0, cube);
+  // (0 + add) * filter: 200 * 128 / 255 = 100.4, 100 * 1, 50 * 0.
+  EXPECT_EQ(texel(cube, 4, 1, 1), glm::ivec3(100, 100, 0));
+  EXPECT_EQ(texel(cube, 0, 2, 3), glm::ivec3(100, 100, 0));
+  EXPECT_EQ(texel(cube, 5, 1, 1), glm::ivec3(0, 0, 0));   // no clouds on the bottom face
+}
+
+TEST(SkyCube, NothingToBakeWithoutBoxOrStages) {
+  q3::ShaderDef shader;
+  shader.sky = q3::SkyParms{"env/missing", 512, ""};
+  SkyBaker baker;
+  EXPECT_FALSE(baker.prepare(shader, [](const std::string&) { return nullptr; }, 8));
+}
+
+TEST(DlightOverlay, BlobIsFullInTheMiddleAndZeroAtTheRim) {
+  EXPECT_FLOAT_EQ(stockDlightBlob({0.5f, 0.5f}), 1.0f);
+  EXPECT_FLOAT_EQ(stockDlightBlob({0.0f, 0.0f}), 0.0f);
+  EXPECT_FLOAT_EQ(stockDlightBlob({1.0f, 0.5f}), 0.0f);
+  EXPECT_GT(stockDlightBlob({0.75f, 0.5f}), 0.3f);   // 4 texels out: 4000 / 12.25 -> 255
+}
+
+TEST(DlightOverlay, LightIsModulatedByHeightAndOnlyLightsTheFront) {
+  DynamicLight light;
+  light.origin = {0, 0, 100};
+  light.radius = 300;
+  light.color = {1, 1, 0};
+  const glm::vec3 up(0, 0, 1);
+  EXPECT_EQ(stockDlightAt(light, {0, 0, 0}, up), glm::vec3(1, 1, 0));
+  EXPECT_EQ(stockDlightAt(light, {0, 0, 0}, -up), glm::vec3(0));        // behind the surface
+  // 225 below the light: modulate 2 * (300 - 225) / 300 = 0.5 (bytes truncated).
+  EXPECT_NEAR(stockDlightAt(light, {0, 0, -125}, up).r, 127.0f / 255.0f, 1e-6f);
+  EXPECT_EQ(stockDlightAt(light, {0, 0, -250}, up), glm::vec3(0));      // out of reach in height
+}
+
+q3::WorldScene floorScene() {
+  q3::WorldScene scene;
+  q3::WorldMaterial material;
+  material.shaderName = "textures/test/floor";
+  scene.materials.push_back(material);
+  q3::WorldImage lightmap{2, 2, std::vector<uint8_t>(16, 32)};   // stored 32 -> 128 after the shift
+  scene.lightmaps.push_back(lightmap);
+  q3::WorldMesh mesh;
+  mesh.lightmap = 0;
+  mesh.positions = {{-32, -32, 0}, {32, -32, 0}, {32, 32, 0}, {-32, 32, 0}};
+  mesh.normals.assign(4, {0, 0, 1});
+  mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  mesh.lightmapUvs = mesh.uvs;
+  mesh.colors.assign(4, glm::vec4(1.0f));
+  mesh.indices = {0, 1, 2, 0, 2, 3};
+  scene.models.resize(1);
+  scene.models[0].meshes.push_back(mesh);
+  return scene;
+}
+
+TEST(DlightOverlay, LitTrianglesAreCopiedAboveTheSurfaceWithWhatTheBlendAdds) {
+  DlightOverlayBuilder builder;
+  builder.prepare(floorScene());
+  ASSERT_EQ(builder.triangles(), 2u);
+  DynamicLight light;
+  light.origin = {0, 0, 40};
+  light.radius = 400;
+  light.color = {1, 0, 0};
+  DlightOverlay overlay;
+  builder.build(std::span<const DynamicLight>(&light, 1), overlay);
+  ASSERT_FALSE(overlay.indices.empty());
+  EXPECT_EQ(overlay.indices.size() / 3, overlay.triangleMaterials.size());
+  for (const glm::vec3& p : overlay.positions) EXPECT_GT(p.z, 0.0f);
+  // Every vertex is within 2 blob texels of the centre: full red. Baked 128 (linear 0.216) times
+  // (1 + 1)^2.2 - 1; no green or blue added.
+  const float expected = 0.2158605f * (std::pow(2.0f, 2.2f) - 1.0f);
+  for (const glm::vec4& c : overlay.colors) {
+    EXPECT_NEAR(c.r, expected, 1e-3f);
+    EXPECT_EQ(c.g, 0.0f);
+  }
+  DynamicLight far = light;
+  far.origin = {5000, 0, 40};
+  overlay.clear();
+  builder.build(std::span<const DynamicLight>(&far, 1), overlay);
+  EXPECT_TRUE(overlay.indices.empty());
+}
+
+TEST(WorldSprites, AutospriteQuadsFaceTheViewerAndMoveWithTheirWaves) {
+  q3::ShaderLibrary library;
+  ASSERT_TRUE(library.addScript(
+      "textures/fx/puff\n{\n deformVertexes autosprite\n deformVertexes move 0 0 100 sawtooth 0 1 0 0.5\n"
+      " {\n  clampmap puff.tga\n  blendfunc blend\n  alphaGen wave sawtooth 1 -1 0 0.5\n }\n}\n",
+      "fx.shader"));
+  q3::WorldScene scene = floorScene();
+  scene.materials[0].shaderName = "textures/fx/puff";
+  scene.materials[0].fromScript = true;
+  WorldSprites sprites;
+  const std::vector<uint32_t> materials = sprites.prepare(scene, library);
+  ASSERT_EQ(materials, std::vector<uint32_t>{0});
+  ASSERT_EQ(sprites.size(), 1u);
+  const Viewer viewer{{-500, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  GeometryBatch batch;
+  // t = 1 s: sawtooth at phase 0.5 -> moved up 50 units; alpha 1 - 0.5.
+  sprites.append(1.0, viewer, [](const std::string& name) { return name == "textures/fx/puff" ? 5 : 0; }, {}, batch);
+  ASSERT_EQ(batch.positions.size(), 4u);
+  EXPECT_EQ(batch.triangleShaders[0], 5);
+  const float radius = 32.0f * std::sqrt(2.0f) * 0.707f;
+  EXPECT_NEAR(batch.positions[0].x, 0.0f, 1e-4f);
+  EXPECT_NEAR(batch.positions[0].y, radius, 1e-3f);
+  EXPECT_NEAR(batch.positions[0].z, 50.0f + radius, 1e-3f);
+  EXPECT_NEAR(batch.colors[0].a, 0.5f, 1e-5f);
+  GeometryBatch none;
+  sprites.append(1.0, viewer, [](const std::string&) { return 0; }, {}, none);
+  EXPECT_TRUE(none.positions.empty());   // no shader handle: nothing drawn
+}
+
+TEST(WorldSprites, BrushModelSpritesFollowTheirEntity) {
+  q3::ShaderLibrary library;
+  ASSERT_TRUE(library.addScript("textures/fx/ball\n{\n deformVertexes autosprite\n {\n  map ball.tga\n  blendfunc add\n }\n}\n",
+                                "fx.shader"));
+  q3::WorldScene scene = floorScene();
+  scene.materials[0].shaderName = "textures/fx/ball";
+  scene.materials[0].fromScript = true;
+  scene.models.push_back(scene.models[0]);   // "*1": the same card on a mover
+  scene.models[0].meshes.clear();
+  WorldSprites sprites;
+  sprites.prepare(scene, library);
+  ASSERT_EQ(sprites.size(), 1u);
+  const Viewer viewer{{-500, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  glm::mat4x3 moved(1.0f);
+  moved[3] = glm::vec3(0, 0, 300);
+  GeometryBatch batch;
+  sprites.append(0.0, viewer, [](const std::string&) { return 2; },
+                 [&](uint32_t model) { return model == 1 ? &moved : nullptr; }, batch);
+  ASSERT_EQ(batch.positions.size(), 4u);
+  EXPECT_NEAR(0.25f * (batch.positions[0].z + batch.positions[1].z + batch.positions[2].z + batch.positions[3].z), 300.0f, 1e-3f);
+  GeometryBatch hidden;
+  sprites.append(0.0, viewer, [](const std::string&) { return 2; }, [](uint32_t) { return nullptr; }, hidden);
+  EXPECT_TRUE(hidden.positions.empty());   // the mover is not in this view
+}
+
+TEST(StockWorldLook, UnlitShadersAreWhitenedAndVertexLightIsShifted) {
+  q3::ShaderLibrary library;
+  ASSERT_TRUE(library.addScript(
+      "textures/test/unlit\n{\n {\n  map a.tga\n }\n {\n  map glow.tga\n  blendfunc add\n  rgbGen const ( 1 0 0 )\n }\n}\n",
+      "test.shader"));
+  q3::WorldScene scene = floorScene();
+  scene.materials[0].shaderName = "textures/test/unlit";
+  scene.materials[0].fromScript = true;
+  scene.materials.push_back(q3::WorldMaterial{});   // implicit, vertex lit
+  scene.models[0].meshes.push_back(scene.models[0].meshes[0]);
+  scene.models[0].meshes[1].material = 1;
+  scene.models[0].meshes[1].lightmap = -1;
+  for (glm::vec4& c : scene.models[0].meshes[0].colors) c = glm::vec4(0.2f, 0.2f, 0.2f, 0.5f);
+  for (glm::vec4& c : scene.models[0].meshes[1].colors) c = glm::vec4(32 / 255.0f, 16 / 255.0f, 8 / 255.0f, 1.0f);
+  std::unordered_map<uint32_t, glm::vec3> glow;
+  stockWorldLook(scene, library, glow);
+  EXPECT_EQ(scene.models[0].meshes[0].colors[0], glm::vec4(1, 1, 1, 0.5f));   // unlit: full bright
+  const glm::vec4 shifted = scene.models[0].meshes[1].colors[0];             // x4
+  EXPECT_NEAR(shifted.r * 255.0f, 128.0f, 1e-3f);
+  EXPECT_NEAR(shifted.g * 255.0f, 64.0f, 1e-3f);
+  ASSERT_EQ(glow.count(0), 1u);
+  EXPECT_EQ(glow[0], glm::vec3(1, 0, 0));
+  EXPECT_EQ(glow.count(1), 0u);
+}
+
+}  // namespace
+}  // namespace glue
