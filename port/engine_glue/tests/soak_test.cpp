@@ -43,8 +43,8 @@ constexpr int kRestartEvery = 3;
 /// Map loads done before memory and threads are expected to be flat (one tour of the maps).
 constexpr int kWarmupLoads = static_cast<int>(std::size(kMapCycle)) + 1;
 /// Allowed resident growth after warm-up. A leaked map (BVH, textures) costs tens of MiB; the
-/// allocator's and Mesa's own caches move by a few MiB between otherwise identical states.
-constexpr long kResidentSlackKiB = 12 * 1024;
+/// allocator's caches move by up to 1 MiB between otherwise identical states (measured).
+constexpr long kResidentSlackKiB = 6 * 1024;
 
 /// What the process holds at one moment.
 struct ProcessSample {
