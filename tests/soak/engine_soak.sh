@@ -35,7 +35,7 @@ changes="${PA_SOAK_MAPS:-20}"
 wait_frames="${PA_SOAK_WAIT:-60}"
 
 work="$(mktemp -d /tmp/pathtracer-soak.XXXXXX)"
-trap 'rm -rf "$work"' EXIT
+trap 'kill "${sampler:-}" 2>/dev/null; rm -rf "$work"' EXIT
 pa_engine_prepare "$work" "$module"
 log="$work/engine.log"
 checker_log="$work/checker.log"
@@ -43,7 +43,7 @@ wrapper="$work/engine_under_checker.sh"
 
 case "$mode" in
   plain)
-    printf '#!/bin/sh\nexec "%s" "$@"\n' "$engine" > "$wrapper"
+    printf '#!/bin/sh\necho $$ > "%s"\nexec "%s" "$@"\n' "$work/engine.pid" "$engine" > "$wrapper"
     timeout_s="${PA_SOAK_TIMEOUT:-900}"
     threads=0
     ;;
@@ -62,6 +62,7 @@ export LD_PRELOAD="$libasan $work/keep_module_mapped.so"
 export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:log_path=$work/asan:fast_unwind_on_malloc=0:malloc_context_size=30:stack_trace_format='    #%n %p in %f %S <%m>'"
 export LSAN_OPTIONS="exitcode=0:report_objects=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=0:log_path=$work/ubsan"
+echo \$\$ > "$work/engine.pid"
 exec "$engine" "\$@"
 SH
     timeout_s="${PA_SOAK_TIMEOUT:-1200}"
@@ -71,6 +72,7 @@ SH
     if ! command -v valgrind >/dev/null; then echo "skipped: valgrind not installed"; exit 77; fi
     cat > "$wrapper" <<SH
 #!/bin/sh
+echo \$\$ > "$work/engine.pid"
 exec valgrind --leak-check=full --show-leak-kinds=definite --errors-for-leak-kinds=definite \
   --keep-debuginfo=yes --fullpath-after= --num-callers=30 --error-limit=no --fair-sched=yes \
   --log-file="$checker_log" "$engine" "\$@"
@@ -92,6 +94,15 @@ cfg="$(pa_engine_cfg "$work" soak)"
   echo "quit"
 } > "$cfg"
 
+# The engine's thread count, sampled every second: it must not climb over the vid_restarts.
+(
+  while sleep 1; do
+    pid="$(cat "$work/engine.pid" 2>/dev/null)" || continue
+    tasks=("/proc/$pid/task/"*)
+    [[ -e "${tasks[0]}" ]] && echo "${#tasks[@]}" >> "$work/threads.txt"
+  done
+) &
+sampler=$!
 start=$(date +%s)
 set +e
 PA_ENGINE="$wrapper" LP_NUM_THREADS="$((threads == 1 ? 0 : 2))" \
@@ -101,6 +112,13 @@ PA_ENGINE="$wrapper" LP_NUM_THREADS="$((threads == 1 ? 0 : 2))" \
 status=$?
 set -e
 seconds=$(( $(date +%s) - start ))
+kill "$sampler" 2>/dev/null || true
+wait "$sampler" 2>/dev/null || true
+touch "$work/threads.txt"
+read -r threads_first threads_second < <(awk '{ v[NR] = $1 } END {
+  h = int(NR / 2); a = 0; b = 0
+  for (i = 1; i <= NR; i++) { if (i <= h) { if (v[i] > a) a = v[i] } else if (v[i] > b) b = v[i] }
+  print a, b }' "$work/threads.txt")
 cat "$work"/asan.* "$work"/ubsan.* > "$checker_log.sanitizers" 2>/dev/null || true
 if [[ "$mode" == asan ]]; then mv "$checker_log.sanitizers" "$checker_log"; fi
 touch "$checker_log"
@@ -133,7 +151,7 @@ leaks_ours=$(count_leaks "$header" ours)
 loads=$(grep -c "pathtracer: loaded maps/" "$log" || true)
 banners=$(grep -c "PathArena path tracer renderer" "$log" || true)
 echo "engine_soak $mode: $changes map changes + $changes vid_restarts in ${seconds}s, exit $status;" \
-     "$loads world loads, $banners module loads; leak records: $leaks_ours allocated in our module, $leaks_theirs inside system libraries"
+     "$loads world loads, $banners module loads; most threads $threads_first (first half), $threads_second (second half); leak records: $leaks_ours allocated in our module, $leaks_theirs inside system libraries"
 
 fail() { echo "FAIL: $*"; echo "---- engine log (tail) ----"; tail -n 40 "$log"; echo "---- checker log (head) ----"; head -n 60 "$checker_log"; exit 1; }
 [[ $status -eq 0 ]] || fail "engine exited with status $status"
@@ -141,6 +159,7 @@ pa_engine_used_renderer "$log" pathtracer || fail "our module was not the render
 grep -E -q "Received signal|Segmentation|Sys_Error|ERROR:" "$log" && fail "engine reported a crash or error"
 grep -E -q "ERROR: AddressSanitizer|runtime error:" "$checker_log" && fail "sanitizer error"
 [[ $banners -ge $((changes + 1)) ]] || fail "the module was loaded $banners times, expected $((changes + 1))"
+[[ $threads_second -le $threads_first ]] || fail "threads accumulate: at most $threads_first in the first half, $threads_second in the second"
 [[ $loads -ge $((2 * changes)) ]] || fail "$loads world loads, expected $((2 * changes)) (each map, then after its vid_restart)"
 if [[ "$mode" == valgrind ]]; then
   grep -q "LEAK SUMMARY\|All heap blocks were freed" "$checker_log" || fail "valgrind wrote no leak summary"
