@@ -35,7 +35,7 @@ changes="${PA_SOAK_MAPS:-20}"
 wait_frames="${PA_SOAK_WAIT:-60}"
 
 work="$(mktemp -d /tmp/pathtracer-soak.XXXXXX)"
-trap 'kill "${sampler:-}" 2>/dev/null; rm -rf "$work"' EXIT
+trap 'kill "${sampler:-}" 2>/dev/null || true; rm -rf "$work"' EXIT
 pa_engine_prepare "$work" "$module"
 log="$work/engine.log"
 checker_log="$work/checker.log"
