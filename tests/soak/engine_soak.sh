@@ -50,7 +50,8 @@ case "$mode" in
   asan)
     libasan="$(gcc -print-file-name=libasan.so)"
     libasan="$(readlink -f "$libasan")"
-    if [[ ! -f "$libasan" ]] || ! ldd "$module" | grep -q libasan; then
+    needed="$(ldd "$module")"   # (not piped into grep -q: pipefail would see ldd's SIGPIPE)
+    if [[ ! -f "$libasan" || "$needed" != *libasan* ]]; then
       echo "skipped: need gcc's libasan and a module built with -fsanitize=address (gcc)"; exit 77
     fi
     cc -shared -fPIC -O2 -o "$work/keep_module_mapped.so" "$here/keep_module_mapped.c" -ldl
@@ -59,7 +60,7 @@ case "$mode" in
     cat > "$wrapper" <<SH
 #!/bin/sh
 export LD_PRELOAD="$libasan $work/keep_module_mapped.so"
-export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:log_path=$work/asan:fast_unwind_on_malloc=0:malloc_context_size=30:stack_trace_format='    #%n %p in %f %S <%m>'"
+export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:log_path=$work/asan:malloc_context_size=30:stack_trace_format='    #%n %p in %f %S <%m>'"
 export LSAN_OPTIONS="exitcode=0:report_objects=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=0:log_path=$work/ubsan"
 echo \$\$ > "$work/engine.pid"

@@ -360,6 +360,7 @@ TEST_F(ModuleSoak, MapChangesAndVidRestartsHoldMemoryAndThreadsFlat) {
       std::printf("[soak] after load %2d (%s) and unload: resident %ld KiB, %d threads\n",
                   cycle + 1, map.c_str(), afterUnload.back().residentKiB,
                   afterUnload.back().threads);
+      std::fflush(stdout);   // progress shows even if a slow (sanitized) run times out
       if (cycle != cycles - 1) {
         module.load();   // ... and loaded again; the next map load re-registers everything
         if (HasFatalFailure()) return;
