@@ -60,7 +60,7 @@ case "$mode" in
     cat > "$wrapper" <<SH
 #!/bin/sh
 export LD_PRELOAD="$libasan $work/keep_module_mapped.so"
-export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:log_path=$work/asan:malloc_context_size=30:stack_trace_format='    #%n %p in %f %S <%m>'"
+export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:suppressions=$here/asan_engine.supp:log_path=$work/asan:malloc_context_size=30:stack_trace_format='    #%n %p in %f %S <%m>'"
 export LSAN_OPTIONS="exitcode=0:report_objects=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=0:log_path=$work/ubsan"
 echo \$\$ > "$work/engine.pid"
