@@ -4,4 +4,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 scripts/build.sh
-cd build && ctest --output-on-failure -j"$(nproc)" "$@"
+# Tests labelled "long" (hours: valgrind soak) run only on request: ctest -L long.
+cd build && ctest --output-on-failure -j"$(nproc)" -LE long "$@"

@@ -76,8 +76,7 @@ void Free(void* p) { std::free(p); }
 q3abi::cvar_t* CvarGet(const char* name, const char* value, int flags) {
   auto& slot = engine().cvars[name];
   if (!slot) {
-    slot = std::make_unique<q3abi::cvar_t>();
-    std::memset(slot.get(), 0, sizeof(q3abi::cvar_t));
+    slot.reset(static_cast<q3abi::cvar_t*>(std::calloc(1, sizeof(q3abi::cvar_t))));
     slot->name = duplicate(name);
     assignCvar(*slot, value);
     slot->modified = 0;
@@ -180,6 +179,13 @@ void Nothing() {}
 q3abi::qboolean LowMemory() { return 0; }
 
 }  // namespace
+
+void CvarDeleter::operator()(q3abi::cvar_t* cvar) const {
+  if (cvar == nullptr) return;
+  std::free(cvar->name);
+  std::free(cvar->string);
+  std::free(cvar);
+}
 
 FakeEngine& engine() {
   static FakeEngine instance;

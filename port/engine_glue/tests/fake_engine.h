@@ -17,12 +17,17 @@ class GameFileSystem;
 
 namespace fake {
 
+/// Frees a cvar and the strings the fake engine duplicated into it.
+struct CvarDeleter {
+  void operator()(q3abi::cvar_t* cvar) const;
+};
+
 /// The fake engine's state (one per test process; the C callbacks reach it statically).
 struct FakeEngine {
   std::vector<std::string> prints;                       ///< Every Printf, in order.
   std::map<std::string, std::vector<uint8_t>> files;     ///< In-memory files (override pk3s).
   std::map<std::string, std::vector<uint8_t>> written;   ///< FS_WriteFile results.
-  std::map<std::string, std::unique_ptr<q3abi::cvar_t>> cvars;
+  std::map<std::string, std::unique_ptr<q3abi::cvar_t, CvarDeleter>> cvars;
   std::map<std::string, void (*)()> commands;
   std::vector<std::string> args;                         ///< Cmd_Argv of the running command.
   std::unique_ptr<q3::GameFileSystem> game;              ///< Installed data, when present.
