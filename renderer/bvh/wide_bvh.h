@@ -11,7 +11,7 @@
 namespace pa::bvh_detail {
 
 inline constexpr uint32_t kWideWidth = 8;
-inline constexpr uint32_t kPackWidth = 4;
+inline constexpr uint32_t kPackWidth = 8;
 
 /// Child reference: inner node index, or (kLeafBit | packCount - 1 << kPackCountShift | firstPack).
 inline constexpr uint32_t kLeafBit = 0x80000000u;
@@ -26,9 +26,9 @@ struct alignas(32) WideNode {
 };
 static_assert(sizeof(WideNode) == 224);
 
-/// Up to four triangles: vertices as structure of arrays (vertex, axis, lane).
+/// Up to kPackWidth triangles: vertices as structure of arrays (vertex, axis, lane).
 /// Lanes not in validBits (padding, degenerate triangles) are never reported.
-struct alignas(16) TrianglePack {
+struct alignas(32) TrianglePack {
   float v[3][3][kPackWidth];
   uint32_t prim[kPackWidth];
   uint32_t validBits = 0;    ///< Lanes holding a real, non-degenerate triangle.

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <type_traits>
 
 #include "renderer/bvh/simd.h"
 #include "renderer/bvh/slab_test.h"
@@ -48,44 +49,47 @@ struct BoxRay {
   }
 };
 
-/// Per-ray constants for the 4-wide watertight triangle test.
+/// SIMD register type with one lane per pack triangle.
+using PackFloat = std::conditional_t<kPackWidth == 8, vfloat8, vfloat4>;
+
+/// Per-ray constants for the watertight triangle test of a whole pack.
 struct TriangleRay {
   RayShear shear;
-  vfloat4 ox, oy, oz, sx, sy, sz, tmin;
+  PackFloat ox, oy, oz, sx, sy, sz;
 
   explicit TriangleRay(const Ray& ray)
       : shear(ray.dir), ox(ray.origin[shear.kx]), oy(ray.origin[shear.ky]), oz(ray.origin[shear.kz]),
-        sx(shear.sx), sy(shear.sy), sz(shear.sz), tmin(ray.tmin) {}
+        sx(shear.sx), sy(shear.sy), sz(shear.sz) {}
 };
 
 /// Lane results of one pack test.
 struct PackCandidates {
-  alignas(16) float t[kPackWidth];   ///< Sheared-space t (T), not yet divided by det; fallback only.
-  alignas(16) float det[kPackWidth];
-  alignas(16) float u[kPackWidth];
-  alignas(16) float v[kPackWidth];
+  alignas(32) float t[kPackWidth];   ///< Sheared-space t (T), not yet divided by det; fallback only.
+  alignas(32) float det[kPackWidth];
+  alignas(32) float u[kPackWidth];
+  alignas(32) float v[kPackWidth];
 };
 
-/// Watertight test of four triangles; returns the lanes the ray line passes through (any t).
+/// Watertight test of a pack's triangles; returns the lanes the ray line passes through (any t).
 int testPack(const TrianglePack& pack, const TriangleRay& r, PackCandidates& out) {
   const int kx = r.shear.kx, ky = r.shear.ky, kz = r.shear.kz;
-  const vfloat4 az = vfloat4::load(pack.v[0][kz]) - r.oz;
-  const vfloat4 bz = vfloat4::load(pack.v[1][kz]) - r.oz;
-  const vfloat4 cz = vfloat4::load(pack.v[2][kz]) - r.oz;
-  const vfloat4 ax = (vfloat4::load(pack.v[0][kx]) - r.ox) - r.sx * az;
-  const vfloat4 ay = (vfloat4::load(pack.v[0][ky]) - r.oy) - r.sy * az;
-  const vfloat4 bx = (vfloat4::load(pack.v[1][kx]) - r.ox) - r.sx * bz;
-  const vfloat4 by = (vfloat4::load(pack.v[1][ky]) - r.oy) - r.sy * bz;
-  const vfloat4 cx = (vfloat4::load(pack.v[2][kx]) - r.ox) - r.sx * cz;
-  const vfloat4 cy = (vfloat4::load(pack.v[2][ky]) - r.oy) - r.sy * cz;
-  vfloat4 u = cx * by - cy * bx;
-  vfloat4 v = ax * cy - ay * cx;
-  vfloat4 w = bx * ay - by * ax;
-  const vfloat4 zero(0.0f);
+  const PackFloat az = PackFloat::load(pack.v[0][kz]) - r.oz;
+  const PackFloat bz = PackFloat::load(pack.v[1][kz]) - r.oz;
+  const PackFloat cz = PackFloat::load(pack.v[2][kz]) - r.oz;
+  const PackFloat ax = (PackFloat::load(pack.v[0][kx]) - r.ox) - r.sx * az;
+  const PackFloat ay = (PackFloat::load(pack.v[0][ky]) - r.oy) - r.sy * az;
+  const PackFloat bx = (PackFloat::load(pack.v[1][kx]) - r.ox) - r.sx * bz;
+  const PackFloat by = (PackFloat::load(pack.v[1][ky]) - r.oy) - r.sy * bz;
+  const PackFloat cx = (PackFloat::load(pack.v[2][kx]) - r.ox) - r.sx * cz;
+  const PackFloat cy = (PackFloat::load(pack.v[2][ky]) - r.oy) - r.sy * cz;
+  PackFloat u = cx * by - cy * bx;
+  PackFloat v = ax * cy - ay * cx;
+  PackFloat w = bx * ay - by * ax;
+  const PackFloat zero(0.0f);
   const int valid = static_cast<int>(pack.validBits);
   if (const int onEdge = ((u == zero) | (v == zero) | (w == zero)).mask() & valid) {
     // Exact zero in float: decide these lanes in double, as the scalar test does.
-    alignas(16) float f[9][kPackWidth];
+    alignas(32) float f[9][kPackWidth];
     ax.store(f[0]); ay.store(f[1]); bx.store(f[2]); by.store(f[3]); cx.store(f[4]); cy.store(f[5]);
     u.store(f[6]); v.store(f[7]); w.store(f[8]);
     for (int lane = 0; lane < int(kPackWidth); ++lane) {
@@ -96,16 +100,16 @@ int testPack(const TrianglePack& pack, const TriangleRay& r, PackCandidates& out
       f[7][lane] = static_cast<float>(dax * dcy - day * dcx);
       f[8][lane] = static_cast<float>(dbx * day - dby * dax);
     }
-    u = vfloat4::load(f[6]);
-    v = vfloat4::load(f[7]);
-    w = vfloat4::load(f[8]);
+    u = PackFloat::load(f[6]);
+    v = PackFloat::load(f[7]);
+    w = PackFloat::load(f[8]);
   }
   const int negative = ((u < zero) | (v < zero) | (w < zero)).mask();
   const int positive = ((u > zero) | (v > zero) | (w > zero)).mask();
   int hits = valid & ~(negative & positive);
   if (!hits) return 0;
-  const vfloat4 det = u + v + w;
-  const vfloat4 tScaled = (u * (r.sz * az) + v * (r.sz * bz)) + w * (r.sz * cz);
+  const PackFloat det = u + v + w;
+  const PackFloat tScaled = (u * (r.sz * az) + v * (r.sz * bz)) + w * (r.sz * cz);
   // No range test on the sheared distance (inaccurate on slivers): callers test the plane distance.
   hits &= (det != zero).mask();
   if (!hits) return 0;
@@ -158,6 +162,40 @@ struct PushResult {
   return {static_cast<uint32_t>(best), top};
 }
 
+/// Tests a leaf's triangles against the ray segment [ray.tmin, tmax]. Closest hit (kAnyHit
+/// false): every accepted hit shortens tmax and is written to hit; returns whether any was.
+/// Any hit: returns true at the first accepted hit and writes nothing.
+template <bool kAnyHit>
+[[gnu::always_inline]] inline bool testLeaf(const WideBvh& bvh, uint32_t ref, const TriangleRay& triRay,
+                                            const Ray& ray, float& tmax, Hit& hit, const HitFilter& filter,
+                                            uint32_t instanceId) {
+  uint32_t first, count;
+  leafPacks(ref, first, count);
+  bool found = false;
+  for (uint32_t p = first; p < first + count; ++p) {
+    const TrianglePack& pack = bvh.packs[p];
+    PackCandidates c;
+    int lanes = testPack(pack, triRay, c);
+    while (lanes) {
+      const int lane = std::countr_zero(static_cast<uint32_t>(lanes));
+      lanes &= lanes - 1;
+      const float rcp = 1.0f / c.det[lane];
+      const float t = packPlaneDistance(pack, lane, ray, c.t[lane] * rcp);
+      if (!(t >= ray.tmin && t <= tmax)) continue;
+      const float u = c.u[lane] * rcp, v = c.v[lane] * rcp;
+      if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], u, v)) continue;
+      if constexpr (kAnyHit) {
+        return true;
+      } else {
+        tmax = t;
+        hit = {t, u, v, pack.prim[lane], instanceId};
+        found = true;
+      }
+    }
+  }
+  return found;
+}
+
 }  // namespace
 
 bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId) {
@@ -183,26 +221,8 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
         top = pushed.top;
         continue;
       }
-    } else {
-      uint32_t first, count;
-      leafPacks(current, first, count);
-      for (uint32_t p = first; p < first + count; ++p) {
-        const TrianglePack& pack = bvh.packs[p];
-        PackCandidates c;
-        int lanes = testPack(pack, triRay, c);
-        while (lanes) {
-          const int lane = std::countr_zero(static_cast<uint32_t>(lanes));
-          lanes &= lanes - 1;
-          const float rcp = 1.0f / c.det[lane];
-          const float t = packPlaneDistance(pack, lane, ray, c.t[lane] * rcp);
-          if (!(t >= ray.tmin && t <= ray.tmax)) continue;
-          const float u = c.u[lane] * rcp, v = c.v[lane] * rcp;
-          if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], u, v)) continue;
-          ray.tmax = t;
-          hit = {t, u, v, pack.prim[lane], instanceId};
-          found = true;
-        }
-      }
+    } else if (testLeaf<false>(bvh, current, triRay, ray, ray.tmax, hit, filter, instanceId)) {
+      found = true;
     }
     // Pop the next entry that may still hold a nearer hit.
     const float cull = ray.tmax * kRobustFarScale;
@@ -241,23 +261,9 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
         continue;
       }
     } else {
-      uint32_t first, count;
-      leafPacks(current, first, count);
-      for (uint32_t p = first; p < first + count; ++p) {
-        const TrianglePack& pack = bvh.packs[p];
-        PackCandidates c;
-        int lanes = testPack(pack, triRay, c);
-        while (lanes) {
-          const int lane = std::countr_zero(static_cast<uint32_t>(lanes));
-          lanes &= lanes - 1;
-          const float rcp = 1.0f / c.det[lane];
-          const float t = packPlaneDistance(pack, lane, ray, c.t[lane] * rcp);
-          if (!(t >= ray.tmin && t <= ray.tmax)) continue;
-          if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], c.u[lane] * rcp, c.v[lane] * rcp))
-            continue;
-          return true;
-        }
-      }
+      float tmax = ray.tmax;
+      Hit unused;
+      if (testLeaf<true>(bvh, current, triRay, ray, tmax, unused, filter, instanceId)) return true;
     }
     if (top == 0) return false;
     current = stack[--top];
