@@ -1,6 +1,6 @@
 // bench: our BVH against Embree 3 on the same scene and the same rays.
 //   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
-//         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames]
+//         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames] [--build-only]
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
 // the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
 // (and process CPU) with N threads for both (one TBB arena; Embree's device also gets N threads).
@@ -32,13 +32,14 @@ struct Options {
   uint32_t rays = 1u << 20;
   bool json = false;
   bool frames = true;
+  bool buildOnly = false;   ///< Time the builds only (for profiling the build).
   BvhBuildConfig build;
 };
 
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames]\n",
+               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames] [--build-only]\n",
                error.c_str());
   std::exit(2);
 }
@@ -65,6 +66,7 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--rays") o.rays = parseCount(value(), "--rays");
     else if (a == "--json") o.json = true;
     else if (a == "--no-frames") o.frames = false;
+    else if (a == "--build-only") o.buildOnly = true;
     else if (a == "--bins") o.build.binCount = parseCount(value(), "--bins");
     else if (a == "--max-leaf") o.build.maxLeafTriangles = parseCount(value(), "--max-leaf");
     else if (a == "--traversal-cost") o.build.traversalCost = std::strtof(value(), nullptr);
@@ -181,6 +183,11 @@ int run(int argc, char** argv) {
     buildCpuEmbree.push_back(clockSeconds(CLOCK_PROCESS_CPUTIME_ID) - cpu);
   }
 
+  if (opt.buildOnly) {
+    std::printf("build ms ours %.3f embree %.3f (wall), CPU %.3f / %.3f, median of %u\n", median(buildOurs) * 1e3,
+                median(buildEmbree) * 1e3, median(buildCpuOurs) * 1e3, median(buildCpuEmbree) * 1e3, opt.reps);
+    return 0;
+  }
   const RaySets rays = makeRaySets(scene, blas, 1024, 576, opt.rays, 7);
   Pair incoherent, shadow, primary;
   for (uint32_t rep = 0; rep < opt.reps; ++rep) {
