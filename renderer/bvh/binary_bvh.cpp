@@ -1,7 +1,7 @@
 // Binned SAH build of the reference binary BVH.
 //
-// Costs: SAH counts triangles in blocks of four (the leaf packs of the wide layout), so a
-// leaf of 1..4 triangles costs one pack test. Leaves hold at most maxLeafTriangles.
+// Costs: SAH counts triangles in blocks of eight (the leaf packs of the wide layout), so a
+// leaf of 1..8 triangles costs one pack test. Leaves hold at most maxLeafTriangles.
 // Parallelism: large ranges bin in parallel (tbb::parallel_reduce; min/max/count merges are
 // exact and order independent) and their two children are built as parallel tasks. Nodes are
 // allocated in pairs from an atomic counter while building, then renumbered depth-first, so
@@ -31,7 +31,7 @@ namespace {
 
 constexpr uint32_t kMaxBins = 64;
 constexpr uint32_t kBinGrain = 4096;   // primitives per parallel binning task
-constexpr uint32_t kSahBlock = 4;      // triangles per leaf pack
+constexpr uint32_t kSahBlock = 8;      // triangles per leaf pack (kPackWidth of the wide layout)
 // Past this depth splits are object medians, so the depth stays below kMaxSahDepth + 32 and
 // traversal stacks of 128 levels cannot overflow even for pathological inputs.
 constexpr uint32_t kMaxSahDepth = 64;
@@ -302,7 +302,10 @@ class Builder {
 
   void buildNode(uint32_t slot, uint32_t begin, uint32_t end, const Box& box, const Box& centroids, uint32_t depth) {
     const uint32_t count = end - begin;
-    if (count == 1) return makeLeaf(slot, begin, end, box);
+    // One block or less: with a node costing >= one block test, SAH always prefers the leaf, so
+    // skip the binning (the result is the same; small nodes are most of the nodes).
+    if (count == 1 || (count <= kSahBlock && count <= config_.maxLeafTriangles && config_.traversalCost >= 1.0f))
+      return makeLeaf(slot, begin, end, box);
     // Small nodes need no more bins than primitives (deterministic: depends on count only).
     const BinMapping map(centroids, std::min(config_.binCount, std::max(4u, count)));
     const Split split = depth < kMaxSahDepth ? findSplit(begin, end, map) : Split{};
