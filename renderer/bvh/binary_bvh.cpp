@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cstdlib>
 #include <memory>
 #include <cmath>
@@ -31,6 +32,7 @@ namespace {
 
 constexpr uint32_t kMaxBins = 64;
 constexpr uint32_t kBinGrain = 4096;   // primitives per parallel binning task
+constexpr uint32_t kTwoBinSetsFrom = 256;   // ranges this large bin into two interleaved bin sets
 constexpr uint32_t kSahBlock = 8;      // triangles per leaf pack (kPackWidth of the wide layout)
 // Past this depth splits are object medians, so the depth stays below kMaxSahDepth + 32 and
 // traversal stacks of 128 levels cannot overflow even for pathological inputs.
@@ -98,6 +100,10 @@ struct BinSet {
     for (int a = 0; a < 3; ++a) std::copy_n(o.bins[a], binCount, bins[a]);
     return *this;
   }
+  /// Counts of bin i on the three axes (lanes 0..2).
+  friend __m128i binCounts(const BinSet& set, uint32_t i) {
+    return _mm_setr_epi32(int(set.bins[0][i].count), int(set.bins[1][i].count), int(set.bins[2][i].count), 0);
+  }
   void merge(const BinSet& o) {
     for (int a = 0; a < 3; ++a)
       for (uint32_t i = 0; i < binCount; ++i) {
@@ -140,6 +146,20 @@ struct Split {
 };
 
 inline float blocks(uint32_t n) { return float((n + kSahBlock - 1) / kSahBlock); }
+static_assert((kSahBlock & (kSahBlock - 1)) == 0, "blocks(__m128i) divides by shifting");
+/// blocks() of four counts.
+inline __m128 blocks(__m128i n) {
+  return _mm_cvtepi32_ps(_mm_srli_epi32(_mm_add_epi32(n, _mm_set1_epi32(kSahBlock - 1)), std::countr_zero(kSahBlock)));
+}
+
+/// Half surface areas of three boxes in lanes 0..2, with the same operations as Box::halfArea
+/// (empty boxes give +inf or NaN, not 0: callers skip them by their counts).
+inline __m128 halfAreas(const Box (&boxes)[3]) {
+  __m128 x = _mm_sub_ps(boxes[0].hi, boxes[0].lo), y = _mm_sub_ps(boxes[1].hi, boxes[1].lo);
+  __m128 z = _mm_sub_ps(boxes[2].hi, boxes[2].lo), w = _mm_setzero_ps();
+  _MM_TRANSPOSE4_PS(x, y, z, w);   // now x, y, z hold the three boxes' extents along x, y, z
+  return _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, y), _mm_mul_ps(y, z)), _mm_mul_ps(z, x));
+}
 
 /// Uninitialised build-time array. Large ones are 2 MiB aligned and marked for transparent
 /// huge pages: a build touches all of it once, and 4 KiB page faults were a visible share of
@@ -203,17 +223,35 @@ class Builder {
     }
   }
 
+  static void binOne(const BinMapping& map, const PrimRef& ref, BinSet& set) {
+    const __m128i b = map.bins(ref.centroid2());
+    const Box box = ref.box();
+    Bin& x = set.bins[0][_mm_extract_epi32(b, 0)];
+    Bin& y = set.bins[1][_mm_extract_epi32(b, 1)];
+    Bin& z = set.bins[2][_mm_extract_epi32(b, 2)];
+    x.box.extend(box);
+    ++x.count;
+    y.box.extend(box);
+    ++y.count;
+    z.box.extend(box);
+    ++z.count;
+  }
+
   void binRange(const BinMapping& map, uint32_t begin, uint32_t end, BinSet& set) const {
-    alignas(16) int32_t b[4];
-    for (uint32_t i = begin; i < end; ++i) {
-      const PrimRef& ref = refs_[i];
-      _mm_store_si128(reinterpret_cast<__m128i*>(b), map.bins(ref.centroid2()));
-      for (int a = 0; a < 3; ++a) {
-        Bin& bin = set.bins[a][b[a]];
-        bin.box.extend(ref.box());
-        ++bin.count;
-      }
+    if (end - begin < kTwoBinSetsFrom) {
+      for (uint32_t i = begin; i < end; ++i) binOne(map, refs_[i], set);
+      return;
     }
+    // Neighbouring primitives often fall into the same bins; alternating between two bin sets
+    // lets one primitive's bin update proceed without waiting for the previous one's store.
+    BinSet other(set.binCount);
+    uint32_t i = begin;
+    for (; i + 1 < end; i += 2) {
+      binOne(map, refs_[i], set);
+      binOne(map, refs_[i + 1], other);
+    }
+    if (i < end) binOne(map, refs_[i], set);
+    set.merge(other);
   }
 
   Split findSplit(uint32_t begin, uint32_t end, const BinMapping& map) const {
@@ -230,26 +268,33 @@ class Builder {
     } else {
       binRange(map, begin, end, set);
     }
+    // SAH costs of every candidate plane, the three axes at once (lane = axis): the right
+    // sides accumulated from the last bin down, the left sides from the first bin up.
+    alignas(16) float rightCost[kMaxBins][4], leftCost[kMaxBins][4];
+    alignas(16) uint32_t leftCount[kMaxBins][4];
+    Box acc[3];
+    __m128i accCount = _mm_setzero_si128();
+    for (uint32_t i = binCount - 1; i > 0; --i) {
+      for (int a = 0; a < 3; ++a) acc[a].extend(set.bins[a][i].box);
+      accCount = _mm_add_epi32(accCount, binCounts(set, i));
+      _mm_store_ps(rightCost[i - 1], _mm_mul_ps(halfAreas(acc), blocks(accCount)));
+    }
+    acc[0] = acc[1] = acc[2] = Box();
+    accCount = _mm_setzero_si128();
+    for (uint32_t i = 0; i + 1 < binCount; ++i) {
+      for (int a = 0; a < 3; ++a) acc[a].extend(set.bins[a][i].box);
+      accCount = _mm_add_epi32(accCount, binCounts(set, i));
+      _mm_store_ps(leftCost[i], _mm_mul_ps(halfAreas(acc), blocks(accCount)));
+      _mm_store_si128(reinterpret_cast<__m128i*>(leftCount[i]), accCount);
+    }
+    // Cheapest plane; ties go to the lower axis, then the lower bin.
     Split best;
     const uint32_t count = end - begin;
     for (int a = 0; a < 3; ++a) {
       if (map.scaleLanes[a] == 0.0f) continue;
-      const Bin* bins = set.bins[a];
-      float rightCost[kMaxBins];
-      Box acc;
-      uint32_t accCount = 0;
-      for (uint32_t i = binCount - 1; i > 0; --i) {
-        acc.extend(bins[i].box);
-        accCount += bins[i].count;
-        rightCost[i - 1] = acc.halfArea() * blocks(accCount);
-      }
-      Box left;
-      uint32_t leftCount = 0;
       for (uint32_t i = 0; i + 1 < binCount; ++i) {
-        left.extend(bins[i].box);
-        leftCount += bins[i].count;
-        if (leftCount == 0 || leftCount == count) continue;
-        const float cost = left.halfArea() * blocks(leftCount) + rightCost[i];
+        if (leftCount[i][a] == 0 || leftCount[i][a] == count) continue;
+        const float cost = leftCost[i][a] + rightCost[i][a];
         if (cost < best.cost) {
           best.cost = cost;
           best.axis = a;
