@@ -192,13 +192,17 @@ class ScratchArray {
 
 class Builder {
  public:
-  Builder(std::span<const Bounds> primBounds, const BvhBuildConfig& config, BinaryBvh& out)
-      : config_(config), out_(out), refs_(primBounds.size()), scratch_(primBounds.size()),
-        nodes_(2 * std::max<size_t>(primBounds.size(), 1)), primCount_(static_cast<uint32_t>(primBounds.size())) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, primBounds.size(), 1 << 14), [&](const auto& r) {
+  /// boundsOf(i, lo, hi) gives primitive i's box as two SSE registers (lane 3 is overwritten).
+  template <typename BoundsOf>
+  Builder(size_t count, const BoundsOf& boundsOf, const BvhBuildConfig& config, BinaryBvh& out)
+      : config_(config), out_(out), refs_(count), scratch_(count), nodes_(2 * std::max<size_t>(count, 1)),
+        primCount_(static_cast<uint32_t>(count)) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1 << 14), [&](const auto& r) {
       for (size_t i = r.begin(); i < r.end(); ++i) {
+        __m128 lo, hi;
+        boundsOf(i, lo, hi);
         const __m128 id = _mm_castsi128_ps(_mm_cvtsi32_si128(static_cast<int>(i)));
-        refs_[i] = {_mm_insert_ps(load3(primBounds[i].min), id, 0x30), load3(primBounds[i].max)};
+        refs_[i] = {_mm_insert_ps(lo, id, 0x30), hi};
       }
     });
   }
@@ -438,7 +442,26 @@ BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfi
   validateBuildConfig(config);
   BinaryBvh bvh;
   if (primBounds.empty()) return bvh;
-  Builder(primBounds, config, bvh).run();
+  const auto boundsOf = [&](size_t i, __m128& lo, __m128& hi) {
+    lo = load3(primBounds[i].min);
+    hi = load3(primBounds[i].max);
+  };
+  Builder(primBounds.size(), boundsOf, config, bvh).run();
+  return bvh;
+}
+
+BinaryBvh buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config) {
+  validateBuildConfig(config);
+  BinaryBvh bvh;
+  const uint32_t count = mesh.triangleCount();
+  if (count == 0) return bvh;
+  const auto boundsOf = [&](size_t i, __m128& lo, __m128& hi) {
+    const uint32_t* tri = &mesh.indices[3 * i];
+    const __m128 a = load3(mesh.positions[tri[0]]), b = load3(mesh.positions[tri[1]]), c = load3(mesh.positions[tri[2]]);
+    lo = _mm_min_ps(_mm_min_ps(a, b), c);
+    hi = _mm_max_ps(_mm_max_ps(a, b), c);
+  };
+  Builder(count, boundsOf, config, bvh).run();
   return bvh;
 }
 
