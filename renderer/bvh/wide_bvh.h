@@ -1,6 +1,6 @@
 #pragma once
 // The 8-wide BVH layout traversed with SIMD slab tests, converted from the binary BVH, with leaf
-// triangles precomputed into 4-wide structure-of-arrays packs for the SIMD watertight test.
+// triangles precomputed into 8-wide structure-of-arrays packs for the SIMD watertight test.
 #include <cstdint>
 #include <vector>
 
@@ -15,7 +15,7 @@ inline constexpr uint32_t kPackWidth = 8;
 
 /// Child reference: inner node index, or (kLeafBit | packCount - 1 << kPackCountShift | firstPack).
 inline constexpr uint32_t kLeafBit = 0x80000000u;
-inline constexpr uint32_t kPackCountShift = 27;   ///< 4 bits: 1..16 packs (64 triangles) per leaf.
+inline constexpr uint32_t kPackCountShift = 27;   ///< 4 bits: 1..16 packs (128 triangles) per leaf.
 inline constexpr uint32_t kFirstPackMask = (1u << kPackCountShift) - 1;
 
 /// Eight child boxes as structure of arrays; bounds[0] = lower, bounds[1] = upper, then axis.

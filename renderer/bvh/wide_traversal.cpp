@@ -1,6 +1,7 @@
 // SIMD traversal of the 8-wide BVH: one ray against eight child boxes at a time (conservative
-// slab test, see slab_test.h), nearest child first for closest hits (any-hit rays skip even that), and four triangles at a
-// time with the watertight test (see watertight.h; same operations in the same order, so the
+// slab test, see slab_test.h), nearest child first for closest hits (any-hit rays skip even
+// that), other hit children pushed branch-free, and a leaf's (up to) eight triangles at a time
+// with the watertight test (see watertight.h; same operations in the same order, so the
 // results are bit-identical to the scalar reference).
 #include <cmath>
 #include <algorithm>
