@@ -1,9 +1,12 @@
 // bench: our BVH against Embree 3 on the same scene and the same rays.
 //   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
 //         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames]
+//         [--frame-reps N] [--build-only]
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
 // the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
 // (and process CPU) with N threads for both (one TBB arena; Embree's device also gets N threads).
+// Frames: --frame-reps path-traced frames with 1 and 2 threads, alternating; medians of the wall
+// clock and of the process CPU time, the median per-pair speedup and every wall-clock sample.
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -32,13 +35,15 @@ struct Options {
   uint32_t rays = 1u << 20;
   bool json = false;
   bool frames = true;
+  uint32_t frameReps = 7;
+  bool buildOnly = false;   ///< Time the builds only (for profiling the build).
   BvhBuildConfig build;
 };
 
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames]\n",
+               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames] [--frame-reps N] [--build-only]\n",
                error.c_str());
   std::exit(2);
 }
@@ -65,6 +70,8 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--rays") o.rays = parseCount(value(), "--rays");
     else if (a == "--json") o.json = true;
     else if (a == "--no-frames") o.frames = false;
+    else if (a == "--build-only") o.buildOnly = true;
+    else if (a == "--frame-reps") o.frameReps = parseCount(value(), "--frame-reps");
     else if (a == "--bins") o.build.binCount = parseCount(value(), "--bins");
     else if (a == "--max-leaf") o.build.maxLeafTriangles = parseCount(value(), "--max-leaf");
     else if (a == "--traversal-cost") o.build.traversalCost = std::strtof(value(), nullptr);
@@ -158,7 +165,8 @@ int run(int argc, char** argv) {
   const testing::TestMesh& mesh = scene.mesh;
   // Frames first: an Embree device made with "threads=N" limits TBB's parallelism for the whole
   // process while it lives, which would cap the renderer's 2-thread arena at N.
-  const FrameTimes frames = opt.frames ? measureFrames(scene, std::min(opt.reps, 3u)) : FrameTimes{{}, {}, "skipped (--no-frames)"};
+  FrameTimes frames = opt.frames ? measureFrames(scene, opt.frameReps) : FrameTimes{};
+  if (!opt.frames) frames.note = "skipped (--no-frames)";
   tbb::task_arena arena(static_cast<int>(opt.threads));
   testing::EmbreeDevice device("threads=" + std::to_string(opt.threads));
 
@@ -181,6 +189,11 @@ int run(int argc, char** argv) {
     buildCpuEmbree.push_back(clockSeconds(CLOCK_PROCESS_CPUTIME_ID) - cpu);
   }
 
+  if (opt.buildOnly) {
+    std::printf("build ms ours %.3f embree %.3f (wall), CPU %.3f / %.3f, median of %u\n", median(buildOurs) * 1e3,
+                median(buildEmbree) * 1e3, median(buildCpuOurs) * 1e3, median(buildCpuEmbree) * 1e3, opt.reps);
+    return 0;
+  }
   const RaySets rays = makeRaySets(scene, blas, 1024, 576, opt.rays, 7);
   Pair incoherent, shadow, primary;
   for (uint32_t rep = 0; rep < opt.reps; ++rep) {
@@ -201,6 +214,11 @@ int run(int argc, char** argv) {
   const double pOurs = mrays(rays.primary.size(), median(primary.ours));
   const double pEmbree = mrays(rays.primary.size(), median(primary.embree));
   auto frame = [](const std::optional<double>& v) { return v ? std::to_string(*v) : std::string("null"); };
+  auto samples = [](const std::vector<double>& v) {
+    std::string out = "[";
+    for (size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + std::to_string(v[i]);
+    return out + "]";
+  };
 
   if (opt.json) {
     std::printf(
@@ -213,14 +231,17 @@ int run(int argc, char** argv) {
         "\"mrays_primary_ours\": %.3f, \"mrays_primary_embree\": %.3f, \"primary_ratio\": %.3f, "
         "\"hits_incoherent_ours\": %llu, \"hits_incoherent_embree\": %llu, \"hits_shadow_ours\": %llu, "
         "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, "
-        "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_note\": \"%s\"}\n",
+        "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_cpu_ms_1t\": %s, \"frame_cpu_ms_2t\": %s, "
+        "\"frame_speedup_2t\": %s, \"frame_samples_ms_1t\": %s, \"frame_samples_ms_2t\": %s, \"frame_note\": \"%s\"}\n",
         scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), bOurs,
         bEmbree, bOurs / bEmbree, bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree, rays.incoherent.size(), iOurs, iEmbree, iOurs / iEmbree, rays.shadow.size(),
         sOurs, sEmbree, sOurs / sEmbree, rays.primary.size(), pOurs, pEmbree, pOurs / pEmbree,
         (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
         (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,
         (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree,
-        frame(frames.oneThreadMs).c_str(), frame(frames.twoThreadsMs).c_str(), frames.note.c_str());
+        frame(frames.oneThreadMs).c_str(), frame(frames.twoThreadsMs).c_str(), frame(frames.oneThreadCpuMs).c_str(),
+        frame(frames.twoThreadsCpuMs).c_str(), frame(frames.speedup).c_str(), samples(frames.oneThreadSamplesMs).c_str(),
+        samples(frames.twoThreadsSamplesMs).c_str(), frames.note.c_str());
     return 0;
   }
   std::printf("scene %s: %u triangles, build threads %u, %u repetitions (medians), Embree ISA %s\n",
@@ -235,8 +256,11 @@ int run(int argc, char** argv) {
               (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
               (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,
               (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree);
-  std::printf("frame ms 640x360 1spp: 1 thread %s, 2 threads %s (%s)\n", frame(frames.oneThreadMs).c_str(),
-              frame(frames.twoThreadsMs).c_str(), frames.note.c_str());
+  std::printf("frame ms 640x360 1spp: 1 thread %s (CPU %s), 2 threads %s (CPU %s), speedup %s (%s)\n",
+              frame(frames.oneThreadMs).c_str(), frame(frames.oneThreadCpuMs).c_str(), frame(frames.twoThreadsMs).c_str(),
+              frame(frames.twoThreadsCpuMs).c_str(), frame(frames.speedup).c_str(), frames.note.c_str());
+  std::printf("frame samples ms: 1 thread %s, 2 threads %s\n", samples(frames.oneThreadSamplesMs).c_str(),
+              samples(frames.twoThreadsSamplesMs).c_str());
   return 0;
 }
 

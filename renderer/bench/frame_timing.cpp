@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
+#include <string>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -55,35 +57,65 @@ Camera toRendererCamera(const BenchCamera& c) {
   return cam;
 }
 
-double medianFrameMs(const BenchScene& scene, uint32_t threads, uint32_t reps) {
-  Renderer renderer(RendererConfig{threads});
-  uploadScene(scene, renderer);
-  renderer.commit();
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double processCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
+}
+
+/// A renderer with the scene uploaded, ready to time frames.
+struct TimedRenderer {
+  Renderer renderer;
   RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
-  settings.samplesPerPixel = 1;
-  settings.accumulate = false;
-  const Camera camera = toRendererCamera(scene.camera);
-  renderer.render(camera, settings);   // warm-up (first-touch allocations)
-  std::vector<double> ms;
-  for (uint32_t i = 0; i < reps; ++i) {
-    settings.seed = i + 1;
+  Camera camera;
+
+  TimedRenderer(const BenchScene& scene, uint32_t threads) : renderer(RendererConfig{threads}) {
+    uploadScene(scene, renderer);
+    renderer.commit();
+    settings.width = kWidth;
+    settings.height = kHeight;
+    settings.samplesPerPixel = 1;
+    settings.accumulate = false;
+    camera = toRendererCamera(scene.camera);
+    renderer.render(camera, settings);   // warm-up (first-touch allocations)
+  }
+
+  /// Renders one frame; returns wall-clock ms and adds the process CPU ms to cpuMs.
+  double frame(uint32_t seed, std::vector<double>& cpuMs) {
+    settings.seed = seed;
+    const double cpuStart = processCpuMs();
     const auto start = std::chrono::steady_clock::now();
     renderer.render(camera, settings);
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    cpuMs.push_back(processCpuMs() - cpuStart);
+    return wall;
   }
-  std::sort(ms.begin(), ms.end());
-  return ms.size() % 2 ? ms[ms.size() / 2] : 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
-}
+};
 
 }  // namespace
 
 FrameTimes measureFrames(const BenchScene& scene, uint32_t reps) {
+  TimedRenderer one(scene, 1), two(scene, 2);
   FrameTimes out;
-  out.oneThreadMs = medianFrameMs(scene, 1, reps);
-  out.twoThreadsMs = medianFrameMs(scene, 2, reps);
-  out.note = "pa::Renderer, 640x360, 1 spp path tracing, wall-clock median";
+  std::vector<double> cpuOne, cpuTwo, speedups;
+  for (uint32_t i = 0; i < reps; ++i) {
+    out.oneThreadSamplesMs.push_back(one.frame(i + 1, cpuOne));
+    out.twoThreadsSamplesMs.push_back(two.frame(i + 1, cpuTwo));
+    speedups.push_back(out.oneThreadSamplesMs.back() / out.twoThreadsSamplesMs.back());
+  }
+  out.oneThreadMs = median(out.oneThreadSamplesMs);
+  out.twoThreadsMs = median(out.twoThreadsSamplesMs);
+  out.oneThreadCpuMs = median(cpuOne);
+  out.twoThreadsCpuMs = median(cpuTwo);
+  out.speedup = median(speedups);
+  out.note = "pa::Renderer, 640x360, 1 spp path tracing, 1 and 2 threads alternating, medians of " +
+             std::to_string(reps);
   return out;
 }
 

@@ -4,7 +4,9 @@
 namespace pa::bench {
 
 FrameTimes measureFrames(const BenchScene&, uint32_t) {
-  return {std::nullopt, std::nullopt, "pa::Renderer (pa_scene) not available in this build"};
+  FrameTimes out;
+  out.note = "pa::Renderer (pa_scene) not available in this build";
+  return out;
 }
 
 }  // namespace pa::bench

@@ -1,7 +1,7 @@
 // Binned SAH build of the reference binary BVH.
 //
-// Costs: SAH counts triangles in blocks of four (the leaf packs of the wide layout), so a
-// leaf of 1..4 triangles costs one pack test. Leaves hold at most maxLeafTriangles.
+// Costs: SAH counts triangles in blocks of eight (the leaf packs of the wide layout), so a
+// leaf of 1..8 triangles costs one pack test. Leaves hold at most maxLeafTriangles.
 // Parallelism: large ranges bin in parallel (tbb::parallel_reduce; min/max/count merges are
 // exact and order independent) and their two children are built as parallel tasks. Nodes are
 // allocated in pairs from an atomic counter while building, then renumbered depth-first, so
@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cstdlib>
 #include <memory>
 #include <cmath>
@@ -31,7 +32,8 @@ namespace {
 
 constexpr uint32_t kMaxBins = 64;
 constexpr uint32_t kBinGrain = 4096;   // primitives per parallel binning task
-constexpr uint32_t kSahBlock = 4;      // triangles per leaf pack
+constexpr uint32_t kTwoBinSetsFrom = 256;   // ranges this large bin into two interleaved bin sets
+constexpr uint32_t kSahBlock = 8;      // triangles per leaf pack (kPackWidth of the wide layout)
 // Past this depth splits are object medians, so the depth stays below kMaxSahDepth + 32 and
 // traversal stacks of 128 levels cannot overflow even for pathological inputs.
 constexpr uint32_t kMaxSahDepth = 64;
@@ -98,6 +100,10 @@ struct BinSet {
     for (int a = 0; a < 3; ++a) std::copy_n(o.bins[a], binCount, bins[a]);
     return *this;
   }
+  /// Counts of bin i on the three axes (lanes 0..2).
+  friend __m128i binCounts(const BinSet& set, uint32_t i) {
+    return _mm_setr_epi32(int(set.bins[0][i].count), int(set.bins[1][i].count), int(set.bins[2][i].count), 0);
+  }
   void merge(const BinSet& o) {
     for (int a = 0; a < 3; ++a)
       for (uint32_t i = 0; i < binCount; ++i) {
@@ -140,6 +146,20 @@ struct Split {
 };
 
 inline float blocks(uint32_t n) { return float((n + kSahBlock - 1) / kSahBlock); }
+static_assert((kSahBlock & (kSahBlock - 1)) == 0, "blocks(__m128i) divides by shifting");
+/// blocks() of four counts.
+inline __m128 blocks(__m128i n) {
+  return _mm_cvtepi32_ps(_mm_srli_epi32(_mm_add_epi32(n, _mm_set1_epi32(kSahBlock - 1)), std::countr_zero(kSahBlock)));
+}
+
+/// Half surface areas of three boxes in lanes 0..2, with the same operations as Box::halfArea
+/// (empty boxes give +inf or NaN, not 0: callers skip them by their counts).
+inline __m128 halfAreas(const Box (&boxes)[3]) {
+  __m128 x = _mm_sub_ps(boxes[0].hi, boxes[0].lo), y = _mm_sub_ps(boxes[1].hi, boxes[1].lo);
+  __m128 z = _mm_sub_ps(boxes[2].hi, boxes[2].lo), w = _mm_setzero_ps();
+  _MM_TRANSPOSE4_PS(x, y, z, w);   // now x, y, z hold the three boxes' extents along x, y, z
+  return _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, y), _mm_mul_ps(y, z)), _mm_mul_ps(z, x));
+}
 
 /// Uninitialised build-time array. Large ones are 2 MiB aligned and marked for transparent
 /// huge pages: a build touches all of it once, and 4 KiB page faults were a visible share of
@@ -172,13 +192,17 @@ class ScratchArray {
 
 class Builder {
  public:
-  Builder(std::span<const Bounds> primBounds, const BvhBuildConfig& config, BinaryBvh& out)
-      : config_(config), out_(out), refs_(primBounds.size()), scratch_(primBounds.size()),
-        nodes_(2 * std::max<size_t>(primBounds.size(), 1)), primCount_(static_cast<uint32_t>(primBounds.size())) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, primBounds.size(), 1 << 14), [&](const auto& r) {
+  /// boundsOf(i, lo, hi) gives primitive i's box as two SSE registers (lane 3 is overwritten).
+  template <typename BoundsOf>
+  Builder(size_t count, const BoundsOf& boundsOf, const BvhBuildConfig& config, BinaryBvh& out)
+      : config_(config), out_(out), refs_(count), scratch_(count), nodes_(2 * std::max<size_t>(count, 1)),
+        primCount_(static_cast<uint32_t>(count)) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1 << 14), [&](const auto& r) {
       for (size_t i = r.begin(); i < r.end(); ++i) {
+        __m128 lo, hi;
+        boundsOf(i, lo, hi);
         const __m128 id = _mm_castsi128_ps(_mm_cvtsi32_si128(static_cast<int>(i)));
-        refs_[i] = {_mm_insert_ps(load3(primBounds[i].min), id, 0x30), load3(primBounds[i].max)};
+        refs_[i] = {_mm_insert_ps(lo, id, 0x30), hi};
       }
     });
   }
@@ -203,17 +227,35 @@ class Builder {
     }
   }
 
+  static void binOne(const BinMapping& map, const PrimRef& ref, BinSet& set) {
+    const __m128i b = map.bins(ref.centroid2());
+    const Box box = ref.box();
+    Bin& x = set.bins[0][_mm_extract_epi32(b, 0)];
+    Bin& y = set.bins[1][_mm_extract_epi32(b, 1)];
+    Bin& z = set.bins[2][_mm_extract_epi32(b, 2)];
+    x.box.extend(box);
+    ++x.count;
+    y.box.extend(box);
+    ++y.count;
+    z.box.extend(box);
+    ++z.count;
+  }
+
   void binRange(const BinMapping& map, uint32_t begin, uint32_t end, BinSet& set) const {
-    alignas(16) int32_t b[4];
-    for (uint32_t i = begin; i < end; ++i) {
-      const PrimRef& ref = refs_[i];
-      _mm_store_si128(reinterpret_cast<__m128i*>(b), map.bins(ref.centroid2()));
-      for (int a = 0; a < 3; ++a) {
-        Bin& bin = set.bins[a][b[a]];
-        bin.box.extend(ref.box());
-        ++bin.count;
-      }
+    if (end - begin < kTwoBinSetsFrom) {
+      for (uint32_t i = begin; i < end; ++i) binOne(map, refs_[i], set);
+      return;
     }
+    // Neighbouring primitives often fall into the same bins; alternating between two bin sets
+    // lets one primitive's bin update proceed without waiting for the previous one's store.
+    BinSet other(set.binCount);
+    uint32_t i = begin;
+    for (; i + 1 < end; i += 2) {
+      binOne(map, refs_[i], set);
+      binOne(map, refs_[i + 1], other);
+    }
+    if (i < end) binOne(map, refs_[i], set);
+    set.merge(other);
   }
 
   Split findSplit(uint32_t begin, uint32_t end, const BinMapping& map) const {
@@ -230,26 +272,33 @@ class Builder {
     } else {
       binRange(map, begin, end, set);
     }
+    // SAH costs of every candidate plane, the three axes at once (lane = axis): the right
+    // sides accumulated from the last bin down, the left sides from the first bin up.
+    alignas(16) float rightCost[kMaxBins][4], leftCost[kMaxBins][4];
+    alignas(16) uint32_t leftCount[kMaxBins][4];
+    Box acc[3];
+    __m128i accCount = _mm_setzero_si128();
+    for (uint32_t i = binCount - 1; i > 0; --i) {
+      for (int a = 0; a < 3; ++a) acc[a].extend(set.bins[a][i].box);
+      accCount = _mm_add_epi32(accCount, binCounts(set, i));
+      _mm_store_ps(rightCost[i - 1], _mm_mul_ps(halfAreas(acc), blocks(accCount)));
+    }
+    acc[0] = acc[1] = acc[2] = Box();
+    accCount = _mm_setzero_si128();
+    for (uint32_t i = 0; i + 1 < binCount; ++i) {
+      for (int a = 0; a < 3; ++a) acc[a].extend(set.bins[a][i].box);
+      accCount = _mm_add_epi32(accCount, binCounts(set, i));
+      _mm_store_ps(leftCost[i], _mm_mul_ps(halfAreas(acc), blocks(accCount)));
+      _mm_store_si128(reinterpret_cast<__m128i*>(leftCount[i]), accCount);
+    }
+    // Cheapest plane; ties go to the lower axis, then the lower bin.
     Split best;
     const uint32_t count = end - begin;
     for (int a = 0; a < 3; ++a) {
       if (map.scaleLanes[a] == 0.0f) continue;
-      const Bin* bins = set.bins[a];
-      float rightCost[kMaxBins];
-      Box acc;
-      uint32_t accCount = 0;
-      for (uint32_t i = binCount - 1; i > 0; --i) {
-        acc.extend(bins[i].box);
-        accCount += bins[i].count;
-        rightCost[i - 1] = acc.halfArea() * blocks(accCount);
-      }
-      Box left;
-      uint32_t leftCount = 0;
       for (uint32_t i = 0; i + 1 < binCount; ++i) {
-        left.extend(bins[i].box);
-        leftCount += bins[i].count;
-        if (leftCount == 0 || leftCount == count) continue;
-        const float cost = left.halfArea() * blocks(leftCount) + rightCost[i];
+        if (leftCount[i][a] == 0 || leftCount[i][a] == count) continue;
+        const float cost = leftCost[i][a] + rightCost[i][a];
         if (cost < best.cost) {
           best.cost = cost;
           best.axis = a;
@@ -302,7 +351,10 @@ class Builder {
 
   void buildNode(uint32_t slot, uint32_t begin, uint32_t end, const Box& box, const Box& centroids, uint32_t depth) {
     const uint32_t count = end - begin;
-    if (count == 1) return makeLeaf(slot, begin, end, box);
+    // One block or less: with a node costing >= one block test, SAH always prefers the leaf, so
+    // skip the binning (the result is the same; small nodes are most of the nodes).
+    if (count == 1 || (count <= kSahBlock && count <= config_.maxLeafTriangles && config_.traversalCost >= 1.0f))
+      return makeLeaf(slot, begin, end, box);
     // Small nodes need no more bins than primitives (deterministic: depends on count only).
     const BinMapping map(centroids, std::min(config_.binCount, std::max(4u, count)));
     const Split split = depth < kMaxSahDepth ? findSplit(begin, end, map) : Split{};
@@ -390,7 +442,26 @@ BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfi
   validateBuildConfig(config);
   BinaryBvh bvh;
   if (primBounds.empty()) return bvh;
-  Builder(primBounds, config, bvh).run();
+  const auto boundsOf = [&](size_t i, __m128& lo, __m128& hi) {
+    lo = load3(primBounds[i].min);
+    hi = load3(primBounds[i].max);
+  };
+  Builder(primBounds.size(), boundsOf, config, bvh).run();
+  return bvh;
+}
+
+BinaryBvh buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config) {
+  validateBuildConfig(config);
+  BinaryBvh bvh;
+  const uint32_t count = mesh.triangleCount();
+  if (count == 0) return bvh;
+  const auto boundsOf = [&](size_t i, __m128& lo, __m128& hi) {
+    const uint32_t* tri = &mesh.indices[3 * i];
+    const __m128 a = load3(mesh.positions[tri[0]]), b = load3(mesh.positions[tri[1]]), c = load3(mesh.positions[tri[2]]);
+    lo = _mm_min_ps(_mm_min_ps(a, b), c);
+    hi = _mm_max_ps(_mm_max_ps(a, b), c);
+  };
+  Builder(count, boundsOf, config, bvh).run();
   return bvh;
 }
 

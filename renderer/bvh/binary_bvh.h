@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "renderer/bvh/bvh.h"
+#include "renderer/bvh/triangle_mesh.h"
 #include "renderer/core/bounds.h"
 
 namespace pa::bvh_detail {
@@ -34,6 +35,10 @@ struct BinaryBvh {
 /// Builds over primBounds (each must be finite and non-empty). Deterministic: the result does
 /// not depend on the number of threads. Runs in the caller's TBB arena.
 BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfig& config);
+
+/// Builds over the triangles of mesh, with their bounds taken straight from the vertices (no
+/// separate bounds array); the same tree as buildBinaryBvh(triangleBounds(mesh), config).
+BinaryBvh buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config);
 
 /// Recomputes every reachable node's bounds bottom-up from new primitive bounds.
 void refitBinaryBvh(BinaryBvh& bvh, std::span<const Bounds> primBounds);

@@ -24,10 +24,9 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
   bvh_detail::validateBuildConfig(config);
   auto next = std::make_unique<Impl>();
   next->mesh = bvh_detail::makeTriangleMesh(input);
-  const std::vector<Bounds> triBounds = bvh_detail::triangleBounds(next->mesh);
-  next->binary = bvh_detail::buildBinaryBvh(triBounds, config);
+  next->binary = bvh_detail::buildBinaryBvh(next->mesh, config);
   next->wide = bvh_detail::collapseToWide(next->binary, next->mesh);
-  for (const Bounds& b : triBounds) next->bounds.extend(b);
+  if (!next->binary.empty()) next->bounds = next->binary.nodes[0].bounds;   // the root box is the union of all triangles
   impl_ = std::move(next);
 }
 

@@ -49,9 +49,16 @@ struct vfloat8 {
   vfloat8(__m256 x) : v(x) {}
   explicit vfloat8(float x) : v(_mm256_set1_ps(x)) {}
   static vfloat8 load(const float* p) { return _mm256_load_ps(p); }
+  friend vfloat8 operator+(vfloat8 a, vfloat8 b) { return _mm256_add_ps(a.v, b.v); }
   friend vfloat8 operator-(vfloat8 a, vfloat8 b) { return _mm256_sub_ps(a.v, b.v); }
   friend vfloat8 operator*(vfloat8 a, vfloat8 b) { return _mm256_mul_ps(a.v, b.v); }
+  friend vfloat8 operator&(vfloat8 a, vfloat8 b) { return _mm256_and_ps(a.v, b.v); }
+  friend vfloat8 operator|(vfloat8 a, vfloat8 b) { return _mm256_or_ps(a.v, b.v); }
+  friend vfloat8 operator<(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ); }
   friend vfloat8 operator<=(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ); }
+  friend vfloat8 operator>(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ); }
+  friend vfloat8 operator==(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ); }
+  friend vfloat8 operator!=(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_NEQ_UQ); }
   /// One bit per lane.
   int mask() const { return _mm256_movemask_ps(v); }
   void store(float* p) const { _mm256_store_ps(p, v); }
@@ -68,9 +75,16 @@ struct vfloat8 {
   vfloat8(__m128 l, __m128 h) : lo(l), hi(h) {}
   explicit vfloat8(float x) : lo(_mm_set1_ps(x)), hi(_mm_set1_ps(x)) {}
   static vfloat8 load(const float* p) { return {_mm_load_ps(p), _mm_load_ps(p + 4)}; }
+  friend vfloat8 operator+(vfloat8 a, vfloat8 b) { return {_mm_add_ps(a.lo, b.lo), _mm_add_ps(a.hi, b.hi)}; }
   friend vfloat8 operator-(vfloat8 a, vfloat8 b) { return {_mm_sub_ps(a.lo, b.lo), _mm_sub_ps(a.hi, b.hi)}; }
   friend vfloat8 operator*(vfloat8 a, vfloat8 b) { return {_mm_mul_ps(a.lo, b.lo), _mm_mul_ps(a.hi, b.hi)}; }
+  friend vfloat8 operator&(vfloat8 a, vfloat8 b) { return {_mm_and_ps(a.lo, b.lo), _mm_and_ps(a.hi, b.hi)}; }
+  friend vfloat8 operator|(vfloat8 a, vfloat8 b) { return {_mm_or_ps(a.lo, b.lo), _mm_or_ps(a.hi, b.hi)}; }
+  friend vfloat8 operator<(vfloat8 a, vfloat8 b) { return {_mm_cmplt_ps(a.lo, b.lo), _mm_cmplt_ps(a.hi, b.hi)}; }
   friend vfloat8 operator<=(vfloat8 a, vfloat8 b) { return {_mm_cmple_ps(a.lo, b.lo), _mm_cmple_ps(a.hi, b.hi)}; }
+  friend vfloat8 operator>(vfloat8 a, vfloat8 b) { return {_mm_cmpgt_ps(a.lo, b.lo), _mm_cmpgt_ps(a.hi, b.hi)}; }
+  friend vfloat8 operator==(vfloat8 a, vfloat8 b) { return {_mm_cmpeq_ps(a.lo, b.lo), _mm_cmpeq_ps(a.hi, b.hi)}; }
+  friend vfloat8 operator!=(vfloat8 a, vfloat8 b) { return {_mm_cmpneq_ps(a.lo, b.lo), _mm_cmpneq_ps(a.hi, b.hi)}; }
   /// One bit per lane.
   int mask() const { return _mm_movemask_ps(lo) | (_mm_movemask_ps(hi) << 4); }
   void store(float* p) const { _mm_store_ps(p, lo); _mm_store_ps(p + 4, hi); }

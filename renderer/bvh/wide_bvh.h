@@ -1,6 +1,6 @@
 #pragma once
 // The 8-wide BVH layout traversed with SIMD slab tests, converted from the binary BVH, with leaf
-// triangles precomputed into 4-wide structure-of-arrays packs for the SIMD watertight test.
+// triangles precomputed into 8-wide structure-of-arrays packs for the SIMD watertight test.
 #include <cstdint>
 #include <vector>
 
@@ -11,11 +11,11 @@
 namespace pa::bvh_detail {
 
 inline constexpr uint32_t kWideWidth = 8;
-inline constexpr uint32_t kPackWidth = 4;
+inline constexpr uint32_t kPackWidth = 8;
 
 /// Child reference: inner node index, or (kLeafBit | packCount - 1 << kPackCountShift | firstPack).
 inline constexpr uint32_t kLeafBit = 0x80000000u;
-inline constexpr uint32_t kPackCountShift = 27;   ///< 4 bits: 1..16 packs (64 triangles) per leaf.
+inline constexpr uint32_t kPackCountShift = 27;   ///< 4 bits: 1..16 packs (128 triangles) per leaf.
 inline constexpr uint32_t kFirstPackMask = (1u << kPackCountShift) - 1;
 
 /// Eight child boxes as structure of arrays; bounds[0] = lower, bounds[1] = upper, then axis.
@@ -26,9 +26,9 @@ struct alignas(32) WideNode {
 };
 static_assert(sizeof(WideNode) == 224);
 
-/// Up to four triangles: vertices as structure of arrays (vertex, axis, lane).
+/// Up to kPackWidth triangles: vertices as structure of arrays (vertex, axis, lane).
 /// Lanes not in validBits (padding, degenerate triangles) are never reported.
-struct alignas(16) TrianglePack {
+struct alignas(32) TrianglePack {
   float v[3][3][kPackWidth];
   uint32_t prim[kPackWidth];
   uint32_t validBits = 0;    ///< Lanes holding a real, non-degenerate triangle.

@@ -136,7 +136,10 @@ TEST(Build, DeterministicForAnyThreadCount) {
     return out;
   };
   const BinaryBvh one = buildWith(1), two = buildWith(2), four = buildWith(4);
-  for (const BinaryBvh* other : {&two, &four}) {
+  // Building straight from the mesh must give the same tree as from its triangle bounds.
+  BinaryBvh fromMesh;
+  tbb::task_arena(2).execute([&] { fromMesh = buildBinaryBvh(mesh, config); });
+  for (const BinaryBvh* other : std::initializer_list<const BinaryBvh*>{&two, &four, &fromMesh}) {
     ASSERT_EQ(one.primIndices, other->primIndices);
     ASSERT_EQ(one.nodeCount, other->nodeCount);
     ASSERT_EQ(one.nodes.size(), other->nodes.size());
@@ -145,6 +148,7 @@ TEST(Build, DeterministicForAnyThreadCount) {
       ASSERT_EQ(one.nodes[i].left, other->nodes[i].left);
       ASSERT_EQ(one.nodes[i].right, other->nodes[i].right);
       ASSERT_EQ(one.nodes[i].bounds.min, other->nodes[i].bounds.min);
+      ASSERT_EQ(one.nodes[i].bounds.max, other->nodes[i].bounds.max);
     }
   }
 }
