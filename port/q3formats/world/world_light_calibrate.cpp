@@ -14,7 +14,6 @@ namespace q3 {
 namespace {
 
 constexpr float kMinLightDistance = 16.0f;   // q3map2 clamps point-light distances here
-constexpr uint8_t kSaturatedTexel = 250;     // a clamped texel is only a lower bound
 constexpr float kSunDistance = 65536.0f;     // shadow rays towards a sun end this far away
 
 /// One sampled lightmap texel.
@@ -87,7 +86,8 @@ std::vector<Sample> sampleLightmaps(const WorldScene& scene, const LightCalibrat
     const int64_t x = std::clamp<int64_t>(int64_t(std::floor(uv.x * float(image.width))), 0, image.width - 1);
     const int64_t y = std::clamp<int64_t>(int64_t(std::floor(uv.y * float(image.height))), 0, image.height - 1);
     const uint8_t* texel = &image.rgba8[(size_t(y) * image.width + size_t(x)) * 4];
-    if (std::max({texel[0], texel[1], texel[2]}) >= kSaturatedTexel) continue;
+    // Saturated texels are kept at their clamped value: a lower bound, but leaving them out
+    // would let lights grow unchecked where q3map2 saturated (measured 5x too bright on oa_dm6).
     samples.push_back({p, normal, float(texel[0]) + float(texel[1]) + float(texel[2])});
   }
   return samples;
@@ -175,6 +175,11 @@ float emitterLight(const Sample& s, const CalibrationEmitter& e, const glm::vec3
   return blocked(origin, centre - dir * 0.5f) ? 0.0f : value;
 }
 
+/// Least-squares weight of a texel: 1 (absolute errors) or 1 / (texel + 32) (relative).
+double weightOf(float texel, const LightCalibrationOptions& o) {
+  return o.relativeErrors ? 1.0 / (double(texel) + 32.0) : 1.0;
+}
+
 /// One fitted light's gain on one sample.
 struct Entry {
   uint32_t light;
@@ -243,6 +248,7 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   double sumTexel = 0.0, sumBefore = 0.0;
   std::vector<std::vector<Entry>> perSample(samples.size());
   std::vector<float> targets(samples.size());
+  std::vector<double> weights(samples.size(), 1.0);
   for (size_t j = 0; j < samples.size(); ++j) {
     const Sample& s = samples[j];
     const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
@@ -266,15 +272,18 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     sumTexel += s.value;
     sumBefore += predicted;
     targets[j] = target;
+    // Relative errors: a dark texel says as much as a bright one (weight 1 / (texel + 32)).
+    const double w = weightOf(s.value, o);
+    weights[j] = w;
     for (const Entry& a : entries) {
       ++litSamples[a.light];
-      for (const Entry& b : entries) gram[a.light * n + b.light] += double(a.gain) * b.gain;
-      gram[a.light * n + k] += a.gain;
-      gram[k * n + a.light] += a.gain;
-      rhs[a.light] += double(a.gain) * target;
+      for (const Entry& b : entries) gram[a.light * n + b.light] += w * a.gain * b.gain;
+      gram[a.light * n + k] += w * a.gain;
+      gram[k * n + a.light] += w * a.gain;
+      rhs[a.light] += w * a.gain * target;
     }
-    gram[k * n + k] += 1.0;
-    rhs[k] += target;
+    gram[k * n + k] += w;
+    rhs[k] += w * target;
     perSample[j] = entries;
   }
 
@@ -300,8 +309,8 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
       if (litSamples[e.light] < minLit && e.light < estimatedCount) {
         const double pinned = double(e.gain) * fitted[e.light]->quakeIntensity;
         for (const Entry& f : perSample[j])
-          if (litSamples[f.light] >= minLit) rhs[f.light] -= double(f.gain) * pinned;
-        rhs[k] -= pinned;
+          if (litSamples[f.light] >= minLit) rhs[f.light] -= weights[j] * f.gain * pinned;
+        rhs[k] -= weights[j] * pinned;
       }
   const std::vector<double> x = solveNonNegative(gram, rhs, start, o.sweeps);
 

@@ -48,6 +48,7 @@ struct LightCalibrationOptions {
   /// renderer lights with it (64 x its lighting radiance): subtracted from the texels like the
   /// authored lights, so that estimated lights never take the sky's share. 0 = no sky light.
   float skyLightValue = 0.0f;
+  bool relativeErrors = true;      ///< Weight texels by 1 / (value + 32) (else plain least squares).
   bool admitCandidates = true;     ///< Fit WorldScene::lightCandidates too (false: refit the estimated lights only).
   int skyRays = 16;                ///< Cosine-distributed rays per sample measuring its open sky.
 };

@@ -15,17 +15,27 @@
 #include <string>
 #include <vector>
 
+#include <glm/common.hpp>
+
 #include "port/q3formats/world/world_game.h"
 #include "port/scene_bridge/light_calibration.h"
 #include "port/scene_bridge/scene_bridge.h"
 
 namespace {
 
-double meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrator integrator, bool calibrate) {
+/// Mean luminance: plain, and with each pixel capped at its albedo (the most a lightmap can
+/// show: Quake's overbright shift saturates at "full bright").
+struct Luminance {
+  double plain = 0.0;
+  double capped = 0.0;
+};
+
+Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrator integrator, bool calibrate) {
   pa::Renderer renderer;
   pa::bridge::UploadOptions upload;
   upload.calibrateEstimatedLights = calibrate;
   upload.calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
+  upload.calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
   pa::bridge::uploadWorld(scene, renderer, upload);
   renderer.commit();
   const pa::Camera camera = pa::bridge::cameraFromSpawn(scene.cameras[spawn], 16.0f / 9.0f);
@@ -36,9 +46,15 @@ double meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrator i
   settings.samplesPerPixel = integrator == pa::Integrator::Lightmap ? 4 : 16;
   settings.maxBounces = 4;
   const pa::FrameView frame = renderer.render(camera, settings);
-  double sum = 0.0;
-  for (const glm::vec3& r : frame.radiance) sum += 0.2126 * r.r + 0.7152 * r.g + 0.0722 * r.b;
-  return sum / double(frame.radiance.size());
+  Luminance sum;
+  for (size_t i = 0; i < frame.radiance.size(); ++i) {
+    const glm::vec3 r = frame.radiance[i];
+    const glm::vec3 capped = i < frame.albedo.size() ? glm::min(r, frame.albedo[i]) : r;
+    sum.plain += 0.2126 * r.r + 0.7152 * r.g + 0.0722 * r.b;
+    sum.capped += 0.2126 * capped.r + 0.7152 * capped.g + 0.0722 * capped.b;
+  }
+  const double n = double(std::max<size_t>(frame.radiance.size(), 1));
+  return {sum.plain / n, sum.capped / n};
 }
 
 /// On a map that kept its lights: marks its plain point lights estimated with twice their
@@ -80,6 +96,7 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns) {
   for (const q3::WorldLight& l : scene.lights) estimated += l.estimated ? 1 : 0;
   q3::LightCalibrationOptions calibration;
   calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
+  calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
   const auto t0 = std::chrono::steady_clock::now();
   q3::LightCalibrationStats stats;
   const std::vector<q3::WorldLight> lights = pa::bridge::calibratedLights(scene, calibration, &stats);
@@ -96,11 +113,13 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns) {
       std::printf("    %-60s (%7.1f %7.1f %7.1f) value %.0f\n", l.source.c_str(), l.position.x, l.position.y, l.position.z,
                   l.quakeIntensity);
   for (size_t s = 0; s < std::min(spawns, scene.cameras.size()); ++s) {
-    const double baked = meanLuminance(scene, s, pa::Integrator::Lightmap, true);
-    const double before = meanLuminance(scene, s, pa::Integrator::Direct, false);
-    const double after = meanLuminance(scene, s, pa::Integrator::Direct, true);
-    std::printf("  spawn %zu (%s): lightmap %.4f | direct grid %.4f (x%.2f) | direct calibrated %.4f (x%.2f)\n", s,
-                scene.cameras[s].name.c_str(), baked, before, before / baked, after, after / baked);
+    const double baked = meanLuminance(scene, s, pa::Integrator::Lightmap, true).plain;
+    const Luminance before = meanLuminance(scene, s, pa::Integrator::Direct, false);
+    const Luminance after = meanLuminance(scene, s, pa::Integrator::Direct, true);
+    std::printf("  spawn %zu (%s): lightmap %.4f | direct grid %.4f (x%.2f, capped x%.2f) | direct calibrated %.4f "
+                "(x%.2f, capped x%.2f)\n",
+                s, scene.cameras[s].name.c_str(), baked, before.plain, before.plain / baked, before.capped / baked,
+                after.plain, after.plain / baked, after.capped / baked);
   }
   std::fflush(stdout);
 }
