@@ -93,7 +93,29 @@ std::vector<q3::WorldLight> calibratedLights(const q3::WorldScene& scene, const 
     const glm::vec3 sky = skyLightingRadiance(scene);
     withSky.skyLightValue = q3::kQ3FullBright * (sky.r + sky.g + sky.b);
   }
-  return q3::calibrateEstimatedLights(scene, blocked, withSky, stats, emitters);
+  // Inside solid: most directions first meet a triangle from behind (brushes are closed and
+  // face outwards). Open directions (sky, leaks) count as outside.
+  const q3::PointInSolid inSolid = [&](const glm::vec3& point) {
+    if (empty) return false;
+    static constexpr float kDirections[14][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0},  {0, 0, 1},
+                                                 {0, 0, -1}, {1, 1, 1},  {1, 1, -1},  {1, -1, 1},  {1, -1, -1},
+                                                 {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
+    int behind = 0;
+    for (const auto& d : kDirections) {
+      Ray ray;
+      ray.origin = point;
+      ray.dir = glm::normalize(glm::vec3(d[0], d[1], d[2]));
+      ray.tmax = 65536.0f;
+      Hit hit;
+      if (!blas.intersect(ray, hit) || hit.prim >= indices.size() / 3) continue;
+      const glm::vec3& a = positions[indices[hit.prim * 3]];
+      const glm::vec3 normal =
+          glm::cross(positions[indices[hit.prim * 3 + 1]] - a, positions[indices[hit.prim * 3 + 2]] - a);
+      behind += glm::dot(normal, ray.dir) > 0.0f ? 1 : 0;
+    }
+    return behind >= 10;
+  };
+  return q3::calibrateEstimatedLights(scene, blocked, withSky, stats, emitters, inSolid);
 }
 
 }  // namespace pa::bridge

@@ -219,15 +219,24 @@ std::vector<double> solveNonNegative(const std::vector<double>& gram, const std:
 
 std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const SegmentBlocked& blocked,
                                                  const LightCalibrationOptions& o, LightCalibrationStats* statsOut,
-                                                 const std::vector<CalibrationEmitter>& emitters) {
+                                                 const std::vector<CalibrationEmitter>& emitters,
+                                                 const PointInSolid& inSolid) {
   LightCalibrationStats stats;
   // The lights to fit: estimated ones, then the rejected candidates.
   std::vector<const WorldLight*> fitted;
+  std::vector<const WorldLight*> solid;   // estimated lights inside solid: dropped
   for (const WorldLight& l : scene.lights)
-    if (l.estimated && l.type == WorldLightType::Point && !l.linearFalloff) fitted.push_back(&l);
+    if (l.estimated && l.type == WorldLightType::Point && !l.linearFalloff) {
+      if (inSolid && inSolid(l.position)) solid.push_back(&l);
+      else fitted.push_back(&l);
+    }
   const size_t estimatedCount = fitted.size();
   for (const WorldLight& l : scene.lightCandidates)
-    if (o.admitCandidates && l.estimated && l.type == WorldLightType::Point && !l.linearFalloff && finite3(l.position)) fitted.push_back(&l);
+    if (o.admitCandidates && l.estimated && l.type == WorldLightType::Point && !l.linearFalloff && finite3(l.position)) {
+      if (inSolid && inSolid(l.position)) ++stats.inSolid;
+      else fitted.push_back(&l);
+    }
+  stats.inSolid += solid.size();
   if (fitted.empty() || !blocked) {
     if (statsOut) *statsOut = stats;
     return scene.lights;
@@ -325,6 +334,7 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   }
   size_t next = 0;
   for (const WorldLight& l : scene.lights) {
+    if (std::find(solid.begin(), solid.end(), &l) != solid.end()) continue;
     if (next < estimatedCount && &l == fitted[next]) {
       const size_t i = next++;
       if (litSamples[i] < minLit) {

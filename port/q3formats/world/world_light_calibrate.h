@@ -23,6 +23,10 @@
 
 namespace q3 {
 
+/// True when a point lies inside solid geometry (a light there lights nothing the lightmaps
+/// saw, but leaks through cracks between brushes in a renderer).
+using PointInSolid = std::function<bool(const glm::vec3& point)>;
+
 /// True when the straight segment from `from` to `to` hits an opaque surface.
 using SegmentBlocked = std::function<bool(const glm::vec3& from, const glm::vec3& to)>;
 
@@ -60,6 +64,7 @@ struct LightCalibrationStats {
   size_t refitted = 0;           ///< Estimated lights whose value was refitted.
   size_t dropped = 0;            ///< Estimated lights fitted below minLightValue.
   size_t admitted = 0;           ///< Rejected candidates admitted.
+  size_t inSolid = 0;            ///< Estimated lights and candidates dropped for lying inside solid geometry.
   float unexplained = 0.0f;      ///< Fitted constant (light value, summed over RGB).
   float meanTexel = 0.0f;        ///< Mean texel (light value, summed over RGB).
   float meanBefore = 0.0f;       ///< Mean predicted direct light with the grid values.
@@ -73,6 +78,7 @@ struct LightCalibrationStats {
 std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const SegmentBlocked& blocked,
                                                  const LightCalibrationOptions& options = {},
                                                  LightCalibrationStats* stats = nullptr,
-                                                 const std::vector<CalibrationEmitter>& emitters = {});
+                                                 const std::vector<CalibrationEmitter>& emitters = {},
+                                                 const PointInSolid& inSolid = {});
 
 }  // namespace q3

@@ -4,7 +4,7 @@
 // render (4 spp) and of Direct renders (16 spp) with the grid's values and the calibrated ones
 // (320x180, the same figures pa-render's EXR gives).
 //
-//   lightmap-match-check [--game DIR] [--spawns N] MAP...
+//   lightmap-match-check [--game DIR] [--spawns N] [--spp N (Direct, default 16)] MAP...
 //   lightmap-match-check --recover MAP...   (maps that kept their lights: doubled values refitted)
 #include <algorithm>
 #include <chrono>
@@ -30,7 +30,8 @@ struct Luminance {
   double capped = 0.0;
 };
 
-Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrator integrator, bool calibrate) {
+Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrator integrator, bool calibrate,
+                        uint32_t directSpp) {
   pa::Renderer renderer;
   pa::bridge::UploadOptions upload;
   upload.calibrateEstimatedLights = calibrate;
@@ -43,7 +44,7 @@ Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrato
   settings.width = 320;
   settings.height = 180;
   settings.integrator = integrator;
-  settings.samplesPerPixel = integrator == pa::Integrator::Lightmap ? 4 : 16;
+  settings.samplesPerPixel = integrator == pa::Integrator::Lightmap ? 4 : directSpp;
   settings.maxBounces = 4;
   const pa::FrameView frame = renderer.render(camera, settings);
   Luminance sum;
@@ -90,7 +91,7 @@ void recover(const q3::GameWorlds& game, const std::string& map) {
               stats.meanTexel, stats.meanBefore, stats.meanAfter, stats.unexplained);
 }
 
-void check(const q3::GameWorlds& game, const std::string& map, size_t spawns) {
+void check(const q3::GameWorlds& game, const std::string& map, size_t spawns, uint32_t spp) {
   const q3::WorldScene scene = game.load(map);
   size_t estimated = 0;
   for (const q3::WorldLight& l : scene.lights) estimated += l.estimated ? 1 : 0;
@@ -102,9 +103,9 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns) {
   const std::vector<q3::WorldLight> lights = pa::bridge::calibratedLights(scene, calibration, &stats);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   std::printf("%s: %zu lights (%zu estimated, %zu candidates) -> %zu | samples %zu, rays %zu, refitted %zu, dropped %zu, "
-              "admitted %zu | mean texel %.1f, direct before %.1f after %.1f, constant %.1f | %.0f ms\n",
+              "admitted %zu, in solid %zu | mean texel %.1f, direct before %.1f after %.1f, constant %.1f | %.0f ms\n",
               map.c_str(), scene.lights.size(), estimated, scene.lightCandidates.size(), lights.size(), stats.samples,
-              stats.shadowRays, stats.refitted, stats.dropped, stats.admitted, stats.meanTexel, stats.meanBefore,
+              stats.shadowRays, stats.refitted, stats.dropped, stats.admitted, stats.inSolid, stats.meanTexel, stats.meanBefore,
               stats.meanAfter, stats.unexplained, ms);
   const glm::vec3 sky = pa::bridge::skyLightingRadiance(scene);
   std::printf("  sky lighting radiance %.3f %.3f %.3f\n", sky.r, sky.g, sky.b);
@@ -113,13 +114,14 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns) {
       std::printf("    %-60s (%7.1f %7.1f %7.1f) value %.0f\n", l.source.c_str(), l.position.x, l.position.y, l.position.z,
                   l.quakeIntensity);
   for (size_t s = 0; s < std::min(spawns, scene.cameras.size()); ++s) {
-    const double baked = meanLuminance(scene, s, pa::Integrator::Lightmap, true).plain;
-    const Luminance before = meanLuminance(scene, s, pa::Integrator::Direct, false);
-    const Luminance after = meanLuminance(scene, s, pa::Integrator::Direct, true);
-    std::printf("  spawn %zu (%s): lightmap %.4f | direct grid %.4f (x%.2f, capped x%.2f) | direct calibrated %.4f "
-                "(x%.2f, capped x%.2f)\n",
-                s, scene.cameras[s].name.c_str(), baked, before.plain, before.plain / baked, before.capped / baked,
-                after.plain, after.plain / baked, after.capped / baked);
+    const Luminance lightmap = meanLuminance(scene, s, pa::Integrator::Lightmap, true, spp);
+    const double baked = lightmap.plain;
+    const Luminance before = meanLuminance(scene, s, pa::Integrator::Direct, false, spp);
+    const Luminance after = meanLuminance(scene, s, pa::Integrator::Direct, true, spp);
+    std::printf("  spawn %zu (%s): lightmap %.4f (capped %.4f) | direct grid %.4f (x%.2f, capped x%.2f) | direct "
+                "calibrated %.4f (x%.2f, capped x%.2f)\n",
+                s, scene.cameras[s].name.c_str(), baked, lightmap.capped, before.plain, before.plain / baked,
+                before.capped / lightmap.capped, after.plain, after.plain / baked, after.capped / lightmap.capped);
   }
   std::fflush(stdout);
 }
@@ -129,14 +131,16 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns) {
 int main(int argc, char** argv) {
   std::string gameDir = "/usr/share/games/openarena/baseoa";
   size_t spawns = 2;
+  uint32_t spp = 16;
   bool recoverMode = false;
   std::vector<std::string> maps;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--game") == 0 && i + 1 < argc) gameDir = argv[++i];
     else if (std::strcmp(argv[i], "--spawns") == 0 && i + 1 < argc) spawns = size_t(std::strtoul(argv[++i], nullptr, 10));
+    else if (std::strcmp(argv[i], "--spp") == 0 && i + 1 < argc) spp = uint32_t(std::clamp(std::atoi(argv[++i]), 1, 4096));
     else if (std::strcmp(argv[i], "--recover") == 0) recoverMode = true;
     else if (std::strcmp(argv[i], "--help") == 0) {
-      std::printf("usage: %s [--game DIR] [--spawns N] MAP...\n", argv[0]);
+      std::printf("usage: %s [--game DIR] [--spawns N] [--spp N] [--recover] MAP...\n", argv[0]);
       return 0;
     } else maps.push_back(argv[i]);
   }
@@ -145,7 +149,7 @@ int main(int argc, char** argv) {
     for (const std::string& map : maps) {
       try {
         if (recoverMode) recover(game, map);
-        else check(game, map, spawns);
+        else check(game, map, spawns, spp);
       } catch (const std::exception& e) {
         std::printf("%s: ERROR %s\n", map.c_str(), e.what());
       }
