@@ -60,10 +60,31 @@ inline WorldScene syntheticLitRoom(const glm::vec3& light, float value, float bo
       mesh.lightmapUvs.push_back(c);
       mesh.colors.emplace_back(1.0f);
     }
-    mesh.indices = {0, 1, 2, 0, 2, 3};
+    // Counter-clockwise seen from the side the normal points to (the inside).
+    if (glm::dot(glm::cross(w.u, w.v), w.normal) > 0.0f) mesh.indices = {0, 1, 2, 0, 2, 3};
+    else mesh.indices = {0, 2, 1, 0, 3, 2};
     scene.models[0].meshes.push_back(std::move(mesh));
   }
   return scene;
+}
+
+/// Adds a closed, outward-facing cube (a solid block, no lightmap) centred at `centre`.
+inline void addSolidCube(WorldScene& scene, const glm::vec3& centre, float half) {
+  WorldMesh mesh;
+  mesh.material = 0;
+  mesh.lightmap = -1;
+  for (int i = 0; i < 8; ++i) {
+    mesh.positions.push_back(centre + half * glm::vec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
+    mesh.normals.push_back(glm::normalize(mesh.positions.back() - centre));
+    mesh.uvs.emplace_back(0.0f);
+    mesh.lightmapUvs.emplace_back(0.0f);
+    mesh.colors.emplace_back(1.0f);
+  }
+  // Two triangles per face, wound counter-clockwise seen from outside.
+  const std::array<std::array<uint32_t, 4>, 6> faces{{
+      {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
+  for (const auto& f : faces) mesh.indices.insert(mesh.indices.end(), {f[0], f[1], f[2], f[0], f[2], f[3]});
+  scene.models[0].meshes.push_back(std::move(mesh));
 }
 
 /// A light as the grid estimator returns it (estimated, inverse-square, white).
