@@ -232,7 +232,7 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     }
   const size_t estimatedCount = fitted.size();
   for (const WorldLight& l : scene.lightCandidates)
-    if (o.admitCandidates && l.estimated && l.type == WorldLightType::Point && !l.linearFalloff && finite3(l.position)) {
+    if (o.admitCandidates && fitted.size() < estimatedCount + o.maxCandidates && l.estimated && l.type == WorldLightType::Point && !l.linearFalloff && finite3(l.position)) {
       if (inSolid && inSolid(l.position)) ++stats.inSolid;
       else fitted.push_back(&l);
     }
@@ -241,7 +241,9 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     if (statsOut) *statsOut = stats;
     return scene.lights;
   }
-  const std::vector<Sample> samples = sampleLightmaps(scene, o);
+  LightCalibrationOptions budgeted = o;
+  budgeted.maxSamples = std::min(o.maxSamples, std::max<size_t>(1000, o.maxLightSamplePairs / fitted.size()));
+  const std::vector<Sample> samples = sampleLightmaps(scene, budgeted);
   stats.samples = samples.size();
   if (samples.empty()) {
     if (statsOut) *statsOut = stats;

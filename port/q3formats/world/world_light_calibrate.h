@@ -53,6 +53,8 @@ struct LightCalibrationOptions {
   /// authored lights, so that estimated lights never take the sky's share. 0 = no sky light.
   float skyLightValue = 0.0f;
   bool relativeErrors = true;      ///< Weight texels by 1 / (value + 32) (else plain least squares).
+  size_t maxCandidates = 256;      ///< Candidates examined (the estimator lists the strongest peaks first).
+  size_t maxLightSamplePairs = 2000000;  ///< Budget: samples x fitted lights (fewer samples on crowded maps).
   bool admitCandidates = true;     ///< Fit WorldScene::lightCandidates too (false: refit the estimated lights only).
   int skyRays = 16;                ///< Cosine-distributed rays per sample measuring its open sky.
 };

@@ -35,6 +35,7 @@ Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrato
   pa::Renderer renderer;
   pa::bridge::UploadOptions upload;
   upload.calibrateEstimatedLights = calibrate;
+  upload.sky = std::getenv("PA_NO_SKY") == nullptr;
   upload.calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
   upload.calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
   pa::bridge::uploadWorld(scene, renderer, upload);
