@@ -6,6 +6,9 @@
 //
 //   lightmap-match-check [--game DIR] [--spawns N] [--spp N (Direct, default 16)] MAP...
 //   lightmap-match-check --recover MAP...   (maps that kept their lights: doubled values refitted)
+// Diagnosis switches (environment): PA_LIST_LIGHTS=1 lists the calibrated lights,
+// PA_NO_CANDIDATES=1 refits the estimated lights only, PA_ABSOLUTE=1 fits absolute errors,
+// PA_NO_SKY=1 renders without the sky.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
