@@ -9,6 +9,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "port/q3formats/world/world_lights.h"
+#include "port/scene_bridge/light_calibration.h"
 
 namespace pa::bridge {
 namespace {
@@ -225,7 +226,9 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
   }
 
   if (options.lights) {
-    for (const q3::WorldLight& light : scene.lights) {
+    const std::vector<q3::WorldLight> lights =
+        options.calibrateEstimatedLights ? calibratedLights(scene, options.calibration) : scene.lights;
+    for (const q3::WorldLight& light : lights) {
       if (!(light.intensity > 0.0f) || !std::isfinite(light.intensity)) continue;
       LightDesc desc;
       desc.position = light.position;
@@ -297,6 +300,18 @@ SkyDesc skyDesc(const q3::WorldScene& scene, const WorldHandles& handles, const 
     sky.lightingScale = 0.0f;
   }
   return sky;
+}
+
+glm::vec3 skyLightingRadiance(const q3::WorldScene& scene, const UploadOptions& options) {
+  WorldHandles faces;   // stand-in ids: skyDesc only asks which textures exist
+  for (const q3::WorldTexture& t : scene.textures) faces.textures.push_back(validImage(t.image) ? TextureId(0) : kNoId);
+  const SkyDesc sky = skyDesc(scene, faces, options);
+  glm::vec3 shown = sky.color;
+  if (std::none_of(sky.faces.begin(), sky.faces.end(), [](TextureId id) { return id == kNoId; })) {
+    shown = glm::vec3(0.0f);
+    for (int32_t t : scene.sky.faces) shown += meanLinearColor(scene.textures[size_t(t)].image) / 6.0f * sky.color;
+  }
+  return shown * sky.intensity * sky.lightingScale;
 }
 
 Camera cameraFromSpawn(const q3::WorldCamera& spawn, float aspect, float fovX) {

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "port/q3formats/world/world_light_calibrate.h"
 #include "port/q3formats/world/world_scene.h"
 #include "renderer/scene/renderer.h"
 
@@ -26,6 +27,10 @@ struct UploadOptions {
   bool sky = true;           ///< Set the sky (box faces or colour).
   float lightScale = 1.0f;   ///< Multiplies every light intensity and emission (artistic exposure).
   float skyIntensity = 1.0f; ///< Radiance multiplier of the sky.
+  /// Refit the light-grid estimated lights against the lightmaps (light_calibration.h);
+  /// WorldHandles::lights then follows the calibrated list, not scene.lights.
+  bool calibrateEstimatedLights = true;
+  q3::LightCalibrationOptions calibration;   ///< Knobs of that calibration.
 };
 
 /// Renderer ids of everything uploaded, indexed like the WorldScene arrays.
@@ -36,7 +41,7 @@ struct WorldHandles {
   std::map<uint32_t, MaterialId> lightProxies;   ///< Material -> invisible emitter (additive surface lights).
   std::vector<MeshId> modelMeshes;          ///< Per WorldScene::models: one mesh (kNoId when empty).
   std::vector<InstanceId> modelInstances;   ///< Per model: identity instance (kNoId when empty).
-  std::vector<LightId> lights;              ///< Per WorldScene::lights that was added.
+  std::vector<LightId> lights;              ///< Per light added (scene.lights, or the calibrated list).
   uint64_t triangles = 0;
 };
 
@@ -50,6 +55,10 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
 /// their look as their light; a box-less sky shows and lights with the radiance of its
 /// q3map_surfacelight + q3map_skylight.
 SkyDesc skyDesc(const q3::WorldScene& scene, const WorldHandles& handles, const UploadOptions& options = {});
+
+/// Radiance (RGB) with which skyDesc()'s sky lights surfaces (its lighting, not its look):
+/// the mean of the box faces or the constant colour, times intensity and lightingScale.
+glm::vec3 skyLightingRadiance(const q3::WorldScene& scene, const UploadOptions& options = {});
 
 /// The renderer material for one world material drawn with one lightmap (-1 = none).
 MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handles, uint32_t material, int32_t lightmap,

@@ -229,7 +229,8 @@ class SceneAssembler {
     const size_t entityLights = size_t(std::count_if(scene_.lights.begin(), scene_.lights.end(),
                                                      [](const WorldLight& l) { return l.type != WorldLightType::Sun; }));
     if (entityLights >= kEnoughEntityLights) return;
-    std::vector<WorldLight> estimated = estimateLightsFromGrid(scene_.lightGrid, knownLightingOf(scene_));
+    std::vector<WorldLight> estimated =
+        estimateLightsFromGrid(scene_.lightGrid, knownLightingOf(scene_), {}, nullptr, &scene_.lightCandidates);
     scene_.lights.insert(scene_.lights.end(), estimated.begin(), estimated.end());
   }
 

@@ -368,7 +368,8 @@ float voxelSizeFor(const glm::vec3& extent, const LightEstimateOptions& o) {
 }  // namespace
 
 std::vector<WorldLight> estimateLightsFromGrid(const WorldLightGrid& grid, const KnownLighting& known,
-                                               const LightEstimateOptions& options, LightEstimateStats* statsOut) {
+                                               const LightEstimateOptions& options, LightEstimateStats* statsOut,
+                                               std::vector<WorldLight>* rejected) {
   LightEstimateStats stats;
   std::vector<WorldLight> lights;
   std::vector<Line> lines = votingLines(grid, known, options, stats);
@@ -440,10 +441,6 @@ std::vector<WorldLight> estimateLightsFromGrid(const WorldLightGrid& grid, const
       continue;
     // A point light gives consistent values along its lines and an inverse-square falloff;
     // crossings of lines towards area lights or the sky give neither.
-    if (spread > options.maxValueSpread || !(slope < options.minFalloffSlope) ||
-        (!(slope < options.pointFalloffSlope) && spread > options.looseValueSpread))
-      continue;
-
     WorldLight light;
     light.type = WorldLightType::Point;
     light.position = position;
@@ -451,7 +448,16 @@ std::vector<WorldLight> estimateLightsFromGrid(const WorldLightGrid& grid, const
     light.color = peakColor > 0.0f ? colorSum / peakColor : glm::vec3(1.0f);
     light.quakeIntensity = value;
     light.intensity = pointLightIntensity(value);
+    light.estimated = true;
     light.source = "light grid estimate (" + std::to_string(members.size()) + " grid points)";
+    if (spread > options.maxValueSpread || !(slope < options.minFalloffSlope) ||
+        (!(slope < options.pointFalloffSlope) && spread > options.looseValueSpread)) {
+      if (rejected && rejected->size() < options.maxLights) {
+        light.source = "light grid candidate (" + std::to_string(members.size()) + " grid points)";
+        rejected->push_back(light);
+      }
+      continue;
+    }
     lights.push_back(light);
     memberLists.push_back(std::move(members));
   }

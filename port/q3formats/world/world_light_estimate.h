@@ -71,10 +71,13 @@ struct LightEstimateStats {
 
 /// Point lights (WorldLightType::Point, inverse-square, converted intensities) that explain
 /// the light grid's directed light not explained by `known`. Returns nothing for an empty or
-/// inconsistent grid (never throws on hostile data); `stats` may be null.
+/// inconsistent grid (never throws on hostile data); `stats` may be null. `rejected`, when
+/// given, receives the candidates that only the value-spread / falloff checks turned down
+/// (weak lights whose grid lines are blended with others), for a later lightmap calibration.
 std::vector<WorldLight> estimateLightsFromGrid(const WorldLightGrid& grid, const KnownLighting& known,
                                                const LightEstimateOptions& options = {},
-                                               LightEstimateStats* stats = nullptr);
+                                               LightEstimateStats* stats = nullptr,
+                                               std::vector<WorldLight>* rejected = nullptr);
 
 /// The light the scene's own lights, suns and q3map_surfacelight surfaces already give.
 KnownLighting knownLightingOf(const WorldScene& scene);

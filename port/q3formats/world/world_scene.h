@@ -129,6 +129,9 @@ struct WorldLight {
   float cosInnerAngle = 1.0f;    ///< Spot: full intensity inside.
   float angularRadius = 0.0f;    ///< Sun: half-angle of the disc (radians).
   std::string source;            ///< "entity 12 (light)", "q3map_sun in textures/skies/x".
+  /// Recovered from the light grid (not authored): its value may be refitted against the
+  /// lightmaps (port/q3formats/world/world_light_calibrate.h).
+  bool estimated = false;
 };
 
 /// The environment: a sky box (six images) or a constant colour.
@@ -182,6 +185,9 @@ struct WorldScene {
   /// 64 is "full bright". kLightmapOverbrightScale carries that factor.
   std::vector<WorldImage> lightmaps;
   std::vector<WorldLight> lights;
+  /// Light-grid candidates the estimator's falloff checks rejected (estimated = true, not in
+  /// `lights`): the lightmap calibration admits those the lightmaps confirm.
+  std::vector<WorldLight> lightCandidates;
   WorldSky sky;
   std::vector<WorldCamera> cameras;
   std::vector<WorldFog> fogs;

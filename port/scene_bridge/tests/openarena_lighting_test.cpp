@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string>
 
+#include <glm/common.hpp>
 #include <gtest/gtest.h>
 
 #include "port/q3formats/world/world_game.h"
@@ -14,7 +15,9 @@ namespace {
 
 constexpr const char* kGameDir = "/usr/share/games/openarena/baseoa";
 
-/// Mean luminance of a small render of the map from its first spawn point.
+/// Mean luminance of a small render of the map from its first spawn point. The lightmap can
+/// show at most "full bright" (Quake's overbright shift saturates at 255), so each pixel's
+/// radiance is capped at its albedo, what a lightmap texel of 64 shows.
 double meanLuminance(Renderer& renderer, const Camera& camera, Integrator integrator) {
   RenderSettings settings;
   settings.width = 64;
@@ -24,7 +27,10 @@ double meanLuminance(Renderer& renderer, const Camera& camera, Integrator integr
   settings.maxBounces = integrator == Integrator::Direct ? 1 : 0;
   FrameView frame = renderer.render(camera, settings);
   double sum = 0.0;
-  for (const glm::vec3& r : frame.radiance) sum += 0.2126 * r.r + 0.7152 * r.g + 0.0722 * r.b;
+  for (size_t i = 0; i < frame.radiance.size(); ++i) {
+    const glm::vec3 r = i < frame.albedo.size() ? glm::min(frame.radiance[i], frame.albedo[i]) : frame.radiance[i];
+    sum += 0.2126 * r.r + 0.7152 * r.g + 0.0722 * r.b;
+  }
   return sum / double(frame.radiance.size());
 }
 

@@ -1,0 +1,121 @@
+// calibratedLights: a shadow-ray BVH over the world for q3::calibrateEstimatedLights.
+#include "port/scene_bridge/light_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "port/q3formats/world/world_lights.h"
+#include "port/scene_bridge/scene_bridge.h"
+#include "renderer/bvh/bvh.h"
+
+namespace pa::bridge {
+namespace {
+
+/// Mean radiance (summed over RGB) the renderer emits from a material (see materialDesc).
+float emittedRadiance(const q3::WorldScene& scene, const q3::WorldMaterial& m) {
+  if (m.surfaceLight > 0.0f) {
+    const glm::vec3 radiance = m.emission * q3::surfaceLightRadiance(m.surfaceLight);
+    return radiance.r + radiance.g + radiance.b;
+  }
+  if (m.emissiveTexture < 0 || size_t(m.emissiveTexture) >= scene.textures.size()) return 0.0f;
+  const q3::WorldImage& image = scene.textures[size_t(m.emissiveTexture)].image;
+  if (image.rgba8.size() != size_t(image.width) * image.height * 4 || image.rgba8.empty()) return 0.0f;
+  double sum = 0.0;
+  for (size_t i = 0; i + 3 < image.rgba8.size(); i += 4)
+    for (int c = 0; c < 3; ++c) {
+      const double v = image.rgba8[i + size_t(c)] / 255.0;
+      sum += v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+    }
+  return float(sum / double(image.rgba8.size() / 4));
+}
+
+}  // namespace
+
+bool hasEstimatedLights(const q3::WorldScene& scene) {
+  return !scene.lightCandidates.empty() ||
+         std::any_of(scene.lights.begin(), scene.lights.end(), [](const q3::WorldLight& l) { return l.estimated; });
+}
+
+std::vector<q3::WorldLight> calibratedLights(const q3::WorldScene& scene, const q3::LightCalibrationOptions& options,
+                                             q3::LightCalibrationStats* stats) {
+  if (!hasEstimatedLights(scene) || scene.models.empty()) return scene.lights;
+  // The world's opaque shadow casters (q3map2 traces against the world's brushes and patches).
+  std::vector<glm::vec3> positions;
+  std::vector<uint32_t> indices;
+  for (const q3::WorldMesh& mesh : scene.models[0].meshes) {
+    if (mesh.material >= scene.materials.size()) continue;
+    const q3::WorldMaterial& m = scene.materials[mesh.material];
+    if (!m.castsShadows || m.sky || m.alphaMode != q3::WorldAlphaMode::Opaque) continue;
+    const uint32_t base = uint32_t(positions.size());
+    bool finite = true;
+    for (const glm::vec3& p : mesh.positions) finite = finite && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+    if (!finite) continue;
+    positions.insert(positions.end(), mesh.positions.begin(), mesh.positions.end());
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+      const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+      if (a >= mesh.positions.size() || b >= mesh.positions.size() || c >= mesh.positions.size()) continue;
+      indices.insert(indices.end(), {base + a, base + b, base + c});
+    }
+  }
+  // What the renderer's emitting surfaces give (surface lights, glow stages).
+  std::vector<q3::CalibrationEmitter> emitters;
+  for (const q3::WorldModel& model : scene.models)
+    for (const q3::WorldMesh& mesh : model.meshes) {
+      if (mesh.material >= scene.materials.size()) continue;
+      const q3::WorldMaterial& m = scene.materials[mesh.material];
+      const float radiance = emittedRadiance(scene, m);
+      if (!(radiance > 0.0f) || m.sky) continue;
+      for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+        if (a >= mesh.positions.size() || b >= mesh.positions.size() || c >= mesh.positions.size()) continue;
+        emitters.push_back({mesh.positions[a], mesh.positions[b], mesh.positions[c], radiance, m.twoSided});
+      }
+    }
+  Blas blas;
+  if (!indices.empty()) blas.build(BlasInput{positions, indices, {}});
+  const bool empty = indices.empty();
+  const q3::SegmentBlocked blocked = [&](const glm::vec3& from, const glm::vec3& to) {
+    if (empty) return false;
+    const glm::vec3 delta = to - from;
+    const float length = glm::length(delta);
+    if (!(length > 1e-3f) || !std::isfinite(length)) return false;
+    Ray ray;
+    ray.origin = from;
+    ray.dir = delta / length;
+    ray.tmin = 0.0f;
+    ray.tmax = length * (1.0f - 1e-4f) - 0.05f;
+    return ray.tmax > 0.0f && blas.occluded(ray);
+  };
+  q3::LightCalibrationOptions withSky = options;
+  if (!(withSky.skyLightValue > 0.0f)) {
+    const glm::vec3 sky = skyLightingRadiance(scene);
+    withSky.skyLightValue = q3::kQ3FullBright * (sky.r + sky.g + sky.b);
+  }
+  // Inside solid: most directions first meet a triangle from behind (brushes are closed and
+  // face outwards). Open directions (sky, leaks) count as outside.
+  const q3::PointInSolid inSolid = [&](const glm::vec3& point) {
+    if (empty) return false;
+    static constexpr float kDirections[14][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0},  {0, 0, 1},
+                                                 {0, 0, -1}, {1, 1, 1},  {1, 1, -1},  {1, -1, 1},  {1, -1, -1},
+                                                 {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
+    int behind = 0;
+    for (const auto& d : kDirections) {
+      Ray ray;
+      ray.origin = point;
+      ray.dir = glm::normalize(glm::vec3(d[0], d[1], d[2]));
+      ray.tmax = 65536.0f;
+      Hit hit;
+      if (!blas.intersect(ray, hit) || hit.prim >= indices.size() / 3) continue;
+      const glm::vec3& a = positions[indices[hit.prim * 3]];
+      const glm::vec3 normal =
+          glm::cross(positions[indices[hit.prim * 3 + 1]] - a, positions[indices[hit.prim * 3 + 2]] - a);
+      behind += glm::dot(normal, ray.dir) > 0.0f ? 1 : 0;
+    }
+    return behind >= 10;
+  };
+  return q3::calibrateEstimatedLights(scene, blocked, withSky, stats, emitters, inSolid);
+}
+
+}  // namespace pa::bridge

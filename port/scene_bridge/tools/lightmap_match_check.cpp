@@ -1,0 +1,166 @@
+// lightmap-match-check: how well the Direct integrator matches the baked lighting on maps
+// whose lights were estimated from the light grid. Prints the lightmap calibration's figures
+// (samples, fitted lights, time) and, per spawn point, the mean linear luminance of a Lightmap
+// render (4 spp) and of Direct renders (16 spp) with the grid's values and the calibrated ones
+// (320x180, the same figures pa-render's EXR gives).
+//
+//   lightmap-match-check [--game DIR] [--spawns N] [--spp N (Direct, default 16)] MAP...
+//   lightmap-match-check --recover MAP...   (maps that kept their lights: doubled values refitted)
+// Diagnosis switches (environment): PA_LIST_LIGHTS=1 lists the calibrated lights,
+// PA_NO_CANDIDATES=1 refits the estimated lights only, PA_ABSOLUTE=1 fits absolute errors,
+// PA_NO_SKY=1 renders without the sky.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include <glm/common.hpp>
+
+#include "port/q3formats/world/world_game.h"
+#include "port/scene_bridge/light_calibration.h"
+#include "port/scene_bridge/scene_bridge.h"
+
+namespace {
+
+/// Mean luminance: plain, and with each pixel capped at its albedo (the most a lightmap can
+/// show: Quake's overbright shift saturates at "full bright").
+struct Luminance {
+  double plain = 0.0;
+  double capped = 0.0;
+};
+
+Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrator integrator, bool calibrate,
+                        uint32_t directSpp) {
+  pa::Renderer renderer;
+  pa::bridge::UploadOptions upload;
+  upload.calibrateEstimatedLights = calibrate;
+  upload.sky = std::getenv("PA_NO_SKY") == nullptr;
+  upload.calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
+  upload.calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
+  pa::bridge::uploadWorld(scene, renderer, upload);
+  renderer.commit();
+  const pa::Camera camera = pa::bridge::cameraFromSpawn(scene.cameras[spawn], 16.0f / 9.0f);
+  pa::RenderSettings settings;
+  settings.width = 320;
+  settings.height = 180;
+  settings.integrator = integrator;
+  settings.samplesPerPixel = integrator == pa::Integrator::Lightmap ? 4 : directSpp;
+  settings.maxBounces = 4;
+  const pa::FrameView frame = renderer.render(camera, settings);
+  Luminance sum;
+  for (size_t i = 0; i < frame.radiance.size(); ++i) {
+    const glm::vec3 r = frame.radiance[i];
+    const glm::vec3 capped = i < frame.albedo.size() ? glm::min(r, frame.albedo[i]) : r;
+    sum.plain += 0.2126 * r.r + 0.7152 * r.g + 0.0722 * r.b;
+    sum.capped += 0.2126 * capped.r + 0.7152 * capped.g + 0.0722 * capped.b;
+  }
+  const double n = double(std::max<size_t>(frame.radiance.size(), 1));
+  return {sum.plain / n, sum.capped / n};
+}
+
+/// On a map that kept its lights: marks its plain point lights estimated with twice their
+/// value and prints how close the calibration brings them back (median and quartiles of
+/// fitted / authored).
+void recover(const q3::GameWorlds& game, const std::string& map) {
+  q3::WorldBuildOptions options;
+  options.estimateLights = false;
+  q3::WorldScene scene = game.load(map, options);
+  std::vector<float> authored;
+  for (q3::WorldLight& l : scene.lights)
+    if (l.type == q3::WorldLightType::Point && !l.linearFalloff) {
+      authored.push_back(l.quakeIntensity);
+      l.estimated = true;
+      l.quakeIntensity *= 2.0f;
+    }
+  q3::LightCalibrationStats stats;
+  const std::vector<q3::WorldLight> lights = pa::bridge::calibratedLights(scene, {}, &stats);
+  std::vector<float> ratios;
+  size_t next = 0;
+  for (const q3::WorldLight& l : scene.lights) {
+    if (!l.estimated) continue;
+    const float a = authored[next++];
+    bool found = false;
+    for (const q3::WorldLight& f : lights)
+      if (f.estimated && f.position == l.position) ratios.push_back(f.quakeIntensity / a), found = true;
+    if (!found) ratios.push_back(0.0f);
+  }
+  std::sort(ratios.begin(), ratios.end());
+  if (ratios.empty()) return;
+  std::printf("%s: %zu lights x2 -> fitted/authored quartiles %.2f %.2f %.2f | texel %.1f direct before %.1f after %.1f constant %.1f\n",
+              map.c_str(), ratios.size(), ratios[ratios.size() / 4], ratios[ratios.size() / 2], ratios[ratios.size() * 3 / 4],
+              stats.meanTexel, stats.meanBefore, stats.meanAfter, stats.unexplained);
+}
+
+void check(const q3::GameWorlds& game, const std::string& map, size_t spawns, uint32_t spp) {
+  const q3::WorldScene scene = game.load(map);
+  size_t estimated = 0;
+  for (const q3::WorldLight& l : scene.lights) estimated += l.estimated ? 1 : 0;
+  q3::LightCalibrationOptions calibration;
+  calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
+  calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
+  const auto t0 = std::chrono::steady_clock::now();
+  q3::LightCalibrationStats stats;
+  const std::vector<q3::WorldLight> lights = pa::bridge::calibratedLights(scene, calibration, &stats);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%s: %zu lights (%zu estimated, %zu candidates) -> %zu | samples %zu, rays %zu, refitted %zu, dropped %zu, "
+              "admitted %zu, in solid %zu | mean texel %.1f, direct before %.1f after %.1f, constant %.1f | %.0f ms\n",
+              map.c_str(), scene.lights.size(), estimated, scene.lightCandidates.size(), lights.size(), stats.samples,
+              stats.shadowRays, stats.refitted, stats.dropped, stats.admitted, stats.inSolid, stats.meanTexel, stats.meanBefore,
+              stats.meanAfter, stats.unexplained, ms);
+  const glm::vec3 sky = pa::bridge::skyLightingRadiance(scene);
+  std::printf("  sky lighting radiance %.3f %.3f %.3f\n", sky.r, sky.g, sky.b);
+  if (std::getenv("PA_LIST_LIGHTS"))
+    for (const q3::WorldLight& l : lights)
+      std::printf("    %-60s (%7.1f %7.1f %7.1f) value %.0f\n", l.source.c_str(), l.position.x, l.position.y, l.position.z,
+                  l.quakeIntensity);
+  for (size_t s = 0; s < std::min(spawns, scene.cameras.size()); ++s) {
+    const Luminance lightmap = meanLuminance(scene, s, pa::Integrator::Lightmap, true, spp);
+    const double baked = lightmap.plain;
+    const Luminance before = meanLuminance(scene, s, pa::Integrator::Direct, false, spp);
+    const Luminance after = meanLuminance(scene, s, pa::Integrator::Direct, true, spp);
+    std::printf("  spawn %zu (%s): lightmap %.4f (capped %.4f) | direct grid %.4f (x%.2f, capped x%.2f) | direct "
+                "calibrated %.4f (x%.2f, capped x%.2f)\n",
+                s, scene.cameras[s].name.c_str(), baked, lightmap.capped, before.plain, before.plain / baked,
+                before.capped / lightmap.capped, after.plain, after.plain / baked, after.capped / lightmap.capped);
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string gameDir = "/usr/share/games/openarena/baseoa";
+  size_t spawns = 2;
+  uint32_t spp = 16;
+  bool recoverMode = false;
+  std::vector<std::string> maps;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--game") == 0 && i + 1 < argc) gameDir = argv[++i];
+    else if (std::strcmp(argv[i], "--spawns") == 0 && i + 1 < argc) spawns = size_t(std::strtoul(argv[++i], nullptr, 10));
+    else if (std::strcmp(argv[i], "--spp") == 0 && i + 1 < argc) spp = uint32_t(std::clamp(std::atoi(argv[++i]), 1, 4096));
+    else if (std::strcmp(argv[i], "--recover") == 0) recoverMode = true;
+    else if (std::strcmp(argv[i], "--help") == 0) {
+      std::printf("usage: %s [--game DIR] [--spawns N] [--spp N] [--recover] MAP...\n", argv[0]);
+      return 0;
+    } else maps.push_back(argv[i]);
+  }
+  try {
+    q3::GameWorlds game(gameDir);
+    for (const std::string& map : maps) {
+      try {
+        if (recoverMode) recover(game, map);
+        else check(game, map, spawns, spp);
+      } catch (const std::exception& e) {
+        std::printf("%s: ERROR %s\n", map.c_str(), e.what());
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lightmap-match-check: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
