@@ -58,6 +58,19 @@ float spotFactor(const LightDesc& light, const glm::vec3& fromLight) {
   return t * t * (3.0f - 2.0f * t);
 }
 
+float localLightWeight(const LightDesc& light, const glm::vec3& p) {
+  const float strength = float(meanComponent(light.color)) * light.intensity;
+  if (!(strength > 0.0f)) return 0.0f;
+  const glm::vec3 toPoint = p - light.position;
+  const float centre = glm::length(toPoint);
+  // The nearest any point of the light's sphere can be (falloff never grows with distance).
+  const float nearest = std::max(centre - light.radius, 1e-3f);
+  float weight = strength * distanceFalloff(light, nearest);
+  if (light.type == LightType::Spot && light.radius == 0.0f && centre > 0.0f)
+    weight *= spotFactor(light, toPoint / centre);
+  return weight;
+}
+
 glm::vec3 emittedRadiance(const EmissiveTriangle& tri, glm::vec2 bary, bool frontSide) {
   if (!frontSide && !tri.twoSided) return glm::vec3(0.0f);
   glm::vec3 e = tri.emission;
@@ -86,16 +99,59 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
     power.push_back(kPi * meanComponent(sky.average()) * kPi * radius * radius);
   }
   table_ = sampling::AliasTable(power);
+  for (uint32_t i = 0; i < analytic_.size(); ++i) {
+    if (analytic_[i].type == LightType::Directional) continue;
+    localLights_.push_back(i);
+    localShare_ += table_.pdf(i);
+  }
+}
+
+bool LightSampler::pickLocalLight(const glm::vec3& p, float u, uint32_t& index, float& probability) const {
+  // Small enough for the stack in game maps; larger sets fall back to a heap buffer.
+  constexpr size_t kStackLights = 256;
+  float stackWeights[kStackLights];
+  std::vector<float> heapWeights;
+  float* weights = stackWeights;
+  if (localLights_.size() > kStackLights) {
+    heapWeights.resize(localLights_.size());
+    weights = heapWeights.data();
+  }
+  double total = 0.0;
+  for (size_t k = 0; k < localLights_.size(); ++k) {
+    const float w = localLightWeight(analytic_[localLights_[k]], p);
+    weights[k] = std::isfinite(w) && w > 0.0f ? w : 0.0f;
+    total += weights[k];
+  }
+  if (!(total > 0.0)) return false;
+  const double target = double(u) * total;
+  double running = 0.0;
+  size_t chosen = localLights_.size();
+  for (size_t k = 0; k < localLights_.size(); ++k) {
+    if (weights[k] == 0.0f) continue;
+    chosen = k;   // the last light with weight catches rounding at the top end
+    running += weights[k];
+    if (target < running) break;
+  }
+  if (chosen == localLights_.size()) return false;
+  index = localLights_[chosen];
+  probability = float(double(weights[chosen]) / total);
+  return probability > 0.0f;
 }
 
 bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const {
   if (table_.empty()) return false;
-  const uint32_t entry = table_.sample(u.x);
-  const float selection = table_.pdf(entry);
+  uint32_t entry = table_.sample(u.x);
+  float selection = table_.pdf(entry);
   if (!(selection > 0.0f)) return false;
   const glm::vec2 uv(u.y, u.z);
   bool ok;
-  if (entry < analytic_.size()) {
+  if (entry < analytic_.size() && analytic_[entry].type != LightType::Directional) {
+    // u.w is free here (only the sky's cell choice uses it).
+    float withinCategory = 0.0f;
+    if (!pickLocalLight(p, u.w, entry, withinCategory)) return false;
+    selection = localShare_ * withinCategory;
+    ok = sampleAnalytic(analytic_[entry], p, uv, out);
+  } else if (entry < analytic_.size()) {
     ok = sampleAnalytic(analytic_[entry], p, uv, out);
   } else if (entry == skyEntry_) {
     glm::vec3 wi;

@@ -1,8 +1,13 @@
 #pragma once
 // Light selection and sampling for next-event estimation: analytic lights (point, spot,
 // directional), emissive triangles gathered at commit, and the sky. One alias table picks a
-// light by estimated power; each light is then sampled by solid angle (point-like lights,
-// sun cone, sky cosine lobe) or uniformly by area (triangles, converted to solid angle).
+// light by estimated power; when it picks a point or spot light, the choice among all point and
+// spot lights is redone at the shading point in proportion to each one's unshadowed
+// contribution there (intensity x falloff x spot cone), so weak nearby lamps are not starved by
+// strong distant ones (game maps have ~100 of them). The category keeps its power share, so the
+// pdfs of emissive triangles and sky (MIS) do not depend on the shading point. Each light is then
+// sampled by solid angle (point-like lights, sun cone, sky cosine lobe) or uniformly by area
+// (triangles, converted to solid angle).
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -68,17 +73,25 @@ class LightSampler {
 
  private:
   bool sampleAnalytic(const LightDesc& light, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
+  /// Re-picks among the point and spot lights at p (u in [0,1)); returns its index into
+  /// analytic_ and the probability of that choice within the category, or false if none reaches p.
+  bool pickLocalLight(const glm::vec3& p, float u, uint32_t& index, float& probability) const;
   bool sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
 
   std::vector<LightDesc> analytic_;
   std::vector<EmissiveTriangle> triangles_;
   Sky sky_;
   uint32_t skyEntry_ = UINT32_MAX;
+  std::vector<uint32_t> localLights_;   ///< Indices into analytic_ of the point and spot lights.
+  float localShare_ = 0.0f;             ///< Their summed selection probability in table_.
   sampling::AliasTable table_;
 };
 
 /// Distance falloff factor of a point or spot light at distance d (0 beyond range).
 float distanceFalloff(const LightDesc& light, float d);
+/// Upper bound of a point or spot light's unshadowed contribution (luminance-like scalar) at p,
+/// over every point of its sphere; 0 only where no sample of the light can reach p.
+float localLightWeight(const LightDesc& light, const glm::vec3& p);
 /// Angular factor of a spot light for a unit direction from the light toward the point.
 float spotFactor(const LightDesc& light, const glm::vec3& fromLight);
 
