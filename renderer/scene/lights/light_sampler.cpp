@@ -107,34 +107,28 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
 }
 
 bool LightSampler::pickLocalLight(const glm::vec3& p, float u, uint32_t& index, float& probability) const {
-  // Small enough for the stack in game maps; larger sets fall back to a heap buffer.
-  constexpr size_t kStackLights = 256;
-  float stackWeights[kStackLights];
-  std::vector<float> heapWeights;
-  float* weights = stackWeights;
-  if (localLights_.size() > kStackLights) {
-    heapWeights.resize(localLights_.size());
-    weights = heapWeights.data();
-  }
+  // Two passes over the lights (sum, then invert the running sum) instead of a weight buffer:
+  // the weights are cheap to recompute and nothing is written per sample.
+  const auto weightOf = [&](uint32_t light) {
+    const float w = localLightWeight(analytic_[light], p);
+    return std::isfinite(w) && w > 0.0f ? w : 0.0f;
+  };
   double total = 0.0;
-  for (size_t k = 0; k < localLights_.size(); ++k) {
-    const float w = localLightWeight(analytic_[localLights_[k]], p);
-    weights[k] = std::isfinite(w) && w > 0.0f ? w : 0.0f;
-    total += weights[k];
-  }
+  for (uint32_t light : localLights_) total += weightOf(light);
   if (!(total > 0.0)) return false;
   const double target = double(u) * total;
   double running = 0.0;
-  size_t chosen = localLights_.size();
-  for (size_t k = 0; k < localLights_.size(); ++k) {
-    if (weights[k] == 0.0f) continue;
-    chosen = k;   // the last light with weight catches rounding at the top end
-    running += weights[k];
+  float chosenWeight = 0.0f;
+  for (uint32_t light : localLights_) {
+    const float w = weightOf(light);
+    if (w == 0.0f) continue;
+    index = light;   // the last light with weight catches rounding at the top end
+    chosenWeight = w;
+    running += w;
     if (target < running) break;
   }
-  if (chosen == localLights_.size()) return false;
-  index = localLights_[chosen];
-  probability = float(double(weights[chosen]) / total);
+  if (!(chosenWeight > 0.0f)) return false;
+  probability = float(double(chosenWeight) / total);
   return probability > 0.0f;
 }
 
