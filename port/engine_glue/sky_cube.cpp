@@ -7,6 +7,7 @@
 #include <glm/vec4.hpp>
 
 #include "port/q3formats/shader/material.h"   // uvTransformAt
+#include "renderer/scene/lights/sky.h"      // cubeFaceBasis: the layout of SkyDesc::faces
 
 namespace glue {
 namespace {
@@ -14,19 +15,6 @@ namespace {
 constexpr float kSkyRadius = 4096.0f;        // tr_sky.c radiusWorld
 constexpr float kDefaultCloudHeight = 512.0f; // skyParms cloud height 0 means this
 constexpr int kBottomFace = 5;
-
-/// Axis, image-top and image-right vectors of pa's cube faces (+X, -X, +Y, -Y, +Z, -Z).
-struct FaceBasis {
-  glm::vec3 axis, top, right;
-};
-constexpr std::array<FaceBasis, 6> kFaces{{
-    {{1, 0, 0}, {0, 0, 1}, {0, -1, 0}},
-    {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-    {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},
-    {{0, -1, 0}, {0, 0, 1}, {-1, 0, 0}},
-    {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},
-    {{0, 0, -1}, {1, 0, 0}, {0, -1, 0}},
-}};
 
 /// The stock far box: image suffixes in skyParms order, and for each side of the box (+X, -X,
 /// +Y, -Y, +Z, -Z) which image it shows (tr_sky.c sky_texorder).
@@ -114,7 +102,7 @@ glm::vec4 stageColor(const q3::ShaderStage& stage, double seconds) {
 }  // namespace
 
 glm::vec3 skyCubeDirection(int face, int x, int y, int size) {
-  const FaceBasis& f = kFaces[static_cast<size_t>(std::clamp(face, 0, 5))];
+  const pa::CubeFaceBasis& f = pa::cubeFaceBasis(static_cast<uint32_t>(std::clamp(face, 0, 5)));
   const float u = (float(x) + 0.5f) / float(size), v = (float(y) + 0.5f) / float(size);
   return f.axis + f.right * (2.0f * u - 1.0f) + f.top * (1.0f - 2.0f * v);
 }

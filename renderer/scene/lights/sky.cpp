@@ -9,15 +9,8 @@
 
 namespace pa {
 
-namespace {
-
-/// Axis, image-top and image-right vectors of a cube face (right = axis x top).
-struct FaceBasis {
-  glm::vec3 axis, top, right;
-};
-
-const FaceBasis& faceBasis(uint32_t face) {
-  static const std::array<FaceBasis, 6> kFaces{{
+const CubeFaceBasis& cubeFaceBasis(uint32_t face) {
+  static const std::array<CubeFaceBasis, 6> kFaces{{
       {{1, 0, 0}, {0, 0, 1}, {0, -1, 0}},
       {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
       {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},
@@ -25,8 +18,11 @@ const FaceBasis& faceBasis(uint32_t face) {
       {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},
       {{0, 0, -1}, {1, 0, 0}, {0, -1, 0}},
   }};
-  return kFaces[face];
+  return kFaces[std::min<uint32_t>(face, 5)];
 }
+
+namespace {
+
 
 /// Solid angle per unit face area at face coordinates (x, y) in [-1, 1]^2 (face at distance 1).
 float solidAngleDensity(float x, float y) {
@@ -53,7 +49,7 @@ CubeLookup cubeLookup(const glm::vec3& d) {
     face = d.z >= 0.0f ? 4 : 5;
     major = a.z;
   }
-  const FaceBasis& f = faceBasis(face);
+  const CubeFaceBasis& f = cubeFaceBasis(face);
   const float inv = major > 0.0f ? 1.0f / major : 0.0f;
   return {face, 0.5f * (glm::dot(d, f.right) * inv + 1.0f), 0.5f * (1.0f - glm::dot(d, f.top) * inv)};
 }
@@ -106,7 +102,7 @@ bool Sky::sample(const glm::vec3& u, glm::vec3& dir, float& pdf) const {
   const float fv = (static_cast<float>(j) + u.z) / kGrid;
   const float x = 2.0f * fu - 1.0f;
   const float y = 1.0f - 2.0f * fv;
-  const FaceBasis& b = faceBasis(face);
+  const CubeFaceBasis& b = cubeFaceBasis(face);
   dir = glm::normalize(b.axis + x * b.right + y * b.top);
   // Uniform within the cell in face coordinates (area 4 / kGrid^2), converted to solid angle.
   pdf = table_.pdf(cell) * (kGrid * kGrid / 4.0f) / solidAngleDensity(x, y);

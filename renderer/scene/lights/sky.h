@@ -24,6 +24,13 @@ struct CubeLookup {
 /// Face and coordinates for a non-zero direction.
 CubeLookup cubeLookup(const glm::vec3& dir);
 
+/// Axis, image-top and image-right vectors of a cube face (right = axis x top).
+struct CubeFaceBasis {
+  glm::vec3 axis, top, right;
+};
+/// The layout of SkyDesc::faces: face 0..5 = +X, -X, +Y, -Y, +Z, -Z (Z up); face is clamped.
+const CubeFaceBasis& cubeFaceBasis(uint32_t face);
+
 /// Immutable sky used while rendering. Cube-map skies are importance sampled: a
 /// kImportanceGrid^2 grid per face, cells weighted by luminance x solid angle.
 class Sky {
