@@ -251,22 +251,30 @@ struct ViewRenderer::Impl {
     dlightTriangleMaterials.resize(dlightOverlay.triangleMaterials.size());
     for (size_t t = 0; t < dlightOverlay.triangleMaterials.size(); ++t)
       dlightTriangleMaterials[t] = dlightMaterial(dlightOverlay.triangleMaterials[t]);
-    pa::MeshDesc mesh;
-    mesh.positions = dlightOverlay.positions;
-    mesh.indices = dlightOverlay.indices;
-    mesh.normals = dlightOverlay.normals;
-    mesh.uvs = dlightOverlay.uvs;
-    mesh.colors = dlightOverlay.colors;
-    mesh.materials = dlightTriangleMaterials;
-    mesh.dynamic = true;
-    if (dlightSlot.mesh == pa::kNoId) dlightSlot.mesh = renderer->addMesh(mesh);
-    else renderer->updateMesh(dlightSlot.mesh, mesh);
     pa::InstanceDesc instance;
-    instance.mesh = dlightSlot.mesh;
     instance.mask = pa::kMaskCamera;
-    if (dlightSlot.instance == pa::kNoId) dlightSlot.instance = renderer->addInstance(instance);
-    else renderer->setInstance(dlightSlot.instance, instance);
-    dlightSlot.visible = true;
+    showInSlot(dlightSlot, dlightOverlay, dlightTriangleMaterials, instance);
+  }
+
+  /// Uploads dynamic triangles (positions, indices, normals, uvs, colours) with one material
+  /// per triangle into `slot` and shows its instance (mesh filled in here).
+  template <typename Geometry>
+  void showInSlot(DynamicSlot& slot, const Geometry& geometry, const std::vector<pa::MaterialId>& materials,
+                  pa::InstanceDesc instance) {
+    pa::MeshDesc mesh;
+    mesh.positions = geometry.positions;
+    mesh.indices = geometry.indices;
+    mesh.normals = geometry.normals;
+    mesh.uvs = geometry.uvs;
+    mesh.colors = geometry.colors;
+    mesh.materials = materials;
+    mesh.dynamic = true;
+    if (slot.mesh == pa::kNoId) slot.mesh = renderer->addMesh(mesh);
+    else renderer->updateMesh(slot.mesh, mesh);
+    instance.mesh = slot.mesh;
+    if (slot.instance == pa::kNoId) slot.instance = renderer->addInstance(instance);
+    else renderer->setInstance(slot.instance, instance);
+    slot.visible = true;
   }
 
   /// The stock renderer shows a q3map_surfacelight surface through its stages only (its light
@@ -423,24 +431,11 @@ struct ViewRenderer::Impl {
       if (found == local.end()) found = local.emplace(key, material(shaders, key.first, use, key.second, seconds)).first;
       triangleMaterials[t] = found->second;
     }
-    pa::MeshDesc mesh;
-    mesh.positions = batch.positions;
-    mesh.indices = batch.indices;
-    mesh.normals = batch.normals;
-    mesh.uvs = batch.uvs;
-    mesh.colors = batch.colors;
-    mesh.materials = triangleMaterials;
-    mesh.dynamic = true;
-    if (slot.mesh == pa::kNoId) slot.mesh = renderer->addMesh(mesh);
-    else renderer->updateMesh(slot.mesh, mesh);
     pa::InstanceDesc instance;
-    instance.mesh = slot.mesh;
     instance.objectToWorld = transform;
     instance.mask = mask;
     instance.drawOnTop = onTop;
-    if (slot.instance == pa::kNoId) slot.instance = renderer->addInstance(instance);
-    else renderer->setInstance(slot.instance, instance);
-    slot.visible = true;
+    showInSlot(slot, batch, triangleMaterials, instance);
   }
 
   void hideSlotsFrom(size_t first) {
