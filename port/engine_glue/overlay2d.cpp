@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "port/engine_glue/overlay_stages.h"
 #include "port/engine_glue/shaders.h"
 
 #ifndef GL_CLAMP_TO_EDGE
@@ -55,6 +56,10 @@ void Overlay2D::drawPic(ShaderRegistry& shaders, q3abi::qhandle_t shader, double
                         float y, float w, float h, float s1, float t1, float s2, float t2) {
   const ShaderEntry& entry = shaders.resolve(shader);
   if (entry.look.nodraw) return;
+  if (entry.look.fromScript && std::any_of(entry.look.stages.begin(), entry.look.stages.end(), stageDraws2D)) {
+    drawStages2D(shaders, shader, seconds, color_, x, y, w, h, s1, t1, s2, t2);
+    return;
+  }
   glBindTexture(GL_TEXTURE_2D, shaders.glTexture(shader, seconds));
   const BlendFunc blend = entry.look.blend;
   if (blend.blends()) {

@@ -24,7 +24,7 @@ class Overlay2D {
   void beginFrame(int width, int height);
   /// SetColor (nullptr = opaque white).
   void setColor(const float* rgba);
-  /// DrawStretchPic with the shader's first visible stage.
+  /// DrawStretchPic: every stage of a scripted shader (see overlay_stages.h), else the image.
   void drawPic(ShaderRegistry& shaders, q3abi::qhandle_t shader, double seconds, float x, float y,
                float w, float h, float s1, float t1, float s2, float t2);
   /// Draws RGBA8 pixels (width*height, top row first) stretched over a rectangle.

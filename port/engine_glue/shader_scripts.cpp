@@ -5,7 +5,6 @@
 #include "port/engine_glue/engine.h"
 
 namespace glue {
-namespace {
 
 unsigned glBlendFactor(q3::BlendFactor factor) {
   switch (factor) {
@@ -23,8 +22,6 @@ unsigned glBlendFactor(q3::BlendFactor factor) {
   }
   return GL_ONE;
 }
-
-}  // namespace
 
 namespace {
 
@@ -49,6 +46,7 @@ void takeStage(const q3::ShaderStage& stage, ShaderLook& look) {
 ShaderLook lookOfShader(const q3::ShaderDef& shader) {
   ShaderLook look;
   look.fromScript = !shader.implicit;
+  look.stages = shader.stages;
   look.sky = shader.has(q3::SurfaceParm::Sky);
   look.nodraw = shader.has(q3::SurfaceParm::NoDraw);
   look.translucent = shader.has(q3::SurfaceParm::Trans);

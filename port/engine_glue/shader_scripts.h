@@ -46,10 +46,15 @@ struct ShaderLook {
   bool translucent = false;          ///< surfaceparm trans.
   float surfaceLight = 0.0f;         ///< q3map_surfacelight (emission, for the path tracer).
   bool fromScript = false;
+  /// Every stage as written (2D draws them all in order, as the stock renderer does).
+  std::vector<q3::ShaderStage> stages;
   /// When the first stage is additive: the shader's later additive image stages, each a look
   /// of its own (multi-layer glows such as muzzle flashes).
   std::vector<ShaderLook> layers;
 };
+
+/// The OpenGL enum of a shader blend factor.
+unsigned glBlendFactor(q3::BlendFactor factor);
 
 /// The drawable summary of a parsed shader: its first stage that is not the lightmap (plus the
 /// later additive stages of an additive shader, as layers).

@@ -2,6 +2,7 @@
 
 #include <GL/gl.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "port/engine_glue/engine.h"
@@ -14,6 +15,34 @@ namespace glue {
 namespace {
 
 constexpr size_t kMaxShaders = 16384;   // the stock renderer's MAX_SHADERS
+
+/// Uploads an image as a linear-filtered GL texture (repeat or clamp-to-edge).
+unsigned uploadTexture(const Image& image, bool clamp) {
+  GLuint texture = 0;
+  glGenTextures(1, &texture);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  const GLint wrap = clamp ? GL_CLAMP_TO_EDGE : GL_REPEAT;
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               image.rgba.data());
+  return texture;
+}
+
+/// The animMap frame shown at `seconds` among `count` frames.
+size_t animFrame(size_t count, float frequency, double seconds) {
+  if (count <= 1 || frequency <= 0.0f) return 0;
+  const double index = std::floor(seconds * frequency);
+  return static_cast<size_t>(std::fmod(std::max(index, 0.0), double(count)));
+}
+
+void deleteTextures(std::vector<unsigned>& textures) {
+  if (!textures.empty()) glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
+  textures.clear();
+}
 
 ShaderEntry makeDefaultEntry() {
   ShaderEntry entry;
@@ -80,6 +109,22 @@ q3abi::qhandle_t ShaderRegistry::registerShader(const Engine& engine, const Shad
     if (frames.empty()) frames.push_back(whiteImage());
     entry.layerFrames.push_back(std::move(frames));
   }
+  // Every stage's images, for drawing the whole script in 2D.
+  for (const q3::ShaderStage& stage : entry.look.stages) {
+    StageTextures textures;
+    textures.clamp = entry.clampToEdge || stage.clamp;
+    if (stage.source == q3::TextureSource::Image) {
+      for (const std::string& imageName : stage.textures) {
+        auto image = images.load(engine, imageName);
+        const bool warned = std::find(entry.look.images.begin(), entry.look.images.end(), imageName) !=
+                            entry.look.images.end();
+        if (!image && !warned) engine.warn("shader " + name + ": missing image " + imageName);
+        textures.frames.push_back(image ? image : defaultImage());
+      }
+    }
+    if (textures.frames.empty()) textures.frames.push_back(whiteImage());
+    entry.stageTextures.push_back(std::move(textures));
+  }
 
   const auto handle = static_cast<q3abi::qhandle_t>(entries_.size());
   entries_.push_back(std::move(entry));
@@ -122,35 +167,25 @@ void ShaderRegistry::remap(const Engine& engine, const ShaderScripts& scripts, I
 
 unsigned ShaderRegistry::glTexture(q3abi::qhandle_t handle, double seconds) {
   ShaderEntry& entry = entries_[resolveIndex(handle)];
-  if (entry.glTextures.empty()) {
-    for (const auto& image : entry.frames) {
-      GLuint texture = 0;
-      glGenTextures(1, &texture);
-      glBindTexture(GL_TEXTURE_2D, texture);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      const GLint wrap = entry.clampToEdge ? GL_CLAMP_TO_EDGE : GL_REPEAT;
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
-      glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image->width, image->height, 0, GL_RGBA,
-                   GL_UNSIGNED_BYTE, image->rgba.data());
-      entry.glTextures.push_back(texture);
-    }
-  }
-  size_t frame = 0;
-  if (entry.glTextures.size() > 1 && entry.look.animFrequency > 0.0f) {
-    const double index = std::floor(seconds * entry.look.animFrequency);
-    frame = static_cast<size_t>(std::fmod(std::max(index, 0.0), double(entry.glTextures.size())));
-  }
-  return entry.glTextures[frame];
+  if (entry.glTextures.empty())
+    for (const auto& image : entry.frames) entry.glTextures.push_back(uploadTexture(*image, entry.clampToEdge));
+  return entry.glTextures[animFrame(entry.glTextures.size(), entry.look.animFrequency, seconds)];
+}
+
+unsigned ShaderRegistry::stageGlTexture(q3abi::qhandle_t handle, size_t stage, double seconds) {
+  ShaderEntry& entry = entries_[resolveIndex(handle)];
+  if (stage >= entry.stageTextures.size() || stage >= entry.look.stages.size()) return glTexture(handle, seconds);
+  StageTextures& textures = entry.stageTextures[stage];
+  if (textures.glTextures.empty())
+    for (const auto& image : textures.frames) textures.glTextures.push_back(uploadTexture(*image, textures.clamp));
+  const float frequency = entry.look.stages[stage].animFrequency;
+  return textures.glTextures[animFrame(textures.glTextures.size(), frequency, seconds)];
 }
 
 void ShaderRegistry::clear() {
   for (ShaderEntry& entry : entries_) {
-    if (!entry.glTextures.empty())
-      glDeleteTextures(static_cast<GLsizei>(entry.glTextures.size()), entry.glTextures.data());
-    entry.glTextures.clear();
+    deleteTextures(entry.glTextures);
+    for (StageTextures& textures : entry.stageTextures) deleteTextures(textures.glTextures);
   }
   entries_.clear();
   byName_.clear();

@@ -13,6 +13,13 @@
 
 namespace glue {
 
+/// One script stage's images for 2D drawing: decoded frames and lazily uploaded GL textures.
+struct StageTextures {
+  std::vector<std::shared_ptr<const Image>> frames;   ///< map/clampMap (one) or animMap frames.
+  std::vector<unsigned> glTextures;                   ///< One per frame once uploaded.
+  bool clamp = false;                                 ///< clampMap (or a no-mip 2D registration).
+};
+
 /// One registered shader.
 struct ShaderEntry {
   std::string name;                                   ///< As registered (normalised).
@@ -20,6 +27,7 @@ struct ShaderEntry {
   std::vector<std::shared_ptr<const Image>> frames;   ///< look.images decoded (default on failure).
   std::vector<std::vector<std::shared_ptr<const Image>>> layerFrames;   ///< Per look.layers.
   std::vector<unsigned> glTextures;                   ///< Lazily uploaded, one per frame.
+  std::vector<StageTextures> stageTextures;           ///< Per look.stages (empty for non-images).
   bool clampToEdge = false;
   q3abi::qhandle_t remappedTo = 0;                    ///< RemapShader target (0 = none).
   float remapTimeOffset = 0.0f;
@@ -47,6 +55,9 @@ class ShaderRegistry {
   /// The GL texture of a handle's (remapped) shader at its current animation frame
   /// (uploads on first use).
   unsigned glTexture(q3abi::qhandle_t handle, double seconds);
+  /// The GL texture of stage `stage` of a handle's (remapped) shader at its current animMap
+  /// frame (uploads on first use; a white texture for stages without images).
+  unsigned stageGlTexture(q3abi::qhandle_t handle, size_t stage, double seconds);
   /// Number of handles, including the default one.
   int count() const { return static_cast<int>(entries_.size()); }
   /// Finds a registered handle by name (0 when absent).
