@@ -137,8 +137,10 @@ void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height,
   if (opaque) {
     glDisable(GL_BLEND);
   } else {
+    // Premultiplied: where nothing was hit (alpha 0) the additive effects the ray crossed still
+    // add their colour to what is behind, as stock additive stages do over the 2D menu.
     glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   }
   glColor4f(1, 1, 1, 1);
   quad(x, y, w, h, 0, 0, 1, 1);

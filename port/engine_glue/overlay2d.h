@@ -27,7 +27,8 @@ class Overlay2D {
   /// DrawStretchPic: every stage of a scripted shader (see overlay_stages.h), else the image.
   void drawPic(ShaderRegistry& shaders, q3abi::qhandle_t shader, double seconds, float x, float y,
                float w, float h, float s1, float t1, float s2, float t2);
-  /// Draws RGBA8 pixels (width*height, top row first) stretched over a rectangle.
+  /// Draws RGBA8 pixels (width*height, top row first) stretched over a rectangle; when not
+  /// `opaque` the colours are premultiplied by alpha (alpha 0 still adds its colour).
   /// `slot` picks a reusable texture (0 = 3D views, 1.. = cinematic clients).
   void drawPixels(int slot, const uint8_t* rgba, int width, int height, float x, float y, float w,
                   float h, bool opaque);

@@ -150,6 +150,7 @@ struct ViewRenderer::Impl {
   PortalViews portals;   ///< Mirrors and portal cameras (portals.h).
   pa::SkyDesc bridgeSky;               ///< The world's sky for the traced presets.
   pa::SkyDesc stockSky;                ///< The stock look (far box + clouds) for the lightmap preset.
+  bool skyHidden = false;              ///< A view without the world set a black sky.
   bool stockSkyReady = false;
   bool stockSkyShown = false;
   bool stockEmissionShown = false;     ///< World surface lights drawn the stock way.
@@ -189,7 +190,7 @@ struct ViewRenderer::Impl {
     worldSprites = WorldSprites{};
     spriteMaterials.clear();
     spriteHandles.clear();
-    stockSkyReady = stockSkyShown = stockEmissionShown = false;
+    stockSkyReady = stockSkyShown = stockEmissionShown = skyHidden = false;
   }
 
   /// Hides the static copies of the autosprite world surfaces (drawn per view instead).
@@ -332,9 +333,18 @@ struct ViewRenderer::Impl {
       skyBakedAt = seconds;
       for (size_t f = 0; f < 6; ++f) renderer->updateTexture(stockSky.faces[f], skyFaceDesc(f));
     }
-    if (stock == stockSkyShown) return;
+    if (stock == stockSkyShown && !skyHidden) return;
     renderer->setSky(stock ? stockSky : bridgeSky);
     stockSkyShown = stock;
+    skyHidden = false;
+  }
+
+  /// Views without the world (menu models, HUD heads) have nothing behind them: a black sky, so
+  /// that their premultiplied picture adds over the 2D only what the rays met (additive glows).
+  void hideSky() {
+    if (skyHidden) return;
+    renderer->setSky(pa::SkyDesc{});
+    skyHidden = true;
   }
 
   /// The renderer texture of an image, repeating or clamped to its edges (clampMap).
@@ -662,6 +672,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     d.portals.update(scene.entities(), view.time, *d.renderer);
     d.selectSky(lightmapLook, seconds);
     d.selectWorldEmission(lightmapLook);
+  } else {
+    d.hideSky();
   }
   d.drawStockDlights(scene.lights(), withWorld && lightmapLook);
   d.renderer->commit();
