@@ -155,6 +155,13 @@ uint64_t tracePackets(const testing::EmbreeScene& scene, const std::vector<Ray>&
   return hits;
 }
 
+/// Seconds as a JSON list of milliseconds.
+std::string msList(const std::vector<double>& seconds) {
+  std::string out = "[";
+  for (size_t i = 0; i < seconds.size(); ++i) out += (i ? ", " : "") + std::to_string(seconds[i] * 1e3);
+  return out + "]";
+}
+
 double mrays(size_t rays, double seconds) { return double(rays) / seconds * 1e-6; }
 
 }  // namespace
@@ -192,6 +199,7 @@ int run(int argc, char** argv) {
   if (opt.buildOnly) {
     std::printf("build ms ours %.3f embree %.3f (wall), CPU %.3f / %.3f, median of %u\n", median(buildOurs) * 1e3,
                 median(buildEmbree) * 1e3, median(buildCpuOurs) * 1e3, median(buildCpuEmbree) * 1e3, opt.reps);
+    std::printf("build CPU ms per repetition: ours %s, embree %s\n", msList(buildCpuOurs).c_str(), msList(buildCpuEmbree).c_str());
     return 0;
   }
   const RaySets rays = makeRaySets(scene, blas, 1024, 576, opt.rays, 7);
