@@ -19,6 +19,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include <immintrin.h>
 #include <tbb/blocked_range.h>
@@ -167,12 +168,14 @@ class Builder {
   template <typename BoundsOf>
   Builder(size_t count, const BoundsOf& boundsOf, const BvhBuildConfig& config, BinaryBuildScratch& scratch,
           BinaryBvh& out)
-      : config_(config),
-        out_(out),
-        refs_(scratch.refs.array<PrimRef>(count)),
-        partitioned_(scratch.partitioned.array<PrimRef>(count)),
-        nodes_(scratch.nodes.array<BinaryNode>(2 * count)),
-        primCount_(static_cast<uint32_t>(count)) {
+      : config_(config), out_(out), primCount_(static_cast<uint32_t>(count)) {
+    // One block: refs | partitioned | nodes (room for the worst case, 2n - 1 nodes).
+    static_assert(alignof(PrimRef) <= 64 && alignof(BinaryNode) <= 64 && std::is_trivially_copyable_v<PrimRef>);
+    const size_t refBytes = (count * sizeof(PrimRef) + 63) / 64 * 64;
+    std::byte* memory = scratch.memory.reserve(2 * refBytes + 2 * count * sizeof(BinaryNode));
+    refs_ = reinterpret_cast<PrimRef*>(memory);
+    partitioned_ = reinterpret_cast<PrimRef*>(memory + refBytes);
+    nodes_ = reinterpret_cast<BinaryNode*>(memory + 2 * refBytes);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1 << 14), [&](const auto& r) {
       for (size_t i = r.begin(); i < r.end(); ++i) {
         __m128 lo, hi;

@@ -33,14 +33,13 @@ struct BinaryBvh {
   bool empty() const { return primIndices.empty(); }
 };
 
-/// Build-time arrays of the binary builder (primitive references, their partition copy and the
-/// nodes in allocation order), kept between builds so a rebuild does not fault in fresh pages.
+/// Memory for the binary builder's arrays (primitive references, their partition copy and the
+/// nodes in allocation order): one block, kept between builds so a rebuild does not fault in
+/// fresh pages.
 struct BinaryBuildScratch {
-  ScratchBuffer refs;
-  ScratchBuffer partitioned;
-  ScratchBuffer nodes;
-  /// Frees all three.
-  void release() { refs.release(), partitioned.release(), nodes.release(); }
+  ScratchBuffer memory;
+  /// Frees the block.
+  void release() { memory.release(); }
 };
 
 /// Builds over primBounds (each must be finite and non-empty). Deterministic: the result does

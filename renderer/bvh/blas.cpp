@@ -34,7 +34,7 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
   try {
     bvh_detail::assignTriangleMesh(input, impl.mesh);
     bvh_detail::buildBinaryBvh(impl.mesh, config, impl.scratch, impl.binary);
-    impl.wide = {};   // freed first, so the new layout can take its memory
+    impl.wide = {};   // freed first: the old and new layouts are never both held
     impl.wide = bvh_detail::collapseToWide(impl.binary, impl.mesh);
     // The root box is the union of all triangles.
     impl.bounds = impl.binary.empty() ? Bounds{} : impl.binary.nodes[0].bounds;

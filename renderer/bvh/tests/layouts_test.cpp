@@ -139,7 +139,16 @@ TEST(Build, DeterministicForAnyThreadCount) {
   // Building straight from the mesh must give the same tree as from its triangle bounds.
   BinaryBvh fromMesh;
   tbb::task_arena(2).execute([&] { fromMesh = buildBinaryBvh(mesh, config); });
-  for (const BinaryBvh* other : std::initializer_list<const BinaryBvh*>{&two, &four, &fromMesh}) {
+  // Reused scratch memory and output vectors (left over from a larger and a smaller build)
+  // must not change the tree either.
+  BinaryBuildScratch scratch;
+  BinaryBvh reused;
+  const TriangleMesh larger = makeTriangleMesh(makeTriangleSoup(90000, 7).input());
+  const TriangleMesh smaller = makeTriangleMesh(makeTriangleSoup(500, 8).input());
+  tbb::task_arena(2).execute([&] {
+    for (const TriangleMesh* m : {&larger, &smaller, &mesh}) buildBinaryBvh(*m, config, scratch, reused);
+  });
+  for (const BinaryBvh* other : std::initializer_list<const BinaryBvh*>{&two, &four, &fromMesh, &reused}) {
     ASSERT_EQ(one.primIndices, other->primIndices);
     ASSERT_EQ(one.nodeCount, other->nodeCount);
     ASSERT_EQ(one.nodes.size(), other->nodes.size());
