@@ -231,6 +231,7 @@ int run(int argc, char** argv) {
                 median(buildEmbree) * 1e3, median(buildCpuOurs) * 1e3, median(buildCpuEmbree) * 1e3, opt.reps);
     std::printf("build CPU ms per repetition: ours %s, embree %s\n", msList(buildCpuOurs).c_str(),
                 msList(buildCpuEmbree).c_str());
+    std::printf("build wall ms per repetition: ours %s, embree %s\n", msList(ours.wall).c_str(), msList(theirs.wall).c_str());
     std::printf("page faults per repetition: ours %s, embree %s\n", countList(ours.pageFaults).c_str(),
                 countList(theirs.pageFaults).c_str());
     return 0;
