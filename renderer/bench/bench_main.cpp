@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
 #include <tbb/task_arena.h>
 
 #include "renderer/bench/bench_scene.h"
@@ -155,6 +156,40 @@ uint64_t tracePackets(const testing::EmbreeScene& scene, const std::vector<Ray>&
   return hits;
 }
 
+/// Minor page faults of the process so far.
+long minorPageFaults() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_minflt;
+}
+
+/// Wall-clock seconds, process CPU seconds and page faults of each repetition of a build.
+struct BuildSamples {
+  std::vector<double> wall, cpu;
+  std::vector<long> pageFaults;
+  void add(const std::function<void()>& build) {
+    const long faults = minorPageFaults();
+    const double cpuStart = clockSeconds(CLOCK_PROCESS_CPUTIME_ID);
+    wall.push_back(wallSeconds(build));
+    cpu.push_back(clockSeconds(CLOCK_PROCESS_CPUTIME_ID) - cpuStart);
+    pageFaults.push_back(minorPageFaults() - faults);
+  }
+};
+
+/// Counts as a JSON list.
+std::string countList(const std::vector<long>& counts) {
+  std::string out = "[";
+  for (size_t i = 0; i < counts.size(); ++i) out += (i ? ", " : "") + std::to_string(counts[i]);
+  return out + "]";
+}
+
+/// Seconds as a JSON list of milliseconds.
+std::string msList(const std::vector<double>& seconds) {
+  std::string out = "[";
+  for (size_t i = 0; i < seconds.size(); ++i) out += (i ? ", " : "") + std::to_string(seconds[i] * 1e3);
+  return out + "]";
+}
+
 double mrays(size_t rays, double seconds) { return double(rays) / seconds * 1e-6; }
 
 }  // namespace
@@ -170,28 +205,35 @@ int run(int argc, char** argv) {
   tbb::task_arena arena(static_cast<int>(opt.threads));
   testing::EmbreeDevice device("threads=" + std::to_string(opt.threads));
 
-  // Build times (median over repetitions, interleaved).
-  std::vector<double> buildOurs, buildEmbree, buildCpuOurs, buildCpuEmbree;
+  // Build times (median over repetitions, interleaved). Each side replaces its previous build
+  // inside its timed region: our Blas rebuilds in place (as the renderer's meshes do), Embree's
+  // previous scene is released and a new one made.
+  BuildSamples ours, theirs;
   Blas blas;
   std::unique_ptr<testing::EmbreeScene> embree;
   for (uint32_t rep = 0; rep < opt.reps; ++rep) {
-    double cpu = clockSeconds(CLOCK_PROCESS_CPUTIME_ID);
-    buildOurs.push_back(wallSeconds([&] { arena.execute([&] { blas.build(mesh.input(), opt.build); }); }));
-    buildCpuOurs.push_back(clockSeconds(CLOCK_PROCESS_CPUTIME_ID) - cpu);
-    embree.reset();
-    cpu = clockSeconds(CLOCK_PROCESS_CPUTIME_ID);
-    buildEmbree.push_back(wallSeconds([&] {
+    ours.add([&] { arena.execute([&] { blas.build(mesh.input(), opt.build); }); });
+    theirs.add([&] {
+      embree.reset();
       auto s = std::make_unique<testing::EmbreeScene>(device);
       s->addMesh(mesh);
       arena.execute([&] { s->commit(); });
       embree = std::move(s);
-    }));
-    buildCpuEmbree.push_back(clockSeconds(CLOCK_PROCESS_CPUTIME_ID) - cpu);
+    });
   }
+  const std::vector<double>& buildOurs = ours.wall;
+  const std::vector<double>& buildEmbree = theirs.wall;
+  const std::vector<double>& buildCpuOurs = ours.cpu;
+  const std::vector<double>& buildCpuEmbree = theirs.cpu;
 
   if (opt.buildOnly) {
     std::printf("build ms ours %.3f embree %.3f (wall), CPU %.3f / %.3f, median of %u\n", median(buildOurs) * 1e3,
                 median(buildEmbree) * 1e3, median(buildCpuOurs) * 1e3, median(buildCpuEmbree) * 1e3, opt.reps);
+    std::printf("build CPU ms per repetition: ours %s, embree %s\n", msList(buildCpuOurs).c_str(),
+                msList(buildCpuEmbree).c_str());
+    std::printf("build wall ms per repetition: ours %s, embree %s\n", msList(ours.wall).c_str(), msList(theirs.wall).c_str());
+    std::printf("page faults per repetition: ours %s, embree %s\n", countList(ours.pageFaults).c_str(),
+                countList(theirs.pageFaults).c_str());
     return 0;
   }
   const RaySets rays = makeRaySets(scene, blas, 1024, 576, opt.rays, 7);

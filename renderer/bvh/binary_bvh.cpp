@@ -19,9 +19,9 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include <immintrin.h>
-#include <sys/mman.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -141,6 +141,7 @@ struct BinMapping {
 struct Split {
   int axis = -1;
   uint32_t bin = 0;   // left side = bins [0, bin]
+  uint32_t leftCount = 0;   // primitives in the left side
   float cost = std::numeric_limits<float>::infinity();
   Box left, right;
 };
@@ -161,42 +162,20 @@ inline __m128 halfAreas(const Box (&boxes)[3]) {
   return _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, y), _mm_mul_ps(y, z)), _mm_mul_ps(z, x));
 }
 
-/// Uninitialised build-time array. Large ones are 2 MiB aligned and marked for transparent
-/// huge pages: a build touches all of it once, and 4 KiB page faults were a visible share of
-/// the build time.
-template <typename T>
-class ScratchArray {
- public:
-  explicit ScratchArray(size_t count) {
-    constexpr size_t kHuge = size_t(2) << 20;
-    const size_t bytes = std::max<size_t>(count * sizeof(T), 64);
-    const bool huge = bytes >= kHuge;
-    const size_t alignment = huge ? kHuge : 64;
-    size_ = (bytes + alignment - 1) / alignment * alignment;
-    data_ = static_cast<T*>(std::aligned_alloc(alignment, size_));
-    if (data_ == nullptr) throw std::bad_alloc();
-    if (huge) madvise(data_, size_, MADV_HUGEPAGE);   // a hint; failure is harmless
-  }
-  ~ScratchArray() { std::free(data_); }
-  ScratchArray(const ScratchArray&) = delete;
-  ScratchArray& operator=(const ScratchArray&) = delete;
-  T* data() { return data_; }
-  const T* data() const { return data_; }
-  T& operator[](size_t i) { return data_[i]; }
-  const T& operator[](size_t i) const { return data_[i]; }
-
- private:
-  T* data_ = nullptr;
-  size_t size_ = 0;
-};
-
 class Builder {
  public:
   /// boundsOf(i, lo, hi) gives primitive i's box as two SSE registers (lane 3 is overwritten).
   template <typename BoundsOf>
-  Builder(size_t count, const BoundsOf& boundsOf, const BvhBuildConfig& config, BinaryBvh& out)
-      : config_(config), out_(out), refs_(count), scratch_(count), nodes_(2 * std::max<size_t>(count, 1)),
-        primCount_(static_cast<uint32_t>(count)) {
+  Builder(size_t count, const BoundsOf& boundsOf, const BvhBuildConfig& config, BinaryBuildScratch& scratch,
+          BinaryBvh& out)
+      : config_(config), out_(out), primCount_(static_cast<uint32_t>(count)) {
+    // One block: refs | partitioned | nodes (room for the worst case, 2n - 1 nodes).
+    static_assert(alignof(PrimRef) <= 64 && alignof(BinaryNode) <= 64 && std::is_trivially_copyable_v<PrimRef>);
+    const size_t refBytes = (count * sizeof(PrimRef) + 63) / 64 * 64;
+    std::byte* memory = scratch.memory.reserve(2 * refBytes + 2 * count * sizeof(BinaryNode));
+    refs_ = reinterpret_cast<PrimRef*>(memory);
+    partitioned_ = reinterpret_cast<PrimRef*>(memory + refBytes);
+    nodes_ = reinterpret_cast<BinaryNode*>(memory + 2 * refBytes);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1 << 14), [&](const auto& r) {
       for (size_t i = r.begin(); i < r.end(); ++i) {
         __m128 lo, hi;
@@ -211,19 +190,18 @@ class Builder {
     const uint32_t n = primCount_;
     nextNode_ = 1;   // nodes_ holds the worst case, 2n - 1 nodes; only built ones are touched
     Box all, centroids;
-    rangeBoxes(0, n, all, centroids);
-    buildNode(0, 0, n, all, centroids, 0);
-    out_.primIndices.resize(n);
-    for (uint32_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].prim();
+    rangeBoxes(refs_, 0, n, all, centroids);
+    out_.primIndices.resize(n);   // written by the leaves
+    buildNode({0, 0, n, 0}, all, centroids, refs_, partitioned_);
     renumberDepthFirst();
   }
 
  private:
   bool parallel(uint32_t count) const { return count >= config_.parallelThreshold; }
-  void rangeBoxes(uint32_t begin, uint32_t end, Box& bounds, Box& centroids) const {
+  static void rangeBoxes(const PrimRef* refs, uint32_t begin, uint32_t end, Box& bounds, Box& centroids) {
     for (uint32_t i = begin; i < end; ++i) {
-      bounds.extend(refs_[i].box());
-      centroids.extend(refs_[i].centroid2());
+      bounds.extend(refs[i].box());
+      centroids.extend(refs[i].centroid2());
     }
   }
 
@@ -241,9 +219,9 @@ class Builder {
     ++z.count;
   }
 
-  void binRange(const BinMapping& map, uint32_t begin, uint32_t end, BinSet& set) const {
+  static void binRange(const BinMapping& map, const PrimRef* refs, uint32_t begin, uint32_t end, BinSet& set) {
     if (end - begin < kTwoBinSetsFrom) {
-      for (uint32_t i = begin; i < end; ++i) binOne(map, refs_[i], set);
+      for (uint32_t i = begin; i < end; ++i) binOne(map, refs[i], set);
       return;
     }
     // Neighbouring primitives often fall into the same bins; alternating between two bin sets
@@ -251,26 +229,26 @@ class Builder {
     BinSet other(set.binCount);
     uint32_t i = begin;
     for (; i + 1 < end; i += 2) {
-      binOne(map, refs_[i], set);
-      binOne(map, refs_[i + 1], other);
+      binOne(map, refs[i], set);
+      binOne(map, refs[i + 1], other);
     }
-    if (i < end) binOne(map, refs_[i], set);
+    if (i < end) binOne(map, refs[i], set);
     set.merge(other);
   }
 
-  Split findSplit(uint32_t begin, uint32_t end, const BinMapping& map) const {
+  Split findSplit(const PrimRef* refs, uint32_t begin, uint32_t end, const BinMapping& map) const {
     const uint32_t binCount = map.binCount;
     BinSet set(binCount);
     if (parallel(end - begin)) {
       set = tbb::parallel_reduce(
           tbb::blocked_range<uint32_t>(begin, end, kBinGrain), BinSet(binCount),
           [&](const tbb::blocked_range<uint32_t>& r, BinSet acc) {
-            binRange(map, r.begin(), r.end(), acc);
+            binRange(map, refs, r.begin(), r.end(), acc);
             return acc;
           },
           [](BinSet a, const BinSet& b) { a.merge(b); return a; });
     } else {
-      binRange(map, begin, end, set);
+      binRange(map, refs, begin, end, set);
     }
     // SAH costs of every candidate plane, the three axes at once (lane = axis): the right
     // sides accumulated from the last bin down, the left sides from the first bin up.
@@ -303,6 +281,7 @@ class Builder {
           best.cost = cost;
           best.axis = a;
           best.bin = i;
+          best.leftCount = leftCount[i][a];
         }
       }
     }
@@ -311,77 +290,83 @@ class Builder {
     return best;
   }
 
-  void makeLeaf(uint32_t slot, uint32_t begin, uint32_t end, const Box& box) {
-    BinaryNode& node = *new (&nodes_[slot]) BinaryNode();
+  /// A node under construction: its slot in nodes_ and its primitive range.
+  struct Task {
+    uint32_t slot, begin, end, depth;
+  };
+
+  void makeLeaf(const Task& t, const Box& box, const PrimRef* refs) {
+    BinaryNode& node = *new (&nodes_[t.slot]) BinaryNode();
     node.bounds = box.toBounds();
-    node.first = begin;
-    node.count = end - begin;
+    node.first = t.begin;
+    node.count = t.end - t.begin;
+    for (uint32_t i = t.begin; i < t.end; ++i) out_.primIndices[i] = refs[i].prim();
   }
 
-  /// Partitions [begin, end) by the split; returns the middle and the children's centroid
-  /// boxes. Branch-free through the scratch buffer (the left/right test is unpredictable),
-  /// keeping each side in input order, so the result is deterministic.
-  uint32_t partition(uint32_t begin, uint32_t end, const BinMapping& map, const Split& split, Box& leftCentroids,
-                     Box& rightCentroids) {
-    PrimRef* refs = refs_.data();
-    PrimRef* out = scratch_.data();
-    int64_t left = begin, right = int64_t(end) - 1;
+  /// Copies [begin, end) of src into dst split by the split plane, the left side first, each
+  /// side in input order (so the result is deterministic); returns the middle and the children's
+  /// centroid boxes. Branch-free (the left/right test is unpredictable): the binning already
+  /// counted the left side, so both sides are written forwards from their known starts.
+  static uint32_t partition(const PrimRef* src, PrimRef* dst, uint32_t begin, uint32_t end, const BinMapping& map,
+                            const Split& split, Box& leftCentroids, Box& rightCentroids) {
+    const uint32_t mid = begin + split.leftCount;
+    uint32_t left = begin, right = mid;
     const __m128i limit = _mm_set1_epi32(static_cast<int>(split.bin) + 1);
-    // Right-side elements are written from the end backwards and reversed afterwards.
     for (uint32_t i = begin; i < end; ++i) {
-      const PrimRef ref = refs[i];
+      const PrimRef ref = src[i];
       const __m128 c = ref.centroid2();
       const int leftAxes = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(limit, map.bins(c))));
       const bool isLeft = (leftAxes >> split.axis) & 1;
-      out[left] = ref;
-      out[right] = ref;
+      dst[isLeft ? left : right] = ref;
       left += isLeft;
-      right -= !isLeft;
+      right += !isLeft;
       const __m128 keep = _mm_castsi128_ps(_mm_set1_epi32(isLeft ? -1 : 0));
       leftCentroids.lo = _mm_blendv_ps(leftCentroids.lo, _mm_min_ps(leftCentroids.lo, c), keep);
       leftCentroids.hi = _mm_blendv_ps(leftCentroids.hi, _mm_max_ps(leftCentroids.hi, c), keep);
       rightCentroids.lo = _mm_blendv_ps(_mm_min_ps(rightCentroids.lo, c), rightCentroids.lo, keep);
       rightCentroids.hi = _mm_blendv_ps(_mm_max_ps(rightCentroids.hi, c), rightCentroids.hi, keep);
     }
-    const auto mid = static_cast<uint32_t>(left);
-    std::copy(out + begin, out + mid, refs + begin);
-    std::reverse_copy(out + mid, out + end, refs + mid);
     return mid;
   }
 
-  void buildNode(uint32_t slot, uint32_t begin, uint32_t end, const Box& box, const Box& centroids, uint32_t depth) {
-    const uint32_t count = end - begin;
+  /// Builds the subtree of t, whose primitives are in refs[t.begin, t.end); other is the second
+  /// buffer, free over the same range (partitions alternate between the two).
+  void buildNode(const Task& t, const Box& box, const Box& centroids, PrimRef* refs, PrimRef* other) {
+    const uint32_t count = t.end - t.begin;
     // One block or less: with a node costing >= one block test, SAH always prefers the leaf, so
     // skip the binning (the result is the same; small nodes are most of the nodes).
     if (count == 1 || (count <= kSahBlock && count <= config_.maxLeafTriangles && config_.traversalCost >= 1.0f))
-      return makeLeaf(slot, begin, end, box);
+      return makeLeaf(t, box, refs);
     // Small nodes need no more bins than primitives (deterministic: depends on count only).
     const BinMapping map(centroids, std::min(config_.binCount, std::max(4u, count)));
-    const Split split = depth < kMaxSahDepth ? findSplit(begin, end, map) : Split{};
+    const Split split = t.depth < kMaxSahDepth ? findSplit(refs, t.begin, t.end, map) : Split{};
     uint32_t mid;
     Box left, right, leftCentroids, rightCentroids;
+    PrimRef* childRefs = refs;
+    PrimRef* childOther = other;
     if (split.axis >= 0) {
       const float area = box.halfArea();
       const float splitCost = config_.traversalCost + (area > 0.0f ? split.cost / area : blocks(count));
-      if (count <= config_.maxLeafTriangles && blocks(count) <= splitCost) return makeLeaf(slot, begin, end, box);
-      mid = partition(begin, end, map, split, leftCentroids, rightCentroids);
+      if (count <= config_.maxLeafTriangles && blocks(count) <= splitCost) return makeLeaf(t, box, refs);
+      mid = partition(refs, other, t.begin, t.end, map, split, leftCentroids, rightCentroids);
+      std::swap(childRefs, childOther);
       left = split.left;
       right = split.right;
     } else {
       // All centroids coincide (or the tree is too deep): split at the object median.
-      if (count <= config_.maxLeafTriangles) return makeLeaf(slot, begin, end, box);
-      mid = begin + count / 2;
-      rangeBoxes(begin, mid, left, leftCentroids);
-      rangeBoxes(mid, end, right, rightCentroids);
+      if (count <= config_.maxLeafTriangles) return makeLeaf(t, box, refs);
+      mid = t.begin + count / 2;
+      rangeBoxes(refs, t.begin, mid, left, leftCentroids);
+      rangeBoxes(refs, mid, t.end, right, rightCentroids);
     }
-    BinaryNode& node = *new (&nodes_[slot]) BinaryNode();
+    BinaryNode& node = *new (&nodes_[t.slot]) BinaryNode();
     node.bounds = box.toBounds();
     node.count = 0;
     node.left = nextNode_.fetch_add(2, std::memory_order_relaxed);
     node.right = node.left + 1;
-    const uint32_t leftSlot = node.left, rightSlot = node.right;
-    auto buildLeft = [&] { buildNode(leftSlot, begin, mid, left, leftCentroids, depth + 1); };
-    auto buildRight = [&] { buildNode(rightSlot, mid, end, right, rightCentroids, depth + 1); };
+    const Task leftTask{node.left, t.begin, mid, t.depth + 1}, rightTask{node.right, mid, t.end, t.depth + 1};
+    auto buildLeft = [&] { buildNode(leftTask, left, leftCentroids, childRefs, childOther); };
+    auto buildRight = [&] { buildNode(rightTask, right, rightCentroids, childRefs, childOther); };
     if (parallel(count)) {
       tbb::parallel_invoke(buildLeft, buildRight);
     } else {
@@ -418,9 +403,9 @@ class Builder {
 
   const BvhBuildConfig& config_;
   BinaryBvh& out_;
-  ScratchArray<PrimRef> refs_;
-  ScratchArray<PrimRef> scratch_;   // partition buffer, disjoint ranges per task
-  ScratchArray<BinaryNode> nodes_;  // build-time nodes, indexed by allocation order
+  PrimRef* refs_;          // the primitives, partitioned back and forth with partitioned_
+  PrimRef* partitioned_;   // second buffer: disjoint ranges per task
+  BinaryNode* nodes_;      // build-time nodes, indexed by allocation order (room for 2n)
   uint32_t primCount_;
   std::atomic<uint32_t> nextNode_{1};
 };
@@ -446,22 +431,32 @@ BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfi
     lo = load3(primBounds[i].min);
     hi = load3(primBounds[i].max);
   };
-  Builder(primBounds.size(), boundsOf, config, bvh).run();
+  BinaryBuildScratch scratch;
+  Builder(primBounds.size(), boundsOf, config, scratch, bvh).run();
   return bvh;
 }
 
-BinaryBvh buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config) {
-  validateBuildConfig(config);
-  BinaryBvh bvh;
+void buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config, BinaryBuildScratch& scratch,
+                    BinaryBvh& out) {
   const uint32_t count = mesh.triangleCount();
-  if (count == 0) return bvh;
+  if (count == 0) {
+    out = BinaryBvh{};
+    return;
+  }
   const auto boundsOf = [&](size_t i, __m128& lo, __m128& hi) {
     const uint32_t* tri = &mesh.indices[3 * i];
     const __m128 a = load3(mesh.positions[tri[0]]), b = load3(mesh.positions[tri[1]]), c = load3(mesh.positions[tri[2]]);
     lo = _mm_min_ps(_mm_min_ps(a, b), c);
     hi = _mm_max_ps(_mm_max_ps(a, b), c);
   };
-  Builder(count, boundsOf, config, bvh).run();
+  Builder(count, boundsOf, config, scratch, out).run();
+}
+
+BinaryBvh buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config) {
+  validateBuildConfig(config);
+  BinaryBvh bvh;
+  BinaryBuildScratch scratch;
+  buildBinaryBvh(mesh, config, scratch, bvh);
   return bvh;
 }
 

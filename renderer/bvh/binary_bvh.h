@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "renderer/bvh/bvh.h"
+#include "renderer/bvh/scratch_buffer.h"
 #include "renderer/bvh/triangle_mesh.h"
 #include "renderer/core/bounds.h"
 
@@ -32,6 +33,15 @@ struct BinaryBvh {
   bool empty() const { return primIndices.empty(); }
 };
 
+/// Memory for the binary builder's arrays (primitive references, their partition copy and the
+/// nodes in allocation order): one block, kept between builds so a rebuild does not fault in
+/// fresh pages.
+struct BinaryBuildScratch {
+  ScratchBuffer memory;
+  /// Frees the block.
+  void release() { memory.release(); }
+};
+
 /// Builds over primBounds (each must be finite and non-empty). Deterministic: the result does
 /// not depend on the number of threads. Runs in the caller's TBB arena.
 BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfig& config);
@@ -39,6 +49,11 @@ BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfi
 /// Builds over the triangles of mesh, with their bounds taken straight from the vertices (no
 /// separate bounds array); the same tree as buildBinaryBvh(triangleBounds(mesh), config).
 BinaryBvh buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config);
+
+/// Same as buildBinaryBvh(mesh, config), into out (whose vectors are reused) with the given
+/// scratch memory. The config must be valid (validateBuildConfig).
+void buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config, BinaryBuildScratch& scratch,
+                    BinaryBvh& out);
 
 /// Recomputes every reachable node's bounds bottom-up from new primitive bounds.
 void refitBinaryBvh(BinaryBvh& bvh, std::span<const Bounds> primBounds);

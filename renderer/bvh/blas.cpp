@@ -1,4 +1,7 @@
 // Blas: validated mesh copy + reference binary BVH (+ the wide SIMD layout it is converted to).
+// A rebuild reuses the previous build's memory (mesh copy, binary nodes, and, from the second
+// build on, the builder's scratch arrays), so meshes rebuilt every frame do not page-fault
+// fresh memory on each build.
 #include <stdexcept>
 
 #include "renderer/bvh/binary_bvh.h"
@@ -13,6 +16,8 @@ struct Blas::Impl {
   bvh_detail::BinaryBvh binary;   // reference layout, kept for refit and validation
   bvh_detail::WideBvh wide;       // what rays traverse
   Bounds bounds;
+  bvh_detail::BinaryBuildScratch scratch;   // kept between builds once the Blas is rebuilt
+  uint32_t builds = 0;
 };
 
 Blas::Blas() : impl_(std::make_unique<Impl>()) {}
@@ -21,13 +26,25 @@ Blas::Blas(Blas&&) noexcept = default;
 Blas& Blas::operator=(Blas&&) noexcept = default;
 
 void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
+  // Invalid input or config throws here, before anything changes.
   bvh_detail::validateBuildConfig(config);
-  auto next = std::make_unique<Impl>();
-  next->mesh = bvh_detail::makeTriangleMesh(input);
-  next->binary = bvh_detail::buildBinaryBvh(next->mesh, config);
-  next->wide = bvh_detail::collapseToWide(next->binary, next->mesh);
-  if (!next->binary.empty()) next->bounds = next->binary.nodes[0].bounds;   // the root box is the union of all triangles
-  impl_ = std::move(next);
+  bvh_detail::validateBlasInput(input);
+  if (!impl_) impl_ = std::make_unique<Impl>();
+  Impl& impl = *impl_;
+  try {
+    bvh_detail::assignTriangleMesh(input, impl.mesh);
+    bvh_detail::buildBinaryBvh(impl.mesh, config, impl.scratch, impl.binary);
+    impl.wide = {};   // freed first: the old and new layouts are never both held
+    impl.wide = bvh_detail::collapseToWide(impl.binary, impl.mesh);
+    // The root box is the union of all triangles.
+    impl.bounds = impl.binary.empty() ? Bounds{} : impl.binary.nodes[0].bounds;
+  } catch (...) {
+    impl_ = std::make_unique<Impl>();   // out of memory or too large for the wide layout: left empty
+    throw;
+  }
+  // A Blas built once (static geometry) does not hold on to the scratch arrays; one that is
+  // rebuilt is likely to be rebuilt again (dynamic geometry) and keeps them.
+  if (++impl.builds == 1) impl.scratch.release();
 }
 
 void Blas::refit(std::span<const glm::vec3> positions) {

@@ -41,6 +41,7 @@ class Blas {
 
   /// Builds from scratch (multithreaded in the current TBB arena). Throws std::invalid_argument
   /// on out-of-range indices or non-finite positions. Degenerate triangles are kept but never hit.
+  /// A rebuild reuses the previous build's memory; invalid input leaves the Blas unchanged.
   void build(const BlasInput& input, const BvhBuildConfig& config = {});
   /// Updates node bounds for moved vertices with the same topology (animated meshes).
   void refit(std::span<const glm::vec3> positions);

@@ -22,7 +22,7 @@ void validatePositions(std::span<const glm::vec3> positions) {
 
 void computeDegenerate(TriangleMesh& mesh) {
   const uint32_t n = mesh.triangleCount();
-  mesh.degenerate.assign(n, 0);
+  mesh.degenerate.resize(n);   // every flag is written below
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 1 << 14), [&](const auto& r) {
     for (uint32_t t = r.begin(); t < r.end(); ++t)
       mesh.degenerate[t] = isDegenerateTriangle(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2));
@@ -31,7 +31,7 @@ void computeDegenerate(TriangleMesh& mesh) {
 
 }  // namespace
 
-TriangleMesh makeTriangleMesh(const BlasInput& input) {
+void validateBlasInput(const BlasInput& input) {
   if (input.indices.size() % 3 != 0)
     throw std::invalid_argument("BlasInput.indices size " + std::to_string(input.indices.size()) +
                                 " is not a multiple of 3");
@@ -46,12 +46,20 @@ TriangleMesh makeTriangleMesh(const BlasInput& input) {
   if (!input.masked.empty() && input.masked.size() != input.indices.size() / 3)
     throw std::invalid_argument("BlasInput.masked has " + std::to_string(input.masked.size()) +
                                 " entries for " + std::to_string(input.indices.size() / 3) + " triangles");
+}
+
+TriangleMesh makeTriangleMesh(const BlasInput& input) {
+  validateBlasInput(input);
   TriangleMesh mesh;
+  assignTriangleMesh(input, mesh);
+  return mesh;
+}
+
+void assignTriangleMesh(const BlasInput& input, TriangleMesh& mesh) {
   mesh.positions.assign(input.positions.begin(), input.positions.end());
   mesh.indices.assign(input.indices.begin(), input.indices.end());
   mesh.masked.assign(input.masked.begin(), input.masked.end());
   computeDegenerate(mesh);
-  return mesh;
 }
 
 void updatePositions(TriangleMesh& mesh, std::span<const glm::vec3> positions) {

@@ -24,9 +24,15 @@ struct TriangleMesh {
   glm::vec3 vertex(uint32_t tri, int corner) const { return positions[indices[3 * tri + corner]]; }
 };
 
-/// Copies and validates input; throws std::invalid_argument (non-finite positions, index count
-/// not a multiple of 3, out-of-range indices, masked size mismatch).
+/// Throws std::invalid_argument naming the field when input cannot be built (non-finite
+/// positions, index count not a multiple of 3, out-of-range indices, masked size mismatch).
+void validateBlasInput(const BlasInput& input);
+
+/// Copies and validates input (validateBlasInput).
 TriangleMesh makeTriangleMesh(const BlasInput& input);
+
+/// Copies input, which must have passed validateBlasInput, into mesh, reusing its vectors.
+void assignTriangleMesh(const BlasInput& input, TriangleMesh& mesh);
 
 /// Replaces positions (same count) after validation and recomputes the degenerate flags.
 void updatePositions(TriangleMesh& mesh, std::span<const glm::vec3> positions);

@@ -110,6 +110,48 @@ TEST(Blas, RejectsBadInput) {
   EXPECT_THROW(blas.build({p, ok, {}}, bad), std::invalid_argument);
 }
 
+TEST(Blas, RebuildGivesTheSameHitsAsAFreshBuild) {
+  // A rebuilt Blas reuses its previous build's memory; different sizes in between (and an
+  // empty mesh) must not leave anything behind.
+  const testing::TestMesh target = testing::makeTriangleSoup(3000, 11);
+  Blas fresh, rebuilt;
+  fresh.build(target.input());
+  for (uint32_t count : {20000u, 0u, 100u, 3000u}) rebuilt.build(testing::makeTriangleSoup(count, 12).input());
+  rebuilt.build(target.input());
+  ASSERT_EQ(rebuilt.triangleCount(), 3000u);
+  EXPECT_EQ(rebuilt.bounds().min, fresh.bounds().min);
+  EXPECT_EQ(rebuilt.bounds().max, fresh.bounds().max);
+  const std::vector<Ray> rays = testing::makeRandomRays(fresh.bounds(), 2000, 13);
+  uint32_t hits = 0;
+  for (const Ray& ray : rays) {
+    Ray a = ray, b = ray;
+    Hit ha, hb;
+    const bool hitA = fresh.intersect(a, ha);
+    ASSERT_EQ(hitA, rebuilt.intersect(b, hb));
+    ASSERT_EQ(ha.prim, hb.prim);
+    ASSERT_EQ(ha.t, hb.t);
+    ASSERT_EQ(fresh.occluded(ray), rebuilt.occluded(ray));
+    hits += hitA;
+  }
+  EXPECT_GT(hits, 100u);
+}
+
+TEST(Blas, BadInputLeavesTheBuiltBlasUnchanged) {
+  testing::TestMesh m = twoTriangles();
+  Blas blas;
+  blas.build(m.input());
+  std::vector<uint32_t> outOfRange = {0, 1, 9};
+  EXPECT_THROW(blas.build({m.positions, outOfRange, {}}), std::invalid_argument);
+  ASSERT_EQ(blas.triangleCount(), 2u);
+  Ray ray;
+  ray.origin = {0.25f, 0.25f, 5.0f};
+  ray.dir = {0, 0, -1};
+  Hit hit;
+  ASSERT_TRUE(blas.intersect(ray, hit));
+  EXPECT_EQ(hit.prim, 1u);
+  EXPECT_FLOAT_EQ(hit.t, 3.0f);
+}
+
 TEST(Blas, EmptyMeshNeverHits) {
   Blas blas;
   blas.build({});

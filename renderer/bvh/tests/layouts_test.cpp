@@ -1,6 +1,8 @@
 // The wide SIMD layout against the basic binary BVH, refit against rebuild, build determinism
 // across thread counts, and the ray origin offset helper.
+#include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -139,7 +141,16 @@ TEST(Build, DeterministicForAnyThreadCount) {
   // Building straight from the mesh must give the same tree as from its triangle bounds.
   BinaryBvh fromMesh;
   tbb::task_arena(2).execute([&] { fromMesh = buildBinaryBvh(mesh, config); });
-  for (const BinaryBvh* other : std::initializer_list<const BinaryBvh*>{&two, &four, &fromMesh}) {
+  // Reused scratch memory and output vectors (left over from a larger and a smaller build)
+  // must not change the tree either.
+  BinaryBuildScratch scratch;
+  BinaryBvh reused;
+  const TriangleMesh larger = makeTriangleMesh(makeTriangleSoup(90000, 7).input());
+  const TriangleMesh smaller = makeTriangleMesh(makeTriangleSoup(500, 8).input());
+  tbb::task_arena(2).execute([&] {
+    for (const TriangleMesh* m : {&larger, &smaller, &mesh}) buildBinaryBvh(*m, config, scratch, reused);
+  });
+  for (const BinaryBvh* other : std::initializer_list<const BinaryBvh*>{&two, &four, &fromMesh, &reused}) {
     ASSERT_EQ(one.primIndices, other->primIndices);
     ASSERT_EQ(one.nodeCount, other->nodeCount);
     ASSERT_EQ(one.nodes.size(), other->nodes.size());
@@ -151,6 +162,29 @@ TEST(Build, DeterministicForAnyThreadCount) {
       ASSERT_EQ(one.nodes[i].bounds.max, other->nodes[i].bounds.max);
     }
   }
+}
+
+TEST(Build, ScratchBufferGrowsOnlyAndAlignsHugeBlocks) {
+  ScratchBuffer buffer;
+  EXPECT_EQ(buffer.capacityBytes(), 0u);
+  std::byte* small = buffer.reserve(100);
+  ASSERT_NE(small, nullptr);
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(small) % 64, 0u);
+  EXPECT_EQ(buffer.capacityBytes(), 128u);
+  EXPECT_EQ(buffer.reserve(50), small);   // never shrinks or moves for a smaller request
+  // From kHugePagesFrom on: whole 2 MiB pages, 2 MiB aligned, all of it writable.
+  const size_t big = size_t(3) << 20;   // 3 MiB, above kHugePagesFrom
+  std::byte* huge = buffer.reserve(big);
+  ASSERT_NE(huge, nullptr);
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(huge) % (size_t(2) << 20), 0u);
+  EXPECT_EQ(buffer.capacityBytes(), size_t(4) << 20);
+  std::fill_n(huge, buffer.capacityBytes(), std::byte{0x5a});
+  EXPECT_EQ(huge[buffer.capacityBytes() - 1], std::byte{0x5a});
+  ScratchBuffer moved = std::move(buffer);
+  EXPECT_EQ(moved.reserve(big), huge);
+  EXPECT_EQ(buffer.capacityBytes(), 0u);
+  moved.release();
+  EXPECT_EQ(moved.capacityBytes(), 0u);
 }
 
 TEST(RayOffset, KnownValuesNearAndFarFromOrigin) {
