@@ -204,6 +204,21 @@ std::string GameFileSystem::sourceOf(std::string_view rawPath) const {
   return it == index_.end() ? "" : archives_[it->second.archive].filename().string();
 }
 
+namespace {
+
+/// The paths of a lower-cased-key map, in the engine's listing order.
+std::vector<std::string> sortedLikeEngine(std::map<std::string, std::string> byKey) {
+  std::vector<std::string> out;
+  out.reserve(byKey.size());
+  for (auto& [key, path] : byKey) out.push_back(std::move(path));
+  std::sort(out.begin(), out.end(), [](const std::string& a, const std::string& b) {
+    return comparePathsLikeEngine(a, b) < 0;
+  });
+  return out;
+}
+
+}  // namespace
+
 std::vector<std::string> GameFileSystem::allFiles() const {
   std::map<std::string, std::string> byKey;
   for (const auto& [key, entry] : index_) byKey[key] = entry.innerPath;
@@ -216,13 +231,7 @@ std::vector<std::string> GameFileSystem::allFiles() const {
     if (it.depth() == 0 && endsWithIgnoreCase(path, ".pk3")) continue;  // the archives themselves
     byKey[toLowerAscii(path)] = path;
   }
-  std::vector<std::string> out;
-  out.reserve(byKey.size());
-  for (auto& [key, path] : byKey) out.push_back(std::move(path));
-  std::sort(out.begin(), out.end(), [](const std::string& a, const std::string& b) {
-    return comparePathsLikeEngine(a, b) < 0;
-  });
-  return out;
+  return sortedLikeEngine(std::move(byKey));
 }
 
 std::vector<std::string> GameFileSystem::listFiles(std::string_view rawDir, std::string_view extension) const {
@@ -252,13 +261,7 @@ std::vector<std::string> GameFileSystem::listFiles(std::string_view rawDir, std:
       byKey[toLowerAscii(path)] = path;
     }
   }
-  std::vector<std::string> out;
-  out.reserve(byKey.size());
-  for (auto& [key, path] : byKey) out.push_back(std::move(path));
-  std::sort(out.begin(), out.end(), [](const std::string& a, const std::string& b) {
-    return comparePathsLikeEngine(a, b) < 0;
-  });
-  return out;
+  return sortedLikeEngine(std::move(byKey));
 }
 
 }  // namespace q3
