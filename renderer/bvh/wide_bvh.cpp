@@ -144,6 +144,7 @@ WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh) {
   WideBvh out;
   if (binary.empty()) return out;
   Collapser(binary, mesh, out).run();
+  out.kernel = bestWideKernel();
   return out;
 }
 
