@@ -2,7 +2,9 @@
 // slab test, see slab_test.h), nearest child first for closest hits (any-hit rays skip even
 // that), other hit children pushed branch-free, and a leaf's (up to) eight triangles at a time
 // with the watertight test (see watertight.h; same operations in the same order, so the
-// results are bit-identical to the scalar reference).
+// results are bit-identical to the scalar reference). This is the baseline kernel (AVX2 in
+// x86-64-v3 builds, SSE halves in x86-64-v2 builds); BVHs collapsed on a CPU with AVX-512 run the
+// kernel of wide_traversal_avx512.cpp instead (WideBvh::kernel, dispatched below).
 #include <cmath>
 #include <algorithm>
 #include <array>
