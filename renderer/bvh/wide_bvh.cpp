@@ -50,6 +50,11 @@ class Collapser {
         children[count++] = opened.right;
       }
     }
+    // Largest box first: any-hit rays visit the children in lane order, and a large box is the
+    // likelier occluder.
+    std::stable_sort(children, children + count, [&](uint32_t a, uint32_t b) {
+      return binary_.nodes[a].bounds.halfArea() > binary_.nodes[b].bounds.halfArea();
+    });
     WideNode node;
     for (int side = 0; side < 2; ++side)
       for (int axis = 0; axis < 3; ++axis)
@@ -144,6 +149,7 @@ WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh) {
   WideBvh out;
   if (binary.empty()) return out;
   Collapser(binary, mesh, out).run();
+  out.kernel = bestWideKernel();
   return out;
 }
 
