@@ -18,6 +18,7 @@ class Collapser {
 
   void run() {
     packLeaves();
+    out_.nodes.clear();
     out_.nodes.reserve(binary_.nodeCount / 4 + 1);
     out_.nodes.emplace_back();
     fillNode(0, 0);
@@ -147,10 +148,17 @@ class Collapser {
 
 WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh) {
   WideBvh out;
-  if (binary.empty()) return out;
+  collapseToWide(binary, mesh, out);
+  return out;
+}
+
+void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& out) {
+  if (binary.empty()) {
+    out = WideBvh{};
+    return;
+  }
   Collapser(binary, mesh, out).run();
   out.kernel = bestWideKernel();
-  return out;
 }
 
 }  // namespace pa::bvh_detail

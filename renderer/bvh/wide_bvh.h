@@ -58,6 +58,8 @@ struct WideBvh {
 /// Converts the binary BVH into the 8-wide layout (children chosen by opening the largest box
 /// first) and packs the leaf triangles of mesh.
 WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh);
+/// Same, into `out`, reusing its vectors' memory (rebuilds of a Blas).
+void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& out);
 
 /// Closest hit, same contract as Blas::intersect (the ray must be traceable).
 bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
