@@ -150,6 +150,25 @@ TEST(SkyCube, FarBoxImagesLandOnTheStockSides) {
   for (int face = 0; face < 6; ++face) EXPECT_EQ(texel(cube, face, 4, 4).x, expected[face]) << "face " << face;
 }
 
+TEST(SkyCube, TheUpImageIsTurnedAsTheStockBoxShowsIt) {
+  // tr_sky.c side +Z: x = -t, y = -s; texture (s, t) -> ((s + 1) / 2, (1 - t) / 2). A direction
+  // toward +X and -Y of straight up has s = 0.625, t = -0.625: the right, bottom texel.
+  auto up = std::make_shared<Image>();
+  up->width = up->height = 2;
+  up->rgba = {10, 0, 0, 255, 20, 0, 0, 255, 30, 0, 0, 255, 40, 0, 0, 255};   // TL TR BL BR
+  q3::ShaderDef shader;
+  shader.sky = q3::SkyParms{"env/box", 512, ""};
+  SkyBaker baker;
+  ASSERT_TRUE(baker.prepare(shader, [&](const std::string& path) { return path == "env/box_up" ? up : nullptr; }, 8));
+  SkyCube cube;
+  baker.bake(0.0, cube);
+  const glm::vec3 d = skyCubeDirection(4, 1, 1, 8);
+  ASSERT_NEAR(d.x, 0.625f, 1e-6f);
+  ASSERT_NEAR(d.y, -0.625f, 1e-6f);
+  EXPECT_EQ(texel(cube, 4, 1, 1).x, 40);
+  EXPECT_EQ(texel(cube, 4, 6, 6).x, 10);   // toward -X, +Y: the left, top texel
+}
+
 TEST(SkyCube, CloudStagesBlendOverTheBoxExceptBelow) {
   q3::ShaderDef shader;
   shader.sky = q3::SkyParms{"", 512, ""};

@@ -1,6 +1,9 @@
 #include "port/q3formats/shader/material.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 namespace q3 {
 
@@ -24,10 +27,12 @@ namespace q3 {
 // | no lightmap, rgbGen identity / const / wave / none | lighting Unlit (const colour kept)            |
 // | base rgbGen entity / oneMinusEntity                | entityColor                                   |
 // | q3map_surfacelight N                               | surfaceLight N, emissive                      |
-// | q3map_lightimage / q3map_lightRGB                  | lightImage / lightColor (else editor image,   |
-// |                                                    |   else base texture)                          |
+// | q3map_lightimage / q3map_lightRGB                  | lightImageCandidates (q3map2 order: light     |
+// |                                                    |   image, sky _up, first stage image, editor   |
+// |                                                    |   image, shader name) / lightColor            |
 // | later stage blendFunc with dst ONE, not env/lm     | glowTextures, emissive                        |
-// | surfaceparm sky or skyParms                        | sky, skyBox faces farbox_rt ... farbox_dn     |
+// | surfaceparm sky or skyParms                        | sky, skyBox faces in cube order +X..-Z:       |
+// |                                                    |   _rt _lf _bk _ft _up(turned 180) _dn         |
 // | portal, sort portal                                | portal (mirror vs camera decided by entities) |
 // | surfaceparm nodraw                                 | nodraw, invisible                             |
 // | no stages (and not sky)                            | invisible                                     |
@@ -55,7 +60,39 @@ AlphaMode blendMode(const ShaderStage& s) {
   return AlphaMode::Blend;
 }
 
+/// q3map2 (shaders.c): the light image path is q3map_lightimage, else the sky's far box "_up"
+/// image, else (without qer_editorimage) the first image named by a stage; the light image is
+/// that path if it loads, else the shader image (editor image, then the shader's name, then that
+/// path again, then q3map2's default image: here the first stage image).
+std::vector<std::string> lightImageCandidates(const ShaderDef& shader) {
+  std::string path = shader.lightImage;
+  if (path.empty() && shader.sky && !shader.sky->farBox.empty()) path = shader.sky->farBox + "_up";
+  std::string firstStageImage;
+  for (const ShaderStage& s : shader.stages)
+    if (isImageStage(s) && s.textures.front()[0] != '$' && s.textures.front()[0] != '*') {
+      firstStageImage = s.textures.front();
+      break;
+    }
+  if (path.empty() && shader.editorImage.empty()) path = firstStageImage;
+  // Last, where q3map2 would take its default image: the first stage image (what the surface shows).
+  std::vector<std::string> candidates;
+  for (const std::string& name : {path, shader.editorImage, shader.name, firstStageImage})
+    if (!name.empty() && std::find(candidates.begin(), candidates.end(), name) == candidates.end())
+      candidates.push_back(name);
+  return candidates;
+}
+
 }  // namespace
+
+SkyFaceImage skyFaceImage(int face) {
+  // tr_sky.c: the box sides in its st_to_vec order (+X, -X, +Y, -Y, +Z, -Z) bind the images
+  // loaded as rt, bk, lf, ft, up, dn through sky_texorder {0, 2, 1, 3, 4, 5}; MakeSkyVec maps a
+  // side's (s, t) to texture (s, 1 - t), which for the four walls is the SkyBox layout and for
+  // +Z runs s along -Y and t along -X: the SkyBox layout turned by 180 degrees.
+  static constexpr std::array<SkyFaceImage, 6> kFaces{{
+      {"_rt", false}, {"_lf", false}, {"_bk", false}, {"_ft", false}, {"_up", true}, {"_dn", false}}};
+  return kFaces[static_cast<size_t>(std::clamp(face, 0, 5))];
+}
 
 UvAffine UvAffine::after(const UvAffine& f) const {
   UvAffine r;
@@ -166,9 +203,8 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
 
   // Emission.
   m.surfaceLight = shader.surfaceLight;
-  m.lightImage = !shader.lightImage.empty() ? shader.lightImage
-               : !shader.editorImage.empty() ? shader.editorImage
-                                              : m.baseTexture;
+  m.lightImageCandidates = lightImageCandidates(shader);
+  if (!m.lightImageCandidates.empty()) m.lightImage = m.lightImageCandidates.front();
   if (shader.lightColor) {
     m.lightColor = *shader.lightColor;
     m.hasLightColor = true;
@@ -182,10 +218,11 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   // Sky.
   m.sky = shader.has(SurfaceParm::Sky) || shader.sky.has_value();
   if (shader.sky) {
-    static const char* kSuffix[6] = {"_rt", "_bk", "_lf", "_ft", "_up", "_dn"};
     for (int i = 0; i < 6; ++i) {
-      if (!shader.sky->farBox.empty()) m.skyBox.farFaces[i] = shader.sky->farBox + kSuffix[i];
-      if (!shader.sky->nearBox.empty()) m.skyBox.nearFaces[i] = shader.sky->nearBox + kSuffix[i];
+      const SkyFaceImage image = skyFaceImage(i);
+      if (!shader.sky->farBox.empty()) m.skyBox.farFaces[i] = shader.sky->farBox + image.suffix;
+      if (!shader.sky->nearBox.empty()) m.skyBox.nearFaces[i] = shader.sky->nearBox + image.suffix;
+      m.skyBox.turned180[i] = image.turned180;
     }
     m.skyBox.cloudHeight = shader.sky->cloudHeight;
   }

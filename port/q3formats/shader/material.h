@@ -38,12 +38,24 @@ struct UvAffine {
 /// (`hasTurbulence` tells it was there); entityTranslate needs the entity and is left out.
 UvAffine uvTransformAt(const std::vector<TcMod>& mods, double seconds);
 
-/// Sky box: six face textures (`_rt _bk _lf _ft _up _dn`, in the engine's order) of far and near boxes.
+/// Sky box images as a cube in world axes (Z up): faces +X, -X, +Y, -Y, +Z, -Z, each seen from
+/// inside along its axis with the image top toward +Z (+X for the two Z faces) and the image
+/// right = axis x top. The stock renderer (tr_sky.c) shows the skyParms images _rt, _lf, _bk,
+/// _ft, _up, _dn on these faces, the _up image turned by 180 degrees (`turned180`).
 struct SkyBox {
-  std::array<std::string, 6> farFaces;   ///< empty if the shader has no far box
-  std::array<std::string, 6> nearFaces;  ///< empty if none
+  std::array<std::string, 6> farFaces;   ///< cube order; empty if the shader has no far box
+  std::array<std::string, 6> nearFaces;  ///< cube order; empty if none
+  std::array<bool, 6> turned180{};       ///< the face's image must be turned by 180 degrees
   float cloudHeight = 128;
 };
+
+/// The skyParms image suffix (`_rt` ...) the stock renderer shows on cube face `face` (0..5,
+/// SkyBox order; clamped) and whether it is turned by 180 degrees there.
+struct SkyFaceImage {
+  const char* suffix;
+  bool turned180;
+};
+SkyFaceImage skyFaceImage(int face);
 
 /// Neutral description of a shader for renderers and exporters (no renderer dependency).
 struct MaterialInfo {
@@ -60,7 +72,12 @@ struct MaterialInfo {
   bool vertexColor = false;               ///< base colour is multiplied by vertex colours
   bool entityColor = false;               ///< base colour comes from the entity (shaderRGBA)
   float surfaceLight = 0;                 ///< q3map_surfacelight intensity (0 = not a light)
-  std::string lightImage;                 ///< texture whose average colour is the light colour
+  std::string lightImage;                 ///< first of lightImageCandidates ("" if none)
+  /// Images whose average colour is the light colour, in q3map2's order: the first one that
+  /// loads is used (q3map_lightimage, else the sky's far box _up, else the first stage image when
+  /// there is no qer_editorimage; then qer_editorimage, the shader's name, the first stage image).
+  /// None loads: white light.
+  std::vector<std::string> lightImageCandidates;
   std::array<float, 3> lightColor{1, 1, 1};  ///< q3map_lightRGB if given (else use lightImage)
   bool hasLightColor = false;
   std::vector<std::string> glowTextures;  ///< additive stages over the base (self-illumination)

@@ -144,10 +144,13 @@ class SceneAssembler {
       glm::vec3 color(1.0f);
       if (info.hasLightColor) {
         color = glm::vec3(info.lightColor[0], info.lightColor[1], info.lightColor[2]);
-      } else if (!info.lightImage.empty()) {
-        color = textures_.averageColor(textures_.get(info.lightImage, false));
-      } else if (m.baseTexture >= 0) {
-        color = textures_.averageColor(m.baseTexture);
+      } else {
+        // The first light image that loads (q3map2's order); none: white, never the fallback checker.
+        for (const std::string& image : info.lightImageCandidates)
+          if (textures_.exists(image)) {
+            color = textures_.averageColor(textures_.get(image, false));
+            break;
+          }
       }
       m.emission = normalisedColor(glm::max(color, glm::vec3(0.0f)));
       if (!m.visible) m.castsShadows = false;
@@ -177,19 +180,34 @@ class SceneAssembler {
     scene_.lights.push_back(light);
   }
 
+  /// A new texture holding texture `index` turned by 180 degrees (texel order reversed).
+  int32_t turnedCopy(int32_t index) {
+    WorldTexture turned = scene_.textures.at(size_t(index));
+    std::vector<uint8_t>& texels = turned.image.rgba8;
+    const size_t count = texels.size() / 4;
+    for (size_t i = 0; i < count / 2; ++i)
+      std::swap_ranges(texels.begin() + std::ptrdiff_t(4 * i), texels.begin() + std::ptrdiff_t(4 * i + 4),
+                       texels.begin() + std::ptrdiff_t(4 * (count - 1 - i)));
+    turned.requestedPath += " (turned 180)";
+    scene_.textures.push_back(std::move(turned));
+    return int32_t(scene_.textures.size() - 1);
+  }
+
   void addSky(const std::pair<ShaderDef, MaterialInfo>& sky) {
     const auto& [def, info] = sky;
     scene_.sky.shaderName = def.name;
     scene_.sky.cloudHeight = info.skyBox.cloudHeight;
     glm::vec3 sum(0.0f);
     int count = 0;
-    // The engine's order rt, bk, lf, ft, up, dn is +X, -X, +Y, -Y, +Z, -Z.
+    // Faces in cube order +X, -X, +Y, -Y, +Z, -Z as the stock renderer shows them (MaterialInfo
+    // SkyBox: _rt _lf _bk _ft _up _dn, the _up image turned by 180 degrees).
     // A missing far box ("skyParms full 512 -" is a common idiom) is skipped by the engine,
     // which then draws only the cloud layers: no warning, no fallback faces.
     for (size_t f = 0; f < 6; ++f) {
       const std::string& face = info.skyBox.farFaces[f];
       if (face.empty() || !textures_.exists(face)) continue;
       scene_.sky.faces[f] = textures_.get(face, true);
+      if (info.skyBox.turned180[f]) scene_.sky.faces[f] = turnedCopy(scene_.sky.faces[f]);
       sum += textures_.averageColor(scene_.sky.faces[f]);
       ++count;
     }
