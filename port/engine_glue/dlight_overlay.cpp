@@ -17,7 +17,6 @@ constexpr int kBlobSize = 16;               // DLIGHT_SIZE
 constexpr int32_t kSurfNoDlight = 0x20000;  // SURF_NODLIGHT
 constexpr float kOverlayLift = 0.25f;       // units off the surface, towards its front
 constexpr int kMaxSubdivision = 3;          // 4^3 pieces per triangle at most
-constexpr float kDisplayGamma = 2.2f;
 
 /// The stock falloff image: 4000 / d^2 (d in texels from the centre), cut below 75, max 255.
 const std::array<float, kBlobSize * kBlobSize>& blobImage() {
@@ -35,8 +34,9 @@ const std::array<float, kBlobSize * kBlobSize>& blobImage() {
   return image;
 }
 
-float srgbToLinear(float c) {
-  c = std::clamp(c, 0.0f, 1.0f);
+/// The sRGB decoding of a display value, continued above 1 (several lights multiply past white).
+float displayToLinear(float c) {
+  c = std::max(c, 0.0f);
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
@@ -178,16 +178,14 @@ void DlightOverlayBuilder::emit(const Triangle& t, std::span<const DynamicLight>
   glm::vec4 colors[3];
   bool lit = false;
   for (int c = 0; c < 3; ++c) {
-    // dst * (1 + light) in gamma space is lin(dst) * (1 + light)^2.2 in linear space: the
-    // overlay adds lin(texture) * lin(baked) * ((1 + light)^2.2 - 1).
-    glm::vec3 gain(0.0f);
-    for (const DynamicLight& light : lights) {
-      const glm::vec3 add = stockDlightAt(light, t.v[c].position, t.v[c].normal);
-      gain += glm::pow(glm::vec3(1.0f) + add, glm::vec3(kDisplayGamma)) - glm::vec3(1.0f);
-    }
-    const glm::vec3 baked(srgbToLinear(t.v[c].baked.r / 255.0f), srgbToLinear(t.v[c].baked.g / 255.0f),
-                          srgbToLinear(t.v[c].baked.b / 255.0f));
-    colors[c] = glm::vec4(baked * gain, 1.0f);
+    // One pass per light makes dst * (1 + l1) * (1 + l2) ... in display values: the overlay
+    // layer (pa::LayerBlend::MultiplyAdd) multiplies dst by 1 + (product - 1), its vertex colour
+    // being product - 1 as linear light (the layer is encoded for display before it multiplies).
+    glm::vec3 product(1.0f);
+    for (const DynamicLight& light : lights)
+      product *= glm::vec3(1.0f) + stockDlightAt(light, t.v[c].position, t.v[c].normal);
+    const glm::vec3 gain = product - glm::vec3(1.0f);
+    colors[c] = glm::vec4(displayToLinear(gain.r), displayToLinear(gain.g), displayToLinear(gain.b), 1.0f);
     lit = lit || glm::vec3(colors[c]) != glm::vec3(0.0f);
   }
   if (!lit) return;

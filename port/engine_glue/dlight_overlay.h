@@ -3,9 +3,10 @@
 // each light re-draws the world triangles it reaches with a 16x16 falloff blob projected along Z
 // (texture coordinate 0.5 + (light - vertex).xy / radius, full strength within radius / 2 in
 // height) blended as dst * (1 + light) (tr_shade.c ProjectDlightTexture, GLS_SRCBLEND_DST_COLOR
-// | GLS_DSTBLEND_ONE; tr_image.c R_CreateDlightImage). The tracer has no such blend, so the
-// overlay is an additive copy of the lit triangles whose vertex colours carry what the blend
-// adds: baked light x ((1 + light)^2.2 - 1), the world texture supplying the texels.
+// | GLS_DSTBLEND_ONE; tr_image.c R_CreateDlightImage). The overlay is a copy of the lit
+// triangles drawn as a pa::LayerBlend::MultiplyAdd layer (dst * (1 + src) in display values, as
+// the lightmap preset composes layers) whose vertex colours are the product of (1 + light) over
+// the lights, minus 1, as linear light.
 // Triangles are subdivided near the light so per-vertex falloff follows the blob.
 #include <cstdint>
 #include <span>

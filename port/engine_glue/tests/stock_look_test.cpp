@@ -255,13 +255,20 @@ TEST(DlightOverlay, LitTrianglesAreCopiedAboveTheSurfaceWithWhatTheBlendAdds) {
   ASSERT_FALSE(overlay.indices.empty());
   EXPECT_EQ(overlay.indices.size() / 3, overlay.triangleMaterials.size());
   for (const glm::vec3& p : overlay.positions) EXPECT_GT(p.z, 0.0f);
-  // Every vertex is within 2 blob texels of the centre: full red. Baked 128 (linear 0.216) times
-  // (1 + 1)^2.2 - 1; no green or blue added.
-  const float expected = 0.2158605f * (std::pow(2.0f, 2.2f) - 1.0f);
+  // Every vertex is within 2 blob texels of the centre: full red. Stock makes dst * (1 + 1): the
+  // MultiplyAdd layer's colour is 1 (display and linear); no green or blue.
+  const float expected = 1.0f;
   for (const glm::vec4& c : overlay.colors) {
     EXPECT_NEAR(c.r, expected, 1e-3f);
     EXPECT_EQ(c.g, 0.0f);
   }
+  // Two such lights, two stock passes: dst * 2 * 2 = dst * (1 + 3): display 3, linear
+  // ((3 + 0.055) / 1.055)^2.4 (sRGB decoding continued past white).
+  const DynamicLight twice[2] = {light, light};
+  overlay.clear();
+  builder.build(std::span<const DynamicLight>(twice, 2), overlay);
+  ASSERT_FALSE(overlay.colors.empty());
+  EXPECT_NEAR(overlay.colors[0].r, std::pow(3.055f / 1.055f, 2.4f), 1e-3f);
   DynamicLight far = light;
   far.origin = {5000, 0, 40};
   overlay.clear();

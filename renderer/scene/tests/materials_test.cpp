@@ -3,8 +3,10 @@
 // Most use the Lightmap preset (no lightmap = fullbright base colour) for exact answers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numbers>
 
+#include "renderer/scene/textures/texture.h"
 #include "scene_builders.h"
 
 namespace pa {
@@ -77,9 +79,15 @@ TEST(Materials, AdditiveAddsAndNeverOccludesOrShadows) {
   MaterialDesc add = coloured(0.2f, 0.3f, 0.0f);
   add.alphaMode = AlphaMode::Additive;
   Layers layers(coloured(0.5f, 0.5f, 0.5f), add);
+  // The Lightmap preset adds display values, as framebuffer blending does: 0.5 + 0.2 linear is
+  // encoded 0.735 + 0.484, white; 0.5 + 0 stays 0.5.
   const glm::vec3 c = layers.centre();
-  EXPECT_NEAR(c.r, 0.7f, 1e-5f);
-  EXPECT_NEAR(c.g, 0.8f, 1e-5f);
+  const auto displaySum = [](float a, float b) {
+    return srgbToLinear(std::min(1.0f, linearToSrgb(a) + linearToSrgb(b)));
+  };
+  EXPECT_NEAR(c.r, displaySum(0.5f, 0.2f), 1e-5f);
+  EXPECT_NEAR(c.r, 1.0f, 1e-5f);
+  EXPECT_NEAR(c.g, displaySum(0.5f, 0.3f), 1e-5f);
   EXPECT_NEAR(c.b, 0.5f, 1e-5f);
   // Lit from straight above by a sun: the additive layer casts no shadow on the floor.
   LightDesc sun;
