@@ -386,9 +386,11 @@ struct ViewRenderer::Impl {
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.layerBlend = pa::LayerBlend::Over;
         desc.castsShadows = false;
-      } else if (filterAsDarkening(look.blend) == Darkening::BySourceColor && use == MaterialUse::StockEffect) {
-        desc.alphaMode = pa::AlphaMode::Additive;   // dst * src in display values, per channel
-        desc.layerBlend = pa::LayerBlend::Multiply;
+      } else if (const auto darken = filterAsDarkening(look.blend);
+                 darken != Darkening::None && use == MaterialUse::StockEffect) {
+        // dst * src (or dst * (1 - src): blob shadows) in display values, per channel.
+        desc.alphaMode = pa::AlphaMode::Additive;
+        desc.layerBlend = darken == Darkening::BySourceColor ? pa::LayerBlend::Multiply : pa::LayerBlend::MultiplyInverse;
         desc.castsShadows = false;
       } else if (isAlphaBlend(look.blend)) {
         desc.alphaMode = pa::AlphaMode::Blend;

@@ -111,7 +111,8 @@ enum class AlphaMode : uint8_t {
 enum class LayerBlend : uint8_t {
   Add,           ///< dst + src (glows, flames, beams).
   Over,          ///< dst * (1 - alpha) + src: premultiplied alpha blending (smoke).
-  Multiply,      ///< dst * src: filters (marks, shadows); adds nothing.
+  Multiply,      ///< dst * src: filters (marks); adds nothing.
+  MultiplyInverse,  ///< dst * (1 - src): blob shadows; adds nothing.
   MultiplyAdd,   ///< dst * (1 + src): the stock dynamic-light pass; adds nothing by itself.
 };
 

@@ -1,6 +1,7 @@
 #pragma once
 // A renderer-neutral reading of a shader: what a physically based renderer needs to know.
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,21 @@ struct SkyFaceImage {
 };
 SkyFaceImage skyFaceImage(int face);
 
+/// A later stage that multiplies the base colour by an image laid on the base stage's texture
+/// coordinates (same tcGen and tcMods, so texel for texel): `blendFunc filter`, (GL_DST_COLOR,
+/// GL_ZERO) or (GL_ZERO, GL_SRC_COLOR) scale 1; (GL_DST_COLOR, GL_SRC_COLOR) scale 2.
+struct BaseModulation {
+  std::string texture;
+  float scale = 1;
+};
+
+/// Multiplies RGBA8 `base` (width x height) by RGBA8 `modulator` (its own size, sampled at the
+/// nearest texel of the same relative position) times `scale`, per colour channel in 8-bit
+/// display values as the stock blend does, clamped; alpha kept. Returns false (base untouched)
+/// when a size does not match its pixel count.
+bool modulateBase(std::vector<uint8_t>& base, uint32_t width, uint32_t height, const std::vector<uint8_t>& modulator,
+                  uint32_t modulatorWidth, uint32_t modulatorHeight, float scale);
+
 /// Neutral description of a shader for renderers and exporters (no renderer dependency).
 struct MaterialInfo {
   std::string name;
@@ -80,6 +96,7 @@ struct MaterialInfo {
   std::vector<std::string> lightImageCandidates;
   std::array<float, 3> lightColor{1, 1, 1};  ///< q3map_lightRGB if given (else use lightImage)
   bool hasLightColor = false;
+  std::vector<BaseModulation> baseModulations;  ///< later stages multiplying the base on its uvs
   std::vector<std::string> glowTextures;  ///< additive stages over the base (self-illumination)
   bool emissive = false;                  ///< surfaceLight > 0, or glow stages, or additive base
   bool sky = false;

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <map>
+#include <string>
 #include <numbers>
 #include <tuple>
 
@@ -114,6 +115,8 @@ class SceneAssembler {
     m.fromScript = !def.implicit;
     std::string base = info.baseTexture.empty() && !info.animFrames.empty() ? info.animFrames.front() : info.baseTexture;
     if (!base.empty() && base[0] != '$' && base[0] != '*') m.baseTexture = textures_.get(base, info.clampUv);
+    if (m.baseTexture >= 0 && !info.baseModulations.empty() && info.animFrames.empty())
+      m.baseTexture = modulatedBase(def.name, m.baseTexture, info.baseModulations);
     m.baseColor = glm::vec4(info.constColor[0], info.constColor[1], info.constColor[2], 1.0f);
     m.alphaMode = alphaModeOf(info.alphaMode);
     m.alphaCutoff = info.alphaCutoff;
@@ -178,6 +181,35 @@ class SceneAssembler {
     light.angularRadius = glm::radians(std::max(0.0f, sun.deviation));
     light.source = "q3map_sun in " + def.name;
     scene_.lights.push_back(light);
+  }
+
+  /// The base texture multiplied by the shader's later filter stages (MaterialInfo::
+  /// baseModulations), as a texture of its own shared by equal requests; `base` when none applies.
+  int32_t modulatedBase(const std::string& shader, int32_t base, const std::vector<BaseModulation>& modulations) {
+    std::string key = std::to_string(base);
+    for (const BaseModulation& mod : modulations) key += " x" + std::to_string(mod.scale) + " " + mod.texture;
+    if (const auto found = modulatedTextures_.find(key); found != modulatedTextures_.end()) return found->second;
+    WorldTexture out = scene_.textures.at(size_t(base));
+    bool applied = false;
+    if (out.isFallback) return base;
+    for (const BaseModulation& mod : modulations) {
+      if (!textures_.exists(mod.texture)) {
+        scene_.warnings.push_back("shader '" + shader + "': filter stage image '" + mod.texture + "' not found, left out");
+        continue;
+      }
+      const WorldImage& by = scene_.textures.at(size_t(textures_.get(mod.texture, false))).image;
+      if (modulateBase(out.image.rgba8, out.image.width, out.image.height, by.rgba8, by.width, by.height, mod.scale)) {
+        out.requestedPath += " x " + mod.texture;
+        applied = true;
+      }
+    }
+    int32_t index = base;
+    if (applied) {
+      scene_.textures.push_back(std::move(out));
+      index = int32_t(scene_.textures.size() - 1);
+    }
+    modulatedTextures_.emplace(key, index);
+    return index;
   }
 
   /// A new texture holding texture `index` turned by 180 degrees (texel order reversed).
@@ -337,6 +369,7 @@ class SceneAssembler {
   std::map<std::pair<uint32_t, bool>, uint32_t> materials_;
   std::map<std::tuple<uint32_t, uint32_t, int32_t>, size_t> meshes_;
   std::optional<std::pair<ShaderDef, MaterialInfo>> skyMaterial_;
+  std::map<std::string, int32_t> modulatedTextures_;   ///< modulatedBase() results by request
   bool sunShaderSeen_ = false;
   bool externalLightmapWarned_ = false;
 };

@@ -103,6 +103,22 @@ TEST(Materials, AdditiveAddsAndNeverOccludesOrShadows) {
   EXPECT_NEAR(lit.r, 0.5f + 0.2f, 1e-4f);
 }
 
+TEST(Materials, LayerBlendsComposeInDisplayValuesInTheLightmapPreset) {
+  // Behind: linear 0.2 (display e); the layer's colour: linear 0.5 (display s), alpha 0.25.
+  const float e = linearToSrgb(0.2f), s = linearToSrgb(0.5f);
+  const std::pair<LayerBlend, float> cases[] = {
+      {LayerBlend::Over, e * 0.75f + s},       {LayerBlend::Multiply, e * s},
+      {LayerBlend::MultiplyInverse, e * (1 - s)}, {LayerBlend::MultiplyAdd, e * (1 + s)}};
+  for (const auto& [blend, display] : cases) {
+    MaterialDesc layer = coloured(0.5f, 0.5f, 0.5f);
+    layer.baseColor.a = 0.25f;
+    layer.alphaMode = AlphaMode::Additive;
+    layer.layerBlend = blend;
+    Layers layers(coloured(0.2f, 0.2f, 0.2f), layer);
+    EXPECT_NEAR(linearToSrgb(layers.centre().g), std::min(display, 1.0f), 1e-4f) << int(blend);
+  }
+}
+
 TEST(Materials, BlendIsStochasticCoverage) {
   MaterialDesc glass = coloured(1.0f, 0.0f, 0.0f);
   glass.alphaMode = AlphaMode::Blend;

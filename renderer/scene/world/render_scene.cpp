@@ -93,6 +93,10 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
           case LayerBlend::Add: break;
           case LayerBlend::Over: transmit = glm::vec3(1.0f - std::clamp(base.a, 0.0f, 1.0f)); break;
           case LayerBlend::Multiply: transmit = displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+          case LayerBlend::MultiplyInverse:
+            transmit = glm::max(1.0f - displayValue(glm::vec3(base)), glm::vec3(0.0f));
+            added = glm::vec3(0.0f);
+            break;
           case LayerBlend::MultiplyAdd: transmit = 1.0f + displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
         }
         recordAdditive(*ctx.request->additive, t, instanceIndex, prim, added, transmit);

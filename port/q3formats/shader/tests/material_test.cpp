@@ -66,6 +66,46 @@ TEST(Material, SurfaceLightAndGlowStages) {
   EXPECT_EQ(noImage.lightImage, "base.tga");
 }
 
+TEST(Material, LaterStagesMultiplyingTheBaseOnItsUvs) {
+  // oa_ctf2 textures/clown/steel_r_shine: the texture, a chrome add, the same texture as a
+  // filter, then the lightmap: stock shows texture^2 * lightmap (+ chrome).
+  auto shine = material(R"(s { { map steel.jpg rgbGen identity }
+    { clampmap chrome.jpg blendfunc add tcGen environment }
+    { map steel.jpg blendfunc filter }
+    { map $lightmap blendfunc gl_dst_color gl_one_minus_src_alpha tcGen lightmap } })");
+  ASSERT_EQ(shine.baseModulations.size(), 1u);
+  EXPECT_EQ(shine.baseModulations[0].texture, "steel.jpg");
+  EXPECT_FLOAT_EQ(shine.baseModulations[0].scale, 1.0f);
+  EXPECT_EQ(shine.baseTexture, "steel.jpg");
+  // GL_DST_COLOR GL_SRC_COLOR doubles; GL_ZERO GL_SRC_COLOR is a filter too.
+  auto doubled = material("d { { map a.tga } { map b.tga blendFunc GL_DST_COLOR GL_SRC_COLOR } "
+                          "{ map c.tga blendFunc GL_ZERO GL_SRC_COLOR } }");
+  ASSERT_EQ(doubled.baseModulations.size(), 2u);
+  EXPECT_FLOAT_EQ(doubled.baseModulations[0].scale, 2.0f);
+  EXPECT_EQ(doubled.baseModulations[1].texture, "c.tga");
+  EXPECT_FLOAT_EQ(doubled.baseModulations[1].scale, 1.0f);
+  // A detail texture on other uvs (tcMod scale) and the lightmap itself are not texel-for-texel.
+  auto detail = material("d { { map a.tga } { map $lightmap blendFunc filter } "
+                         "{ map detail.tga blendFunc GL_DST_COLOR GL_SRC_COLOR tcMod scale 8 8 } }");
+  EXPECT_TRUE(detail.baseModulations.empty());
+  // The ordinary lightmapped wall has none.
+  EXPECT_TRUE(material("w { { map $lightmap } { map w.tga blendFunc filter } }").baseModulations.empty());
+}
+
+TEST(Material, ModulateBaseMultipliesDisplayValuesTexelForTexel) {
+  std::vector<uint8_t> base = {200, 100, 255, 77, 128, 255, 0, 255};   // 2 x 1
+  const std::vector<uint8_t> self = base;
+  ASSERT_TRUE(modulateBase(base, 2, 1, self, 2, 1, 1.0f));
+  EXPECT_EQ(base, (std::vector<uint8_t>{157, 39, 255, 77, 64, 255, 0, 255}));   // 200*200/255 = 156.9
+  std::vector<uint8_t> grey = {100, 100, 100, 255};
+  const std::vector<uint8_t> half = {128, 255, 0, 9};                         // 1 x 1, stretched
+  ASSERT_TRUE(modulateBase(grey, 1, 1, half, 1, 1, 2.0f));
+  EXPECT_EQ(grey, (std::vector<uint8_t>{100, 200, 0, 255}));                  // x2, clamped, alpha kept
+  std::vector<uint8_t> wrongSize = {1, 2, 3};
+  EXPECT_FALSE(modulateBase(wrongSize, 1, 1, half, 1, 1, 1.0f));
+  EXPECT_EQ(wrongSize, (std::vector<uint8_t>{1, 2, 3}));
+}
+
 TEST(Material, LightImageCandidatesInQ3map2Order) {
   using Names = std::vector<std::string>;
   // q3map_lightimage first, then the editor image, the shader's name, the first stage image.

@@ -72,6 +72,12 @@ textures/test/lampmissing
   qer_editorimage textures/test/absent_too.tga
   { map textures/test/wall.tga }
 }
+textures/test/shine
+{
+  { map textures/test/wall.tga rgbGen identity }
+  { map textures/test/wall.tga blendfunc filter }
+  { map $lightmap blendfunc filter }
+}
 textures/common/nodraw
 {
   surfaceparm nodraw
@@ -110,7 +116,7 @@ class WorldBuilderTest : public ::testing::Test {
     source_.shaders = {{"textures/test/wall", 0, 1}, {"textures/test/missing", 0, 1}, {"textures/test/glass", 0, 1},
                        {"textures/test/lamp", 0, 1}, {"textures/skies/test", 4, 1}, {"textures/common/nodraw", 0x80, 0},
                        {"textures/test/implicit", 0, 1}, {"textures/test/lampimage", 0, 1},
-                       {"textures/test/lampmissing", 0, 1}};
+                       {"textures/test/lampmissing", 0, 1}, {"textures/test/shine", 0, 1}};
     source_.modelBounds = {{{0, 0, 0}, {64, 64, 64}}, {{0, 0, 100}, {64, 64, 101}}};
     source_.lightmaps.resize(2);
     source_.lightmaps[0].fill(64);
@@ -205,6 +211,21 @@ TEST_F(WorldBuilderTest, SurfaceLightColourComesFromTheFirstLightImageThatLoads)
   EXPECT_GT(missing->emission.r, missing->emission.g);
   EXPECT_GT(missing->emission.g, missing->emission.b);
   EXPECT_FLOAT_EQ(missing->emission.r, lamp->emission.b);   // both normalised to a maximum of 1
+}
+
+TEST_F(WorldBuilderTest, FilterStageOfTheSameImageSquaresTheBaseTexture) {
+  source_.surfaces = {quad(9, 0, 0, 0), quad(0, 0, 0, 8)};
+  WorldScene scene = build();
+  const WorldMaterial* shine = materialNamed(scene, "textures/test/shine");
+  const WorldMaterial* wall = materialNamed(scene, "textures/test/wall");
+  ASSERT_NE(shine, nullptr);
+  ASSERT_NE(wall, nullptr);
+  ASSERT_NE(shine->baseTexture, wall->baseTexture);
+  const WorldImage& squared = scene.textures.at(size_t(shine->baseTexture)).image;
+  ASSERT_EQ(squared.rgba8.size(), 4u * 4u * 4u);
+  // (200, 100, 50)^2 / 255 in 8-bit display values; the wall's own texture is untouched.
+  EXPECT_EQ(std::vector<uint8_t>(squared.rgba8.begin(), squared.rgba8.begin() + 4), (std::vector<uint8_t>{157, 39, 10, 255}));
+  EXPECT_EQ(scene.textures.at(size_t(wall->baseTexture)).image.rgba8[0], 200);
 }
 
 TEST_F(WorldBuilderTest, SkyShaderGivesSkyBoxAndSun) {
