@@ -45,8 +45,7 @@ struct DlightOverlay {
 /// The lit world triangles of a map, prepared once per map.
 class DlightOverlayBuilder {
  public:
-  /// Keeps the opaque, visible, lightmapped or vertex-lit triangles of the world model (model 0)
-  /// with their baked light per vertex (lightmaps brightened like the stock renderer's).
+  /// Keeps the opaque, visible, lightmapped or vertex-lit triangles of the world model (model 0).
   void prepare(const q3::WorldScene& scene);
   /// Appends the overlay of `lights` to `out` (nothing when no light reaches a triangle).
   void build(std::span<const DynamicLight> lights, DlightOverlay& out) const;
@@ -58,7 +57,6 @@ class DlightOverlayBuilder {
     glm::vec3 position{0.0f};
     glm::vec3 normal{0.0f, 0.0f, 1.0f};
     glm::vec2 uv{0.0f};
-    glm::vec3 baked{0.0f};   ///< Baked light in bytes (0..255, gamma space).
   };
   struct Triangle {
     Vertex v[3];

@@ -18,6 +18,8 @@ glm::vec3 decode(const glm::vec3& display) { return {srgbToLinear(display.x), sr
 
 }  // namespace
 
+glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b) { return decode(encode(a) * encode(b)); }
+
 void DisplayComposite::appendBefore(const AdditiveHits& hits, float t) {
   std::array<uint32_t, AdditiveHits::kCapacity> order{};
   uint32_t n = 0;

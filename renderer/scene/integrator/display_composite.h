@@ -13,6 +13,11 @@
 
 namespace pa {
 
+/// The product of two linear colours taken in display values, as linear radiance:
+/// decode(encode(a) * encode(b)) (the stock texture x lightmap multiply of 8-bit values; the
+/// linear product lin(a) lin(b) is up to 13x darker where the sRGB curve is linear, near black).
+glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b);
+
 /// Layers in front of the surface a camera ray ends on, nearest first, composed at the end.
 class DisplayComposite {
  public:

@@ -202,7 +202,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
       } else if (m.lightmap != nullptr) {
         baked = glm::vec3(m.lightmap->sample(s.lightmapUv, 0.0f));
       }
-      radiance += albedo * baked;
+      radiance += displayProduct(albedo, baked);   // texture x lightmap in 8-bit values, as stock
       break;
     }
     if (scatterCount >= maxScatter || depth >= maxScatter + kExtraDeltaBounces) break;

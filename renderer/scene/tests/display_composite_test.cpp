@@ -19,6 +19,13 @@ AdditiveHits hits(std::initializer_list<std::pair<float, DisplayComposite::Layer
   return h;
 }
 
+TEST(DisplayComposite, ProductOfDisplayValues) {
+  // Texture 0.3 x lightmap 0.1 in 8-bit values is 0.03; the linear product would display 0.0094.
+  const glm::vec3 p = displayProduct(linear(0.3f), linear(0.1f));
+  EXPECT_NEAR(linearToSrgb(p.x), 0.03f, 1e-5f);
+  EXPECT_NEAR(linearToSrgb(displayProduct(glm::vec3(1.0f), linear(0.6f)).y), 0.6f, 1e-5f);
+}
+
 TEST(DisplayComposite, NoLayersLeaveTheColourAlone) {
   const DisplayComposite none;
   EXPECT_EQ(none.over(glm::vec3(0.25f, 2.0f, 0.0f)), glm::vec3(0.25f, 2.0f, 0.0f));

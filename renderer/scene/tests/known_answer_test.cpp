@@ -238,9 +238,11 @@ TEST(KnownAnswer, LightmapPresetIsAlbedoTimesBakedLight) {
   const auto displaySum = [](float a, float b) {
     return srgbToLinear(std::min(1.0f, linearToSrgb(a) + linearToSrgb(b)));
   };
-  EXPECT_NEAR(f.radiance[5].r, displaySum(0.5f * 0.2f, 0.25f), 1e-5f);
-  EXPECT_NEAR(f.radiance[5].g, displaySum(0.5f * 0.4f, 0.25f), 1e-5f);
-  EXPECT_NEAR(f.radiance[5].b, 1.0f, 1e-5f);   // 0.4 + 0.25 linear: encoded 0.67 + 0.54, white
+  // Texture x lightmap multiply display values too (the stock 8-bit multiply).
+  const auto displayProduct = [](float a, float b) { return srgbToLinear(linearToSrgb(a) * linearToSrgb(b)); };
+  EXPECT_NEAR(f.radiance[5].r, displaySum(displayProduct(0.5f, 0.2f), 0.25f), 1e-5f);
+  EXPECT_NEAR(f.radiance[5].g, displaySum(displayProduct(0.5f, 0.4f), 0.25f), 1e-5f);
+  EXPECT_NEAR(f.radiance[5].b, 1.0f, 1e-5f);   // encoded 0.74 * 0.91 + 0.54: white
   EXPECT_NEAR(f.albedo[5].g, 0.5f, 1e-6f);
   EXPECT_NEAR(f.depth[5], 2.0f, 0.05f);   // jittered rays near the centre: 2 / cos
   EXPECT_NEAR(f.normal[5].z, 1.0f, 1e-5f);
