@@ -56,9 +56,10 @@ struct DynamicSlot {
 };
 
 /// Kinds of materials made from one shader. StockEffect: an effect in the lightmap preset, where
-/// alpha-blended effects (smoke puffs) and multiplicative marks are premultiplied-over layers
-/// (src * a + dst * (1 - a), dst * src), composed in display values like the stock blend stages
-/// (the tracer's stochastic blend would speckle at one sample per pixel).
+/// alpha-blended effects (smoke puffs) are premultiplied-over layers (src * a + dst * (1 - a)) and
+/// filters (marks, blob shadows) multiply layers (dst * src, dst * (1 - src)), composed in display
+/// values like the stock blend stages (the tracer's stochastic blend would speckle at one sample
+/// per pixel).
 enum class MaterialUse : uint8_t { Model, Effect, StockEffect };
 
 glm::mat4x3 entityTransform(const q3abi::refEntity_t& e) {
