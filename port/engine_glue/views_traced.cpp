@@ -56,9 +56,10 @@ struct DynamicSlot {
 };
 
 /// Kinds of materials made from one shader. StockEffect: an effect in the lightmap preset, where
-/// alpha-blended effects (smoke puffs) are drawn as premultiplied additive layers: the tracer
-/// blends stochastically (one sample per pixel would speckle), and over the dark scenes behind
-/// smoke, src * a + dst * (1 - a) is close to src * a + dst.
+/// alpha-blended effects (smoke puffs) are premultiplied-over layers (src * a + dst * (1 - a)) and
+/// filters (marks, blob shadows) multiply layers (dst * src, dst * (1 - src)), composed in display
+/// values like the stock blend stages (the tracer's stochastic blend would speckle at one sample
+/// per pixel).
 enum class MaterialUse : uint8_t { Model, Effect, StockEffect };
 
 glm::mat4x3 entityTransform(const q3abi::refEntity_t& e) {
@@ -215,12 +216,15 @@ struct ViewRenderer::Impl {
     return handle;
   }
 
-  /// The additive twin of a world material that carries the stock dynamic-light pass.
+  /// The layer twin of a world material that carries the stock dynamic-light pass: dst * (1 + vertex colour).
   pa::MaterialId dlightMaterial(uint32_t worldMaterial) {
     if (const auto found = dlightMaterials.find(worldMaterial); found != dlightMaterials.end()) return found->second;
     pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, worldMaterial, -1);
     desc.alphaMode = pa::AlphaMode::Additive;
-    desc.useVertexLight = false;   // the vertex colour is what the pass adds
+    desc.layerBlend = pa::LayerBlend::MultiplyAdd;
+    desc.baseTexture = pa::kNoId;  // the vertex colour alone is the light the pass multiplies in
+    desc.baseColor = glm::vec4(1.0f);
+    desc.useVertexLight = false;
     desc.lightmapTexture = pa::kNoId;
     desc.emissiveTexture = pa::kNoId;
     desc.emission = glm::vec3(0.0f);
@@ -391,6 +395,13 @@ struct ViewRenderer::Impl {
       } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
         desc.baseTexture = texture(premultipliedImage(image), look.clamp);
         desc.alphaMode = pa::AlphaMode::Additive;
+        desc.layerBlend = pa::LayerBlend::Over;
+        desc.castsShadows = false;
+      } else if (const auto darken = filterAsDarkening(look.blend);
+                 darken != Darkening::None && use == MaterialUse::StockEffect) {
+        // dst * src (or dst * (1 - src): blob shadows) in display values, per channel.
+        desc.alphaMode = pa::AlphaMode::Additive;
+        desc.layerBlend = darken == Darkening::BySourceColor ? pa::LayerBlend::Multiply : pa::LayerBlend::MultiplyInverse;
         desc.castsShadows = false;
       } else if (isAlphaBlend(look.blend)) {
         desc.alphaMode = pa::AlphaMode::Blend;

@@ -106,6 +106,16 @@ enum class AlphaMode : uint8_t {
   Additive,  ///< Adds its colour to what is behind; no occlusion (flames, glows, beams).
 };
 
+/// How the Lightmap integrator composes an Additive layer over the display value dst behind
+/// it; src is the layer's colour (texture x baseColor x vertex colour x tint) encoded for display.
+enum class LayerBlend : uint8_t {
+  Add,           ///< dst + src (glows, flames, beams).
+  Over,          ///< dst * (1 - alpha) + src: premultiplied alpha blending (smoke).
+  Multiply,      ///< dst * src: filters (marks); adds nothing.
+  MultiplyInverse,  ///< dst * (1 - src): blob shadows; adds nothing.
+  MultiplyAdd,   ///< dst * (1 + src): the stock dynamic-light pass; adds nothing by itself.
+};
+
 /// Material model limited to what a Quake III scene needs.
 struct MaterialDesc {
   TextureId baseTexture = kNoId;        ///< Albedo (RGB) + alpha (A).
@@ -114,6 +124,9 @@ struct MaterialDesc {
   float alphaCutoff = 0.5f;             ///< Mask: alpha < cutoff is a miss (invert via alphaInvert).
   bool alphaInvert = false;             ///< Mask: alpha >= cutoff is a miss (Quake's LT128).
   float opacity = 1.0f;                 ///< Blend: overall opacity multiplier.
+  /// Additive only: how the Lightmap integrator composes the layer over what is behind it, in
+  /// display values as framebuffer blending does (the other integrators add the colour).
+  LayerBlend layerBlend = LayerBlend::Add;
   TextureId emissiveTexture = kNoId;    ///< Emission map (RGB, sRGB); kNoId = constant emission.
   glm::vec3 emission{0.0f};             ///< Linear radiance multiplier (W/sr/m^2 in scene units).
   TextureId lightmapTexture = kNoId;    ///< Baked light for the lightmap preset (uses lightmapUvs).

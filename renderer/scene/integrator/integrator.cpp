@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "renderer/bvh/ray_offset.h"
+#include "renderer/scene/integrator/display_composite.h"
 #include "renderer/scene/materials/bsdf.h"
 #include "renderer/scene/sampling/warp.h"
 
@@ -120,6 +121,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
                                                                          : settings.maxBounces;
   uint32_t scatterCount = 0;
   uint32_t portalsCrossed = 0;   // what the camera sees through a portal counts as seen directly
+  DisplayComposite layers;       // Lightmap: see-through layers, composed in display values at the end
 
   for (uint32_t depth = 0;; ++depth) {
     const uint32_t viewDepth = depth - portalsCrossed;
@@ -129,8 +131,12 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     bool onOverlay = false;
     const bool found =
         traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
-    radiance += clampContribution(beta * additive.sumBefore(found ? hit.t : kInfinity), viewDepth,
-                                  settings.radianceClamp);
+    if (lightmapOnly) {
+      layers.appendBefore(additive, found ? hit.t : kInfinity);
+    } else {
+      radiance += clampContribution(beta * additive.sumBefore(found ? hit.t : kInfinity), viewDepth,
+                                    settings.radianceClamp);
+    }
 
     const glm::vec3 dir = glm::normalize(ray.dir);
     const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay) : SurfaceHit{};
@@ -177,7 +183,9 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     }
 
     const glm::vec3 le = scene.emission(s, front);
-    if (le != glm::vec3(0.0f)) {
+    if (le != glm::vec3(0.0f) && lightmapOnly) {
+      layers.append({le, glm::vec3(1.0f)});   // a glow stage adds to the lit texture in display values
+    } else if (le != glm::vec3(0.0f)) {
       float weight = 1.0f;
       if (!prev.delta && !lightmapOnly) {
         const uint32_t index = scene.emissiveIndex(s);
@@ -194,7 +202,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
       } else if (m.lightmap != nullptr) {
         baked = glm::vec3(m.lightmap->sample(s.lightmapUv, 0.0f));
       }
-      radiance += albedo * baked;
+      radiance += displayProduct(albedo, baked);   // texture x lightmap in 8-bit values, as stock
       break;
     }
     if (scatterCount >= maxScatter || depth >= maxScatter + kExtraDeltaBounces) break;
@@ -226,7 +234,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     ray.origin = offsetRayOrigin(s.position, glm::dot(bs.wi, ng) > 0.0f ? ng : -ng);
     ray.dir = bs.wi;
   }
-  out.radiance = radiance;
+  out.radiance = lightmapOnly ? layers.over(radiance) : radiance;
   return out;
 }
 

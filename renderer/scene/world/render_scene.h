@@ -57,7 +57,8 @@ struct AdditiveHits {
     float t;
     uint32_t instance;
     uint32_t prim;
-    glm::vec3 color;
+    glm::vec3 color;      ///< Linear colour added.
+    glm::vec3 transmit;   ///< Display-value multiplier of what is behind (MaterialDesc::layerBlend).
   };
   uint32_t count = 0;
   std::array<Entry, kCapacity> entries;   ///< First `count` are valid.
