@@ -8,6 +8,7 @@
 
 #include "renderer/bvh/ray_offset.h"
 #include "renderer/scene/materials/bsdf.h"
+#include "renderer/scene/media/fog_volumes.h"
 #include "renderer/scene/sampling/warp.h"
 
 namespace pa {
@@ -91,8 +92,13 @@ glm::vec3 sampleDirectLight(const RenderScene& scene, const SurfaceHit& s, const
   request.randomBits = bits;
   request.towardEnvironment = ls.environment;
   if (scene.occluded(shadow, request)) return glm::vec3(0.0f);
+  float throughFog = 1.0f;
+  if (!scene.fogs.empty()) {
+    throughFog = FogSegment(scene.fogs, shadow.origin, shadow.dir, shadow.tmax, glm::length(shadow.dir)).transmittance();
+    if (!(throughFog > 0.0f)) return glm::vec3(0.0f);
+  }
   const float weight = ls.delta ? 1.0f : sampling::powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
-  return f * ls.radiance * (weight / ls.pdf);
+  return f * ls.radiance * (weight * throughFog / ls.pdf);
 }
 
 /// Radiance arriving from the environment along dir, MIS-weighted against sky sampling. Seen
@@ -102,6 +108,17 @@ glm::vec3 environmentRadiance(const RenderScene& scene, const glm::vec3& dir, co
   const glm::vec3 le = scattered ? scene.sky.lightingRadiance(dir) : scene.sky.radiance(dir);
   if (prev.delta) return le;
   return le * sampling::powerHeuristic(prev.bsdfPdf, scene.lights.skyPdf(prev.normal, dir));
+}
+
+/// Additive surfaces in front of tHit, each dimmed by the fog between it and the ray origin.
+glm::vec3 additiveThroughFog(const AdditiveHits& additive, float tHit, const FogSegment& fog) {
+  if (fog.empty()) return additive.sumBefore(tHit);
+  glm::vec3 sum(0.0f);
+  for (uint32_t i = 0; i < additive.count; ++i) {
+    const AdditiveHits::Entry& e = additive.entries[i];
+    if (e.t < tHit) sum += e.color * fog.transmittanceTo(e.t);
+  }
+  return sum;
 }
 
 }  // namespace
@@ -129,10 +146,18 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     bool onOverlay = false;
     const bool found =
         traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
-    radiance += clampContribution(beta * additive.sumBefore(found ? hit.t : kInfinity), viewDepth,
-                                  settings.radianceClamp);
-
+    const float tHit = found ? hit.t : kInfinity;
     const glm::vec3 dir = glm::normalize(ray.dir);
+    // Fog along this segment; the Lightmap look measures camera rays by eye-space depth.
+    const float eyeDepthScale = lightmapOnly && depth == 0 ? glm::dot(dir, camera.forward()) : 1.0f;
+    const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir) * eyeDepthScale);
+    radiance += clampContribution(beta * additiveThroughFog(additive, tHit, fog), viewDepth, settings.radianceClamp);
+    if (!fog.empty()) {
+      // The glow is the look of lit haze: seen along camera and mirror chains, never a light
+      // source after a scattering (the map's lights already lit it; counting it would light twice).
+      if (scatterCount == 0) radiance += beta * fog.glow();
+      beta *= fog.transmittance();
+    }
     const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay) : SurfaceHit{};
     if (!found || s.material->desc.sky) {
       const glm::vec3 le =
@@ -194,7 +219,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
       } else if (m.lightmap != nullptr) {
         baked = glm::vec3(m.lightmap->sample(s.lightmapUv, 0.0f));
       }
-      radiance += albedo * baked;
+      radiance += beta * albedo * baked;
       break;
     }
     if (scatterCount >= maxScatter || depth >= maxScatter + kExtraDeltaBounces) break;
