@@ -239,6 +239,14 @@ class SceneAssembler {
       WorldFog out;
       out.shaderName = fog.shaderName;
       out.bounds = fog.bounds;
+      for (const glm::vec4& plane : fog.planes) {
+        const float length = glm::length(glm::vec3(plane));
+        if (std::isfinite(length) && std::isfinite(plane.w) && length > 1e-6f) out.planes.push_back(plane / length);
+      }
+      if (out.planes.size() != fog.planes.size())
+        scene_.warnings.push_back("fog '" + fog.shaderName + "': " + std::to_string(fog.planes.size() - out.planes.size()) +
+                                  " invalid brush planes dropped");
+      if (out.planes.empty()) scene_.warnings.push_back("fog '" + fog.shaderName + "': brush has no planes, fog not drawn");
       if (const ShaderDef* def = shaders_.find(fog.shaderName); def && def->fog) {
         out.color = glm::vec3(def->fog->color[0], def->fog->color[1], def->fog->color[2]);
         out.depthForOpaque = def->fog->depthForOpaque;
