@@ -51,6 +51,7 @@ struct WorldHandles {
 struct FogVolumes {
   FogVolumes() = default;
   FogVolumes(FogVolumes&&) = default;
+  FogVolumes& operator=(FogVolumes&&) = default;
   FogVolumes(const FogVolumes&) = delete;   ///< A copy would view the original's planes.
   std::vector<std::vector<glm::vec4>> planes;   ///< One array per volume.
   std::vector<FogVolumeDesc> volumes;           ///< planes[i] viewed by volumes[i].
