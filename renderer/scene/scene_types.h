@@ -48,8 +48,9 @@
 //   volumes compose front to back). Every segment of every integrator is fogged: camera,
 //   mirror and portal rays gain the glow; bounce rays after a diffuse or glossy scattering and
 //   shadow rays only lose (1 - a): the glow lights nothing (it stands for haze the scene's lights
-//   already lit). Lightmap integrator: a camera ray measures L along the camera's forward axis
-//   (eye-space depth, as the stock renderer does); every other segment its true length.
+//   already lit). Lightmap integrator: the stock look. A camera ray measures L along the
+//   camera's forward axis (eye-space depth), every other segment its true length, and the blend
+//   is done on display values (sRGB-encoded, behind clamped to 1) as the stock framebuffer does.
 #include <array>
 #include <cmath>
 #include <cstdint>

@@ -122,7 +122,12 @@ class SceneAssembler {
     m.sky = info.sky || (m.surfaceFlags & kSurfSky) != 0;
     m.fog = info.fogVolume;
     m.mirror = info.portal;
-    m.visible = !info.invisible && !m.fog && (m.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
+    // A fog shader whose first stage is solid (lava with fogParms) draws its surface like any
+    // other; the cloud layers some fog shaders filter or blend onto the fog's surface are left
+    // out (the fog volume itself gives the look), as are fog-only shaders (no stages).
+    const bool solidStage = info.alphaMode == AlphaMode::Opaque || info.alphaMode == AlphaMode::Mask;
+    m.visible = !info.invisible && (!m.fog || solidStage) &&
+                (m.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
     m.vertexLit = info.lighting == LightingMode::Vertex || (!hasLightmap && info.lighting == LightingMode::Lightmap) ||
                   (m.surfaceFlags & kSurfNolightmap) != 0;
     m.castsShadows = !m.sky && m.alphaMode != WorldAlphaMode::Additive && m.visible;

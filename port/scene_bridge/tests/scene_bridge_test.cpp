@@ -128,7 +128,8 @@ TEST(SceneBridge, FogBetweenCameraAndWallBlendsTheLightmappedLook) {
   EXPECT_EQ(handles.fogVolumes, 1u);
   renderer.commit();
   const float opacity = std::sqrt(100.0f / 400.0f - 1.0f / 64.0f);
-  EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), 1.0f - opacity, 0.01f);
+  // Display-space blend toward black: the encoded white drops to 1 - opacity.
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(1.0f - opacity), 0.01f);
 }
 
 TEST(SceneBridge, VertexLitSurfacesUseVertexColoursAsBakedLight) {

@@ -1,6 +1,7 @@
 #include "renderer/scene/integrator/integrator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -137,6 +138,15 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
                                                                          : settings.maxBounces;
   uint32_t scatterCount = 0;
   uint32_t portalsCrossed = 0;   // what the camera sees through a portal counts as seen directly
+  // Lightmap look: fog layers to blend over what lies behind them on display values, as the
+  // stock renderer's framebuffer does (beta stays 1 in this integrator: mirrors end the path).
+  struct DisplayFog {
+    glm::vec3 radianceInFront;
+    float opacity;
+    glm::vec3 color;
+  };
+  std::array<DisplayFog, 8> displayFog;
+  uint32_t displayFogCount = 0;
 
   for (uint32_t depth = 0;; ++depth) {
     const uint32_t viewDepth = depth - portalsCrossed;
@@ -152,7 +162,9 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     const float eyeDepthScale = lightmapOnly && depth == 0 ? glm::dot(dir, camera.forward()) : 1.0f;
     const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir) * eyeDepthScale);
     radiance += clampContribution(beta * additiveThroughFog(additive, tHit, fog), viewDepth, settings.radianceClamp);
-    if (!fog.empty()) {
+    if (!fog.empty() && lightmapOnly && displayFogCount < displayFog.size()) {
+      displayFog[displayFogCount++] = {radiance, 1.0f - fog.transmittance(), fog.layerColor()};
+    } else if (!fog.empty()) {
       // The glow is the look of lit haze: seen along camera and mirror chains, never a light
       // source after a scattering (the map's lights already lit it; counting it would light twice).
       if (scatterCount == 0) radiance += beta * fog.glow();
@@ -250,6 +262,10 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     ray = Ray{};
     ray.origin = offsetRayOrigin(s.position, glm::dot(bs.wi, ng) > 0.0f ? ng : -ng);
     ray.dir = bs.wi;
+  }
+  for (uint32_t i = displayFogCount; i-- > 0;) {
+    const DisplayFog& f = displayFog[i];
+    radiance = f.radianceInFront + blendInDisplaySpace(radiance - f.radianceInFront, f.opacity, f.color);
   }
   out.radiance = radiance;
   return out;

@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "renderer/scene/textures/texture.h"
+
 namespace pa {
 
 namespace {
@@ -102,6 +104,22 @@ float FogSegment::transmittanceTo(float t) const {
     result *= 1.0f - fogOpacity((std::min(t, c.t1) - c.t0) * lengthScale_, c.volume->depthForOpaque);
   }
   return result;
+}
+
+glm::vec3 FogSegment::layerColor() const {
+  const float opacity = 1.0f - transmittance_;
+  return opacity > 0.0f ? glow_ / opacity : glm::vec3(0.0f);
+}
+
+glm::vec3 blendInDisplaySpace(const glm::vec3& behind, float opacity, const glm::vec3& color) {
+  const float a = std::clamp(opacity, 0.0f, 1.0f);
+  glm::vec3 out;
+  for (int c = 0; c < 3; ++c) {
+    const float back = linearToSrgb(std::clamp(behind[c], 0.0f, 1.0f));
+    const float fog = linearToSrgb(std::clamp(color[c], 0.0f, 1.0f));
+    out[c] = srgbToLinear((1.0f - a) * back + a * fog);
+  }
+  return out;
 }
 
 }  // namespace pa

@@ -42,6 +42,11 @@ float fogOpacity(float length, float depthForOpaque);
 bool fogInterval(const FogVolume& volume, const glm::vec3& origin, const glm::vec3& dir, float tEnd, float& t0,
                  float& t1);
 
+/// The stock renderer's fog blend, done on display (sRGB-encoded) values as its framebuffer
+/// blend does: lin((1 - opacity) * srgb(min(behind, 1)) + opacity * srgb(min(color, 1))).
+/// The Lightmap integrator composites camera-ray fog this way.
+glm::vec3 blendInDisplaySpace(const glm::vec3& behind, float opacity, const glm::vec3& color);
+
 /// The fog volumes one ray segment crosses, nearest entry first, with what they do to the
 /// light coming along the segment toward its origin.
 class FogSegment {
@@ -63,6 +68,8 @@ class FogSegment {
   float transmittanceTo(float t) const;
   /// Radiance the fog adds along the whole segment (its glow, attenuated by nearer fog).
   glm::vec3 glow() const { return glow_; }
+  /// The segment's fog as one layer: opacity 1 - transmittance() of colour glow() / opacity.
+  glm::vec3 layerColor() const;
 
  private:
   struct Crossing {

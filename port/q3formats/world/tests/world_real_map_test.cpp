@@ -70,6 +70,12 @@ TEST_F(RealMapTest, Oa_dm1LavaFogIsItsBrush) {
   }
   EXPECT_TRUE(inside);
   EXPECT_TRUE(outside);
+  // The lava shader is a fog shader with stages: its surface is drawn.
+  const auto lava = std::find_if(scene_->materials.begin(), scene_->materials.end(),
+                                 [](const WorldMaterial& m) { return m.shaderName == "textures/liquids/lavahell"; });
+  ASSERT_NE(lava, scene_->materials.end());
+  EXPECT_TRUE(lava->fog);
+  EXPECT_TRUE(lava->visible);
 }
 
 TEST_F(RealMapTest, TrianglesFaceTheirNormals) {
