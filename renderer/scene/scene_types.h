@@ -49,8 +49,9 @@
 //   mirror and portal rays gain the glow; bounce rays after a diffuse or glossy scattering and
 //   shadow rays only lose (1 - a): the glow lights nothing (it stands for haze the scene's lights
 //   already lit). Lightmap integrator: the stock look. A camera ray measures L along the
-//   camera's forward axis (eye-space depth), every other segment its true length, and the blend
-//   is done on display values (sRGB-encoded, behind clamped to 1) as the stock framebuffer does.
+//   camera's forward axis (eye-space depth), every other segment its true length; only the
+//   volumes holding the segment's end fog it (stock fogs surfaces inside a fog brush, never the
+//   sky); and the blend is done on display values (sRGB-encoded, behind clamped to 1).
 #include <array>
 #include <cmath>
 #include <cstdint>

@@ -116,10 +116,10 @@ TEST(SceneBridge, FogVolumesCarryTheBrushColourAndStockMinimumDepth) {
 }
 
 TEST(SceneBridge, FogBetweenCameraAndWallBlendsTheLightmappedLook) {
-  // The wall (x = 0) seen from x = 200 through fog filling x in [50, 150]: 100 units deep.
+  // The wall (x = 0) seen from x = 200 through fog filling x in [0, 100]: 100 units deep.
   q3::WorldScene scene = wallScene(64, false);
   q3::WorldFog fog;
-  fog.planes = {{1, 0, 0, 150}, {-1, 0, 0, -50}, {0, 1, 0, 300}, {0, -1, 0, 300}, {0, 0, 1, 300}, {0, 0, -1, 300}};
+  fog.planes = {{1, 0, 0, 100}, {-1, 0, 0, 0}, {0, 1, 0, 300}, {0, -1, 0, 300}, {0, 0, 1, 300}, {0, 0, -1, 300}};
   fog.color = {0.0f, 0.0f, 0.0f};
   fog.depthForOpaque = 400.0f;
   scene.fogs.push_back(fog);

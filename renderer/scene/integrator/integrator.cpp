@@ -160,7 +160,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     const glm::vec3 dir = glm::normalize(ray.dir);
     // Fog along this segment; the Lightmap look measures camera rays by eye-space depth.
     const float eyeDepthScale = lightmapOnly && depth == 0 ? glm::dot(dir, camera.forward()) : 1.0f;
-    const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir) * eyeDepthScale);
+    const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir) * eyeDepthScale, lightmapOnly);
     radiance += clampContribution(beta * additiveThroughFog(additive, tHit, fog), viewDepth, settings.radianceClamp);
     if (!fog.empty() && lightmapOnly && displayFogCount < displayFog.size()) {
       displayFog[displayFogCount++] = {radiance, 1.0f - fog.transmittance(), fog.layerColor()};

@@ -12,7 +12,8 @@ namespace pa {
 namespace {
 
 constexpr float kFogStart = 1.0f / 64.0f;     // fraction of depthForOpaque before any fog shows
-constexpr float kParallel = 1e-12f;           // |dot(n, dir)| below this: the ray runs along the plane
+constexpr float kParallel = 1e-12f;
+constexpr float kEndSlack = 1e-4f;            // relative tolerance of "the segment ends inside"           // |dot(n, dir)| below this: the ray runs along the plane
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -69,11 +70,15 @@ bool fogInterval(const FogVolume& volume, const glm::vec3& origin, const glm::ve
 }
 
 FogSegment::FogSegment(std::span<const FogVolume> volumes, const glm::vec3& origin, const glm::vec3& dir, float tEnd,
-                       float lengthScale)
+                       float lengthScale, bool endInsideOnly)
     : lengthScale_(lengthScale) {
+  const bool endFinite = std::isfinite(tEnd);
+  const float endSlack = endFinite ? kEndSlack * std::max(1.0f, tEnd) : 0.0f;   // hits on the boundary are inside
   for (const FogVolume& volume : volumes) {
     Crossing c;
     if (!fogInterval(volume, origin, dir, tEnd, c.t0, c.t1)) continue;
+    const bool holdsEnd = endFinite ? c.t1 + endSlack >= tEnd : std::isinf(c.t1);
+    if (endInsideOnly && !holdsEnd) continue;   // leaves the volume before the end
     c.volume = &volume;
     // Keep the nearest kCapacity crossings, sorted by entry.
     uint32_t at = count_;

@@ -57,8 +57,10 @@ class FogSegment {
   /// Clips origin + t * dir, t in [0, tEnd] (tEnd may be infinite) against every volume.
   /// `lengthScale` multiplies the distances inside (|dir| for non-unit directions; the
   /// Lightmap integrator's camera rays also fold in the eye-space depth factor).
+  /// endInsideOnly: only volumes that hold the segment's end count (the stock renderer fogs
+  /// only surfaces inside a fog brush; an infinite end is inside none).
   FogSegment(std::span<const FogVolume> volumes, const glm::vec3& origin, const glm::vec3& dir, float tEnd,
-             float lengthScale);
+             float lengthScale, bool endInsideOnly = false);
 
   /// True when the segment touches no fog.
   bool empty() const { return count_ == 0; }
