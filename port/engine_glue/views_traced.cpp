@@ -538,10 +538,10 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   d.renderer->commit();
   engine.print(q3abi::PRINT_ALL,
                "pathtracer: %s traced scene: %zu materials, %zu textures, %zu lights, %llu "
-               "triangles (%d ms)\n",
+               "triangles + %zu deformed, %zu fog volumes (%d ms)\n",
                world.name().c_str(), d.worldScene->materials.size(), d.worldScene->textures.size(),
                d.worldScene->lights.size(), static_cast<unsigned long long>(d.world.triangles),
-               engine.milliseconds() - start);
+               d.worldDeforms.triangles(), d.fog.size(), engine.milliseconds() - start);
 }
 
 std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
