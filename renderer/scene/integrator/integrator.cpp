@@ -162,9 +162,9 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     const float eyeDepthScale = lightmapOnly && depth == 0 ? glm::dot(dir, camera.forward()) : 1.0f;
     const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir) * eyeDepthScale, lightmapOnly);
     radiance += clampContribution(beta * additiveThroughFog(additive, tHit, fog), viewDepth, settings.radianceClamp);
-    if (!fog.empty() && lightmapOnly && displayFogCount < displayFog.size()) {
+    if (fog.transmittance() < 1.0f && lightmapOnly && displayFogCount < displayFog.size()) {
       displayFog[displayFogCount++] = {radiance, 1.0f - fog.transmittance(), fog.layerColor()};
-    } else if (!fog.empty()) {
+    } else if (fog.transmittance() < 1.0f) {
       // The glow is the look of lit haze: seen along camera and mirror chains, never a light
       // source after a scattering (the map's lights already lit it; counting it would light twice).
       if (scatterCount == 0) radiance += beta * fog.glow();
