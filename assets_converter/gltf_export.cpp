@@ -128,7 +128,7 @@ class Exporter {
 
   /// Whether a material's surfaces are written at all.
   bool exported(const q3::WorldMaterial& m) const {
-    if (!m.visible || m.fog) return false;
+    if (!m.visible) return false;   // fog-only surfaces are invisible; lava with fogParms is drawn
     if (m.sky && !options_.skySurfaces) return false;
     return true;
   }

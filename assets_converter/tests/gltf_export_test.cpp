@@ -203,6 +203,7 @@ TEST(GltfExport, SkipsInvisibleSkyAndFogSurfaces) {
   sky.sky = true;
   q3::WorldMaterial fog = texturedMaterial("fog");
   fog.fog = true;
+  fog.visible = false;   // a fog-only shader (the world builder hides it)
   q3::WorldMaterial wall = texturedMaterial("wall");
   auto [doc, bin] = splitGlb(pa::converter::exportGlb(sceneWithMaterials({nodraw, sky, fog, wall})));
   ASSERT_EQ(doc["meshes"][0]["primitives"].size(), 1u);
