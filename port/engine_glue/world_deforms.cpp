@@ -107,10 +107,14 @@ void deformBatch(GeometryBatch& batch, double seconds,
   if (batch.normals.size() != vertices || batch.uvs.size() != vertices) return;
   std::vector<uint8_t> done(vertices, 0);
   std::vector<uint32_t> chosen;
+  std::unordered_map<q3abi::qhandle_t, const std::vector<q3::Deform>*> known;   // one lookup per shader
   for (size_t t = 0; t < batch.triangleShaders.size() && 3 * t + 2 < batch.indices.size(); ++t) {
     const q3abi::qhandle_t shader = batch.triangleShaders[t];
-    const std::vector<q3::Deform>* deforms = deformsOf(shader);
+    auto found = known.find(shader);
+    if (found == known.end()) found = known.emplace(shader, deformsOf(shader)).first;
+    const std::vector<q3::Deform>* deforms = found->second;
     if (deforms == nullptr || deforms->empty()) continue;
+    found->second = nullptr;   // its vertices are all gathered below
     // Gather this shader's untouched vertices from here on, then deform them in one go.
     chosen.clear();
     for (size_t u = t; u < batch.triangleShaders.size() && 3 * u + 2 < batch.indices.size(); ++u) {
