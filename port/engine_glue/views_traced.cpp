@@ -32,6 +32,8 @@
 #include "port/engine_glue/stock_look.h"
 #include "port/engine_glue/views.h"
 #include "port/engine_glue/world_sprites.h"
+#include "port/engine_glue/world_deforms.h"
+#include "port/engine_glue/fog_volumes.h"
 #include "port/engine_glue/world.h"
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/common/format_error.h"
@@ -169,6 +171,9 @@ struct ViewRenderer::Impl {
   DynamicSlot dlightSlot;
   std::unordered_map<uint32_t, pa::MaterialId> dlightMaterials;   ///< Per world material.
   std::vector<pa::MaterialId> dlightTriangleMaterials;
+  WorldDeforms worldDeforms;    ///< deformVertexes wave/normal/bulge/move world surfaces (dynamic meshes).
+  ShaderDeforms modelDeforms;   ///< The same deforms on MD3 surfaces, by shader name.
+  ViewFog fog;                  ///< The map's fog volumes.
 
   void resetRenderer() {
     renderer = std::make_unique<pa::Renderer>(pa::RendererConfig{static_cast<uint32_t>(threads)});
@@ -191,6 +196,9 @@ struct ViewRenderer::Impl {
     worldSprites = WorldSprites{};
     spriteMaterials.clear();
     spriteHandles.clear();
+    worldDeforms = WorldDeforms{};
+    modelDeforms.reset(nullptr);
+    fog = ViewFog{};
     stockSkyReady = stockSkyShown = stockEmissionShown = skyHidden = false;
   }
 
@@ -531,7 +539,10 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
   stockWorldLook(*d.worldScene, library, d.glowColors);
+  d.worldDeforms.extract(*d.worldScene, library);   // before the upload: leaves the static mesh
   d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer);
+  d.worldDeforms.bind(*d.worldScene, d.world);
+  d.fog.load(*d.worldScene, *d.renderer);
   d.portals.load(bsp, *d.worldScene);
   d.bridgeSky = pa::bridge::skyDesc(*d.worldScene, d.world);
   d.prepareStockSky(library, images);
@@ -544,13 +555,14 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
     d.brushInstances[m].mesh = m < d.world.modelMeshes.size() ? d.world.modelMeshes[m] : pa::kNoId;
     d.brushInstances[m].mask = pa::kMaskAll;
   }
+  d.modelDeforms.reset(std::make_shared<const q3::ShaderLibrary>(std::move(library)));
   d.renderer->commit();
   engine.print(q3abi::PRINT_ALL,
                "pathtracer: %s traced scene: %zu materials, %zu textures, %zu lights, %llu "
-               "triangles (%d ms)\n",
+               "triangles + %zu deformed, %zu fog volumes (%d ms)\n",
                world.name().c_str(), d.worldScene->materials.size(), d.worldScene->textures.size(),
                d.worldScene->lights.size(), static_cast<unsigned long long>(d.world.triangles),
-               engine.milliseconds() - start);
+               d.worldDeforms.triangles(), d.fog.size(), engine.milliseconds() - start);
 }
 
 std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
@@ -613,6 +625,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     for (size_t s = 0; s < surfaceShaders.size(); ++s) autosprite[s] = shaders.resolve(surfaceShaders[s]).look.autosprite;
     appendMd3(*md3, e, surfaceShaders, d.batch, autosprite, spriteAxesFor(e, viewer));
     if (d.batch.indices.empty()) continue;
+    deformBatch(d.batch, seconds, [&](q3abi::qhandle_t h) { return d.modelDeforms.find(shaders.resolve(h).name); });
     if (lightmapLook) {
       const float* at = (e.renderfx & q3abi::RF_LIGHTING_ORIGIN) ? e.lightingOrigin : e.origin;
       const glm::vec3 lightOrigin(at[0], at[1], at[2]);
@@ -635,6 +648,14 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     }
     d.setBrushInstance(m, desc);
   }
+  const glm::mat4x3 worldPlace(1.0f);
+  d.worldDeforms.update(
+      seconds,
+      [&](uint32_t model) -> const glm::mat4x3* {
+        if (model == 0) return withWorld ? &worldPlace : nullptr;
+        return model < brushPlaced.size() && brushPlaced[model] ? &d.brushInstances[model].objectToWorld : nullptr;
+      },
+      *d.renderer);
 
   // Effects and polygons: one world-space mesh.
   d.batch.clear();
@@ -687,6 +708,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     d.hideSky();
   }
   d.drawStockDlights(scene.lights(), withWorld && lightmapLook);
+  d.fog.show(withWorld, *d.renderer);
   d.renderer->commit();
 
   pa::RenderSettings rs;

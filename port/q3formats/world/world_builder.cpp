@@ -125,7 +125,12 @@ class SceneAssembler {
     m.sky = info.sky || (m.surfaceFlags & kSurfSky) != 0;
     m.fog = info.fogVolume;
     m.mirror = info.portal;
-    m.visible = !info.invisible && !m.fog && (m.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
+    // A fog shader whose first stage is solid (lava with fogParms) draws its surface like any
+    // other; the cloud layers some fog shaders filter or blend onto the fog's surface are left
+    // out (the fog volume itself gives the look), as are fog-only shaders (no stages).
+    const bool solidStage = info.alphaMode == AlphaMode::Opaque || info.alphaMode == AlphaMode::Mask;
+    m.visible = !info.invisible && (!m.fog || solidStage) &&
+                (m.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
     m.vertexLit = info.lighting == LightingMode::Vertex || (!hasLightmap && info.lighting == LightingMode::Lightmap) ||
                   (m.surfaceFlags & kSurfNolightmap) != 0;
     m.castsShadows = !m.sky && m.alphaMode != WorldAlphaMode::Additive && m.visible;
@@ -289,6 +294,14 @@ class SceneAssembler {
       WorldFog out;
       out.shaderName = fog.shaderName;
       out.bounds = fog.bounds;
+      for (const glm::vec4& plane : fog.planes) {
+        const float length = glm::length(glm::vec3(plane));
+        if (std::isfinite(length) && std::isfinite(plane.w) && length > 1e-6f) out.planes.push_back(plane / length);
+      }
+      if (out.planes.size() != fog.planes.size())
+        scene_.warnings.push_back("fog '" + fog.shaderName + "': " + std::to_string(fog.planes.size() - out.planes.size()) +
+                                  " invalid brush planes dropped");
+      if (out.planes.empty()) scene_.warnings.push_back("fog '" + fog.shaderName + "': brush has no planes, fog not drawn");
       if (const ShaderDef* def = shaders_.find(fog.shaderName); def && def->fog) {
         out.color = glm::vec3(def->fog->color[0], def->fog->color[1], def->fog->color[2]);
         out.depthForOpaque = def->fog->depthForOpaque;

@@ -158,10 +158,13 @@ struct WorldCamera {
   float fovX = 90.0f;            ///< Degrees (cg_fov default).
 };
 
-/// A fog volume (data only: the path tracer does not model participating media yet).
+/// A fog volume: the fog brush (a convex region) filled with the fog of its shader's fogParms.
 struct WorldFog {
   std::string shaderName;
   WorldBounds bounds;            ///< Bounds of the fog brush.
+  /// The brush's side planes, xyz unit outward normal and w distance (inside where
+  /// dot(xyz, p) <= w); non-finite or zero-normal sides dropped. Empty when the brush has none usable.
+  std::vector<glm::vec4> planes;
   glm::vec3 color{0.5f};         ///< fogParms colour.
   float depthForOpaque = 0.0f;   ///< fogParms distance to full opacity (Quake units).
 };

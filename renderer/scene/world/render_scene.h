@@ -15,6 +15,7 @@
 #include "renderer/core/ray.h"
 #include "renderer/scene/lights/light_sampler.h"
 #include "renderer/scene/lights/sky.h"
+#include "renderer/scene/media/fog_volumes.h"
 #include "renderer/scene/scene_types.h"
 #include "renderer/scene/textures/texture.h"
 #include "renderer/scene/world/mesh_geometry.h"
@@ -103,6 +104,7 @@ struct RenderScene {
   std::vector<uint32_t> emissiveLookup;         ///< Per emissive instance and triangle: light index or kNoId.
   Sky sky;
   std::vector<PortalDesc> portals;              ///< Mirror-material windows (see scene_types.h).
+  std::vector<FogVolume> fogs;                  ///< Fog volumes (media/fog_volumes.h).
   LightSampler lights;
   Bounds bounds;
 
