@@ -133,7 +133,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
                                   settings.radianceClamp);
 
     const glm::vec3 dir = glm::normalize(ray.dir);
-    const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay) : SurfaceHit{};
+    const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay, ray) : SurfaceHit{};
     if (!found || s.material->desc.sky) {
       const glm::vec3 le =
           lightmapOnly ? scene.sky.radiance(dir) : environmentRadiance(scene, dir, prev, scatterCount > 0);
