@@ -10,6 +10,8 @@ namespace q3 {
 // |----------------------------------------------------|-----------------------------------------------|
 // | first stage with an image, not $lightmap, not      | baseTexture (animMap: animFrames + frequency; |
 // |   tcGen environment (else first image stage)       |   clampMap: clampUv)                          |
+// | last non-blending stage (not $lightmap) is tcGen   | that stage is the base, baseReflects (see     |
+// |   environment, no later alpha-blended image stage  |   environmentBase)                            |
 // | first stage: no blendFunc / (ONE, ZERO)            | Opaque                                        |
 // | first stage: alphaFunc GT0 / GE128 / LT128         | Mask, cutoff 0 / 0.5 / 0.5 (LT128: invert)    |
 // | first stage: (SRC_ALPHA, ONE_MINUS_SRC_ALPHA),     | Blend                                         |
@@ -53,6 +55,24 @@ AlphaMode blendMode(const ShaderStage& s) {
       (src == BlendFactor::Zero && (dst == BlendFactor::SrcColor || dst == BlendFactor::OneMinusSrcColor)))
     return AlphaMode::Multiply;
   return AlphaMode::Blend;
+}
+
+/// The environment-mapped stage that the stock renderer leaves as a surface's colour, or null:
+/// the last stage (not $lightmap) that writes without blending overwrites every earlier one, so
+/// when it is `tcGen environment` it is the base (later additive and filter stages compose with it
+/// as glows and lightmap/detail filters). A later alpha-blended image stage (an opaque-ish texture
+/// with chrome showing through its holes) keeps the plain texture as the base instead, since a
+/// material has a single base texture and that texture covers most of the surface.
+const ShaderStage* environmentBase(const std::vector<ShaderStage>& stages) {
+  size_t last = stages.size();
+  for (size_t i = 0; i < stages.size(); ++i)
+    if (stages[i].source != TextureSource::Lightmap && !stages[i].blends()) last = i;
+  if (last == stages.size() || !isImageStage(stages[last]) || stages[last].tcGen != TcGen::Environment)
+    return nullptr;
+  for (size_t i = last + 1; i < stages.size(); ++i)
+    if (isImageStage(stages[i]) && stages[i].tcGen != TcGen::Environment && blendMode(stages[i]) == AlphaMode::Blend)
+      return nullptr;
+  return &stages[last];
 }
 
 }  // namespace
@@ -126,6 +146,7 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
         base = &s;
         break;
       }
+  if (const ShaderStage* reflecting = environmentBase(stages)) base = reflecting;
 
   bool hasLightmap = false;
   for (const auto& s : stages) hasLightmap |= s.source == TextureSource::Lightmap;
@@ -137,6 +158,7 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
       m.animFrequency = base->animFrequency;
     }
     m.clampUv = base->clamp;
+    m.baseReflects = base->tcGen == TcGen::Environment;
     m.uvAnimation = base->tcMods;
     for (const auto& t : base->tcMods) m.hasTurbulence |= t.kind == TcModKind::Turb;
   }
