@@ -28,7 +28,8 @@ namespace q3 {
 // | q3map_surfacelight N                               | surfaceLight N, emissive                      |
 // | q3map_lightimage / q3map_lightRGB                  | lightImage / lightColor (else editor image,   |
 // |                                                    |   else base texture)                          |
-// | later stage blendFunc with dst ONE, not env/lm     | glowTextures, emissive                        |
+// | later stage blendFunc with dst ONE, not env/lm,    | glowTextures, emissive                        |
+// |   no $lightmap filter after it                     |                                               |
 // | surfaceparm sky or skyParms                        | sky, skyBox faces farbox_rt ... farbox_dn     |
 // | portal, sort portal                                | portal (mirror vs camera decided by entities) |
 // | surfaceparm nodraw                                 | nodraw, invisible                             |
@@ -73,6 +74,14 @@ const ShaderStage* environmentBase(const std::vector<ShaderStage>& stages) {
     if (isImageStage(stages[i]) && stages[i].tcGen != TcGen::Environment && blendMode(stages[i]) == AlphaMode::Blend)
       return nullptr;
   return &stages[last];
+}
+
+/// True when a later $lightmap stage multiplies (blendFunc filter) what stage `index` drew: an
+/// additive stage there is lit like the base (bluemetalsupport2e's second texture), not a glow.
+bool litByLaterLightmap(const std::vector<ShaderStage>& stages, size_t index) {
+  for (size_t i = index + 1; i < stages.size(); ++i)
+    if (stages[i].source == TextureSource::Lightmap && blendMode(stages[i]) == AlphaMode::Multiply) return true;
+  return false;
 }
 
 }  // namespace
@@ -197,6 +206,7 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   }
   for (const auto& s : stages) {
     if (&s == base || &s == &stages.front() || !isImageStage(s) || s.tcGen == TcGen::Environment) continue;
+    if (litByLaterLightmap(stages, size_t(&s - stages.data()))) continue;
     if (s.blends() && s.dstBlend == BlendFactor::One) m.glowTextures.push_back(s.textures.front());
   }
   m.emissive = m.surfaceLight > 0 || !m.glowTextures.empty() || m.alphaMode == AlphaMode::Additive;

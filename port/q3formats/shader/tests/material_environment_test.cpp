@@ -33,15 +33,20 @@ TEST(MaterialEnvironment, SingleEnvironmentStageIsAReflectingBase) {
 
 TEST(MaterialEnvironment, OpaqueEnvironmentStageOverwritesEarlierStages) {
   // textures/base_wall/bluemetalsupport2e (oa_rpg3dm2's wall panels): the second stage writes
-  // without blending, so the first never shows; the third adds a glow; the lightmap filters.
+  // without blending, so the first never shows; the third adds a texture; the lightmap filters both.
   auto m = material(R"(panel { { map panel.tga rgbGen identity }
     { map chrome_env.jpg tcGen environment rgbGen oneminusvertex tcmod scale .5 .5 }
     { map panel.tga blendFunc add rgbGen identity } { map $lightmap blendFunc filter rgbGen identity } })");
   EXPECT_EQ(m.baseTexture, "chrome_env.jpg");
   EXPECT_TRUE(m.baseReflects);
   EXPECT_EQ(m.lighting, LightingMode::Lightmap);
-  ASSERT_EQ(m.glowTextures.size(), 1u);
-  EXPECT_EQ(m.glowTextures[0], "panel.tga");
+  // The added texture is multiplied by the lightmap after it: lit, not a glow.
+  EXPECT_TRUE(m.glowTextures.empty());
+  EXPECT_FALSE(m.emissive);
+  // An additive stage after the lightmap filter still glows.
+  auto glow = material(R"(g { { map $lightmap } { map w.tga blendFunc filter } { map g.tga blendFunc add } })");
+  ASSERT_EQ(glow.glowTextures.size(), 1u);
+  EXPECT_EQ(glow.glowTextures[0], "g.tga");
 }
 
 TEST(MaterialEnvironment, AdditiveEnvironmentOverABaseKeepsTheBase) {
