@@ -30,6 +30,8 @@ void takeStage(const q3::ShaderStage& stage, ShaderLook& look) {
   if (stage.source == q3::TextureSource::Image) look.images = stage.textures;
   look.animFrequency = stage.animFrequency;
   look.clamp = stage.clamp;
+  look.reflectionUv = stage.tcGen == q3::TcGen::Environment;
+  look.tcMods = stage.tcMods;
   if (stage.hasBlend) look.blend = {glBlendFactor(stage.srcBlend), glBlendFactor(stage.dstBlend)};
   look.alphaTest = stage.alphaTest;
   look.vertexColor = stage.rgbGen == q3::RgbGen::Vertex || stage.rgbGen == q3::RgbGen::ExactVertex ||
@@ -65,7 +67,7 @@ ShaderLook lookOfShader(const q3::ShaderDef& shader) {
     for (size_t s = first + 1; s < shader.stages.size(); ++s) {
       const q3::ShaderStage& stage = shader.stages[s];
       if (stage.source != q3::TextureSource::Image || stage.textures.empty() || !stage.blends() ||
-          stage.dstBlend != q3::BlendFactor::One || stage.tcGen == q3::TcGen::Environment)
+          stage.dstBlend != q3::BlendFactor::One)
         continue;
       ShaderLook layer;
       layer.fromScript = look.fromScript;

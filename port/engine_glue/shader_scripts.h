@@ -32,6 +32,8 @@ struct ShaderLook {
   std::vector<std::string> images;   ///< map/clampMap (one) or animMap frames; empty = white.
   float animFrequency = 0.0f;        ///< animMap frames per second.
   bool clamp = false;
+  bool reflectionUv = false;         ///< tcGen environment: the image is a sphere map of the mirrored view.
+  std::vector<q3::TcMod> tcMods;     ///< The stage's tcMods (applied to reflection uvs, reflection_look.h).
   BlendFunc blend;
   AlphaTest alphaTest = AlphaTest::None;
   bool vertexColor = false;          ///< rgbGen vertex: SetColor / polygon colours tint it.

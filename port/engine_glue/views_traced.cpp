@@ -29,6 +29,7 @@
 #include "port/engine_glue/scene.h"
 #include "port/engine_glue/shaders.h"
 #include "port/engine_glue/sky_cube.h"
+#include "port/engine_glue/reflection_look.h"
 #include "port/engine_glue/stock_look.h"
 #include "port/engine_glue/views.h"
 #include "port/engine_glue/world_sprites.h"
@@ -436,6 +437,7 @@ struct ViewRenderer::Impl {
                                  byteToLinear(look.constColor[2] * 255.0f), 1.0f);
     }
     if (entry.isDefault) desc.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+    applyReflectionLook(look, desc);
     const pa::MaterialId id = renderer->addMaterial(desc);
     materials.emplace(key, id);
     return id;

@@ -102,6 +102,9 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   desc.sky = m.sky;
   // uv animation at time 0 is the static scale; scrolling is applied per frame by the glue.
   desc.uvTransform = glm::mat3x2(glm::vec2(m.uvScale.x, 0.0f), glm::vec2(0.0f, m.uvScale.y), glm::vec2(0.0f));
+  // tcGen environment base: the renderer reads it at the mirrored view direction (stock look in the
+  // lightmap preset; the albedo under the glossy lobe `specular` in the traced presets).
+  if (m.baseReflects) desc.baseTexCoords = TexCoordSource::ReflectionSphere;
 
   if (m.surfaceLight > 0.0f && m.alphaMode != q3::WorldAlphaMode::Additive) {
     setSurfaceLightEmission(scene, handles, m, lightScale, desc);

@@ -126,6 +126,17 @@ enum class LayerBlend : uint8_t {
   MultiplyAdd,   ///< dst * (1 + src): the stock dynamic-light pass; adds nothing by itself.
 };
 
+/// Where a material's base texture coordinates come from (uvTransform applies after either).
+enum class TexCoordSource : uint8_t {
+  Mesh,              ///< The mesh's uvs.
+  /// A sphere map of the mirrored view direction, per hit, in the instance's object space (the
+  /// mesh's own frame): with n the interpolated shading normal and v the direction from the hit
+  /// toward the viewer (-ray direction), both mapped to object space and normalised,
+  /// r = 2 dot(n, v) n - v and uv = (0.5 + 0.5 r.y, 0.5 - 0.5 r.z). A surface facing +X seen
+  /// head-on reads (0.5, 0.5). Chrome / "environment-mapped" looks; see textures/reflection_uv.h.
+  ReflectionSphere,
+};
+
 /// Material model limited to what a Quake III scene needs.
 struct MaterialDesc {
   TextureId baseTexture = kNoId;        ///< Albedo (RGB) + alpha (A).
@@ -149,6 +160,7 @@ struct MaterialDesc {
   bool visible = true;                  ///< False: invisible to camera and bounce rays (nodraw, but may emit).
   bool sky = false;                     ///< Surface is a window to the sky: shows and emits the sky.
   glm::mat3x2 uvTransform{1.0f};        ///< Affine uv' = M * (u, v, 1): texture animation (scroll, rotate, scale).
+  TexCoordSource baseTexCoords = TexCoordSource::Mesh;   ///< uv of baseTexture (emissiveTexture keeps mesh uvs).
 };
 
 /// Instance visibility masks (bitwise OR).

@@ -53,7 +53,10 @@ TEST(ShaderScripts, AdditiveShadersKeepLaterGlowStagesAsLayersAndTheirColours) {
   EXPECT_TRUE(flash->autosprite);
   EXPECT_EQ(flash->rgbGen, q3::RgbGen::Const);
   EXPECT_FLOAT_EQ(flash->constColor[1], 0.5f);
-  ASSERT_EQ(flash->layers.size(), 1u);   // the environment stage is not a layer
+  ASSERT_EQ(flash->layers.size(), 2u);   // the environment stage is a layer read at the reflection
+  EXPECT_FALSE(flash->layers[0].reflectionUv);
+  EXPECT_TRUE(flash->layers[1].reflectionUv);
+  EXPECT_EQ(flash->layers[1].images[0], "env.tga");
   EXPECT_EQ(flash->layers[0].images[0], "muz6.tga");
   EXPECT_FLOAT_EQ(flash->layers[0].constColor[0], 0.5f);
   EXPECT_EQ(flash->layers[0].blend.dst, unsigned(GL_ONE));

@@ -13,6 +13,8 @@ namespace q3 {
 // |----------------------------------------------------|-----------------------------------------------|
 // | first stage with an image, not $lightmap, not      | baseTexture (animMap: animFrames + frequency; |
 // |   tcGen environment (else first image stage)       |   clampMap: clampUv)                          |
+// | last non-blending stage (not $lightmap) is tcGen   | that stage is the base, baseReflects (see     |
+// |   environment, no later alpha-blended image stage  |   environmentBase)                            |
 // | first stage: no blendFunc / (ONE, ZERO)            | Opaque                                        |
 // | first stage: alphaFunc GT0 / GE128 / LT128         | Mask, cutoff 0 / 0.5 / 0.5 (LT128: invert)    |
 // | first stage: (SRC_ALPHA, ONE_MINUS_SRC_ALPHA),     | Blend                                         |
@@ -30,7 +32,8 @@ namespace q3 {
 // | q3map_lightimage / q3map_lightRGB                  | lightImageCandidates (q3map2 order: light     |
 // |                                                    |   image, sky _up, first stage image, editor   |
 // |                                                    |   image, shader name) / lightColor            |
-// | later stage blendFunc with dst ONE, not env/lm     | glowTextures, emissive                        |
+// | later stage blendFunc with dst ONE, not env/lm,    | glowTextures, emissive                        |
+// |   no $lightmap filter after it                     |                                               |
 // | later image stage after the base, same tcGen and   | baseModulations (scale 1; 2 for DST_COLOR     |
 // |   tcMods, filter / DST_COLOR SRC_COLOR             |   SRC_COLOR): multiplies the base texture     |
 // | surfaceparm sky or skyParms                        | sky, skyBox faces in cube order +X..-Z:       |
@@ -94,6 +97,32 @@ std::vector<std::string> lightImageCandidates(const ShaderDef& shader) {
     if (!name.empty() && std::find(candidates.begin(), candidates.end(), name) == candidates.end())
       candidates.push_back(name);
   return candidates;
+}
+
+/// The environment-mapped stage that the stock renderer leaves as a surface's colour, or null:
+/// the last stage (not $lightmap) that writes without blending overwrites every earlier one, so
+/// when it is `tcGen environment` it is the base (later additive and filter stages compose with it
+/// as glows and lightmap/detail filters). A later alpha-blended image stage (an opaque-ish texture
+/// with chrome showing through its holes) keeps the plain texture as the base instead, since a
+/// material has a single base texture and that texture covers most of the surface.
+const ShaderStage* environmentBase(const std::vector<ShaderStage>& stages) {
+  size_t last = stages.size();
+  for (size_t i = 0; i < stages.size(); ++i)
+    if (stages[i].source != TextureSource::Lightmap && !stages[i].blends()) last = i;
+  if (last == stages.size() || !isImageStage(stages[last]) || stages[last].tcGen != TcGen::Environment)
+    return nullptr;
+  for (size_t i = last + 1; i < stages.size(); ++i)
+    if (isImageStage(stages[i]) && stages[i].tcGen != TcGen::Environment && blendMode(stages[i]) == AlphaMode::Blend)
+      return nullptr;
+  return &stages[last];
+}
+
+/// True when a later $lightmap stage multiplies (blendFunc filter) what stage `index` drew: an
+/// additive stage there is lit like the base (bluemetalsupport2e's second texture), not a glow.
+bool litByLaterLightmap(const std::vector<ShaderStage>& stages, size_t index) {
+  for (size_t i = index + 1; i < stages.size(); ++i)
+    if (stages[i].source == TextureSource::Lightmap && blendMode(stages[i]) == AlphaMode::Multiply) return true;
+  return false;
 }
 
 }  // namespace
@@ -196,6 +225,7 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
         base = &s;
         break;
       }
+  if (const ShaderStage* reflecting = environmentBase(stages)) base = reflecting;
 
   bool hasLightmap = false;
   for (const auto& s : stages) hasLightmap |= s.source == TextureSource::Lightmap;
@@ -207,6 +237,7 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
       m.animFrequency = base->animFrequency;
     }
     m.clampUv = base->clamp;
+    m.baseReflects = base->tcGen == TcGen::Environment;
     m.uvAnimation = base->tcMods;
     for (const auto& t : base->tcMods) m.hasTurbulence |= t.kind == TcModKind::Turb;
   }
@@ -255,6 +286,7 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   }
   for (const auto& s : stages) {
     if (&s == base || &s == &stages.front() || !isImageStage(s) || s.tcGen == TcGen::Environment) continue;
+    if (litByLaterLightmap(stages, size_t(&s - stages.data()))) continue;
     if (s.blends() && s.dstBlend == BlendFactor::One) m.glowTextures.push_back(s.textures.front());
   }
   m.emissive = m.surfaceLight > 0 || !m.glowTextures.empty() || m.alphaMode == AlphaMode::Additive;

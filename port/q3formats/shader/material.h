@@ -77,6 +77,8 @@ bool modulateBase(std::vector<uint8_t>& base, uint32_t width, uint32_t height, c
 struct MaterialInfo {
   std::string name;
   std::string baseTexture;                ///< first image of the base stage ("" if none)
+  bool baseReflects = false;              ///< base stage is tcGen environment: baseTexture is a sphere
+                                          ///< map read at the mirrored view direction, not at mesh uvs
   std::vector<std::string> animFrames;    ///< animMap frames of the base stage (empty otherwise)
   float animFrequency = 0;                ///< animMap frames per second
   bool clampUv = false;

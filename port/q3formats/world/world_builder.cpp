@@ -135,6 +135,7 @@ class SceneAssembler {
                   (m.surfaceFlags & kSurfNolightmap) != 0;
     m.castsShadows = !m.sky && m.alphaMode != WorldAlphaMode::Additive && m.visible;
     m.specular = info.environmentMapped ? 0.5f : 0.0f;
+    m.baseReflects = info.baseReflects;
     for (const TcMod& mod : info.uvAnimation) {
       if (mod.kind == TcModKind::Scroll) m.uvScrollPerSecond += glm::vec2(mod.scroll[0], mod.scroll[1]);
       if (mod.kind == TcModKind::Scale) m.uvScale *= glm::vec2(mod.scroll[0], mod.scroll[1]);

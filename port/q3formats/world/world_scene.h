@@ -89,6 +89,7 @@ struct WorldMaterial {
   float specular = 0.0f;         ///< Env-mapped (tcGen environment) stage strength in [0,1].
   glm::vec2 uvScrollPerSecond{0.0f};  ///< tcMod scroll of the base stage (texture units / s).
   glm::vec2 uvScale{1.0f};       ///< tcMod scale of the base stage.
+  bool baseReflects = false;     ///< Base stage is tcGen environment: a sphere map read at the mirrored view.
 };
 
 /// A triangle mesh with one material (and one lightmap), in Quake units.

@@ -132,6 +132,17 @@ TEST(SceneBridge, FogBetweenCameraAndWallBlendsTheLightmappedLook) {
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(1.0f - opacity), 0.01f);
 }
 
+TEST(SceneBridge, EnvironmentBaseReadsTheReflectionSphere) {
+  q3::WorldScene scene = wallScene(64, false);
+  WorldHandles handles;
+  EXPECT_EQ(materialDesc(scene, handles, 0, 0).baseTexCoords, TexCoordSource::Mesh);
+  scene.materials[0].baseReflects = true;
+  scene.materials[0].uvScale = {0.5f, 0.5f};
+  const MaterialDesc desc = materialDesc(scene, handles, 0, 0);
+  EXPECT_EQ(desc.baseTexCoords, TexCoordSource::ReflectionSphere);
+  EXPECT_FLOAT_EQ(desc.uvTransform[0][0], 0.5f);   // tcMod scale applies after the lookup
+}
+
 TEST(SceneBridge, VertexLitSurfacesUseVertexColoursAsBakedLight) {
   Renderer renderer;
   uploadWorld(wallScene(128, true), renderer);

@@ -176,7 +176,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
       if (scatterCount == 0) radiance += beta * fog.glow();
       beta *= fog.transmittance();
     }
-    const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay) : SurfaceHit{};
+    const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay, ray) : SurfaceHit{};
     if (!found || s.material->desc.sky) {
       const glm::vec3 le =
           lightmapOnly ? scene.sky.radiance(dir) : environmentRadiance(scene, dir, prev, scatterCount > 0);

@@ -83,7 +83,7 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
         hit.v = v;
         hit.prim = prim;
         hit.instance = instanceIndex;
-        const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay);
+        const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay, *ctx.ray);
         const glm::vec3 d = ctx.ray->dir;
         const float t = glm::dot(s.position - ctx.ray->origin, d) / glm::dot(d, d);
         const glm::vec4 base = ctx.scene->baseColor(s, 0.0f);
@@ -199,6 +199,7 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
     s.lightmapUv = w0 * g.lightmapUvs[i0] + hit.u * g.lightmapUvs[i1] + hit.v * g.lightmapUvs[i2];
   }
   if (!g.colors.empty()) s.vertexColor = w0 * g.colors[i0] + hit.u * g.colors[i1] + hit.v * g.colors[i2];
+  s.emissiveUv = s.uv;
   return s;
 }
 
@@ -247,7 +248,7 @@ glm::vec3 RenderScene::emission(const SurfaceHit& s, bool frontSide) const {
   const MaterialRecord& m = *s.material;
   if (!m.emits || (!frontSide && !m.desc.twoSided)) return glm::vec3(0.0f);
   glm::vec3 e = m.desc.emission;
-  if (m.emissive != nullptr) e *= glm::vec3(m.emissive->sample(s.uv, 0.0f));
+  if (m.emissive != nullptr) e *= glm::vec3(m.emissive->sample(s.emissiveUv, 0.0f));
   return e;
 }
 

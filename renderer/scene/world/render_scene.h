@@ -86,6 +86,7 @@ struct SurfaceHit {
   glm::vec3 geometricNormal{0.0f};      ///< Unit winding normal in world space (front side).
   glm::vec3 shadingNormal{0.0f};        ///< Unit interpolated normal in world space (front side).
   glm::vec2 uv{0.0f};                   ///< Base uv after the material's uvTransform.
+  glm::vec2 emissiveUv{0.0f};           ///< Mesh uv after uvTransform (the emissive texture's).
   glm::vec2 lightmapUv{0.0f};
   glm::vec4 vertexColor{1.0f};
   float worldArea = 0.0f;               ///< Triangle area in world space.
@@ -116,6 +117,9 @@ struct RenderScene {
   bool occluded(const Ray& ray, const TraceRequest& request) const;
   /// Interpolated surface data at a hit from intersect() with the same `overlay` choice.
   SurfaceHit surfaceAt(const Hit& hit, bool overlay) const;
+  /// The same, seen along `ray`: a material with TexCoordSource::ReflectionSphere gets its base
+  /// uv (and the uv area that picks its mip level) from the ray (world/reflection_texcoords.cpp).
+  SurfaceHit surfaceAt(const Hit& hit, bool overlay, const Ray& ray) const;
   /// Base colour (texture x baseColor x vertex colour x tint), RGB linear, A = coverage.
   /// footprint: world-space width of the ray's footprint on the surface (picks the mip level;
   /// 0 = full resolution).

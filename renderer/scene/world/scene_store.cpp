@@ -56,6 +56,8 @@ void SceneStore::validateMaterial(const MaterialDesc& m, const std::string& what
   requireFinite(finite(m.specular), what, "specular");
   requireFinite(finite(m.roughness), what, "roughness");
   for (int c = 0; c < 3; ++c) requireFinite(finite(m.uvTransform[c]), what, "uvTransform");
+  if (m.baseTexCoords != TexCoordSource::Mesh && m.baseTexCoords != TexCoordSource::ReflectionSphere)
+    throw SceneError(what + ": baseTexCoords = " + std::to_string(unsigned(m.baseTexCoords)) + " is not a TexCoordSource");
 }
 
 LightDesc SceneStore::validateLight(const LightDesc& in, const std::string& what) const {
