@@ -15,7 +15,7 @@ namespace pa::denoise {
 
 /// Filter strength. The defaults are those of SVGF, tuned on OpenArena maps at 1 spp.
 struct Config {
-  uint32_t iterations = 5;        ///< À-trous passes with steps 1, 2, 4, ...; 0 = identity.
+  uint32_t iterations = 5;        ///< 3 x 3 à-trous passes with steps 1, 2, 4, ... (at most 10); 0 = identity.
   float sigmaNormal = 128.0f;     ///< Exponent on max(0, dot(n_p, n_q)): higher = sharper at creases.
   float sigmaDepth = 1.0f;        ///< Depth tolerance in units of the depth change the gradient predicts.
   float sigmaLuminance = 4.0f;    ///< Luminance tolerance in standard deviations of the pixel's noise.
@@ -47,29 +47,37 @@ class Denoiser {
   /// depend on the thread count. Throws std::invalid_argument when a buffer size mismatches.
   void apply(const Guides& guides, std::span<glm::vec3> radiance);
 
-  /// How a pixel takes part in the filter.
-  enum class Role : uint8_t {
-    Filtered,      ///< Filtered and a neighbour of others.
-    Hole,          ///< Geometry but non-finite radiance: filtered from neighbours, never used by them.
-    PassThrough,   ///< No geometry or black albedo: left as it is.
+ private:
+  /// One float image with a border of `pad` zeros on every side, so that taps need no bounds
+  /// checks: row(y)[x] for x in [-pad, width + pad).
+  struct Plane {
+    std::vector<float> data;
+    size_t stride = 0;
+    size_t pad = 0;
+    float* row(int y) { return data.data() + static_cast<size_t>(y + static_cast<int>(pad)) * stride + pad; }
   };
-  /// Per-pixel edge-stopping data.
-  struct PixelGuide {
-    glm::vec3 normal{0.0f};
-    float depth = 0.0f;
-    float depthDx = 0.0f;   ///< Change of depth per pixel along x (one-sided, smaller side).
-    float depthDy = 0.0f;
-    Role role = Role::PassThrough;
+  /// The filtered signal: demodulated colour and the variance of its luminance.
+  struct Signal {
+    Plane red, green, blue, variance;
   };
 
- private:
+  /// Per-row sums and per-pixel terms of one task (no allocation per pixel).
+  struct RowScratch {
+    std::vector<float> red, green, blue, weight, variance, luminance, inverseTolerance;
+    RowScratch& sized(uint32_t width);   ///< Zeroes every array at `width` entries.
+  };
+
+  void resize(uint32_t width, uint32_t height);
   void prepareRows(const Guides& guides, std::span<const glm::vec3> radiance, uint32_t y0, uint32_t y1);
-  void estimateVarianceRows(uint32_t width, uint32_t height, uint32_t y0, uint32_t y1);
-  void filterRows(uint32_t width, uint32_t height, uint32_t step, uint32_t y0, uint32_t y1);
+  void estimateVarianceRows(uint32_t y0, uint32_t y1);
+  void filterRows(uint32_t step, uint32_t y0, uint32_t y1);
 
   Config config_;
-  std::vector<PixelGuide> guide_;
-  std::vector<glm::vec4> current_, next_;   // demodulated rgb + luminance variance in w
+  uint32_t width_ = 0, height_ = 0, pad_ = 0;
+  // Guides, padded: unit normal, depth, its per-pixel slopes, and two masks: `gives` = 1 where a
+  // pixel is a valid neighbour, `takes` = 1 where a pixel is filtered (valid or a hole).
+  Plane normalX_, normalY_, normalZ_, depth_, depthDx_, depthDy_, gives_, takes_;
+  Signal current_, next_;
 };
 
 }  // namespace pa::denoise
