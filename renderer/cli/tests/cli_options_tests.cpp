@@ -105,7 +105,7 @@ TEST(CliOptions, UsageDocumentsEveryOption) {
   const std::string usage = usageText("pa-render");
   for (const char* option : {"-o", "--exr", "--stats", "--width", "--height", "--spp", "--bounces", "--seed", "--threads",
                              "--integrator", "--camera", "--clamp", "--exposure", "--tonemap", "--frames", "--light-scale",
-                             "--progress", "--quiet", "--help", "Exit status"})
+                             "--progress", "--quiet", "--denoise", "--help", "Exit status"})
     EXPECT_NE(usage.find(option), std::string::npos) << option;
 }
 
