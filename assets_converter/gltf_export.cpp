@@ -128,7 +128,7 @@ class Exporter {
 
   /// Whether a material's surfaces are written at all.
   bool exported(const q3::WorldMaterial& m) const {
-    if (!m.visible || m.fog) return false;
+    if (!m.visible) return false;   // fog-only surfaces are invisible; lava with fogParms is drawn
     if (m.sky && !options_.skySurfaces) return false;
     return true;
   }
@@ -337,12 +337,16 @@ class Exporter {
       faces.push_back(face >= 0 && size_t(face) < scene_.textures.size() ? json(scene_.textures[size_t(face)].resolvedPath) : json(nullptr));
     sky["faces+X-X+Y-Y+Z-Z"] = std::move(faces);
     json fogs = json::array();
-    for (const q3::WorldFog& fog : scene_.fogs)
+    for (const q3::WorldFog& fog : scene_.fogs) {
+      json planes = json::array();   // the fog brush: [nx, ny, nz, d], inside where n . p <= d
+      for (const glm::vec4& p : fog.planes) planes.push_back(json::array({p.x, p.y, p.z, p.w}));
       fogs.push_back({{"shader", fog.shaderName},
                       {"mins", vec3Json(fog.bounds.mins)},
                       {"maxs", vec3Json(fog.bounds.maxs)},
+                      {"planes", std::move(planes)},
                       {"color", vec3Json(fog.color)},
                       {"depthForOpaque", fog.depthForOpaque}});
+    }
     return {{"quake", {{"map", scene_.mapName},
                        {"metresPerUnit", options_.metresPerUnit},
                        {"axes", "(x, y, z) quake -> (x, z, -y) glTF"},

@@ -203,11 +203,32 @@ TEST(GltfExport, SkipsInvisibleSkyAndFogSurfaces) {
   sky.sky = true;
   q3::WorldMaterial fog = texturedMaterial("fog");
   fog.fog = true;
+  fog.visible = false;   // a fog-only shader (the world builder hides it)
   q3::WorldMaterial wall = texturedMaterial("wall");
   auto [doc, bin] = splitGlb(pa::converter::exportGlb(sceneWithMaterials({nodraw, sky, fog, wall})));
   ASSERT_EQ(doc["meshes"][0]["primitives"].size(), 1u);
   EXPECT_EQ(doc["materials"].size(), 1u);
   EXPECT_EQ(doc["materials"][0]["name"], "wall");
+}
+
+TEST(GltfExport, FogVolumesGoToTheSceneExtrasInQuakeUnits) {
+  q3::WorldScene scene = sceneWithMaterials({texturedMaterial("a")});
+  q3::WorldFog fog;
+  fog.shaderName = "textures/test/fog";
+  fog.planes = {{1, 0, 0, 64}, {-1, 0, 0, 0}, {0, 0, 1, 16}};
+  fog.color = {0.5f, 0.25f, 0.0f};
+  fog.depthForOpaque = 256.0f;
+  scene.fogs.push_back(fog);
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene));
+  json fogs;
+  for (const json& node : doc["nodes"])
+    if (node.contains("extras") && node["extras"].contains("quake") && node["extras"]["quake"].contains("fogs"))
+      fogs = node["extras"]["quake"]["fogs"];
+  ASSERT_EQ(fogs.size(), 1u);
+  EXPECT_EQ(fogs[0]["shader"], "textures/test/fog");
+  ASSERT_EQ(fogs[0]["planes"].size(), 3u);
+  EXPECT_EQ(fogs[0]["planes"][2], json::array({0.0, 0.0, 1.0, 16.0}));
+  EXPECT_FLOAT_EQ(fogs[0]["depthForOpaque"].get<float>(), 256.0f);
 }
 
 glm::vec3 localMinusZ(const json& node) {

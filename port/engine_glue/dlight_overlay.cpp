@@ -17,7 +17,6 @@ constexpr int kBlobSize = 16;               // DLIGHT_SIZE
 constexpr int32_t kSurfNoDlight = 0x20000;  // SURF_NODLIGHT
 constexpr float kOverlayLift = 0.25f;       // units off the surface, towards its front
 constexpr int kMaxSubdivision = 3;          // 4^3 pieces per triangle at most
-constexpr float kDisplayGamma = 2.2f;
 
 /// The stock falloff image: 4000 / d^2 (d in texels from the centre), cut below 75, max 255.
 const std::array<float, kBlobSize * kBlobSize>& blobImage() {
@@ -35,25 +34,10 @@ const std::array<float, kBlobSize * kBlobSize>& blobImage() {
   return image;
 }
 
-float srgbToLinear(float c) {
-  c = std::clamp(c, 0.0f, 1.0f);
+/// The sRGB decoding of a display value, continued above 1 (several lights multiply past white).
+float displayToLinear(float c) {
+  c = std::max(c, 0.0f);
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-/// Bilinear RGB bytes of a lightmap at uv in [0, 1] (edges clamped).
-glm::vec3 sampleLightmap(const q3::WorldImage& image, glm::vec2 uv) {
-  const int w = int(image.width), h = int(image.height);
-  if (w <= 0 || h <= 0 || image.rgba8.size() < size_t(w) * h * 4) return glm::vec3(0.0f);
-  float x = std::clamp(uv.x, 0.0f, 1.0f) * w - 0.5f, y = std::clamp(uv.y, 0.0f, 1.0f) * h - 0.5f;
-  if (!std::isfinite(x) || !std::isfinite(y)) x = y = 0.0f;
-  const int x0 = std::clamp(int(std::floor(x)), 0, w - 1), y0 = std::clamp(int(std::floor(y)), 0, h - 1);
-  const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
-  const float ax = std::clamp(x - float(x0), 0.0f, 1.0f), ay = std::clamp(y - float(y0), 0.0f, 1.0f);
-  auto texel = [&](int px, int py) {
-    const uint8_t* p = &image.rgba8[(size_t(py) * w + px) * 4];
-    return glm::vec3(p[0], p[1], p[2]);
-  };
-  return glm::mix(glm::mix(texel(x0, y0), texel(x1, y0), ax), glm::mix(texel(x0, y1), texel(x1, y1), ax), ay);
 }
 
 bool reaches(const DynamicLight& light, const glm::vec3& mins, const glm::vec3& maxs) {
@@ -110,13 +94,6 @@ void DlightOverlayBuilder::prepare(const q3::WorldScene& scene) {
     const size_t n = mesh.positions.size();
     if (mesh.normals.size() != n || mesh.uvs.size() != n || mesh.lightmapUvs.size() != n || mesh.colors.size() != n)
       continue;
-    const bool lightmapped = !m.vertexLit && mesh.lightmap >= 0 && size_t(mesh.lightmap) < scene.lightmaps.size();
-    std::vector<glm::vec3> baked(n);
-    for (size_t i = 0; i < n; ++i) {
-      const glm::vec3 stored = lightmapped ? sampleLightmap(scene.lightmaps[size_t(mesh.lightmap)], mesh.lightmapUvs[i])
-                                           : glm::vec3(mesh.colors[i]) * 255.0f;
-      baked[i] = colorShiftLight(stored, kLightOverbrightShift);
-    }
     for (size_t k = 0; k + 2 < mesh.indices.size(); k += 3) {
       Triangle t;
       t.material = mesh.material;
@@ -124,7 +101,7 @@ void DlightOverlayBuilder::prepare(const q3::WorldScene& scene) {
       for (int c = 0; c < 3; ++c) {
         const uint32_t i = mesh.indices[k + size_t(c)];
         if (i >= n) { valid = false; break; }
-        t.v[c] = {mesh.positions[i], mesh.normals[i], mesh.uvs[i], baked[i]};
+        t.v[c] = {mesh.positions[i], mesh.normals[i], mesh.uvs[i]};
       }
       if (!valid) continue;
       t.mins = glm::min(glm::min(t.v[0].position, t.v[1].position), t.v[2].position);
@@ -158,7 +135,6 @@ void DlightOverlayBuilder::emit(const Triangle& t, std::span<const DynamicLight>
       m.position = 0.5f * (a.position + b.position);
       m.normal = glm::normalize(a.normal + b.normal + glm::vec3(1e-9f));
       m.uv = 0.5f * (a.uv + b.uv);
-      m.baked = 0.5f * (a.baked + b.baked);
       return m;
     };
     const Vertex ab = mid(t.v[0], t.v[1]), bc = mid(t.v[1], t.v[2]), ca = mid(t.v[2], t.v[0]);
@@ -178,16 +154,14 @@ void DlightOverlayBuilder::emit(const Triangle& t, std::span<const DynamicLight>
   glm::vec4 colors[3];
   bool lit = false;
   for (int c = 0; c < 3; ++c) {
-    // dst * (1 + light) in gamma space is lin(dst) * (1 + light)^2.2 in linear space: the
-    // overlay adds lin(texture) * lin(baked) * ((1 + light)^2.2 - 1).
-    glm::vec3 gain(0.0f);
-    for (const DynamicLight& light : lights) {
-      const glm::vec3 add = stockDlightAt(light, t.v[c].position, t.v[c].normal);
-      gain += glm::pow(glm::vec3(1.0f) + add, glm::vec3(kDisplayGamma)) - glm::vec3(1.0f);
-    }
-    const glm::vec3 baked(srgbToLinear(t.v[c].baked.r / 255.0f), srgbToLinear(t.v[c].baked.g / 255.0f),
-                          srgbToLinear(t.v[c].baked.b / 255.0f));
-    colors[c] = glm::vec4(baked * gain, 1.0f);
+    // One pass per light makes dst * (1 + l1) * (1 + l2) ... in display values: the overlay
+    // layer (pa::LayerBlend::MultiplyAdd) multiplies dst by 1 + (product - 1), its vertex colour
+    // being product - 1 as linear light (the layer is encoded for display before it multiplies).
+    glm::vec3 product(1.0f);
+    for (const DynamicLight& light : lights)
+      product *= glm::vec3(1.0f) + stockDlightAt(light, t.v[c].position, t.v[c].normal);
+    const glm::vec3 gain = product - glm::vec3(1.0f);
+    colors[c] = glm::vec4(displayToLinear(gain.r), displayToLinear(gain.g), displayToLinear(gain.b), 1.0f);
     lit = lit || glm::vec3(colors[c]) != glm::vec3(0.0f);
   }
   if (!lit) return;

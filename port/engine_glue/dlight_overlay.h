@@ -3,9 +3,10 @@
 // each light re-draws the world triangles it reaches with a 16x16 falloff blob projected along Z
 // (texture coordinate 0.5 + (light - vertex).xy / radius, full strength within radius / 2 in
 // height) blended as dst * (1 + light) (tr_shade.c ProjectDlightTexture, GLS_SRCBLEND_DST_COLOR
-// | GLS_DSTBLEND_ONE; tr_image.c R_CreateDlightImage). The tracer has no such blend, so the
-// overlay is an additive copy of the lit triangles whose vertex colours carry what the blend
-// adds: baked light x ((1 + light)^2.2 - 1), the world texture supplying the texels.
+// | GLS_DSTBLEND_ONE; tr_image.c R_CreateDlightImage). The overlay is a copy of the lit
+// triangles drawn as a pa::LayerBlend::MultiplyAdd layer (dst * (1 + src) in display values, as
+// the lightmap preset composes layers) whose vertex colours are the product of (1 + light) over
+// the lights, minus 1, as linear light.
 // Triangles are subdivided near the light so per-vertex falloff follows the blob.
 #include <cstdint>
 #include <span>
@@ -44,8 +45,7 @@ struct DlightOverlay {
 /// The lit world triangles of a map, prepared once per map.
 class DlightOverlayBuilder {
  public:
-  /// Keeps the opaque, visible, lightmapped or vertex-lit triangles of the world model (model 0)
-  /// with their baked light per vertex (lightmaps brightened like the stock renderer's).
+  /// Keeps the opaque, visible, lightmapped or vertex-lit triangles of the world model (model 0).
   void prepare(const q3::WorldScene& scene);
   /// Appends the overlay of `lights` to `out` (nothing when no light reaches a triangle).
   void build(std::span<const DynamicLight> lights, DlightOverlay& out) const;
@@ -57,7 +57,6 @@ class DlightOverlayBuilder {
     glm::vec3 position{0.0f};
     glm::vec3 normal{0.0f, 0.0f, 1.0f};
     glm::vec2 uv{0.0f};
-    glm::vec3 baked{0.0f};   ///< Baked light in bytes (0..255, gamma space).
   };
   struct Triangle {
     Vertex v[3];

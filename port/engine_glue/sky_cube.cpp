@@ -6,8 +6,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
 
-#include "port/q3formats/shader/material.h"   // uvTransformAt
-#include "renderer/scene/lights/sky.h"      // cubeFaceBasis: the layout of SkyDesc::faces
+#include "port/q3formats/shader/material.h"   // uvTransformAt, skyFaceImage
+#include "renderer/scene/lights/sky.h"      // cubeFaceBasis, cubeLookup: the layout of SkyDesc::faces
 
 namespace glue {
 namespace {
@@ -16,35 +16,18 @@ constexpr float kSkyRadius = 4096.0f;        // tr_sky.c radiusWorld
 constexpr float kDefaultCloudHeight = 512.0f; // skyParms cloud height 0 means this
 constexpr int kBottomFace = 5;
 
-/// The stock far box: image suffixes in skyParms order, and for each side of the box (+X, -X,
-/// +Y, -Y, +Z, -Z) which image it shows (tr_sky.c sky_texorder).
-constexpr std::array<const char*, 6> kBoxSuffix{"_rt", "_bk", "_lf", "_ft", "_up", "_dn"};
-constexpr std::array<int, 6> kBoxImageOfSide{0, 2, 1, 3, 4, 5};
-
-/// Which far-box image a direction shows and where (u right, v down, in [0, 1]): the inverse of
-/// the stock MakeSkyVec (side k spans (s, t) in [-1, 1]^2 through its st_to_vec axes).
+/// Which far-box image a direction shows and where (u right, v down, in [0, 1]): the cube face
+/// of the direction in q3::SkyBox layout (the same as pa's), the image turned where stock turns it.
 struct BoxLookup {
-  int image = 0;
+  int face = 0;
   glm::vec2 uv{0.0f};
 };
 BoxLookup stockBoxLookup(const glm::vec3& d) {
-  const glm::vec3 a = glm::abs(d);
-  int side;
-  float s, t;
-  if (a.x >= a.y && a.x >= a.z) {
-    side = d.x >= 0.0f ? 0 : 1;
-    s = (side == 0 ? -d.y : d.y) / a.x;
-    t = d.z / a.x;
-  } else if (a.y >= a.z) {
-    side = d.y >= 0.0f ? 2 : 3;
-    s = (side == 2 ? d.x : -d.x) / a.y;
-    t = d.z / a.y;
-  } else {
-    side = d.z >= 0.0f ? 4 : 5;
-    s = -d.y / a.z;
-    t = (side == 4 ? -d.x : d.x) / a.z;
-  }
-  return {kBoxImageOfSide[size_t(side)], {0.5f * (s + 1.0f), 0.5f * (1.0f - t)}};
+  const pa::CubeLookup where = pa::cubeLookup(d);
+  const int face = static_cast<int>(where.face);
+  glm::vec2 uv(where.u, where.v);
+  if (q3::skyFaceImage(face).turned180) uv = glm::vec2(1.0f) - uv;
+  return {face, uv};
 }
 
 /// Bilinear RGBA in [0, 1] at texture coordinates (s, t), repeating or clamped.
@@ -129,7 +112,7 @@ bool SkyBaker::prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, 
   bool anyFace = false;
   if (shader.sky && !shader.sky->farBox.empty()) {
     for (size_t i = 0; i < 6; ++i) {
-      farBox_[i] = load(shader.sky->farBox + kBoxSuffix[i]);
+      farBox_[i] = load(shader.sky->farBox + q3::skyFaceImage(int(i)).suffix);
       anyFace = anyFace || farBox_[i] != nullptr;
     }
   }
@@ -167,7 +150,7 @@ void SkyBaker::bake(double seconds, SkyCube& out) const {
       for (int x = 0; x < size_; ++x) {
         glm::vec3 color(0.0f);
         const BoxLookup where = stockBoxLookup(skyCubeDirection(face, x, y, size_));
-        if (const Image* box = farBox_[size_t(where.image)].get()) color = glm::vec3(sampleImage(*box, where.uv, true));
+        if (const Image* box = farBox_[size_t(where.face)].get()) color = glm::vec3(sampleImage(*box, where.uv, true));
         if (face != kBottomFace) {
           const glm::vec2 st = cloudCoords_[(size_t(face) * size_ + y) * size_ + x];
           for (size_t l = 0; l < layers_.size(); ++l) {

@@ -54,7 +54,7 @@ class SkyBaker {
     q3::ShaderStage stage;
     std::shared_ptr<const Image> image;
   };
-  std::array<std::shared_ptr<const Image>, 6> farBox_;   ///< skyParms suffix order: rt bk lf ft up dn.
+  std::array<std::shared_ptr<const Image>, 6> farBox_;   ///< Cube order (q3::SkyBox): rt lf bk ft up dn.
   std::vector<Layer> layers_;
   int size_ = 0;
   std::vector<glm::vec2> cloudCoords_;   ///< Per texel of faces 0..4 (the bottom has no clouds).

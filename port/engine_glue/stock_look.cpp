@@ -45,7 +45,8 @@ std::shared_ptr<const Image> premultipliedImage(const std::shared_ptr<const Imag
 }
 
 /// Lightmap preset: vertex colours of alpha-blended effect triangles premultiplied by their
-/// alpha, to go with MaterialUse::StockEffect.
+/// alpha (linearised, as the layer is composed in display values), to go with
+/// MaterialUse::StockEffect.
 void premultiplyBlendedEffects(ShaderRegistry& shaders, GeometryBatch& batch) {
   std::vector<bool> done(batch.colors.size(), false);
   for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
@@ -55,8 +56,9 @@ void premultiplyBlendedEffects(ShaderRegistry& shaders, GeometryBatch& batch) {
       const uint32_t v = batch.indices[t * 3 + corner];
       if (v >= batch.colors.size() || done[v]) continue;
       done[v] = true;
+      // The layer is encoded before it is added (display values): encode(lin(c) * lin(a)) ~ c * a.
       glm::vec4& c = batch.colors[v];
-      c = glm::vec4(glm::vec3(c) * c.a, c.a);
+      c = glm::vec4(glm::vec3(c) * byteToLinear(c.a * 255.0f), c.a);
     }
   }
 }

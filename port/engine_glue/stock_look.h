@@ -31,8 +31,9 @@ bool isAlphaBlend(const BlendFunc& blend);
 /// RGBA with the colour multiplied by alpha (alpha kept).
 std::shared_ptr<const Image> premultipliedImage(const std::shared_ptr<const Image>& image);
 
-/// Vertex colours of alpha-blended effect triangles premultiplied by their alpha (the lightmap
-/// preset draws such effects as premultiplied additive layers).
+/// Vertex colours of alpha-blended effect triangles premultiplied by their alpha, linearised
+/// (the lightmap preset composes such effects as premultiplied-over layers in display values:
+/// encode(lin(c) * lin(a)) ~ c * a).
 void premultiplyBlendedEffects(ShaderRegistry& shaders, GeometryBatch& batch);
 
 /// Each vertex of an MD3 batch gets the colour the stock renderer gives it: grid light per

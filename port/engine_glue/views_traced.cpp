@@ -32,6 +32,8 @@
 #include "port/engine_glue/stock_look.h"
 #include "port/engine_glue/views.h"
 #include "port/engine_glue/world_sprites.h"
+#include "port/engine_glue/world_deforms.h"
+#include "port/engine_glue/fog_volumes.h"
 #include "port/engine_glue/world.h"
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/common/format_error.h"
@@ -56,9 +58,10 @@ struct DynamicSlot {
 };
 
 /// Kinds of materials made from one shader. StockEffect: an effect in the lightmap preset, where
-/// alpha-blended effects (smoke puffs) are drawn as premultiplied additive layers: the tracer
-/// blends stochastically (one sample per pixel would speckle), and over the dark scenes behind
-/// smoke, src * a + dst * (1 - a) is close to src * a + dst.
+/// alpha-blended effects (smoke puffs) are premultiplied-over layers (src * a + dst * (1 - a)) and
+/// filters (marks, blob shadows) multiply layers (dst * src, dst * (1 - src)), composed in display
+/// values like the stock blend stages (the tracer's stochastic blend would speckle at one sample
+/// per pixel).
 enum class MaterialUse : uint8_t { Model, Effect, StockEffect };
 
 glm::mat4x3 entityTransform(const q3abi::refEntity_t& e) {
@@ -168,6 +171,9 @@ struct ViewRenderer::Impl {
   DynamicSlot dlightSlot;
   std::unordered_map<uint32_t, pa::MaterialId> dlightMaterials;   ///< Per world material.
   std::vector<pa::MaterialId> dlightTriangleMaterials;
+  WorldDeforms worldDeforms;    ///< deformVertexes wave/normal/bulge/move world surfaces (dynamic meshes).
+  ShaderDeforms modelDeforms;   ///< The same deforms on MD3 surfaces, by shader name.
+  ViewFog fog;                  ///< The map's fog volumes.
 
   void resetRenderer() {
     renderer = std::make_unique<pa::Renderer>(pa::RendererConfig{static_cast<uint32_t>(threads)});
@@ -190,6 +196,9 @@ struct ViewRenderer::Impl {
     worldSprites = WorldSprites{};
     spriteMaterials.clear();
     spriteHandles.clear();
+    worldDeforms = WorldDeforms{};
+    modelDeforms.reset(nullptr);
+    fog = ViewFog{};
     stockSkyReady = stockSkyShown = stockEmissionShown = skyHidden = false;
   }
 
@@ -215,12 +224,15 @@ struct ViewRenderer::Impl {
     return handle;
   }
 
-  /// The additive twin of a world material that carries the stock dynamic-light pass.
+  /// The layer twin of a world material that carries the stock dynamic-light pass: dst * (1 + vertex colour).
   pa::MaterialId dlightMaterial(uint32_t worldMaterial) {
     if (const auto found = dlightMaterials.find(worldMaterial); found != dlightMaterials.end()) return found->second;
     pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, worldMaterial, -1);
     desc.alphaMode = pa::AlphaMode::Additive;
-    desc.useVertexLight = false;   // the vertex colour is what the pass adds
+    desc.layerBlend = pa::LayerBlend::MultiplyAdd;
+    desc.baseTexture = pa::kNoId;  // the vertex colour alone is the light the pass multiplies in
+    desc.baseColor = glm::vec4(1.0f);
+    desc.useVertexLight = false;
     desc.lightmapTexture = pa::kNoId;
     desc.emissiveTexture = pa::kNoId;
     desc.emission = glm::vec3(0.0f);
@@ -391,6 +403,13 @@ struct ViewRenderer::Impl {
       } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
         desc.baseTexture = texture(premultipliedImage(image), look.clamp);
         desc.alphaMode = pa::AlphaMode::Additive;
+        desc.layerBlend = pa::LayerBlend::Over;
+        desc.castsShadows = false;
+      } else if (const auto darken = filterAsDarkening(look.blend);
+                 darken != Darkening::None && use == MaterialUse::StockEffect) {
+        // dst * src (or dst * (1 - src): blob shadows) in display values, per channel.
+        desc.alphaMode = pa::AlphaMode::Additive;
+        desc.layerBlend = darken == Darkening::BySourceColor ? pa::LayerBlend::Multiply : pa::LayerBlend::MultiplyInverse;
         desc.castsShadows = false;
       } else if (isAlphaBlend(look.blend)) {
         desc.alphaMode = pa::AlphaMode::Blend;
@@ -520,7 +539,10 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
   stockWorldLook(*d.worldScene, library, d.glowColors);
+  d.worldDeforms.extract(*d.worldScene, library);   // before the upload: leaves the static mesh
   d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer);
+  d.worldDeforms.bind(*d.worldScene, d.world);
+  d.fog.load(*d.worldScene, *d.renderer);
   d.portals.load(bsp, *d.worldScene);
   d.bridgeSky = pa::bridge::skyDesc(*d.worldScene, d.world);
   d.prepareStockSky(library, images);
@@ -533,13 +555,14 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
     d.brushInstances[m].mesh = m < d.world.modelMeshes.size() ? d.world.modelMeshes[m] : pa::kNoId;
     d.brushInstances[m].mask = pa::kMaskAll;
   }
+  d.modelDeforms.reset(std::make_shared<const q3::ShaderLibrary>(std::move(library)));
   d.renderer->commit();
   engine.print(q3abi::PRINT_ALL,
                "pathtracer: %s traced scene: %zu materials, %zu textures, %zu lights, %llu "
-               "triangles (%d ms)\n",
+               "triangles + %zu deformed, %zu fog volumes (%d ms)\n",
                world.name().c_str(), d.worldScene->materials.size(), d.worldScene->textures.size(),
                d.worldScene->lights.size(), static_cast<unsigned long long>(d.world.triangles),
-               engine.milliseconds() - start);
+               d.worldDeforms.triangles(), d.fog.size(), engine.milliseconds() - start);
 }
 
 std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
@@ -602,6 +625,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     for (size_t s = 0; s < surfaceShaders.size(); ++s) autosprite[s] = shaders.resolve(surfaceShaders[s]).look.autosprite;
     appendMd3(*md3, e, surfaceShaders, d.batch, autosprite, spriteAxesFor(e, viewer));
     if (d.batch.indices.empty()) continue;
+    deformBatch(d.batch, seconds, [&](q3abi::qhandle_t h) { return d.modelDeforms.find(shaders.resolve(h).name); });
     if (lightmapLook) {
       const float* at = (e.renderfx & q3abi::RF_LIGHTING_ORIGIN) ? e.lightingOrigin : e.origin;
       const glm::vec3 lightOrigin(at[0], at[1], at[2]);
@@ -624,6 +648,14 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     }
     d.setBrushInstance(m, desc);
   }
+  const glm::mat4x3 worldPlace(1.0f);
+  d.worldDeforms.update(
+      seconds,
+      [&](uint32_t model) -> const glm::mat4x3* {
+        if (model == 0) return withWorld ? &worldPlace : nullptr;
+        return model < brushPlaced.size() && brushPlaced[model] ? &d.brushInstances[model].objectToWorld : nullptr;
+      },
+      *d.renderer);
 
   // Effects and polygons: one world-space mesh.
   d.batch.clear();
@@ -676,6 +708,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     d.hideSky();
   }
   d.drawStockDlights(scene.lights(), withWorld && lightmapLook);
+  d.fog.show(withWorld, *d.renderer);
   d.renderer->commit();
 
   pa::RenderSettings rs;

@@ -256,7 +256,33 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
   }
 
   if (options.sky) renderer.setSky(skyDesc(scene, handles, options));
+  if (options.fog) {
+    const FogVolumes fog = fogVolumes(scene, options.lightScale);
+    renderer.setFogVolumes(fog.volumes);
+    handles.fogVolumes = fog.volumes.size();
+  }
   return handles;
+}
+
+FogVolumes fogVolumes(const q3::WorldScene& scene, float lightScale) {
+  constexpr float kMinDepthForOpaque = 1.0f;   // R_LoadFogs clamps the distance to 1
+  FogVolumes out;
+  for (const q3::WorldFog& fog : scene.fogs) {
+    if (fog.planes.empty()) continue;
+    out.planes.push_back(fog.planes);
+  }
+  size_t next = 0;
+  for (const q3::WorldFog& fog : scene.fogs) {
+    if (fog.planes.empty()) continue;
+    FogVolumeDesc desc;
+    desc.planes = out.planes[next++];
+    const glm::vec3 display = glm::clamp(fog.color, 0.0f, 1.0f);
+    desc.color = glm::vec3(srgbToLinear(display.r), srgbToLinear(display.g), srgbToLinear(display.b)) * lightScale;
+    desc.depthForOpaque = std::isfinite(fog.depthForOpaque) ? std::max(fog.depthForOpaque, kMinDepthForOpaque)
+                                                            : kMinDepthForOpaque;
+    out.volumes.push_back(desc);
+  }
+  return out;
 }
 
 SkyDesc skyDesc(const q3::WorldScene& scene, const WorldHandles& handles, const UploadOptions& options) {

@@ -31,6 +31,7 @@ struct UploadOptions {
   /// WorldHandles::lights then follows the calibrated list, not scene.lights.
   bool calibrateEstimatedLights = true;
   q3::LightCalibrationOptions calibration;   ///< Knobs of that calibration.
+  bool fog = true;           ///< Set the map's fog volumes (fogVolumes()).
 };
 
 /// Renderer ids of everything uploaded, indexed like the WorldScene arrays.
@@ -43,7 +44,23 @@ struct WorldHandles {
   std::vector<InstanceId> modelInstances;   ///< Per model: identity instance (kNoId when empty).
   std::vector<LightId> lights;              ///< Per light added (scene.lights, or the calibrated list).
   uint64_t triangles = 0;
+  size_t fogVolumes = 0;                    ///< Fog volumes handed to the renderer.
 };
+
+/// A map's fog volumes in the renderer's terms, owning the plane arrays the descriptions view.
+struct FogVolumes {
+  FogVolumes() = default;
+  FogVolumes(FogVolumes&&) = default;
+  FogVolumes& operator=(FogVolumes&&) = default;
+  FogVolumes(const FogVolumes&) = delete;   ///< A copy would view the original's planes.
+  std::vector<std::vector<glm::vec4>> planes;   ///< One array per volume.
+  std::vector<FogVolumeDesc> volumes;           ///< planes[i] viewed by volumes[i].
+};
+
+/// The fog brushes of a map: the brush planes, the fogParms colour (a display colour, made
+/// linear, times lightScale) and depthForOpaque raised to at least 1 unit as the stock renderer
+/// does. Fogs whose brush has no usable plane are left out.
+FogVolumes fogVolumes(const q3::WorldScene& scene, float lightScale = 1.0f);
 
 /// Uploads textures, lightmaps, materials, one mesh + instance per model, lights and sky.
 /// Does not commit(). Brush sub-model instances start at identity; movers set their transform.

@@ -34,8 +34,7 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
   try {
     bvh_detail::assignTriangleMesh(input, impl.mesh);
     bvh_detail::buildBinaryBvh(impl.mesh, config, impl.scratch, impl.binary);
-    impl.wide = {};   // freed first: the old and new layouts are never both held
-    impl.wide = bvh_detail::collapseToWide(impl.binary, impl.mesh);
+    bvh_detail::collapseToWide(impl.binary, impl.mesh, impl.wide);   // reuses the previous layout's memory
     // The root box is the union of all triangles.
     impl.bounds = impl.binary.empty() ? Bounds{} : impl.binary.nodes[0].bounds;
   } catch (...) {

@@ -18,6 +18,7 @@ class Collapser {
 
   void run() {
     packLeaves();
+    out_.nodes.clear();
     out_.nodes.reserve(binary_.nodeCount / 4 + 1);
     out_.nodes.emplace_back();
     fillNode(0, 0);
@@ -50,6 +51,11 @@ class Collapser {
         children[count++] = opened.right;
       }
     }
+    // Largest box first: any-hit rays visit the children in lane order, and a large box is the
+    // likelier occluder.
+    std::stable_sort(children, children + count, [&](uint32_t a, uint32_t b) {
+      return binary_.nodes[a].bounds.halfArea() > binary_.nodes[b].bounds.halfArea();
+    });
     WideNode node;
     for (int side = 0; side < 2; ++side)
       for (int axis = 0; axis < 3; ++axis)
@@ -142,9 +148,17 @@ class Collapser {
 
 WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh) {
   WideBvh out;
-  if (binary.empty()) return out;
-  Collapser(binary, mesh, out).run();
+  collapseToWide(binary, mesh, out);
   return out;
+}
+
+void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& out) {
+  if (binary.empty()) {
+    out = WideBvh{};
+    return;
+  }
+  Collapser(binary, mesh, out).run();
+  out.kernel = bestWideKernel();
 }
 
 }  // namespace pa::bvh_detail

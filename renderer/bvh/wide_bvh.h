@@ -35,21 +35,41 @@ struct alignas(32) TrianglePack {
   uint32_t maskedBits = 0;   ///< Lanes whose hits go through the HitFilter.
 };
 
+/// Traversal kernel implementations. All give the same results bit for bit (same arithmetic).
+enum class WideKernel : uint8_t {
+  Baseline,   ///< The build's ISA: AVX2 for x86-64-v3, SSE halves for x86-64-v2.
+  Avx512,     ///< AVX-512 F/VL/BW/DQ (mask registers, compress); x86-64-v3 builds only.
+};
+
+/// Whether this build has the kernel and this CPU (and OS) can run it.
+bool wideKernelAvailable(WideKernel kernel);
+
+/// The fastest available kernel; chosen once per collapse, so a BVH never changes kernel.
+WideKernel bestWideKernel();
+
 /// 8-wide BVH; node 0 is the root (when not empty).
 struct WideBvh {
   std::vector<WideNode> nodes;
   std::vector<TrianglePack> packs;
+  WideKernel kernel = WideKernel::Baseline;   ///< Which traversal runs (tests may pick any available one).
   bool empty() const { return nodes.empty(); }
 };
 
 /// Converts the binary BVH into the 8-wide layout (children chosen by opening the largest box
 /// first) and packs the leaf triangles of mesh.
 WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh);
+/// Same, into `out`, reusing its vectors' memory (rebuilds of a Blas).
+void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& out);
 
 /// Closest hit, same contract as Blas::intersect (the ray must be traceable).
 bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
 
 /// Any hit, same contract as Blas::occluded (the ray must be traceable).
 bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId);
+
+/// The AVX-512 kernels behind intersectWide / occludedWide (wide_traversal_avx512.cpp); only
+/// call them when wideKernelAvailable(WideKernel::Avx512).
+bool intersectWideAvx512(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
+bool occludedWideAvx512(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId);
 
 }  // namespace pa::bvh_detail

@@ -2,7 +2,9 @@
 // slab test, see slab_test.h), nearest child first for closest hits (any-hit rays skip even
 // that), other hit children pushed branch-free, and a leaf's (up to) eight triangles at a time
 // with the watertight test (see watertight.h; same operations in the same order, so the
-// results are bit-identical to the scalar reference).
+// results are bit-identical to the scalar reference). This is the baseline kernel (AVX2 in
+// x86-64-v3 builds, SSE halves in x86-64-v2 builds); BVHs collapsed on a CPU with AVX-512 run the
+// kernel of wide_traversal_avx512.cpp instead (WideBvh::kernel, dispatched below).
 #include <cmath>
 #include <algorithm>
 #include <array>
@@ -15,16 +17,13 @@
 #include "renderer/bvh/slab_test.h"
 #include "renderer/bvh/watertight.h"
 #include "renderer/bvh/wide_bvh.h"
+#include "renderer/bvh/wide_traversal_stack.h"
 
 namespace pa::bvh_detail {
 namespace {
 
 using simd::vfloat4;
 using simd::vfloat8;
-
-/// Bound for the stack: the wide tree is no deeper than the binary one (< 128 levels) and each
-/// level pushes at most 7 entries.
-constexpr int kWideStackSize = 7 * 128 + 1;
 
 /// Per-ray constants for the box tests.
 struct BoxRay {
@@ -128,21 +127,6 @@ inline float packPlaneDistance(const TrianglePack& pack, int lane, const Ray& ra
   const auto vertex = [&](int k) { return glm::vec3(pack.v[k][0][lane], pack.v[k][1][lane], pack.v[k][2][lane]); };
   return planeHitDistance(ray.origin, ray.dir, vertex(0), vertex(1), vertex(2), fallback);
 }
-
-/// Decodes a leaf reference into its pack range.
-inline void leafPacks(uint32_t ref, uint32_t& first, uint32_t& count) {
-  first = ref & kFirstPackMask;
-  count = ((ref & ~kLeafBit) >> kPackCountShift) + 1;
-}
-
-/// Traversal stack: child references with, for closest-hit rays, their entry distances.
-/// Pushes write eight lanes at once, so the arrays have a lane's worth of slack.
-template <bool kWithDistance>
-struct TraversalStack {
-  alignas(32) uint32_t node[kWideStackSize + kWideWidth];
-  alignas(32) float entry[kWithDistance ? kWideStackSize + kWideWidth : 1];
-  int top = 0;
-};
 
 #if defined(__AVX2__)
 /// For every 8-bit lane mask, the indices of its set lanes, lowest first, 3 bits each.
@@ -252,8 +236,25 @@ template <bool kAnyHit>
 
 }  // namespace
 
+bool wideKernelAvailable(WideKernel kernel) {
+  if (kernel == WideKernel::Baseline) return true;
+#if defined(__AVX2__)
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+         __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
+#else
+  return false;
+#endif
+}
+
+WideKernel bestWideKernel() {
+  return wideKernelAvailable(WideKernel::Avx512) ? WideKernel::Avx512 : WideKernel::Baseline;
+}
+
 bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId) {
   if (bvh.empty()) return false;
+#if defined(__AVX2__)
+  if (bvh.kernel == WideKernel::Avx512) return intersectWideAvx512(bvh, ray, hit, filter, instanceId);
+#endif
   const BoxRay boxRay(ray);
   const TriangleRay triRay(ray);
   // The nearest child is traversed next; the others are pushed unsorted, with their entry
@@ -295,6 +296,9 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
 
 bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId) {
   if (bvh.empty()) return false;
+#if defined(__AVX2__)
+  if (bvh.kernel == WideKernel::Avx512) return occludedWideAvx512(bvh, ray, filter, instanceId);
+#endif
   const BoxRay boxRay(ray);
   const TriangleRay triRay(ray);
   // Children are visited in node order, not sorted by distance: any occluder ends the search,

@@ -94,6 +94,7 @@ void Renderer::removeLight(LightId id) { impl_->store.removeLight(id); }
 void Renderer::setSky(const SkyDesc& sky) { impl_->store.setSky(sky); }
 
 void Renderer::setPortals(std::span<const PortalDesc> portals) { impl_->store.setPortals(portals); }
+void Renderer::setFogVolumes(std::span<const FogVolumeDesc> volumes) { impl_->store.setFogVolumes(volumes); }
 
 void Renderer::commit() {
   Impl& im = *impl_;

@@ -73,6 +73,8 @@ class Renderer {
   void setSky(const SkyDesc& sky);
   /// Replaces every portal (mirror-material windows to elsewhere; see scene_types.h).
   void setPortals(std::span<const PortalDesc> portals);
+  /// Replaces every fog volume (planes copied; see scene_types.h for what fog does to rays).
+  void setFogVolumes(std::span<const FogVolumeDesc> volumes);
 
   /// Makes all changes since the last commit visible to render(): builds changed BLASes,
   /// rebuilds the TLAS and the light sampling tables; resets accumulation if anything changed.

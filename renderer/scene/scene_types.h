@@ -42,6 +42,16 @@
 //   (+X face: right = -Y; +Y face: right = +X; +Z face: right = +Y; -Z face: right = -Y).
 //   The faces are multiplied by color * intensity (set color to 1 to see them as they are).
 // - Textures sample with (0, 0) at the top-left texel corner.
+// - Fog volumes (setFogVolumes): a ray segment running a length L inside a volume gets the
+//   opacity a = sqrt(clamp(L / depthForOpaque - 1/64, 0, 1)) (Quake III's fog curve) and
+//   carries (1 - a) * what is behind + a * color (an absorbing, glowing medium; several
+//   volumes compose front to back). Every segment of every integrator is fogged: camera,
+//   mirror and portal rays gain the glow; bounce rays after a diffuse or glossy scattering and
+//   shadow rays only lose (1 - a): the glow lights nothing (it stands for haze the scene's lights
+//   already lit). Lightmap integrator: the stock look. A camera ray measures L along the
+//   camera's forward axis (eye-space depth), every other segment its true length; only the
+//   volumes holding the segment's end fog it (stock fogs surfaces inside a fog brush, never the
+//   sky); and the blend is done on display values (sRGB-encoded, behind clamped to 1).
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -106,6 +116,16 @@ enum class AlphaMode : uint8_t {
   Additive,  ///< Adds its colour to what is behind; no occlusion (flames, glows, beams).
 };
 
+/// How the Lightmap integrator composes an Additive layer over the display value dst behind
+/// it; src is the layer's colour (texture x baseColor x vertex colour x tint) encoded for display.
+enum class LayerBlend : uint8_t {
+  Add,           ///< dst + src (glows, flames, beams).
+  Over,          ///< dst * (1 - alpha) + src: premultiplied alpha blending (smoke).
+  Multiply,      ///< dst * src: filters (marks); adds nothing.
+  MultiplyInverse,  ///< dst * (1 - src): blob shadows; adds nothing.
+  MultiplyAdd,   ///< dst * (1 + src): the stock dynamic-light pass; adds nothing by itself.
+};
+
 /// Material model limited to what a Quake III scene needs.
 struct MaterialDesc {
   TextureId baseTexture = kNoId;        ///< Albedo (RGB) + alpha (A).
@@ -114,6 +134,9 @@ struct MaterialDesc {
   float alphaCutoff = 0.5f;             ///< Mask: alpha < cutoff is a miss (invert via alphaInvert).
   bool alphaInvert = false;             ///< Mask: alpha >= cutoff is a miss (Quake's LT128).
   float opacity = 1.0f;                 ///< Blend: overall opacity multiplier.
+  /// Additive only: how the Lightmap integrator composes the layer over what is behind it, in
+  /// display values as framebuffer blending does (the other integrators add the colour).
+  LayerBlend layerBlend = LayerBlend::Add;
   TextureId emissiveTexture = kNoId;    ///< Emission map (RGB, sRGB); kNoId = constant emission.
   glm::vec3 emission{0.0f};             ///< Linear radiance multiplier (W/sr/m^2 in scene units).
   TextureId lightmapTexture = kNoId;    ///< Baked light for the lightmap preset (uses lightmapUvs).
@@ -192,6 +215,14 @@ struct PortalDesc {
   glm::vec3 normal{0.0f, 0.0f, 1.0f};   ///< Unit plane normal, pointing to the side it is seen from.
   float distance = 0.0f;               ///< Plane: dot(normal, p) = distance.
   glm::mat4x3 transform{1.0f};         ///< Affine map from this side to the far side (invertible).
+};
+
+/// A fog volume: a convex region (inside where dot(plane.xyz, p) <= plane.w for every plane,
+/// normals pointing out) of fog of a colour and a depth to opaque (see the conventions above).
+struct FogVolumeDesc {
+  std::span<const glm::vec4> planes;   ///< Bounding planes: xyz outward normal (any length), w distance.
+  glm::vec3 color{0.5f};               ///< Linear radiance of the fog where it is opaque.
+  float depthForOpaque = 1.0f;         ///< Length inside after which the fog is opaque (scene units, > 0).
 };
 
 /// A game-style camera: origin and three axes (forward, left, up), field of view in degrees.

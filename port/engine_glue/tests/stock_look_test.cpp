@@ -150,6 +150,25 @@ TEST(SkyCube, FarBoxImagesLandOnTheStockSides) {
   for (int face = 0; face < 6; ++face) EXPECT_EQ(texel(cube, face, 4, 4).x, expected[face]) << "face " << face;
 }
 
+TEST(SkyCube, TheUpImageIsTurnedAsTheStockBoxShowsIt) {
+  // tr_sky.c side +Z: x = -t, y = -s; texture (s, t) -> ((s + 1) / 2, (1 - t) / 2). A direction
+  // toward +X and -Y of straight up has s = 0.625, t = -0.625: the right, bottom texel.
+  auto up = std::make_shared<Image>();
+  up->width = up->height = 2;
+  up->rgba = {10, 0, 0, 255, 20, 0, 0, 255, 30, 0, 0, 255, 40, 0, 0, 255};   // TL TR BL BR
+  q3::ShaderDef shader;
+  shader.sky = q3::SkyParms{"env/box", 512, ""};
+  SkyBaker baker;
+  ASSERT_TRUE(baker.prepare(shader, [&](const std::string& path) { return path == "env/box_up" ? up : nullptr; }, 8));
+  SkyCube cube;
+  baker.bake(0.0, cube);
+  const glm::vec3 d = skyCubeDirection(4, 1, 1, 8);
+  ASSERT_NEAR(d.x, 0.625f, 1e-6f);
+  ASSERT_NEAR(d.y, -0.625f, 1e-6f);
+  EXPECT_EQ(texel(cube, 4, 1, 1).x, 40);
+  EXPECT_EQ(texel(cube, 4, 6, 6).x, 10);   // toward -X, +Y: the left, top texel
+}
+
 TEST(SkyCube, CloudStagesBlendOverTheBoxExceptBelow) {
   q3::ShaderDef shader;
   shader.sky = q3::SkyParms{"", 512, ""};
@@ -236,13 +255,20 @@ TEST(DlightOverlay, LitTrianglesAreCopiedAboveTheSurfaceWithWhatTheBlendAdds) {
   ASSERT_FALSE(overlay.indices.empty());
   EXPECT_EQ(overlay.indices.size() / 3, overlay.triangleMaterials.size());
   for (const glm::vec3& p : overlay.positions) EXPECT_GT(p.z, 0.0f);
-  // Every vertex is within 2 blob texels of the centre: full red. Baked 128 (linear 0.216) times
-  // (1 + 1)^2.2 - 1; no green or blue added.
-  const float expected = 0.2158605f * (std::pow(2.0f, 2.2f) - 1.0f);
+  // Every vertex is within 2 blob texels of the centre: full red. Stock makes dst * (1 + 1): the
+  // MultiplyAdd layer's colour is 1 (display and linear); no green or blue.
+  const float expected = 1.0f;
   for (const glm::vec4& c : overlay.colors) {
     EXPECT_NEAR(c.r, expected, 1e-3f);
     EXPECT_EQ(c.g, 0.0f);
   }
+  // Two such lights, two stock passes: dst * 2 * 2 = dst * (1 + 3): display 3, linear
+  // ((3 + 0.055) / 1.055)^2.4 (sRGB decoding continued past white).
+  const DynamicLight twice[2] = {light, light};
+  overlay.clear();
+  builder.build(std::span<const DynamicLight>(twice, 2), overlay);
+  ASSERT_FALSE(overlay.colors.empty());
+  EXPECT_NEAR(overlay.colors[0].r, std::pow(3.055f / 1.055f, 2.4f), 1e-3f);
   DynamicLight far = light;
   far.origin = {5000, 0, 40};
   overlay.clear();

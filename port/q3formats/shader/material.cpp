@@ -1,6 +1,9 @@
 #include "port/q3formats/shader/material.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 namespace q3 {
 
@@ -24,10 +27,14 @@ namespace q3 {
 // | no lightmap, rgbGen identity / const / wave / none | lighting Unlit (const colour kept)            |
 // | base rgbGen entity / oneMinusEntity                | entityColor                                   |
 // | q3map_surfacelight N                               | surfaceLight N, emissive                      |
-// | q3map_lightimage / q3map_lightRGB                  | lightImage / lightColor (else editor image,   |
-// |                                                    |   else base texture)                          |
+// | q3map_lightimage / q3map_lightRGB                  | lightImageCandidates (q3map2 order: light     |
+// |                                                    |   image, sky _up, first stage image, editor   |
+// |                                                    |   image, shader name) / lightColor            |
 // | later stage blendFunc with dst ONE, not env/lm     | glowTextures, emissive                        |
-// | surfaceparm sky or skyParms                        | sky, skyBox faces farbox_rt ... farbox_dn     |
+// | later image stage after the base, same tcGen and   | baseModulations (scale 1; 2 for DST_COLOR     |
+// |   tcMods, filter / DST_COLOR SRC_COLOR             |   SRC_COLOR): multiplies the base texture     |
+// | surfaceparm sky or skyParms                        | sky, skyBox faces in cube order +X..-Z:       |
+// |                                                    |   _rt _lf _bk _ft _up(turned 180) _dn         |
 // | portal, sort portal                                | portal (mirror vs camera decided by entities) |
 // | surfaceparm nodraw                                 | nodraw, invisible                             |
 // | no stages (and not sky)                            | invisible                                     |
@@ -55,7 +62,70 @@ AlphaMode blendMode(const ShaderStage& s) {
   return AlphaMode::Blend;
 }
 
+bool sameTcMods(const std::vector<TcMod>& a, const std::vector<TcMod>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const TcMod &x = a[i], &y = b[i];
+    if (x.kind != y.kind || x.scroll != y.scroll || x.degreesPerSecond != y.degreesPerSecond || x.matrix != y.matrix ||
+        x.translate != y.translate || x.wave.func != y.wave.func || x.wave.base != y.wave.base ||
+        x.wave.amplitude != y.wave.amplitude || x.wave.phase != y.wave.phase || x.wave.frequency != y.wave.frequency)
+      return false;
+  }
+  return true;
+}
+
+/// q3map2 (shaders.c): the light image path is q3map_lightimage, else the sky's far box "_up"
+/// image, else (without qer_editorimage) the first image named by a stage; the light image is
+/// that path if it loads, else the shader image (editor image, then the shader's name, then that
+/// path again, then q3map2's default image: here the first stage image).
+std::vector<std::string> lightImageCandidates(const ShaderDef& shader) {
+  std::string path = shader.lightImage;
+  if (path.empty() && shader.sky && !shader.sky->farBox.empty()) path = shader.sky->farBox + "_up";
+  std::string firstStageImage;
+  for (const ShaderStage& s : shader.stages)
+    if (isImageStage(s) && s.textures.front()[0] != '$' && s.textures.front()[0] != '*') {
+      firstStageImage = s.textures.front();
+      break;
+    }
+  if (path.empty() && shader.editorImage.empty()) path = firstStageImage;
+  // Last, where q3map2 would take its default image: the first stage image (what the surface shows).
+  std::vector<std::string> candidates;
+  for (const std::string& name : {path, shader.editorImage, shader.name, firstStageImage})
+    if (!name.empty() && std::find(candidates.begin(), candidates.end(), name) == candidates.end())
+      candidates.push_back(name);
+  return candidates;
+}
+
 }  // namespace
+
+bool modulateBase(std::vector<uint8_t>& base, uint32_t width, uint32_t height, const std::vector<uint8_t>& modulator,
+                  uint32_t modulatorWidth, uint32_t modulatorHeight, float scale) {
+  if (width == 0 || height == 0 || modulatorWidth == 0 || modulatorHeight == 0 ||
+      base.size() != size_t(width) * height * 4 || modulator.size() != size_t(modulatorWidth) * modulatorHeight * 4 ||
+      !(scale >= 0.0f) || !std::isfinite(scale))
+    return false;
+  for (uint32_t y = 0; y < height; ++y) {
+    const uint32_t my = uint32_t((uint64_t(y) * modulatorHeight + modulatorHeight / 2) / height) % modulatorHeight;
+    for (uint32_t x = 0; x < width; ++x) {
+      const uint32_t mx = uint32_t((uint64_t(x) * modulatorWidth + modulatorWidth / 2) / width) % modulatorWidth;
+      uint8_t* out = &base[(size_t(y) * width + x) * 4];
+      const uint8_t* by = &modulator[(size_t(my) * modulatorWidth + mx) * 4];
+      for (int c = 0; c < 3; ++c)
+        out[c] = static_cast<uint8_t>(std::min(255.0f, std::round(float(out[c]) * float(by[c]) * scale / 255.0f)));
+    }
+  }
+  return true;
+}
+
+SkyFaceImage skyFaceImage(int face) {
+  // tr_sky.c: the box sides in its st_to_vec order (+X, -X, +Y, -Y, +Z, -Z) bind the images
+  // loaded as rt, bk, lf, ft, up, dn through sky_texorder {0, 2, 1, 3, 4, 5}; MakeSkyVec maps a
+  // side's (s, t) to texture (s, 1 - t), which for the four walls is the SkyBox layout and for
+  // +Z runs s along -Y and t along -X: the SkyBox layout turned by 180 degrees.
+  static constexpr std::array<SkyFaceImage, 6> kFaces{{
+      {"_rt", false}, {"_lf", false}, {"_bk", false}, {"_ft", false}, {"_up", true}, {"_dn", false}}};
+  return kFaces[static_cast<size_t>(std::clamp(face, 0, 5))];
+}
 
 UvAffine UvAffine::after(const UvAffine& f) const {
   UvAffine r;
@@ -166,12 +236,22 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
 
   // Emission.
   m.surfaceLight = shader.surfaceLight;
-  m.lightImage = !shader.lightImage.empty() ? shader.lightImage
-               : !shader.editorImage.empty() ? shader.editorImage
-                                              : m.baseTexture;
+  m.lightImageCandidates = lightImageCandidates(shader);
+  if (!m.lightImageCandidates.empty()) m.lightImage = m.lightImageCandidates.front();
   if (shader.lightColor) {
     m.lightColor = *shader.lightColor;
     m.hasLightColor = true;
+  }
+  // Later stages that multiply the base texel for texel (self-multiplied metal, stains).
+  if (base) {
+    for (const auto* s = base + 1; s < stages.data() + stages.size(); ++s) {
+      if (!isImageStage(*s) || s->tcGen != base->tcGen || !sameTcMods(s->tcMods, base->tcMods) || !s->blends()) continue;
+      const bool byDst = s->srcBlend == BlendFactor::DstColor, bySrc = s->dstBlend == BlendFactor::SrcColor;
+      if ((byDst && s->dstBlend == BlendFactor::Zero) || (s->srcBlend == BlendFactor::Zero && bySrc))
+        m.baseModulations.push_back({s->textures.front(), 1.0f});
+      else if (byDst && bySrc)
+        m.baseModulations.push_back({s->textures.front(), 2.0f});
+    }
   }
   for (const auto& s : stages) {
     if (&s == base || &s == &stages.front() || !isImageStage(s) || s.tcGen == TcGen::Environment) continue;
@@ -182,10 +262,11 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   // Sky.
   m.sky = shader.has(SurfaceParm::Sky) || shader.sky.has_value();
   if (shader.sky) {
-    static const char* kSuffix[6] = {"_rt", "_bk", "_lf", "_ft", "_up", "_dn"};
     for (int i = 0; i < 6; ++i) {
-      if (!shader.sky->farBox.empty()) m.skyBox.farFaces[i] = shader.sky->farBox + kSuffix[i];
-      if (!shader.sky->nearBox.empty()) m.skyBox.nearFaces[i] = shader.sky->nearBox + kSuffix[i];
+      const SkyFaceImage image = skyFaceImage(i);
+      if (!shader.sky->farBox.empty()) m.skyBox.farFaces[i] = shader.sky->farBox + image.suffix;
+      if (!shader.sky->nearBox.empty()) m.skyBox.nearFaces[i] = shader.sky->nearBox + image.suffix;
+      m.skyBox.turned180[i] = image.turned180;
     }
     m.skyBox.cloudHeight = shader.sky->cloudHeight;
   }

@@ -1,6 +1,7 @@
 #pragma once
 // A renderer-neutral reading of a shader: what a physically based renderer needs to know.
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -38,12 +39,39 @@ struct UvAffine {
 /// (`hasTurbulence` tells it was there); entityTranslate needs the entity and is left out.
 UvAffine uvTransformAt(const std::vector<TcMod>& mods, double seconds);
 
-/// Sky box: six face textures (`_rt _bk _lf _ft _up _dn`, in the engine's order) of far and near boxes.
+/// Sky box images as a cube in world axes (Z up): faces +X, -X, +Y, -Y, +Z, -Z, each seen from
+/// inside along its axis with the image top toward +Z (+X for the two Z faces) and the image
+/// right = axis x top. The stock renderer (tr_sky.c) shows the skyParms images _rt, _lf, _bk,
+/// _ft, _up, _dn on these faces, the _up image turned by 180 degrees (`turned180`).
 struct SkyBox {
-  std::array<std::string, 6> farFaces;   ///< empty if the shader has no far box
-  std::array<std::string, 6> nearFaces;  ///< empty if none
+  std::array<std::string, 6> farFaces;   ///< cube order; empty if the shader has no far box
+  std::array<std::string, 6> nearFaces;  ///< cube order; empty if none
+  std::array<bool, 6> turned180{};       ///< the face's image must be turned by 180 degrees
   float cloudHeight = 128;
 };
+
+/// The skyParms image suffix (`_rt` ...) the stock renderer shows on cube face `face` (0..5,
+/// SkyBox order; clamped) and whether it is turned by 180 degrees there.
+struct SkyFaceImage {
+  const char* suffix;
+  bool turned180;
+};
+SkyFaceImage skyFaceImage(int face);
+
+/// A later stage that multiplies the base colour by an image laid on the base stage's texture
+/// coordinates (same tcGen and tcMods, so texel for texel): `blendFunc filter`, (GL_DST_COLOR,
+/// GL_ZERO) or (GL_ZERO, GL_SRC_COLOR) scale 1; (GL_DST_COLOR, GL_SRC_COLOR) scale 2.
+struct BaseModulation {
+  std::string texture;
+  float scale = 1;
+};
+
+/// Multiplies RGBA8 `base` (width x height) by RGBA8 `modulator` (its own size, sampled at the
+/// nearest texel of the same relative position) times `scale`, per colour channel in 8-bit
+/// display values as the stock blend does, clamped; alpha kept. Returns false (base untouched)
+/// when a size does not match its pixel count.
+bool modulateBase(std::vector<uint8_t>& base, uint32_t width, uint32_t height, const std::vector<uint8_t>& modulator,
+                  uint32_t modulatorWidth, uint32_t modulatorHeight, float scale);
 
 /// Neutral description of a shader for renderers and exporters (no renderer dependency).
 struct MaterialInfo {
@@ -60,9 +88,15 @@ struct MaterialInfo {
   bool vertexColor = false;               ///< base colour is multiplied by vertex colours
   bool entityColor = false;               ///< base colour comes from the entity (shaderRGBA)
   float surfaceLight = 0;                 ///< q3map_surfacelight intensity (0 = not a light)
-  std::string lightImage;                 ///< texture whose average colour is the light colour
+  std::string lightImage;                 ///< first of lightImageCandidates ("" if none)
+  /// Images whose average colour is the light colour, in q3map2's order: the first one that
+  /// loads is used (q3map_lightimage, else the sky's far box _up, else the first stage image when
+  /// there is no qer_editorimage; then qer_editorimage, the shader's name, the first stage image).
+  /// None loads: white light.
+  std::vector<std::string> lightImageCandidates;
   std::array<float, 3> lightColor{1, 1, 1};  ///< q3map_lightRGB if given (else use lightImage)
   bool hasLightColor = false;
+  std::vector<BaseModulation> baseModulations;  ///< later stages multiplying the base on its uvs
   std::vector<std::string> glowTextures;  ///< additive stages over the base (self-illumination)
   bool emissive = false;                  ///< surfaceLight > 0, or glow stages, or additive base
   bool sky = false;

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <map>
+#include <string>
 #include <numbers>
 #include <tuple>
 
@@ -114,6 +115,8 @@ class SceneAssembler {
     m.fromScript = !def.implicit;
     std::string base = info.baseTexture.empty() && !info.animFrames.empty() ? info.animFrames.front() : info.baseTexture;
     if (!base.empty() && base[0] != '$' && base[0] != '*') m.baseTexture = textures_.get(base, info.clampUv);
+    if (m.baseTexture >= 0 && !info.baseModulations.empty() && info.animFrames.empty())
+      m.baseTexture = modulatedBase(def.name, m.baseTexture, info.baseModulations);
     m.baseColor = glm::vec4(info.constColor[0], info.constColor[1], info.constColor[2], 1.0f);
     m.alphaMode = alphaModeOf(info.alphaMode);
     m.alphaCutoff = info.alphaCutoff;
@@ -122,7 +125,12 @@ class SceneAssembler {
     m.sky = info.sky || (m.surfaceFlags & kSurfSky) != 0;
     m.fog = info.fogVolume;
     m.mirror = info.portal;
-    m.visible = !info.invisible && !m.fog && (m.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
+    // A fog shader whose first stage is solid (lava with fogParms) draws its surface like any
+    // other; the cloud layers some fog shaders filter or blend onto the fog's surface are left
+    // out (the fog volume itself gives the look), as are fog-only shaders (no stages).
+    const bool solidStage = info.alphaMode == AlphaMode::Opaque || info.alphaMode == AlphaMode::Mask;
+    m.visible = !info.invisible && (!m.fog || solidStage) &&
+                (m.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
     m.vertexLit = info.lighting == LightingMode::Vertex || (!hasLightmap && info.lighting == LightingMode::Lightmap) ||
                   (m.surfaceFlags & kSurfNolightmap) != 0;
     m.castsShadows = !m.sky && m.alphaMode != WorldAlphaMode::Additive && m.visible;
@@ -144,10 +152,13 @@ class SceneAssembler {
       glm::vec3 color(1.0f);
       if (info.hasLightColor) {
         color = glm::vec3(info.lightColor[0], info.lightColor[1], info.lightColor[2]);
-      } else if (!info.lightImage.empty()) {
-        color = textures_.averageColor(textures_.get(info.lightImage, false));
-      } else if (m.baseTexture >= 0) {
-        color = textures_.averageColor(m.baseTexture);
+      } else {
+        // The first light image that loads (q3map2's order); none: white, never the fallback checker.
+        for (const std::string& image : info.lightImageCandidates)
+          if (textures_.exists(image)) {
+            color = textures_.averageColor(textures_.get(image, false));
+            break;
+          }
       }
       m.emission = normalisedColor(glm::max(color, glm::vec3(0.0f)));
       if (!m.visible) m.castsShadows = false;
@@ -177,19 +188,63 @@ class SceneAssembler {
     scene_.lights.push_back(light);
   }
 
+  /// The base texture multiplied by the shader's later filter stages (MaterialInfo::
+  /// baseModulations), as a texture of its own shared by equal requests; `base` when none applies.
+  int32_t modulatedBase(const std::string& shader, int32_t base, const std::vector<BaseModulation>& modulations) {
+    std::string key = std::to_string(base);
+    for (const BaseModulation& mod : modulations) key += " x" + std::to_string(mod.scale) + " " + mod.texture;
+    if (const auto found = modulatedTextures_.find(key); found != modulatedTextures_.end()) return found->second;
+    WorldTexture out = scene_.textures.at(size_t(base));
+    bool applied = false;
+    if (out.isFallback) return base;
+    for (const BaseModulation& mod : modulations) {
+      if (!textures_.exists(mod.texture)) {
+        scene_.warnings.push_back("shader '" + shader + "': filter stage image '" + mod.texture + "' not found, left out");
+        continue;
+      }
+      const WorldImage& by = scene_.textures.at(size_t(textures_.get(mod.texture, false))).image;
+      if (modulateBase(out.image.rgba8, out.image.width, out.image.height, by.rgba8, by.width, by.height, mod.scale)) {
+        out.requestedPath += " x " + mod.texture;
+        applied = true;
+      }
+    }
+    int32_t index = base;
+    if (applied) {
+      scene_.textures.push_back(std::move(out));
+      index = int32_t(scene_.textures.size() - 1);
+    }
+    modulatedTextures_.emplace(key, index);
+    return index;
+  }
+
+  /// A new texture holding texture `index` turned by 180 degrees (texel order reversed).
+  int32_t turnedCopy(int32_t index) {
+    WorldTexture turned = scene_.textures.at(size_t(index));
+    std::vector<uint8_t>& texels = turned.image.rgba8;
+    const size_t count = texels.size() / 4;
+    for (size_t i = 0; i < count / 2; ++i)
+      std::swap_ranges(texels.begin() + std::ptrdiff_t(4 * i), texels.begin() + std::ptrdiff_t(4 * i + 4),
+                       texels.begin() + std::ptrdiff_t(4 * (count - 1 - i)));
+    turned.requestedPath += " (turned 180)";
+    scene_.textures.push_back(std::move(turned));
+    return int32_t(scene_.textures.size() - 1);
+  }
+
   void addSky(const std::pair<ShaderDef, MaterialInfo>& sky) {
     const auto& [def, info] = sky;
     scene_.sky.shaderName = def.name;
     scene_.sky.cloudHeight = info.skyBox.cloudHeight;
     glm::vec3 sum(0.0f);
     int count = 0;
-    // The engine's order rt, bk, lf, ft, up, dn is +X, -X, +Y, -Y, +Z, -Z.
+    // Faces in cube order +X, -X, +Y, -Y, +Z, -Z as the stock renderer shows them (MaterialInfo
+    // SkyBox: _rt _lf _bk _ft _up _dn, the _up image turned by 180 degrees).
     // A missing far box ("skyParms full 512 -" is a common idiom) is skipped by the engine,
     // which then draws only the cloud layers: no warning, no fallback faces.
     for (size_t f = 0; f < 6; ++f) {
       const std::string& face = info.skyBox.farFaces[f];
       if (face.empty() || !textures_.exists(face)) continue;
       scene_.sky.faces[f] = textures_.get(face, true);
+      if (info.skyBox.turned180[f]) scene_.sky.faces[f] = turnedCopy(scene_.sky.faces[f]);
       sum += textures_.averageColor(scene_.sky.faces[f]);
       ++count;
     }
@@ -239,6 +294,14 @@ class SceneAssembler {
       WorldFog out;
       out.shaderName = fog.shaderName;
       out.bounds = fog.bounds;
+      for (const glm::vec4& plane : fog.planes) {
+        const float length = glm::length(glm::vec3(plane));
+        if (std::isfinite(length) && std::isfinite(plane.w) && length > 1e-6f) out.planes.push_back(plane / length);
+      }
+      if (out.planes.size() != fog.planes.size())
+        scene_.warnings.push_back("fog '" + fog.shaderName + "': " + std::to_string(fog.planes.size() - out.planes.size()) +
+                                  " invalid brush planes dropped");
+      if (out.planes.empty()) scene_.warnings.push_back("fog '" + fog.shaderName + "': brush has no planes, fog not drawn");
       if (const ShaderDef* def = shaders_.find(fog.shaderName); def && def->fog) {
         out.color = glm::vec3(def->fog->color[0], def->fog->color[1], def->fog->color[2]);
         out.depthForOpaque = def->fog->depthForOpaque;
@@ -319,6 +382,7 @@ class SceneAssembler {
   std::map<std::pair<uint32_t, bool>, uint32_t> materials_;
   std::map<std::tuple<uint32_t, uint32_t, int32_t>, size_t> meshes_;
   std::optional<std::pair<ShaderDef, MaterialInfo>> skyMaterial_;
+  std::map<std::string, int32_t> modulatedTextures_;   ///< modulatedBase() results by request
   bool sunShaderSeen_ = false;
   bool externalLightmapWarned_ = false;
 };

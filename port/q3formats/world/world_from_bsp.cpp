@@ -34,6 +34,23 @@ WorldBounds fogBrushBounds(const BspFile& bsp, int32_t brushIndex) {
   return bounds;
 }
 
+/// Side planes of a fog brush (outward normals, as q3map writes brush sides); out-of-range
+/// side or plane indices are skipped (the builder validates what is left).
+std::vector<glm::vec4> fogBrushPlanes(const BspFile& bsp, int32_t brushIndex) {
+  std::vector<glm::vec4> planes;
+  if (brushIndex < 0 || size_t(brushIndex) >= bsp.brushes.size()) return planes;
+  const BspBrush& brush = bsp.brushes[size_t(brushIndex)];
+  for (int32_t s = 0; s < brush.numSides; ++s) {
+    const size_t sideIndex = size_t(brush.firstSide) + size_t(s);
+    if (brush.firstSide < 0 || sideIndex >= bsp.brushSides.size()) break;
+    const int32_t planeIndex = bsp.brushSides[sideIndex].plane;
+    if (planeIndex < 0 || size_t(planeIndex) >= bsp.planes.size()) continue;
+    const BspPlane& plane = bsp.planes[size_t(planeIndex)];
+    planes.emplace_back(plane.normal, plane.dist);
+  }
+  return planes;
+}
+
 }  // namespace
 
 WorldScene buildWorldScene(const BspFile& bsp, const ShaderLibrary& shaders, const FileLoader& loadFile,
@@ -83,7 +100,8 @@ WorldScene buildWorldScene(const BspFile& bsp, const ShaderLibrary& shaders, con
     std::copy(bytes.begin(), bytes.begin() + std::min(bytes.size(), rgb.size()), rgb.begin());
   }
 
-  for (const BspFog& fog : bsp.fogs) source.fogs.push_back({fog.shaderName, fogBrushBounds(bsp, fog.brush)});
+  for (const BspFog& fog : bsp.fogs)
+    source.fogs.push_back({fog.shaderName, fogBrushBounds(bsp, fog.brush), fogBrushPlanes(bsp, fog.brush)});
 
   if (bsp.lightGrid.valid) {
     WorldLightGrid& grid = source.lightGrid;

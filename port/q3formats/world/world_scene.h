@@ -137,8 +137,8 @@ struct WorldLight {
 /// The environment: a sky box (six images) or a constant colour.
 struct WorldSky {
   std::string shaderName;                 ///< The sky shader used by the map ("" = none).
-  /// Faces in world order +X, -X, +Y, -Y, +Z, -Z (Quake suffixes rt, bk, lf, ft, up, dn);
-  /// indices into WorldScene::textures, -1 = absent (then use colour).
+  /// Faces in world order +X, -X, +Y, -Y, +Z, -Z (q3::SkyBox layout: Quake suffixes rt, lf, bk,
+  /// ft, up turned 180 degrees, dn); indices into WorldScene::textures, -1 = absent (then use colour).
   std::array<int32_t, 6> faces{-1, -1, -1, -1, -1, -1};
   glm::vec3 color{0.0f};                  ///< Average colour of the box (or of the sky texture).
   float cloudHeight = 0.0f;               ///< skyParms cloud height (data only).
@@ -158,10 +158,13 @@ struct WorldCamera {
   float fovX = 90.0f;            ///< Degrees (cg_fov default).
 };
 
-/// A fog volume (data only: the path tracer does not model participating media yet).
+/// A fog volume: the fog brush (a convex region) filled with the fog of its shader's fogParms.
 struct WorldFog {
   std::string shaderName;
   WorldBounds bounds;            ///< Bounds of the fog brush.
+  /// The brush's side planes, xyz unit outward normal and w distance (inside where
+  /// dot(xyz, p) <= w); non-finite or zero-normal sides dropped. Empty when the brush has none usable.
+  std::vector<glm::vec4> planes;
   glm::vec3 color{0.5f};         ///< fogParms colour.
   float depthForOpaque = 0.0f;   ///< fogParms distance to full opacity (Quake units).
 };

@@ -43,6 +43,7 @@ using SourceEntity = std::vector<std::pair<std::string, std::string>>;
 struct SourceFog {
   std::string shaderName;
   WorldBounds bounds;
+  std::vector<glm::vec4> planes;   ///< The brush's side planes as stored (xyz normal, w distance).
 };
 
 /// What the scene builder consumes.

@@ -97,6 +97,41 @@ TEST(SceneBridge, FullBrightLightmapShowsTheTextureUnmodified) {
   }
 }
 
+TEST(SceneBridge, FogVolumesCarryTheBrushColourAndStockMinimumDepth) {
+  q3::WorldScene scene = wallScene(64, false);
+  q3::WorldFog fog;
+  fog.shaderName = "textures/test/fog";
+  fog.planes = {{1, 0, 0, 150}, {-1, 0, 0, -50}, {0, 1, 0, 300}, {0, -1, 0, 300}, {0, 0, 1, 300}, {0, 0, -1, 300}};
+  fog.color = {0.5f, 0.25f, 1.0f};
+  fog.depthForOpaque = 0.0f;   // stock raises it to 1
+  scene.fogs.push_back(fog);
+  q3::WorldFog noBrush;
+  scene.fogs.push_back(noBrush);   // no planes: left out
+  const FogVolumes volumes = fogVolumes(scene, 2.0f);
+  ASSERT_EQ(volumes.volumes.size(), 1u);
+  EXPECT_EQ(volumes.volumes[0].planes.size(), 6u);
+  EXPECT_FLOAT_EQ(volumes.volumes[0].depthForOpaque, 1.0f);
+  EXPECT_NEAR(volumes.volumes[0].color.r, 2.0f * srgbToLinear(0.5f), 1e-6f);
+  EXPECT_NEAR(volumes.volumes[0].color.b, 2.0f, 1e-6f);
+}
+
+TEST(SceneBridge, FogBetweenCameraAndWallBlendsTheLightmappedLook) {
+  // The wall (x = 0) seen from x = 200 through fog filling x in [0, 100]: 100 units deep.
+  q3::WorldScene scene = wallScene(64, false);
+  q3::WorldFog fog;
+  fog.planes = {{1, 0, 0, 100}, {-1, 0, 0, 0}, {0, 1, 0, 300}, {0, -1, 0, 300}, {0, 0, 1, 300}, {0, 0, -1, 300}};
+  fog.color = {0.0f, 0.0f, 0.0f};
+  fog.depthForOpaque = 400.0f;
+  scene.fogs.push_back(fog);
+  Renderer renderer;
+  const WorldHandles handles = uploadWorld(scene, renderer);
+  EXPECT_EQ(handles.fogVolumes, 1u);
+  renderer.commit();
+  const float opacity = std::sqrt(100.0f / 400.0f - 1.0f / 64.0f);
+  // Display-space blend toward black: the encoded white drops to 1 - opacity.
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(1.0f - opacity), 0.01f);
+}
+
 TEST(SceneBridge, VertexLitSurfacesUseVertexColoursAsBakedLight) {
   Renderer renderer;
   uploadWorld(wallScene(128, true), renderer);

@@ -8,9 +8,15 @@
 //   lightmap-match-check --recover MAP...   (maps that kept their lights: doubled values refitted)
 // Diagnosis switches (environment): PA_LIST_LIGHTS=1 lists the calibrated lights,
 // PA_NO_CANDIDATES=1 refits the estimated lights only, PA_ABSOLUTE=1 fits absolute errors,
-// PA_NO_SKY=1 renders without the sky.
+// PA_CAL_SKY=V calibrates with sky light value V (summed over RGB, open surface) instead of the
+// sky shader's; what is rendered: PA_NO_SKY=1 without the sky, PA_NO_SUN=1 without q3map_sun
+// lights, PA_NO_EMITTERS=1 without surface lights and glow stages, PA_PATH=1 the calibrated
+// lights with Path (4 bounces) instead of Direct, PA_NO_GRID=1 skips the Direct render with the
+// grid's values; PA_PNG=PREFIX writes the renders as PREFIX_sN_{lightmap,grid,direct,path}.png
+// (clamp look, sRGB).
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -19,6 +25,7 @@
 #include <vector>
 
 #include <glm/common.hpp>
+#include <stb_image_write.h>
 
 #include "port/q3formats/world/world_game.h"
 #include "port/scene_bridge/light_calibration.h"
@@ -31,6 +38,7 @@ namespace {
 struct Luminance {
   double plain = 0.0;
   double capped = 0.0;
+  double black = 0.0;   ///< Share of pixels whose display luma is below 10/255.
 };
 
 Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrator integrator, bool calibrate,
@@ -41,6 +49,7 @@ Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrato
   upload.sky = std::getenv("PA_NO_SKY") == nullptr;
   upload.calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
   upload.calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
+  if (const char* sky = std::getenv("PA_CAL_SKY")) upload.calibration.skyLightValue = float(std::atof(sky));
   pa::bridge::uploadWorld(scene, renderer, upload);
   renderer.commit();
   const pa::Camera camera = pa::bridge::cameraFromSpawn(scene.cameras[spawn], 16.0f / 9.0f);
@@ -51,6 +60,26 @@ Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrato
   settings.samplesPerPixel = integrator == pa::Integrator::Lightmap ? 4 : directSpp;
   settings.maxBounces = 4;
   const pa::FrameView frame = renderer.render(camera, settings);
+  std::vector<uint8_t> rgb(frame.radiance.size() * 3);   // display values (clamp look, sRGB)
+  size_t black = 0;
+  for (size_t i = 0; i < frame.radiance.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const float v = std::clamp(frame.radiance[i][c], 0.0f, 1.0f);
+      const float srgb = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+      rgb[i * 3 + size_t(c)] = uint8_t(255.0f * srgb + 0.5f);
+    }
+    const float luma = 0.2126f * rgb[i * 3] + 0.7152f * rgb[i * 3 + 1] + 0.0722f * rgb[i * 3 + 2];
+    black += luma < 10.0f ? 1 : 0;   // pa-all-maps' "black" pixel (sky not excluded here)
+  }
+  if (const char* prefix = std::getenv("PA_PNG")) {
+    const char* kind = integrator == pa::Integrator::Lightmap ? "lightmap"
+                       : integrator == pa::Integrator::Path   ? "path"
+                       : calibrate                            ? "direct"
+                                                              : "grid";
+    const std::string name = std::string(prefix) + "_s" + std::to_string(spawn) + "_" + kind + ".png";
+    if (!stbi_write_png(name.c_str(), int(settings.width), int(settings.height), 3, rgb.data(), int(settings.width) * 3))
+      std::fprintf(stderr, "lightmap-match-check: cannot write %s\n", name.c_str());
+  }
   Luminance sum;
   for (size_t i = 0; i < frame.radiance.size(); ++i) {
     const glm::vec3 r = frame.radiance[i];
@@ -59,7 +88,7 @@ Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrato
     sum.capped += 0.2126 * capped.r + 0.7152 * capped.g + 0.0722 * capped.b;
   }
   const double n = double(std::max<size_t>(frame.radiance.size(), 1));
-  return {sum.plain / n, sum.capped / n};
+  return {sum.plain / n, sum.capped / n, double(black) / n};
 }
 
 /// On a map that kept its lights: marks its plain point lights estimated with twice their
@@ -96,12 +125,17 @@ void recover(const q3::GameWorlds& game, const std::string& map) {
 }
 
 void check(const q3::GameWorlds& game, const std::string& map, size_t spawns, uint32_t spp) {
-  const q3::WorldScene scene = game.load(map);
+  q3::WorldScene scene = game.load(map);
+  if (std::getenv("PA_NO_SUN"))
+    std::erase_if(scene.lights, [](const q3::WorldLight& l) { return l.type == q3::WorldLightType::Sun; });
+  if (std::getenv("PA_NO_EMITTERS"))
+    for (q3::WorldMaterial& m : scene.materials) m.surfaceLight = 0.0f, m.emissiveTexture = -1;
   size_t estimated = 0;
   for (const q3::WorldLight& l : scene.lights) estimated += l.estimated ? 1 : 0;
   q3::LightCalibrationOptions calibration;
   calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
   calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
+  if (const char* sky = std::getenv("PA_CAL_SKY")) calibration.skyLightValue = float(std::atof(sky));
   const auto t0 = std::chrono::steady_clock::now();
   q3::LightCalibrationStats stats;
   const std::vector<q3::WorldLight> lights = pa::bridge::calibratedLights(scene, calibration, &stats);
@@ -120,12 +154,15 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns, ui
   for (size_t s = 0; s < std::min(spawns, scene.cameras.size()); ++s) {
     const Luminance lightmap = meanLuminance(scene, s, pa::Integrator::Lightmap, true, spp);
     const double baked = lightmap.plain;
-    const Luminance before = meanLuminance(scene, s, pa::Integrator::Direct, false, spp);
-    const Luminance after = meanLuminance(scene, s, pa::Integrator::Direct, true, spp);
-    std::printf("  spawn %zu (%s): lightmap %.4f (capped %.4f) | direct grid %.4f (x%.2f, capped x%.2f) | direct "
-                "calibrated %.4f (x%.2f, capped x%.2f)\n",
-                s, scene.cameras[s].name.c_str(), baked, lightmap.capped, before.plain, before.plain / baked,
-                before.capped / lightmap.capped, after.plain, after.plain / baked, after.capped / lightmap.capped);
+    const Luminance before = std::getenv("PA_NO_GRID") ? Luminance{NAN, NAN, NAN}
+                                                       : meanLuminance(scene, s, pa::Integrator::Direct, false, spp);
+    const bool path = std::getenv("PA_PATH") != nullptr;
+    const Luminance after = meanLuminance(scene, s, path ? pa::Integrator::Path : pa::Integrator::Direct, true, spp);
+    std::printf("  spawn %zu (%s): lightmap %.4f (capped %.4f, black %.0f%%) | direct grid %.4f (x%.2f, capped x%.2f) | %s "
+                "calibrated %.4f (x%.2f, capped x%.2f, black %.0f%%)\n",
+                s, scene.cameras[s].name.c_str(), baked, lightmap.capped, 100.0 * lightmap.black, before.plain,
+                before.plain / baked, before.capped / lightmap.capped, path ? "path" : "direct", after.plain,
+                after.plain / baked, after.capped / lightmap.capped, 100.0 * after.black);
   }
   std::fflush(stdout);
 }

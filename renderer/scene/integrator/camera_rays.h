@@ -26,6 +26,8 @@ class CameraRays {
     r.dir = glm::normalize(forward_ + sx * right_ + sy * up_);
     return r;
   }
+  /// Unit forward axis (eye-space depth = distance along it).
+  const glm::vec3& forward() const { return forward_; }
   /// Angle subtended by one pixel (ray-cone spread for texture filtering).
   float pixelSpreadAngle() const { return spread_; }
 

@@ -1,13 +1,16 @@
 #include "renderer/scene/integrator/integrator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 #include <glm/geometric.hpp>
 
 #include "renderer/bvh/ray_offset.h"
+#include "renderer/scene/integrator/display_composite.h"
 #include "renderer/scene/materials/bsdf.h"
+#include "renderer/scene/media/fog_volumes.h"
 #include "renderer/scene/sampling/warp.h"
 
 namespace pa {
@@ -91,8 +94,13 @@ glm::vec3 sampleDirectLight(const RenderScene& scene, const SurfaceHit& s, const
   request.randomBits = bits;
   request.towardEnvironment = ls.environment;
   if (scene.occluded(shadow, request)) return glm::vec3(0.0f);
+  float throughFog = 1.0f;
+  if (!scene.fogs.empty()) {
+    throughFog = FogSegment(scene.fogs, shadow.origin, shadow.dir, shadow.tmax, glm::length(shadow.dir)).transmittance();
+    if (!(throughFog > 0.0f)) return glm::vec3(0.0f);
+  }
   const float weight = ls.delta ? 1.0f : sampling::powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
-  return f * ls.radiance * (weight / ls.pdf);
+  return f * ls.radiance * (weight * throughFog / ls.pdf);
 }
 
 /// Radiance arriving from the environment along dir, MIS-weighted against sky sampling. Seen
@@ -102,6 +110,17 @@ glm::vec3 environmentRadiance(const RenderScene& scene, const glm::vec3& dir, co
   const glm::vec3 le = scattered ? scene.sky.lightingRadiance(dir) : scene.sky.radiance(dir);
   if (prev.delta) return le;
   return le * sampling::powerHeuristic(prev.bsdfPdf, scene.lights.skyPdf(prev.normal, dir));
+}
+
+/// Additive surfaces in front of tHit, each dimmed by the fog between it and the ray origin.
+glm::vec3 additiveThroughFog(const AdditiveHits& additive, float tHit, const FogSegment& fog) {
+  if (fog.empty()) return additive.sumBefore(tHit);
+  glm::vec3 sum(0.0f);
+  for (uint32_t i = 0; i < additive.count; ++i) {
+    const AdditiveHits::Entry& e = additive.entries[i];
+    if (e.t < tHit) sum += e.color * fog.transmittanceTo(e.t);
+  }
+  return sum;
 }
 
 }  // namespace
@@ -120,6 +139,16 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
                                                                          : settings.maxBounces;
   uint32_t scatterCount = 0;
   uint32_t portalsCrossed = 0;   // what the camera sees through a portal counts as seen directly
+  DisplayComposite layers;       // Lightmap: see-through layers, composed in display values at the end
+  // Lightmap look: fog layers to blend over what lies behind them on display values, as the
+  // stock renderer's framebuffer does (beta stays 1 in this integrator: mirrors end the path).
+  struct DisplayFog {
+    glm::vec3 radianceInFront;
+    float opacity;
+    glm::vec3 color;
+  };
+  std::array<DisplayFog, 8> displayFog;
+  uint32_t displayFogCount = 0;
 
   for (uint32_t depth = 0;; ++depth) {
     const uint32_t viewDepth = depth - portalsCrossed;
@@ -129,10 +158,24 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     bool onOverlay = false;
     const bool found =
         traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
-    radiance += clampContribution(beta * additive.sumBefore(found ? hit.t : kInfinity), viewDepth,
-                                  settings.radianceClamp);
-
+    const float tHit = found ? hit.t : kInfinity;
     const glm::vec3 dir = glm::normalize(ray.dir);
+    // Fog along this segment; the Lightmap look measures camera rays by eye-space depth.
+    const float eyeDepthScale = lightmapOnly && depth == 0 ? glm::dot(dir, camera.forward()) : 1.0f;
+    const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir) * eyeDepthScale, lightmapOnly);
+    if (lightmapOnly) {
+      layers.appendBefore(additive, tHit);   // composed in display values at the end
+    } else {
+      radiance += clampContribution(beta * additiveThroughFog(additive, tHit, fog), viewDepth, settings.radianceClamp);
+    }
+    if (fog.transmittance() < 1.0f && lightmapOnly && displayFogCount < displayFog.size()) {
+      displayFog[displayFogCount++] = {radiance, 1.0f - fog.transmittance(), fog.layerColor()};
+    } else if (fog.transmittance() < 1.0f) {
+      // The glow is the look of lit haze: seen along camera and mirror chains, never a light
+      // source after a scattering (the map's lights already lit it; counting it would light twice).
+      if (scatterCount == 0) radiance += beta * fog.glow();
+      beta *= fog.transmittance();
+    }
     const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay) : SurfaceHit{};
     if (!found || s.material->desc.sky) {
       const glm::vec3 le =
@@ -177,7 +220,9 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     }
 
     const glm::vec3 le = scene.emission(s, front);
-    if (le != glm::vec3(0.0f)) {
+    if (le != glm::vec3(0.0f) && lightmapOnly) {
+      layers.append({le, glm::vec3(1.0f)});   // a glow stage adds to the lit texture in display values
+    } else if (le != glm::vec3(0.0f)) {
       float weight = 1.0f;
       if (!prev.delta && !lightmapOnly) {
         const uint32_t index = scene.emissiveIndex(s);
@@ -194,7 +239,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
       } else if (m.lightmap != nullptr) {
         baked = glm::vec3(m.lightmap->sample(s.lightmapUv, 0.0f));
       }
-      radiance += albedo * baked;
+      radiance += beta * displayProduct(albedo, baked);   // texture x lightmap in 8-bit values, as stock
       break;
     }
     if (scatterCount >= maxScatter || depth >= maxScatter + kExtraDeltaBounces) break;
@@ -226,7 +271,11 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     ray.origin = offsetRayOrigin(s.position, glm::dot(bs.wi, ng) > 0.0f ? ng : -ng);
     ray.dir = bs.wi;
   }
-  out.radiance = radiance;
+  for (uint32_t i = displayFogCount; i-- > 0;) {
+    const DisplayFog& f = displayFog[i];
+    radiance = f.radianceInFront + blendInDisplaySpace(radiance - f.radianceInFront, f.opacity, f.color);
+  }
+  out.radiance = lightmapOnly ? layers.over(radiance) : radiance;   // see-through layers over the fogged surface
   return out;
 }
 

@@ -3,9 +3,11 @@
 // film's per-pixel Welford variances (plus a small absolute slack for float rounding).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include "renderer/scene/textures/texture.h"
 #include "scene_builders.h"
 
 namespace pa {
@@ -232,9 +234,15 @@ TEST(KnownAnswer, LightmapPresetIsAlbedoTimesBakedLight) {
   r.addInstance({r.addMesh(desc)});
   r.commit();
   const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 30.0f), settingsFor(Integrator::Lightmap, 4, 1));
-  EXPECT_NEAR(f.radiance[5].r, 0.25f + 0.5f * 0.2f, 1e-5f);
-  EXPECT_NEAR(f.radiance[5].g, 0.25f + 0.5f * 0.4f, 1e-5f);
-  EXPECT_NEAR(f.radiance[5].b, 0.25f + 0.5f * 0.8f, 1e-5f);
+  // Emission (a glow stage) adds to the lit texture in display values, as framebuffer blending does.
+  const auto displaySum = [](float a, float b) {
+    return srgbToLinear(std::min(1.0f, linearToSrgb(a) + linearToSrgb(b)));
+  };
+  // Texture x lightmap multiply display values too (the stock 8-bit multiply).
+  const auto displayProduct = [](float a, float b) { return srgbToLinear(linearToSrgb(a) * linearToSrgb(b)); };
+  EXPECT_NEAR(f.radiance[5].r, displaySum(displayProduct(0.5f, 0.2f), 0.25f), 1e-5f);
+  EXPECT_NEAR(f.radiance[5].g, displaySum(displayProduct(0.5f, 0.4f), 0.25f), 1e-5f);
+  EXPECT_NEAR(f.radiance[5].b, 1.0f, 1e-5f);   // encoded 0.74 * 0.91 + 0.54: white
   EXPECT_NEAR(f.albedo[5].g, 0.5f, 1e-6f);
   EXPECT_NEAR(f.depth[5], 2.0f, 0.05f);   // jittered rays near the centre: 2 / cos
   EXPECT_NEAR(f.normal[5].z, 1.0f, 1e-5f);

@@ -3,8 +3,10 @@
 // Most use the Lightmap preset (no lightmap = fullbright base colour) for exact answers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numbers>
 
+#include "renderer/scene/textures/texture.h"
 #include "scene_builders.h"
 
 namespace pa {
@@ -77,9 +79,15 @@ TEST(Materials, AdditiveAddsAndNeverOccludesOrShadows) {
   MaterialDesc add = coloured(0.2f, 0.3f, 0.0f);
   add.alphaMode = AlphaMode::Additive;
   Layers layers(coloured(0.5f, 0.5f, 0.5f), add);
+  // The Lightmap preset adds display values, as framebuffer blending does: 0.5 + 0.2 linear is
+  // encoded 0.735 + 0.484, white; 0.5 + 0 stays 0.5.
   const glm::vec3 c = layers.centre();
-  EXPECT_NEAR(c.r, 0.7f, 1e-5f);
-  EXPECT_NEAR(c.g, 0.8f, 1e-5f);
+  const auto displaySum = [](float a, float b) {
+    return srgbToLinear(std::min(1.0f, linearToSrgb(a) + linearToSrgb(b)));
+  };
+  EXPECT_NEAR(c.r, displaySum(0.5f, 0.2f), 1e-5f);
+  EXPECT_NEAR(c.r, 1.0f, 1e-5f);
+  EXPECT_NEAR(c.g, displaySum(0.5f, 0.3f), 1e-5f);
   EXPECT_NEAR(c.b, 0.5f, 1e-5f);
   // Lit from straight above by a sun: the additive layer casts no shadow on the floor.
   LightDesc sun;
@@ -93,6 +101,22 @@ TEST(Materials, AdditiveAddsAndNeverOccludesOrShadows) {
   const glm::vec3 lit = layers.centre(Integrator::Direct);
   EXPECT_NEAR(lit.b, 0.5f, 1e-4f);
   EXPECT_NEAR(lit.r, 0.5f + 0.2f, 1e-4f);
+}
+
+TEST(Materials, LayerBlendsComposeInDisplayValuesInTheLightmapPreset) {
+  // Behind: linear 0.2 (display e); the layer's colour: linear 0.5 (display s), alpha 0.25.
+  const float e = linearToSrgb(0.2f), s = linearToSrgb(0.5f);
+  const std::pair<LayerBlend, float> cases[] = {
+      {LayerBlend::Over, e * 0.75f + s},       {LayerBlend::Multiply, e * s},
+      {LayerBlend::MultiplyInverse, e * (1 - s)}, {LayerBlend::MultiplyAdd, e * (1 + s)}};
+  for (const auto& [blend, display] : cases) {
+    MaterialDesc layer = coloured(0.5f, 0.5f, 0.5f);
+    layer.baseColor.a = 0.25f;
+    layer.alphaMode = AlphaMode::Additive;
+    layer.layerBlend = blend;
+    Layers layers(coloured(0.2f, 0.2f, 0.2f), layer);
+    EXPECT_NEAR(linearToSrgb(layers.centre().g), std::min(display, 1.0f), 1e-4f) << int(blend);
+  }
 }
 
 TEST(Materials, BlendIsStochasticCoverage) {
@@ -275,12 +299,12 @@ TEST(Materials, UvTransformScrollsTheTexture) {
   const RenderSettings s = settingsFor(Integrator::Lightmap, 8, 1);
   FrameView f = r.render(cam, s);
   EXPECT_EQ(f.radiance[4 * 8 + 0].r, 0.0f);   // left column: u in [0.14, 0.23], black texels
-  EXPECT_EQ(f.radiance[4 * 8 + 7].r, 1.0f);   // right column: u in [0.77, 0.86], white texels
+  EXPECT_NEAR(f.radiance[4 * 8 + 7].r, 1.0f, 1e-5f);   // right column: u in [0.77, 0.86], white texels
   m.uvTransform[2] = glm::vec2(0.5f, 0.0f);
   r.setMaterial(id, m);
   r.commit();
   f = r.render(cam, s);
-  EXPECT_EQ(f.radiance[4 * 8 + 0].r, 1.0f);
+  EXPECT_NEAR(f.radiance[4 * 8 + 0].r, 1.0f, 1e-5f);
   EXPECT_EQ(f.radiance[4 * 8 + 7].r, 0.0f);
 }
 

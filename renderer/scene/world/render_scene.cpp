@@ -26,18 +26,25 @@ const std::vector<RenderInstance>& instancesFor(const RenderScene& scene, bool o
 
 glm::vec3 toWorld(const glm::mat4x3& m, const glm::vec3& p) { return m * glm::vec4(p, 1.0f); }
 
-void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color) {
+void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color,
+                    const glm::vec3& transmit) {
   for (uint32_t i = 0; i < hits.count; ++i) {
     if (hits.entries[i].instance == instance && hits.entries[i].prim == prim) return;   // reported twice
   }
   if (hits.count < AdditiveHits::kCapacity) {
-    hits.entries[hits.count++] = {t, instance, prim, color};
+    hits.entries[hits.count++] = {t, instance, prim, color, transmit};
     return;
   }
   // Full: keep the closest ones (farther ones are the likeliest to lie behind the hit).
   auto farthest = std::max_element(hits.entries.begin(), hits.entries.end(),
                                    [](const auto& a, const auto& b) { return a.t < b.t; });
-  if (farthest->t > t) *farthest = {t, instance, prim, color};
+  if (farthest->t > t) *farthest = {t, instance, prim, color, transmit};
+}
+
+/// sRGB-encoded value of a non-negative linear colour (above 1 too: the dynamic-light pass).
+glm::vec3 displayValue(const glm::vec3& linear) {
+  const glm::vec3 c = glm::max(linear, glm::vec3(0.0f));
+  return {linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)};
 }
 
 bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, float u, float v) {
@@ -79,9 +86,20 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
         const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay);
         const glm::vec3 d = ctx.ray->dir;
         const float t = glm::dot(s.position - ctx.ray->origin, d) / glm::dot(d, d);
-        const glm::vec3 added =
-            glm::vec3(ctx.scene->baseColor(s, 0.0f)) + ctx.scene->emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
-        recordAdditive(*ctx.request->additive, t, instanceIndex, prim, added);
+        const glm::vec4 base = ctx.scene->baseColor(s, 0.0f);
+        glm::vec3 added = glm::vec3(base) + ctx.scene->emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
+        glm::vec3 transmit(1.0f);
+        switch (m.layerBlend) {
+          case LayerBlend::Add: break;
+          case LayerBlend::Over: transmit = glm::vec3(1.0f - std::clamp(base.a, 0.0f, 1.0f)); break;
+          case LayerBlend::Multiply: transmit = displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+          case LayerBlend::MultiplyInverse:
+            transmit = glm::max(1.0f - displayValue(glm::vec3(base)), glm::vec3(0.0f));
+            added = glm::vec3(0.0f);
+            break;
+          case LayerBlend::MultiplyAdd: transmit = 1.0f + displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+        }
+        recordAdditive(*ctx.request->additive, t, instanceIndex, prim, added, transmit);
       }
       return false;
     }

@@ -15,6 +15,7 @@
 #include "renderer/core/ray.h"
 #include "renderer/scene/lights/light_sampler.h"
 #include "renderer/scene/lights/sky.h"
+#include "renderer/scene/media/fog_volumes.h"
 #include "renderer/scene/scene_types.h"
 #include "renderer/scene/textures/texture.h"
 #include "renderer/scene/world/mesh_geometry.h"
@@ -57,7 +58,8 @@ struct AdditiveHits {
     float t;
     uint32_t instance;
     uint32_t prim;
-    glm::vec3 color;
+    glm::vec3 color;      ///< Linear colour added.
+    glm::vec3 transmit;   ///< Display-value multiplier of what is behind (MaterialDesc::layerBlend).
   };
   uint32_t count = 0;
   std::array<Entry, kCapacity> entries;   ///< First `count` are valid.
@@ -102,6 +104,7 @@ struct RenderScene {
   std::vector<uint32_t> emissiveLookup;         ///< Per emissive instance and triangle: light index or kNoId.
   Sky sky;
   std::vector<PortalDesc> portals;              ///< Mirror-material windows (see scene_types.h).
+  std::vector<FogVolume> fogs;                  ///< Fog volumes (media/fog_volumes.h).
   LightSampler lights;
   Bounds bounds;
 

@@ -247,6 +247,18 @@ void SceneStore::setPortals(std::span<const PortalDesc> portals) {
   dirty_ = true;
 }
 
+void SceneStore::setFogVolumes(std::span<const FogVolumeDesc> volumes) {
+  if (volumes.size() > kMaxFogVolumes)
+    throw SceneError("setFogVolumes: " + std::to_string(volumes.size()) + " volumes (at most " +
+                     std::to_string(kMaxFogVolumes) + ")");
+  std::vector<FogVolume> valid;
+  valid.reserve(volumes.size());
+  for (size_t i = 0; i < volumes.size(); ++i)
+    valid.push_back(makeFogVolume(volumes[i], "setFogVolumes: volume " + std::to_string(i)));
+  fogs_ = std::move(valid);
+  dirty_ = true;
+}
+
 // ---------------------------------------------------------------- commit
 
 void SceneStore::validateReferences() const {
@@ -431,6 +443,7 @@ RenderScene SceneStore::commit() {
     if (l) lights.push_back(*l);
   }
   scene.portals = portals_;
+  scene.fogs = fogs_;
   scene.sky = Sky(sky_, scene.textures);
   scene.lights = LightSampler(lights, std::move(emissive), scene.sky, scene.bounds);
   dirty_ = false;

@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "renderer/scene/media/fog_volumes.h"
 #include "renderer/scene/scene_types.h"
 #include "renderer/scene/textures/texture.h"
 #include "renderer/scene/world/mesh_geometry.h"
@@ -48,6 +49,8 @@ class SceneStore {
   void setSky(const SkyDesc& sky);
   /// Replaces the portals (normals are normalised).
   void setPortals(std::span<const PortalDesc> portals);
+  /// Replaces the fog volumes (validated, planes normalised).
+  void setFogVolumes(std::span<const FogVolumeDesc> volumes);
 
   /// True when something changed since the last successful commit.
   bool dirty() const { return dirty_; }
@@ -77,6 +80,7 @@ class SceneStore {
   std::vector<std::optional<LightDesc>> lights_;
   SkyDesc sky_;
   std::vector<PortalDesc> portals_;
+  std::vector<FogVolume> fogs_;
   bool dirty_ = true;
 };
 

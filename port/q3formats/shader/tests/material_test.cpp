@@ -66,15 +66,107 @@ TEST(Material, SurfaceLightAndGlowStages) {
   EXPECT_EQ(noImage.lightImage, "base.tga");
 }
 
-TEST(Material, SkyBoxFacesInEngineOrder) {
+TEST(Material, LaterStagesMultiplyingTheBaseOnItsUvs) {
+  // oa_ctf2 textures/clown/steel_r_shine: the texture, a chrome add, the same texture as a
+  // filter, then the lightmap: stock shows texture^2 * lightmap (+ chrome).
+  auto shine = material(R"(s { { map steel.jpg rgbGen identity }
+    { clampmap chrome.jpg blendfunc add tcGen environment }
+    { map steel.jpg blendfunc filter }
+    { map $lightmap blendfunc gl_dst_color gl_one_minus_src_alpha tcGen lightmap } })");
+  ASSERT_EQ(shine.baseModulations.size(), 1u);
+  EXPECT_EQ(shine.baseModulations[0].texture, "steel.jpg");
+  EXPECT_FLOAT_EQ(shine.baseModulations[0].scale, 1.0f);
+  EXPECT_EQ(shine.baseTexture, "steel.jpg");
+  // GL_DST_COLOR GL_SRC_COLOR doubles; GL_ZERO GL_SRC_COLOR is a filter too.
+  auto doubled = material("d { { map a.tga } { map b.tga blendFunc GL_DST_COLOR GL_SRC_COLOR } "
+                          "{ map c.tga blendFunc GL_ZERO GL_SRC_COLOR } }");
+  ASSERT_EQ(doubled.baseModulations.size(), 2u);
+  EXPECT_FLOAT_EQ(doubled.baseModulations[0].scale, 2.0f);
+  EXPECT_EQ(doubled.baseModulations[1].texture, "c.tga");
+  EXPECT_FLOAT_EQ(doubled.baseModulations[1].scale, 1.0f);
+  // A detail texture on other uvs (tcMod scale) and the lightmap itself are not texel-for-texel.
+  auto detail = material("d { { map a.tga } { map $lightmap blendFunc filter } "
+                         "{ map detail.tga blendFunc GL_DST_COLOR GL_SRC_COLOR tcMod scale 8 8 } }");
+  EXPECT_TRUE(detail.baseModulations.empty());
+  // The ordinary lightmapped wall has none.
+  EXPECT_TRUE(material("w { { map $lightmap } { map w.tga blendFunc filter } }").baseModulations.empty());
+}
+
+TEST(Material, ModulateBaseMultipliesDisplayValuesTexelForTexel) {
+  std::vector<uint8_t> base = {200, 100, 255, 77, 128, 255, 0, 255};   // 2 x 1
+  const std::vector<uint8_t> self = base;
+  ASSERT_TRUE(modulateBase(base, 2, 1, self, 2, 1, 1.0f));
+  EXPECT_EQ(base, (std::vector<uint8_t>{157, 39, 255, 77, 64, 255, 0, 255}));   // 200*200/255 = 156.9
+  std::vector<uint8_t> grey = {100, 100, 100, 255};
+  const std::vector<uint8_t> half = {128, 255, 0, 9};                         // 1 x 1, stretched
+  ASSERT_TRUE(modulateBase(grey, 1, 1, half, 1, 1, 2.0f));
+  EXPECT_EQ(grey, (std::vector<uint8_t>{100, 200, 0, 255}));                  // x2, clamped, alpha kept
+  std::vector<uint8_t> wrongSize = {1, 2, 3};
+  EXPECT_FALSE(modulateBase(wrongSize, 1, 1, half, 1, 1, 1.0f));
+  EXPECT_EQ(wrongSize, (std::vector<uint8_t>{1, 2, 3}));
+}
+
+TEST(Material, LightImageCandidatesInQ3map2Order) {
+  using Names = std::vector<std::string>;
+  // q3map_lightimage first, then the editor image, the shader's name, the first stage image.
+  EXPECT_EQ(material("l { q3map_lightimage glow.tga qer_editorimage ed.tga { map $lightmap } { map base.tga } }")
+                .lightImageCandidates,
+            (Names{"glow.tga", "ed.tga", "l", "base.tga"}));
+  // Without q3map_lightimage and editor image: the first stage image that is not $lightmap.
+  EXPECT_EQ(material("l { { map $lightmap } { animMap 2 a1.tga a2.tga } { map b.tga } }").lightImageCandidates,
+            (Names{"a1.tga", "l"}));
+  // With an editor image the stage image is not the light image path, only the last resort.
+  EXPECT_EQ(material("l { qer_editorimage ed.tga { map base.tga } }").lightImageCandidates,
+            (Names{"ed.tga", "l", "base.tga"}));
+  // A sky shader lights with its far box's top image.
+  EXPECT_EQ(material("s { skyparms env/red - - }").lightImageCandidates, (Names{"env/red_up", "s"}));
+}
+
+TEST(Material, SkyBoxFacesInCubeOrderAsTheStockRendererShowsThem) {
   auto m = material("s { surfaceparm sky skyparms env/red 256 - { map clouds.tga } }");
   EXPECT_TRUE(m.sky);
-  EXPECT_EQ(m.skyBox.farFaces[0], "env/red_rt");
-  EXPECT_EQ(m.skyBox.farFaces[1], "env/red_bk");
-  EXPECT_EQ(m.skyBox.farFaces[5], "env/red_dn");
+  const std::array<std::string, 6> expected{"env/red_rt", "env/red_lf", "env/red_bk",
+                                            "env/red_ft", "env/red_up", "env/red_dn"};
+  EXPECT_EQ(m.skyBox.farFaces, expected);
+  const std::array<bool, 6> turned{false, false, false, false, true, false};
+  EXPECT_EQ(m.skyBox.turned180, turned);
   EXPECT_EQ(m.skyBox.nearFaces[0], "");
   EXPECT_FLOAT_EQ(m.skyBox.cloudHeight, 256);
   EXPECT_FALSE(m.invisible);
+}
+
+// Known answers from ioquake3 tr_sky.c: side k of the stock box holds the point
+// (x, y, z) = st_to_vec[k] applied to (s, t, 1) and shows image sky_texorder[k] of the
+// skyParms images (rt bk lf ft up dn) at texture (s', t') = ((s + 1) / 2, 1 - (t + 1) / 2).
+// The SkyBox layout: face f seen along axis, u = (1 + right.d / |d_axis|) / 2,
+// v = (1 - top.d / |d_axis|) / 2. Every side, sampled on a grid, must agree.
+TEST(Material, SkyFaceImagesReproduceTheStockBoxTexelForTexel) {
+  const int stToVec[6][3] = {{3, -1, 2}, {-3, 1, 2}, {1, 3, 2}, {-1, -3, 2}, {-2, -1, 3}, {2, -1, -3}};
+  const int texOrder[6] = {0, 2, 1, 3, 4, 5};
+  const char* loaded[6] = {"_rt", "_bk", "_lf", "_ft", "_up", "_dn"};
+  struct Basis { std::array<float, 3> axis, top, right; };
+  const Basis layout[6] = {{{1, 0, 0}, {0, 0, 1}, {0, -1, 0}},  {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+                           {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},   {{0, -1, 0}, {0, 0, 1}, {-1, 0, 0}},
+                           {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},   {{0, 0, -1}, {1, 0, 0}, {0, -1, 0}}};
+  auto dot = [](const std::array<float, 3>& a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  for (int side = 0; side < 6; ++side) {
+    const SkyFaceImage ours = skyFaceImage(side);
+    EXPECT_STREQ(ours.suffix, loaded[texOrder[side]]) << "side " << side;
+    for (float s : {-0.75f, 0.0f, 0.5f})
+      for (float t : {-0.5f, 0.25f, 0.9f}) {
+        const float b[3] = {s, t, 1.0f};
+        float d[3];
+        for (int j = 0; j < 3; ++j) {
+          const int k = stToVec[side][j];
+          d[j] = k < 0 ? -b[-k - 1] : b[k - 1];
+        }
+        const Basis& f = layout[side];
+        float u = 0.5f * (1.0f + dot(f.right, d)), v = 0.5f * (1.0f - dot(f.top, d));
+        if (ours.turned180) u = 1.0f - u, v = 1.0f - v;
+        EXPECT_NEAR(u, 0.5f * (s + 1.0f), 1e-6f) << "side " << side;
+        EXPECT_NEAR(v, 1.0f - 0.5f * (t + 1.0f), 1e-6f) << "side " << side;
+      }
+  }
 }
 
 TEST(Material, NodrawPortalFogEnvironment) {

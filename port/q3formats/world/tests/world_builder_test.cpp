@@ -59,6 +59,25 @@ textures/skies/test
   q3map_sun 1 1 0.5 100 90 60
   skyparms env/test - -
 }
+textures/test/lampimage
+{
+  q3map_surfacelight 500
+  q3map_lightimage textures/test/implicit.tga
+  { map textures/test/wall.tga }
+}
+textures/test/lampmissing
+{
+  q3map_surfacelight 500
+  q3map_lightimage textures/test/absent.tga
+  qer_editorimage textures/test/absent_too.tga
+  { map textures/test/wall.tga }
+}
+textures/test/shine
+{
+  { map textures/test/wall.tga rgbGen identity }
+  { map textures/test/wall.tga blendfunc filter }
+  { map $lightmap blendfunc filter }
+}
 textures/common/nodraw
 {
   surfaceparm nodraw
@@ -96,7 +115,8 @@ class WorldBuilderTest : public ::testing::Test {
     source_.mapName = "maps/test.bsp";
     source_.shaders = {{"textures/test/wall", 0, 1}, {"textures/test/missing", 0, 1}, {"textures/test/glass", 0, 1},
                        {"textures/test/lamp", 0, 1}, {"textures/skies/test", 4, 1}, {"textures/common/nodraw", 0x80, 0},
-                       {"textures/test/implicit", 0, 1}};
+                       {"textures/test/implicit", 0, 1}, {"textures/test/lampimage", 0, 1},
+                       {"textures/test/lampmissing", 0, 1}, {"textures/test/shine", 0, 1}};
     source_.modelBounds = {{{0, 0, 0}, {64, 64, 64}}, {{0, 0, 100}, {64, 64, 101}}};
     source_.lightmaps.resize(2);
     source_.lightmaps[0].fill(64);
@@ -176,13 +196,50 @@ TEST_F(WorldBuilderTest, MissingShaderGetsFallbackTextureAndWarningImplicitShade
   EXPECT_EQ(scene.textures[size_t(implicit->baseTexture)].resolvedPath, "textures/test/implicit.png");
 }
 
+TEST_F(WorldBuilderTest, SurfaceLightColourComesFromTheFirstLightImageThatLoads) {
+  source_.surfaces = {quad(7, 0, 0, 0), quad(8, 0, 0, 8)};
+  WorldScene scene = build();
+  const WorldMaterial* lamp = materialNamed(scene, "textures/test/lampimage");
+  const WorldMaterial* missing = materialNamed(scene, "textures/test/lampmissing");
+  ASSERT_NE(lamp, nullptr);
+  ASSERT_NE(missing, nullptr);
+  // q3map_lightimage (10, 20, 30): bluish, not the wall's orange.
+  EXPECT_GT(lamp->emission.b, lamp->emission.g);
+  EXPECT_GT(lamp->emission.g, lamp->emission.r);
+  // Light image and editor image missing, no image by the shader's name: the stage image
+  // (200, 100, 50), orange; never the fallback checker's colour.
+  EXPECT_GT(missing->emission.r, missing->emission.g);
+  EXPECT_GT(missing->emission.g, missing->emission.b);
+  EXPECT_FLOAT_EQ(missing->emission.r, lamp->emission.b);   // both normalised to a maximum of 1
+}
+
+TEST_F(WorldBuilderTest, FilterStageOfTheSameImageSquaresTheBaseTexture) {
+  source_.surfaces = {quad(9, 0, 0, 0), quad(0, 0, 0, 8)};
+  WorldScene scene = build();
+  const WorldMaterial* shine = materialNamed(scene, "textures/test/shine");
+  const WorldMaterial* wall = materialNamed(scene, "textures/test/wall");
+  ASSERT_NE(shine, nullptr);
+  ASSERT_NE(wall, nullptr);
+  ASSERT_NE(shine->baseTexture, wall->baseTexture);
+  const WorldImage& squared = scene.textures.at(size_t(shine->baseTexture)).image;
+  ASSERT_EQ(squared.rgba8.size(), 4u * 4u * 4u);
+  // (200, 100, 50)^2 / 255 in 8-bit display values; the wall's own texture is untouched.
+  EXPECT_EQ(std::vector<uint8_t>(squared.rgba8.begin(), squared.rgba8.begin() + 4), (std::vector<uint8_t>{157, 39, 10, 255}));
+  EXPECT_EQ(scene.textures.at(size_t(wall->baseTexture)).image.rgba8[0], 200);
+}
+
 TEST_F(WorldBuilderTest, SkyShaderGivesSkyBoxAndSun) {
   source_.surfaces = {quad(0, 0, 0, 0), quad(4, -1, 0, 64)};
   WorldScene scene = build();
   EXPECT_EQ(scene.sky.shaderName, "textures/skies/test");
   for (int f = 0; f < 6; ++f) ASSERT_GE(scene.sky.faces[size_t(f)], 0) << f;
   EXPECT_EQ(scene.textures[size_t(scene.sky.faces[0])].resolvedPath, "env/test_rt.tga");   // +X
+  EXPECT_EQ(scene.textures[size_t(scene.sky.faces[1])].resolvedPath, "env/test_lf.tga");   // -X (stock)
+  EXPECT_EQ(scene.textures[size_t(scene.sky.faces[2])].resolvedPath, "env/test_bk.tga");   // +Y (stock)
   EXPECT_EQ(scene.textures[size_t(scene.sky.faces[5])].resolvedPath, "env/test_dn.tga");   // -Z
+  const WorldTexture& up = scene.textures[size_t(scene.sky.faces[4])];   // +Z: a copy turned 180 degrees
+  EXPECT_EQ(up.resolvedPath, "env/test_up.tga");
+  EXPECT_NE(up.requestedPath.find("turned 180"), std::string::npos);
   EXPECT_NEAR(scene.sky.color.b, 1.0f, 1e-4f);
   ASSERT_EQ(scene.lights.size(), 1u);
   const WorldLight& sun = scene.lights[0];

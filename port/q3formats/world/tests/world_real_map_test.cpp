@@ -52,6 +52,32 @@ TEST_F(RealMapTest, Oa_dm1HasWorldSubModelsMaterialsAndNoMissingContent) {
   EXPECT_TRUE(emissive);
 }
 
+TEST_F(RealMapTest, Oa_dm1LavaFogIsItsBrush) {
+  ASSERT_EQ(scene_->fogs.size(), 1u);
+  const WorldFog& fog = scene_->fogs[0];
+  EXPECT_EQ(fog.shaderName, "textures/liquids/lavahell");
+  EXPECT_GT(fog.depthForOpaque, 0.0f);
+  ASSERT_GE(fog.planes.size(), 6u);
+  ASSERT_FALSE(fog.bounds.empty());
+  // The brush's planes enclose the middle of its bounds and exclude points just outside them.
+  const glm::vec3 middle = 0.5f * (fog.bounds.mins + fog.bounds.maxs);
+  const glm::vec3 above(middle.x, middle.y, fog.bounds.maxs.z + 1.0f);
+  bool inside = true, outside = false;
+  for (const glm::vec4& p : fog.planes) {
+    EXPECT_NEAR(glm::length(glm::vec3(p)), 1.0f, 1e-5f);
+    inside = inside && glm::dot(glm::vec3(p), middle) <= p.w;
+    outside = outside || glm::dot(glm::vec3(p), above) > p.w;
+  }
+  EXPECT_TRUE(inside);
+  EXPECT_TRUE(outside);
+  // The lava shader is a fog shader with stages: its surface is drawn.
+  const auto lava = std::find_if(scene_->materials.begin(), scene_->materials.end(),
+                                 [](const WorldMaterial& m) { return m.shaderName == "textures/liquids/lavahell"; });
+  ASSERT_NE(lava, scene_->materials.end());
+  EXPECT_TRUE(lava->fog);
+  EXPECT_TRUE(lava->visible);
+}
+
 TEST_F(RealMapTest, TrianglesFaceTheirNormals) {
   // Counter-clockwise winding: the geometric normal agrees with the stored vertex normals on
   // every brush face and patch; baked misc_models ("models/...") carry smoothed normals that

@@ -1,0 +1,50 @@
+#pragma once
+// The Lightmap preset's compositing of see-through layers (additive and premultiplied-over
+// surfaces crossed by camera rays) the way an 8-bit framebuffer does it: each layer is blended
+// over what is behind it in display (sRGB-encoded) values, clamped to [0, 1] after each blend.
+// Linear radiance composes light physically (the Direct and Path presets); display values are
+// what a raster renderer's blend stages compose (0.5 + 0.5 adds to white, not to 0.73 encoded).
+#include <array>
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+
+#include "renderer/scene/world/render_scene.h"
+
+namespace pa {
+
+/// The product of two linear colours taken in display values, as linear radiance:
+/// decode(encode(a) * encode(b)) (the stock texture x lightmap multiply of 8-bit values; the
+/// linear product lin(a) lin(b) is up to 13x darker where the sRGB curve is linear, near black).
+glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b);
+
+/// Layers in front of the surface a camera ray ends on, nearest first, composed at the end.
+class DisplayComposite {
+ public:
+  /// Layers kept; farther ones beyond this are dropped (the nearest matter most).
+  static constexpr uint32_t kCapacity = 32;
+
+  /// One layer: linear colour it adds and the display-value multiplier of what is behind it
+  /// (1 for additive layers, 1 - alpha for premultiplied ones; see pa::LayerBlend).
+  struct Layer {
+    glm::vec3 color{0.0f};
+    glm::vec3 transmit{1.0f};
+  };
+
+  /// Appends the hits closer than `t`, nearest first, behind the layers already held (the
+  /// layers of the ray's next segment lie behind this one's, e.g. through a portal).
+  void appendBefore(const AdditiveHits& hits, float t);
+  /// Appends one layer behind the layers already held.
+  void append(const Layer& layer);
+  /// The layers, farthest first, blended over the linear colour `behind`:
+  /// display = clamp(display * transmit + encode(color)), returned as linear radiance.
+  glm::vec3 over(const glm::vec3& behind) const;
+  /// Number of layers held.
+  uint32_t size() const { return count_; }
+
+ private:
+  std::array<Layer, kCapacity> layers_{};
+  uint32_t count_ = 0;
+};
+
+}  // namespace pa

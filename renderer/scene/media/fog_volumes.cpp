@@ -1,0 +1,130 @@
+#include "renderer/scene/media/fog_volumes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "renderer/scene/textures/texture.h"
+
+namespace pa {
+
+namespace {
+
+constexpr float kFogStart = 1.0f / 64.0f;     // fraction of depthForOpaque before any fog shows
+constexpr float kParallel = 1e-12f;
+constexpr float kEndSlack = 1e-4f;            // relative tolerance of "the segment ends inside"           // |dot(n, dir)| below this: the ray runs along the plane
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+FogVolume makeFogVolume(const FogVolumeDesc& desc, const std::string& what) {
+  if (desc.planes.empty()) throw SceneError(what + ": no planes");
+  if (desc.planes.size() > kMaxFogPlanes)
+    throw SceneError(what + ": " + std::to_string(desc.planes.size()) + " planes (at most " +
+                     std::to_string(kMaxFogPlanes) + ")");
+  if (!finite(desc.color) || desc.color.r < 0.0f || desc.color.g < 0.0f || desc.color.b < 0.0f)
+    throw SceneError(what + ": color must be finite and >= 0");
+  if (!std::isfinite(desc.depthForOpaque) || !(desc.depthForOpaque > 0.0f))
+    throw SceneError(what + ": depthForOpaque must be finite and > 0");
+  FogVolume volume;
+  volume.color = desc.color;
+  volume.depthForOpaque = desc.depthForOpaque;
+  volume.planes.reserve(desc.planes.size());
+  for (size_t i = 0; i < desc.planes.size(); ++i) {
+    const glm::vec4& p = desc.planes[i];
+    const glm::vec3 n(p);
+    if (!finite(n) || !std::isfinite(p.w)) throw SceneError(what + ": plane " + std::to_string(i) + " is not finite");
+    const float length = glm::length(n);
+    if (!(length > 1e-6f)) throw SceneError(what + ": plane " + std::to_string(i) + " has a zero normal");
+    volume.planes.emplace_back(n / length, p.w / length);
+  }
+  return volume;
+}
+
+float fogOpacity(float length, float depthForOpaque) {
+  if (!(length > 0.0f) || !(depthForOpaque > 0.0f)) return 0.0f;
+  const float x = std::clamp(length / depthForOpaque - kFogStart, 0.0f, 1.0f);
+  return std::sqrt(x);
+}
+
+bool fogInterval(const FogVolume& volume, const glm::vec3& origin, const glm::vec3& dir, float tEnd, float& t0,
+                 float& t1) {
+  t0 = 0.0f;
+  t1 = tEnd;
+  for (const glm::vec4& plane : volume.planes) {
+    const glm::vec3 n(plane);
+    const float towardOutside = glm::dot(n, dir);
+    const float clearance = plane.w - glm::dot(n, origin);   // >= 0: origin on the inner side
+    if (std::fabs(towardOutside) < kParallel) {
+      if (clearance < 0.0f) return false;
+      continue;
+    }
+    const float t = clearance / towardOutside;
+    if (towardOutside > 0.0f) t1 = std::min(t1, t);   // leaves through this plane
+    else t0 = std::max(t0, t);                        // enters through it
+    if (!(t0 < t1)) return false;
+  }
+  return t0 < t1;
+}
+
+FogSegment::FogSegment(std::span<const FogVolume> volumes, const glm::vec3& origin, const glm::vec3& dir, float tEnd,
+                       float lengthScale, bool endInsideOnly)
+    : lengthScale_(lengthScale) {
+  const bool endFinite = std::isfinite(tEnd);
+  const float endSlack = endFinite ? kEndSlack * std::max(1.0f, tEnd) : 0.0f;   // hits on the boundary are inside
+  for (const FogVolume& volume : volumes) {
+    Crossing c;
+    if (!fogInterval(volume, origin, dir, tEnd, c.t0, c.t1)) continue;
+    const bool holdsEnd = endFinite ? c.t1 + endSlack >= tEnd : std::isinf(c.t1);
+    if (endInsideOnly && !holdsEnd) continue;   // leaves the volume before the end
+    c.volume = &volume;
+    // Keep the nearest kCapacity crossings, sorted by entry.
+    uint32_t at = count_;
+    if (count_ == kCapacity) {
+      if (c.t0 >= crossings_[kCapacity - 1].t0) continue;
+      at = kCapacity - 1;
+    } else {
+      ++count_;
+    }
+    while (at > 0 && crossings_[at - 1].t0 > c.t0) {
+      crossings_[at] = crossings_[at - 1];
+      --at;
+    }
+    crossings_[at] = c;
+  }
+  for (uint32_t i = 0; i < count_; ++i) {
+    const Crossing& c = crossings_[i];
+    const float a = fogOpacity((c.t1 - c.t0) * lengthScale_, c.volume->depthForOpaque);   // infinite length: 1
+    glow_ += transmittance_ * a * c.volume->color;
+    transmittance_ *= 1.0f - a;
+  }
+}
+
+float FogSegment::transmittanceTo(float t) const {
+  float result = 1.0f;
+  for (uint32_t i = 0; i < count_ && crossings_[i].t0 < t; ++i) {
+    const Crossing& c = crossings_[i];
+    result *= 1.0f - fogOpacity((std::min(t, c.t1) - c.t0) * lengthScale_, c.volume->depthForOpaque);
+  }
+  return result;
+}
+
+glm::vec3 FogSegment::layerColor() const {
+  const float opacity = 1.0f - transmittance_;
+  return opacity > 0.0f ? glow_ / opacity : glm::vec3(0.0f);
+}
+
+glm::vec3 blendInDisplaySpace(const glm::vec3& behind, float opacity, const glm::vec3& color) {
+  const float a = std::clamp(opacity, 0.0f, 1.0f);
+  glm::vec3 out;
+  for (int c = 0; c < 3; ++c) {
+    const float back = linearToSrgb(std::clamp(behind[c], 0.0f, 1.0f));
+    const float fog = linearToSrgb(std::clamp(color[c], 0.0f, 1.0f));
+    out[c] = srgbToLinear((1.0f - a) * back + a * fog);
+  }
+  return out;
+}
+
+}  // namespace pa

@@ -1,0 +1,89 @@
+#pragma once
+// Fog volumes (scene_types.h FogVolumeDesc): convex regions of a homogeneous medium that hides
+// what lies behind it and glows with its colour. A ray segment running a length L inside a
+// volume gets the opacity a(L) = sqrt(clamp(L / depthForOpaque - 1/64, 0, 1)), the curve of
+// Quake III's fog table (its fog image starts half a texel in, hence the 1/64). Seen as a
+// medium, that is an optical depth -ln(1 - a(L)) per segment: radiance arriving through the
+// segment is (1 - a) * behind + a * color.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "renderer/scene/scene_types.h"
+
+namespace pa {
+
+/// A validated fog volume: unit outward plane normals (inside where dot(n, p) <= w).
+struct FogVolume {
+  std::vector<glm::vec4> planes;
+  glm::vec3 color{0.0f};
+  float depthForOpaque = 1.0f;
+};
+
+/// Most planes one volume may have (Quake brushes have 6 to a few dozen sides).
+inline constexpr size_t kMaxFogPlanes = 256;
+/// Most fog volumes one scene may have (a BSP's fog lump is capped at 256 by the engine).
+inline constexpr size_t kMaxFogVolumes = 1024;
+
+/// Validates a description (finite numbers, non-zero normals, 1..kMaxFogPlanes planes,
+/// depthForOpaque > 0, colour >= 0) and normalises its planes; throws SceneError naming `what`.
+FogVolume makeFogVolume(const FogVolumeDesc& desc, const std::string& what);
+
+/// Opacity of a segment of length `length` inside a fog of the given distance to opaque.
+float fogOpacity(float length, float depthForOpaque);
+
+/// The part [t0, t1] of origin + t * dir, t in [0, tEnd], inside the volume (dir need not be
+/// unit: t is in its units). False when the ray misses it or only grazes it.
+bool fogInterval(const FogVolume& volume, const glm::vec3& origin, const glm::vec3& dir, float tEnd, float& t0,
+                 float& t1);
+
+/// The stock renderer's fog blend, done on display (sRGB-encoded) values as its framebuffer
+/// blend does: lin((1 - opacity) * srgb(min(behind, 1)) + opacity * srgb(min(color, 1))).
+/// The Lightmap integrator composites camera-ray fog this way.
+glm::vec3 blendInDisplaySpace(const glm::vec3& behind, float opacity, const glm::vec3& color);
+
+/// The fog volumes one ray segment crosses, nearest entry first, with what they do to the
+/// light coming along the segment toward its origin.
+class FogSegment {
+ public:
+  /// Volumes beyond kCapacity along one segment are ignored (the nearest are kept).
+  static constexpr uint32_t kCapacity = 8;
+
+  /// Clips origin + t * dir, t in [0, tEnd] (tEnd may be infinite) against every volume.
+  /// `lengthScale` multiplies the distances inside (|dir| for non-unit directions; the
+  /// Lightmap integrator's camera rays also fold in the eye-space depth factor).
+  /// endInsideOnly: only volumes that hold the segment's end count (the stock renderer fogs
+  /// only surfaces inside a fog brush; an infinite end is inside none).
+  FogSegment(std::span<const FogVolume> volumes, const glm::vec3& origin, const glm::vec3& dir, float tEnd,
+             float lengthScale, bool endInsideOnly = false);
+
+  /// True when the segment touches no fog.
+  bool empty() const { return count_ == 0; }
+  /// Fraction of the light from the segment's end that reaches its origin.
+  float transmittance() const { return transmittance_; }
+  /// Fraction of light from the point at parameter t that reaches the origin.
+  float transmittanceTo(float t) const;
+  /// Radiance the fog adds along the whole segment (its glow, attenuated by nearer fog).
+  glm::vec3 glow() const { return glow_; }
+  /// The segment's fog as one layer: opacity 1 - transmittance() of colour glow() / opacity.
+  glm::vec3 layerColor() const;
+
+ private:
+  struct Crossing {
+    float t0 = 0.0f;
+    float t1 = 0.0f;
+    const FogVolume* volume = nullptr;
+  };
+  std::array<Crossing, kCapacity> crossings_{};
+  uint32_t count_ = 0;
+  float lengthScale_ = 1.0f;
+  float transmittance_ = 1.0f;
+  glm::vec3 glow_{0.0f};
+};
+
+}  // namespace pa

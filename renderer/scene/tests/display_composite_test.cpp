@@ -1,0 +1,88 @@
+// Known answers for the Lightmap preset's display-value compositing (DisplayComposite).
+#include "renderer/scene/integrator/display_composite.h"
+
+#include <gtest/gtest.h>
+
+#include "renderer/scene/textures/texture.h"
+
+namespace pa {
+namespace {
+
+glm::vec3 linear(float display) { return glm::vec3(srgbToLinear(display)); }
+
+AdditiveHits hits(std::initializer_list<std::pair<float, DisplayComposite::Layer>> list) {
+  AdditiveHits h;
+  for (const auto& [t, layer] : list) {
+    h.entries[h.count] = {t, h.count, 0, layer.color, layer.transmit};
+    ++h.count;
+  }
+  return h;
+}
+
+TEST(DisplayComposite, ProductOfDisplayValues) {
+  // Texture 0.3 x lightmap 0.1 in 8-bit values is 0.03; the linear product would display 0.0094.
+  const glm::vec3 p = displayProduct(linear(0.3f), linear(0.1f));
+  EXPECT_NEAR(linearToSrgb(p.x), 0.03f, 1e-5f);
+  EXPECT_NEAR(linearToSrgb(displayProduct(glm::vec3(1.0f), linear(0.6f)).y), 0.6f, 1e-5f);
+}
+
+TEST(DisplayComposite, NoLayersLeaveTheColourAlone) {
+  const DisplayComposite none;
+  EXPECT_EQ(none.over(glm::vec3(0.25f, 2.0f, 0.0f)), glm::vec3(0.25f, 2.0f, 0.0f));
+}
+
+TEST(DisplayComposite, AdditiveLayersAddDisplayValues) {
+  // Two additive layers of display 0.5 over black: stock framebuffer blending gives 1.0 (white);
+  // summing linear radiance would give linear 0.43, displayed 0.69.
+  DisplayComposite c;
+  c.appendBefore(hits({{1.0f, {linear(0.5f), glm::vec3(1.0f)}}, {2.0f, {linear(0.5f), glm::vec3(1.0f)}}}), 10.0f);
+  EXPECT_EQ(c.size(), 2u);
+  EXPECT_NEAR(c.over(glm::vec3(0.0f)).x, 1.0f, 1e-5f);
+  // 0.25 + 0.25 over display 0.25 -> 0.75.
+  DisplayComposite d;
+  d.appendBefore(hits({{1.0f, {linear(0.25f), glm::vec3(1.0f)}}, {2.0f, {linear(0.25f), glm::vec3(1.0f)}}}), 10.0f);
+  EXPECT_NEAR(linearToSrgb(d.over(linear(0.25f)).x), 0.75f, 1e-5f);
+}
+
+TEST(DisplayComposite, PremultipliedLayersHideWhatIsBehindInOrder) {
+  // Behind 0.8; the far layer (t = 3) covers half with 0.1, the near one (t = 1) adds 0.2:
+  // (0.8 * 0.5 + 0.1) + 0.2 = 0.7. The other order gives (0.8 + 0.2) * 0.5 + 0.1 = 0.6.
+  DisplayComposite c;
+  c.appendBefore(hits({{1.0f, {linear(0.2f), glm::vec3(1.0f)}}, {3.0f, {linear(0.1f), glm::vec3(0.5f)}}}), 10.0f);
+  EXPECT_NEAR(linearToSrgb(c.over(linear(0.8f)).x), 0.7f, 1e-5f);
+  DisplayComposite swapped;
+  swapped.appendBefore(hits({{3.0f, {linear(0.2f), glm::vec3(1.0f)}}, {1.0f, {linear(0.1f), glm::vec3(0.5f)}}}), 10.0f);
+  EXPECT_NEAR(linearToSrgb(swapped.over(linear(0.8f)).x), 0.6f, 1e-5f);
+}
+
+TEST(DisplayComposite, LayersBehindTheSurfaceAndOverflowAreLeftOut) {
+  DisplayComposite c;
+  c.appendBefore(hits({{5.0f, {linear(0.5f), glm::vec3(1.0f)}}, {1.0f, {linear(0.25f), glm::vec3(1.0f)}}}), 4.0f);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_NEAR(linearToSrgb(c.over(glm::vec3(0.0f)).x), 0.25f, 1e-5f);
+  DisplayComposite full;
+  for (uint32_t i = 0; i < DisplayComposite::kCapacity + 5; ++i) full.append({glm::vec3(0.0f), glm::vec3(1.0f)});
+  EXPECT_EQ(full.size(), DisplayComposite::kCapacity);
+}
+
+TEST(DisplayComposite, EachBlendClampsLikeAnEightBitFramebuffer) {
+  // White + 0.5 clamps to 1 before the near layer hides half: 1 * 0.5 + 0 = 0.5 (not 0.75).
+  DisplayComposite c;
+  c.append({glm::vec3(0.0f), glm::vec3(0.5f)});
+  c.append({linear(0.5f), glm::vec3(1.0f)});
+  EXPECT_NEAR(linearToSrgb(c.over(glm::vec3(1.0f)).x), 0.5f, 1e-5f);
+}
+
+TEST(DisplayComposite, MultiplyingLayersScaleWhatIsBehindPerChannel) {
+  // A filter (dst * src) and the stock dynamic-light pass (dst * (1 + src)) over display 0.4.
+  DisplayComposite c;
+  c.append({glm::vec3(0.0f), glm::vec3(1.5f, 1.0f, 3.0f)});   // near: dst * (1 + (0.5, 0, 2))
+  c.append({glm::vec3(0.0f), glm::vec3(0.5f, 0.25f, 1.0f)});  // far: dst * src
+  const glm::vec3 out = c.over(linear(0.4f));
+  EXPECT_NEAR(linearToSrgb(out.x), 0.4f * 0.5f * 1.5f, 1e-5f);
+  EXPECT_NEAR(linearToSrgb(out.y), 0.4f * 0.25f, 1e-5f);
+  EXPECT_NEAR(linearToSrgb(out.z), 1.0f, 1e-5f);   // 0.4 * 3 clamps
+}
+
+}  // namespace
+}  // namespace pa
