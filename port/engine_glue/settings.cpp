@@ -55,6 +55,9 @@ void Settings::registerCvars(const Engine& engine) {
   seed_ = engine.cvar("r_pt_seed", "0", 0, "Random seed of the sampler");
   stats_ = engine.cvar("r_pt_stats", "0", 0,
                        "Print traced views per second and milliseconds per traced frame");
+  denoise_ = engine.cvar("r_pt_denoise", "1", CVAR_ARCHIVE,
+                         "Edge-aware denoiser on the direct and path presets (0 = raw samples)");
+  if (denoise_ != nullptr) ri.Cvar_CheckRange(denoise_, 0, 1, 1);
 }
 
 VideoModeRequest Settings::videoMode() const {
@@ -84,6 +87,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   if (threads_ != nullptr) out.threads = std::clamp(threads_->integer, 0, 256);
   if (seed_ != nullptr) out.seed = static_cast<uint32_t>(seed_->integer);
   out.printStats = stats_ != nullptr && stats_->integer != 0;
+  out.denoise = denoise_ == nullptr || denoise_->integer != 0;
   return out;
 }
 

@@ -27,6 +27,7 @@ struct TracerSettings {
   int threads = 0;
   uint32_t seed = 0;
   bool printStats = false;   ///< r_pt_stats
+  bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
 };
 
 /// Pointers to the engine's cvars (owned by the engine, valid while the module is loaded).
@@ -51,6 +52,7 @@ class Settings {
   q3abi::cvar_t* threads_ = nullptr;
   q3abi::cvar_t* seed_ = nullptr;
   q3abi::cvar_t* stats_ = nullptr;
+  q3abi::cvar_t* denoise_ = nullptr;
 };
 
 }  // namespace glue

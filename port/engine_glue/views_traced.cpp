@@ -723,6 +723,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   rs.accumulate = settings.preset == Preset::Reference;
   rs.radianceClamp = settings.preset == Preset::Reference ? 0.0f : 10.0f;
   rs.seed = settings.seed + (rs.accumulate ? 0u : d.frameCounter++);
+  rs.denoise = settings.denoise && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
   // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does.
   if (lightmapLook) rs.tonemap = pa::Tonemap::Clamp;
   const pa::FrameView frame = d.renderer->render(camera, rs);

@@ -87,12 +87,12 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
       name = arg.substr(0, eq);
       inlineValue = arg.substr(eq + 1);
     }
-    if (name == "--progress" || name == "--quiet" || name == "-q") {
+    if (name == "--progress" || name == "--quiet" || name == "-q" || name == "--denoise") {
       if (inlineValue) {
         message = std::string(name) + " takes no value";
         return result;
       }
-      (name == "--progress" ? o.progress : o.quiet) = true;
+      (name == "--progress" ? o.progress : name == "--denoise" ? o.denoise : o.quiet) = true;
       continue;
     }
     std::string_view value;
@@ -217,6 +217,8 @@ Image and sampling:
   --seed S               Random seed (default 0); the image depends only on scene, camera,
                          seed, frames and spp, never on the thread count
   --threads T            Worker threads (default 0 = all cores)
+  --denoise              Edge-aware a-trous filter of the image (albedo/normal/depth guided;
+                         meant for 1..few spp): the PNG and the EXR's R,G,B are filtered
 
 View:
   --camera INDEX         Camera of the scene to render (default 0). Without any camera in the

@@ -32,6 +32,7 @@ struct CliOptions {
   float lightScale = 1.0f;                      ///< Photometric -> renderer units (glTF lights, emitters).
   bool progress = false;                        ///< Force the progress bar even when stderr is not a TTY.
   bool quiet = false;                           ///< No progress bar and no warnings; summary only.
+  bool denoise = false;                         ///< Filter the image with the à-trous denoiser (--denoise).
 };
 
 /// Outcome of parsing.

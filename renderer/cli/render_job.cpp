@@ -114,6 +114,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.accumulate = true;
     settings.exposure = options.exposure;
     settings.tonemap = options.tonemap;
+    settings.denoise = options.denoise;
     const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);
 
     const bool showProgress = !options.quiet && (options.progress || ::isatty(::fileno(log)));
@@ -143,6 +144,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
           {"height", settings.height},
           {"integrator", integratorName(options.integrator)},
           {"tonemap", tonemapName(options.tonemap)},
+          {"denoise", options.denoise},
           {"exposure", options.exposure},
           {"spp", options.samplesPerPixel},
           {"frames", options.frames},

@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "renderer/scene/denoise/denoiser.h"
 #include "renderer/scene/film/film.h"
 #include "renderer/scene/integrator/camera_rays.h"
 #include "renderer/scene/integrator/integrator.h"
@@ -67,6 +68,7 @@ struct Renderer::Impl {
   SceneStore store;
   RenderScene scene;
   Film film;
+  denoise::Denoiser denoiser;
   bool sceneChanged = true;   // a commit happened since the last render
   bool haveLast = false;
   Camera lastCamera;
@@ -154,9 +156,19 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       }
     });
     film.finishFrame();
-    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, settings.height, 8), [&](const tbb::blocked_range<uint32_t>& r) {
-      film.resolveRows(r.begin(), r.end(), settings.exposure, settings.tonemap);
-    });
+    const auto forRows = [&](auto&& body) {
+      tbb::parallel_for(tbb::blocked_range<uint32_t>(0, settings.height, 8),
+                        [&](const tbb::blocked_range<uint32_t>& r) { body(r.begin(), r.end()); });
+    };
+    if (!settings.denoise) {
+      forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap); });
+      return;
+    }
+    forRows([&](uint32_t y0, uint32_t y1) { film.resolveMeanRows(y0, y1); });
+    const denoise::Guides guides{film.width(), film.height(), film.albedo(), film.normal(), film.depth(),
+                                 film.variance(), uint64_t{film.frames()} * settings.samplesPerPixel};
+    im.denoiser.apply(guides, film.resolvedRadiance());
+    forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap); });
   });
 
   FrameView view;

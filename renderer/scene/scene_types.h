@@ -280,6 +280,9 @@ struct RenderSettings {
   bool accumulate = true;         ///< Average with earlier frames while camera and scene are unchanged.
   float exposure = 1.0f;          ///< Linear multiplier before tonemapping.
   Tonemap tonemap = Tonemap::AcesFitted;   ///< Display transform (does not reset accumulation).
+  /// Edge-aware à-trous filter of the mean (renderer/scene/denoise) before exposure and tonemap:
+  /// the returned radiance and rgba8 are filtered, the accumulation is not (does not reset it).
+  bool denoise = false;
 };
 
 }  // namespace pa

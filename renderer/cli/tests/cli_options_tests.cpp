@@ -17,6 +17,7 @@ TEST(CliOptions, MinimalCommandUsesDefaults) {
   EXPECT_EQ(r.options.pngOut, "out.png");
   EXPECT_FALSE(r.options.exrOut.has_value());
   EXPECT_FALSE(r.options.statsOut.has_value());
+  EXPECT_FALSE(r.options.denoise);
   EXPECT_EQ(r.options.width, 0u);
   EXPECT_EQ(r.options.samplesPerPixel, 16u);
   EXPECT_EQ(r.options.frames, 1u);
@@ -30,7 +31,8 @@ TEST(CliOptions, ParsesEveryOption) {
   const ParseResult r = parse({"--width", "320", "--height=200", "--spp", "8", "--bounces", "2", "--seed", "42",
                                "--threads", "3", "--integrator", "direct", "--camera", "1", "--clamp", "10.5",
                                "--exposure=2", "--frames", "5", "--exr", "o.exr", "--light-scale", "0.001",
-                               "--stats", "s.json", "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png"});
+                               "--stats", "s.json", "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png",
+                               "--denoise"});
   ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
   const CliOptions& o = r.options;
   EXPECT_EQ(o.scene, "map.glb");
@@ -51,6 +53,7 @@ TEST(CliOptions, ParsesEveryOption) {
   EXPECT_FLOAT_EQ(o.lightScale, 0.001f);
   EXPECT_TRUE(o.progress);
   EXPECT_EQ(o.tonemap, Tonemap::Clamp);
+  EXPECT_TRUE(o.denoise);
 }
 
 TEST(CliOptions, HelpWinsOverEverythingElse) {
@@ -82,6 +85,7 @@ TEST(CliOptions, RejectsBadInputWithAMessageNamingTheOption) {
       {{"a.gltf", "-o", "x.png", "--tonemap", "filmic"}, "--tonemap: expected aces, reinhard or clamp"},
       {{"a.gltf", "-o", "x.png", "--frobnicate", "1"}, "unknown option --frobnicate"},
       {{"a.gltf", "-o", "x.png", "--progress=1"}, "--progress takes no value"},
+      {{"a.gltf", "-o", "x.png", "--denoise=1"}, "--denoise takes no value"},
       {{"a.gltf", "-o", "x.png", "--progress", "--quiet"}, "contradict"},
   };
   for (const Case& c : cases) {
@@ -101,7 +105,7 @@ TEST(CliOptions, UsageDocumentsEveryOption) {
   const std::string usage = usageText("pa-render");
   for (const char* option : {"-o", "--exr", "--stats", "--width", "--height", "--spp", "--bounces", "--seed", "--threads",
                              "--integrator", "--camera", "--clamp", "--exposure", "--tonemap", "--frames", "--light-scale",
-                             "--progress", "--quiet", "--help", "Exit status"})
+                             "--progress", "--quiet", "--denoise", "--help", "Exit status"})
     EXPECT_NE(usage.find(option), std::string::npos) << option;
 }
 

@@ -62,26 +62,33 @@ void Film::reset() {
 }
 
 void Film::resolveRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op) {
-  for (uint32_t y = rowBegin; y < rowEnd; ++y) {
-    for (uint32_t x = 0; x < width_; ++x) {
-      const size_t i = size_t{y} * width_ + x;
-      const PixelAccumulator& p = pixels_[i];
-      const double inv = p.samples > 0 ? 1.0 / static_cast<double>(p.samples) : 0.0;
-      for (int c = 0; c < 3; ++c) {
-        radiance_[i][c] = static_cast<float>(p.radiance[c] * inv);
-        albedo_[i][c] = static_cast<float>(p.albedo[c] * inv);
-        normal_[i][c] = static_cast<float>(p.normal[c] * inv);
-      }
-      depth_[i] = p.depthCount > 0 ? static_cast<float>(p.depthSum / static_cast<double>(p.depthCount))
-                                   : std::numeric_limits<float>::infinity();
-      variance_[i] = static_cast<float>(p.luminance.varianceOfMean());
-      const glm::vec3 display = tonemap(radiance_[i] * exposure, op);
-      for (int c = 0; c < 3; ++c) {
-        const float encoded = linearToSrgb(display[c]);
-        rgba8_[i * 4 + c] = static_cast<uint8_t>(std::lround(std::clamp(encoded, 0.0f, 1.0f) * 255.0f));
-      }
-      rgba8_[i * 4 + 3] = 255;
+  resolveMeanRows(rowBegin, rowEnd);
+  encodeRows(rowBegin, rowEnd, exposure, op);
+}
+
+void Film::resolveMeanRows(uint32_t rowBegin, uint32_t rowEnd) {
+  for (size_t i = size_t{rowBegin} * width_; i < size_t{rowEnd} * width_; ++i) {
+    const PixelAccumulator& p = pixels_[i];
+    const double inv = p.samples > 0 ? 1.0 / static_cast<double>(p.samples) : 0.0;
+    for (int c = 0; c < 3; ++c) {
+      radiance_[i][c] = static_cast<float>(p.radiance[c] * inv);
+      albedo_[i][c] = static_cast<float>(p.albedo[c] * inv);
+      normal_[i][c] = static_cast<float>(p.normal[c] * inv);
     }
+    depth_[i] = p.depthCount > 0 ? static_cast<float>(p.depthSum / static_cast<double>(p.depthCount))
+                                 : std::numeric_limits<float>::infinity();
+    variance_[i] = static_cast<float>(p.luminance.varianceOfMean());
+  }
+}
+
+void Film::encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op) {
+  for (size_t i = size_t{rowBegin} * width_; i < size_t{rowEnd} * width_; ++i) {
+    const glm::vec3 display = tonemap(radiance_[i] * exposure, op);
+    for (int c = 0; c < 3; ++c) {
+      const float encoded = linearToSrgb(display[c]);
+      rgba8_[i * 4 + c] = static_cast<uint8_t>(std::lround(std::clamp(encoded, 0.0f, 1.0f) * 255.0f));
+    }
+    rgba8_[i * 4 + 3] = 255;
   }
 }
 

@@ -4,6 +4,7 @@
 // pixel's luminance samples, and the resolved float/RGBA8 buffers handed out by render().
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -75,8 +76,14 @@ class Film {
   void finishFrame() { ++frames_; }
   /// Frames in the mean.
   uint32_t frames() const { return frames_; }
-  /// Resolves rows [rowBegin, rowEnd) into the float and RGBA8 buffers.
+  /// Resolves rows [rowBegin, rowEnd) into the float and RGBA8 buffers (resolveMeanRows + encodeRows).
   void resolveRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op);
+  /// Resolves rows [rowBegin, rowEnd) into the float buffers (means, AOVs, variance) only.
+  void resolveMeanRows(uint32_t rowBegin, uint32_t rowEnd);
+  /// Encodes rows [rowBegin, rowEnd) of the float radiance into RGBA8 (exposure, tonemap, sRGB).
+  void encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op);
+  /// The resolved radiance, writable between resolveMeanRows and encodeRows (denoising).
+  std::span<glm::vec3> resolvedRadiance() { return radiance_; }
   /// Width in pixels.
   uint32_t width() const { return width_; }
   /// Height in pixels.
