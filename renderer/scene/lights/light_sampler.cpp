@@ -89,9 +89,27 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
   std::vector<double> power;
   power.reserve(analytic_.size() + triangles_.size() + 1);
   for (const LightDesc& l : analytic_) power.push_back(analyticPower(l, radius));
+  std::vector<LightBounds> emitters;
+  emitters.reserve(triangles_.size());
+  double emissivePower = 0.0;
   for (const EmissiveTriangle& t : triangles_) {
     const glm::vec3 mean = t.emission * (t.texture ? glm::vec3(t.texture->average()) : glm::vec3(1.0f));
-    power.push_back(kPi * double{t.area} * meanComponent(mean) * (t.twoSided ? 2.0 : 1.0));
+    const double power = kPi * double{t.area} * meanComponent(mean) * (t.twoSided ? 2.0 : 1.0);
+    LightBounds b;
+    b.bounds.extend(t.p0);
+    b.bounds.extend(t.p0 + t.e1);
+    b.bounds.extend(t.p0 + t.e2);
+    b.power = std::isfinite(power) ? float(std::max(power, 0.0)) : 0.0f;
+    b.normals = {t.normal, 1.0f};
+    b.cosEmission = 0.0f;   // Lambertian: emits up to 90 degrees from the normal
+    b.twoSided = t.twoSided;
+    emitters.push_back(b);
+    emissivePower += b.power;
+  }
+  emissiveTree_ = LightTree(emitters);
+  if (!emissiveTree_.empty() && emissivePower > 0.0) {
+    emissiveEntry_ = static_cast<uint32_t>(power.size());
+    power.push_back(emissivePower);
   }
   if (!sky.black()) {
     sky_ = sky;
@@ -164,8 +182,15 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
     out.pdf = pdf;
     out.environment = true;
     ok = true;
+  } else if (entry == emissiveEntry_) {
+    // u.w is free here too.
+    uint32_t triangle = 0;
+    float withinCategory = 0.0f;
+    if (!emissiveTree_.sample(p, n, u.w, triangle, withinCategory)) return false;
+    selection *= withinCategory;
+    ok = sampleTriangle(triangles_[triangle], p, uv, out);
   } else {
-    ok = sampleTriangle(triangles_[entry - analytic_.size()], p, uv, out);
+    return false;
   }
   if (!ok) return false;
   out.pdf *= selection;
@@ -227,14 +252,19 @@ bool LightSampler::sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& 
   return std::isfinite(out.pdf);
 }
 
-float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& q) const {
+float LightSampler::emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n) const {
+  if (emissiveEntry_ == UINT32_MAX) return 0.0f;
+  return table_.pdf(emissiveEntry_) * emissiveTree_.pmf(index, p, n);
+}
+
+float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const {
   if (index >= triangles_.size()) return 0.0f;
   const EmissiveTriangle& tri = triangles_[index];
   const glm::vec3 d = q - p;
   const float dist2 = glm::dot(d, d);
   const float cosLight = std::abs(glm::dot(d, tri.normal)) / std::sqrt(dist2);
   if (!(cosLight > 0.0f) || !(tri.area > 0.0f)) return 0.0f;
-  return table_.pdf(static_cast<uint32_t>(analytic_.size()) + index) * dist2 / (tri.area * cosLight);
+  return emissiveSelection(index, p, n) * dist2 / (tri.area * cosLight);
 }
 
 float LightSampler::skyPdf(const glm::vec3& n, const glm::vec3& wi) const {

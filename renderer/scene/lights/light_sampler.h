@@ -1,13 +1,16 @@
 #pragma once
 // Light selection and sampling for next-event estimation: analytic lights (point, spot,
 // directional), emissive triangles gathered at commit, and the sky. One alias table picks a
-// light by estimated power; when it picks a point or spot light, the choice among all point and
-// spot lights is redone at the shading point in proportion to each one's unshadowed
-// contribution there (intensity x falloff x spot cone), so weak nearby lamps are not starved by
-// strong distant ones (game maps have ~100 of them). The category keeps its power share, so the
-// pdfs of emissive triangles and sky (MIS) do not depend on the shading point. Each light is then
-// sampled by solid angle (point-like lights, sun cone, sky cosine lobe) or uniformly by area
-// (triangles, converted to solid angle).
+// category by estimated power: each directional light, the sky, all point and spot lights, all
+// emissive triangles. Within the last two the choice is redone at the shading point, so weak
+// nearby emitters are not starved by strong distant ones (game maps have ~100 lamps and hundreds
+// to thousands of surface-light triangles): point and spot lights in proportion to their
+// unshadowed contribution there (intensity x falloff x spot cone), triangles by descending a light
+// tree (light_tree.h) that weighs power, distance, emission cone and the point's hemisphere. The
+// sky's and the sun's pdfs (MIS) do not depend on the shading point; a triangle's does (position
+// and normal of the point that sampled it). Each light is then sampled by solid angle
+// (point-like lights, sun cone, sky cosine lobe) or uniformly by area (triangles, converted to
+// solid angle).
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -17,6 +20,7 @@
 #include <glm/vec4.hpp>
 
 #include "renderer/core/bounds.h"
+#include "renderer/scene/lights/light_tree.h"
 #include "renderer/scene/lights/sky.h"
 #include "renderer/scene/sampling/alias_table.h"
 #include "renderer/scene/scene_types.h"
@@ -64,8 +68,11 @@ class LightSampler {
   /// Picks a light (u.x) and a point on it (u.y, u.z; u.w for the sky's cell choice) for
   /// shading point p with normal n (facing the viewer).
   bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const;
-  /// Solid-angle pdf with which sample() picks the emissive triangle `index` at point q from p.
-  float emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& q) const;
+  /// Solid-angle pdf with which sample() picks the emissive triangle `index` at point q from
+  /// point p with normal n (the arguments sample() was called with).
+  float emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const;
+  /// Probability with which sample() picks the emissive triangle `index` at p, n (no area pdf).
+  float emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n) const;
   /// Solid-angle pdf with which sample() picks sky direction wi from a point with normal n.
   float skyPdf(const glm::vec3& n, const glm::vec3& wi) const;
   /// The emissive triangles (index as in emissivePdf).
@@ -82,6 +89,8 @@ class LightSampler {
   std::vector<EmissiveTriangle> triangles_;
   Sky sky_;
   uint32_t skyEntry_ = UINT32_MAX;
+  uint32_t emissiveEntry_ = UINT32_MAX;   ///< The table entry of all emissive triangles.
+  LightTree emissiveTree_;
   std::vector<uint32_t> localLights_;   ///< Indices into analytic_ of the point and spot lights.
   float localShare_ = 0.0f;             ///< Their summed selection probability in table_.
   sampling::AliasTable table_;
