@@ -40,6 +40,47 @@ double analyticPower(const LightDesc& l, double sceneRadius) {
   return 0.0;
 }
 
+/// Tree bounds of an emissive triangle; adds its power (category units) to `power`.
+LightBounds triangleBounds(const EmissiveTriangle& t, double& power) {
+  const glm::vec3 mean = t.emission * (t.texture ? glm::vec3(t.texture->average()) : glm::vec3(1.0f));
+  // Peak radiant intensity (radiance x area, along the normal) for the tree; power for the category.
+  const double intensity = double{t.area} * meanComponent(mean);
+  LightBounds b;
+  b.bounds.extend(t.p0);
+  b.bounds.extend(t.p0 + t.e1);
+  b.bounds.extend(t.p0 + t.e2);
+  b.power = std::isfinite(intensity) && intensity > 0.0 ? float(intensity) : 0.0f;
+  b.normals = {t.normal, 1.0f};
+  b.cosEmission = 0.0f;   // Lambertian: up to 90 degrees from the normal
+  b.twoSided = t.twoSided;
+  if (b.power > 0.0f) power += kPi * double{b.power} * (t.twoSided ? 2.0 : 1.0);
+  return b;
+}
+
+/// Tree bounds of a point or spot light.
+LightBounds localLightBounds(const LightDesc& l) {
+  const double i = meanComponent(l.color) * l.intensity;
+  LightBounds b;
+  b.bounds.extend(l.position - glm::vec3(l.radius));
+  b.bounds.extend(l.position + glm::vec3(l.radius));
+  // Linear falloff I (1 - d / R) never exceeds (4 R^2 / 27) I / d^2: that bound's numerator
+  // stands for its intensity; the range culls it beyond R.
+  double intensity = i;
+  if (l.falloff == Falloff::Linear) intensity = i * 4.0 * double{l.range} * l.range / 27.0;
+  b.power = std::isfinite(intensity) && intensity > 0.0 ? float(intensity) : 0.0f;
+  b.range = l.range > 0.0f ? l.range : 0.0f;
+  if (l.type == LightType::Spot && l.radius == 0.0f) {
+    const float inner = std::acos(std::clamp(l.cosInnerAngle, -1.0f, 1.0f));
+    const float outer = std::acos(std::clamp(l.cosOuterAngle, -1.0f, 1.0f));
+    b.normals = {l.direction, std::cos(inner)};
+    b.cosEmission = std::cos(std::max(0.0f, outer - inner));
+  } else {
+    b.normals = DirectionCone::entireSphere();
+    b.cosEmission = -1.0f;
+  }
+  return b;
+}
+
 }  // namespace
 
 float distanceFalloff(const LightDesc& light, float d) {
@@ -87,29 +128,27 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
   const double radius =
       sceneBounds.empty() ? 1.0 : std::max(1e-3, 0.5 * double{glm::length(sceneBounds.max - sceneBounds.min)});
   std::vector<double> power;
-  power.reserve(analytic_.size() + triangles_.size() + 1);
-  for (const LightDesc& l : analytic_) power.push_back(analyticPower(l, radius));
-  std::vector<LightBounds> emitters;
-  emitters.reserve(triangles_.size());
-  double emissivePower = 0.0;
-  for (const EmissiveTriangle& t : triangles_) {
-    const glm::vec3 mean = t.emission * (t.texture ? glm::vec3(t.texture->average()) : glm::vec3(1.0f));
-    const double power = kPi * double{t.area} * meanComponent(mean) * (t.twoSided ? 2.0 : 1.0);
-    LightBounds b;
-    b.bounds.extend(t.p0);
-    b.bounds.extend(t.p0 + t.e1);
-    b.bounds.extend(t.p0 + t.e2);
-    b.power = std::isfinite(power) ? float(std::max(power, 0.0)) : 0.0f;
-    b.normals = {t.normal, 1.0f};
-    b.cosEmission = 0.0f;   // Lambertian: emits up to 90 degrees from the normal
-    b.twoSided = t.twoSided;
-    emitters.push_back(b);
-    emissivePower += b.power;
+  power.reserve(analytic_.size() + 2);
+  std::vector<LightBounds> local;
+  local.reserve(triangles_.size() + analytic_.size());
+  double localPower = 0.0;
+  for (const EmissiveTriangle& t : triangles_) local.push_back(triangleBounds(t, localPower));
+  for (uint32_t i = 0; i < analytic_.size(); ++i) {
+    const LightDesc& l = analytic_[i];
+    if (l.type == LightType::Directional) {
+      power.push_back(analyticPower(l, radius));
+      continue;
+    }
+    power.push_back(0.0);   // chosen through the local entry
+    localLights_.push_back(i);
+    local.push_back(localLightBounds(l));
+    const double p = analyticPower(l, radius);
+    if (std::isfinite(p) && p > 0.0) localPower += p;
   }
-  emissiveTree_ = LightTree(emitters);
-  if (!emissiveTree_.empty() && emissivePower > 0.0) {
-    emissiveEntry_ = static_cast<uint32_t>(power.size());
-    power.push_back(emissivePower);
+  localTree_ = LightTree(local);
+  if (!localTree_.empty() && localPower > 0.0) {
+    localEntry_ = static_cast<uint32_t>(power.size());
+    power.push_back(localPower);
   }
   if (!sky.black()) {
     sky_ = sky;
@@ -117,52 +156,24 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
     power.push_back(kPi * meanComponent(sky.average()) * kPi * radius * radius);
   }
   table_ = sampling::AliasTable(power);
-  for (uint32_t i = 0; i < analytic_.size(); ++i) {
-    if (analytic_[i].type == LightType::Directional) continue;
-    localLights_.push_back(i);
-    localShare_ += table_.pdf(i);
-  }
-}
-
-bool LightSampler::pickLocalLight(const glm::vec3& p, float u, uint32_t& index, float& probability) const {
-  // Two passes over the lights (sum, then invert the running sum) instead of a weight buffer:
-  // the weights are cheap to recompute and nothing is written per sample.
-  const auto weightOf = [&](uint32_t light) {
-    const float w = localLightWeight(analytic_[light], p);
-    return std::isfinite(w) && w > 0.0f ? w : 0.0f;
-  };
-  double total = 0.0;
-  for (uint32_t light : localLights_) total += weightOf(light);
-  if (!(total > 0.0)) return false;
-  const double target = double(u) * total;
-  double running = 0.0;
-  float chosenWeight = 0.0f;
-  for (uint32_t light : localLights_) {
-    const float w = weightOf(light);
-    if (w == 0.0f) continue;
-    index = light;   // the last light with weight catches rounding at the top end
-    chosenWeight = w;
-    running += w;
-    if (target < running) break;
-  }
-  if (!(chosenWeight > 0.0f)) return false;
-  probability = float(double(chosenWeight) / total);
-  return probability > 0.0f;
 }
 
 bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const {
   if (table_.empty()) return false;
-  uint32_t entry = table_.sample(u.x);
+  const uint32_t entry = table_.sample(u.x);
   float selection = table_.pdf(entry);
   if (!(selection > 0.0f)) return false;
   const glm::vec2 uv(u.y, u.z);
   bool ok;
-  if (entry < analytic_.size() && analytic_[entry].type != LightType::Directional) {
+  if (entry == localEntry_) {
     // u.w is free here (only the sky's cell choice uses it).
+    uint32_t emitter = 0;
     float withinCategory = 0.0f;
-    if (!pickLocalLight(p, u.w, entry, withinCategory)) return false;
-    selection = localShare_ * withinCategory;
-    ok = sampleAnalytic(analytic_[entry], p, uv, out);
+    if (!localTree_.sample(p, n, u.w, emitter, withinCategory)) return false;
+    selection *= withinCategory;
+    ok = emitter < triangles_.size()
+             ? sampleTriangle(triangles_[emitter], p, uv, out)
+             : sampleAnalytic(analytic_[localLights_[emitter - triangles_.size()]], p, uv, out);
   } else if (entry < analytic_.size()) {
     ok = sampleAnalytic(analytic_[entry], p, uv, out);
   } else if (entry == skyEntry_) {
@@ -182,13 +193,6 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
     out.pdf = pdf;
     out.environment = true;
     ok = true;
-  } else if (entry == emissiveEntry_) {
-    // u.w is free here too.
-    uint32_t triangle = 0;
-    float withinCategory = 0.0f;
-    if (!emissiveTree_.sample(p, n, u.w, triangle, withinCategory)) return false;
-    selection *= withinCategory;
-    ok = sampleTriangle(triangles_[triangle], p, uv, out);
   } else {
     return false;
   }
@@ -253,8 +257,8 @@ bool LightSampler::sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& 
 }
 
 float LightSampler::emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n) const {
-  if (emissiveEntry_ == UINT32_MAX) return 0.0f;
-  return table_.pdf(emissiveEntry_) * emissiveTree_.pmf(index, p, n);
+  if (localEntry_ == UINT32_MAX || index >= triangles_.size()) return 0.0f;
+  return table_.pdf(localEntry_) * localTree_.pmf(index, p, n);
 }
 
 float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const {

@@ -1,14 +1,13 @@
 #pragma once
 // Light selection and sampling for next-event estimation: analytic lights (point, spot,
 // directional), emissive triangles gathered at commit, and the sky. One alias table picks a
-// category by estimated power: each directional light, the sky, all point and spot lights, all
-// emissive triangles. Within the last two the choice is redone at the shading point, so weak
-// nearby emitters are not starved by strong distant ones (game maps have ~100 lamps and hundreds
-// to thousands of surface-light triangles): point and spot lights in proportion to their
-// unshadowed contribution there (intensity x falloff x spot cone), triangles by descending a light
-// tree (light_tree.h) that weighs power, distance, emission cone and the point's hemisphere. The
-// sky's and the sun's pdfs (MIS) do not depend on the shading point; a triangle's does (position
-// and normal of the point that sampled it). Each light is then sampled by solid angle
+// category by estimated power: each directional light, the sky, and all local emitters (point and
+// spot lights and emissive triangles together). The local choice is made at the shading point by
+// descending a light tree (light_tree.h) that weighs each group's intensity, distance, range,
+// emission cone and the point's hemisphere, so weak nearby emitters are not starved by strong
+// distant ones (game maps have ~100 lamps and hundreds to thousands of surface-light triangles).
+// The sky's and the sun's pdfs (MIS) do not depend on the shading point; a triangle's does
+// (position and normal of the point that sampled it). Each light is then sampled by solid angle
 // (point-like lights, sun cone, sky cosine lobe) or uniformly by area (triangles, converted to
 // solid angle).
 #include <cstdint>
@@ -80,19 +79,17 @@ class LightSampler {
 
  private:
   bool sampleAnalytic(const LightDesc& light, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
-  /// Re-picks among the point and spot lights at p (u in [0,1)); returns its index into
-  /// analytic_ and the probability of that choice within the category, or false if none reaches p.
-  bool pickLocalLight(const glm::vec3& p, float u, uint32_t& index, float& probability) const;
   bool sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
 
   std::vector<LightDesc> analytic_;
   std::vector<EmissiveTriangle> triangles_;
   Sky sky_;
   uint32_t skyEntry_ = UINT32_MAX;
-  uint32_t emissiveEntry_ = UINT32_MAX;   ///< The table entry of all emissive triangles.
-  LightTree emissiveTree_;
+  uint32_t localEntry_ = UINT32_MAX;   ///< The table entry of all local emitters.
+  /// Tree over the local emitters: triangles_[i] is emitter i, analytic_[localLights_[k]] is
+  /// emitter triangles_.size() + k.
+  LightTree localTree_;
   std::vector<uint32_t> localLights_;   ///< Indices into analytic_ of the point and spot lights.
-  float localShare_ = 0.0f;             ///< Their summed selection probability in table_.
   sampling::AliasTable table_;
 };
 

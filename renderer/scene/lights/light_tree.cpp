@@ -84,6 +84,7 @@ LightBounds boundsUnion(const LightBounds& a, const LightBounds& b) {
   u.normals = coneUnion(a.normals, b.normals);
   u.cosEmission = std::min(a.cosEmission, b.cosEmission);
   u.twoSided = a.twoSided || b.twoSided;
+  u.range = a.range > 0.0f && b.range > 0.0f ? std::max(a.range, b.range) : 0.0f;
   return u;
 }
 
@@ -92,6 +93,10 @@ float lightImportance(const LightBounds& b, const glm::vec3& p, const glm::vec3&
   const glm::vec3 centre = b.bounds.center();
   const glm::vec3 halfDiagonal = 0.5f * (b.bounds.max - b.bounds.min);
   const float radius2 = glm::dot(halfDiagonal, halfDiagonal);
+  if (b.range > 0.0f) {
+    const glm::vec3 outside = glm::max(glm::max(b.bounds.min - p, p - b.bounds.max), glm::vec3(0.0f));
+    if (glm::dot(outside, outside) > b.range * b.range) return 0.0f;
+  }
   const glm::vec3 fromCentre = p - centre;
   const float dist2 = glm::dot(fromCentre, fromCentre);
   // Inside the bounding sphere every direction is possible and distance is no better than its size.

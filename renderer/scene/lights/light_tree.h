@@ -35,10 +35,11 @@ DirectionCone coneUnion(const DirectionCone& a, const DirectionCone& b);
 /// What the tree knows of one emitter or one group of them.
 struct LightBounds {
   Bounds bounds;                  ///< Where the emitters lie.
-  float power = 0.0f;             ///< Total emitted power (any consistent scalar unit).
+  float power = 0.0f;             ///< Summed peak radiant intensity (importance = power x cos / d^2).
   DirectionCone normals;          ///< Bounds the emitters' normals (theta_o).
   float cosEmission = 0.0f;       ///< Cosine of the spread of emission around a normal (theta_e).
   bool twoSided = false;          ///< Emits on both sides of its normals.
+  float range = 0.0f;             ///< Reaches no point farther than this from the bounds (0: no limit).
 };
 
 /// Bounds holding both a and b.
