@@ -40,6 +40,20 @@ double analyticPower(const LightDesc& l, double sceneRadius) {
   return 0.0;
 }
 
+/// Summed area of the sky windows.
+double windowArea(std::span<const glm::vec3> windows) {
+  double area = 0.0;
+  for (const glm::vec3& w : windows) area += double{glm::length(w)};
+  return area;
+}
+
+/// Summed area of the sky windows projected across direction d (either side may face the sun).
+double projectedArea(std::span<const glm::vec3> windows, const glm::vec3& d) {
+  double area = 0.0;
+  for (const glm::vec3& w : windows) area += std::abs(double{glm::dot(w, d)});
+  return area;
+}
+
 /// Tree bounds of an emissive triangle; adds its power (category units) to `power`.
 LightBounds triangleBounds(const EmissiveTriangle& t, double& power) {
   const glm::vec3 mean = t.emission * (t.texture ? glm::vec3(t.texture->average()) : glm::vec3(1.0f));
@@ -123,7 +137,7 @@ glm::vec3 emittedRadiance(const EmissiveTriangle& tri, glm::vec2 bary, bool fron
 }
 
 LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<EmissiveTriangle> triangles,
-                           const Sky& sky, const Bounds& sceneBounds)
+                           const Sky& sky, const Bounds& sceneBounds, std::span<const glm::vec3> skyWindows)
     : analytic_(lights.begin(), lights.end()), triangles_(std::move(triangles)) {
   const double radius =
       sceneBounds.empty() ? 1.0 : std::max(1e-3, 0.5 * double{glm::length(sceneBounds.max - sceneBounds.min)});
@@ -136,7 +150,12 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
   for (uint32_t i = 0; i < analytic_.size(); ++i) {
     const LightDesc& l = analytic_[i];
     if (l.type == LightType::Directional) {
-      power.push_back(analyticPower(l, radius));
+      // A floor keeps every sun selectable (unbiased) should light leave by other ways.
+      const double open = analyticPower(l, radius);
+      power.push_back(skyWindows.empty()
+                          ? open
+                          : std::max(1e-6 * open, meanComponent(l.color) * l.intensity *
+                                                      projectedArea(skyWindows, l.direction)));
       continue;
     }
     power.push_back(0.0);   // chosen through the local entry
@@ -153,7 +172,10 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
   if (!sky.black()) {
     sky_ = sky;
     skyEntry_ = static_cast<uint32_t>(power.size());
-    power.push_back(kPi * meanComponent(sky.average()) * kPi * radius * radius);
+    // Radiance L over a hemisphere through area A carries pi L A.
+    const double disc = kPi * radius * radius;
+    const double area = skyWindows.empty() ? disc : std::max(1e-6 * disc, windowArea(skyWindows));
+    power.push_back(kPi * meanComponent(sky.average()) * area);
   }
   table_ = sampling::AliasTable(power);
 }

@@ -2,7 +2,8 @@
 // Light selection and sampling for next-event estimation: analytic lights (point, spot,
 // directional), emissive triangles gathered at commit, and the sky. One alias table picks a
 // category by estimated power: each directional light, the sky, and all local emitters (point and
-// spot lights and emissive triangles together). The local choice is made at the shading point by
+// spot lights and emissive triangles together). Sun and sky power is the flux through the sky
+// windows when the scene has them (an enclosed level lets in far less than its bounding disc). The local choice is made at the shading point by
 // descending a light tree (light_tree.h) that weighs each group's intensity, distance, range,
 // emission cone and the point's hemisphere, so weak nearby emitters are not starved by strong
 // distant ones (game maps have ~100 lamps and hundreds to thousands of surface-light triangles).
@@ -58,9 +59,11 @@ glm::vec3 emittedRadiance(const EmissiveTriangle& tri, glm::vec2 bary, bool fron
 class LightSampler {
  public:
   LightSampler() = default;
-  /// Builds the selection table. `lights` are live analytic lights.
+  /// Builds the selection table. `lights` are live analytic lights. `skyWindows` holds
+  /// area x unit normal of each sky-window triangle: when there are any, sun and sky power is
+  /// what passes through them, else what falls on the scene's bounding disc.
   LightSampler(std::span<const LightDesc> lights, std::vector<EmissiveTriangle> triangles, const Sky& sky,
-               const Bounds& sceneBounds);
+               const Bounds& sceneBounds, std::span<const glm::vec3> skyWindows = {});
 
   /// True when there is no light at all.
   bool empty() const { return table_.empty(); }

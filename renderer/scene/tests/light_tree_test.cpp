@@ -262,6 +262,34 @@ TEST(LightSampler, TriangleSamplePdfIsTheMisPdf) {
   EXPECT_GT(checked, 1000);
 }
 
+TEST(LightSampler, SkyWindowsBoundTheSkyAndSunShares) {
+  // One emitter of power pi * 50 * 1; a constant sky of radiance 1; a sun of irradiance 2.
+  const std::vector<EmissiveTriangle> tris = {makeTriangle({0, 0, 0}, {10, 0, 0}, {0, 10, 0}, glm::vec3(1.0f), false)};
+  SkyDesc desc;
+  desc.color = glm::vec3(1.0f);
+  const Sky sky(desc, {});
+  LightDesc sun;
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(0.0f, 0.6f, -0.8f));
+  sun.intensity = 2.0f;
+  const std::vector<LightDesc> lights = {sun};
+  Bounds scene;
+  scene.extend(glm::vec3(-1000.0f));
+  scene.extend(glm::vec3(1000.0f));
+  // A 20 x 20 skylight facing down: the sky brings pi x 1 x 400, the sun 2 x 400 x 0.8.
+  const std::vector<glm::vec3> windows = {glm::vec3(0, 0, -200), glm::vec3(0, 0, -200)};
+  const LightSampler enclosed(lights, tris, sky, scene, windows);
+  const glm::vec3 n(0.0f, 0.0f, 1.0f);
+  const double skyPower = kPi * 400.0, sunPower = 2.0 * 400.0 * 0.8, emitterPower = kPi * 50.0;
+  const double total = skyPower + sunPower + emitterPower;
+  // skyPdf(n, n) = share x cosine-lobe pdf (1 / pi) for a constant sky.
+  EXPECT_NEAR(enclosed.skyPdf(n, n) * kPi, skyPower / total, 1e-4);
+  EXPECT_NEAR(enclosed.emissiveSelection(0, glm::vec3(3, 3, 5), -n), emitterPower / total, 1e-4);
+  // Without windows (open scene) the bounding disc of radius 1732 dwarfs the emitter.
+  const LightSampler open(lights, tris, sky, scene);
+  EXPECT_LT(open.emissiveSelection(0, glm::vec3(3, 3, 5), -n), 1e-4f);
+}
+
 TEST(LightTree, HostileEmittersAreLeftOut) {
   auto lights = boundsOf(triangleSoup(10, 2));
   lights[3].power = std::numeric_limits<float>::quiet_NaN();
