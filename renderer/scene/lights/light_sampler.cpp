@@ -40,6 +40,14 @@ double analyticPower(const LightDesc& l, double sceneRadius) {
   return 0.0;
 }
 
+/// localLightWeight at p, 0 where it is not a positive finite number or where the light lies
+/// wholly on or below the tangent plane of normal n (nothing there to reflect).
+float lampWeight(const LightDesc& l, const glm::vec3& p, const glm::vec3& n) {
+  if (glm::dot(l.position - p, n) + l.radius <= 0.0f && n != glm::vec3(0.0f)) return 0.0f;
+  const float w = localLightWeight(l, p);
+  return std::isfinite(w) && w > 0.0f ? w : 0.0f;
+}
+
 /// Summed area of the sky windows.
 double windowArea(std::span<const glm::vec3> windows) {
   double area = 0.0;
@@ -68,30 +76,6 @@ LightBounds triangleBounds(const EmissiveTriangle& t, double& power) {
   b.cosEmission = 0.0f;   // Lambertian: up to 90 degrees from the normal
   b.twoSided = t.twoSided;
   if (b.power > 0.0f) power += kPi * double{b.power} * (t.twoSided ? 2.0 : 1.0);
-  return b;
-}
-
-/// Tree bounds of a point or spot light.
-LightBounds localLightBounds(const LightDesc& l) {
-  const double i = meanComponent(l.color) * l.intensity;
-  LightBounds b;
-  b.bounds.extend(l.position - glm::vec3(l.radius));
-  b.bounds.extend(l.position + glm::vec3(l.radius));
-  // Linear falloff I (1 - d / R) never exceeds (4 R^2 / 27) I / d^2: that bound's numerator
-  // stands for its intensity; the range culls it beyond R.
-  double intensity = i;
-  if (l.falloff == Falloff::Linear) intensity = i * 4.0 * double{l.range} * l.range / 27.0;
-  b.power = std::isfinite(intensity) && intensity > 0.0 ? float(intensity) : 0.0f;
-  b.range = l.range > 0.0f ? l.range : 0.0f;
-  if (l.type == LightType::Spot && l.radius == 0.0f) {
-    const float inner = std::acos(std::clamp(l.cosInnerAngle, -1.0f, 1.0f));
-    const float outer = std::acos(std::clamp(l.cosOuterAngle, -1.0f, 1.0f));
-    b.normals = {l.direction, std::cos(inner)};
-    b.cosEmission = std::cos(std::max(0.0f, outer - inner));
-  } else {
-    b.normals = DirectionCone::entireSphere();
-    b.cosEmission = -1.0f;
-  }
   return b;
 }
 
@@ -160,12 +144,11 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
     }
     power.push_back(0.0);   // chosen through the local entry
     localLights_.push_back(i);
-    local.push_back(localLightBounds(l));
     const double p = analyticPower(l, radius);
     if (std::isfinite(p) && p > 0.0) localPower += p;
   }
-  localTree_ = LightTree(local);
-  if (!localTree_.empty() && localPower > 0.0) {
+  emissiveTree_ = LightTree(local);
+  if ((!emissiveTree_.empty() || !localLights_.empty()) && localPower > 0.0) {
     localEntry_ = static_cast<uint32_t>(power.size());
     power.push_back(localPower);
   }
@@ -188,14 +171,23 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
   const glm::vec2 uv(u.y, u.z);
   bool ok;
   if (entry == localEntry_) {
-    // u.w is free here (only the sky's cell choice uses it).
-    uint32_t emitter = 0;
-    float withinCategory = 0.0f;
-    if (!localTree_.sample(p, n, u.w, emitter, withinCategory)) return false;
-    selection *= withinCategory;
-    ok = emitter < triangles_.size()
-             ? sampleTriangle(triangles_[emitter], p, uv, out)
-             : sampleAnalytic(analytic_[localLights_[emitter - triangles_.size()]], p, uv, out);
+    // u.w is free here (only the sky's cell choice uses it): it picks the kind, then the emitter.
+    const LocalSplit split = localSplit(p, n);
+    float uw = std::min(u.w, 0x1.fffffep-1f);
+    if (uw < split.emissive) {
+      uint32_t triangle = 0;
+      float withinTree = 0.0f;
+      if (!emissiveTree_.sample(p, n, uw / split.emissive, triangle, withinTree)) return false;
+      selection *= split.emissive * withinTree;
+      ok = sampleTriangle(triangles_[triangle], p, uv, out);
+    } else {
+      uint32_t light = 0;
+      float withinLamps = 0.0f;
+      uw = (uw - split.emissive) / (1.0f - split.emissive);
+      if (!pickLocalLight(p, n, uw, split.lampWeight, light, withinLamps)) return false;
+      selection *= (1.0f - split.emissive) * withinLamps;
+      ok = sampleAnalytic(analytic_[light], p, uv, out);
+    }
   } else if (entry < analytic_.size()) {
     ok = sampleAnalytic(analytic_[entry], p, uv, out);
   } else if (entry == skyEntry_) {
@@ -221,6 +213,39 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
   if (!ok) return false;
   out.pdf *= selection;
   return out.pdf > 0.0f;
+}
+
+LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm::vec3& n) const {
+  LocalSplit split;
+  double lamps = 0.0;
+  for (uint32_t light : localLights_) lamps += lampWeight(analytic_[light], p, n);
+  const double triangles = emissiveTree_.empty() ? 0.0 : double{emissiveTree_.importance(p, n)};
+  split.lampWeight = lamps;
+  const double total = lamps + triangles;
+  split.emissive = total > 0.0 ? float(triangles / total) : 0.0f;
+  if (total > 0.0 && lamps == 0.0) split.emissive = 1.0f;
+  return split;
+}
+
+bool LightSampler::pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total,
+                                  uint32_t& index, float& probability) const {
+  // Inverts the running sum of the weights localSplit() summed (recomputed, nothing is stored
+  // per sample).
+  if (!(total > 0.0)) return false;
+  const double target = double(u) * total;
+  double running = 0.0;
+  float chosenWeight = 0.0f;
+  for (uint32_t light : localLights_) {
+    const float w = lampWeight(analytic_[light], p, n);
+    if (w == 0.0f) continue;
+    index = light;   // the last light with weight catches rounding at the top end
+    chosenWeight = w;
+    running += w;
+    if (target < running) break;
+  }
+  if (!(chosenWeight > 0.0f)) return false;
+  probability = float(double(chosenWeight) / total);
+  return probability > 0.0f;
 }
 
 bool LightSampler::sampleAnalytic(const LightDesc& l, const glm::vec3& p, const glm::vec2& u,
@@ -280,7 +305,9 @@ bool LightSampler::sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& 
 
 float LightSampler::emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n) const {
   if (localEntry_ == UINT32_MAX || index >= triangles_.size()) return 0.0f;
-  return table_.pdf(localEntry_) * localTree_.pmf(index, p, n);
+  const LocalSplit split = localSplit(p, n);
+  if (!(split.emissive > 0.0f)) return 0.0f;
+  return table_.pdf(localEntry_) * split.emissive * emissiveTree_.pmf(index, p, n);
 }
 
 float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const {

@@ -82,6 +82,16 @@ class LightSampler {
 
  private:
   bool sampleAnalytic(const LightDesc& light, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
+  /// How the local entry divides at p between triangles and lamps.
+  struct LocalSplit {
+    float emissive = 0.0f;     ///< Probability of the triangles (1 - that of the lamps).
+    double lampWeight = 0.0;   ///< Summed lamp weights at p (their normaliser).
+  };
+  LocalSplit localSplit(const glm::vec3& p, const glm::vec3& n) const;
+  /// Picks a lamp at p, n in proportion to its weight (u in [0,1), total = summed weights);
+  /// returns its index into analytic_ and the probability of that choice among the lamps.
+  bool pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total, uint32_t& index,
+                      float& probability) const;
   bool sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
 
   std::vector<LightDesc> analytic_;
@@ -89,9 +99,7 @@ class LightSampler {
   Sky sky_;
   uint32_t skyEntry_ = UINT32_MAX;
   uint32_t localEntry_ = UINT32_MAX;   ///< The table entry of all local emitters.
-  /// Tree over the local emitters: triangles_[i] is emitter i, analytic_[localLights_[k]] is
-  /// emitter triangles_.size() + k.
-  LightTree localTree_;
+  LightTree emissiveTree_;             ///< Over triangles_ (same indices).
   std::vector<uint32_t> localLights_;   ///< Indices into analytic_ of the point and spot lights.
   sampling::AliasTable table_;
 };

@@ -64,6 +64,10 @@ class LightTree {
   bool sample(const glm::vec3& p, const glm::vec3& n, float u, uint32_t& index, float& pmf) const;
   /// Probability with which sample() picks emitter `index` at p, n.
   float pmf(uint32_t index, const glm::vec3& p, const glm::vec3& n) const;
+  /// The root's importance at p, n (0 for an empty tree): what the whole tree can deliver.
+  float importance(const glm::vec3& p, const glm::vec3& n) const {
+    return nodes_.empty() ? 0.0f : lightImportance(nodes_[0].bounds, p, n);
+  }
   /// Number of nodes (leaves and interior), for tests and statistics.
   size_t nodeCount() const { return nodes_.size(); }
 

@@ -43,6 +43,24 @@ std::vector<LightDesc> lampAmongDistantLights() {
   return lights;
 }
 
+TEST(LightSampler, EveryPointLightSampleEstimatesTheExactSum) {
+  // Selection in proportion to each light's contribution makes radiance / pdf the same for
+  // every sample (equal colours apart): each single sample must give the exact sum.
+  std::vector<LightDesc> lights = lampAmongDistantLights();
+  for (LightDesc& l : lights) l.color = glm::vec3(1.0f);
+  const LightSampler sampler(lights, {}, Sky{}, Bounds{});
+  const glm::vec3 p(1.0f, 2.0f, 0.0f);
+  const glm::vec3 n(0.0f, 0.0f, 1.0f);
+  const glm::vec3 exact = exactSum(lights, p);
+  for (int i = 0; i < 1000; ++i) {
+    const float u = (float(i) + 0.5f) / 1000.0f;
+    LightSample ls;
+    ASSERT_TRUE(sampler.sample(p, n, glm::vec4(u, 0.3f, 0.7f, 1.0f - u), ls));
+    const glm::vec3 estimate = ls.radiance / ls.pdf;
+    EXPECT_NEAR(estimate.x, exact.x, 1e-3f * exact.x) << "sample " << i;
+  }
+}
+
 TEST(LightSampler, NearbyLampGetsMostSamplesAndTheMeanIsExact) {
   // The lamp 20 units above the point gives ~60% of the light there but 0.01% of the power: the
   // choice at the shading point must spend most samples on it, and the mean must stay exact.
