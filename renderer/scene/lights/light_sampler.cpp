@@ -127,10 +127,10 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
       sceneBounds.empty() ? 1.0 : std::max(1e-3, 0.5 * double{glm::length(sceneBounds.max - sceneBounds.min)});
   std::vector<double> power;
   power.reserve(analytic_.size() + 2);
-  std::vector<LightBounds> local;
-  local.reserve(triangles_.size() + analytic_.size());
+  std::vector<LightBounds> emitters;
+  emitters.reserve(triangles_.size());
   double localPower = 0.0;
-  for (const EmissiveTriangle& t : triangles_) local.push_back(triangleBounds(t, localPower));
+  for (const EmissiveTriangle& t : triangles_) emitters.push_back(triangleBounds(t, localPower));
   for (uint32_t i = 0; i < analytic_.size(); ++i) {
     const LightDesc& l = analytic_[i];
     if (l.type == LightType::Directional) {
@@ -147,7 +147,7 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
     const double p = analyticPower(l, radius);
     if (std::isfinite(p) && p > 0.0) localPower += p;
   }
-  emissiveTree_ = LightTree(local);
+  emissiveTree_ = LightTree(emitters);
   if ((!emissiveTree_.empty() || !localLights_.empty()) && localPower > 0.0) {
     localEntry_ = static_cast<uint32_t>(power.size());
     power.push_back(localPower);

@@ -1,12 +1,15 @@
 #pragma once
 // Light selection and sampling for next-event estimation: analytic lights (point, spot,
 // directional), emissive triangles gathered at commit, and the sky. One alias table picks a
-// category by estimated power: each directional light, the sky, and all local emitters (point and
-// spot lights and emissive triangles together). Sun and sky power is the flux through the sky
-// windows when the scene has them (an enclosed level lets in far less than its bounding disc). The local choice is made at the shading point by
-// descending a light tree (light_tree.h) that weighs each group's intensity, distance, range,
-// emission cone and the point's hemisphere, so weak nearby emitters are not starved by strong
-// distant ones (game maps have ~100 lamps and hundreds to thousands of surface-light triangles).
+// category by estimated power: each directional light, the sky, and all local emitters (point
+// and spot lights and emissive triangles together). Sun and sky power is the flux through the
+// sky windows when the scene has them (an enclosed level lets in far less than its bounding
+// disc). The local choice is made at the shading point, so weak nearby emitters are not starved
+// by strong distant ones (game maps have ~100 lamps and hundreds to thousands of surface-light
+// triangles): lamps against triangles in proportion to the lamps' summed weight there and the
+// triangle tree's root importance; then a lamp in proportion to its unshadowed contribution
+// (intensity x falloff x spot cone, exact), or a triangle by descending a light tree
+// (light_tree.h) that weighs intensity, distance, emission cone and the point's hemisphere.
 // The sky's and the sun's pdfs (MIS) do not depend on the shading point; a triangle's does
 // (position and normal of the point that sampled it). Each light is then sampled by solid angle
 // (point-like lights, sun cone, sky cosine lobe) or uniformly by area (triangles, converted to

@@ -311,6 +311,24 @@ TEST(LightTree, HostileEmittersAreLeftOut) {
   EXPECT_NEAR(sum, 1.0, 1e-4);
 }
 
+TEST(LightTree, RangeLimitsTheReach) {
+  LightBounds lamp;
+  lamp.bounds.extend(glm::vec3(-1.0f));
+  lamp.bounds.extend(glm::vec3(1.0f));
+  lamp.power = 5.0f;
+  lamp.normals = DirectionCone::entireSphere();
+  lamp.cosEmission = -1.0f;
+  lamp.range = 10.0f;
+  EXPECT_GT(lightImportance(lamp, glm::vec3(10.5f, 0.0f, 0.0f), glm::vec3(0.0f)), 0.0f);   // 9.5 from the box
+  EXPECT_EQ(lightImportance(lamp, glm::vec3(11.5f, 0.0f, 0.0f), glm::vec3(0.0f)), 0.0f);
+  LightBounds far = lamp;
+  far.range = 0.0f;   // no limit: the union has none either
+  EXPECT_EQ(boundsUnion(lamp, far).range, 0.0f);
+  LightBounds wider = lamp;
+  wider.range = 30.0f;
+  EXPECT_EQ(boundsUnion(lamp, wider).range, 30.0f);
+}
+
 TEST(LightTree, SamplingIsDeterministic) {
   const auto tris = triangleSoup(200, 8);
   const LightSampler a({}, tris, Sky{}, Bounds{}), b({}, tris, Sky{}, Bounds{});
