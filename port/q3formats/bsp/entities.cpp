@@ -203,6 +203,8 @@ WorldspawnInfo readWorldspawn(const std::vector<Entity>& entities) {
   info.color = normalisedColor(*world);
   const float ambient = world->getFloat("_ambient", world->getFloat("ambient", 0));
   info.ambient = info.color * std::max(ambient, 0.0f);
+  const float minlight = world->getFloat("_minlight", world->getFloat("minlight", 0));
+  info.minlight = info.color * std::max(minlight, 0.0f);
   return info;
 }
 

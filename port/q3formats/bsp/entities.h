@@ -51,6 +51,7 @@ struct WorldspawnInfo {
   std::string message;            ///< map title ("message")
   glm::vec3 gridSize{64, 64, 128};
   glm::vec3 ambient{0};           ///< "_ambient"/"ambient" intensity times "_color"
+  glm::vec3 minlight{0};          ///< "_minlight"/"minlight" (q3map2's per-luxel floor) times "_color"
   glm::vec3 color{1};             ///< "_color" (normalised so the largest channel is 1)
   std::vector<std::string> warnings;
 };

@@ -226,7 +226,8 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
       float weight = 1.0f;
       if (!prev.delta && !lightmapOnly) {
         const uint32_t index = scene.emissiveIndex(s);
-        const float lightPdf = index == kNoId ? 0.0f : scene.lights.emissivePdf(index, prev.position, s.position);
+        const float lightPdf =
+            index == kNoId ? 0.0f : scene.lights.emissivePdf(index, prev.position, prev.normal, s.position);
         weight = sampling::powerHeuristic(prev.bsdfPdf, lightPdf);
       }
       radiance += clampContribution(beta * le * weight, viewDepth, settings.radianceClamp);

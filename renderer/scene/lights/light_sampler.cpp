@@ -40,6 +40,45 @@ double analyticPower(const LightDesc& l, double sceneRadius) {
   return 0.0;
 }
 
+/// localLightWeight at p, 0 where it is not a positive finite number or where the light lies
+/// wholly on or below the tangent plane of normal n (nothing there to reflect).
+float lampWeight(const LightDesc& l, const glm::vec3& p, const glm::vec3& n) {
+  if (glm::dot(l.position - p, n) + l.radius <= 0.0f && n != glm::vec3(0.0f)) return 0.0f;
+  const float w = localLightWeight(l, p);
+  return std::isfinite(w) && w > 0.0f ? w : 0.0f;
+}
+
+/// Summed area of the sky windows.
+double windowArea(std::span<const glm::vec3> windows) {
+  double area = 0.0;
+  for (const glm::vec3& w : windows) area += double{glm::length(w)};
+  return area;
+}
+
+/// Summed area of the sky windows projected across direction d (either side may face the sun).
+double projectedArea(std::span<const glm::vec3> windows, const glm::vec3& d) {
+  double area = 0.0;
+  for (const glm::vec3& w : windows) area += std::abs(double{glm::dot(w, d)});
+  return area;
+}
+
+/// Tree bounds of an emissive triangle; adds its power (category units) to `power`.
+LightBounds triangleBounds(const EmissiveTriangle& t, double& power) {
+  const glm::vec3 mean = t.emission * (t.texture ? glm::vec3(t.texture->average()) : glm::vec3(1.0f));
+  // Peak radiant intensity (radiance x area, along the normal) for the tree; power for the category.
+  const double intensity = double{t.area} * meanComponent(mean);
+  LightBounds b;
+  b.bounds.extend(t.p0);
+  b.bounds.extend(t.p0 + t.e1);
+  b.bounds.extend(t.p0 + t.e2);
+  b.power = std::isfinite(intensity) && intensity > 0.0 ? float(intensity) : 0.0f;
+  b.normals = {t.normal, 1.0f};
+  b.cosEmission = 0.0f;   // Lambertian: up to 90 degrees from the normal
+  b.twoSided = t.twoSided;
+  if (b.power > 0.0f) power += kPi * double{b.power} * (t.twoSided ? 2.0 : 1.0);
+  return b;
+}
+
 }  // namespace
 
 float distanceFalloff(const LightDesc& light, float d) {
@@ -82,69 +121,73 @@ glm::vec3 emittedRadiance(const EmissiveTriangle& tri, glm::vec2 bary, bool fron
 }
 
 LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<EmissiveTriangle> triangles,
-                           const Sky& sky, const Bounds& sceneBounds)
+                           const Sky& sky, const Bounds& sceneBounds, std::span<const glm::vec3> skyWindows)
     : analytic_(lights.begin(), lights.end()), triangles_(std::move(triangles)) {
   const double radius =
       sceneBounds.empty() ? 1.0 : std::max(1e-3, 0.5 * double{glm::length(sceneBounds.max - sceneBounds.min)});
   std::vector<double> power;
-  power.reserve(analytic_.size() + triangles_.size() + 1);
-  for (const LightDesc& l : analytic_) power.push_back(analyticPower(l, radius));
-  for (const EmissiveTriangle& t : triangles_) {
-    const glm::vec3 mean = t.emission * (t.texture ? glm::vec3(t.texture->average()) : glm::vec3(1.0f));
-    power.push_back(kPi * double{t.area} * meanComponent(mean) * (t.twoSided ? 2.0 : 1.0));
+  power.reserve(analytic_.size() + 2);
+  std::vector<LightBounds> emitters;
+  emitters.reserve(triangles_.size());
+  double localPower = 0.0;
+  for (const EmissiveTriangle& t : triangles_) emitters.push_back(triangleBounds(t, localPower));
+  for (uint32_t i = 0; i < analytic_.size(); ++i) {
+    const LightDesc& l = analytic_[i];
+    if (l.type == LightType::Directional) {
+      // A floor keeps every sun selectable (unbiased) should light leave by other ways.
+      const double open = analyticPower(l, radius);
+      power.push_back(skyWindows.empty()
+                          ? open
+                          : std::max(1e-6 * open, meanComponent(l.color) * l.intensity *
+                                                      projectedArea(skyWindows, l.direction)));
+      continue;
+    }
+    power.push_back(0.0);   // chosen through the local entry
+    localLights_.push_back(i);
+    const double p = analyticPower(l, radius);
+    if (std::isfinite(p) && p > 0.0) localPower += p;
+  }
+  emissiveTree_ = LightTree(emitters);
+  if ((!emissiveTree_.empty() || !localLights_.empty()) && localPower > 0.0) {
+    localEntry_ = static_cast<uint32_t>(power.size());
+    power.push_back(localPower);
   }
   if (!sky.black()) {
     sky_ = sky;
     skyEntry_ = static_cast<uint32_t>(power.size());
-    power.push_back(kPi * meanComponent(sky.average()) * kPi * radius * radius);
+    // Radiance L over a hemisphere through area A carries pi L A.
+    const double disc = kPi * radius * radius;
+    const double area = skyWindows.empty() ? disc : std::max(1e-6 * disc, windowArea(skyWindows));
+    power.push_back(kPi * meanComponent(sky.average()) * area);
   }
   table_ = sampling::AliasTable(power);
-  for (uint32_t i = 0; i < analytic_.size(); ++i) {
-    if (analytic_[i].type == LightType::Directional) continue;
-    localLights_.push_back(i);
-    localShare_ += table_.pdf(i);
-  }
-}
-
-bool LightSampler::pickLocalLight(const glm::vec3& p, float u, uint32_t& index, float& probability) const {
-  // Two passes over the lights (sum, then invert the running sum) instead of a weight buffer:
-  // the weights are cheap to recompute and nothing is written per sample.
-  const auto weightOf = [&](uint32_t light) {
-    const float w = localLightWeight(analytic_[light], p);
-    return std::isfinite(w) && w > 0.0f ? w : 0.0f;
-  };
-  double total = 0.0;
-  for (uint32_t light : localLights_) total += weightOf(light);
-  if (!(total > 0.0)) return false;
-  const double target = double(u) * total;
-  double running = 0.0;
-  float chosenWeight = 0.0f;
-  for (uint32_t light : localLights_) {
-    const float w = weightOf(light);
-    if (w == 0.0f) continue;
-    index = light;   // the last light with weight catches rounding at the top end
-    chosenWeight = w;
-    running += w;
-    if (target < running) break;
-  }
-  if (!(chosenWeight > 0.0f)) return false;
-  probability = float(double(chosenWeight) / total);
-  return probability > 0.0f;
 }
 
 bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const {
   if (table_.empty()) return false;
-  uint32_t entry = table_.sample(u.x);
+  const uint32_t entry = table_.sample(u.x);
   float selection = table_.pdf(entry);
   if (!(selection > 0.0f)) return false;
   const glm::vec2 uv(u.y, u.z);
   bool ok;
-  if (entry < analytic_.size() && analytic_[entry].type != LightType::Directional) {
-    // u.w is free here (only the sky's cell choice uses it).
-    float withinCategory = 0.0f;
-    if (!pickLocalLight(p, u.w, entry, withinCategory)) return false;
-    selection = localShare_ * withinCategory;
-    ok = sampleAnalytic(analytic_[entry], p, uv, out);
+  if (entry == localEntry_) {
+    // u.w is free here (only the sky's cell choice uses it): it picks the kind, then the emitter.
+    const LocalSplit split = localSplit(p, n);
+    float uw = std::min(u.w, 0x1.fffffep-1f);
+    if (uw < split.emissive) {
+      uint32_t triangle = 0;
+      float withinTree = 0.0f;
+      if (!emissiveTree_.sample(p, n, uw / split.emissive, triangle, withinTree)) return false;
+      selection *= split.emissive * withinTree;
+      ok = sampleTriangle(triangles_[triangle], p, uv, out);
+    } else {
+      uint32_t light = 0;
+      float withinLamps = 0.0f;
+      uw = (uw - split.emissive) / (1.0f - split.emissive);
+      if (!pickLocalLight(p, n, uw, split.lampWeight, light, withinLamps)) return false;
+      selection *= (1.0f - split.emissive) * withinLamps;
+      ok = sampleAnalytic(analytic_[light], p, uv, out);
+    }
   } else if (entry < analytic_.size()) {
     ok = sampleAnalytic(analytic_[entry], p, uv, out);
   } else if (entry == skyEntry_) {
@@ -165,11 +208,44 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
     out.environment = true;
     ok = true;
   } else {
-    ok = sampleTriangle(triangles_[entry - analytic_.size()], p, uv, out);
+    return false;
   }
   if (!ok) return false;
   out.pdf *= selection;
   return out.pdf > 0.0f;
+}
+
+LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm::vec3& n) const {
+  LocalSplit split;
+  double lamps = 0.0;
+  for (uint32_t light : localLights_) lamps += lampWeight(analytic_[light], p, n);
+  const double triangles = emissiveTree_.empty() ? 0.0 : double{emissiveTree_.importance(p, n)};
+  split.lampWeight = lamps;
+  const double total = lamps + triangles;
+  split.emissive = total > 0.0 ? float(triangles / total) : 0.0f;
+  if (total > 0.0 && lamps == 0.0) split.emissive = 1.0f;
+  return split;
+}
+
+bool LightSampler::pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total,
+                                  uint32_t& index, float& probability) const {
+  // Inverts the running sum of the weights localSplit() summed (recomputed, nothing is stored
+  // per sample).
+  if (!(total > 0.0)) return false;
+  const double target = double(u) * total;
+  double running = 0.0;
+  float chosenWeight = 0.0f;
+  for (uint32_t light : localLights_) {
+    const float w = lampWeight(analytic_[light], p, n);
+    if (w == 0.0f) continue;
+    index = light;   // the last light with weight catches rounding at the top end
+    chosenWeight = w;
+    running += w;
+    if (target < running) break;
+  }
+  if (!(chosenWeight > 0.0f)) return false;
+  probability = float(double(chosenWeight) / total);
+  return probability > 0.0f;
 }
 
 bool LightSampler::sampleAnalytic(const LightDesc& l, const glm::vec3& p, const glm::vec2& u,
@@ -227,14 +303,21 @@ bool LightSampler::sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& 
   return std::isfinite(out.pdf);
 }
 
-float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& q) const {
+float LightSampler::emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n) const {
+  if (localEntry_ == UINT32_MAX || index >= triangles_.size()) return 0.0f;
+  const LocalSplit split = localSplit(p, n);
+  if (!(split.emissive > 0.0f)) return 0.0f;
+  return table_.pdf(localEntry_) * split.emissive * emissiveTree_.pmf(index, p, n);
+}
+
+float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const {
   if (index >= triangles_.size()) return 0.0f;
   const EmissiveTriangle& tri = triangles_[index];
   const glm::vec3 d = q - p;
   const float dist2 = glm::dot(d, d);
   const float cosLight = std::abs(glm::dot(d, tri.normal)) / std::sqrt(dist2);
   if (!(cosLight > 0.0f) || !(tri.area > 0.0f)) return 0.0f;
-  return table_.pdf(static_cast<uint32_t>(analytic_.size()) + index) * dist2 / (tri.area * cosLight);
+  return emissiveSelection(index, p, n) * dist2 / (tri.area * cosLight);
 }
 
 float LightSampler::skyPdf(const glm::vec3& n, const glm::vec3& wi) const {

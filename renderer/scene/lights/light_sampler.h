@@ -1,13 +1,19 @@
 #pragma once
 // Light selection and sampling for next-event estimation: analytic lights (point, spot,
 // directional), emissive triangles gathered at commit, and the sky. One alias table picks a
-// light by estimated power; when it picks a point or spot light, the choice among all point and
-// spot lights is redone at the shading point in proportion to each one's unshadowed
-// contribution there (intensity x falloff x spot cone), so weak nearby lamps are not starved by
-// strong distant ones (game maps have ~100 of them). The category keeps its power share, so the
-// pdfs of emissive triangles and sky (MIS) do not depend on the shading point. Each light is then
-// sampled by solid angle (point-like lights, sun cone, sky cosine lobe) or uniformly by area
-// (triangles, converted to solid angle).
+// category by estimated power: each directional light, the sky, and all local emitters (point
+// and spot lights and emissive triangles together). Sun and sky power is the flux through the
+// sky windows when the scene has them (an enclosed level lets in far less than its bounding
+// disc). The local choice is made at the shading point, so weak nearby emitters are not starved
+// by strong distant ones (game maps have ~100 lamps and hundreds to thousands of surface-light
+// triangles): lamps against triangles in proportion to the lamps' summed weight there and the
+// triangle tree's root importance; then a lamp in proportion to its unshadowed contribution
+// (intensity x falloff x spot cone, exact), or a triangle by descending a light tree
+// (light_tree.h) that weighs intensity, distance, emission cone and the point's hemisphere.
+// The sky's and the sun's pdfs (MIS) do not depend on the shading point; a triangle's does
+// (position and normal of the point that sampled it). Each light is then sampled by solid angle
+// (point-like lights, sun cone, sky cosine lobe) or uniformly by area (triangles, converted to
+// solid angle).
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -17,6 +23,7 @@
 #include <glm/vec4.hpp>
 
 #include "renderer/core/bounds.h"
+#include "renderer/scene/lights/light_tree.h"
 #include "renderer/scene/lights/sky.h"
 #include "renderer/scene/sampling/alias_table.h"
 #include "renderer/scene/scene_types.h"
@@ -55,17 +62,22 @@ glm::vec3 emittedRadiance(const EmissiveTriangle& tri, glm::vec2 bary, bool fron
 class LightSampler {
  public:
   LightSampler() = default;
-  /// Builds the selection table. `lights` are live analytic lights.
+  /// Builds the selection table. `lights` are live analytic lights. `skyWindows` holds
+  /// area x unit normal of each sky-window triangle: when there are any, sun and sky power is
+  /// what passes through them, else what falls on the scene's bounding disc.
   LightSampler(std::span<const LightDesc> lights, std::vector<EmissiveTriangle> triangles, const Sky& sky,
-               const Bounds& sceneBounds);
+               const Bounds& sceneBounds, std::span<const glm::vec3> skyWindows = {});
 
   /// True when there is no light at all.
   bool empty() const { return table_.empty(); }
   /// Picks a light (u.x) and a point on it (u.y, u.z; u.w for the sky's cell choice) for
   /// shading point p with normal n (facing the viewer).
   bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const;
-  /// Solid-angle pdf with which sample() picks the emissive triangle `index` at point q from p.
-  float emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& q) const;
+  /// Solid-angle pdf with which sample() picks the emissive triangle `index` at point q from
+  /// point p with normal n (the arguments sample() was called with).
+  float emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const;
+  /// Probability with which sample() picks the emissive triangle `index` at p, n (no area pdf).
+  float emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n) const;
   /// Solid-angle pdf with which sample() picks sky direction wi from a point with normal n.
   float skyPdf(const glm::vec3& n, const glm::vec3& wi) const;
   /// The emissive triangles (index as in emissivePdf).
@@ -73,17 +85,25 @@ class LightSampler {
 
  private:
   bool sampleAnalytic(const LightDesc& light, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
-  /// Re-picks among the point and spot lights at p (u in [0,1)); returns its index into
-  /// analytic_ and the probability of that choice within the category, or false if none reaches p.
-  bool pickLocalLight(const glm::vec3& p, float u, uint32_t& index, float& probability) const;
+  /// How the local entry divides at p between triangles and lamps.
+  struct LocalSplit {
+    float emissive = 0.0f;     ///< Probability of the triangles (1 - that of the lamps).
+    double lampWeight = 0.0;   ///< Summed lamp weights at p (their normaliser).
+  };
+  LocalSplit localSplit(const glm::vec3& p, const glm::vec3& n) const;
+  /// Picks a lamp at p, n in proportion to its weight (u in [0,1), total = summed weights);
+  /// returns its index into analytic_ and the probability of that choice among the lamps.
+  bool pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total, uint32_t& index,
+                      float& probability) const;
   bool sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
 
   std::vector<LightDesc> analytic_;
   std::vector<EmissiveTriangle> triangles_;
   Sky sky_;
   uint32_t skyEntry_ = UINT32_MAX;
+  uint32_t localEntry_ = UINT32_MAX;   ///< The table entry of all local emitters.
+  LightTree emissiveTree_;             ///< Over triangles_ (same indices).
   std::vector<uint32_t> localLights_;   ///< Indices into analytic_ of the point and spot lights.
-  float localShare_ = 0.0f;             ///< Their summed selection probability in table_.
   sampling::AliasTable table_;
 };
 

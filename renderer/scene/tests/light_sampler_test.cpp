@@ -1,5 +1,6 @@
 // Known answers for light selection: the choice among point and spot lights follows their
-// contribution at the shading point, and the estimator stays exact (unbiased) for any mix.
+// contribution at the shading point (light tree), and the estimator stays exact (unbiased) for
+// any mix.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -60,6 +61,29 @@ TEST(LightSampler, EveryPointLightSampleEstimatesTheExactSum) {
   }
 }
 
+TEST(LightSampler, NearbyLampGetsMostSamplesAndTheMeanIsExact) {
+  // The lamp 20 units above the point gives ~60% of the light there but 0.01% of the power: the
+  // choice at the shading point must spend most samples on it, and the mean must stay exact.
+  std::vector<LightDesc> lights = lampAmongDistantLights();
+  for (LightDesc& l : lights) l.color = glm::vec3(1.0f);
+  const LightSampler sampler(lights, {}, Sky{}, Bounds{});
+  const glm::vec3 p(1.0f, 2.0f, 0.0f);
+  const glm::vec3 n(0.0f, 0.0f, 1.0f);
+  const glm::vec3 exact = exactSum(lights, p);
+  constexpr int kSamples = 1 << 14;
+  int onLamp = 0;
+  double mean = 0.0;
+  for (int i = 0; i < kSamples; ++i) {
+    const float u = (float(i) + 0.5f) / float(kSamples);
+    LightSample ls;
+    if (!sampler.sample(p, n, glm::vec4(0.5f, 0.3f, 0.7f, u), ls)) continue;
+    if (glm::length(ls.lightPoint - lights.back().position) == 0.0f) ++onLamp;
+    mean += double(ls.radiance.x / ls.pdf) / kSamples;
+  }
+  EXPECT_GT(onLamp, kSamples / 2);
+  EXPECT_NEAR(mean, exact.x, 1e-3 * exact.x);
+}
+
 TEST(LightSampler, MixedLightsMeanIsTheExactSum) {
   // Coloured point lights, a linear light, a spot light and a light out of range.
   std::vector<LightDesc> lights = lampAmongDistantLights();
@@ -104,7 +128,10 @@ TEST(LightSampler, NoSampleWhereNoPointLightReaches) {
   const LightSampler sampler(lights, {}, Sky{}, Bounds{});
   LightSample ls;
   EXPECT_FALSE(sampler.sample(glm::vec3(500.0f, 0.0f, 0.0f), glm::vec3(0.0f, 0.0f, 1.0f), glm::vec4(0.5f), ls));
-  EXPECT_TRUE(sampler.sample(glm::vec3(50.0f, 0.0f, 0.0f), glm::vec3(0.0f, 0.0f, 1.0f), glm::vec4(0.5f), ls));
+  EXPECT_TRUE(sampler.sample(glm::vec3(50.0f, 0.0f, -10.0f), glm::vec3(0.0f, 0.0f, 1.0f), glm::vec4(0.5f), ls));
+  // In range but in the plane of the point's surface (or below it): nothing to reflect.
+  EXPECT_FALSE(sampler.sample(glm::vec3(50.0f, 0.0f, 0.0f), glm::vec3(0.0f, 0.0f, 1.0f), glm::vec4(0.5f), ls));
+  EXPECT_FALSE(sampler.sample(glm::vec3(50.0f, 0.0f, 10.0f), glm::vec3(0.0f, 0.0f, 1.0f), glm::vec4(0.5f), ls));
 }
 
 TEST(LightSampler, LocalWeightBoundsSphereLights) {

@@ -396,14 +396,24 @@ RenderScene SceneStore::commit() {
   if (!overlayInputs.empty()) scene.overlayTlas.build(overlayInputs);
   if (!worldInputs.empty()) scene.bounds = scene.worldTlas.bounds();
 
-  // Emissive triangles of world instances become area lights.
+  // Emissive triangles of world instances become area lights; sky windows bound how much sun
+  // and sky light enters (their area-weighted normals go to the light sampler).
   std::vector<EmissiveTriangle> emissive;
+  std::vector<glm::vec3> skyWindows;
   for (RenderInstance& inst : scene.world) {
     const MeshGeometry& g = inst.mesh->geometry;
     const uint32_t offset = static_cast<uint32_t>(scene.emissiveLookup.size());
     bool any = false;
     for (uint32_t t = 0; t < g.triangleCount(); ++t) {
       const MaterialRecord& m = scene.materialOf(inst, t);
+      if (m.desc.sky) {
+        const auto corner = [&](uint32_t k) {
+          return glm::vec3(inst.objectToWorld * glm::vec4(g.positions[g.indices[3 * t + k]], 1.0f));
+        };
+        const glm::vec3 areaNormal = 0.5f * glm::cross(corner(1) - corner(0), corner(2) - corner(0));
+        if (std::isfinite(glm::dot(areaNormal, areaNormal))) skyWindows.push_back(areaNormal);
+        continue;
+      }
       // Sky windows show the sky, additive surfaces add on camera/bounce rays: neither is a light.
       if (!m.emits || m.desc.sky || m.desc.alphaMode == AlphaMode::Additive) continue;
       if (!any) {
@@ -447,7 +457,7 @@ RenderScene SceneStore::commit() {
   scene.portals = portals_;
   scene.fogs = fogs_;
   scene.sky = Sky(sky_, scene.textures);
-  scene.lights = LightSampler(lights, std::move(emissive), scene.sky, scene.bounds);
+  scene.lights = LightSampler(lights, std::move(emissive), scene.sky, scene.bounds, skyWindows);
   dirty_ = false;
   return scene;
 }

@@ -86,9 +86,14 @@ TEST(Entities, HostileSizesHitTheLimits) {
 TEST(Entities, WorldspawnKeys) {
   const auto e = parseEntities(
       "{ \"classname\" \"worldspawn\" \"message\" \"Arena\" \"gridsize\" \"32 32 64\" \"_color\" \"2 1 0\" "
-      "\"_ambient\" \"20\" }",
+      "\"_ambient\" \"20\" \"_minlight\" \"8\" }",
       "m.bsp");
   const auto w = readWorldspawn(e);
+  expectVec(w.minlight, {8, 4, 0});
+  const auto plain = readWorldspawn(parseEntities("{ \"classname\" \"worldspawn\" \"minlight\" \"40\" }", "m.bsp"));
+  expectVec(plain.minlight, {40, 40, 40});
+  const auto negative = readWorldspawn(parseEntities("{ \"classname\" \"worldspawn\" \"_minlight\" \"-3\" }", "m.bsp"));
+  expectVec(negative.minlight, {0, 0, 0});
   EXPECT_EQ(w.message, "Arena");
   expectVec(w.gridSize, {32, 32, 64});
   expectVec(w.color, {1, 0.5f, 0});

@@ -1,0 +1,89 @@
+#pragma once
+// A bounding volume hierarchy over emitters for choosing one at a shading point (Conty Estevez
+// and Kulla 2018, "Importance Sampling of Many Lights with Adaptive Tree Splitting", without the
+// splitting): every node bounds its emitters' positions, total power and emission directions
+// (a cone of normals plus the spread of emission around each normal). Descent from the root picks
+// a child in proportion to an upper-bound estimate of what it can deliver to the point (power /
+// distance^2, reduced by how far its normal cone and the point's hemisphere turn away), so the
+// probability of an emitter is the product of the branch probabilities on its path. pmf() walks
+// the same path back from the emitter's leaf, so sampling and MIS agree.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "renderer/core/bounds.h"
+
+namespace pa {
+
+/// A cone of unit directions: those within angle acos(cosTheta) of axis. cosTheta = -1 is every
+/// direction; an empty cone has cosTheta = +inf.
+struct DirectionCone {
+  glm::vec3 axis{0.0f, 0.0f, 1.0f};   ///< Unit axis.
+  float cosTheta = 2.0f;              ///< Cosine of the half angle (> 1: empty).
+
+  /// True when the cone holds no direction.
+  bool empty() const { return cosTheta > 1.0f; }
+  /// The cone of every direction.
+  static DirectionCone entireSphere() { return {glm::vec3(0.0f, 0.0f, 1.0f), -1.0f}; }
+};
+
+/// The smallest cone (by half angle, about an axis in the plane of both axes) holding a and b.
+DirectionCone coneUnion(const DirectionCone& a, const DirectionCone& b);
+
+/// What the tree knows of one emitter or one group of them.
+struct LightBounds {
+  Bounds bounds;                  ///< Where the emitters lie.
+  float power = 0.0f;             ///< Summed peak radiant intensity (importance = power x cos / d^2).
+  DirectionCone normals;          ///< Bounds the emitters' normals (theta_o).
+  float cosEmission = 0.0f;       ///< Cosine of the spread of emission around a normal (theta_e).
+  bool twoSided = false;          ///< Emits on both sides of its normals.
+  float range = 0.0f;             ///< Reaches no point farther than this from the bounds (0: no limit).
+};
+
+/// Bounds holding both a and b.
+LightBounds boundsUnion(const LightBounds& a, const LightBounds& b);
+
+/// Upper-bound estimate of the light `b` delivers to point p whose surface reflects only into the
+/// hemisphere of unit normal n (n = 0: every direction). 0 when nothing of b can reach p.
+float lightImportance(const LightBounds& b, const glm::vec3& p, const glm::vec3& n);
+
+/// Immutable light tree; one leaf per emitter with positive power.
+class LightTree {
+ public:
+  LightTree() = default;
+  /// Builds the tree over the emitters (index = position in the span). Emitters with zero,
+  /// negative or non-finite power or bounds are left out (their pmf is 0).
+  explicit LightTree(std::span<const LightBounds> lights);
+
+  /// True when no emitter can be chosen.
+  bool empty() const { return nodes_.empty(); }
+  /// Picks an emitter for point p, normal n with u in [0, 1); false when none can reach p (then
+  /// pmf() is 0 for every emitter; otherwise it sums to 1 over them).
+  bool sample(const glm::vec3& p, const glm::vec3& n, float u, uint32_t& index, float& pmf) const;
+  /// Probability with which sample() picks emitter `index` at p, n.
+  float pmf(uint32_t index, const glm::vec3& p, const glm::vec3& n) const;
+  /// The root's importance at p, n (0 for an empty tree): what the whole tree can deliver.
+  float importance(const glm::vec3& p, const glm::vec3& n) const {
+    return nodes_.empty() ? 0.0f : lightImportance(nodes_[0].bounds, p, n);
+  }
+  /// Number of nodes (leaves and interior), for tests and statistics.
+  size_t nodeCount() const { return nodes_.size(); }
+
+ private:
+  struct Node {
+    LightBounds bounds;
+    uint32_t parent = UINT32_MAX;   ///< UINT32_MAX at the root.
+    uint32_t secondChild = 0;       ///< Interior: index of the second child (the first is this + 1).
+    uint32_t light = UINT32_MAX;    ///< Leaf: emitter index; UINT32_MAX for interior nodes.
+  };
+  uint32_t build(std::span<const LightBounds> lights, std::span<uint32_t> ids, uint32_t parent, int depth);
+  /// Probability of taking the first child at interior node `node` (0.5 when neither reaches p).
+  float firstChildProbability(const Node& node, const glm::vec3& p, const glm::vec3& n) const;
+
+  std::vector<Node> nodes_;
+  std::vector<uint32_t> leafOfLight_;   ///< Emitter index -> its leaf (UINT32_MAX when left out).
+};
+
+}  // namespace pa
