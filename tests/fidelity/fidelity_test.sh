@@ -16,8 +16,8 @@ frames="${FIDELITY_FRAMES:-40 80 120 160 200}"
 # frame at tick N+2 matched ours at N; FIDELITY_STOCK_TICK_OFFSET kept for such comparisons).
 stock_offset="${FIDELITY_STOCK_TICK_OFFSET:-0}"
 stock_frames="$(for f in $frames; do printf '%d ' $((f + stock_offset)); done)"
-min_psnr="${FIDELITY_MIN_PSNR:-20.0}"
-min_ssim="${FIDELITY_MIN_SSIM:-0.75}"
+min_psnr="${FIDELITY_MIN_PSNR:-23.0}"
+min_ssim="${FIDELITY_MIN_SSIM:-0.80}"
 if [[ -z "$out" ]]; then out="$(mktemp -d /tmp/pa-fidelity.XXXXXX)"; trap 'rm -rf "$out"' EXIT; fi
 mkdir -p "$out"
 # Same cvars for both: no console notify lines (the screenshot messages differ), no FPS counter.
