@@ -16,15 +16,6 @@ namespace {
 
 constexpr int kMaxSlots = 1 + 16;   // views + the engine's MAX_VIDEO_HANDLES cinematics
 
-void quad(float x, float y, float w, float h, float s1, float t1, float s2, float t2) {
-  glBegin(GL_QUADS);
-  glTexCoord2f(s1, t1); glVertex2f(x, y);
-  glTexCoord2f(s2, t1); glVertex2f(x + w, y);
-  glTexCoord2f(s2, t2); glVertex2f(x + w, y + h);
-  glTexCoord2f(s1, t2); glVertex2f(x, y + h);
-  glEnd();
-}
-
 }  // namespace
 
 void Overlay2D::beginFrame(int width, int height) {
@@ -79,7 +70,7 @@ void Overlay2D::drawPic(ShaderRegistry& shaders, q3abi::qhandle_t shader, double
   const float b = entry.look.vertexColor ? color_[2] : 1.0f;
   const float a = entry.look.vertexAlpha || entry.look.vertexColor ? color_[3] : 1.0f;
   glColor4f(r, g, b, a);
-  quad(x, y, w, h, s1, t1, s2, t2);
+  drawQuad2D(x, y, w, h, s1, t1, s2, t2);
   glDisable(GL_ALPHA_TEST);
 }
 
@@ -120,7 +111,7 @@ void Overlay2D::drawRaw(int client, float x, float y, float w, float h) {
   glBindTexture(GL_TEXTURE_2D, slotTextures_[slot]);
   glDisable(GL_BLEND);
   glColor4f(1, 1, 1, 1);
-  quad(x, y, w, h, 0, 0, 1, 1);
+  drawQuad2D(x, y, w, h, 0, 0, 1, 1);
 }
 
 void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height, float x, float y,
@@ -143,7 +134,7 @@ void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height,
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   }
   glColor4f(1, 1, 1, 1);
-  quad(x, y, w, h, 0, 0, 1, 1);
+  drawQuad2D(x, y, w, h, 0, 0, 1, 1);
 }
 
 std::vector<uint8_t> Overlay2D::readPixelsRGB(int width, int height) const {

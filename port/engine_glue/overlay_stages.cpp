@@ -74,6 +74,15 @@ q3::UvAffine stageUvTransform2D(const q3::ShaderStage& stage, double seconds) {
   return q3::uvTransformAt(stage.tcMods, seconds);
 }
 
+void drawQuad2D(float x, float y, float w, float h, float s1, float t1, float s2, float t2) {
+  glBegin(GL_QUADS);
+  glTexCoord2f(s1, t1); glVertex2f(x, y);
+  glTexCoord2f(s2, t1); glVertex2f(x + w, y);
+  glTexCoord2f(s2, t2); glVertex2f(x + w, y + h);
+  glTexCoord2f(s1, t2); glVertex2f(x, y + h);
+  glEnd();
+}
+
 bool stageDraws2D(const q3::ShaderStage& stage) {
   return stage.source == q3::TextureSource::Image && !stage.textures.empty();
 }
@@ -105,12 +114,7 @@ void drawStages2D(ShaderRegistry& shaders, q3abi::qhandle_t shader, double secon
     glLoadMatrixf(matrix);
     const Rgba color = stageColor2D(stage, setColor, seconds);
     glColor4f(color[0], color[1], color[2], color[3]);
-    glBegin(GL_QUADS);
-    glTexCoord2f(s1, t1); glVertex2f(x, y);
-    glTexCoord2f(s2, t1); glVertex2f(x + w, y);
-    glTexCoord2f(s2, t2); glVertex2f(x + w, y + h);
-    glTexCoord2f(s1, t2); glVertex2f(x, y + h);
-    glEnd();
+    drawQuad2D(x, y, w, h, s1, t1, s2, t2);
   }
   glMatrixMode(GL_TEXTURE);
   glLoadIdentity();

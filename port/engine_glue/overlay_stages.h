@@ -25,6 +25,9 @@ Rgba stageColor2D(const q3::ShaderStage& stage, const Rgba& setColor, double sec
 /// which need per-vertex or entity data, are left out).
 q3::UvAffine stageUvTransform2D(const q3::ShaderStage& stage, double seconds);
 
+/// One textured quad in window pixels with texture coordinates s1,t1 - s2,t2 (current GL state).
+void drawQuad2D(float x, float y, float w, float h, float s1, float t1, float s2, float t2);
+
 /// True when the stage draws an image in 2D (not a lightmap stage, not a video).
 bool stageDraws2D(const q3::ShaderStage& stage);
 
