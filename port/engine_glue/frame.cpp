@@ -112,7 +112,8 @@ void Module::setColor(const float* rgba) { overlay_.setColor(rgba); }
 void Module::drawStretchPic(float x, float y, float w, float h, float s1, float t1, float s2,
                             float t2, q3abi::qhandle_t shader) {
   if (!frameOpen_ || !finiteRect(x, y, w, h) || !finiteRect(s1, t1, s2, t2)) return;
-  overlay_.drawPic(shaders_, shader, seconds(), x, y, w, h, s1, t1, s2, t2);
+  const ImageSource images = [this](const std::string& name) { return images_.load(engine_, name); };
+  overlay_.drawPic(shaders_, engine_, images, shader, seconds(), x, y, w, h, s1, t1, s2, t2);
 }
 
 void Module::drawStretchRaw(int x, int y, int w, int h, int cols, int rows,

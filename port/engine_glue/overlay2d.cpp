@@ -43,12 +43,13 @@ void Overlay2D::setColor(const float* rgba) {
   else color_ = {rgba[0], rgba[1], rgba[2], rgba[3]};
 }
 
-void Overlay2D::drawPic(ShaderRegistry& shaders, q3abi::qhandle_t shader, double seconds, float x,
-                        float y, float w, float h, float s1, float t1, float s2, float t2) {
+void Overlay2D::drawPic(ShaderRegistry& shaders, const Engine& engine, const ImageSource& images,
+                        q3abi::qhandle_t shader, double seconds, float x, float y, float w, float h, float s1,
+                        float t1, float s2, float t2) {
   const ShaderEntry& entry = shaders.resolve(shader);
   if (entry.look.nodraw) return;
   if (entry.look.fromScript && std::any_of(entry.look.stages.begin(), entry.look.stages.end(), stageDraws2D)) {
-    drawStages2D(shaders, shader, seconds, color_, x, y, w, h, s1, t1, s2, t2);
+    drawStages2D(shaders, engine, images, shader, seconds, color_, x, y, w, h, s1, t1, s2, t2);
     return;
   }
   glBindTexture(GL_TEXTURE_2D, shaders.glTexture(shader, seconds));

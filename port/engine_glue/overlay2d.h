@@ -7,10 +7,11 @@
 #include <vector>
 
 #include "port/engine_glue/ioq3_abi.h"
+#include "port/engine_glue/shaders.h"
 
 namespace glue {
 
-class ShaderRegistry;
+class Engine;
 
 /// Immediate 2D drawing into the window's back buffer.
 class Overlay2D {
@@ -25,8 +26,9 @@ class Overlay2D {
   /// SetColor (nullptr = opaque white).
   void setColor(const float* rgba);
   /// DrawStretchPic: every stage of a scripted shader (see overlay_stages.h), else the image.
-  void drawPic(ShaderRegistry& shaders, q3abi::qhandle_t shader, double seconds, float x, float y,
-               float w, float h, float s1, float t1, float s2, float t2);
+  /// `images` reads the stage images of a scripted shader on its first 2D draw.
+  void drawPic(ShaderRegistry& shaders, const Engine& engine, const ImageSource& images, q3abi::qhandle_t shader,
+               double seconds, float x, float y, float w, float h, float s1, float t1, float s2, float t2);
   /// Draws RGBA8 pixels (width*height, top row first) stretched over a rectangle; when not
   /// `opaque` the colours are premultiplied by alpha (alpha 0 still adds its colour).
   /// `slot` picks a reusable texture (0 = 3D views, 1.. = cinematic clients).

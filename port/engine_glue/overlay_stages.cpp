@@ -87,14 +87,15 @@ bool stageDraws2D(const q3::ShaderStage& stage) {
   return stage.source == q3::TextureSource::Image && !stage.textures.empty();
 }
 
-void drawStages2D(ShaderRegistry& shaders, q3abi::qhandle_t shader, double seconds, const Rgba& setColor,
-                  float x, float y, float w, float h, float s1, float t1, float s2, float t2) {
+void drawStages2D(ShaderRegistry& shaders, const Engine& engine, const ImageSource& images, q3abi::qhandle_t shader,
+                  double seconds, const Rgba& setColor, float x, float y, float w, float h, float s1, float t1,
+                  float s2, float t2) {
   const ShaderEntry& entry = shaders.resolve(shader);
   const std::vector<q3::ShaderStage>& stages = entry.look.stages;
   for (size_t i = 0; i < stages.size(); ++i) {
     const q3::ShaderStage& stage = stages[i];
     if (!stageDraws2D(stage)) continue;
-    glBindTexture(GL_TEXTURE_2D, shaders.stageGlTexture(shader, i, seconds));
+    glBindTexture(GL_TEXTURE_2D, shaders.stageGlTexture(engine, images, shader, i, seconds));
     if (stage.blends()) {
       glEnable(GL_BLEND);
       glBlendFunc(glBlendFactor(stage.srcBlend), glBlendFactor(stage.dstBlend));

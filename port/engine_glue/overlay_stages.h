@@ -6,11 +6,13 @@
 #include <array>
 
 #include "port/engine_glue/ioq3_abi.h"
+#include "port/engine_glue/shaders.h"
 #include "port/q3formats/shader/material.h"
 #include "port/q3formats/shader/shader_types.h"
 
 namespace glue {
 
+class Engine;
 class ShaderRegistry;
 
 /// RGBA in [0, 1].
@@ -33,7 +35,9 @@ bool stageDraws2D(const q3::ShaderStage& stage);
 
 /// Draws every 2D-drawable stage of `shader`'s script over the rectangle (window pixels,
 /// texture coordinates s1,t1 - s2,t2). The GL context must be current with the 2D projection.
-void drawStages2D(ShaderRegistry& shaders, q3abi::qhandle_t shader, double seconds, const Rgba& setColor,
-                  float x, float y, float w, float h, float s1, float t1, float s2, float t2);
+/// `images` reads a stage's images on its first draw.
+void drawStages2D(ShaderRegistry& shaders, const Engine& engine, const ImageSource& images, q3abi::qhandle_t shader,
+                  double seconds, const Rgba& setColor, float x, float y, float w, float h, float s1, float t1,
+                  float s2, float t2);
 
 }  // namespace glue

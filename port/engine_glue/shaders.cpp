@@ -109,22 +109,9 @@ q3abi::qhandle_t ShaderRegistry::registerShader(const Engine& engine, const Shad
     if (frames.empty()) frames.push_back(whiteImage());
     entry.layerFrames.push_back(std::move(frames));
   }
-  // Every stage's images, for drawing the whole script in 2D.
-  for (const q3::ShaderStage& stage : entry.look.stages) {
-    StageTextures textures;
-    textures.clamp = entry.clampToEdge || stage.clamp;
-    if (stage.source == q3::TextureSource::Image) {
-      for (const std::string& imageName : stage.textures) {
-        auto image = images.load(engine, imageName);
-        const bool warned = std::find(entry.look.images.begin(), entry.look.images.end(), imageName) !=
-                            entry.look.images.end();
-        if (!image && !warned) engine.warn("shader " + name + ": missing image " + imageName);
-        textures.frames.push_back(image ? image : defaultImage());
-      }
-    }
-    if (textures.frames.empty()) textures.frames.push_back(whiteImage());
-    entry.stageTextures.push_back(std::move(textures));
-  }
+  // Every stage's textures for drawing the whole script in 2D, filled on its first 2D draw.
+  for (const q3::ShaderStage& stage : entry.look.stages)
+    entry.stageTextures.push_back(StageTextures{{}, entry.clampToEdge || stage.clamp});
 
   const auto handle = static_cast<q3abi::qhandle_t>(entries_.size());
   entries_.push_back(std::move(entry));
@@ -172,14 +159,23 @@ unsigned ShaderRegistry::glTexture(q3abi::qhandle_t handle, double seconds) {
   return entry.glTextures[animFrame(entry.glTextures.size(), entry.look.animFrequency, seconds)];
 }
 
-unsigned ShaderRegistry::stageGlTexture(q3abi::qhandle_t handle, size_t stage, double seconds) {
+unsigned ShaderRegistry::stageGlTexture(const Engine& engine, const ImageSource& images, q3abi::qhandle_t handle,
+                                        size_t stage, double seconds) {
   ShaderEntry& entry = entries_[resolveIndex(handle)];
   if (stage >= entry.stageTextures.size() || stage >= entry.look.stages.size()) return glTexture(handle, seconds);
+  const q3::ShaderStage& script = entry.look.stages[stage];
   StageTextures& textures = entry.stageTextures[stage];
-  if (textures.glTextures.empty())
-    for (const auto& image : textures.frames) textures.glTextures.push_back(uploadTexture(*image, textures.clamp));
-  const float frequency = entry.look.stages[stage].animFrequency;
-  return textures.glTextures[animFrame(textures.glTextures.size(), frequency, seconds)];
+  if (textures.glTextures.empty()) {
+    if (script.source == q3::TextureSource::Image) {
+      for (const std::string& imageName : script.textures) {
+        const auto image = images(imageName);
+        if (!image) engine.warn("shader " + entry.name + ": missing image " + imageName);
+        textures.glTextures.push_back(uploadTexture(image ? *image : *defaultImage(), textures.clamp));
+      }
+    }
+    if (textures.glTextures.empty()) textures.glTextures.push_back(uploadTexture(*whiteImage(), textures.clamp));
+  }
+  return textures.glTextures[animFrame(textures.glTextures.size(), script.animFrequency, seconds)];
 }
 
 void ShaderRegistry::clear() {

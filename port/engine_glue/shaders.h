@@ -2,6 +2,7 @@
 // Shader handles: RegisterShader / RegisterShaderNoMip / RemapShader. Handle 0 is the default
 // shader (what the stock renderer returns for anything it cannot find). Each entry keeps its
 // decoded images (for the path tracer's materials) and lazily created GL textures (for 2D).
+#include <functional>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -13,12 +14,15 @@
 
 namespace glue {
 
-/// One script stage's images for 2D drawing: decoded frames and lazily uploaded GL textures.
+/// One script stage's images for 2D drawing, decoded and uploaded on its first 2D draw (most
+/// registered shaders are only ever traced, so registration does not read their stage images).
 struct StageTextures {
-  std::vector<std::shared_ptr<const Image>> frames;   ///< map/clampMap (one) or animMap frames.
-  std::vector<unsigned> glTextures;                   ///< One per frame once uploaded.
+  std::vector<unsigned> glTextures;                   ///< One per map/animMap frame once drawn.
   bool clamp = false;                                 ///< clampMap (or a no-mip 2D registration).
 };
+
+/// Reads an image by name (nullptr when it cannot be read).
+using ImageSource = std::function<std::shared_ptr<const Image>(const std::string&)>;
 
 /// One registered shader.
 struct ShaderEntry {
@@ -56,8 +60,10 @@ class ShaderRegistry {
   /// (uploads on first use).
   unsigned glTexture(q3abi::qhandle_t handle, double seconds);
   /// The GL texture of stage `stage` of a handle's (remapped) shader at its current animMap
-  /// frame (uploads on first use; a white texture for stages without images).
-  unsigned stageGlTexture(q3abi::qhandle_t handle, size_t stage, double seconds);
+  /// frame; the stage's images are read through `images` and uploaded on first use (the default
+  /// image, with a warning, for one that cannot be read; white for stages without images).
+  unsigned stageGlTexture(const Engine& engine, const ImageSource& images, q3abi::qhandle_t handle, size_t stage,
+                          double seconds);
   /// Number of handles, including the default one.
   int count() const { return static_cast<int>(entries_.size()); }
   /// Finds a registered handle by name (0 when absent).
