@@ -166,7 +166,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
     }
     forRows([&](uint32_t y0, uint32_t y1) { film.resolveMeanRows(y0, y1); });
     const denoise::Guides guides{film.width(), film.height(), film.albedo(), film.normal(), film.depth(),
-                                 film.variance(), uint64_t{film.frames()} * settings.samplesPerPixel};
+                                 film.variance(), uint64_t{film.frames()} * settings.samplesPerPixel,
+                                 film.emission()};
     im.denoiser.apply(guides, film.resolvedRadiance());
     forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap); });
   });

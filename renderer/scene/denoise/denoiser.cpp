@@ -67,6 +67,12 @@ float oneSidedSlope(float here, float before, float after) {
 
 glm::vec3 demodulationFactor(const glm::vec3& albedo) { return glm::max(albedo, glm::vec3(kMinAlbedo)); }
 
+/// The unfiltered part of pixel i's radiance (0 without an emission guide or where it is not finite).
+glm::vec3 emissionAt(const Guides& guides, size_t i) {
+  if (guides.emission.empty() || !finite(guides.emission[i])) return glm::vec3(0.0f);
+  return guides.emission[i];
+}
+
 template <typename Body>
 void parallelRows(uint32_t height, Body&& body) {
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, height, kRowGrain),
@@ -112,6 +118,7 @@ void Denoiser::apply(const Guides& guides, std::span<glm::vec3> radiance) {
   check(guides.normal.size(), "normal");
   check(guides.depth.size(), "depth");
   check(guides.variance.size(), "variance");
+  if (!guides.emission.empty()) check(guides.emission.size(), "emission");
   if (n == 0 || config_.iterations == 0) return;
 
   if (guides.width != width_ || guides.height != height_ || gives_.data.empty()) resize(guides.width, guides.height);
@@ -133,7 +140,7 @@ void Denoiser::apply(const Guides& guides, std::span<glm::vec3> radiance) {
       for (uint32_t x = 0; x < guides.width; ++x) {
         const size_t i = size_t{y} * guides.width + x;
         if (takes[x] > 0.0f) {
-          radiance[i] = glm::vec3(r[x], g[x], b[x]) * demodulationFactor(guides.albedo[i]);
+          radiance[i] = glm::vec3(r[x], g[x], b[x]) * demodulationFactor(guides.albedo[i]) + emissionAt(guides, i);
         } else if (!finite(radiance[i])) {
           radiance[i] = glm::vec3(0.0f);
         }
@@ -175,7 +182,7 @@ void Denoiser::prepareRows(const Guides& guides, std::span<const glm::vec3> radi
       if (!finite(radiance[i])) continue;   // a hole: filled from its neighbours, never used by them
       gives[x] = 1.0f;
       const glm::vec3 factor = demodulationFactor(albedo);
-      const glm::vec3 demodulated = radiance[i] / factor;
+      const glm::vec3 demodulated = (radiance[i] - emissionAt(guides, i)) / factor;
       r[x] = demodulated.r;
       g[x] = demodulated.g;
       b[x] = demodulated.b;

@@ -1,8 +1,9 @@
 #pragma once
 // Edge-avoiding à-trous wavelet denoiser (Dammertz et al. 2010) with the variance-guided
 // luminance weight of SVGF (Schied et al. 2017, spatial part only). It filters the
-// demodulated radiance (radiance / first-hit albedo) with edge-stopping weights from the
-// first-hit normal, a screen-space depth gradient and luminance, then remodulates. Pixels
+// demodulated radiance ((radiance - emission) / first-hit albedo: what the camera sees of
+// emitters is exact and stays unfiltered) with edge-stopping weights from the first-hit normal,
+// a screen-space depth gradient and luminance, then remodulates and adds the emission back. Pixels
 // without geometry (sky, depth = inf) or with black albedo are left as they are. The kernel is
 // the 3 x 3 B-spline (1, 2, 1) / 4 of the real-time variants (9 taps per pass, not 25).
 #include <cstdint>
@@ -32,6 +33,9 @@ struct Guides {
   std::span<const float> depth;
   std::span<const float> variance;
   uint64_t samplesPerPixel = 1;   ///< Samples in each mean: below 4 the noise is estimated spatially.
+  /// Mean radiance gathered before the first scattering (Film::emission()): left out of the
+  /// filter and added back unchanged. Empty = none (everything is filtered).
+  std::span<const glm::vec3> emission;
 };
 
 /// The filter and its scratch buffers (reused across frames of the same size).

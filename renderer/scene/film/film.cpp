@@ -11,8 +11,11 @@ namespace pa {
 void PixelAccumulator::add(const PixelSample& s) {
   const bool ok = std::isfinite(s.radiance.x) && std::isfinite(s.radiance.y) && std::isfinite(s.radiance.z);
   const glm::vec3 r = ok ? s.radiance : glm::vec3(0.0f);
+  const bool emissionOk = std::isfinite(s.emission.x) && std::isfinite(s.emission.y) && std::isfinite(s.emission.z);
+  const glm::vec3 e = ok && emissionOk ? s.emission : glm::vec3(0.0f);
   for (int c = 0; c < 3; ++c) {
     radiance[c] += r[c];
+    emission[c] += e[c];
     albedo[c] += s.albedo[c];
     normal[c] += s.normal[c];
   }
@@ -48,6 +51,7 @@ void Film::resize(uint32_t width, uint32_t height) {
   const size_t n = size_t{width} * height;
   pixels_.assign(n, {});
   radiance_.assign(n, glm::vec3(0.0f));
+  emission_.assign(n, glm::vec3(0.0f));
   albedo_.assign(n, glm::vec3(0.0f));
   normal_.assign(n, glm::vec3(0.0f));
   depth_.assign(n, 0.0f);
@@ -72,6 +76,7 @@ void Film::resolveMeanRows(uint32_t rowBegin, uint32_t rowEnd) {
     const double inv = p.samples > 0 ? 1.0 / static_cast<double>(p.samples) : 0.0;
     for (int c = 0; c < 3; ++c) {
       radiance_[i][c] = static_cast<float>(p.radiance[c] * inv);
+      emission_[i][c] = static_cast<float>(p.emission[c] * inv);
       albedo_[i][c] = static_cast<float>(p.albedo[c] * inv);
       normal_[i][c] = static_cast<float>(p.normal[c] * inv);
     }

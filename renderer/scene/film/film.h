@@ -41,6 +41,9 @@ class RunningStats {
 /// What one camera sample measured.
 struct PixelSample {
   glm::vec3 radiance{0.0f};
+  /// The part of radiance gathered before the path's first diffuse or glossy scattering (emitters,
+  /// sky, glows seen directly or through mirrors and portals): exact per sample, never denoised.
+  glm::vec3 emission{0.0f};
   glm::vec3 albedo{0.0f};
   glm::vec3 normal{0.0f};
   float depth = std::numeric_limits<float>::infinity();
@@ -49,6 +52,7 @@ struct PixelSample {
 /// Sums of one pixel's samples.
 struct PixelAccumulator {
   double radiance[3] = {0.0, 0.0, 0.0};
+  double emission[3] = {0.0, 0.0, 0.0};
   double albedo[3] = {0.0, 0.0, 0.0};
   double normal[3] = {0.0, 0.0, 0.0};
   double depthSum = 0.0;
@@ -56,7 +60,8 @@ struct PixelAccumulator {
   uint64_t samples = 0;
   RunningStats luminance;
 
-  /// Adds one sample (non-finite radiance counts as black so one bad path cannot poison the mean).
+  /// Adds one sample (non-finite radiance counts as black, emission included, so one bad path
+  /// cannot poison the mean).
   void add(const PixelSample& s);
 };
 
@@ -90,6 +95,8 @@ class Film {
   uint32_t height() const { return height_; }
   /// Resolved buffers, valid after resolveRows over all rows.
   const std::vector<glm::vec3>& radiance() const { return radiance_; }
+  /// Resolved mean of PixelSample::emission (the part of radiance() the denoiser leaves alone).
+  const std::vector<glm::vec3>& emission() const { return emission_; }
   const std::vector<glm::vec3>& albedo() const { return albedo_; }
   const std::vector<glm::vec3>& normal() const { return normal_; }
   const std::vector<float>& depth() const { return depth_; }
@@ -101,7 +108,7 @@ class Film {
   uint32_t height_ = 0;
   uint32_t frames_ = 0;
   std::vector<PixelAccumulator> pixels_;
-  std::vector<glm::vec3> radiance_, albedo_, normal_;
+  std::vector<glm::vec3> radiance_, emission_, albedo_, normal_;
   std::vector<float> depth_, variance_;
   std::vector<uint8_t> rgba8_;
 };

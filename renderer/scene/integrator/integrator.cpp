@@ -130,6 +130,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
   PixelSample out;
   Ray ray = camera.generate(px, py);
   glm::vec3 radiance(0.0f);
+  glm::vec3 seen(0.0f);   // the part of radiance gathered before the first scattering
   glm::vec3 beta(1.0f);
   PreviousVertex prev;
   float coneWidth = 0.0f;
@@ -138,6 +139,12 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
   const uint32_t maxScatter = settings.integrator == Integrator::Direct ? std::min(1u, settings.maxBounces)
                                                                          : settings.maxBounces;
   uint32_t scatterCount = 0;
+  // Adds light that reaches the camera from what it hit (emitters, sky, glows, fog), not light
+  // reflected there: until the path first scatters it is exact per sample (PixelSample::emission).
+  const auto gather = [&](const glm::vec3& c) {
+    radiance += c;
+    if (scatterCount == 0) seen += c;
+  };
   uint32_t portalsCrossed = 0;   // what the camera sees through a portal counts as seen directly
   DisplayComposite layers;       // Lightmap: see-through layers, composed in display values at the end
   // Lightmap look: fog layers to blend over what lies behind them on display values, as the
@@ -166,21 +173,21 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     if (lightmapOnly) {
       layers.appendBefore(additive, tHit);   // composed in display values at the end
     } else {
-      radiance += clampContribution(beta * additiveThroughFog(additive, tHit, fog), viewDepth, settings.radianceClamp);
+      gather(clampContribution(beta * additiveThroughFog(additive, tHit, fog), viewDepth, settings.radianceClamp));
     }
     if (fog.transmittance() < 1.0f && lightmapOnly && displayFogCount < displayFog.size()) {
       displayFog[displayFogCount++] = {radiance, 1.0f - fog.transmittance(), fog.layerColor()};
     } else if (fog.transmittance() < 1.0f) {
       // The glow is the look of lit haze: seen along camera and mirror chains, never a light
       // source after a scattering (the map's lights already lit it; counting it would light twice).
-      if (scatterCount == 0) radiance += beta * fog.glow();
+      if (scatterCount == 0) gather(beta * fog.glow());
       beta *= fog.transmittance();
     }
     const SurfaceHit s = found ? scene.surfaceAt(hit, onOverlay, ray) : SurfaceHit{};
     if (!found || s.material->desc.sky) {
       const glm::vec3 le =
           lightmapOnly ? scene.sky.radiance(dir) : environmentRadiance(scene, dir, prev, scatterCount > 0);
-      radiance += clampContribution(beta * le, viewDepth, settings.radianceClamp);
+      gather(clampContribution(beta * le, viewDepth, settings.radianceClamp));
       if (viewDepth == 0) {
         out.albedo = glm::min(scene.sky.radiance(dir), glm::vec3(1.0f));
         out.normal = glm::vec3(0.0f);
@@ -230,7 +237,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
             index == kNoId ? 0.0f : scene.lights.emissivePdf(index, prev.position, prev.normal, s.position);
         weight = sampling::powerHeuristic(prev.bsdfPdf, lightPdf);
       }
-      radiance += clampContribution(beta * le * weight, viewDepth, settings.radianceClamp);
+      gather(clampContribution(beta * le * weight, viewDepth, settings.radianceClamp));
     }
 
     if (lightmapOnly) {
@@ -277,6 +284,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     radiance = f.radianceInFront + blendInDisplaySpace(radiance - f.radianceInFront, f.opacity, f.color);
   }
   out.radiance = lightmapOnly ? layers.over(radiance) : radiance;   // see-through layers over the fogged surface
+  out.emission = lightmapOnly ? out.radiance : seen;   // Lightmap has no Monte Carlo noise at all
   return out;
 }
 

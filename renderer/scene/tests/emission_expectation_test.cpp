@@ -4,10 +4,12 @@
 // not, with or without other lights (light tree, MIS) in the scene. Statistics: a floor lit by
 // an emissive quad has the same mean at 1 spp (over many seeds) as at 256 spp, within 5
 // standard errors computed from the sample variances. Film: the running mean over frames is the
-// mean of the frames' own samples, traced one by one through traceSample.
+// mean of the frames' own samples, traced one by one through traceSample. The emission AOV (what
+// the denoiser leaves unfiltered) is the emitter's Le seen directly and nothing else.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "renderer/scene/film/film.h"
@@ -197,6 +199,44 @@ TEST(EmissionExpectation, RunningMeanOverFramesIsTheMeanOfTheFramesOwnSamples) {
       }
     }
   }
+}
+
+TEST(EmissionExpectation, EmissionAovIsWhatTheCameraSeesBeforeAnyScattering) {
+  // PixelSample::emission is the part of radiance the denoiser leaves alone: an emitter's Le seen
+  // directly (its reflected light is not part of it), nothing on a lit floor.
+  SceneStore store;
+  buildLitFloor(store);
+  const RenderScene scene = store.commit();
+  const RenderSettings settings = settingsFor(Integrator::Path, 4, 1, 3);
+  const auto trace = [&](const Camera& camera, uint32_t index) {
+    const CameraRays rays(camera, 4, 4);
+    const sampling::PixelSampler sampler(sampling::hash32(index), index);
+    return traceSample(scene, rays, settings, 2.0f, 2.0f, sampler);
+  };
+  for (uint32_t i = 0; i < 64; ++i) {
+    const PixelSample lamp = trace(lookAt({0, 0, 1}, {0, 0, 2}, 10.0f), i);   // from below, head-on
+    EXPECT_EQ(lamp.emission, glm::vec3(4.0f)) << i;
+    EXPECT_GE(lamp.radiance.g, 4.0f) << i;   // plus what the lamp reflects of the lit floor
+    const PixelSample floor = trace(cameraOnFloor(), i);
+    EXPECT_EQ(floor.emission, glm::vec3(0.0f)) << i;
+  }
+}
+
+TEST(EmissionExpectation, FilmResolvesTheEmissionMean) {
+  Film film;
+  film.resize(1, 1);
+  PixelSample sample;
+  sample.radiance = glm::vec3(5.0f);
+  sample.emission = glm::vec3(3.0f);
+  film.pixel(0, 0).add(sample);
+  sample.emission = glm::vec3(1.0f);
+  film.pixel(0, 0).add(sample);
+  sample.radiance.x = std::numeric_limits<float>::quiet_NaN();   // a broken path counts as black, all of it
+  film.pixel(0, 0).add(sample);
+  film.finishFrame();
+  film.resolveMeanRows(0, 1);
+  EXPECT_FLOAT_EQ(film.emission()[0].g, 4.0f / 3.0f);
+  EXPECT_FLOAT_EQ(film.radiance()[0].g, 10.0f / 3.0f);
 }
 
 }  // namespace

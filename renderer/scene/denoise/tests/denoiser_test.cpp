@@ -22,15 +22,16 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 /// A synthetic frame: radiance plus the film's guide images.
 struct Frame {
   uint32_t width = 0, height = 0;
-  std::vector<glm::vec3> radiance, albedo, normal;
+  std::vector<glm::vec3> radiance, albedo, normal, emission;
   std::vector<float> depth, variance;
   uint64_t samplesPerPixel = 1;
 
   Frame(uint32_t w, uint32_t h)
       : width(w), height(h), radiance(size_t{w} * h, glm::vec3(0.5f)), albedo(size_t{w} * h, glm::vec3(0.5f)),
-        normal(size_t{w} * h, glm::vec3(0, 0, 1)), depth(size_t{w} * h, 5.0f), variance(size_t{w} * h, 0.0f) {}
+        normal(size_t{w} * h, glm::vec3(0, 0, 1)), emission(size_t{w} * h, glm::vec3(0.0f)), depth(size_t{w} * h, 5.0f),
+        variance(size_t{w} * h, 0.0f) {}
   size_t at(uint32_t x, uint32_t y) const { return size_t{y} * width + x; }
-  Guides guides() const { return Guides{width, height, albedo, normal, depth, variance, samplesPerPixel}; }
+  Guides guides() const { return Guides{width, height, albedo, normal, depth, variance, samplesPerPixel, emission}; }
   std::vector<glm::vec3> denoised(const Config& config = {}) const {
     std::vector<glm::vec3> out = radiance;
     Denoiser denoiser(config);
@@ -84,6 +85,28 @@ TEST(Denoiser, ConstantImageStaysConstant) {
     EXPECT_NEAR(r.g, 0.2f, 1e-6f);
     EXPECT_NEAR(r.b, 0.1f, 1e-6f);
   }
+}
+
+TEST(Denoiser, EmissionIsLeftOutOfTheFilterAndAddedBack) {
+  // A bright emitter pixel (emission 50 on top of the noisy reflected light) must keep exactly
+  // its emission plus the filtered reflected light, and lend none of it to its neighbours: the
+  // result equals the emitter-free frame's everywhere but there, where it is 50 more.
+  Frame plain(48, 32);
+  addNoise(plain, 0.9f);
+  Frame lit = plain;
+  const size_t lamp = lit.at(20, 15);
+  lit.emission[lamp] = glm::vec3(50.0f);
+  lit.radiance[lamp] += lit.emission[lamp];
+  const std::vector<glm::vec3> expected = plain.denoised();
+  const std::vector<glm::vec3> out = lit.denoised();
+  for (size_t i = 0; i < out.size(); ++i) {
+    const float added = i == lamp ? 50.0f : 0.0f;
+    EXPECT_NEAR(out[i].g, expected[i].g + added, 1e-4f * (1.0f + added)) << i;
+  }
+  // Without the emission guide the lamp is filtered as if it were noise: it loses most of its
+  // radiance (the symptom of issue #2).
+  lit.emission.clear();
+  EXPECT_LT(lit.denoised()[lamp].g, 25.0f);
 }
 
 TEST(Denoiser, ZeroIterationsIsIdentity) {

@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
       noisy[i] = glm::vec3(floor ? 0.25f : 0.1f) * (1.0f + 0.9f * u);
     }
   }
-  const pa::denoise::Guides guides{width, height, albedo, normal, depth, variance, 1};
+  const pa::denoise::Guides guides{width, height, albedo, normal, depth, variance, 1, {}};
 
   tbb::task_arena arena(static_cast<int>(threads));
   pa::denoise::Denoiser denoiser(config);
