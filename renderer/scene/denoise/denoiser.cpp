@@ -281,32 +281,38 @@ Denoiser::RowScratch& Denoiser::RowScratch::sized(uint32_t width) {
   return *this;
 }
 
-void Denoiser::estimateVarianceRows(uint32_t y0, uint32_t y1) {
+template <typename Body>
+void Denoiser::forEachRow(uint32_t y0, uint32_t y1, Body&& body) {
   const int width = static_cast<int>(width_);
   RowScratch scratch;
   for (uint32_t y = y0; y < y1; ++y) {
     const int row = static_cast<int>(y);
     scratch.sized(width_);
-    const auto tapRow = [this](int row, int dx, int dy, float kernel) {
+    const float *r = current_.red.row(row), *g = current_.green.row(row), *b = current_.blue.row(row);
+    for (int x = 0; x < width; ++x) scratch.luminance[x] = luminance(r[x], g[x], b[x]);
+    const Centre centre{normalX_.row(row), normalY_.row(row),          normalZ_.row(row),
+                        depth_.row(row),   depthDx_.row(row),          depthDy_.row(row),
+                        scratch.luminance.data(), scratch.inverseTolerance.data()};
+    const Sums sums{scratch.red.data(), scratch.green.data(), scratch.blue.data(), scratch.weight.data(),
+                    scratch.variance.data()};
+    const auto tapAt = [this, row](int dx, int dy, float kernel) {
       const int q = row + dy;
       return Tap{normalX_.row(q) + dx,     normalY_.row(q) + dx,       normalZ_.row(q) + dx,
                  depth_.row(q) + dx,       gives_.row(q) + dx,         current_.red.row(q) + dx,
                  current_.green.row(q) + dx, current_.blue.row(q) + dx, current_.variance.row(q) + dx,
                  static_cast<float>(dx),   static_cast<float>(dy),     kernel};
     };
-    const Centre centre{normalX_.row(row), normalY_.row(row),          normalZ_.row(row),
-                        depth_.row(row),   depthDx_.row(row),          depthDy_.row(row),
-                        scratch.luminance.data(), scratch.inverseTolerance.data()};
-    {
-      const float *r = current_.red.row(row), *g = current_.green.row(row), *b = current_.blue.row(row);
-      for (int x = 0; x < width; ++x) scratch.luminance[x] = luminance(r[x], g[x], b[x]);
-    }
-    const Sums sums{scratch.red.data(), scratch.green.data(), scratch.blue.data(), scratch.weight.data(),
-                    scratch.variance.data()};
-    std::fill(scratch.inverseTolerance.begin(), scratch.inverseTolerance.end(), 0.0f);   // geometry only
+    body(row, centre, sums, tapAt, scratch);
+  }
+}
+
+void Denoiser::estimateVarianceRows(uint32_t y0, uint32_t y1) {
+  const int width = static_cast<int>(width_);
+  forEachRow(y0, y1, [&](int row, const Centre& centre, const Sums& sums, const auto& tapAt, RowScratch&) {
+    // The centre's inverseTolerance stays 0 (as sized): geometric weights only.
     for (int dy = -kVarianceRadius; dy <= kVarianceRadius; ++dy)
       for (int dx = -kVarianceRadius; dx <= kVarianceRadius; ++dx)
-        addMomentTap(centre, tapRow(row, dx, dy, 1.0f), sums, width, config_.sigmaNormal, config_.sigmaDepth);
+        addMomentTap(centre, tapAt(dx, dy, 1.0f), sums, width, config_.sigmaNormal, config_.sigmaDepth);
     const float* gives = gives_.row(row);
     float* out = next_.variance.row(row);
     for (int x = 0; x < width; ++x) {
@@ -318,30 +324,13 @@ void Denoiser::estimateVarianceRows(uint32_t y0, uint32_t y1) {
     std::copy_n(current_.red.row(row), width, next_.red.row(row));
     std::copy_n(current_.green.row(row), width, next_.green.row(row));
     std::copy_n(current_.blue.row(row), width, next_.blue.row(row));
-  }
+  });
 }
 
 void Denoiser::filterRows(uint32_t step, uint32_t y0, uint32_t y1) {
   const int width = static_cast<int>(width_);
   const int s = static_cast<int>(step);
-  RowScratch scratch;
-  for (uint32_t y = y0; y < y1; ++y) {
-    const int row = static_cast<int>(y);
-    scratch.sized(width_);
-    const auto tapRow = [this](int row, int dx, int dy, float kernel) {
-      const int q = row + dy;
-      return Tap{normalX_.row(q) + dx,     normalY_.row(q) + dx,       normalZ_.row(q) + dx,
-                 depth_.row(q) + dx,       gives_.row(q) + dx,         current_.red.row(q) + dx,
-                 current_.green.row(q) + dx, current_.blue.row(q) + dx, current_.variance.row(q) + dx,
-                 static_cast<float>(dx),   static_cast<float>(dy),     kernel};
-    };
-    const Centre centre{normalX_.row(row), normalY_.row(row),          normalZ_.row(row),
-                        depth_.row(row),   depthDx_.row(row),          depthDy_.row(row),
-                        scratch.luminance.data(), scratch.inverseTolerance.data()};
-    {
-      const float *r = current_.red.row(row), *g = current_.green.row(row), *b = current_.blue.row(row);
-      for (int x = 0; x < width; ++x) scratch.luminance[x] = luminance(r[x], g[x], b[x]);
-    }
+  forEachRow(y0, y1, [&](int row, const Centre& centre, const Sums& sums, const auto& tapAt, RowScratch& scratch) {
     // Noise of each pixel: 3 x 3 blur of the variance over valid pixels, as a luminance tolerance.
     {
       float* blurWeight = scratch.weight.data();
@@ -368,11 +357,9 @@ void Denoiser::filterRows(uint32_t step, uint32_t y0, uint32_t y1) {
         blurred[x] = 0.0f;
       }
     }
-    const Sums sums{scratch.red.data(), scratch.green.data(), scratch.blue.data(), scratch.weight.data(),
-                    scratch.variance.data()};
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx)
-        addFilterTap(centre, tapRow(row, dx * s, dy * s, kKernel[dx + 1] * kKernel[dy + 1]), sums, width,
+        addFilterTap(centre, tapAt(dx * s, dy * s, kKernel[dx + 1] * kKernel[dy + 1]), sums, width,
                      config_.sigmaNormal, config_.sigmaDepth);
     const float* takes = takes_.row(row);
     float* outRed = next_.red.row(row);
@@ -387,7 +374,7 @@ void Denoiser::filterRows(uint32_t step, uint32_t y0, uint32_t y1) {
       outBlue[x] = filtered ? sums.blue[x] * inverse : 0.0f;
       outVariance[x] = filtered ? sums.variance[x] * inverse * inverse : 0.0f;
     }
-  }
+  });
 }
 
 }  // namespace pa::denoise

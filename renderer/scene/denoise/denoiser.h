@@ -73,6 +73,10 @@ class Denoiser {
 
   void resize(uint32_t width, uint32_t height);
   void prepareRows(const Guides& guides, std::span<const glm::vec3> radiance, uint32_t y0, uint32_t y1);
+  /// Runs body(row, centre, sums, tapAt, scratch) for each row in [y0, y1): the centre's guides and
+  /// demodulated luminance, zeroed sums and tapAt(dx, dy, kernel) reading the current signal.
+  template <typename Body>
+  void forEachRow(uint32_t y0, uint32_t y1, Body&& body);
   void estimateVarianceRows(uint32_t y0, uint32_t y1);
   void filterRows(uint32_t step, uint32_t y0, uint32_t y1);
 
