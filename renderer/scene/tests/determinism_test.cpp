@@ -22,20 +22,10 @@ void buildScene(Renderer& r) {
   MaterialDesc lamp;
   lamp.emission = glm::vec3(4.0f, 3.0f, 2.0f);
   const MaterialId light = r.addMaterial(lamp);
-  static const std::vector<test::MeshArrays> meshes = [] {
-    std::vector<test::MeshArrays> m;
-    m.push_back(test::quad({-3, -3, 0}, {6, 0, 0}, {0, 6, 0}));
-    m.push_back(test::quad({-3, 3, 0}, {6, 0, 0}, {0, 0, 4}));
-    m.push_back(test::sphere({0, 0.5f, 1}, 1.0f, 12, 24));
-    m.push_back(test::quad({-0.5f, -0.5f, 3.5f}, {0, 1, 0}, {1, 0, 0}));
-    return m;
-  }();
-  const MaterialId ids[] = {grey, grey, glossy, light};
-  for (size_t i = 0; i < meshes.size(); ++i) {
-    test::MeshArrays m = meshes[i];
-    m.setMaterial(ids[i]);
-    r.addInstance({r.addMesh(m.desc())});
-  }
+  test::addMesh(r, test::quad({-3, -3, 0}, {6, 0, 0}, {0, 6, 0}), grey);
+  test::addMesh(r, test::quad({-3, 3, 0}, {6, 0, 0}, {0, 0, 4}), grey);
+  test::addMesh(r, test::sphere({0, 0.5f, 1}, 1.0f, 12, 24), glossy);
+  test::addMesh(r, test::quad({-0.5f, -0.5f, 3.5f}, {0, 1, 0}, {1, 0, 0}), light);
   LightDesc point;
   point.position = {2, -2, 3};
   point.intensity = 5.0f;

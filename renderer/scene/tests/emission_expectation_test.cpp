@@ -25,11 +25,10 @@ namespace {
 using test::lookAt;
 using test::settingsFor;
 
-/// Adds one mesh with one material to a Renderer or a SceneStore (same member names).
+/// Adds one mesh with a material of its own to a Renderer or a SceneStore.
 template <typename Target>
-void addMesh(Target& target, test::MeshArrays mesh, const MaterialDesc& material) {
-  mesh.setMaterial(target.addMaterial(material));
-  target.addInstance({target.addMesh(mesh.desc())});
+void addMesh(Target& target, const test::MeshArrays& mesh, const MaterialDesc& material) {
+  test::addMesh(target, mesh, target.addMaterial(material));
 }
 
 MaterialDesc emitter(const glm::vec3& radiance, float albedo) {

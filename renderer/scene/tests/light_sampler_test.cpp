@@ -43,15 +43,25 @@ std::vector<LightDesc> lampAmongDistantLights() {
   return lights;
 }
 
+/// lampAmongDistantLights() in white, sampled from a point on the ground below the lamp, with
+/// the exact sum of their irradiance there.
+struct WhiteLampAmongDistantLights {
+  std::vector<LightDesc> lights = [] {
+    std::vector<LightDesc> white = lampAmongDistantLights();
+    for (LightDesc& l : white) l.color = glm::vec3(1.0f);
+    return white;
+  }();
+  LightSampler sampler{lights, {}, Sky{}, Bounds{}};
+  glm::vec3 p{1.0f, 2.0f, 0.0f};
+  glm::vec3 n{0.0f, 0.0f, 1.0f};
+  glm::vec3 exact = exactSum(lights, p);
+};
+
 TEST(LightSampler, EveryPointLightSampleEstimatesTheExactSum) {
   // Selection in proportion to each light's contribution makes radiance / pdf the same for
   // every sample (equal colours apart): each single sample must give the exact sum.
-  std::vector<LightDesc> lights = lampAmongDistantLights();
-  for (LightDesc& l : lights) l.color = glm::vec3(1.0f);
-  const LightSampler sampler(lights, {}, Sky{}, Bounds{});
-  const glm::vec3 p(1.0f, 2.0f, 0.0f);
-  const glm::vec3 n(0.0f, 0.0f, 1.0f);
-  const glm::vec3 exact = exactSum(lights, p);
+  const WhiteLampAmongDistantLights scene;
+  const auto& [lights, sampler, p, n, exact] = scene;
   for (int i = 0; i < 1000; ++i) {
     const float u = (float(i) + 0.5f) / 1000.0f;
     LightSample ls;
@@ -64,12 +74,8 @@ TEST(LightSampler, EveryPointLightSampleEstimatesTheExactSum) {
 TEST(LightSampler, NearbyLampGetsMostSamplesAndTheMeanIsExact) {
   // The lamp 20 units above the point gives ~60% of the light there but 0.01% of the power: the
   // choice at the shading point must spend most samples on it, and the mean must stay exact.
-  std::vector<LightDesc> lights = lampAmongDistantLights();
-  for (LightDesc& l : lights) l.color = glm::vec3(1.0f);
-  const LightSampler sampler(lights, {}, Sky{}, Bounds{});
-  const glm::vec3 p(1.0f, 2.0f, 0.0f);
-  const glm::vec3 n(0.0f, 0.0f, 1.0f);
-  const glm::vec3 exact = exactSum(lights, p);
+  const WhiteLampAmongDistantLights scene;
+  const auto& [lights, sampler, p, n, exact] = scene;
   constexpr int kSamples = 1 << 14;
   int onLamp = 0;
   double mean = 0.0;

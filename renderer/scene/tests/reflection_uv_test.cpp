@@ -93,18 +93,22 @@ struct ReflectiveQuad {
     for (uint32_t y = 0; y < 8; ++y) sum += image[y * 8 + x];
     return sum / 8.0f;
   }
+  /// The image's left column is the map's red half, its right column the green half.
+  static void expectRedLeftGreenRight(std::span<const glm::vec3> image, float tolerance) {
+    const glm::vec3 left = column(image, 0);
+    const glm::vec3 right = column(image, 7);
+    EXPECT_NEAR(left.r, 1.0f, tolerance);
+    EXPECT_NEAR(left.g, 0.0f, tolerance);
+    EXPECT_NEAR(right.r, 0.0f, tolerance);
+    EXPECT_NEAR(right.g, 1.0f, tolerance);
+  }
 };
 
 // Camera 2 units in front (+X) of the quad looking at it: the image's left half is the -Y side
 // of the quad, whose reflection goes to -Y (s < 0.5: red); the right half reflects to +Y (green).
 TEST(ReflectionUv, LightmapPresetShowsTheReflectionLookup) {
   ReflectiveQuad scene(glm::mat4x3(1.0f), {2, 0, 0}, {0, 0, 0}, Integrator::Lightmap);
-  const glm::vec3 left = ReflectiveQuad::column(scene.frame.radiance, 0);
-  const glm::vec3 right = ReflectiveQuad::column(scene.frame.radiance, 7);
-  EXPECT_NEAR(left.r, 1.0f, 1e-3f);
-  EXPECT_NEAR(left.g, 0.0f, 1e-3f);
-  EXPECT_NEAR(right.r, 0.0f, 1e-3f);
-  EXPECT_NEAR(right.g, 1.0f, 1e-3f);
+  ReflectiveQuad::expectRedLeftGreenRight(scene.frame.radiance, 1e-3f);
 }
 
 // The same quad turned 90 degrees about Z (facing +Y) and seen from +Y: in object space nothing
@@ -112,23 +116,13 @@ TEST(ReflectionUv, LightmapPresetShowsTheReflectionLookup) {
 TEST(ReflectionUv, LookupIsInObjectSpace) {
   const glm::mat4 turn = glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(0, 0, 1));
   ReflectiveQuad scene(glm::mat4x3(turn), {0, 2, 0}, {0, 0, 0}, Integrator::Lightmap);
-  const glm::vec3 left = ReflectiveQuad::column(scene.frame.radiance, 0);
-  const glm::vec3 right = ReflectiveQuad::column(scene.frame.radiance, 7);
-  EXPECT_NEAR(left.r, 1.0f, 1e-3f);
-  EXPECT_NEAR(left.g, 0.0f, 1e-3f);
-  EXPECT_NEAR(right.r, 0.0f, 1e-3f);
-  EXPECT_NEAR(right.g, 1.0f, 1e-3f);
+  ReflectiveQuad::expectRedLeftGreenRight(scene.frame.radiance, 1e-3f);
 }
 
 // The traced presets read the albedo through the same lookup.
 TEST(ReflectionUv, DirectPresetAlbedoUsesTheLookup) {
   ReflectiveQuad scene(glm::mat4x3(1.0f), {2, 0, 0}, {0, 0, 0}, Integrator::Direct);
-  const glm::vec3 left = ReflectiveQuad::column(scene.frame.albedo, 0);
-  const glm::vec3 right = ReflectiveQuad::column(scene.frame.albedo, 7);
-  EXPECT_GT(left.r, 0.99f);
-  EXPECT_LT(left.g, 0.01f);
-  EXPECT_LT(right.r, 0.01f);
-  EXPECT_GT(right.g, 0.99f);
+  ReflectiveQuad::expectRedLeftGreenRight(scene.frame.albedo, 0.01f);
 }
 
 TEST(ReflectionUv, RejectsAnUnknownSource) {

@@ -67,6 +67,13 @@ inline MeshArrays sphere(const glm::vec3& center, float radius, uint32_t rings =
   return m;
 }
 
+/// Adds `mesh` with every triangle in `material` to a Renderer or a SceneStore (same member names).
+template <typename Target>
+void addMesh(Target& target, MeshArrays mesh, MaterialId material) {
+  mesh.setMaterial(material);
+  target.addInstance({target.addMesh(mesh.desc())});
+}
+
 /// Camera at origin looking at target (Z-up world; +X up when looking along Z).
 inline Camera lookAt(const glm::vec3& origin, const glm::vec3& target, float fovDegrees) {
   Camera c;

@@ -17,18 +17,8 @@ namespace {
 /// emissive square (radiance 4) on the wall, about two pixels wide at 64 x 64.
 void buildScene(Renderer& r, bool smallLamp = false) {
   const MaterialId grey = r.addMaterial(test::diffuse(0.6f));
-  static const std::vector<test::MeshArrays> meshes = [] {
-    std::vector<test::MeshArrays> m;
-    m.push_back(test::quad({-3, -3, 0}, {6, 0, 0}, {0, 6, 0}));
-    m.push_back(test::quad({-3, 3, 0}, {6, 0, 0}, {0, 0, 4}));
-    return m;
-  }();
-  const MaterialId ids[] = {grey, grey};
-  for (size_t i = 0; i < meshes.size(); ++i) {
-    test::MeshArrays m = meshes[i];
-    m.setMaterial(ids[i]);
-    r.addInstance({r.addMesh(m.desc())});
-  }
+  test::addMesh(r, test::quad({-3, -3, 0}, {6, 0, 0}, {0, 6, 0}), grey);
+  test::addMesh(r, test::quad({-3, 3, 0}, {6, 0, 0}, {0, 0, 4}), grey);
   LightDesc point;
   point.position = {1.5f, -1, 2.5f};
   point.intensity = 4.0f;
@@ -40,9 +30,7 @@ void buildScene(Renderer& r, bool smallLamp = false) {
   if (smallLamp) {
     MaterialDesc lamp = test::diffuse(0.8f);
     lamp.emission = glm::vec3(4.0f);
-    test::MeshArrays square = test::quad({-0.15f, 2.99f, 0.85f}, {0.3f, 0, 0}, {0, 0, 0.3f});   // faces -y
-    square.setMaterial(r.addMaterial(lamp));
-    r.addInstance({r.addMesh(square.desc())});
+    test::addMesh(r, test::quad({-0.15f, 2.99f, 0.85f}, {0.3f, 0, 0}, {0, 0, 0.3f}), r.addMaterial(lamp));   // faces -y
   }
   r.commit();
 }
