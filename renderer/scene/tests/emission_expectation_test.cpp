@@ -8,8 +8,10 @@
 // the denoiser leaves unfiltered) is the emitter's Le seen directly and nothing else.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "renderer/scene/film/film.h"
