@@ -43,6 +43,45 @@ void takeStage(const q3::ShaderStage& stage, ShaderLook& look) {
   look.constAlpha = stage.constAlpha;
 }
 
+/// True for the blends a shine stage may use: add, filter x2 (dst src + src dst) and
+/// dst (1 + src) (gl_dst_color gl_dst_alpha over an opaque base, whose alpha is 1).
+bool isShineBlend(const q3::ShaderStage& stage) {
+  using F = q3::BlendFactor;
+  if (!stage.hasBlend) return false;
+  return (stage.srcBlend == F::One && stage.dstBlend == F::One) ||
+         (stage.srcBlend == F::DstColor && stage.dstBlend == F::SrcColor) ||
+         (stage.srcBlend == F::DstColor && stage.dstBlend == F::DstAlpha);
+}
+
+/// The shine of an opaque base stage `base` (index first): the first later environment-mapped
+/// image stage with a shine blend.
+std::optional<ShineLook> shineOf(const q3::ShaderDef& shader, size_t first) {
+  const q3::ShaderStage& base = shader.stages[first];
+  for (size_t s = first + 1; s < shader.stages.size(); ++s) {
+    const q3::ShaderStage& stage = shader.stages[s];
+    if (stage.source != q3::TextureSource::Image || stage.textures.empty() ||
+        stage.tcGen != q3::TcGen::Environment || !isShineBlend(stage))
+      continue;
+    ShineLook shine;
+    shine.image = stage.textures.front();
+    shine.clamp = stage.clamp;
+    shine.tcMods = stage.tcMods;
+    shine.blend = {glBlendFactor(stage.srcBlend), glBlendFactor(stage.dstBlend)};
+    shine.rgbGen = stage.rgbGen;
+    shine.constColor = stage.constColor;
+    for (size_t r = s + 1; r < shader.stages.size(); ++r) {
+      const q3::ShaderStage& redraw = shader.stages[r];
+      shine.baseRedrawn = shine.baseRedrawn ||
+                          (redraw.source == q3::TextureSource::Image && redraw.textures == base.textures &&
+                           redraw.tcGen == base.tcGen && redraw.hasBlend &&
+                           redraw.srcBlend == q3::BlendFactor::SrcAlpha &&
+                           redraw.dstBlend == q3::BlendFactor::OneMinusSrcAlpha);
+    }
+    return shine;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 ShaderLook lookOfShader(const q3::ShaderDef& shader) {
@@ -75,6 +114,9 @@ ShaderLook lookOfShader(const q3::ShaderDef& shader) {
       look.layers.push_back(std::move(layer));
     }
   }
+  // An opaque painted base with an environment-mapped shine over it (chrome weapons, projectiles).
+  const q3::ShaderStage& base = shader.stages[first];
+  if (base.source == q3::TextureSource::Image && !look.blend.blends()) look.shine = shineOf(shader, first);
   return look;
 }
 

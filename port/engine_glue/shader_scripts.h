@@ -27,6 +27,21 @@ struct BlendFunc {
 /// Alpha test of a stage (the library's enum).
 using AlphaTest = q3::AlphaTest;
 
+/// A shine stage over an opaque base: a later tcGen environment stage that adds to
+/// (blendfunc add) or filters (gl_dst_color gl_src_color / gl_dst_alpha) the base, e.g. the chrome
+/// of a weapon. Drawn in the same renderer material as the base (MaterialDesc::shineTexture).
+struct ShineLook {
+  std::string image;                          ///< The stage's map (its first animMap frame).
+  bool clamp = false;                         ///< clampMap.
+  std::vector<q3::TcMod> tcMods;              ///< Applied to the reflection uvs.
+  BlendFunc blend;                            ///< (GL_ONE, GL_ONE), (GL_DST_COLOR, GL_SRC_COLOR) or (GL_DST_COLOR, GL_DST_ALPHA).
+  q3::RgbGen rgbGen = q3::RgbGen::Default;    ///< The stage's rgbGen as written.
+  std::array<float, 3> constColor{1, 1, 1};   ///< rgbGen const.
+  /// A later stage draws the base image again with blendfunc blend: the base's alpha hides the
+  /// shine (OpenArena's grenade launcher: chrome only where the paint is transparent).
+  bool baseRedrawn = false;
+};
+
 /// The drawable summary of a shader.
 struct ShaderLook {
   std::vector<std::string> images;   ///< map/clampMap (one) or animMap frames; empty = white.
@@ -53,13 +68,15 @@ struct ShaderLook {
   /// When the first stage is additive: the shader's later additive image stages, each a look
   /// of its own (multi-layer glows such as muzzle flashes).
   std::vector<ShaderLook> layers;
+  /// When the first stage is opaque: its shine stage, if any (see ShineLook).
+  std::optional<ShineLook> shine;
 };
 
 /// The OpenGL enum of a shader blend factor.
 unsigned glBlendFactor(q3::BlendFactor factor);
 
 /// The drawable summary of a parsed shader: its first stage that is not the lightmap (plus the
-/// later additive stages of an additive shader, as layers).
+/// later additive stages of an additive shader, as layers, or the shine stage of an opaque one).
 ShaderLook lookOfShader(const q3::ShaderDef& shader);
 
 /// The index of every shader script in the game file system.

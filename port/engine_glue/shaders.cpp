@@ -109,6 +109,10 @@ q3abi::qhandle_t ShaderRegistry::registerShader(const Engine& engine, const Shad
     if (frames.empty()) frames.push_back(whiteImage());
     entry.layerFrames.push_back(std::move(frames));
   }
+  if (entry.look.shine) {
+    entry.shineImage = images.load(engine, entry.look.shine->image);
+    if (!entry.shineImage) engine.warn("shader " + name + ": missing image " + entry.look.shine->image);
+  }
   // Every stage's textures for drawing the whole script in 2D, filled on its first 2D draw.
   for (const q3::ShaderStage& stage : entry.look.stages)
     entry.stageTextures.push_back(StageTextures{{}, entry.clampToEdge || stage.clamp});

@@ -30,6 +30,7 @@ struct ShaderEntry {
   ShaderLook look;
   std::vector<std::shared_ptr<const Image>> frames;   ///< look.images decoded (default on failure).
   std::vector<std::vector<std::shared_ptr<const Image>>> layerFrames;   ///< Per look.layers.
+  std::shared_ptr<const Image> shineImage;            ///< look.shine's image (null when none or missing).
   std::vector<unsigned> glTextures;                   ///< Lazily uploaded, one per frame.
   std::vector<StageTextures> stageTextures;           ///< Per look.stages (empty for non-images).
   bool clampToEdge = false;

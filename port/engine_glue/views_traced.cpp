@@ -438,6 +438,7 @@ struct ViewRenderer::Impl {
     }
     if (entry.isDefault) desc.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
     applyReflectionLook(look, desc);
+    if (layer == 0 && entry.shineImage) applyShineLook(look, texture(entry.shineImage, look.shine->clamp), desc);
     const pa::MaterialId id = renderer->addMaterial(desc);
     materials.emplace(key, id);
     return id;

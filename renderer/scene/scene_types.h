@@ -124,6 +124,7 @@ enum class LayerBlend : uint8_t {
   Multiply,      ///< dst * src: filters (marks); adds nothing.
   MultiplyInverse,  ///< dst * (1 - src): blob shadows; adds nothing.
   MultiplyAdd,   ///< dst * (1 + src): the stock dynamic-light pass; adds nothing by itself.
+  Modulate2x,    ///< dst * 2 src: a filter that darkens below 0.5 and brightens above (gl_dst_color gl_src_color).
 };
 
 /// Where a material's base texture coordinates come from (uvTransform applies after either).
@@ -161,6 +162,19 @@ struct MaterialDesc {
   bool sky = false;                     ///< Surface is a window to the sky: shows and emits the sky.
   glm::mat3x2 uvTransform{1.0f};        ///< Affine uv' = M * (u, v, 1): texture animation (scroll, rotate, scale).
   TexCoordSource baseTexCoords = TexCoordSource::Mesh;   ///< uv of baseTexture (emissiveTexture keeps mesh uvs).
+  /// A shine over the base (kNoId = none): a second image stage (Quake III's environment-mapped
+  /// chrome over a painted model) that the Lightmap integrator composes over the lit base in
+  /// display values, as framebuffer blending does: src = encode(shineTexture(shine uv) x
+  /// shineColor) (x encode(vertex colour) with shineVertexColor), x (1 - base alpha) with
+  /// shineMaskedByBaseAlpha, then dst = clamp(shineBlend(dst, src)). Direct/Path ignore it (give
+  /// the material a glossy lobe through `specular` instead).
+  TextureId shineTexture = kNoId;
+  glm::vec3 shineColor{1.0f};                ///< Linear multiplier of the shine texture.
+  bool shineVertexColor = false;             ///< The shine is tinted by the vertex colour too (rgbGen lightingDiffuse).
+  bool shineMaskedByBaseAlpha = false;       ///< A later stage redraws the base alpha-blended: shine x (1 - base alpha).
+  TexCoordSource shineTexCoords = TexCoordSource::ReflectionSphere;   ///< uv of shineTexture.
+  glm::mat3x2 shineUvTransform{1.0f};        ///< Affine uv' = M * (u, v, 1) of the shine.
+  LayerBlend shineBlend = LayerBlend::Add;   ///< How the shine meets the base (Over uses the shine's alpha).
 };
 
 /// Instance visibility masks (bitwise OR).

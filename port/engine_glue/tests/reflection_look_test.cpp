@@ -65,5 +65,85 @@ TEST(ReflectionLook, PlainStagesAreLeftAlone) {
   EXPECT_FLOAT_EQ(desc.specular, 0.0f);
 }
 
+// OpenArena's scripts/models.shader (grenade launcher) and scripts/weapons.shader (rocket).
+constexpr const char* kGrenadeLauncher = R"(models/weapons2/grenadel/grenadel
+{
+  { map models/weapons2/grenadel/grenadel.tga rgbGen lightingDiffuse }
+  { map models/weapons2/grenadel/chromey.tga rgbGen lightingDiffuse tcGen environment blendfunc add }
+  { map models/weapons2/grenadel/grenadel.tga rgbGen lightingDiffuse blendfunc blend }
+})";
+constexpr const char* kRocket = R"(rocketProjectile
+{
+  { map models/ammo/rocket/rocket.tga rgbGen lightingDiffuse }
+  { map models/weapons2/machinegun/woodspec.tga blendfunc gl_dst_color gl_src_color tcGen environment }
+})";
+
+TEST(ShineLook, OpaqueBaseKeepsItsEnvironmentMappedAddStage) {
+  const ShaderLook look = lookOf(kGrenadeLauncher);
+  ASSERT_EQ(look.images.size(), 1u);
+  EXPECT_EQ(look.images[0], "models/weapons2/grenadel/grenadel.tga");
+  EXPECT_FALSE(look.reflectionUv);
+  EXPECT_TRUE(look.layers.empty());   // nothing drawn as coincident duplicate triangles
+  ASSERT_TRUE(look.shine.has_value());
+  EXPECT_EQ(look.shine->image, "models/weapons2/grenadel/chromey.tga");
+  EXPECT_EQ(look.shine->blend.src, 1u);   // GL_ONE
+  EXPECT_EQ(look.shine->blend.dst, 1u);
+  EXPECT_EQ(look.shine->rgbGen, q3::RgbGen::LightingDiffuse);
+  EXPECT_TRUE(look.shine->baseRedrawn);   // third stage: the paint blended over the chrome
+
+  pa::MaterialDesc desc;
+  applyShineLook(look, 7, desc);
+  EXPECT_EQ(desc.shineTexture, 7u);
+  EXPECT_EQ(desc.shineTexCoords, pa::TexCoordSource::ReflectionSphere);
+  EXPECT_EQ(desc.shineBlend, pa::LayerBlend::Add);
+  EXPECT_TRUE(desc.shineVertexColor);
+  EXPECT_TRUE(desc.shineMaskedByBaseAlpha);
+  EXPECT_EQ(desc.baseTexCoords, pa::TexCoordSource::Mesh);   // the paint keeps its mesh uvs
+  EXPECT_FLOAT_EQ(desc.specular, kReflectionSpecular);      // Direct/Path: a glossy lobe
+}
+
+TEST(ShineLook, FilterStageBecomesAModulate2xShine) {
+  const ShaderLook look = lookOf(kRocket);
+  ASSERT_TRUE(look.shine.has_value());
+  EXPECT_EQ(look.shine->image, "models/weapons2/machinegun/woodspec.tga");
+  EXPECT_FALSE(look.shine->baseRedrawn);
+  pa::MaterialDesc desc;
+  applyShineLook(look, 3, desc);
+  EXPECT_EQ(desc.shineBlend, pa::LayerBlend::Modulate2x);
+  EXPECT_FALSE(desc.shineVertexColor);   // rgbGen identity: white
+  EXPECT_FALSE(desc.shineMaskedByBaseAlpha);
+  EXPECT_EQ(desc.shineColor, glm::vec3(1.0f));
+}
+
+TEST(ShineLook, DstAlphaFilterAndConstColourAndTcMods) {
+  const ShaderLook look = lookOf(R"(s { { map paint.tga } { map env.tga blendfunc gl_dst_color gl_dst_alpha
+    tcGen environment rgbGen const ( 1 0 0 ) tcMod scale 2 2 } })");
+  ASSERT_TRUE(look.shine.has_value());
+  pa::MaterialDesc desc;
+  applyShineLook(look, 1, desc);
+  EXPECT_EQ(desc.shineBlend, pa::LayerBlend::MultiplyAdd);
+  EXPECT_EQ(desc.shineColor, glm::vec3(1.0f, 0.0f, 0.0f));
+  EXPECT_FLOAT_EQ(desc.shineUvTransform[0][0], 2.0f);
+  EXPECT_FLOAT_EQ(desc.shineUvTransform[1][1], 2.0f);
+}
+
+TEST(ShineLook, OnlyOpaqueBasesWithEnvironmentMappedShineBlendsGetOne) {
+  // Additive base: later stages stay layers.
+  EXPECT_FALSE(lookOf("a { { map a.tga blendfunc add } { map b.tga blendfunc add tcGen environment } }").shine);
+  // Shine stage without tcGen environment, or with an alpha blend: not a shine.
+  EXPECT_FALSE(lookOf("b { { map a.tga } { map b.tga blendfunc add } }").shine);
+  EXPECT_FALSE(lookOf("c { { map a.tga } { map b.tga blendfunc blend tcGen environment } }").shine);
+  // A lightmap stage between base and shine does not hide the shine.
+  EXPECT_TRUE(lookOf("d { { map a.tga } { map $lightmap blendfunc filter } { map b.tga blendfunc add tcGen environment } }").shine);
+  // No texture given: the material is left alone; a blended base gets no shine.
+  pa::MaterialDesc desc;
+  applyShineLook(lookOf(kRocket), pa::kNoId, desc);
+  EXPECT_EQ(desc.shineTexture, pa::kNoId);
+  desc.alphaMode = pa::AlphaMode::Blend;
+  applyShineLook(lookOf(kRocket), 2, desc);
+  EXPECT_EQ(desc.shineTexture, pa::kNoId);
+  EXPECT_FLOAT_EQ(desc.specular, 0.0f);
+}
+
 }  // namespace
 }  // namespace glue

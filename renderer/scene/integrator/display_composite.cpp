@@ -20,6 +20,26 @@ glm::vec3 decode(const glm::vec3& display) { return {srgbToLinear(display.x), sr
 
 glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b) { return decode(encode(a) * encode(b)); }
 
+glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend blend, float baseRedrawn) {
+  const glm::vec3 dst = encode(base);
+  const glm::vec3 src = encode(glm::vec3(shine));
+  glm::vec3 out = dst;
+  switch (blend) {
+    case LayerBlend::Add: out = dst + src; break;
+    case LayerBlend::Over: {
+      const float a = std::clamp(shine.a, 0.0f, 1.0f);
+      out = dst * (1.0f - a) + src * a;
+      break;
+    }
+    case LayerBlend::Multiply: out = dst * src; break;
+    case LayerBlend::MultiplyInverse: out = dst * (1.0f - src); break;
+    case LayerBlend::MultiplyAdd: out = dst * (1.0f + src); break;
+    case LayerBlend::Modulate2x: out = 2.0f * dst * src; break;
+  }
+  out = glm::clamp(out, 0.0f, 1.0f);
+  return decode(glm::mix(out, dst, std::clamp(baseRedrawn, 0.0f, 1.0f)));
+}
+
 void DisplayComposite::appendBefore(const AdditiveHits& hits, float t) {
   std::array<uint32_t, AdditiveHits::kCapacity> order{};
   uint32_t n = 0;

@@ -8,7 +8,9 @@
 #include <cstdint>
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
+#include "renderer/scene/scene_types.h"
 #include "renderer/scene/world/render_scene.h"
 
 namespace pa {
@@ -17,6 +19,14 @@ namespace pa {
 /// decode(encode(a) * encode(b)) (the stock texture x lightmap multiply of 8-bit values; the
 /// linear product lin(a) lin(b) is up to 13x darker where the sRGB curve is linear, near black).
 glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b);
+
+/// A shine stage over a lit base, composed as framebuffer blending does (MaterialDesc::shineBlend):
+/// with dst = encode(base) and src = encode(shine.rgb), dst' = clamp(blend(dst, src)) (Add:
+/// dst + src, Over: dst (1 - a) + src a with a = shine.a, Multiply: dst src, MultiplyInverse:
+/// dst (1 - src), MultiplyAdd: dst (1 + src), Modulate2x: 2 dst src), then the base drawn
+/// again over it with opacity baseRedrawn (0 = not redrawn): mix(dst', dst, baseRedrawn).
+/// Linear in, linear out.
+glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend blend, float baseRedrawn);
 
 /// Layers in front of the surface a camera ray ends on, nearest first, composed at the end.
 class DisplayComposite {

@@ -219,7 +219,8 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     const glm::vec3 ns = front ? s.shadingNormal : -s.shadingNormal;
     coneWidth += coneSpread * hit.t;
     const float footprint = coneWidth / std::max(kMinCosForFootprint, glm::dot(ng, wo));
-    const glm::vec3 albedo = glm::clamp(glm::vec3(scene.baseColor(s, footprint)), 0.0f, 1.0f);
+    const glm::vec4 baseRgba = scene.baseColor(s, footprint);
+    const glm::vec3 albedo = glm::clamp(glm::vec3(baseRgba), 0.0f, 1.0f);
     if (viewDepth == 0) {
       out.albedo = albedo;
       out.normal = ns;
@@ -247,7 +248,14 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
       } else if (m.lightmap != nullptr) {
         baked = glm::vec3(m.lightmap->sample(s.lightmapUv, 0.0f));
       }
-      radiance += beta * displayProduct(albedo, baked);   // texture x lightmap in 8-bit values, as stock
+      glm::vec3 lit = displayProduct(albedo, baked);   // texture x lightmap in 8-bit values, as stock
+      if (m.shine != nullptr) {   // the shine stage over the lit base, in display values too
+        glm::vec4 shine = scene.shineColor(s, footprint);
+        if (m.desc.shineVertexColor) shine = glm::vec4(displayProduct(glm::vec3(shine), glm::vec3(s.vertexColor)), shine.a);
+        const float redrawn = m.desc.shineMaskedByBaseAlpha ? std::clamp(baseRgba.a, 0.0f, 1.0f) : 0.0f;
+        lit = composeShine(lit, shine, m.desc.shineBlend, redrawn);
+      }
+      radiance += beta * lit;
       break;
     }
     if (scatterCount >= maxScatter || depth >= maxScatter + kExtraDeltaBounces) break;

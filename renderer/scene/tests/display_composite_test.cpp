@@ -84,5 +84,35 @@ TEST(DisplayComposite, MultiplyingLayersScaleWhatIsBehindPerChannel) {
   EXPECT_NEAR(linearToSrgb(out.z), 1.0f, 1e-5f);   // 0.4 * 3 clamps
 }
 
+TEST(ComposeShine, AddedShineAddsDisplayValues) {
+  // Base 0.4 + chrome 0.3 (blendfunc add) = 0.7 in display values; white + anything stays white.
+  const glm::vec3 c = composeShine(linear(0.4f), glm::vec4(linear(0.3f), 1.0f), LayerBlend::Add, 0.0f);
+  EXPECT_NEAR(linearToSrgb(c.x), 0.7f, 1e-5f);
+  const glm::vec3 white = composeShine(glm::vec3(1.0f), glm::vec4(linear(0.3f), 1.0f), LayerBlend::Add, 0.0f);
+  EXPECT_NEAR(white.x, 1.0f, 1e-6f);
+}
+
+TEST(ComposeShine, FilterShinesFollowTheStockBlendEquations) {
+  const glm::vec4 src(linear(0.3f).x, linear(0.75f).x, linear(0.5f).x, 1.0f);
+  // gl_dst_color gl_src_color: dst src + src dst = 2 dst src (0.5 keeps the base).
+  const glm::vec3 m = composeShine(linear(0.4f), src, LayerBlend::Modulate2x, 0.0f);
+  EXPECT_NEAR(linearToSrgb(m.x), 2.0f * 0.4f * 0.3f, 1e-5f);
+  EXPECT_NEAR(linearToSrgb(m.y), 2.0f * 0.4f * 0.75f, 1e-5f);
+  EXPECT_NEAR(linearToSrgb(m.z), 0.4f, 1e-5f);
+  // Brightening past white clamps: 2 x 0.8 x 0.75 = 1.2 -> 1.
+  EXPECT_NEAR(composeShine(linear(0.8f), src, LayerBlend::Modulate2x, 0.0f).y, 1.0f, 1e-6f);
+  // gl_dst_color gl_dst_alpha over an opaque base (alpha 1): dst src + dst = dst (1 + src).
+  const glm::vec3 a = composeShine(linear(0.4f), src, LayerBlend::MultiplyAdd, 0.0f);
+  EXPECT_NEAR(linearToSrgb(a.x), 0.4f * 1.3f, 1e-5f);
+}
+
+TEST(ComposeShine, RedrawnBaseHidesTheShineByItsAlpha) {
+  // Base, shine added, base again blended with alpha 0.75: 0.4 * 0.75 + (0.4 + 0.3) * 0.25.
+  const glm::vec3 c = composeShine(linear(0.4f), glm::vec4(linear(0.3f), 1.0f), LayerBlend::Add, 0.75f);
+  EXPECT_NEAR(linearToSrgb(c.x), 0.4f + 0.25f * 0.3f, 1e-5f);
+  // Fully opaque paint: no shine at all.
+  EXPECT_NEAR(linearToSrgb(composeShine(linear(0.4f), glm::vec4(1.0f), LayerBlend::Add, 1.0f).x), 0.4f, 1e-5f);
+}
+
 }  // namespace
 }  // namespace pa

@@ -248,5 +248,45 @@ TEST(KnownAnswer, LightmapPresetIsAlbedoTimesBakedLight) {
   EXPECT_NEAR(f.normal[5].z, 1.0f, 1e-5f);
 }
 
+/// Lightmap preset over a quad of white base (alpha baseAlpha) under a lightmap of linear 0.4,
+/// with a shine texture of display (0.3, 0.75, 0.5): the centre pixel's display value.
+glm::vec3 shineOverLitBase(LayerBlend blend, float baseAlpha, bool masked, Integrator integrator = Integrator::Lightmap) {
+  Renderer r({2});
+  const std::vector<uint8_t> lm = test::solidPixels(1, 1, 102, 102, 102, 255);   // linear 0.4 (data)
+  const std::vector<uint8_t> shine = test::solidPixels(1, 1, 77, 191, 128, 255);   // ~ (0.3, 0.75, 0.5)
+  MaterialDesc m = test::diffuse(1.0f);
+  m.baseColor.a = baseAlpha;
+  m.lightmapTexture = r.addTexture(TextureDesc{1, 1, lm, false});
+  m.shineTexture = r.addTexture(TextureDesc{1, 1, shine, true});
+  m.shineBlend = blend;
+  m.shineMaskedByBaseAlpha = masked;
+  test::MeshArrays q = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  q.setMaterial(r.addMaterial(m));
+  std::vector<glm::vec2> lmUv(4, glm::vec2(0.5f));
+  MeshDesc desc = q.desc();
+  desc.lightmapUvs = lmUv;
+  r.addInstance({r.addMesh(desc)});
+  r.commit();
+  const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 30.0f), settingsFor(integrator, 4, 1));
+  const glm::vec3 c = f.radiance[5];
+  return {linearToSrgb(c.r), linearToSrgb(c.g), linearToSrgb(c.b)};
+}
+
+TEST(KnownAnswer, LightmapPresetComposesTheShineInDisplayValues) {
+  const glm::vec3 src(77 / 255.0f, 191 / 255.0f, 128 / 255.0f);
+  const float base = linearToSrgb(102 / 255.0f);   // white x lightmap, displayed
+  // blendfunc add: base + shine (per channel, clamped).
+  const glm::vec3 add = shineOverLitBase(LayerBlend::Add, 1.0f, false);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(add[c], std::min(1.0f, base + src[c]), 2e-3f) << c;
+  // gl_dst_color gl_src_color: 2 base shine.
+  const glm::vec3 filter = shineOverLitBase(LayerBlend::Modulate2x, 1.0f, false);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(filter[c], 2.0f * base * src[c], 2e-3f) << c;
+  // The base redrawn over the shine with alpha 0.75 leaves a quarter of the added shine.
+  const glm::vec3 masked = shineOverLitBase(LayerBlend::Add, 0.75f, true);
+  EXPECT_NEAR(masked.x, base + 0.25f * src.x, 2e-3f);
+  // Direct preset: no lights, no sky: the shine is no light source (it is the glossy lobe's job).
+  EXPECT_NEAR(shineOverLitBase(LayerBlend::Add, 1.0f, false, Integrator::Direct).x, 0.0f, 1e-6f);
+}
+
 }  // namespace
 }  // namespace pa

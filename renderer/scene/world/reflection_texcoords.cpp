@@ -1,4 +1,4 @@
-// RenderScene::surfaceAt along a ray: base texture coordinates of TexCoordSource::ReflectionSphere.
+// RenderScene::surfaceAt along a ray: base and shine texture coordinates of TexCoordSource::ReflectionSphere.
 #include <cmath>
 #include <cstddef>
 
@@ -13,9 +13,11 @@ namespace pa {
 
 SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, const Ray& ray) const {
   SurfaceHit s = surfaceAt(hit, overlayHit);
-  if (s.material == nullptr || s.instance == nullptr ||
-      s.material->desc.baseTexCoords != TexCoordSource::ReflectionSphere)
-    return s;
+  if (s.material == nullptr || s.instance == nullptr) return s;
+  const MaterialDesc& desc = s.material->desc;
+  const bool baseReflects = desc.baseTexCoords == TexCoordSource::ReflectionSphere;
+  const bool shineReflects = s.material->shine != nullptr && desc.shineTexCoords == TexCoordSource::ReflectionSphere;
+  if (!baseReflects && !shineReflects) return s;
   const RenderInstance& inst = *s.instance;
   const MeshGeometry& g = inst.mesh->geometry;
   const size_t first = 3 * size_t{hit.prim};
@@ -33,17 +35,20 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, const Ray& ra
   glm::vec3 normal = (1.0f - hit.u - hit.v) * cornerNormal(0) + hit.u * cornerNormal(1) + hit.v * cornerNormal(2);
   if (!(glm::dot(normal, normal) > 0.0f)) normal = winding;
 
-  const glm::mat3x2& transform = s.material->desc.uvTransform;
-  s.uv = transform * glm::vec3(reflectionSphereUv(normal, toViewer), 1.0f);
-
-  // Mip level: the uv area of the triangle whose corners carry their own reflections seen from
-  // the ray's origin (how fast the reflection sweeps the texture across the triangle).
-  const glm::mat2 linear(transform[0], transform[1]);
-  glm::vec2 uv[3];
-  for (int k = 0; k < 3; ++k)
-    uv[k] = linear * reflectionSphereUv(cornerNormal(k), objectOrigin - g.positions[corner[k]]);
-  const glm::vec2 d1 = uv[1] - uv[0], d2 = uv[2] - uv[0];
-  s.uvArea = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
+  // The reflection uv through `transform`, and for the mip level the uv area of the triangle
+  // whose corners carry their own reflections seen from the ray's origin (how fast the
+  // reflection sweeps the texture across the triangle).
+  auto reflectionUv = [&](const glm::mat3x2& transform, glm::vec2& uvOut, float& areaOut) {
+    uvOut = transform * glm::vec3(reflectionSphereUv(normal, toViewer), 1.0f);
+    const glm::mat2 linear(transform[0], transform[1]);
+    glm::vec2 uv[3];
+    for (int k = 0; k < 3; ++k)
+      uv[k] = linear * reflectionSphereUv(cornerNormal(k), objectOrigin - g.positions[corner[k]]);
+    const glm::vec2 d1 = uv[1] - uv[0], d2 = uv[2] - uv[0];
+    areaOut = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
+  };
+  if (baseReflects) reflectionUv(desc.uvTransform, s.uv, s.uvArea);
+  if (shineReflects) reflectionUv(desc.shineUvTransform, s.shineUv, s.shineUvArea);
   return s;
 }
 

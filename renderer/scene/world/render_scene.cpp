@@ -98,6 +98,7 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
             added = glm::vec3(0.0f);
             break;
           case LayerBlend::MultiplyAdd: transmit = 1.0f + displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+          case LayerBlend::Modulate2x: transmit = 2.0f * displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
         }
         recordAdditive(*ctx.request->additive, t, instanceIndex, prim, added, transmit);
       }
@@ -184,17 +185,23 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
       s.shadingNormal = glm::dot(n, s.geometricNormal) >= 0.0f ? n / nl : -n / nl;
     }
   }
-  const glm::mat3x2& t = s.material->desc.uvTransform;
-  if (!g.uvs.empty()) {
+  const MaterialDesc& desc = s.material->desc;
+  // Mesh uvs through an affine transform: the point's uv and the triangle's uv-space area.
+  auto meshUv = [&](const glm::mat3x2& t, glm::vec2& uvOut, float& areaOut) {
+    if (g.uvs.empty()) {
+      uvOut = t * glm::vec3(0.0f, 0.0f, 1.0f);
+      return;
+    }
     const glm::vec2 uv = w0 * g.uvs[i0] + hit.u * g.uvs[i1] + hit.v * g.uvs[i2];
-    s.uv = t * glm::vec3(uv, 1.0f);
+    uvOut = t * glm::vec3(uv, 1.0f);
     const glm::mat2 linear(t[0], t[1]);
     const glm::vec2 d1 = linear * (g.uvs[i1] - g.uvs[i0]);
     const glm::vec2 d2 = linear * (g.uvs[i2] - g.uvs[i0]);
-    s.uvArea = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
-  } else {
-    s.uv = t * glm::vec3(0.0f, 0.0f, 1.0f);
-  }
+    areaOut = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
+  };
+  meshUv(desc.uvTransform, s.uv, s.uvArea);
+  if (s.material->shine != nullptr && desc.shineTexCoords == TexCoordSource::Mesh)
+    meshUv(desc.shineUvTransform, s.shineUv, s.shineUvArea);
   if (!g.lightmapUvs.empty()) {
     s.lightmapUv = w0 * g.lightmapUvs[i0] + hit.u * g.lightmapUvs[i1] + hit.v * g.lightmapUvs[i2];
   }
@@ -242,6 +249,17 @@ glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint) const {
     c *= m.base->sample(s.uv, lod);
   }
   return c;
+}
+
+glm::vec4 RenderScene::shineColor(const SurfaceHit& s, float footprint) const {
+  const MaterialRecord& m = *s.material;
+  if (m.shine == nullptr) return glm::vec4(0.0f);
+  float lod = 0.0f;
+  if (footprint > 0.0f && s.shineUvArea > 0.0f && s.worldArea > 0.0f) {
+    const float texels = static_cast<float>(m.shine->width()) * static_cast<float>(m.shine->height());
+    lod = std::log2(footprint * std::sqrt(s.shineUvArea * texels / s.worldArea));
+  }
+  return m.shine->sample(s.shineUv, lod) * glm::vec4(m.desc.shineColor, 1.0f);
 }
 
 glm::vec3 RenderScene::emission(const SurfaceHit& s, bool frontSide) const {

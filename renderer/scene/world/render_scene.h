@@ -28,6 +28,7 @@ struct MaterialRecord {
   const Texture* base = nullptr;
   const Texture* emissive = nullptr;
   const Texture* lightmap = nullptr;
+  const Texture* shine = nullptr;   ///< MaterialDesc::shineTexture.
   bool filtered = false;   ///< Hits on it must go through the HitFilter.
   bool emits = false;      ///< Non-zero emission (collected as area light).
 };
@@ -88,6 +89,8 @@ struct SurfaceHit {
   glm::vec2 uv{0.0f};                   ///< Base uv after the material's uvTransform.
   glm::vec2 emissiveUv{0.0f};           ///< Mesh uv after uvTransform (the emissive texture's).
   glm::vec2 lightmapUv{0.0f};
+  glm::vec2 shineUv{0.0f};              ///< Shine texture uv (MaterialDesc::shineTexCoords) after shineUvTransform.
+  float shineUvArea = 0.0f;             ///< Triangle area in shine uv space (mip level).
   glm::vec4 vertexColor{1.0f};
   float worldArea = 0.0f;               ///< Triangle area in world space.
   float uvArea = 0.0f;                  ///< Triangle area in (transformed) uv space.
@@ -124,6 +127,9 @@ struct RenderScene {
   /// footprint: world-space width of the ray's footprint on the surface (picks the mip level;
   /// 0 = full resolution).
   glm::vec4 baseColor(const SurfaceHit& s, float footprint) const;
+  /// Shine colour (shine texture x shineColor, linear RGB, A = texture alpha; 0 when the
+  /// material has none), mip level from `footprint` as baseColor's.
+  glm::vec4 shineColor(const SurfaceHit& s, float footprint) const;
   /// Emitted radiance toward the given side (front = the winding normal's side).
   glm::vec3 emission(const SurfaceHit& s, bool frontSide) const;
   /// Unnormalised world-space winding normal of a triangle (front side).

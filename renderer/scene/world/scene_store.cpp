@@ -49,6 +49,13 @@ void SceneStore::validateMaterial(const MaterialDesc& m, const std::string& what
   checkTexture(m.baseTexture, "baseTexture");
   checkTexture(m.emissiveTexture, "emissiveTexture");
   checkTexture(m.lightmapTexture, "lightmapTexture");
+  checkTexture(m.shineTexture, "shineTexture");
+  requireNonNegative(m.shineColor, what, "shineColor");
+  for (int c = 0; c < 3; ++c) requireFinite(finite(m.shineUvTransform[c]), what, "shineUvTransform");
+  if (m.shineTexCoords != TexCoordSource::Mesh && m.shineTexCoords != TexCoordSource::ReflectionSphere)
+    throw SceneError(what + ": shineTexCoords = " + std::to_string(unsigned(m.shineTexCoords)) + " is not a TexCoordSource");
+  if (unsigned(m.shineBlend) > unsigned(LayerBlend::Modulate2x))
+    throw SceneError(what + ": shineBlend = " + std::to_string(unsigned(m.shineBlend)) + " is not a LayerBlend");
   requireFinite(finite(m.baseColor), what, "baseColor");
   requireNonNegative(m.emission, what, "emission");
   requireFinite(finite(m.alphaCutoff), what, "alphaCutoff");
@@ -363,6 +370,7 @@ RenderScene SceneStore::commit() {
     r.base = texturePtr(d.baseTexture);
     r.emissive = texturePtr(d.emissiveTexture);
     r.lightmap = texturePtr(d.lightmapTexture);
+    r.shine = texturePtr(d.shineTexture);
     r.filtered = materialNeedsFilter(d);
     r.emits = d.emission.x > 0.0f || d.emission.y > 0.0f || d.emission.z > 0.0f;
     return r;
