@@ -33,7 +33,7 @@ void applyShineLook(const ShaderLook& look, pa::TextureId shineTexture, pa::Mate
   if (desc.alphaMode != pa::AlphaMode::Opaque && desc.alphaMode != pa::AlphaMode::Mask) return;
   const ShineLook& shine = *look.shine;
   desc.shineTexture = shineTexture;
-  desc.shineTexCoords = pa::TexCoordSource::ReflectionSphere;
+  desc.shineTexCoords = shine.reflectionUv ? pa::TexCoordSource::ReflectionSphere : pa::TexCoordSource::Mesh;
   desc.shineUvTransform = uvTransformOf(shine.tcMods);
   desc.shineMaskedByBaseAlpha = shine.baseRedrawn;
   switch (shine.rgbGen) {
@@ -53,7 +53,7 @@ void applyShineLook(const ShaderLook& look, pa::TextureId shineTexture, pa::Mate
   } else {
     desc.shineBlend = pa::LayerBlend::Add;
   }
-  desc.specular = std::max(desc.specular, kReflectionSpecular);
+  if (shine.reflectionUv) desc.specular = std::max(desc.specular, kReflectionSpecular);
 }
 
 }  // namespace glue

@@ -29,11 +29,11 @@ inline constexpr float kReflectionSpecular = 0.5f;
 void applyReflectionLook(const ShaderLook& look, pa::MaterialDesc& desc);
 
 /// Sets desc's shine from look.shine (an opaque base with an environment-mapped stage over it),
-/// given the renderer texture of the shine image: reflection-sphere uvs through the stage's tcMods
-/// at time 0, its colour (rgbGen const as linear colour; lightingDiffuse / vertex: the vertex
+/// given the renderer texture of the shine image: reflection-sphere uvs (mesh uvs for a filter
+/// stage without tcGen environment) through the stage's tcMods at time 0, its colour (rgbGen const as linear colour; lightingDiffuse / vertex: the vertex
 /// colour, i.e. the entity light of models; other rgbGens: white), its blend (add: Add;
 /// gl_dst_color gl_src_color: Modulate2x; gl_dst_color gl_dst_alpha: MultiplyAdd) and, for the
-/// traced presets, the glossy lobe kReflectionSpecular. Leaves desc as it is when look has no
+/// traced presets, the glossy lobe kReflectionSpecular (environment-mapped shines only). Leaves desc as it is when look has no
 /// shine, the texture is kNoId or desc is not opaque / alpha-tested.
 void applyShineLook(const ShaderLook& look, pa::TextureId shineTexture, pa::MaterialDesc& desc);
 

@@ -53,33 +53,44 @@ bool isShineBlend(const q3::ShaderStage& stage) {
          (stage.srcBlend == F::DstColor && stage.dstBlend == F::DstAlpha);
 }
 
-/// The shine of an opaque base stage `base` (index first): the first later environment-mapped
-/// image stage with a shine blend.
+/// True for a stage that may be a shine: an image with a shine blend, environment-mapped, or
+/// on the mesh uvs when it filters (gl_dst_color ...: OpenArena's weapons brighten their paint by
+/// itself); added mesh-uv stages are left out (pulsing glows need the stage's time).
+bool isShineStage(const q3::ShaderStage& stage, bool environment) {
+  if (stage.source != q3::TextureSource::Image || stage.textures.empty() || !isShineBlend(stage)) return false;
+  if (environment) return stage.tcGen == q3::TcGen::Environment;
+  return stage.tcGen == q3::TcGen::Base && stage.srcBlend == q3::BlendFactor::DstColor;
+}
+
+/// The shine of an opaque base stage (index first): the first later environment-mapped image
+/// stage with a shine blend, else the first mesh-uv filter stage.
 std::optional<ShineLook> shineOf(const q3::ShaderDef& shader, size_t first) {
   const q3::ShaderStage& base = shader.stages[first];
-  for (size_t s = first + 1; s < shader.stages.size(); ++s) {
-    const q3::ShaderStage& stage = shader.stages[s];
-    if (stage.source != q3::TextureSource::Image || stage.textures.empty() ||
-        stage.tcGen != q3::TcGen::Environment || !isShineBlend(stage))
-      continue;
-    ShineLook shine;
-    shine.image = stage.textures.front();
-    shine.clamp = stage.clamp;
-    shine.tcMods = stage.tcMods;
-    shine.blend = {glBlendFactor(stage.srcBlend), glBlendFactor(stage.dstBlend)};
-    shine.rgbGen = stage.rgbGen;
-    shine.constColor = stage.constColor;
-    for (size_t r = s + 1; r < shader.stages.size(); ++r) {
-      const q3::ShaderStage& redraw = shader.stages[r];
-      shine.baseRedrawn = shine.baseRedrawn ||
-                          (redraw.source == q3::TextureSource::Image && redraw.textures == base.textures &&
-                           redraw.tcGen == base.tcGen && redraw.hasBlend &&
-                           redraw.srcBlend == q3::BlendFactor::SrcAlpha &&
-                           redraw.dstBlend == q3::BlendFactor::OneMinusSrcAlpha);
-    }
-    return shine;
+  size_t s = first + 1;
+  while (s < shader.stages.size() && !isShineStage(shader.stages[s], true)) ++s;
+  if (s == shader.stages.size()) {
+    s = first + 1;
+    while (s < shader.stages.size() && !isShineStage(shader.stages[s], false)) ++s;
   }
-  return std::nullopt;
+  if (s == shader.stages.size()) return std::nullopt;
+  const q3::ShaderStage& stage = shader.stages[s];
+  ShineLook shine;
+  shine.image = stage.textures.front();
+  shine.clamp = stage.clamp;
+  shine.reflectionUv = stage.tcGen == q3::TcGen::Environment;
+  shine.tcMods = stage.tcMods;
+  shine.blend = {glBlendFactor(stage.srcBlend), glBlendFactor(stage.dstBlend)};
+  shine.rgbGen = stage.rgbGen;
+  shine.constColor = stage.constColor;
+  for (size_t r = s + 1; r < shader.stages.size(); ++r) {
+    const q3::ShaderStage& redraw = shader.stages[r];
+    shine.baseRedrawn = shine.baseRedrawn ||
+                        (redraw.source == q3::TextureSource::Image && redraw.textures == base.textures &&
+                         redraw.tcGen == base.tcGen && redraw.hasBlend &&
+                         redraw.srcBlend == q3::BlendFactor::SrcAlpha &&
+                         redraw.dstBlend == q3::BlendFactor::OneMinusSrcAlpha);
+  }
+  return shine;
 }
 
 }  // namespace

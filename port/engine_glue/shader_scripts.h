@@ -29,10 +29,12 @@ using AlphaTest = q3::AlphaTest;
 
 /// A shine stage over an opaque base: a later tcGen environment stage that adds to
 /// (blendfunc add) or filters (gl_dst_color gl_src_color / gl_dst_alpha) the base, e.g. the chrome
-/// of a weapon. Drawn in the same renderer material as the base (MaterialDesc::shineTexture).
+/// of a weapon, or failing one a mesh-uv filter stage (paint brightened by itself). Drawn in the
+/// same renderer material as the base (MaterialDesc::shineTexture).
 struct ShineLook {
   std::string image;                          ///< The stage's map (its first animMap frame).
   bool clamp = false;                         ///< clampMap.
+  bool reflectionUv = true;                   ///< tcGen environment (else the mesh uvs).
   std::vector<q3::TcMod> tcMods;              ///< Applied to the reflection uvs.
   BlendFunc blend;                            ///< (GL_ONE, GL_ONE), (GL_DST_COLOR, GL_SRC_COLOR) or (GL_DST_COLOR, GL_DST_ALPHA).
   q3::RgbGen rgbGen = q3::RgbGen::Default;    ///< The stage's rgbGen as written.

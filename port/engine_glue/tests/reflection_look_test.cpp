@@ -127,10 +127,30 @@ TEST(ShineLook, DstAlphaFilterAndConstColourAndTcMods) {
   EXPECT_FLOAT_EQ(desc.shineUvTransform[1][1], 2.0f);
 }
 
+TEST(ShineLook, MeshUvFilterIsTheShineWhenNoStageIsEnvironmentMapped) {
+  // OpenArena 0.8.8's grenade launcher: the paint brightened by itself, dst (1 + src).
+  const ShaderLook look = lookOf(R"(models/weapons2/grenadel/grenadel
+  { { map models/weapons2/grenadel/grenadel.tga rgbGen lightingDiffuse }
+    { map models/weapons2/grenadel/grenadel.tga blendfunc gl_dst_color gl_dst_alpha rgbGen lightingDiffuse
+      alphaGen lightingSpecular } })");
+  ASSERT_TRUE(look.shine.has_value());
+  EXPECT_FALSE(look.shine->reflectionUv);
+  pa::MaterialDesc desc;
+  applyShineLook(look, 4, desc);
+  EXPECT_EQ(desc.shineTexCoords, pa::TexCoordSource::Mesh);
+  EXPECT_EQ(desc.shineBlend, pa::LayerBlend::MultiplyAdd);
+  EXPECT_FLOAT_EQ(desc.specular, 0.0f);   // paint, not chrome: no glossy lobe
+  // An environment-mapped stage wins over an earlier mesh-uv filter (the shotgun's detail).
+  const ShaderLook both = lookOf(R"(s { { map paint.tga } { map d_met.tga blendfunc gl_dst_color gl_src_color tcMod scale 8 8 }
+    { map gunmetal.tga blendfunc gl_dst_color gl_dst_alpha tcGen environment } })");
+  ASSERT_TRUE(both.shine.has_value());
+  EXPECT_EQ(both.shine->image, "gunmetal.tga");
+}
+
 TEST(ShineLook, OnlyOpaqueBasesWithEnvironmentMappedShineBlendsGetOne) {
   // Additive base: later stages stay layers.
   EXPECT_FALSE(lookOf("a { { map a.tga blendfunc add } { map b.tga blendfunc add tcGen environment } }").shine);
-  // Shine stage without tcGen environment, or with an alpha blend: not a shine.
+  // Added stage without tcGen environment, or an alpha blend: not a shine.
   EXPECT_FALSE(lookOf("b { { map a.tga } { map b.tga blendfunc add } }").shine);
   EXPECT_FALSE(lookOf("c { { map a.tga } { map b.tga blendfunc blend tcGen environment } }").shine);
   // A lightmap stage between base and shine does not hide the shine.
