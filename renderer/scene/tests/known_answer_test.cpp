@@ -288,5 +288,27 @@ TEST(KnownAnswer, LightmapPresetComposesTheShineInDisplayValues) {
   EXPECT_NEAR(shineOverLitBase(LayerBlend::Add, 1.0f, false, Integrator::Direct).x, 0.0f, 1e-6f);
 }
 
+TEST(KnownAnswer, MeshUvShineFollowsTheMeshUvs) {
+  // A black base under a red-left / green-right shine on the mesh uvs (clamped): opposite
+  // corners of the view show one colour each, added at full strength.
+  Renderer r({2});
+  const std::vector<uint8_t> shine = {255, 0, 0, 255, 0, 255, 0, 255};
+  TextureDesc shineDesc{2, 1, shine, true};
+  shineDesc.wrap = TextureWrap::Clamp;
+  shineDesc.mipmaps = false;
+  MaterialDesc m = test::diffuse(0.0f);
+  m.shineTexture = r.addTexture(shineDesc);
+  m.shineTexCoords = TexCoordSource::Mesh;
+  test::MeshArrays q = test::quad({-0.5f, -0.5f, 0}, {1, 0, 0}, {0, 1, 0});
+  q.setMaterial(r.addMaterial(m));
+  r.addInstance({r.addMesh(q.desc())});
+  r.commit();
+  const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 30.0f), settingsFor(Integrator::Lightmap, 4, 1));
+  const glm::vec3 first = f.radiance[0], last = f.radiance[15];   // opposite corners: u near 0.1 and 0.9
+  const bool firstRed = first.r > 0.99f && first.g < 0.01f && last.g > 0.99f && last.r < 0.01f;
+  const bool firstGreen = first.g > 0.99f && first.r < 0.01f && last.r > 0.99f && last.g < 0.01f;
+  EXPECT_TRUE(firstRed != firstGreen) << "first " << first.r << " " << first.g << ", last " << last.r << " " << last.g;
+}
+
 }  // namespace
 }  // namespace pa

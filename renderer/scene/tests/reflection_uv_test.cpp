@@ -132,5 +132,21 @@ TEST(ReflectionUv, RejectsAnUnknownSource) {
   EXPECT_THROW(renderer.addMaterial(material), SceneError);
 }
 
+TEST(ReflectionUv, RejectsABadShine) {
+  Renderer renderer{RendererConfig{1}};
+  MaterialDesc unknownTexture;
+  unknownTexture.shineTexture = 3;   // no textures added
+  EXPECT_THROW(renderer.addMaterial(unknownTexture), SceneError);
+  MaterialDesc unknownSource;
+  unknownSource.shineTexCoords = static_cast<TexCoordSource>(7);
+  EXPECT_THROW(renderer.addMaterial(unknownSource), SceneError);
+  MaterialDesc unknownBlend;
+  unknownBlend.shineBlend = static_cast<LayerBlend>(42);
+  EXPECT_THROW(renderer.addMaterial(unknownBlend), SceneError);
+  MaterialDesc negativeColour;
+  negativeColour.shineColor = glm::vec3(-1.0f);
+  EXPECT_THROW(renderer.addMaterial(negativeColour), SceneError);
+}
+
 }  // namespace
 }  // namespace pa
