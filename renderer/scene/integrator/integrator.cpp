@@ -248,8 +248,10 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     const Bsdf bsdf(albedo, m.desc.specular, m.desc.roughness, m.desc.mirror, ns, ng);
     const glm::vec4 uLight = sampler.get4(group + kGroupLight);
     if (!bsdf.isDelta()) {
-      const glm::vec3 direct =
+      glm::vec3 direct =
           sampleDirectLight(scene, s, bsdf, wo, ng, ns, uLight, sampler.bits(group + kGroupRays + 1000));
+      const AmbientLight& ambient = scene.sky.ambient();   // the author's unshadowed ambient and floor
+      if (ambient.active()) direct = ambient.apply(direct, albedo * (1.0f - std::clamp(m.desc.specular, 0.0f, 1.0f)));
       radiance += clampContribution(beta * direct, depth + 1, settings.radianceClamp);   // never exempt
     }
 

@@ -226,6 +226,8 @@ void SceneStore::setSky(const SkyDesc& sky) {
   if (!std::isfinite(sky.lightingScale) || sky.lightingScale < 0.0f) {
     throw SceneError("setSky: lightingScale must be finite and >= 0");
   }
+  requireNonNegative(sky.ambientRadiance, "setSky", "ambientRadiance");
+  requireNonNegative(sky.minimumRadiance, "setSky", "minimumRadiance");
   sky_ = sky;
   dirty_ = true;
 }
