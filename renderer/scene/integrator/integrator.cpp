@@ -109,7 +109,7 @@ glm::vec3 environmentRadiance(const RenderScene& scene, const glm::vec3& dir, co
                               bool scattered) {
   const glm::vec3 le = scattered ? scene.sky.lightingRadiance(dir) : scene.sky.radiance(dir);
   if (prev.delta) return le;
-  return le * sampling::powerHeuristic(prev.bsdfPdf, scene.lights.skyPdf(prev.normal, dir));
+  return le * sampling::powerHeuristic(prev.bsdfPdf, scene.lights.skyPdf(prev.position, prev.normal, dir));
 }
 
 /// Additive surfaces in front of tHit, each dimmed by the fog between it and the ray origin.
