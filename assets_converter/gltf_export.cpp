@@ -353,6 +353,8 @@ class Exporter {
                        {"lightmapOverbrightScale", q3::kLightmapOverbrightScale},
                        {"sky", std::move(sky)},
                        {"fogs", std::move(fogs)},
+                       {"ambientLight", vec3Json(scene_.ambientLight)},    // worldspawn _ambient x _color
+                       {"minimumLight", vec3Json(scene_.minimumLight)},    // worldspawn _minlight x _color
                        {"warnings", scene_.warnings.size()}}}};
   }
 

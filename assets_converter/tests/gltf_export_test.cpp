@@ -231,6 +231,20 @@ TEST(GltfExport, FogVolumesGoToTheSceneExtrasInQuakeUnits) {
   EXPECT_FLOAT_EQ(fogs[0]["depthForOpaque"].get<float>(), 256.0f);
 }
 
+TEST(GltfExport, WorldspawnAmbientGoesToTheSceneExtrasAsLightValues) {
+  q3::WorldScene scene = sceneWithMaterials({texturedMaterial("a")});
+  scene.ambientLight = {46.0f, 28.0f, 28.0f};
+  scene.minimumLight = glm::vec3(32.0f);
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene));
+  json quake;
+  for (const json& node : doc["nodes"])
+    if (node.contains("extras") && node["extras"].contains("quake") && node["extras"]["quake"].contains("ambientLight"))
+      quake = node["extras"]["quake"];
+  ASSERT_FALSE(quake.is_null());
+  EXPECT_EQ(quake["ambientLight"], json::array({46.0, 28.0, 28.0}));
+  EXPECT_EQ(quake["minimumLight"], json::array({32.0, 32.0, 32.0}));
+}
+
 glm::vec3 localMinusZ(const json& node) {
   glm::quat q(node["rotation"][3].get<float>(), node["rotation"][0].get<float>(), node["rotation"][1].get<float>(),
               node["rotation"][2].get<float>());

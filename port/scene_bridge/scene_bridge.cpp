@@ -292,6 +292,10 @@ SkyDesc skyDesc(const q3::WorldScene& scene, const WorldHandles& handles, const 
   SkyDesc sky;
   sky.color = scene.sky.color;
   sky.intensity = options.skyIntensity;
+  // The worldspawn's ambient light and floor, on every surface whatever the lights (not the sky's
+  // light: they do not scale with skyIntensity).
+  sky.ambientRadiance = scene.ambientLight * (q3::ambientLightRadiance(1.0f) * options.lightScale);
+  sky.minimumRadiance = scene.minimumLight * (q3::ambientLightRadiance(1.0f) * options.lightScale);
   bool allFaces = true;
   glm::vec3 faceMean(0.0f);
   for (size_t f = 0; f < 6; ++f) {

@@ -70,7 +70,9 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
 /// did: SkyDesc::lightingScale brings the box's mean to the radiance of the sky shader's
 /// q3map_skylight, or to 0 when the shader lit the map by q3map_sun alone. Other boxes keep
 /// their look as their light; a box-less sky shows and lights with the radiance of its
-/// q3map_surfacelight + q3map_skylight.
+/// q3map_surfacelight + q3map_skylight. Carries the worldspawn's `_ambient` / `_minlight`
+/// (WorldScene::ambientLight, minimumLight) as ambientRadiance / minimumRadiance, light value / 64
+/// times lightScale.
 SkyDesc skyDesc(const q3::WorldScene& scene, const WorldHandles& handles, const UploadOptions& options = {});
 
 /// Radiance (RGB) with which skyDesc()'s sky lights surfaces (its lighting, not its look):

@@ -26,7 +26,8 @@
 // - Integrators: Lightmap = emission + base colour x (lightmap texture at lightmapUvs, or the
 //   vertex colour with useVertexLight, or 1 when neither: fullbright). Direct = emission +
 //   one light sample per camera sample (lights picked by power) with MIS against one BSDF
-//   sample. Path = the same at every vertex.
+//   sample, plus the sky's ambient terms (SkyDesc::ambientRadiance, minimumRadiance). Path =
+//   the same at every vertex.
 // - maxBounces counts diffuse/glossy scattering events: 0 = emission and sky only,
 //   1 = direct lighting, N = paths of up to N scattering vertices. Mirror bounces are free
 //   (capped at maxBounces + 8 in total).
@@ -232,6 +233,16 @@ struct SkyDesc {
   /// glossy bounce); what the camera and mirrors see stays color * intensity. Lets a dark
   /// cube map light a scene as brightly as its author intended. 0 = the sky lights nothing.
   float lightingScale = 1.0f;
+  /// Ambient light the scene's author asked for on every surface, unshadowed (Quake III
+  /// worldspawn `_ambient`): radiance arriving from every direction that no occluder stops. At
+  /// each diffuse or glossy path vertex of Direct and Path a surface of diffuse albedo a reflects
+  /// a x ambientRadiance more (see lights/ambient.h); Lightmap ignores it (the bake holds it).
+  glm::vec3 ambientRadiance{0.0f};
+  /// The author's floor (worldspawn `_minlight`): at the same vertices the radiance reflected from
+  /// that vertex's light sample plus the ambient term is raised, per channel, to at least
+  /// a x minimumRadiance. Applied per sample, so under noisy light it converges to between the
+  /// floor of the mean and the floor added (see lights/ambient.h).
+  glm::vec3 minimumRadiance{0.0f};
 };
 
 /// A portal: the plane of a window (mirror-material surfaces on it) and where rays that enter it

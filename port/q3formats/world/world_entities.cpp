@@ -1,4 +1,5 @@
-// Lights and cameras from map entities, with q3map2's semantics for `light` entities.
+// Lights and cameras from map entities, with q3map2's semantics for `light` entities and the
+// worldspawn's ambient light keys.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -83,6 +84,31 @@ bool isSpawnPoint(std::string_view cls) {
          cls == "info_player_intermission";
 }
 
+/// A non-negative light value of the worldspawn (q3map2 reads it with atof: malformed = 0).
+float worldspawnLightValue(const SourceEntity& e, size_t index, std::string_view key, WorldScene& scene) {
+  const std::string* text = findKey(e, key);
+  if (!text) return 0.0f;
+  const std::optional<float> value = floatKey(e, key);
+  if (!value || *value < 0.0f) {
+    scene.warnings.push_back(describe(e, index) + ": " + std::string(key) + " \"" + *text +
+                             "\" is not a non-negative number, ignored");
+    return 0.0f;
+  }
+  return *value;
+}
+
+/// q3map2's LightWorld: `_color` (raw, white when its length is 0) times `_ambient` (else
+/// `ambient`), added to every texel, and times `_minlight`, every texel's floor.
+void readWorldspawnLight(const SourceEntity& e, size_t index, WorldScene& scene) {
+  glm::vec3 color = vecKey(e, "_color").value_or(glm::vec3(0.0f));
+  color = glm::max(color, glm::vec3(0.0f));
+  if (!(glm::length(color) > 0.0f)) color = glm::vec3(1.0f);
+  float ambient = worldspawnLightValue(e, index, "_ambient", scene);
+  if (ambient == 0.0f) ambient = worldspawnLightValue(e, index, "ambient", scene);
+  scene.ambientLight = color * ambient;
+  scene.minimumLight = color * worldspawnLightValue(e, index, "_minlight", scene);
+}
+
 }  // namespace
 
 void addEntityLightsAndCameras(const std::vector<SourceEntity>& entities, WorldScene& scene) {
@@ -92,10 +118,17 @@ void addEntityLightsAndCameras(const std::vector<SourceEntity>& entities, WorldS
     return std::nullopt;
   };
 
+  bool worldspawnRead = false;
   for (size_t i = 0; i < entities.size(); ++i) {
     const SourceEntity& e = entities[i];
     const std::string* cls = findKey(e, "classname");
     if (!cls) continue;
+
+    if (*cls == "worldspawn" && !worldspawnRead) {
+      readWorldspawnLight(e, i, scene);
+      worldspawnRead = true;
+      continue;
+    }
 
     if (*cls == "light") {
       auto origin = vecKey(e, "origin");

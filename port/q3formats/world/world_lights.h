@@ -43,6 +43,11 @@ inline float surfaceLightRadiance(float surfaceLight) {
   return surfaceLight * kQ3mapFormFactorValueScale * kQ3mapAreaScale / kQ3FullBright;
 }
 
+/// Ambient radiance (reflected radiance per unit albedo) of a worldspawn `_ambient` / `_minlight`
+/// light value: the compiler adds (or floors) `value` on every texel, which shows the texture
+/// times value / 64; a Lambertian surface under a uniform radiance L reflects albedo x L.
+inline float ambientLightRadiance(float value) { return value / kQ3FullBright; }
+
 /// Uniform sky radiance that lights an upward surface like q3map_skylight (value, iterations):
 /// q3map2 spreads `value` over 4(n-1)^2 + 1 suns on n-1 elevation rings (90/n degrees apart,
 /// the first at half a step) plus one at the zenith, so an unshadowed upward surface receives

@@ -196,6 +196,11 @@ struct WorldScene {
   std::vector<WorldCamera> cameras;
   std::vector<WorldFog> fogs;
   WorldLightGrid lightGrid;
+  /// Worldspawn `_ambient` (else `ambient`) x `_color`, in q3map2 light values (64 = full bright):
+  /// the compiler added it to every lightmap texel before any light.
+  glm::vec3 ambientLight{0.0f};
+  /// Worldspawn `_minlight` x `_color` (light values): the compiler's floor on every lightmap texel.
+  glm::vec3 minimumLight{0.0f};
   std::vector<std::string> warnings;     ///< Content problems found (missing textures, bad keys, ...).
 };
 

@@ -64,7 +64,8 @@ struct SourceWorld {
 WorldScene assembleWorldScene(const SourceWorld& source, const ShaderLibrary& shaders, const FileLoader& loadFile,
                               const WorldBuildOptions& options = {});
 
-/// Lights and cameras from the entity list (light, spot via target, spawn points, intermission).
+/// Lights and cameras from the entity list (light, spot via target, spawn points, intermission)
+/// and the first worldspawn's ambient light keys (scene.ambientLight / minimumLight).
 /// Appends to scene.lights / scene.cameras, problems to scene.warnings.
 void addEntityLightsAndCameras(const std::vector<SourceEntity>& entities, WorldScene& scene);
 

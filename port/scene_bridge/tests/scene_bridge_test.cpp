@@ -168,6 +168,38 @@ TEST(SceneBridge, PointLightAtFullBrightDistanceGivesRadianceOne) {
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 4), 1.0f, 0.05f);
 }
 
+TEST(SceneBridge, WorldspawnAmbientAndMinlightLightTheWallAsTheyLitItsTexels) {
+  // `_ambient 64` or `_minlight 64` with no light: every texel at 64 ("texture unmodified"),
+  // so Direct shows the white wall at radiance 1, Lightmap the texture unmodified too.
+  for (bool floor : {false, true}) {
+    q3::WorldScene scene = wallScene(64, false);
+    (floor ? scene.minimumLight : scene.ambientLight) = glm::vec3(64.0f);
+    Renderer renderer;
+    uploadWorld(scene, renderer);
+    renderer.commit();
+    EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 4), 1.0f, 1e-5f) << floor;
+    EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), 1.0f, 0.01f) << floor;
+  }
+  // A floor under a full-bright point light changes nothing; an ambient adds to it.
+  q3::WorldScene scene = wallScene(64, false);
+  const float d = std::sqrt(300.0f * q3::kQ3mapPointScale / q3::kQ3FullBright);
+  q3::WorldLight light;
+  light.position = {d, 0, 0};
+  light.intensity = q3::pointLightIntensity(300.0f);
+  scene.lights.push_back(light);
+  scene.minimumLight = glm::vec3(32.0f);
+  Renderer floored;
+  uploadWorld(scene, floored);
+  floored.commit();
+  EXPECT_NEAR(centreRadiance(floored, Integrator::Direct, 4), 1.0f, 0.05f);
+  scene.ambientLight = glm::vec3(32.0f);
+  Renderer ambient;
+  uploadWorld(scene, ambient);
+  ambient.commit();
+  EXPECT_NEAR(centreRadiance(ambient, Integrator::Direct, 4) - centreRadiance(floored, Integrator::Direct, 4), 0.5f,
+              1e-4f);
+}
+
 TEST(SceneBridge, SurfaceLightEmitsItsQ3map2Radiance) {
   q3::WorldScene scene = wallScene(64, false);
   scene.materials[0].surfaceLight = 1000.0f;
@@ -311,6 +343,20 @@ TEST(SceneBridgeSky, SunOnlySkyLightsNothingAndUnlitSkyKeepsItsLook) {
   flat.sky.skyLight = 0.0f;
   flat.sky.sunLit = true;
   EXPECT_EQ(skyDesc(flat, WorldHandles{}).lightingScale, 0.0f);
+}
+
+TEST(SceneBridgeSky, CarriesTheWorldspawnAmbientAsRadiancePerAlbedo) {
+  auto [scene, handles] = skyBoxScene(100);
+  scene.ambientLight = {46.0f, 28.0f, 28.0f};
+  scene.minimumLight = glm::vec3(32.0f);
+  UploadOptions options;
+  options.lightScale = 2.0f;
+  options.skyIntensity = 5.0f;   // the sky's brightness, not the ambient's
+  for (const SkyDesc& sky : {skyDesc(scene, handles, options), skyDesc(q3::WorldScene(scene), WorldHandles{}, options)}) {
+    EXPECT_NEAR(sky.ambientRadiance.r, 2.0f * 46.0f / 64.0f, 1e-6f);
+    EXPECT_NEAR(sky.ambientRadiance.g, 2.0f * 28.0f / 64.0f, 1e-6f);
+    EXPECT_EQ(sky.minimumRadiance, glm::vec3(1.0f));
+  }
 }
 
 }  // namespace

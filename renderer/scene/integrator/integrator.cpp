@@ -109,7 +109,7 @@ glm::vec3 environmentRadiance(const RenderScene& scene, const glm::vec3& dir, co
                               bool scattered) {
   const glm::vec3 le = scattered ? scene.sky.lightingRadiance(dir) : scene.sky.radiance(dir);
   if (prev.delta) return le;
-  return le * sampling::powerHeuristic(prev.bsdfPdf, scene.lights.skyPdf(prev.normal, dir));
+  return le * sampling::powerHeuristic(prev.bsdfPdf, scene.lights.skyPdf(prev.position, prev.normal, dir));
 }
 
 /// Additive surfaces in front of tHit, each dimmed by the fog between it and the ray origin.
@@ -263,8 +263,10 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     const Bsdf bsdf(albedo, m.desc.specular, m.desc.roughness, m.desc.mirror, ns, ng);
     const glm::vec4 uLight = sampler.get4(group + kGroupLight);
     if (!bsdf.isDelta()) {
-      const glm::vec3 direct =
+      glm::vec3 direct =
           sampleDirectLight(scene, s, bsdf, wo, ng, ns, uLight, sampler.bits(group + kGroupRays + 1000));
+      const AmbientLight& ambient = scene.sky.ambient();   // the author's unshadowed ambient and floor
+      if (ambient.active()) direct = ambient.apply(direct, albedo * (1.0f - std::clamp(m.desc.specular, 0.0f, 1.0f)));
       radiance += clampContribution(beta * direct, depth + 1, settings.radianceClamp);   // never exempt
     }
 

@@ -161,12 +161,55 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
     power.push_back(kPi * meanComponent(sky.average()) * area);
   }
   table_ = sampling::AliasTable(power);
+  std::vector<double> environmentPower;
+  for (uint32_t entry = 0; entry < table_.size(); ++entry) {
+    const bool sun = entry < analytic_.size() && analytic_[entry].type == LightType::Directional;
+    if ((!sun && entry != skyEntry_) || !(table_.pdf(entry) > 0.0f)) continue;
+    environmentEntries_.push_back(entry);
+    environmentPower.push_back(table_.pdf(entry));
+    environmentShare_ += table_.pdf(entry);
+  }
+  environmentTable_ = sampling::AliasTable(environmentPower);
+  if (environmentTable_.empty()) environmentShare_ = 0.0;
+}
+
+std::vector<glm::vec3> LightSampler::sunDirections() const {
+  std::vector<glm::vec3> directions;
+  for (const LightDesc& l : analytic_)
+    if (l.type == LightType::Directional) directions.push_back(l.direction);
+  return directions;
+}
+
+float LightSampler::entryProbability(uint32_t entry, const glm::vec3& p, const glm::vec3& n) const {
+  const float own = table_.pdf(entry);
+  const double kept = environmentScale(p, n);
+  if (kept >= 1.0) return own;
+  // The environment entries keep that fraction of their probability, all renormalised.
+  const double norm = 1.0 - environmentShare_ + kept * environmentShare_;
+  const bool environment = entry != localEntry_;
+  return float(double(own) * (environment ? kept : 1.0) / norm);
 }
 
 bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const {
   if (table_.empty()) return false;
-  const uint32_t entry = table_.sample(u.x);
-  float selection = table_.pdf(entry);
+  uint32_t entry;
+  float selection;
+  if (const float scale = environmentScale(p, n); scale < 1.0f) {
+    // Sun and sky hard to reach from here: the local emitters take what they give up.
+    const double kept = double(scale) * environmentShare_;
+    const float environment = float(kept / (1.0 - environmentShare_ + kept));
+    if (u.x < environment) {
+      const uint32_t k = environmentTable_.sample(std::min(u.x / environment, 0x1.fffffep-1f));
+      entry = environmentEntries_[k];
+      selection = environment * environmentTable_.pdf(k);
+    } else {
+      entry = localEntry_;
+      selection = 1.0f - environment;
+    }
+  } else {
+    entry = table_.sample(u.x);
+    selection = table_.pdf(entry);
+  }
   if (!(selection > 0.0f)) return false;
   const glm::vec2 uv(u.y, u.z);
   bool ok;
@@ -307,7 +350,7 @@ float LightSampler::emissiveSelection(uint32_t index, const glm::vec3& p, const 
   if (localEntry_ == UINT32_MAX || index >= triangles_.size()) return 0.0f;
   const LocalSplit split = localSplit(p, n);
   if (!(split.emissive > 0.0f)) return 0.0f;
-  return table_.pdf(localEntry_) * split.emissive * emissiveTree_.pmf(index, p, n);
+  return entryProbability(localEntry_, p, n) * split.emissive * emissiveTree_.pmf(index, p, n);
 }
 
 float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const {
@@ -320,11 +363,11 @@ float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::v
   return emissiveSelection(index, p, n) * dist2 / (tri.area * cosLight);
 }
 
-float LightSampler::skyPdf(const glm::vec3& n, const glm::vec3& wi) const {
+float LightSampler::skyPdf(const glm::vec3& p, const glm::vec3& n, const glm::vec3& wi) const {
   if (skyEntry_ == UINT32_MAX) return 0.0f;
   const float directional =
       sky_.importanceSampled() ? sky_.pdf(wi) : std::max(0.0f, glm::dot(wi, n)) * sampling::kInvPi;
-  return table_.pdf(skyEntry_) * directional;
+  return entryProbability(skyEntry_, p, n) * directional;
 }
 
 }  // namespace pa

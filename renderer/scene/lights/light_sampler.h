@@ -13,8 +13,11 @@
 // The sky's and the sun's pdfs (MIS) do not depend on the shading point; a triangle's does
 // (position and normal of the point that sampled it). Each light is then sampled by solid angle
 // (point-like lights, sun cone, sky cosine lobe) or uniformly by area (triangles, converted to
-// solid angle).
+// solid angle). Where an EnvironmentVisibility map says few rays from a point's surroundings reach
+// sun or sky, the sun and sky keep only that fraction of their share there
+// (environment_visibility.h); their pdfs then depend on the shading point too.
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -23,6 +26,7 @@
 #include <glm/vec4.hpp>
 
 #include "renderer/core/bounds.h"
+#include "renderer/scene/lights/environment_visibility.h"
 #include "renderer/scene/lights/light_tree.h"
 #include "renderer/scene/lights/sky.h"
 #include "renderer/scene/sampling/alias_table.h"
@@ -78,8 +82,18 @@ class LightSampler {
   float emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const;
   /// Probability with which sample() picks the emissive triangle `index` at p, n (no area pdf).
   float emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n) const;
-  /// Solid-angle pdf with which sample() picks sky direction wi from a point with normal n.
-  float skyPdf(const glm::vec3& n, const glm::vec3& wi) const;
+  /// Solid-angle pdf with which sample() picks sky direction wi from point p with normal n.
+  float skyPdf(const glm::vec3& p, const glm::vec3& n, const glm::vec3& wi) const;
+  /// True when sun or sky and local emitters share the choice: the only case where an
+  /// EnvironmentVisibility map changes anything.
+  bool mixesEnvironmentAndLocal() const { return localEntry_ != UINT32_MAX && environmentShare_ > 0.0; }
+  /// The unit directions the sun lights travel (what an EnvironmentVisibility map traces).
+  std::vector<glm::vec3> sunDirections() const;
+  /// Where sun and sky can reach (null: everywhere). Shared: it outlives commits that keep the
+  /// world, the suns and the sky.
+  void setEnvironmentVisibility(std::shared_ptr<const EnvironmentVisibility> visibility) {
+    visibility_ = std::move(visibility);
+  }
   /// The emissive triangles (index as in emissivePdf).
   std::span<const EmissiveTriangle> triangles() const { return triangles_; }
 
@@ -96,6 +110,13 @@ class LightSampler {
   bool pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total, uint32_t& index,
                       float& probability) const;
   bool sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
+  /// Probability that sample() picks table entry `entry` at p, n (the table's own where the
+  /// environment keeps its full share).
+  float entryProbability(uint32_t entry, const glm::vec3& p, const glm::vec3& n) const;
+  /// Fraction of their table probability the sun and sky keep at p, n (before renormalising).
+  float environmentScale(const glm::vec3& p, const glm::vec3& n) const {
+    return visibility_ != nullptr && mixesEnvironmentAndLocal() ? visibility_->share(p, n) : 1.0f;
+  }
 
   std::vector<LightDesc> analytic_;
   std::vector<EmissiveTriangle> triangles_;
@@ -105,6 +126,10 @@ class LightSampler {
   LightTree emissiveTree_;             ///< Over triangles_ (same indices).
   std::vector<uint32_t> localLights_;   ///< Indices into analytic_ of the point and spot lights.
   sampling::AliasTable table_;
+  std::vector<uint32_t> environmentEntries_;   ///< Table entries of the suns and the sky.
+  sampling::AliasTable environmentTable_;      ///< Over environmentEntries_, the same proportions.
+  double environmentShare_ = 0.0;              ///< Summed table probability of those entries.
+  std::shared_ptr<const EnvironmentVisibility> visibility_;
 };
 
 /// Distance falloff factor of a point or spot light at distance d (0 beyond range).

@@ -55,7 +55,9 @@ CubeLookup cubeLookup(const glm::vec3& d) {
 }
 
 Sky::Sky(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>& textures)
-    : scale_(desc.color * desc.intensity), lightingScale_(desc.lightingScale) {
+    : scale_(desc.color * desc.intensity),
+      lightingScale_(desc.lightingScale),
+      ambient_{desc.ambientRadiance, desc.minimumRadiance} {
   glm::vec3 faceMean(0.0f);
   for (size_t i = 0; i < 6; ++i) {
     if (desc.faces[i] == kNoId) continue;

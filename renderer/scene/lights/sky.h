@@ -1,11 +1,13 @@
 #pragma once
-// The environment: a constant radiance or a cube map (six textures) times colour * intensity.
+// The environment: a constant radiance or a cube map (six textures) times colour * intensity,
+// and the scene's unshadowed ambient terms (lights/ambient.h).
 #include <array>
 #include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "renderer/scene/lights/ambient.h"
 #include "renderer/scene/sampling/alias_table.h"
 #include "renderer/scene/scene_types.h"
 #include "renderer/scene/textures/texture.h"
@@ -56,6 +58,8 @@ class Sky {
   float pdf(const glm::vec3& dir) const;
   /// True when the sky lights nothing.
   bool black() const { return average_.x <= 0.0f && average_.y <= 0.0f && average_.z <= 0.0f; }
+  /// The scene-wide ambient terms (SkyDesc::ambientRadiance, SkyDesc::minimumRadiance).
+  const AmbientLight& ambient() const { return ambient_; }
 
  private:
   glm::vec3 scale_{0.0f};
@@ -64,6 +68,7 @@ class Sky {
   bool hasFaces_ = false;
   glm::vec3 average_{0.0f};
   sampling::AliasTable table_;
+  AmbientLight ambient_;
 
   void buildImportance();
 };

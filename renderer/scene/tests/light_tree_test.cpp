@@ -283,7 +283,7 @@ TEST(LightSampler, SkyWindowsBoundTheSkyAndSunShares) {
   const double skyPower = kPi * 400.0, sunPower = 2.0 * 400.0 * 0.8, emitterPower = kPi * 50.0;
   const double total = skyPower + sunPower + emitterPower;
   // skyPdf(n, n) = share x cosine-lobe pdf (1 / pi) for a constant sky.
-  EXPECT_NEAR(enclosed.skyPdf(n, n) * kPi, skyPower / total, 1e-4);
+  EXPECT_NEAR(enclosed.skyPdf(glm::vec3(3, 3, 5), n, n) * kPi, skyPower / total, 1e-4);
   EXPECT_NEAR(enclosed.emissiveSelection(0, glm::vec3(3, 3, 5), -n), emitterPower / total, 1e-4);
   // Without windows (open scene) the bounding disc of radius 1732 dwarfs the emitter.
   const LightSampler open(lights, tris, sky, scene);

@@ -81,6 +81,7 @@ class SceneStore {
   SkyDesc sky_;
   std::vector<PortalDesc> portals_;
   std::vector<FogVolume> fogs_;
+  EnvironmentVisibilityCache environmentVisibility_;   ///< Where sun and sky reach (lights/).
   bool dirty_ = true;
 };
 

@@ -38,6 +38,37 @@ TEST(WorldEntities, PointLightWithDefaultsAndColour) {
   EXPECT_EQ(scene.lights[1].source, "entity 2 (light)");
 }
 
+TEST(WorldEntities, WorldspawnAmbientAndMinlightTimesRawColour) {
+  // q3map2 LightWorld: `_color` as written (not normalised), `_ambient` else `ambient`, `_minlight`.
+  std::vector<SourceEntity> entities = {
+      {{"classname", "worldspawn"}, {"_color", "1 0.61 0.5"}, {"ambient", "46"}, {"_minlight", "32"}},
+      {{"classname", "worldspawn"}, {"_ambient", "99"}},   // only the first worldspawn counts
+  };
+  WorldScene scene;
+  addEntityLightsAndCameras(entities, scene);
+  EXPECT_FLOAT_EQ(scene.ambientLight.r, 46.0f);
+  EXPECT_FLOAT_EQ(scene.ambientLight.g, 46.0f * 0.61f);
+  EXPECT_FLOAT_EQ(scene.ambientLight.b, 23.0f);
+  EXPECT_FLOAT_EQ(scene.minimumLight.g, 32.0f * 0.61f);
+  EXPECT_TRUE(scene.warnings.empty());
+
+  entities = {{{"classname", "worldspawn"}, {"_ambient", "10"}, {"ambient", "50"}, {"minlight", "40"}}};
+  scene = {};
+  addEntityLightsAndCameras(entities, scene);
+  EXPECT_EQ(scene.ambientLight, glm::vec3(10.0f));   // `_ambient` wins; white without `_color`
+  EXPECT_EQ(scene.minimumLight, glm::vec3(0.0f));    // q3map2 reads only `_minlight`
+}
+
+TEST(WorldEntities, MalformedWorldspawnLightIsIgnoredWithAWarning) {
+  std::vector<SourceEntity> entities = {
+      {{"classname", "worldspawn"}, {"_ambient", "-5"}, {"_minlight", "bright"}, {"_color", "0 0 0"}}};
+  WorldScene scene;
+  addEntityLightsAndCameras(entities, scene);
+  EXPECT_EQ(scene.ambientLight, glm::vec3(0.0f));
+  EXPECT_EQ(scene.minimumLight, glm::vec3(0.0f));
+  EXPECT_EQ(scene.warnings.size(), 2u);
+}
+
 TEST(WorldEntities, TargetedLightIsASpotWithQ3map2Cone) {
   std::vector<SourceEntity> entities = {
       {{"classname", "light"}, {"origin", "0 0 256"}, {"target", "t1"}, {"radius", "48"}},

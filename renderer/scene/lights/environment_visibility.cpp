@@ -1,0 +1,138 @@
+#include "renderer/scene/lights/environment_visibility.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+
+#include "renderer/scene/sampling/sobol_sampler.h"
+#include "renderer/scene/sampling/warp.h"
+
+namespace pa {
+
+namespace {
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// The box holding the middle of the points on every axis (kOutlierShare cut at each end).
+Bounds robustBounds(std::span<const SurfacePoint> points) {
+  constexpr double kOutlierShare = 0.01;
+  Bounds box;
+  std::vector<float> axis;
+  for (int a = 0; a < 3; ++a) {
+    axis.clear();
+    for (const SurfacePoint& p : points)
+      if (finite(p.position)) axis.push_back(p.position[a]);
+    if (axis.empty()) return Bounds{};
+    const size_t lo = size_t(kOutlierShare * double(axis.size()));
+    const size_t hi = axis.size() - 1 - lo;
+    std::nth_element(axis.begin(), axis.begin() + lo, axis.end());
+    box.min[a] = axis[lo];
+    std::nth_element(axis.begin(), axis.begin() + hi, axis.end());
+    box.max[a] = axis[hi];
+  }
+  return box;
+}
+
+}  // namespace
+
+uint32_t EnvironmentVisibility::normalBin(const glm::vec3& n) {
+  const glm::vec3 a = glm::abs(n);
+  const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+  return uint32_t(2 * axis + (n[axis] < 0.0f ? 1 : 0));
+}
+
+int64_t EnvironmentVisibility::slot(const glm::vec3& p, const glm::vec3& n) const {
+  const glm::vec3 f = (p - origin_) / cellSize_;
+  if (!(f.x >= 0.0f && f.y >= 0.0f && f.z >= 0.0f)) return -1;
+  const uint32_t x = uint32_t(f.x), y = uint32_t(f.y), z = uint32_t(f.z);
+  if (x >= counts_[0] || y >= counts_[1] || z >= counts_[2]) return -1;
+  return int64_t((x + counts_[0] * (size_t{y} + counts_[1] * size_t{z})) * kNormalBins + normalBin(n));
+}
+
+EnvironmentVisibility::EnvironmentVisibility(std::span<const SurfacePoint> points,
+                                             std::span<const glm::vec3> sunDirections, bool sky,
+                                             const EscapeTest& escapes) {
+  if (sunDirections.empty() && !sky) return;
+  Bounds bounds = robustBounds(points);
+  if (bounds.empty()) return;
+  const glm::vec3 extent = bounds.max - bounds.min;
+  const float longest = std::max({extent.x, extent.y, extent.z});
+  if (!(longest > 0.0f) || !std::isfinite(longest)) return;
+  const float cell = longest / float(kCellsLongestAxis);
+  for (int a = 0; a < 3; ++a) counts_[a] = std::clamp(uint32_t(std::ceil(extent[a] / cell)), 1u, kCellsLongestAxis);
+  origin_ = bounds.min;
+  // A flat axis (all points on one plane) gets one cell of the common size, centred on the plane.
+  cellSize_ = glm::max(extent / glm::vec3(counts_[0], counts_[1], counts_[2]), glm::vec3(cell));
+  origin_ -= 0.5f * (cellSize_ * glm::vec3(counts_[0], counts_[1], counts_[2]) - extent);
+  const float offset = 1e-4f * longest;   // off the surface, well inside its cell
+
+  // Per point: its slot (-1 outside the grid) and how many of its rays escaped.
+  const uint32_t trials = uint32_t(sunDirections.size()) + (sky ? kSkyRaysPerPoint : 0u);
+  std::vector<int64_t> slotOf(points.size(), -1);
+  std::vector<uint8_t> escaped(points.size(), 0);
+  tbb::parallel_for(size_t{0}, points.size(), [&](size_t i) {
+    const SurfacePoint& s = points[i];
+    if (!finite(s.position) || !finite(s.normal)) return;
+    slotOf[i] = slot(s.position, s.normal);
+    if (slotOf[i] < 0) return;
+    const glm::vec3 origin = s.position + offset * s.normal;
+    uint32_t count = 0;
+    for (const glm::vec3& sun : sunDirections)
+      if (glm::dot(-sun, s.normal) > 0.0f && escapes(origin, -sun)) ++count;
+    uint32_t h = sampling::hash32(uint32_t(i));
+    for (uint32_t r = 0; sky && r < kSkyRaysPerPoint; ++r) {
+      const float u0 = sampling::toUnitFloat(h = sampling::hash32(h + 1u));
+      const float u1 = sampling::toUnitFloat(h = sampling::hash32(h + 2u));
+      glm::vec3 dir = sampling::uniformSphere({u0, u1});
+      if (glm::dot(dir, s.normal) < 0.0f) dir = -dir;
+      if (escapes(origin, dir)) ++count;
+    }
+    escaped[i] = uint8_t(std::min(count, 255u));
+  });
+  // Share of a bin: the fraction of its rays that escaped, at least kHiddenShare; 1 without points.
+  std::vector<uint32_t> rays(size_t{counts_[0]} * counts_[1] * counts_[2] * kNormalBins, 0);
+  std::vector<uint32_t> hits(rays.size(), 0);
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (slotOf[i] < 0) continue;
+    rays[size_t(slotOf[i])] += trials;
+    hits[size_t(slotOf[i])] += escaped[i];
+  }
+  share_.assign(rays.size(), 1.0f);
+  for (size_t b = 0; b < rays.size(); ++b)
+    if (rays[b] > 0) share_[b] = std::max(kHiddenShare, float(hits[b]) / float(rays[b]));
+}
+
+float EnvironmentVisibility::share(const glm::vec3& p, const glm::vec3& n) const {
+  if (share_.empty()) return 1.0f;
+  const int64_t at = slot(p, n);
+  return at < 0 ? 1.0f : share_[size_t(at)];
+}
+
+size_t EnvironmentVisibility::closedCount() const {
+  return size_t(std::count(share_.begin(), share_.end(), kHiddenShare));
+}
+
+std::shared_ptr<const EnvironmentVisibility> EnvironmentVisibilityCache::get(
+    const Bounds& bounds, std::span<const glm::vec3> sunDirections, bool sky, std::span<const glm::vec3> skyWindows,
+    const std::function<std::vector<SurfacePoint>()>& surfacePoints,
+    const EnvironmentVisibility::EscapeTest& escapes) {
+  glm::vec3 windowSum(0.0f);
+  for (const glm::vec3& w : skyWindows) windowSum += glm::abs(w);
+  const bool same = map_ != nullptr && bounds.min == bounds_.min && bounds.max == bounds_.max && sky == sky_ &&
+                    skyWindows.size() == windowCount_ && windowSum == windowSum_ &&
+                    std::equal(sunDirections.begin(), sunDirections.end(), suns_.begin(), suns_.end());
+  if (same) return map_;
+  const std::vector<SurfacePoint> points = surfacePoints();
+  map_ = std::make_shared<const EnvironmentVisibility>(points, sunDirections, sky, escapes);
+  bounds_ = bounds;
+  suns_.assign(sunDirections.begin(), sunDirections.end());
+  sky_ = sky;
+  windowCount_ = skyWindows.size();
+  windowSum_ = windowSum;
+  return map_;
+}
+
+}  // namespace pa
