@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
 
@@ -37,14 +40,16 @@ glm::vec4 sampleImage(const Image& image, glm::vec2 st, bool clamp) {
   if (!std::isfinite(x) || !std::isfinite(y)) x = y = 0.0f;
   const float fx = std::floor(x), fy = std::floor(y);
   const float ax = x - fx, ay = y - fy;
-  auto wrap = [clamp](long i, int n) {
-    if (clamp) return static_cast<int>(std::clamp<long>(i, 0, n - 1));
+  // The two texel indices along an axis of n texels: i and i + 1, clamped or wrapped (one
+  // division per axis; the second index wraps by comparison).
+  auto pair = [clamp](long i, int n) -> std::array<int, 2> {
+    if (clamp) return {static_cast<int>(std::clamp<long>(i, 0, n - 1)), static_cast<int>(std::clamp<long>(i + 1, 0, n - 1))};
     const long m = i % n;
-    return static_cast<int>(m < 0 ? m + n : m);
+    const int first = static_cast<int>(m < 0 ? m + n : m);
+    return {first, first + 1 == n ? 0 : first + 1};
   };
-  const long ix = static_cast<long>(std::clamp(fx, -1e9f, 1e9f));
-  const long iy = static_cast<long>(std::clamp(fy, -1e9f, 1e9f));
-  const int x0 = wrap(ix, w), x1 = wrap(ix + 1, w), y0 = wrap(iy, h), y1 = wrap(iy + 1, h);
+  const auto [x0, x1] = pair(static_cast<long>(std::clamp(fx, -1e9f, 1e9f)), w);
+  const auto [y0, y1] = pair(static_cast<long>(std::clamp(fy, -1e9f, 1e9f)), h);
   auto texel = [&](int px, int py) {
     const uint8_t* p = &image.rgba[(size_t(py) * w + px) * 4];
     return glm::vec4(p[0], p[1], p[2], p[3]) * (1.0f / 255.0f);
@@ -81,6 +86,10 @@ glm::vec4 stageColor(const q3::ShaderStage& stage, double seconds) {
   else if (stage.alphaGen == q3::AlphaGen::Wave) color.a = std::clamp(stage.alphaWave.evaluate(seconds), 0.0f, 1.0f);
   return glm::clamp(color, 0.0f, 1.0f);
 }
+
+/// A colour channel in [0, 1] as a byte, rounded half away from zero (std::lround's result
+/// without its call: the double sum of a float and 0.5 is exact).
+uint8_t toByte(float c) { return static_cast<uint8_t>(double(std::clamp(c, 0.0f, 1.0f) * 255.0f) + 0.5); }
 
 }  // namespace
 
@@ -125,6 +134,14 @@ bool SkyBaker::prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, 
                 stage.alphaGen == q3::AlphaGen::Wave;
   }
   if (!anyFace && layers_.empty()) return false;
+  boxColors_.assign(size_t(6) * size_ * size_, glm::vec3(0.0f));
+  for (int face = 0; face < 6; ++face)
+    for (int y = 0; y < size_; ++y)
+      for (int x = 0; x < size_; ++x) {
+        const BoxLookup where = stockBoxLookup(skyCubeDirection(face, x, y, size_));
+        if (const Image* box = farBox_[size_t(where.face)].get())
+          boxColors_[(size_t(face) * size_ + y) * size_ + x] = glm::vec3(sampleImage(*box, where.uv, true));
+      }
   const float height = shader.sky ? shader.sky->cloudHeight : kDefaultCloudHeight;
   cloudCoords_.assign(size_t(kBottomFace) * size_ * size_, glm::vec2(0.0f));
   for (int face = 0; face < kBottomFace; ++face)
@@ -135,7 +152,8 @@ bool SkyBaker::prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, 
   return true;
 }
 
-void SkyBaker::bake(double seconds, SkyCube& out) const {
+uint32_t SkyBaker::bake(double seconds, SkyCube& out, SkyFaces which) const {
+  if (out.size != size_) which = SkyFaces::All;
   out.size = size_;
   std::vector<q3::UvAffine> transforms;
   std::vector<glm::vec4> colors;
@@ -143,33 +161,38 @@ void SkyBaker::bake(double seconds, SkyCube& out) const {
     transforms.push_back(q3::uvTransformAt(layer.stage.tcMods, seconds));
     colors.push_back(stageColor(layer.stage, seconds));
   }
-  for (int face = 0; face < 6; ++face) {
-    std::vector<uint8_t>& pixels = out.faces[size_t(face)];
-    pixels.assign(size_t(size_) * size_ * 4, 255);
-    for (int y = 0; y < size_; ++y)
-      for (int x = 0; x < size_; ++x) {
-        glm::vec3 color(0.0f);
-        const BoxLookup where = stockBoxLookup(skyCubeDirection(face, x, y, size_));
-        if (const Image* box = farBox_[size_t(where.face)].get()) color = glm::vec3(sampleImage(*box, where.uv, true));
-        if (face != kBottomFace) {
-          const glm::vec2 st = cloudCoords_[(size_t(face) * size_ + y) * size_ + x];
-          for (size_t l = 0; l < layers_.size(); ++l) {
-            const Layer& layer = layers_[l];
-            const auto uv = transforms[l].apply(st.x, st.y);
-            const glm::vec4 src = sampleImage(*layer.image, {uv[0], uv[1]}, layer.stage.clamp) * colors[l];
-            if (!layer.stage.blends()) {
-              color = glm::vec3(src);
-              continue;
-            }
-            color = glm::clamp(glm::vec3(src) * blendFactor(layer.stage.srcBlend, src, color) +
-                                   color * blendFactor(layer.stage.dstBlend, src, color),
-                               0.0f, 1.0f);
+  const int faces = which == SkyFaces::All ? 6 : kBottomFace;   // the bottom face comes last
+  for (int face = 0; face < faces; ++face) out.faces[size_t(face)].resize(size_t(size_) * size_ * 4);
+  auto bakeRow = [&](int face, int y) {
+    uint8_t* p = &out.faces[size_t(face)][size_t(y) * size_ * 4];
+    const size_t row = (size_t(face) * size_ + y) * size_;
+    for (int x = 0; x < size_; ++x, p += 4) {
+      glm::vec3 color = boxColors_[row + x];
+      if (face != kBottomFace) {
+        const glm::vec2 st = cloudCoords_[row + x];
+        for (size_t l = 0; l < layers_.size(); ++l) {
+          const Layer& layer = layers_[l];
+          const auto uv = transforms[l].apply(st.x, st.y);
+          const glm::vec4 src = sampleImage(*layer.image, {uv[0], uv[1]}, layer.stage.clamp) * colors[l];
+          if (!layer.stage.blends()) {
+            color = glm::vec3(src);
+            continue;
           }
+          color = glm::clamp(glm::vec3(src) * blendFactor(layer.stage.srcBlend, src, color) +
+                                 color * blendFactor(layer.stage.dstBlend, src, color),
+                             0.0f, 1.0f);
         }
-        uint8_t* p = &pixels[(size_t(y) * size_ + x) * 4];
-        for (int c = 0; c < 3; ++c) p[c] = static_cast<uint8_t>(std::lround(color[c] * 255.0f));
       }
-  }
+      p[0] = toByte(color.r);
+      p[1] = toByte(color.g);
+      p[2] = toByte(color.b);
+      p[3] = 255;
+    }
+  };
+  tbb::parallel_for(tbb::blocked_range<int>(0, faces * size_, 16), [&](const tbb::blocked_range<int>& rows) {
+    for (int r = rows.begin(); r < rows.end(); ++r) bakeRow(r / size_, r % size_);
+  });
+  return (1u << faces) - 1u;
 }
 
 }  // namespace glue

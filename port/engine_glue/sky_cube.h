@@ -38,6 +38,10 @@ struct SkyCube {
   std::array<std::vector<uint8_t>, 6> faces;
 };
 
+/// Which faces SkyBaker::bake writes: all six, or only those that change with time (the five
+/// under the clouds; the bottom gets none) into a cube this baker already filled.
+enum class SkyFaces { All, Changing };
+
 /// Bakes a sky shader's stock look.
 class SkyBaker {
  public:
@@ -46,8 +50,10 @@ class SkyBaker {
   bool prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, int size);
   /// True when the clouds move with time (a stage has tcMods or wave colours).
   bool animated() const { return animated_; }
-  /// The faces at shader time `seconds`.
-  void bake(double seconds, SkyCube& out) const;
+  /// The faces at shader time `seconds` (`which` of them; all when `out` has another size), rows
+  /// in parallel (tbb::parallel_for: call it inside the task arena whose threads it may use).
+  /// Returns the faces written, bit f for face f.
+  uint32_t bake(double seconds, SkyCube& out, SkyFaces which = SkyFaces::All) const;
 
  private:
   struct Layer {
@@ -58,6 +64,7 @@ class SkyBaker {
   std::vector<Layer> layers_;
   int size_ = 0;
   std::vector<glm::vec2> cloudCoords_;   ///< Per texel of faces 0..4 (the bottom has no clouds).
+  std::vector<glm::vec3> boxColors_;     ///< Far-box colour per texel of the six faces (time-free).
   bool animated_ = false;
 };
 

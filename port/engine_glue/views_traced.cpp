@@ -19,6 +19,7 @@
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
+#include <tbb/task_arena.h>
 
 #include "port/engine_glue/dlight_overlay.h"
 #include "port/engine_glue/engine.h"
@@ -166,6 +167,8 @@ struct ViewRenderer::Impl {
   ImageCache* images = nullptr;
   SkyBaker skyBaker;
   SkyCube skyCube;
+  /// The threads the sky bake may use: as many as the renderer's (r_pt_threads, 0 = all cores).
+  tbb::task_arena bakeArena{threads > 0 ? threads : int(tbb::task_arena::automatic)};
   double skyBakedAt = 0.0;
   DlightOverlayBuilder dlightBuilder;  ///< The world's triangles for the stock dynamic-light pass.
   DlightOverlay dlightOverlay;
@@ -322,7 +325,7 @@ struct ViewRenderer::Impl {
     if (shader == nullptr) return;
     const SkyImageLoader load = [&](const std::string& path) { return images.load(engine, path); };
     if (!skyBaker.prepare(*shader, load, kStockSkyFaceSize)) return;
-    skyBaker.bake(0.0, skyCube);
+    bakeArena.execute([&] { skyBaker.bake(0.0, skyCube); });
     skyBakedAt = 0.0;
     stockSky = pa::SkyDesc{};
     stockSky.color = glm::vec3(1.0f);
@@ -342,9 +345,10 @@ struct ViewRenderer::Impl {
   void selectSky(bool stockLook, double seconds) {
     const bool stock = stockLook && stockSkyReady;
     if (stock && skyBaker.animated() && seconds != skyBakedAt) {
-      skyBaker.bake(seconds, skyCube);
+      const uint32_t written = bakeArena.execute([&] { return skyBaker.bake(seconds, skyCube, SkyFaces::Changing); });
       skyBakedAt = seconds;
-      for (size_t f = 0; f < 6; ++f) renderer->updateTexture(stockSky.faces[f], skyFaceDesc(f));
+      for (size_t f = 0; f < 6; ++f)
+        if (written & (1u << f)) renderer->updateTexture(stockSky.faces[f], skyFaceDesc(f));
     }
     if (stock == stockSkyShown && !skyHidden) return;
     renderer->setSky(stock ? stockSky : bridgeSky);

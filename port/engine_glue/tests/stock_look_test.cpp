@@ -195,6 +195,39 @@ TEST(SkyCube, CloudStagesBlendOverTheBoxExceptBelow) {
   EXPECT_EQ(texel(cube, 5, 1, 1), glm::ivec3(0, 0, 0));   // no clouds on the bottom face
 }
 
+TEST(SkyCube, ARebakeOfTheChangingFacesMatchesAFullBake) {
+  // A far box under a scrolling cloud layer: later bakes rewrite the five faces under the
+  // clouds only (the bottom is the far box alone) and equal a full bake at the same time.
+  std::map<std::string, std::shared_ptr<const Image>> files = {{"env/box_dn", solid(60, 70, 80)}};
+  auto clouds = std::make_shared<Image>();
+  clouds->width = clouds->height = 4;
+  for (int i = 0; i < 16; ++i) clouds->rgba.insert(clouds->rgba.end(), {uint8_t(16 * i), uint8_t(255 - 9 * i), 40, 255});
+  files["clouds"] = clouds;
+  q3::ShaderDef shader;
+  shader.sky = q3::SkyParms{"env/box", 512, ""};
+  q3::ShaderStage stage;
+  stage.textures = {"clouds"};
+  stage.hasBlend = true;
+  stage.srcBlend = stage.dstBlend = q3::BlendFactor::One;
+  q3::TcMod scroll;
+  scroll.kind = q3::TcModKind::Scroll;
+  scroll.scroll = {0.1f, 0.05f};
+  stage.tcMods = {scroll};
+  shader.stages = {stage};
+  SkyBaker baker;
+  ASSERT_TRUE(baker.prepare(shader, [&](const std::string& path) { return files[path]; }, 8));
+  ASSERT_TRUE(baker.animated());
+  SkyCube cube;
+  EXPECT_EQ(baker.bake(0.0, cube, SkyFaces::Changing), 0x3Fu);   // an empty cube gets all six
+  const std::vector<uint8_t> firstTop = cube.faces[4];
+  EXPECT_EQ(baker.bake(2.5, cube, SkyFaces::Changing), 0x1Fu);
+  EXPECT_NE(cube.faces[4], firstTop);   // the clouds moved
+  SkyCube full;
+  EXPECT_EQ(baker.bake(2.5, full), 0x3Fu);
+  for (size_t face = 0; face < 6; ++face) EXPECT_EQ(cube.faces[face], full.faces[face]) << "face " << face;
+  EXPECT_EQ(texel(full, 5, 3, 3), glm::ivec3(60, 70, 80));
+}
+
 TEST(SkyCube, NothingToBakeWithoutBoxOrStages) {
   q3::ShaderDef shader;
   shader.sky = q3::SkyParms{"env/missing", 512, ""};
