@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <glm/vec4.hpp>
 
 #include "port/q3formats/shader/material.h"   // uvTransformAt, skyFaceImage
@@ -99,6 +100,37 @@ glm::vec3 skyCubeDirection(int face, int x, int y, int size) {
   return f.axis + f.right * (2.0f * u - 1.0f) + f.top * (1.0f - 2.0f * v);
 }
 
+uint32_t skyFacesInView(const glm::vec3& forward, const glm::vec3& left, const glm::vec3& up, float fovX,
+                        float fovY, float marginDegrees) {
+  const float wideX = fovX + 2.0f * marginDegrees, wideY = fovY + 2.0f * marginDegrees;
+  if (!(wideX < 179.0f && wideY < 179.0f)) return kAllSkyFaces;   // also NaN
+  const float tanX = std::tan(glm::radians(0.5f * wideX)), tanY = std::tan(glm::radians(0.5f * wideY));
+  // The view pyramid's section by the plane one unit ahead: a convex quad of directions. A face
+  // is reached when the quad, clipped by the four planes through the origin that bound the face's
+  // pyramid (d.axis >= |d.right|, d.axis >= |d.top|), keeps some area (Sutherland-Hodgman).
+  const std::vector<glm::vec3> corners = {forward + left * tanX + up * tanY, forward - left * tanX + up * tanY,
+                                          forward - left * tanX - up * tanY, forward + left * tanX - up * tanY};
+  uint32_t faces = 0;
+  for (uint32_t face = 0; face < 6; ++face) {
+    const pa::CubeFaceBasis& f = pa::cubeFaceBasis(face);
+    std::vector<glm::vec3> polygon = corners;
+    for (const glm::vec3& normal : {f.axis - f.right, f.axis + f.right, f.axis - f.top, f.axis + f.top}) {
+      std::vector<glm::vec3> kept;
+      for (size_t i = 0; i < polygon.size(); ++i) {
+        const glm::vec3& a = polygon[i];
+        const glm::vec3& b = polygon[(i + 1) % polygon.size()];
+        const float da = glm::dot(a, normal), db = glm::dot(b, normal);
+        if (da >= 0.0f) kept.push_back(a);
+        if ((da >= 0.0f) != (db >= 0.0f)) kept.push_back(a + (b - a) * (da / (da - db)));
+      }
+      polygon = std::move(kept);
+      if (polygon.empty()) break;
+    }
+    if (!polygon.empty()) faces |= 1u << face;
+  }
+  return faces;
+}
+
 glm::vec2 cloudTexCoords(const glm::vec3& direction, float cloudHeight) {
   const float h = cloudHeight > 0.0f ? cloudHeight : kDefaultCloudHeight;
   const float r = kSkyRadius;
@@ -152,8 +184,9 @@ bool SkyBaker::prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, 
   return true;
 }
 
-uint32_t SkyBaker::bake(double seconds, SkyCube& out, SkyFaces which) const {
-  if (out.size != size_) which = SkyFaces::All;
+uint32_t SkyBaker::bake(double seconds, SkyCube& out, uint32_t faces) const {
+  if (out.size != size_) faces = kAllSkyFaces;
+  faces &= kAllSkyFaces;
   out.size = size_;
   std::vector<q3::UvAffine> transforms;
   std::vector<glm::vec4> colors;
@@ -161,8 +194,12 @@ uint32_t SkyBaker::bake(double seconds, SkyCube& out, SkyFaces which) const {
     transforms.push_back(q3::uvTransformAt(layer.stage.tcMods, seconds));
     colors.push_back(stageColor(layer.stage, seconds));
   }
-  const int faces = which == SkyFaces::All ? 6 : kBottomFace;   // the bottom face comes last
-  for (int face = 0; face < faces; ++face) out.faces[size_t(face)].resize(size_t(size_) * size_ * 4);
+  std::vector<int> chosen;
+  for (int face = 0; face < 6; ++face) {
+    if (!(faces & (1u << face))) continue;
+    chosen.push_back(face);
+    out.faces[size_t(face)].resize(size_t(size_) * size_ * 4);
+  }
   auto bakeRow = [&](int face, int y) {
     uint8_t* p = &out.faces[size_t(face)][size_t(y) * size_ * 4];
     const size_t row = (size_t(face) * size_ + y) * size_;
@@ -189,10 +226,11 @@ uint32_t SkyBaker::bake(double seconds, SkyCube& out, SkyFaces which) const {
       p[3] = 255;
     }
   };
-  tbb::parallel_for(tbb::blocked_range<int>(0, faces * size_, 16), [&](const tbb::blocked_range<int>& rows) {
-    for (int r = rows.begin(); r < rows.end(); ++r) bakeRow(r / size_, r % size_);
+  const int rows = static_cast<int>(chosen.size()) * size_;
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows, 16), [&](const tbb::blocked_range<int>& range) {
+    for (int r = range.begin(); r < range.end(); ++r) bakeRow(chosen[size_t(r / size_)], r % size_);
   });
-  return (1u << faces) - 1u;
+  return faces;
 }
 
 }  // namespace glue

@@ -38,9 +38,14 @@ struct SkyCube {
   std::array<std::vector<uint8_t>, 6> faces;
 };
 
-/// Which faces SkyBaker::bake writes: all six, or only those that change with time (the five
-/// under the clouds; the bottom gets none) into a cube this baker already filled.
-enum class SkyFaces { All, Changing };
+/// Bit f set for cube face f: all six faces.
+inline constexpr uint32_t kAllSkyFaces = 0x3Fu;
+
+/// The cube faces (bit f for face f) that directions inside a view pyramid can reach: forward,
+/// left and up are the camera axes, fovX and fovY the full fields of view in degrees, each widened
+/// by `marginDegrees`. All faces when the widened view spans 179 degrees or more.
+uint32_t skyFacesInView(const glm::vec3& forward, const glm::vec3& left, const glm::vec3& up, float fovX,
+                        float fovY, float marginDegrees);
 
 /// Bakes a sky shader's stock look.
 class SkyBaker {
@@ -50,10 +55,13 @@ class SkyBaker {
   bool prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, int size);
   /// True when the clouds move with time (a stage has tcMods or wave colours).
   bool animated() const { return animated_; }
-  /// The faces at shader time `seconds` (`which` of them; all when `out` has another size), rows
+  /// The faces whose picture changes with time (bit f for face f): the five under the clouds
+  /// (the bottom gets none) when animated(), else none.
+  uint32_t changingFaces() const { return animated_ ? kAllSkyFaces & ~(1u << 5) : 0u; }
+  /// The faces in `faces` (all six when `out` has another size) at shader time `seconds`, rows
   /// in parallel (tbb::parallel_for: call it inside the task arena whose threads it may use).
-  /// Returns the faces written, bit f for face f.
-  uint32_t bake(double seconds, SkyCube& out, SkyFaces which = SkyFaces::All) const;
+  /// Returns the faces written.
+  uint32_t bake(double seconds, SkyCube& out, uint32_t faces = kAllSkyFaces) const;
 
  private:
   struct Layer {

@@ -9,6 +9,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -169,7 +170,7 @@ struct ViewRenderer::Impl {
   SkyCube skyCube;
   /// The threads the sky bake may use: as many as the renderer's (r_pt_threads, 0 = all cores).
   tbb::task_arena bakeArena{threads > 0 ? threads : int(tbb::task_arena::automatic)};
-  double skyBakedAt = 0.0;
+  std::array<double, 6> skyFaceBakedAt{};   ///< Shader time of each face's last bake.
   DlightOverlayBuilder dlightBuilder;  ///< The world's triangles for the stock dynamic-light pass.
   DlightOverlay dlightOverlay;
   DynamicSlot dlightSlot;
@@ -326,7 +327,7 @@ struct ViewRenderer::Impl {
     const SkyImageLoader load = [&](const std::string& path) { return images.load(engine, path); };
     if (!skyBaker.prepare(*shader, load, kStockSkyFaceSize)) return;
     bakeArena.execute([&] { skyBaker.bake(0.0, skyCube); });
-    skyBakedAt = 0.0;
+    skyFaceBakedAt.fill(0.0);
     stockSky = pa::SkyDesc{};
     stockSky.color = glm::vec3(1.0f);
     for (size_t f = 0; f < 6; ++f) stockSky.faces[f] = renderer->addTexture(skyFaceDesc(f));
@@ -341,14 +342,21 @@ struct ViewRenderer::Impl {
     return desc;
   }
 
-  /// Shows the stock sky (moved to shader time `seconds`) or the bridge's one.
-  void selectSky(bool stockLook, double seconds) {
+  /// Shows the stock sky (moved to shader time `seconds`) or the bridge's one. Clouds move only
+  /// on the faces the camera can see (`facesInView`); the others are brought to the time of the
+  /// view that next shows them.
+  void selectSky(bool stockLook, double seconds, uint32_t facesInView) {
     const bool stock = stockLook && stockSkyReady;
-    if (stock && skyBaker.animated() && seconds != skyBakedAt) {
-      const uint32_t written = bakeArena.execute([&] { return skyBaker.bake(seconds, skyCube, SkyFaces::Changing); });
-      skyBakedAt = seconds;
-      for (size_t f = 0; f < 6; ++f)
-        if (written & (1u << f)) renderer->updateTexture(stockSky.faces[f], skyFaceDesc(f));
+    uint32_t stale = 0;
+    for (uint32_t f = 0; f < 6; ++f)
+      if (skyFaceBakedAt[f] != seconds) stale |= 1u << f;
+    if (const uint32_t due = stock ? skyBaker.changingFaces() & facesInView & stale : 0u) {
+      const uint32_t written = bakeArena.execute([&] { return skyBaker.bake(seconds, skyCube, due); });
+      for (uint32_t f = 0; f < 6; ++f) {
+        if (!(written & (1u << f))) continue;
+        skyFaceBakedAt[f] = seconds;
+        renderer->updateTexture(stockSky.faces[f], skyFaceDesc(f));
+      }
     }
     if (stock == stockSkyShown && !skyHidden) return;
     renderer->setSky(stock ? stockSky : bridgeSky);
@@ -708,7 +716,12 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   }
   if (withWorld) {
     d.portals.update(scene.entities(), view.time, *d.renderer);
-    d.selectSky(lightmapLook, seconds);
+    // Lightmap camera rays end on the first opaque surface: without portals or mirrors only the
+    // view pyramid (widened by a degree for the pixel footprint) can see the sky.
+    const uint32_t skyFaces = d.portals.planes().empty()
+                                  ? skyFacesInView(camera.forward, camera.left, camera.up, camera.fovX, camera.fovY, 1.0f)
+                                  : kAllSkyFaces;
+    d.selectSky(lightmapLook, seconds, skyFaces);
     d.selectWorldEmission(lightmapLook);
   } else {
     d.hideSky();
