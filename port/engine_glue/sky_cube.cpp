@@ -44,7 +44,8 @@ glm::vec4 sampleImage(const Image& image, glm::vec2 st, bool clamp) {
   // The two texel indices along an axis of n texels: i and i + 1, clamped or wrapped (one
   // division per axis; the second index wraps by comparison).
   auto pair = [clamp](long i, int n) -> std::array<int, 2> {
-    if (clamp) return {static_cast<int>(std::clamp<long>(i, 0, n - 1)), static_cast<int>(std::clamp<long>(i + 1, 0, n - 1))};
+    if (clamp)
+      return {static_cast<int>(std::clamp<long>(i, 0, n - 1)), static_cast<int>(std::clamp<long>(i + 1, 0, n - 1))};
     const long m = i % n;
     const int first = static_cast<int>(m < 0 ? m + n : m);
     return {first, first + 1 == n ? 0 : first + 1};
