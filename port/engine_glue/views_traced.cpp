@@ -149,6 +149,9 @@ struct ViewRenderer::Impl {
   std::vector<bool> lightOn;
   pa::LightId headlight = pa::kNoId;
   pa::MaterialId defaultMaterial = pa::kNoId;
+  /// A mesh without triangles: hidden dynamic slots show it, so that the renderer leaves their
+  /// instances out of the scene (no stale boxes in the instance hierarchy, no lights from them).
+  pa::MeshId emptyMesh = pa::kNoId;
   GeometryBatch batch;
   std::vector<pa::MaterialId> triangleMaterials;
   std::vector<uint8_t> picture;
@@ -193,6 +196,7 @@ struct ViewRenderer::Impl {
     headlight = pa::kNoId;
     portals.clear();
     defaultMaterial = renderer->addMaterial(pa::MaterialDesc{});
+    emptyMesh = renderer->addMesh(pa::MeshDesc{});
     bridgeSky = stockSky = pa::SkyDesc{};
     dlightBuilder = DlightOverlayBuilder{};
     dlightSlot = DynamicSlot{};
@@ -257,13 +261,7 @@ struct ViewRenderer::Impl {
     dlightOverlay.clear();
     if (show && worldScene) dlightBuilder.build(lights, dlightOverlay);
     if (dlightOverlay.indices.empty()) {
-      if (dlightSlot.visible && dlightSlot.instance != pa::kNoId) {
-        pa::InstanceDesc hidden;
-        hidden.mesh = dlightSlot.mesh;
-        hidden.mask = 0;
-        renderer->setInstance(dlightSlot.instance, hidden);
-        dlightSlot.visible = false;
-      }
+      hideSlot(dlightSlot);
       return;
     }
     dlightTriangleMaterials.resize(dlightOverlay.triangleMaterials.size());
@@ -482,14 +480,18 @@ struct ViewRenderer::Impl {
   }
 
   void hideSlotsFrom(size_t first) {
-    for (size_t i = first; i < slots.size(); ++i) {
-      if (!slots[i].visible || slots[i].instance == pa::kNoId) continue;
-      pa::InstanceDesc hidden;
-      hidden.mesh = slots[i].mesh;
-      hidden.mask = 0;
-      renderer->setInstance(slots[i].instance, hidden);
-      slots[i].visible = false;
-    }
+    for (size_t i = first; i < slots.size(); ++i) hideSlot(slots[i]);
+  }
+
+  /// Hides a dynamic slot's instance: it shows the empty mesh (its own mesh keeps the last
+  /// triangles until the slot is shown again).
+  void hideSlot(DynamicSlot& slot) {
+    if (!slot.visible || slot.instance == pa::kNoId) return;
+    pa::InstanceDesc hidden;
+    hidden.mesh = emptyMesh;
+    hidden.mask = 0;
+    renderer->setInstance(slot.instance, hidden);
+    slot.visible = false;
   }
 
   void setBrushInstance(size_t model, const pa::InstanceDesc& desc) {
