@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <glm/vec4.hpp>
 
 #include "port/q3formats/shader/material.h"   // uvTransformAt, skyFaceImage
@@ -37,14 +41,17 @@ glm::vec4 sampleImage(const Image& image, glm::vec2 st, bool clamp) {
   if (!std::isfinite(x) || !std::isfinite(y)) x = y = 0.0f;
   const float fx = std::floor(x), fy = std::floor(y);
   const float ax = x - fx, ay = y - fy;
-  auto wrap = [clamp](long i, int n) {
-    if (clamp) return static_cast<int>(std::clamp<long>(i, 0, n - 1));
+  // The two texel indices along an axis of n texels: i and i + 1, clamped or wrapped (one
+  // division per axis; the second index wraps by comparison).
+  auto pair = [clamp](long i, int n) -> std::array<int, 2> {
+    if (clamp)
+      return {static_cast<int>(std::clamp<long>(i, 0, n - 1)), static_cast<int>(std::clamp<long>(i + 1, 0, n - 1))};
     const long m = i % n;
-    return static_cast<int>(m < 0 ? m + n : m);
+    const int first = static_cast<int>(m < 0 ? m + n : m);
+    return {first, first + 1 == n ? 0 : first + 1};
   };
-  const long ix = static_cast<long>(std::clamp(fx, -1e9f, 1e9f));
-  const long iy = static_cast<long>(std::clamp(fy, -1e9f, 1e9f));
-  const int x0 = wrap(ix, w), x1 = wrap(ix + 1, w), y0 = wrap(iy, h), y1 = wrap(iy + 1, h);
+  const auto [x0, x1] = pair(static_cast<long>(std::clamp(fx, -1e9f, 1e9f)), w);
+  const auto [y0, y1] = pair(static_cast<long>(std::clamp(fy, -1e9f, 1e9f)), h);
   auto texel = [&](int px, int py) {
     const uint8_t* p = &image.rgba[(size_t(py) * w + px) * 4];
     return glm::vec4(p[0], p[1], p[2], p[3]) * (1.0f / 255.0f);
@@ -82,12 +89,47 @@ glm::vec4 stageColor(const q3::ShaderStage& stage, double seconds) {
   return glm::clamp(color, 0.0f, 1.0f);
 }
 
+/// A colour channel in [0, 1] as a byte, rounded half away from zero (std::lround's result
+/// without its call: the double sum of a float and 0.5 is exact).
+uint8_t toByte(float c) { return static_cast<uint8_t>(double(std::clamp(c, 0.0f, 1.0f) * 255.0f) + 0.5); }
+
 }  // namespace
 
 glm::vec3 skyCubeDirection(int face, int x, int y, int size) {
   const pa::CubeFaceBasis& f = pa::cubeFaceBasis(static_cast<uint32_t>(std::clamp(face, 0, 5)));
   const float u = (float(x) + 0.5f) / float(size), v = (float(y) + 0.5f) / float(size);
   return f.axis + f.right * (2.0f * u - 1.0f) + f.top * (1.0f - 2.0f * v);
+}
+
+uint32_t skyFacesInView(const glm::vec3& forward, const glm::vec3& left, const glm::vec3& up, float fovX,
+                        float fovY, float marginDegrees) {
+  const float wideX = fovX + 2.0f * marginDegrees, wideY = fovY + 2.0f * marginDegrees;
+  if (!(wideX < 179.0f && wideY < 179.0f)) return kAllSkyFaces;   // also NaN
+  const float tanX = std::tan(glm::radians(0.5f * wideX)), tanY = std::tan(glm::radians(0.5f * wideY));
+  // The view pyramid's section by the plane one unit ahead: a convex quad of directions. A face
+  // is reached when the quad, clipped by the four planes through the origin that bound the face's
+  // pyramid (d.axis >= |d.right|, d.axis >= |d.top|), keeps some area (Sutherland-Hodgman).
+  const std::vector<glm::vec3> corners = {forward + left * tanX + up * tanY, forward - left * tanX + up * tanY,
+                                          forward - left * tanX - up * tanY, forward + left * tanX - up * tanY};
+  uint32_t faces = 0;
+  for (uint32_t face = 0; face < 6; ++face) {
+    const pa::CubeFaceBasis& f = pa::cubeFaceBasis(face);
+    std::vector<glm::vec3> polygon = corners;
+    for (const glm::vec3& normal : {f.axis - f.right, f.axis + f.right, f.axis - f.top, f.axis + f.top}) {
+      std::vector<glm::vec3> kept;
+      for (size_t i = 0; i < polygon.size(); ++i) {
+        const glm::vec3& a = polygon[i];
+        const glm::vec3& b = polygon[(i + 1) % polygon.size()];
+        const float da = glm::dot(a, normal), db = glm::dot(b, normal);
+        if (da >= 0.0f) kept.push_back(a);
+        if ((da >= 0.0f) != (db >= 0.0f)) kept.push_back(a + (b - a) * (da / (da - db)));
+      }
+      polygon = std::move(kept);
+      if (polygon.empty()) break;
+    }
+    if (!polygon.empty()) faces |= 1u << face;
+  }
+  return faces;
 }
 
 glm::vec2 cloudTexCoords(const glm::vec3& direction, float cloudHeight) {
@@ -125,6 +167,14 @@ bool SkyBaker::prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, 
                 stage.alphaGen == q3::AlphaGen::Wave;
   }
   if (!anyFace && layers_.empty()) return false;
+  boxColors_.assign(size_t(6) * size_ * size_, glm::vec3(0.0f));
+  for (int face = 0; face < 6; ++face)
+    for (int y = 0; y < size_; ++y)
+      for (int x = 0; x < size_; ++x) {
+        const BoxLookup where = stockBoxLookup(skyCubeDirection(face, x, y, size_));
+        if (const Image* box = farBox_[size_t(where.face)].get())
+          boxColors_[(size_t(face) * size_ + y) * size_ + x] = glm::vec3(sampleImage(*box, where.uv, true));
+      }
   const float height = shader.sky ? shader.sky->cloudHeight : kDefaultCloudHeight;
   cloudCoords_.assign(size_t(kBottomFace) * size_ * size_, glm::vec2(0.0f));
   for (int face = 0; face < kBottomFace; ++face)
@@ -135,7 +185,9 @@ bool SkyBaker::prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, 
   return true;
 }
 
-void SkyBaker::bake(double seconds, SkyCube& out) const {
+uint32_t SkyBaker::bake(double seconds, SkyCube& out, uint32_t faces) const {
+  if (out.size != size_) faces = kAllSkyFaces;
+  faces &= kAllSkyFaces;
   out.size = size_;
   std::vector<q3::UvAffine> transforms;
   std::vector<glm::vec4> colors;
@@ -143,33 +195,43 @@ void SkyBaker::bake(double seconds, SkyCube& out) const {
     transforms.push_back(q3::uvTransformAt(layer.stage.tcMods, seconds));
     colors.push_back(stageColor(layer.stage, seconds));
   }
+  std::vector<int> chosen;
   for (int face = 0; face < 6; ++face) {
-    std::vector<uint8_t>& pixels = out.faces[size_t(face)];
-    pixels.assign(size_t(size_) * size_ * 4, 255);
-    for (int y = 0; y < size_; ++y)
-      for (int x = 0; x < size_; ++x) {
-        glm::vec3 color(0.0f);
-        const BoxLookup where = stockBoxLookup(skyCubeDirection(face, x, y, size_));
-        if (const Image* box = farBox_[size_t(where.face)].get()) color = glm::vec3(sampleImage(*box, where.uv, true));
-        if (face != kBottomFace) {
-          const glm::vec2 st = cloudCoords_[(size_t(face) * size_ + y) * size_ + x];
-          for (size_t l = 0; l < layers_.size(); ++l) {
-            const Layer& layer = layers_[l];
-            const auto uv = transforms[l].apply(st.x, st.y);
-            const glm::vec4 src = sampleImage(*layer.image, {uv[0], uv[1]}, layer.stage.clamp) * colors[l];
-            if (!layer.stage.blends()) {
-              color = glm::vec3(src);
-              continue;
-            }
-            color = glm::clamp(glm::vec3(src) * blendFactor(layer.stage.srcBlend, src, color) +
-                                   color * blendFactor(layer.stage.dstBlend, src, color),
-                               0.0f, 1.0f);
-          }
-        }
-        uint8_t* p = &pixels[(size_t(y) * size_ + x) * 4];
-        for (int c = 0; c < 3; ++c) p[c] = static_cast<uint8_t>(std::lround(color[c] * 255.0f));
-      }
+    if (!(faces & (1u << face))) continue;
+    chosen.push_back(face);
+    out.faces[size_t(face)].resize(size_t(size_) * size_ * 4);
   }
+  auto bakeRow = [&](int face, int y) {
+    uint8_t* p = &out.faces[size_t(face)][size_t(y) * size_ * 4];
+    const size_t row = (size_t(face) * size_ + y) * size_;
+    for (int x = 0; x < size_; ++x, p += 4) {
+      glm::vec3 color = boxColors_[row + x];
+      if (face != kBottomFace) {
+        const glm::vec2 st = cloudCoords_[row + x];
+        for (size_t l = 0; l < layers_.size(); ++l) {
+          const Layer& layer = layers_[l];
+          const auto uv = transforms[l].apply(st.x, st.y);
+          const glm::vec4 src = sampleImage(*layer.image, {uv[0], uv[1]}, layer.stage.clamp) * colors[l];
+          if (!layer.stage.blends()) {
+            color = glm::vec3(src);
+            continue;
+          }
+          color = glm::clamp(glm::vec3(src) * blendFactor(layer.stage.srcBlend, src, color) +
+                                 color * blendFactor(layer.stage.dstBlend, src, color),
+                             0.0f, 1.0f);
+        }
+      }
+      p[0] = toByte(color.r);
+      p[1] = toByte(color.g);
+      p[2] = toByte(color.b);
+      p[3] = 255;
+    }
+  };
+  const int rows = static_cast<int>(chosen.size()) * size_;
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows, 16), [&](const tbb::blocked_range<int>& range) {
+    for (int r = range.begin(); r < range.end(); ++r) bakeRow(chosen[size_t(r / size_)], r % size_);
+  });
+  return faces;
 }
 
 }  // namespace glue

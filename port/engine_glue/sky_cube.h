@@ -38,6 +38,15 @@ struct SkyCube {
   std::array<std::vector<uint8_t>, 6> faces;
 };
 
+/// Bit f set for cube face f: all six faces.
+inline constexpr uint32_t kAllSkyFaces = 0x3Fu;
+
+/// The cube faces (bit f for face f) that directions inside a view pyramid can reach: forward,
+/// left and up are the camera axes, fovX and fovY the full fields of view in degrees, each widened
+/// by `marginDegrees`. All faces when the widened view spans 179 degrees or more.
+uint32_t skyFacesInView(const glm::vec3& forward, const glm::vec3& left, const glm::vec3& up, float fovX,
+                        float fovY, float marginDegrees);
+
 /// Bakes a sky shader's stock look.
 class SkyBaker {
  public:
@@ -46,8 +55,13 @@ class SkyBaker {
   bool prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, int size);
   /// True when the clouds move with time (a stage has tcMods or wave colours).
   bool animated() const { return animated_; }
-  /// The faces at shader time `seconds`.
-  void bake(double seconds, SkyCube& out) const;
+  /// The faces whose picture changes with time (bit f for face f): the five under the clouds
+  /// (the bottom gets none) when animated(), else none.
+  uint32_t changingFaces() const { return animated_ ? kAllSkyFaces & ~(1u << 5) : 0u; }
+  /// The faces in `faces` (all six when `out` has another size) at shader time `seconds`, rows
+  /// in parallel (tbb::parallel_for: call it inside the task arena whose threads it may use).
+  /// Returns the faces written.
+  uint32_t bake(double seconds, SkyCube& out, uint32_t faces = kAllSkyFaces) const;
 
  private:
   struct Layer {
@@ -58,6 +72,7 @@ class SkyBaker {
   std::vector<Layer> layers_;
   int size_ = 0;
   std::vector<glm::vec2> cloudCoords_;   ///< Per texel of faces 0..4 (the bottom has no clouds).
+  std::vector<glm::vec3> boxColors_;     ///< Far-box colour per texel of the six faces (time-free).
   bool animated_ = false;
 };
 

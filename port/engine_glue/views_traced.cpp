@@ -9,6 +9,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -19,6 +20,7 @@
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
+#include <tbb/task_arena.h>
 
 #include "port/engine_glue/dlight_overlay.h"
 #include "port/engine_glue/engine.h"
@@ -147,6 +149,9 @@ struct ViewRenderer::Impl {
   std::vector<bool> lightOn;
   pa::LightId headlight = pa::kNoId;
   pa::MaterialId defaultMaterial = pa::kNoId;
+  /// A mesh without triangles: hidden dynamic slots show it, so that the renderer leaves their
+  /// instances out of the scene (no stale boxes in the instance hierarchy, no lights from them).
+  pa::MeshId emptyMesh = pa::kNoId;
   GeometryBatch batch;
   std::vector<pa::MaterialId> triangleMaterials;
   std::vector<uint8_t> picture;
@@ -166,7 +171,9 @@ struct ViewRenderer::Impl {
   ImageCache* images = nullptr;
   SkyBaker skyBaker;
   SkyCube skyCube;
-  double skyBakedAt = 0.0;
+  /// The threads the sky bake may use: as many as the renderer's (r_pt_threads, 0 = all cores).
+  tbb::task_arena bakeArena{threads > 0 ? threads : int(tbb::task_arena::automatic)};
+  std::array<double, 6> skyFaceBakedAt{};   ///< Shader time of each face's last bake.
   DlightOverlayBuilder dlightBuilder;  ///< The world's triangles for the stock dynamic-light pass.
   DlightOverlay dlightOverlay;
   DynamicSlot dlightSlot;
@@ -189,6 +196,7 @@ struct ViewRenderer::Impl {
     headlight = pa::kNoId;
     portals.clear();
     defaultMaterial = renderer->addMaterial(pa::MaterialDesc{});
+    emptyMesh = renderer->addMesh(pa::MeshDesc{});
     bridgeSky = stockSky = pa::SkyDesc{};
     dlightBuilder = DlightOverlayBuilder{};
     dlightSlot = DynamicSlot{};
@@ -253,13 +261,7 @@ struct ViewRenderer::Impl {
     dlightOverlay.clear();
     if (show && worldScene) dlightBuilder.build(lights, dlightOverlay);
     if (dlightOverlay.indices.empty()) {
-      if (dlightSlot.visible && dlightSlot.instance != pa::kNoId) {
-        pa::InstanceDesc hidden;
-        hidden.mesh = dlightSlot.mesh;
-        hidden.mask = 0;
-        renderer->setInstance(dlightSlot.instance, hidden);
-        dlightSlot.visible = false;
-      }
+      hideSlot(dlightSlot);
       return;
     }
     dlightTriangleMaterials.resize(dlightOverlay.triangleMaterials.size());
@@ -322,8 +324,8 @@ struct ViewRenderer::Impl {
     if (shader == nullptr) return;
     const SkyImageLoader load = [&](const std::string& path) { return images.load(engine, path); };
     if (!skyBaker.prepare(*shader, load, kStockSkyFaceSize)) return;
-    skyBaker.bake(0.0, skyCube);
-    skyBakedAt = 0.0;
+    bakeArena.execute([&] { skyBaker.bake(0.0, skyCube); });
+    skyFaceBakedAt.fill(0.0);
     stockSky = pa::SkyDesc{};
     stockSky.color = glm::vec3(1.0f);
     for (size_t f = 0; f < 6; ++f) stockSky.faces[f] = renderer->addTexture(skyFaceDesc(f));
@@ -338,13 +340,21 @@ struct ViewRenderer::Impl {
     return desc;
   }
 
-  /// Shows the stock sky (moved to shader time `seconds`) or the bridge's one.
-  void selectSky(bool stockLook, double seconds) {
+  /// Shows the stock sky (moved to shader time `seconds`) or the bridge's one. Clouds move only
+  /// on the faces the camera can see (`facesInView`); the others are brought to the time of the
+  /// view that next shows them.
+  void selectSky(bool stockLook, double seconds, uint32_t facesInView) {
     const bool stock = stockLook && stockSkyReady;
-    if (stock && skyBaker.animated() && seconds != skyBakedAt) {
-      skyBaker.bake(seconds, skyCube);
-      skyBakedAt = seconds;
-      for (size_t f = 0; f < 6; ++f) renderer->updateTexture(stockSky.faces[f], skyFaceDesc(f));
+    uint32_t stale = 0;
+    for (uint32_t f = 0; f < 6; ++f)
+      if (skyFaceBakedAt[f] != seconds) stale |= 1u << f;
+    if (const uint32_t due = stock ? skyBaker.changingFaces() & facesInView & stale : 0u) {
+      const uint32_t written = bakeArena.execute([&] { return skyBaker.bake(seconds, skyCube, due); });
+      for (uint32_t f = 0; f < 6; ++f) {
+        if (!(written & (1u << f))) continue;
+        skyFaceBakedAt[f] = seconds;
+        renderer->updateTexture(stockSky.faces[f], skyFaceDesc(f));
+      }
     }
     if (stock == stockSkyShown && !skyHidden) return;
     renderer->setSky(stock ? stockSky : bridgeSky);
@@ -471,14 +481,18 @@ struct ViewRenderer::Impl {
   }
 
   void hideSlotsFrom(size_t first) {
-    for (size_t i = first; i < slots.size(); ++i) {
-      if (!slots[i].visible || slots[i].instance == pa::kNoId) continue;
-      pa::InstanceDesc hidden;
-      hidden.mesh = slots[i].mesh;
-      hidden.mask = 0;
-      renderer->setInstance(slots[i].instance, hidden);
-      slots[i].visible = false;
-    }
+    for (size_t i = first; i < slots.size(); ++i) hideSlot(slots[i]);
+  }
+
+  /// Hides a dynamic slot's instance: it shows the empty mesh (its own mesh keeps the last
+  /// triangles until the slot is shown again).
+  void hideSlot(DynamicSlot& slot) {
+    if (!slot.visible || slot.instance == pa::kNoId) return;
+    pa::InstanceDesc hidden;
+    hidden.mesh = emptyMesh;
+    hidden.mask = 0;
+    renderer->setInstance(slot.instance, hidden);
+    slot.visible = false;
   }
 
   void setBrushInstance(size_t model, const pa::InstanceDesc& desc) {
@@ -705,7 +719,12 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   }
   if (withWorld) {
     d.portals.update(scene.entities(), view.time, *d.renderer);
-    d.selectSky(lightmapLook, seconds);
+    // Lightmap camera rays end on the first opaque surface: without portals or mirrors only the
+    // view pyramid (widened by a degree for the pixel footprint) can see the sky.
+    const uint32_t skyFaces = d.portals.planes().empty()
+                                  ? skyFacesInView(camera.forward, camera.left, camera.up, camera.fovX, camera.fovY, 1.0f)
+                                  : kAllSkyFaces;
+    d.selectSky(lightmapLook, seconds, skyFaces);
     d.selectWorldEmission(lightmapLook);
   } else {
     d.hideSky();

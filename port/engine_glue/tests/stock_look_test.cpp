@@ -6,6 +6,7 @@
 #include <map>
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "port/engine_glue/dlight_overlay.h"
 #include "port/engine_glue/entity_lighting.h"
@@ -193,6 +194,62 @@ TEST(SkyCube, CloudStagesBlendOverTheBoxExceptBelow) {
   EXPECT_EQ(texel(cube, 4, 1, 1), glm::ivec3(100, 100, 0));
   EXPECT_EQ(texel(cube, 0, 2, 3), glm::ivec3(100, 100, 0));
   EXPECT_EQ(texel(cube, 5, 1, 1), glm::ivec3(0, 0, 0));   // no clouds on the bottom face
+}
+
+TEST(SkyCube, ARebakeOfTheChangingFacesMatchesAFullBake) {
+  // A far box under a scrolling cloud layer: later bakes rewrite the faces asked for, the five
+  // under the clouds at most (the bottom is the far box alone), and equal a full bake.
+  std::map<std::string, std::shared_ptr<const Image>> files = {{"env/box_dn", solid(60, 70, 80)}};
+  auto clouds = std::make_shared<Image>();
+  clouds->width = clouds->height = 4;
+  for (int i = 0; i < 16; ++i) clouds->rgba.insert(clouds->rgba.end(), {uint8_t(16 * i), uint8_t(255 - 9 * i), 40, 255});
+  files["clouds"] = clouds;
+  q3::ShaderDef shader;
+  shader.sky = q3::SkyParms{"env/box", 512, ""};
+  q3::ShaderStage stage;
+  stage.textures = {"clouds"};
+  stage.hasBlend = true;
+  stage.srcBlend = stage.dstBlend = q3::BlendFactor::One;
+  q3::TcMod scroll;
+  scroll.kind = q3::TcModKind::Scroll;
+  scroll.scroll = {0.1f, 0.05f};
+  stage.tcMods = {scroll};
+  shader.stages = {stage};
+  SkyBaker baker;
+  ASSERT_TRUE(baker.prepare(shader, [&](const std::string& path) { return files[path]; }, 8));
+  ASSERT_TRUE(baker.animated());
+  SkyCube cube;
+  EXPECT_EQ(baker.changingFaces(), 0x1Fu);
+  EXPECT_EQ(baker.bake(0.0, cube, 0x10u), kAllSkyFaces);   // an empty cube gets all six
+  const std::vector<uint8_t> firstTop = cube.faces[4];
+  const std::vector<uint8_t> firstSide = cube.faces[0];
+  EXPECT_EQ(baker.bake(2.5, cube, 0x10u), 0x10u);          // the top alone
+  EXPECT_EQ(cube.faces[0], firstSide);
+  EXPECT_EQ(baker.bake(2.5, cube, baker.changingFaces()), 0x1Fu);
+  EXPECT_NE(cube.faces[4], firstTop);   // the clouds moved
+  SkyCube full;
+  EXPECT_EQ(baker.bake(2.5, full), 0x3Fu);
+  for (size_t face = 0; face < 6; ++face) EXPECT_EQ(cube.faces[face], full.faces[face]) << "face " << face;
+  EXPECT_EQ(texel(full, 5, 3, 3), glm::ivec3(60, 70, 80));
+}
+
+TEST(SkyCube, FacesInViewFollowTheViewPyramid) {
+  const glm::vec3 x(1, 0, 0), y(0, 1, 0), z(0, 0, 1);
+  // Faces: 0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z. Looking along +X, 80 x 60 degrees: +X only.
+  EXPECT_EQ(skyFacesInView(x, y, z, 80.0f, 60.0f, 1.0f), 0x01u);
+  // 120 degrees wide reaches past 45 degrees to both sides: +Y (left) and -Y.
+  EXPECT_EQ(skyFacesInView(x, y, z, 120.0f, 60.0f, 1.0f), 0x0Du);
+  // Looking 30 degrees up with 80 degrees vertically: the top edge is at 70 degrees, +Z too.
+  const glm::vec3 f(std::cos(glm::radians(30.0f)), 0.0f, std::sin(glm::radians(30.0f)));
+  const glm::vec3 u(-std::sin(glm::radians(30.0f)), 0.0f, std::cos(glm::radians(30.0f)));
+  EXPECT_EQ(skyFacesInView(f, y, u, 60.0f, 80.0f, 1.0f), 0x11u);
+  // Straight down: -Z; a full half-space view reaches every face.
+  EXPECT_EQ(skyFacesInView(-z, y, x, 60.0f, 60.0f, 1.0f), 0x20u);
+  EXPECT_EQ(skyFacesInView(x, y, z, 178.0f, 60.0f, 1.0f), kAllSkyFaces);
+  EXPECT_EQ(skyFacesInView(x, y, z, std::nanf(""), 60.0f, 1.0f), kAllSkyFaces);
+  // The margin widens the view: 88 degrees stays on +X, with a 2 degree margin it does not.
+  EXPECT_EQ(skyFacesInView(x, y, z, 88.0f, 60.0f, 0.0f), 0x01u);
+  EXPECT_EQ(skyFacesInView(x, y, z, 88.0f, 60.0f, 2.0f), 0x0Du);
 }
 
 TEST(SkyCube, NothingToBakeWithoutBoxOrStages) {

@@ -1,6 +1,9 @@
 #include "renderer/scene/integrator/display_composite.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+
 
 #include <glm/common.hpp>
 
@@ -9,16 +12,81 @@
 namespace pa {
 namespace {
 
-glm::vec3 encode(const glm::vec3& linear) {
-  const glm::vec3 c = glm::clamp(linear, 0.0f, 1.0f);
-  return {linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)};
+// The sRGB curve without powf (9 calls per Lightmap sample took ~4% of a timedemo's time):
+// eight channels at once (GCC/Clang vector extensions: one AVX2 register on x86-64-v3), x^p as
+// exp2(p log2 x) with short series. log2 of the mantissa m in [sqrt(1/2), sqrt(2)) through
+// atanh((m - 1) / (m + 1)) to s^9 (truncation < 4e-10); exp2 of the fraction in [-1/2, 1/2]
+// by its Taylor series to degree 7 (truncation < 5e-9). Largest difference from
+// linearToSrgb / srgbToLinear over [0, 1], measured on every 64th float there
+// (display_composite_test): 1.2e-7 encoding, 1.8e-7 decoding (one or two float steps near 1).
+using Lanes = float __attribute__((vector_size(32)));
+using IntLanes = int32_t __attribute__((vector_size(32)));
+
+Lanes clampUnit(Lanes x) {
+  x = x > 0.0f ? x : 0.0f;   // NaN becomes 0
+  return x < 1.0f ? x : 1.0f;
 }
 
-glm::vec3 decode(const glm::vec3& display) { return {srgbToLinear(display.x), srgbToLinear(display.y), srgbToLinear(display.z)}; }
+/// log2(x) for x > 0 (finite garbage, no trap, for x = 0: callers select those lanes away).
+Lanes log2Lanes(Lanes x) {
+  constexpr int32_t kSqrtHalfBits = 0x3f3504f3;   // bits of sqrt(1/2)
+  // x = 2^e * m with m in [sqrt(1/2), sqrt(2)).
+  const IntLanes offset = std::bit_cast<IntLanes>(x) - kSqrtHalfBits;
+  const IntLanes exponent = offset >> 23;
+  const Lanes m = std::bit_cast<Lanes>((offset & 0x007fffff) + kSqrtHalfBits);
+  const Lanes s = (m - 1.0f) / (m + 1.0f);
+  const Lanes s2 = s * s;
+  const Lanes series = s * (1.0f + s2 * (1.0f / 3 + s2 * (1.0f / 5 + s2 * (1.0f / 7 + s2 * (1.0f / 9)))));
+  return __builtin_convertvector(exponent, Lanes) + series * 2.8853900817779268f;   // 2 / ln 2
+}
+
+/// 2^y, y clamped to [-126, 127].
+Lanes exp2Lanes(Lanes y) {
+  y = y > -126.0f ? y : -126.0f;
+  y = y < 127.0f ? y : 127.0f;
+  constexpr float kRound = 12582912.0f;   // 1.5 * 2^23: adding and subtracting it rounds to an integer
+  const Lanes whole = (y + kRound) - kRound;
+  const Lanes f = (y - whole) * 0.69314718055994531f;   // ln 2: e^f with |f| <= ln 2 / 2
+  const Lanes e = 1.0f + f * (1.0f + f * (1.0f / 2 + f * (1.0f / 6 + f * (1.0f / 24 + f * (1.0f / 120 +
+                  f * (1.0f / 720 + f * (1.0f / 5040)))))));
+  return e * std::bit_cast<Lanes>((__builtin_convertvector(whole, IntLanes) + 127) << 23);
+}
+
+/// linearToSrgb of each lane, clamped to [0, 1] first.
+Lanes encodeLanes(Lanes c) {
+  c = clampUnit(c);
+  const Lanes curve = 1.055f * exp2Lanes(log2Lanes(c) * (1.0f / 2.4f)) - 0.055f;
+  return c <= 0.0031308f ? c * 12.92f : curve;
+}
+
+/// srgbToLinear of each lane, clamped to [0, 1] first.
+Lanes decodeLanes(Lanes c) {
+  c = clampUnit(c);
+  const Lanes curve = exp2Lanes(log2Lanes((c + 0.055f) * (1.0f / 1.055f)) * 2.4f);
+  return c <= 0.04045f ? c * (1.0f / 12.92f) : curve;
+}
+
+glm::vec3 encode(const glm::vec3& linear) {
+  const Lanes e = encodeLanes(Lanes{linear.x, linear.y, linear.z});
+  return {e[0], e[1], e[2]};
+}
+
+glm::vec3 decode(const glm::vec3& display) {
+  const Lanes d = decodeLanes(Lanes{display.x, display.y, display.z});
+  return {d[0], d[1], d[2]};
+}
 
 }  // namespace
 
-glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b) { return decode(encode(a) * encode(b)); }
+float fastLinearToSrgb(float c) { return encodeLanes(Lanes{c})[0]; }
+
+float fastSrgbToLinear(float c) { return decodeLanes(Lanes{c})[0]; }
+
+glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b) {
+  const Lanes e = encodeLanes(Lanes{a.x, a.y, a.z, b.x, b.y, b.z});
+  const Lanes d = decodeLanes(Lanes{e[0] * e[3], e[1] * e[4], e[2] * e[5]});
+  return {d[0], d[1], d[2]};
+}
 
 glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend blend, float baseRedrawn) {
   const glm::vec3 dst = encode(base);
@@ -54,14 +122,14 @@ void DisplayComposite::appendBefore(const AdditiveHits& hits, float t) {
 }
 
 void DisplayComposite::append(const Layer& layer) {
-  if (count_ < kCapacity) layers_[count_++] = layer;
+  if (count_ < kCapacity) layers_[count_++] = {layer.color, layer.transmit};
 }
 
 glm::vec3 DisplayComposite::over(const glm::vec3& behind) const {
   if (count_ == 0) return behind;
   glm::vec3 display = encode(behind);
   for (uint32_t i = count_; i-- > 0;) {
-    const Layer& layer = layers_[i];
+    const Stored& layer = layers_[i];
     display = glm::clamp(display * glm::max(layer.transmit, glm::vec3(0.0f)) + encode(layer.color), 0.0f, 1.0f);
   }
   return decode(display);

@@ -15,6 +15,11 @@
 
 namespace pa {
 
+/// pa::linearToSrgb of c clamped to [0, 1] without powf (largest difference 1.2e-7, tested).
+float fastLinearToSrgb(float c);
+/// pa::srgbToLinear of c clamped to [0, 1] without powf (largest difference 1.8e-7, tested).
+float fastSrgbToLinear(float c);
+
 /// The product of two linear colours taken in display values, as linear radiance:
 /// decode(encode(a) * encode(b)) (the stock texture x lightmap multiply of 8-bit values; the
 /// linear product lin(a) lin(b) is up to 13x darker where the sRGB curve is linear, near black).
@@ -33,6 +38,9 @@ class DisplayComposite {
  public:
   /// Layers kept; farther ones beyond this are dropped (the nearest matter most).
   static constexpr uint32_t kCapacity = 32;
+
+  /// No layers (the layer array is left unfilled: one composite is made per camera sample).
+  DisplayComposite() {}
 
   /// One layer: linear colour it adds and the display-value multiplier of what is behind it
   /// (1 for additive layers, 1 - alpha for premultiplied ones; see pa::LayerBlend).
@@ -53,7 +61,12 @@ class DisplayComposite {
   uint32_t size() const { return count_; }
 
  private:
-  std::array<Layer, kCapacity> layers_{};
+  /// Layer without member initialisers: the array is not filled for every camera sample.
+  struct Stored {
+    glm::vec3 color;
+    glm::vec3 transmit;
+  };
+  std::array<Stored, kCapacity> layers_;   ///< First count_ are set.
   uint32_t count_ = 0;
 };
 

@@ -75,11 +75,11 @@ class FogSegment {
 
  private:
   struct Crossing {
-    float t0 = 0.0f;
-    float t1 = 0.0f;
-    const FogVolume* volume = nullptr;
+    float t0;
+    float t1;
+    const FogVolume* volume;
   };
-  std::array<Crossing, kCapacity> crossings_{};
+  std::array<Crossing, kCapacity> crossings_;   ///< First count_ are set (no fill per ray segment).
   uint32_t count_ = 0;
   float lengthScale_ = 1.0f;
   float transmittance_ = 1.0f;
