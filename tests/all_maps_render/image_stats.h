@@ -28,6 +28,9 @@ ImageStats computeImageStats(std::span<const uint8_t> rgba8, std::span<const flo
                              const PlausibilityThresholds& thresholds = {});
 
 /// Why an image is not plausible: one short reason per failed check (empty = plausible).
-std::vector<std::string> implausibilityReasons(const ImageStats& stats, const PlausibilityThresholds& thresholds = {});
+/// `atMaxGain`: the picture was exposed automatically and the gain hit its upper clamp, so a
+/// dark or black verdict means the render is dark beyond what exposure can show (said in the reason).
+std::vector<std::string> implausibilityReasons(const ImageStats& stats, const PlausibilityThresholds& thresholds = {},
+                                               bool atMaxGain = false);
 
 }  // namespace pa::allmaps
