@@ -32,7 +32,7 @@ constexpr uint32_t kSamplerClamp = 1;
 constexpr float kQuakeFovY = 73.74f;   // cg_fov 90 at 4:3
 // Environment-mapped base stages become a smooth metal tinted by the image: fully metallic so
 // the tint colours the reflection, roughness 0.25 because Quake's sphere maps are soft blurs
-// of a room, not mirror images.
+// of a room, not mirror images (the same roughness, metallic 0, with a texture added over them).
 constexpr float kReflectiveMetallic = 1.0f;
 constexpr float kReflectiveRoughness = 0.25f;
 
@@ -160,16 +160,23 @@ class Exporter {
     json out = {{"name", m.shaderName}, {"doubleSided", m.twoSided}};
     // A base stage that is an environment map (tcGen environment: chrome, glass sheen) is a
     // reflection image read at the mirrored view direction; laid on the mesh UVs it would show
-    // as a stretched photograph. It becomes a reflective tint: the image's mean colour x the
-    // stage colour on a smooth metal, which any viewer's environment lighting reflects.
+    // as a stretched photograph. Where the shader adds the surface's own texture over the
+    // reflection (shiny floors and trims), that texture is the base of a smooth dielectric;
+    // otherwise the surface becomes a reflective tint: the image's mean colour x the stage
+    // colour on a smooth metal. Any viewer's environment lighting supplies the reflection.
     const bool reflective = m.baseReflects;
-    if (reflective) {
+    const bool overlaid = reflective && textureUsable(m.reflectionOverlayTexture);
+    int32_t shownTexture = m.baseTexture;
+    if (overlaid) {
+      shownTexture = m.reflectionOverlayTexture;
+      pbr["roughnessFactor"] = kReflectiveRoughness;
+    } else if (reflective) {
       if (textureUsable(m.baseTexture) && !scene_.textures[size_t(m.baseTexture)].isFallback)
         base *= glm::vec4(averageLinearColor(scene_.textures[size_t(m.baseTexture)].image), 1.0f);
       pbr["metallicFactor"] = kReflectiveMetallic;
       pbr["roughnessFactor"] = kReflectiveRoughness;
     }
-    const bool hasTexture = !reflective && textureUsable(m.baseTexture);
+    const bool hasTexture = (!reflective || overlaid) && textureUsable(shownTexture);
 
     AlphaVariant variant = AlphaVariant::AsIs;
     switch (m.alphaMode) {
@@ -188,12 +195,12 @@ class Exporter {
         // glTF has no additive mode: emit the texture and let its brightness be its opacity.
         out["alphaMode"] = "BLEND";
         variant = AlphaVariant::FromBrightness;
-        if (hasTexture) out["emissiveTexture"] = {{"index", texture(m.baseTexture, variant)}};
+        if (hasTexture) out["emissiveTexture"] = {{"index", texture(shownTexture, variant)}};
         out["emissiveFactor"] = vec3Json(glm::clamp(glm::vec3(base), 0.0f, 1.0f));
         base = glm::vec4(0.0f, 0.0f, 0.0f, base.a);
         break;
     }
-    if (hasTexture) pbr["baseColorTexture"] = {{"index", texture(m.baseTexture, variant)}};
+    if (hasTexture) pbr["baseColorTexture"] = {{"index", texture(shownTexture, variant)}};
     base = glm::clamp(base, 0.0f, 1.0f);
     pbr["baseColorFactor"] = json::array({base.r, base.g, base.b, base.a});
     out["pbrMetallicRoughness"] = std::move(pbr);
@@ -221,7 +228,7 @@ class Exporter {
     if (m.sky) quake["sky"] = true;
     if (m.mirror) quake["mirror"] = true;
     if (m.uvScrollPerSecond != glm::vec2(0.0f)) quake["uvScrollPerSecond"] = {m.uvScrollPerSecond.x, m.uvScrollPerSecond.y};
-    if (hasTexture) quake["texture"] = scene_.textures[size_t(m.baseTexture)].resolvedPath;
+    if (hasTexture) quake["texture"] = scene_.textures[size_t(shownTexture)].resolvedPath;
     if (reflective && textureUsable(m.baseTexture))
       quake["environmentMap"] = scene_.textures[size_t(m.baseTexture)].resolvedPath;
     out["extras"] = {{"quake", std::move(quake)}};

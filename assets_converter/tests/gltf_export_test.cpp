@@ -210,6 +210,26 @@ TEST(GltfExport, EnvironmentMappedBaseBecomesAReflectiveTint) {
   EXPECT_EQ(doc["images"].size(), 1u);
 }
 
+TEST(GltfExport, TextureAddedOverTheReflectionIsTheBase) {
+  // Shiny floor (texture, chrome, the texture added, $lightmap filter): the added texture is
+  // the base of a smooth dielectric; the chrome image is not written.
+  q3::WorldMaterial floor = texturedMaterial("hfloor3");
+  floor.baseReflects = true;
+  floor.reflectionOverlayTexture = 1;
+  q3::WorldScene scene = sceneWithMaterials({floor});
+  scene.textures.push_back({"textures/test/floor", "textures/test/floor.tga", solidImage(2, 2, 9, 9, 9, 255), false, false});
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene));
+  const json& m = doc["materials"][0];
+  EXPECT_EQ(m["pbrMetallicRoughness"]["baseColorFactor"], json::array({1.0, 1.0, 1.0, 1.0}));
+  EXPECT_FLOAT_EQ(m["pbrMetallicRoughness"]["metallicFactor"].get<float>(), 0.0f);
+  EXPECT_FLOAT_EQ(m["pbrMetallicRoughness"]["roughnessFactor"].get<float>(), 0.25f);
+  ASSERT_TRUE(m["pbrMetallicRoughness"].contains("baseColorTexture"));
+  EXPECT_EQ(m["extras"]["quake"]["texture"], "textures/test/floor.tga");
+  EXPECT_EQ(m["extras"]["quake"]["environmentMap"], "textures/test/a.tga");
+  ASSERT_EQ(doc["images"].size(), 1u);
+  EXPECT_EQ(doc["images"][0]["name"], "textures/test/floor.tga");
+}
+
 TEST(GltfExport, EnvironmentMapWithAMissingImageIsAPlainMetal) {
   q3::WorldMaterial chrome = texturedMaterial("chrome");
   chrome.baseReflects = true;

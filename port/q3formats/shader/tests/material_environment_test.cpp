@@ -25,6 +25,7 @@ TEST(MaterialEnvironment, SingleEnvironmentStageIsAReflectingBase) {
   EXPECT_TRUE(m.environmentMapped);
   EXPECT_EQ(m.alphaMode, AlphaMode::Opaque);
   EXPECT_EQ(m.lighting, LightingMode::Diffuse);
+  EXPECT_EQ(m.reflectionOverlay, "");   // nothing drawn over the chrome
   ASSERT_EQ(m.uvAnimation.size(), 1u);   // the stage's tcMods apply after the reflection lookup
   const UvAffine uv = uvTransformAt(m.uvAnimation, 0.0);
   EXPECT_FLOAT_EQ(uv.a, 0.5f);
@@ -43,6 +44,7 @@ TEST(MaterialEnvironment, OpaqueEnvironmentStageOverwritesEarlierStages) {
   // The added texture is multiplied by the lightmap after it: lit, not a glow.
   EXPECT_TRUE(m.glowTextures.empty());
   EXPECT_FALSE(m.emissive);
+  EXPECT_EQ(m.reflectionOverlay, "panel.tga");   // what the panel shows under its sheen
   // An additive stage after the lightmap filter still glows.
   auto glow = material(R"(g { { map $lightmap } { map w.tga blendFunc filter } { map g.tga blendFunc add } })");
   ASSERT_EQ(glow.glowTextures.size(), 1u);
