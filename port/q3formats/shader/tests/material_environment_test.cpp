@@ -45,6 +45,15 @@ TEST(MaterialEnvironment, OpaqueEnvironmentStageOverwritesEarlierStages) {
   EXPECT_TRUE(m.glowTextures.empty());
   EXPECT_FALSE(m.emissive);
   EXPECT_EQ(m.reflectionOverlay, "panel.tga");   // what the panel shows under its sheen
+  // textures/base_floor/hfloor3: the lightmap multiplies with DST_COLOR ONE_MINUS_SRC_ALPHA.
+  auto floor = material(R"(hfloor3 { { map hfloor3.jpg rgbGen identity }
+    { map tinfx.jpg tcGen environment rgbGen oneminusvertex } { map hfloor3.jpg blendfunc add }
+    { map $lightmap blendfunc gl_dst_color gl_one_minus_src_alpha tcGen lightmap } })");
+  EXPECT_TRUE(floor.baseReflects);
+  EXPECT_EQ(floor.reflectionOverlay, "hfloor3.jpg");
+  // An unlit additive stage over chrome is a glow, not the surface's texture.
+  auto glowing = material(R"(tele { { map env.tga tcGen environment } { map swirl.tga blendFunc add } })");
+  EXPECT_EQ(glowing.reflectionOverlay, "");
   // An additive stage after the lightmap filter still glows.
   auto glow = material(R"(g { { map $lightmap } { map w.tga blendFunc filter } { map g.tga blendFunc add } })");
   ASSERT_EQ(glow.glowTextures.size(), 1u);
