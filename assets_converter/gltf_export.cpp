@@ -30,6 +30,11 @@ enum class AlphaVariant : uint8_t {
 constexpr uint32_t kSamplerRepeat = 0;
 constexpr uint32_t kSamplerClamp = 1;
 constexpr float kQuakeFovY = 73.74f;   // cg_fov 90 at 4:3
+// Environment-mapped base stages become a smooth metal tinted by the image: fully metallic so
+// the tint colours the reflection, roughness 0.25 because Quake's sphere maps are soft blurs
+// of a room, not mirror images (the same roughness, metallic 0, with a texture added over them).
+constexpr float kReflectiveMetallic = 1.0f;
+constexpr float kReflectiveRoughness = 0.25f;
 
 json vec3Json(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
 
@@ -46,6 +51,20 @@ glm::mat3 basisLookingAlong(const glm::vec3& dir, const glm::vec3& upHint) {
   up = glm::normalize(up - back * glm::dot(up, back));
   glm::vec3 right = glm::cross(up, back);
   return glm::mat3(right, up, back);
+}
+
+/// Mean colour of an RGBA8 sRGB image in linear RGB (every texel weighs the same).
+glm::vec3 averageLinearColor(const q3::WorldImage& image) {
+  const size_t texels = size_t(image.width) * image.height;
+  if (texels == 0 || image.rgba8.size() != texels * 4) return glm::vec3(1.0f);
+  auto linear = [](uint8_t value) {
+    const double c = value / 255.0;
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);   // IEC 61966-2-1
+  };
+  double sum[3] = {0.0, 0.0, 0.0};
+  for (size_t i = 0; i < texels; ++i)
+    for (int c = 0; c < 3; ++c) sum[c] += linear(image.rgba8[i * 4 + size_t(c)]);
+  return glm::vec3(float(sum[0] / double(texels)), float(sum[1] / double(texels)), float(sum[2] / double(texels)));
 }
 
 glm::vec3 unitOrFallback(glm::vec3 v, const glm::vec3& fallback) {
@@ -139,7 +158,25 @@ class Exporter {
     json pbr = {{"metallicFactor", 0.0}, {"roughnessFactor", m.specular > 0.0f ? 0.35 : 1.0}};
     glm::vec4 base = m.baseColor;
     json out = {{"name", m.shaderName}, {"doubleSided", m.twoSided}};
-    const bool hasTexture = textureUsable(m.baseTexture);
+    // A base stage that is an environment map (tcGen environment: chrome, glass sheen) is a
+    // reflection image read at the mirrored view direction; laid on the mesh UVs it would show
+    // as a stretched photograph. Where the shader adds the surface's own texture over the
+    // reflection (shiny floors and trims), that texture is the base of a smooth dielectric;
+    // otherwise the surface becomes a reflective tint: the image's mean colour x the stage
+    // colour on a smooth metal. Any viewer's environment lighting supplies the reflection.
+    const bool reflective = m.baseReflects;
+    const bool overlaid = reflective && textureUsable(m.reflectionOverlayTexture);
+    int32_t shownTexture = m.baseTexture;
+    if (overlaid) {
+      shownTexture = m.reflectionOverlayTexture;
+      pbr["roughnessFactor"] = kReflectiveRoughness;
+    } else if (reflective) {
+      if (textureUsable(m.baseTexture) && !scene_.textures[size_t(m.baseTexture)].isFallback)
+        base *= glm::vec4(averageLinearColor(scene_.textures[size_t(m.baseTexture)].image), 1.0f);
+      pbr["metallicFactor"] = kReflectiveMetallic;
+      pbr["roughnessFactor"] = kReflectiveRoughness;
+    }
+    const bool hasTexture = (!reflective || overlaid) && textureUsable(shownTexture);
 
     AlphaVariant variant = AlphaVariant::AsIs;
     switch (m.alphaMode) {
@@ -158,12 +195,12 @@ class Exporter {
         // glTF has no additive mode: emit the texture and let its brightness be its opacity.
         out["alphaMode"] = "BLEND";
         variant = AlphaVariant::FromBrightness;
-        if (hasTexture) out["emissiveTexture"] = {{"index", texture(m.baseTexture, variant)}};
+        if (hasTexture) out["emissiveTexture"] = {{"index", texture(shownTexture, variant)}};
         out["emissiveFactor"] = vec3Json(glm::clamp(glm::vec3(base), 0.0f, 1.0f));
         base = glm::vec4(0.0f, 0.0f, 0.0f, base.a);
         break;
     }
-    if (hasTexture) pbr["baseColorTexture"] = {{"index", texture(m.baseTexture, variant)}};
+    if (hasTexture) pbr["baseColorTexture"] = {{"index", texture(shownTexture, variant)}};
     base = glm::clamp(base, 0.0f, 1.0f);
     pbr["baseColorFactor"] = json::array({base.r, base.g, base.b, base.a});
     out["pbrMetallicRoughness"] = std::move(pbr);
@@ -191,7 +228,9 @@ class Exporter {
     if (m.sky) quake["sky"] = true;
     if (m.mirror) quake["mirror"] = true;
     if (m.uvScrollPerSecond != glm::vec2(0.0f)) quake["uvScrollPerSecond"] = {m.uvScrollPerSecond.x, m.uvScrollPerSecond.y};
-    if (hasTexture) quake["texture"] = scene_.textures[size_t(m.baseTexture)].resolvedPath;
+    if (hasTexture) quake["texture"] = scene_.textures[size_t(shownTexture)].resolvedPath;
+    if (reflective && textureUsable(m.baseTexture))
+      quake["environmentMap"] = scene_.textures[size_t(m.baseTexture)].resolvedPath;
     out["extras"] = {{"quake", std::move(quake)}};
 
     uint32_t gltfIndex = glb_.append("materials", std::move(out));

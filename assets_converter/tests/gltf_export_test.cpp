@@ -183,6 +183,64 @@ TEST(GltfExport, MapsQuakeBlendingToGltfAlphaModes) {
   EXPECT_EQ(model.images.size(), 3u);   // variants shared, not duplicated
 }
 
+TEST(GltfExport, EnvironmentMappedBaseBecomesAReflectiveTint) {
+  // The scene's texture 0 is sRGB (200, 100, 50): linear (0.578, 0.127, 0.0319). A chrome base
+  // stage (tcGen environment) with rgbGen const (0.5, 1, 1) is exported as that mean colour x
+  // the stage colour on a smooth metal, without the image on the mesh UVs.
+  q3::WorldMaterial chrome = texturedMaterial("chrome");
+  chrome.baseReflects = true;
+  chrome.specular = 0.5f;
+  chrome.baseColor = glm::vec4(0.5f, 1.0f, 1.0f, 1.0f);
+  q3::WorldMaterial plain = texturedMaterial("plain");
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(sceneWithMaterials({chrome, plain})));
+  const json& pbr = doc["materials"][0]["pbrMetallicRoughness"];
+  EXPECT_FALSE(pbr.contains("baseColorTexture"));
+  ASSERT_EQ(pbr["baseColorFactor"].size(), 4u);
+  EXPECT_NEAR(pbr["baseColorFactor"][0].get<float>(), 0.5f * 0.5776f, 1e-3f);
+  EXPECT_NEAR(pbr["baseColorFactor"][1].get<float>(), 0.1274f, 1e-3f);
+  EXPECT_NEAR(pbr["baseColorFactor"][2].get<float>(), 0.0319f, 1e-3f);
+  EXPECT_FLOAT_EQ(pbr["baseColorFactor"][3].get<float>(), 1.0f);
+  EXPECT_FLOAT_EQ(pbr["metallicFactor"].get<float>(), 1.0f);
+  EXPECT_FLOAT_EQ(pbr["roughnessFactor"].get<float>(), 0.25f);
+  EXPECT_EQ(doc["materials"][0]["extras"]["quake"]["environmentMap"], "textures/test/a.tga");
+  EXPECT_FALSE(doc["materials"][0]["extras"]["quake"].contains("texture"));
+  // An ordinary material keeps its texture; the image is written once, for it alone.
+  EXPECT_TRUE(doc["materials"][1]["pbrMetallicRoughness"].contains("baseColorTexture"));
+  EXPECT_FLOAT_EQ(doc["materials"][1]["pbrMetallicRoughness"]["metallicFactor"].get<float>(), 0.0f);
+  EXPECT_EQ(doc["images"].size(), 1u);
+}
+
+TEST(GltfExport, TextureAddedOverTheReflectionIsTheBase) {
+  // Shiny floor (texture, chrome, the texture added, $lightmap filter): the added texture is
+  // the base of a smooth dielectric; the chrome image is not written.
+  q3::WorldMaterial floor = texturedMaterial("hfloor3");
+  floor.baseReflects = true;
+  floor.reflectionOverlayTexture = 1;
+  q3::WorldScene scene = sceneWithMaterials({floor});
+  scene.textures.push_back({"textures/test/floor", "textures/test/floor.tga", solidImage(2, 2, 9, 9, 9, 255), false, false});
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene));
+  const json& m = doc["materials"][0];
+  EXPECT_EQ(m["pbrMetallicRoughness"]["baseColorFactor"], json::array({1.0, 1.0, 1.0, 1.0}));
+  EXPECT_FLOAT_EQ(m["pbrMetallicRoughness"]["metallicFactor"].get<float>(), 0.0f);
+  EXPECT_FLOAT_EQ(m["pbrMetallicRoughness"]["roughnessFactor"].get<float>(), 0.25f);
+  ASSERT_TRUE(m["pbrMetallicRoughness"].contains("baseColorTexture"));
+  EXPECT_EQ(m["extras"]["quake"]["texture"], "textures/test/floor.tga");
+  EXPECT_EQ(m["extras"]["quake"]["environmentMap"], "textures/test/a.tga");
+  ASSERT_EQ(doc["images"].size(), 1u);
+  EXPECT_EQ(doc["images"][0]["name"], "textures/test/floor.tga");
+}
+
+TEST(GltfExport, EnvironmentMapWithAMissingImageIsAPlainMetal) {
+  q3::WorldMaterial chrome = texturedMaterial("chrome");
+  chrome.baseReflects = true;
+  q3::WorldScene scene = sceneWithMaterials({chrome});
+  scene.textures[0].isFallback = true;   // the checker stands in for a missing file: no tint from it
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(scene));
+  const json& pbr = doc["materials"][0]["pbrMetallicRoughness"];
+  EXPECT_EQ(pbr["baseColorFactor"], json::array({1.0, 1.0, 1.0, 1.0}));
+  EXPECT_FALSE(doc.contains("images"));
+}
+
 TEST(GltfExport, SurfaceLightBecomesEmissiveStrength) {
   q3::WorldMaterial glow = texturedMaterial("glow");
   glow.surfaceLight = 1000.0f;

@@ -136,7 +136,9 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
     } else if (name == "--clamp") {
       ok = parseFloat(name, value, 0.0f, false, o.clamp, message);
     } else if (name == "--exposure") {
-      ok = parseFloat(name, value, 0.0f, true, o.exposure, message);
+      o.autoExposure = value == "auto";
+      if (!o.autoExposure) ok = parseFloat(name, value, 0.0f, true, o.exposure, message);
+      if (!ok) message += " or \"auto\"";
     } else if (name == "--light-scale") {
       ok = parseFloat(name, value, 0.0f, true, o.lightScale, message);
     } else if (name == "--integrator") {
@@ -198,9 +200,10 @@ Output:
                          albedo.{R,G,B}, normal.{X,Y,Z} (world space), Z = first-hit distance
                          (inf = sky), variance.Y = variance of the mean's luminance
   --stats FILE           JSON summary for scripts: scene, camera (index, name), triangles,
-                         lights, image size, integrator, tonemap, exposure, spp, frames, load
-                         and render seconds, sky_fraction (pixels whose first hit is sky or
-                         nothing)
+                         lights, image size, integrator, tonemap, exposure (the gain applied),
+                         auto_exposure (with --exposure auto: gain, key, target, range,
+                         clamped), spp, frames, load and render seconds, sky_fraction (pixels
+                         whose first hit is sky or nothing)
 
 Image and sampling:
   --width W, --height H  Image size in pixels (1..16384). Default width 640; a missing side
@@ -223,7 +226,12 @@ Image and sampling:
 View:
   --camera INDEX         Camera of the scene to render (default 0). Without any camera in the
                          file, a camera framing the whole scene is made up.
-  --exposure E           Linear multiplier before tonemapping (default 1)
+  --exposure E|auto      Linear multiplier before tonemapping (default 1). auto: metered on
+                         the rendered image: the log-average luminance of the pixels that see
+                         the world (not the sky; all pixels if none does), black clipped at
+                         0.001, is brought to 0.045 (a low-key scene); the gain is clamped to
+                         [1/8, 16] and reported in --stats (auto_exposure) and the summary.
+                         The EXR stays unexposed
   --tonemap NAME         PNG display transform: aces (filmic, default) | reinhard (luminance,
                          hue kept) | clamp (no curve: the stock renderer's look, best with
                          --integrator lightmap)

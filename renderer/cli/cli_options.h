@@ -28,7 +28,8 @@ struct CliOptions {
   Tonemap tonemap = Tonemap::AcesFitted;        ///< Display transform of the PNG.
   uint32_t camera = 0;                          ///< Index into the scene's cameras.
   float clamp = 0.0f;                           ///< Radiance clamp per path, 0 = off.
-  float exposure = 1.0f;
+  float exposure = 1.0f;                        ///< Fixed gain; ignored with autoExposure.
+  bool autoExposure = false;                    ///< --exposure auto: gain metered on the image (film/auto_exposure.h).
   float lightScale = 1.0f;                      ///< Photometric -> renderer units (glTF lights, emitters).
   bool progress = false;                        ///< Force the progress bar even when stderr is not a TTY.
   bool quiet = false;                           ///< No progress bar and no warnings; summary only.

@@ -7,14 +7,19 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "renderer/cli/image_output.h"
 #include "renderer/cli/progress.h"
 #include "renderer/cli/scene_importer.h"
+#include "renderer/scene/film/auto_exposure.h"
+#include "renderer/scene/film/film.h"
 #include "renderer/scene/renderer.h"
 
 namespace pa::cli {
@@ -42,6 +47,23 @@ double skyFraction(std::span<const float> depth) {
   if (depth.empty()) return 0.0;
   const auto sky = std::count_if(depth.begin(), depth.end(), [](float d) { return !std::isfinite(d); });
   return static_cast<double>(sky) / static_cast<double>(depth.size());
+}
+
+/// The --stats record of a metered exposure (settings included, so scripts need no constants).
+nlohmann::json autoExposureJson(const AutoExposure& metered) {
+  const AutoExposureSettings settings;
+  const char* clamped = metered.clamped == ExposureClamp::Max   ? "max"
+                        : metered.clamped == ExposureClamp::Min ? "min"
+                                                                : "none";
+  return {{"gain", metered.gain},
+          {"key", metered.key},
+          {"metered_pixels", metered.meteredPixels},
+          {"metered_sky", metered.meteredSky},
+          {"clamped", clamped},
+          {"target_key", settings.targetKey},
+          {"black_level", settings.blackLevel},
+          {"min_gain", settings.minGain},
+          {"max_gain", settings.maxGain}};
 }
 
 /// Writes the --stats JSON; throws std::runtime_error when the file cannot be written.
@@ -112,7 +134,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.radianceClamp = options.clamp;
     settings.seed = options.seed;
     settings.accumulate = true;
-    settings.exposure = options.exposure;
+    settings.exposure = options.autoExposure ? 1.0f : options.exposure;
     settings.tonemap = options.tonemap;
     settings.denoise = options.denoise;
     const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);
@@ -128,7 +150,19 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     progress.finish();
     const double renderSeconds = progress.elapsedSeconds();
 
-    writePng(options.pngOut, frame.width, frame.height, frame.rgba8);
+    // --exposure auto: meter the final (linear, possibly denoised) image and encode it again
+    // with the metered gain; the EXR stays unexposed either way.
+    std::optional<AutoExposure> metered;
+    std::vector<uint8_t> exposedRgba8;
+    std::span<const uint8_t> displayRgba8 = frame.rgba8;
+    if (options.autoExposure) {
+      metered = meterAutoExposure(frame.radiance, frame.depth, AutoExposureSettings{});
+      exposedRgba8.resize(frame.rgba8.size());
+      encodeDisplay(frame.radiance, metered->gain, options.tonemap, exposedRgba8);
+      displayRgba8 = exposedRgba8;
+    }
+    const float exposure = metered ? metered->gain : options.exposure;
+    writePng(options.pngOut, frame.width, frame.height, displayRgba8);
     if (options.exrOut) {
       ExrLayers layers{frame.width, frame.height, frame.radiance, frame.albedo, frame.normal, frame.depth, frame.variance};
       writeExr(*options.exrOut, layers);
@@ -145,7 +179,8 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
           {"integrator", integratorName(options.integrator)},
           {"tonemap", tonemapName(options.tonemap)},
           {"denoise", options.denoise},
-          {"exposure", options.exposure},
+          {"exposure", exposure},
+          {"auto_exposure", metered ? autoExposureJson(*metered) : nlohmann::json(nullptr)},
           {"spp", options.samplesPerPixel},
           {"frames", options.frames},
           {"load_seconds", loadSeconds},
@@ -158,10 +193,11 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     const double samples = static_cast<double>(settings.width) * settings.height * options.samplesPerPixel * options.frames;
     std::fprintf(log,
                  "pa-render: %s: %zu triangles, %zu lights, camera \"%s\" | %ux%u, %s (%u bounces), %u frame(s) x %u spp"
-                 " | load %s, render %s (%.2f Msamples/s) | wrote %s%s%s\n",
+                 " | %sexposure %.3g | load %s, render %s (%.2f Msamples/s) | wrote %s%s%s\n",
                  options.scene.filename().string().c_str(), scene.triangles, scene.lights, camera.name.c_str(),
                  settings.width, settings.height, std::string(integratorName(options.integrator)).c_str(),
-                 options.bounces, options.frames, options.samplesPerPixel, formatDuration(loadSeconds).c_str(),
+                 options.bounces, options.frames, options.samplesPerPixel, metered ? "auto " : "", exposure,
+                 formatDuration(loadSeconds).c_str(),
                  formatDuration(renderSeconds).c_str(), samples / std::max(renderSeconds, 1e-9) * 1e-6,
                  options.pngOut.string().c_str(), options.exrOut ? " and " : "",
                  options.exrOut ? options.exrOut->string().c_str() : "");

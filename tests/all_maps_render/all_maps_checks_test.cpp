@@ -123,6 +123,124 @@ TEST(MapSurvey, CtfSpawnCountsAndNoSpawnIsReported) {
   EXPECT_FALSE(none.spawn.has_value());
 }
 
+/// halfSpaceBsp plus one solid box brush x, y in [-100, 100], z in [-16, 0] (shader 0: CONTENTS_SOLID).
+q3::BspFile bspWithFloor(std::string entities) {
+  q3::BspFile bsp = halfSpaceBsp(std::move(entities));
+  bsp.shaders.push_back({"textures/test/floor", 0, 1});
+  const std::vector<q3::BspPlane> sides = {{glm::vec3(1, 0, 0), 100},  {glm::vec3(-1, 0, 0), 100},
+                                           {glm::vec3(0, 1, 0), 100},  {glm::vec3(0, -1, 0), 100},
+                                           {glm::vec3(0, 0, 1), 0},    {glm::vec3(0, 0, -1), 16}};
+  for (const q3::BspPlane& plane : sides) {
+    bsp.brushSides.push_back({static_cast<int32_t>(bsp.planes.size()), 0});
+    bsp.planes.push_back(plane);
+  }
+  bsp.brushes.push_back({0, 6, 0});
+  q3::BspModel world;
+  world.numBrushes = 1;
+  bsp.models.push_back(world);
+  return bsp;
+}
+
+TEST(MapSurvey, FloorProbeTracesDownToSolidBrushes) {
+  const q3::BspFile bsp = bspWithFloor("");
+  const FloorProbe probe(bsp);
+  EXPECT_FLOAT_EQ(probe.below(glm::vec3(10, -20, 24), 1000).value_or(-1), 24.0f);
+  EXPECT_FLOAT_EQ(probe.below(glm::vec3(0, 0, -8), 1000).value_or(-1), 0.0f);    // inside the brush
+  EXPECT_FALSE(probe.below(glm::vec3(150, 0, 24), 1000).has_value());           // beside it
+  EXPECT_FALSE(probe.below(glm::vec3(0, 0, 300), 100).has_value());             // beyond the search
+  EXPECT_FALSE(probe.below(glm::vec3(0, 0, -40), 1000).has_value());            // under it
+  q3::BspFile water = bspWithFloor("");
+  water.shaders[0].contentFlags = 32;   // CONTENTS_WATER: nothing to stand on
+  EXPECT_FALSE(FloorProbe(water).below(glm::vec3(0, 0, 24), 1000).has_value());
+}
+
+TEST(MapSurvey, RendersTheFirstSpawnThatStandsOnAFloor) {
+  const q3::BspFile bsp = bspWithFloor(R"(
+{ "classname" "worldspawn" }
+{ "classname" "info_player_start" "origin" "60 0 24" }
+{ "classname" "info_player_deathmatch" "origin" "40 0 24" }
+)");
+  const MapSurvey survey = surveyMap(bsp);
+  ASSERT_TRUE(survey.spawn && survey.firstSpawn);
+  EXPECT_EQ(survey.spawn->cameraName, "info_player_start 1");
+  EXPECT_EQ(survey.firstSpawn->cameraName, "info_player_start 1");
+  EXPECT_FLOAT_EQ(survey.spawn->floorDistance.value_or(-1), 24.0f);
+  EXPECT_TRUE(survey.spawn->standsOnFloor());
+  EXPECT_EQ(survey.spawnsWithoutFloor, 0u);
+  EXPECT_EQ(survey.eyeCluster, 5);
+}
+
+TEST(MapSurvey, SpawnsOffTheFloorAreSkippedAndNoFloorKeepsTheFirst) {
+  // Spawn 0 has no floor under it, spawn 1 is 300 units up (a fall that hurts), spawn 2 stands.
+  const MapSurvey survey = surveyMap(bspWithFloor(R"(
+{ "classname" "info_player_start" "origin" "500 0 24" }
+{ "classname" "info_player_deathmatch" "origin" "50 0 300" }
+{ "classname" "info_player_deathmatch" "origin" "40 0 24" }
+)"));
+  ASSERT_TRUE(survey.spawn && survey.firstSpawn);
+  EXPECT_EQ(survey.firstSpawn->cameraName, "info_player_start 0");
+  EXPECT_FALSE(survey.firstSpawn->floorDistance.has_value());
+  EXPECT_EQ(survey.spawn->cameraName, "info_player_deathmatch 2");
+  EXPECT_EQ(survey.spawnsWithoutFloor, 2u);
+  const MapSurvey floating = surveyMap(bspWithFloor(R"({ "classname" "info_player_start" "origin" "500 0 24" })"));
+  ASSERT_TRUE(floating.spawn.has_value());
+  EXPECT_EQ(floating.spawn->cameraName, "info_player_start 0");
+  EXPECT_FALSE(floating.spawn->standsOnFloor());
+}
+
+TEST(ImageStats, DarkAtTheLargestGainSaysSo) {
+  const auto reasons = implausibilityReasons({0.01, 0.9, 0.0}, PlausibilityThresholds{}, true);
+  ASSERT_EQ(reasons.size(), 2u);
+  EXPECT_EQ(reasons[0].rfind("dark at the largest auto-exposure gain", 0), 0u) << reasons[0];
+}
+
+#if defined(PA_RENDER) && defined(PA_DEFAULT_ARENA)
+/// Renders the bundled scene as pa-all-maps renders a map's lightmap picture (auto exposure,
+/// clamp) and judges it.
+std::pair<RenderResult, std::vector<std::string>> judgedArenaRender(const std::string& name,
+                                                                    std::vector<std::string> extra) {
+  RenderRequest request;
+  request.paRender = PA_RENDER;
+  request.scene = PA_DEFAULT_ARENA;
+  request.integrator = "direct";
+  request.tonemap = "clamp";
+  request.exposure = "auto";
+  request.width = 64;
+  request.height = 36;
+  request.samplesPerPixel = 4;
+  request.threads = 1;
+  request.outputStem = std::filesystem::temp_directory_path() / ("pa_all_maps_" + std::to_string(::getpid()) + name);
+  request.extraArguments = std::move(extra);
+  RenderResult result = runPaRender(request);
+  std::vector<std::string> reasons;
+  if (result.ok())
+    reasons = implausibilityReasons(computeImageStats(result.image.pixels, result.depth), PlausibilityThresholds{},
+                                    result.exposureAtMaxGain);
+  for (const char* extension : {".png", ".exr", ".json", ".log"}) {
+    std::filesystem::path p = request.outputStem;
+    std::filesystem::remove(p += extension);
+  }
+  return {std::move(result), std::move(reasons)};
+}
+
+TEST(BrokenRender, ALitSceneWithAutoExposurePasses) {
+  const auto [result, reasons] = judgedArenaRender("lit", {});
+  ASSERT_TRUE(result.ok()) << result.error << result.log;
+  EXPECT_FALSE(result.exposureAtMaxGain);
+  EXPECT_TRUE(reasons.empty()) << reasons.front();
+}
+
+TEST(BrokenRender, ABlackRenderFailsAtTheLargestGain) {
+  // Every light dimmed a billion-fold: the sky through the window is all that is left. Auto
+  // exposure cannot make this plausible: the gain stops at its clamp and the picture stays dark.
+  const auto [result, reasons] = judgedArenaRender("black", {"--light-scale", "1e-9"});
+  ASSERT_TRUE(result.ok()) << result.error << result.log;
+  EXPECT_TRUE(result.exposureAtMaxGain);
+  ASSERT_FALSE(reasons.empty());
+  EXPECT_NE(reasons.front().find("at the largest auto-exposure gain"), std::string::npos) << reasons.front();
+}
+#endif
+
 TEST(KnownProblems, ParsesLinesCommentsAndWildcards) {
   const auto known = parseKnownProblems("# header\n\noa_dm1 direct light entities stripped  # why\nfoo * broken\n", "k");
   ASSERT_EQ(known.size(), 2u);
@@ -166,13 +284,16 @@ TEST(Reports, FailuresKnownProblemsAndStalePassesAreListed) {
   std::ostringstream md;
   writeMarkdownReport(md, results, PlausibilityThresholds{});
   const std::string text = md.str();
-  EXPECT_NE(text.find("| bad | 0 | 0 | none | -1 | 0.020 | 90.0% | 10.0% | 0 | FAIL |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| bad | 0 | 0 | none | - | -1 | 1.00 | 0.020 | 0.000 | 90.0% | 10.0% | 0 | FAIL |"),
+            std::string::npos)
+      << text;
   EXPECT_NE(text.find("- bad direct: dark"), std::string::npos) << text;
   EXPECT_NE(text.find("- dim direct: dark (known: no lights)"), std::string::npos) << text;
   EXPECT_NE(text.find("fixed direct passes although listed"), std::string::npos) << text;
   std::ostringstream tsv;
   writeTsvReport(tsv, results);
-  EXPECT_NE(tsv.str().find("bad\t\t0\t0\t0\t\t0\t0\t0\t0\t-1\tdirect\t0.0200\t0.9000\t0.1000\t0\t0\tFAIL\tdark\n"),
+  EXPECT_NE(tsv.str().find("bad\t\t0\t0\t0\t\t0\t0\t0\t0\tnone\t\t-1\tdirect\t1.0000\t0\t0.0200\t0.9000\t0.1000\t0.0000\t0."
+                           "0000\t0\t0\tFAIL\tdark\n"),
             std::string::npos)
       << tsv.str();
 }

@@ -2,6 +2,8 @@
 // (lightmap and direct integrators), checks that each picture is plausible, and writes a
 // results table and a contact sheet. See README.md.
 #include <charconv>
+#include <cmath>
+#include <optional>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -33,9 +35,10 @@ constexpr int kExitSkip = 77;   // CTest SKIP_RETURN_CODE: the game data is not 
 
 constexpr const char* kUsage = R"(Usage: pa-all-maps --pa-render PATH --out DIR [options]
 
-Renders every map of the game folder from its first player spawn point with pa-render, in the
-lightmap and direct integrators (both in the stock look, --tonemap clamp), and checks that each picture is plausible (not black, not all
-sky, spawn inside the level). Writes DIR/results.md, DIR/results.tsv, DIR/contact_sheet.png and
+Renders every map of the game folder from its first player spawn point that stands on a floor
+with pa-render, in the lightmap and direct integrators (--tonemap clamp; lightmap exposed
+automatically, direct at the lightmap's gain), and checks that each picture is plausible (not
+black, not all sky, spawn inside the level). Writes DIR/results.md, DIR/results.tsv, DIR/contact_sheet.png and
 the renders (DIR/renders/MAP_INTEGRATOR.{png,exr,json,log}).
 
   --pa-render PATH        The pa-render executable (required)
@@ -48,6 +51,8 @@ the renders (DIR/renders/MAP_INTEGRATOR.{png,exr,json,log}).
   --direct-spp N          Samples per pixel of the direct renders (default 8)
   --threads T             pa-render --threads (default 0 = all cores)
   --columns C             Contact sheet cells per row (default 6)
+  --exposure GAIN         Judge every render at this fixed gain (1 = the stock look) instead
+                          of the default: lightmap --exposure auto, direct at the lightmap's gain
   --reuse                 Re-check the renders an earlier run left in DIR/renders instead of
                           rendering again, where its --stats JSON shows the same settings;
                           the others are rendered
@@ -67,6 +72,7 @@ struct Options {
   uint32_t threads = 0;
   uint32_t columns = 6;
   bool reuse = false;
+  std::optional<std::string> fixedExposure;   ///< --exposure: one gain for every render instead of auto.
 };
 
 bool parseCount(std::string_view text, uint32_t lo, uint32_t hi, uint32_t& out) {
@@ -109,6 +115,12 @@ std::string parseOptions(int argc, char** argv, Options& o) {
     else if (name == "--direct-spp") ok = parseCount(value, 1, 4096, o.directSpp);
     else if (name == "--threads") ok = parseCount(value, 0, 4096, o.threads);
     else if (name == "--columns") ok = parseCount(value, 1, 64, o.columns);
+    else if (name == "--exposure") {
+      char* end = nullptr;
+      const double gain = std::strtod(std::string(value).c_str(), &end);
+      ok = end && *end == '\0' && gain > 0.0 && std::isfinite(gain);
+      if (ok) o.fixedExposure = std::string(value);
+    }
     else return "unknown option " + std::string(name);
     if (!ok) return std::string(name) + ": bad value \"" + std::string(value) + "\"";
   }
@@ -133,6 +145,13 @@ struct IntegratorRun {
   uint32_t spp;
 };
 
+/// A gain as pa-render's --exposure value (round-trips exactly enough for --reuse).
+std::string exposureText(double gain) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", gain);
+  return text;
+}
+
 /// Surveys, renders and checks one map.
 MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::string& gamePath,
                    const std::vector<KnownProblem>& known, std::vector<RgbaImage>& images) {
@@ -145,6 +164,7 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::
   // thresholds serves both; the filmic default (aces) would darken dim maps' shadows further.
   const std::vector<IntegratorRun> runs = {{"lightmap", "clamp", o.lightmapSpp}, {"direct", "clamp", o.directSpp}};
   images.assign(runs.size(), RgbaImage{});
+  double lightmapGain = 1.0;
   try {
     const auto bytes = game.readFile(gamePath);
     if (!bytes) throw std::runtime_error(gamePath + ": listed but not readable");
@@ -168,6 +188,9 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::
     request.integrator = runs[k].name;
     request.tonemap = runs[k].tonemap;
     request.camera = result.survey.spawn->cameraIndex;
+    // The lightmap picture is exposed automatically; the direct one with the lightmap's gain,
+    // so that Direct is judged against the baked light at the same exposure (README.md).
+    request.exposure = o.fixedExposure ? *o.fixedExposure : k == 0 ? "auto" : exposureText(lightmapGain);
     request.width = o.width;
     request.height = o.height;
     request.samplesPerPixel = runs[k].spp;
@@ -181,6 +204,9 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::
     outcome.expectedBecause = knownProblemReason(known, result.map, runs[k].name).value_or(result.mapExpectedBecause);
     outcome.wallMilliseconds = rendered.wallMilliseconds;
     outcome.renderMilliseconds = rendered.renderMilliseconds;
+    outcome.exposure = rendered.exposure;
+    outcome.exposureAtMaxGain = rendered.exposureAtMaxGain;
+    if (k == 0 && rendered.ok()) lightmapGain = rendered.exposure;
     if (!rendered.ok()) {
       std::string log = rendered.exitCode != 0 ? rendered.log : "";   // its last line is the error message
       while (!log.empty() && log.back() == '\n') log.pop_back();
@@ -191,7 +217,8 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::
     } else {
       outcome.rendered = true;
       outcome.stats = computeImageStats(rendered.image.pixels, rendered.depth, thresholds);
-      outcome.problems = implausibilityReasons(outcome.stats, thresholds);
+      outcome.unexposedStats = computeImageStats(rendered.unexposedImage.pixels, rendered.depth, thresholds);
+      outcome.problems = implausibilityReasons(outcome.stats, thresholds, outcome.exposureAtMaxGain);
       result.triangles = rendered.triangles;
       result.lights = rendered.lights;
       images[k] = std::move(rendered.image);
@@ -243,9 +270,10 @@ int run(const Options& o) {
     std::string line = result.failed() ? "FAIL" : "ok";
     for (const IntegratorOutcome& r : result.renders)
       if (r.rendered) {
-        char text[96];
-        std::snprintf(text, sizeof text, "  %s lum %.3f black %.0f%% sky %.0f%% %.0f ms", r.integrator.c_str(),
-                      r.stats.meanLuma, 100 * r.stats.blackFraction, 100 * r.stats.skyFraction, r.wallMilliseconds);
+        char text[128];
+        std::snprintf(text, sizeof text, "  %s x%.2f lum %.3f (x1 %.3f) black %.0f%% sky %.0f%% %.0f ms",
+                      r.integrator.c_str(), r.exposure, r.stats.meanLuma, r.unexposedStats.meanLuma,
+                      100 * r.stats.blackFraction, 100 * r.stats.skyFraction, r.wallMilliseconds);
         line += text;
       }
     std::printf("[%zu/%zu] %-20s %s\n", i + 1, maps.size(), result.map.c_str(), line.c_str());

@@ -46,12 +46,15 @@ ImageStats computeImageStats(std::span<const uint8_t> rgba8, std::span<const flo
   return {lumaSum / world, static_cast<double>(black) / world, static_cast<double>(sky) / static_cast<double>(pixels)};
 }
 
-std::vector<std::string> implausibilityReasons(const ImageStats& stats, const PlausibilityThresholds& thresholds) {
+std::vector<std::string> implausibilityReasons(const ImageStats& stats, const PlausibilityThresholds& thresholds,
+                                               bool atMaxGain) {
   std::vector<std::string> reasons;
+  const std::string clamped = atMaxGain ? " at the largest auto-exposure gain" : "";
   if (stats.meanLuma < thresholds.minMeanLuma)
-    reasons.push_back("dark: world mean luma " + number(stats.meanLuma) + " < " + number(thresholds.minMeanLuma));
+    reasons.push_back("dark" + clamped + ": world mean luma " + number(stats.meanLuma) + " < " +
+                      number(thresholds.minMeanLuma));
   if (stats.blackFraction > thresholds.maxBlackFraction)
-    reasons.push_back("black: " + percent(stats.blackFraction) + " of the world pixels black > " +
+    reasons.push_back("black" + clamped + ": " + percent(stats.blackFraction) + " of the world pixels black > " +
                       percent(thresholds.maxBlackFraction));
   if (stats.skyFraction > thresholds.maxSkyFraction)
     reasons.push_back("sky: " + percent(stats.skyFraction) + " sky/void pixels > " + percent(thresholds.maxSkyFraction));

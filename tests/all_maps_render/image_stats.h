@@ -17,8 +17,8 @@ struct ImageStats {
 /// What "a plausible picture" means; the values are justified in README.md.
 struct PlausibilityThresholds {
   double blackLuma = 10.0 / 255.0;   ///< A pixel darker than this counts as black.
-  double minMeanLuma = 0.045;        ///< Not black: world mean display luma at least this...
-  double maxBlackFraction = 0.8;     ///< ...and at most this share of black world pixels.
+  double minMeanLuma = 0.055;        ///< Not black: world mean display luma at least this...
+  double maxBlackFraction = 0.7;     ///< ...and at most this share of black world pixels.
   double maxSkyFraction = 0.9;       ///< Not all sky: the world covers more than 10% of the image.
 };
 
@@ -28,6 +28,9 @@ ImageStats computeImageStats(std::span<const uint8_t> rgba8, std::span<const flo
                              const PlausibilityThresholds& thresholds = {});
 
 /// Why an image is not plausible: one short reason per failed check (empty = plausible).
-std::vector<std::string> implausibilityReasons(const ImageStats& stats, const PlausibilityThresholds& thresholds = {});
+/// `atMaxGain`: the picture was exposed automatically and the gain hit its upper clamp, so a
+/// dark or black verdict means the render is dark beyond what exposure can show (said in the reason).
+std::vector<std::string> implausibilityReasons(const ImageStats& stats, const PlausibilityThresholds& thresholds = {},
+                                               bool atMaxGain = false);
 
 }  // namespace pa::allmaps

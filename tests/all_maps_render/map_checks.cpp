@@ -17,12 +17,31 @@ std::string format(const char* pattern, double value) {
   return text;
 }
 
+std::string floorText(const SpawnPoint& s) {
+  return s.floorDistance ? format("%.0f", *s.floorDistance) : std::string("none");
+}
+
 std::string spawnText(const MapResult& r) {
   if (!r.survey.spawn) return "none";
   const glm::vec3& o = r.survey.spawn->origin;
   char text[96];
   std::snprintf(text, sizeof text, "%u: (%.0f %.0f %.0f)", r.survey.spawn->cameraIndex, o.x, o.y, o.z);
   return text;
+}
+
+/// Why the rendered spawn is not the first player spawn (empty when it is).
+std::string spawnChoiceNote(const MapResult& r) {
+  const MapSurvey& s = r.survey;
+  if (!s.spawn || !s.firstSpawn) return "";
+  if (!s.spawn->standsOnFloor())
+    return "no player spawn stands on a floor (floor within " + format("%.0f", kMaxSpawnFloorDistance) +
+           " units): the first, " + s.firstSpawn->cameraName + " (floor " + floorText(*s.firstSpawn) + "), is rendered";
+  if (s.spawn->cameraName == s.firstSpawn->cameraName) return "";
+  return s.spawn->cameraName + " (floor " + floorText(*s.spawn) + " below) is rendered: " +
+         std::to_string(s.spawnsWithoutFloor) + " earlier spawn(s) stand on no floor, the first " +
+         s.firstSpawn->cameraName + " at (" + format("%.0f", s.firstSpawn->origin.x) + " " +
+         format("%.0f", s.firstSpawn->origin.y) + " " + format("%.0f", s.firstSpawn->origin.z) + ") with floor " +
+         floorText(*s.firstSpawn) + " below";
 }
 
 std::string joined(const std::vector<std::string>& items, std::string_view separator) {
@@ -91,30 +110,33 @@ void writeMarkdownReport(std::ostream& out, const std::vector<MapResult>& result
       << format("%.0f%%", 100 * thresholds.maxBlackFraction)
       << ", sky/void pixels <= " << format("%.0f%%", 100 * thresholds.maxSkyFraction)
       << ", spawn eye in a leaf of the level (PVS cluster >= 0).\n\n";
-  out << "| map | tris | lights | spawn (camera: origin) | cluster |";
-  for (const std::string& i : integrators) out << ' ' << i << " lum | black | sky | ms | verdict |";
-  out << "\n|---|--:|--:|---|--:|";
-  for (size_t i = 0; i < integrators.size(); ++i) out << "--:|--:|--:|--:|---|";
+  out << "| map | tris | lights | spawn (camera: origin) | floor | cluster |";
+  for (const std::string& i : integrators) out << ' ' << i << " gain | lum | lum x1 | black | sky | ms | verdict |";
+  out << "\n|---|--:|--:|---|--:|--:|";
+  for (size_t i = 0; i < integrators.size(); ++i) out << "--:|--:|--:|--:|--:|--:|---|";
   out << '\n';
   for (const MapResult& r : results) {
     out << "| " << r.map << " | " << r.triangles << " | " << r.lights << " | " << spawnText(r) << " | "
-        << r.survey.eyeCluster << " |";
+        << (r.survey.spawn ? floorText(*r.survey.spawn) : "-") << " | " << r.survey.eyeCluster << " |";
     for (const std::string& i : integrators) {
       const auto o = std::find_if(r.renders.begin(), r.renders.end(),
                                   [&](const IntegratorOutcome& x) { return x.integrator == i; });
       if (o == r.renders.end() || !o->rendered) {
-        out << " - | - | - | - | " << (o == r.renders.end() ? "not run" : verdictWord(*o)) << " |";
+        out << " - | - | - | - | - | - | " << (o == r.renders.end() ? "not run" : verdictWord(*o)) << " |";
         continue;
       }
-      out << ' ' << format("%.3f", o->stats.meanLuma) << " | " << format("%.1f%%", 100 * o->stats.blackFraction)
+      out << ' ' << format("%.2f", o->exposure) << (o->exposureAtMaxGain ? " (max)" : "") << " | "
+          << format("%.3f", o->stats.meanLuma) << " | " << format("%.3f", o->unexposedStats.meanLuma) << " | "
+          << format("%.1f%%", 100 * o->stats.blackFraction)
           << " | " << format("%.1f%%", 100 * o->stats.skyFraction) << " | " << format("%.0f", o->wallMilliseconds)
           << " | " << verdictWord(*o) << " |";
     }
     out << '\n';
   }
 
-  std::ostringstream failures, known, passes;
+  std::ostringstream failures, known, passes, spawnChoices;
   for (const MapResult& r : results) {
+    if (const std::string note = spawnChoiceNote(r); !note.empty()) spawnChoices << "- " << r.map << ": " << note << '\n';
     for (const std::string& p : r.mapProblems)
       (r.mapExpectedBecause.empty() ? failures : known)
           << "- " << r.map << ": " << p
@@ -129,14 +151,17 @@ void writeMarkdownReport(std::ostream& out, const std::vector<MapResult>& result
                << o.expectedBecause << "): remove it from the list\n";
     }
   }
+  out << "\nSpawn choices (the first player spawn that stands on a floor; \"floor\" = units from the origin down "
+         "to the floor):\n"
+      << (spawnChoices.str().empty() ? "- every map: its first player spawn\n" : spawnChoices.str());
   out << "\nFailures:\n" << (failures.str().empty() ? "- none\n" : failures.str());
   out << "\nKnown problems (expected to fail):\n" << (known.str().empty() ? "- none\n" : known.str());
   if (!passes.str().empty()) out << "\nKnown problems that no longer fail:\n" << passes.str();
 }
 
 void writeTsvReport(std::ostream& out, const std::vector<MapResult>& results) {
-  out << "map\tarchive\ttriangles\tlights\tlight_entities\tcamera\tcamera_index\torigin_x\torigin_y\torigin_z\tcluster"
-         "\tintegrator\tmean_luma\tblack_fraction\tsky_fraction\twall_ms\trender_ms\tverdict\tproblems\n";
+  out << "map\tarchive\ttriangles\tlights\tlight_entities\tcamera\tcamera_index\torigin_x\torigin_y\torigin_z\tfloor_distance\tfirst_spawn\tcluster"
+         "\tintegrator\texposure\texposure_at_max\tmean_luma\tblack_fraction\tsky_fraction\tmean_luma_x1\tblack_fraction_x1\twall_ms\trender_ms\tverdict\tproblems\n";
   for (const MapResult& r : results) {
     const SpawnPoint spawn = r.survey.spawn.value_or(SpawnPoint{});
     for (const IntegratorOutcome& o : r.renders) {
@@ -144,9 +169,12 @@ void writeTsvReport(std::ostream& out, const std::vector<MapResult>& results) {
       problems.insert(problems.end(), o.problems.begin(), o.problems.end());
       out << r.map << '\t' << r.archive << '\t' << r.triangles << '\t' << r.lights << '\t' << r.survey.lightEntities
           << '\t' << spawn.cameraName << '\t' << spawn.cameraIndex << '\t' << spawn.origin.x << '\t' << spawn.origin.y
-          << '\t' << spawn.origin.z << '\t' << r.survey.eyeCluster << '\t' << o.integrator << '\t'
+          << '\t' << spawn.origin.z << '\t' << floorText(spawn) << '\t'
+          << (r.survey.firstSpawn ? r.survey.firstSpawn->cameraName : std::string()) << '\t' << r.survey.eyeCluster
+          << '\t' << o.integrator << '\t' << format("%.4f", o.exposure) << '\t' << (o.exposureAtMaxGain ? 1 : 0) << '\t'
           << format("%.4f", o.stats.meanLuma) << '\t' << format("%.4f", o.stats.blackFraction) << '\t'
-          << format("%.4f", o.stats.skyFraction) << '\t' << format("%.0f", o.wallMilliseconds) << '\t'
+          << format("%.4f", o.stats.skyFraction) << '\t' << format("%.4f", o.unexposedStats.meanLuma) << '\t'
+          << format("%.4f", o.unexposedStats.blackFraction) << '\t' << format("%.0f", o.wallMilliseconds) << '\t'
           << format("%.0f", o.renderMilliseconds) << '\t' << verdictWord(o) << '\t' << joined(problems, "; ") << '\n';
     }
   }

@@ -17,7 +17,10 @@ namespace pa::allmaps {
 struct IntegratorOutcome {
   std::string integrator;              ///< "lightmap" or "direct".
   bool rendered = false;               ///< pa-render succeeded and its outputs were read.
-  ImageStats stats;                    ///< Valid when rendered.
+  ImageStats stats;                    ///< Valid when rendered: the judged picture (exposed by `exposure`).
+  ImageStats unexposedStats;           ///< The same render at exposure 1 (the stock look), for the record.
+  double exposure = 1.0;               ///< Gain of the judged picture.
+  bool exposureAtMaxGain = false;      ///< The metered gain hit its upper clamp.
   double wallMilliseconds = 0.0;       ///< pa-render process time (load + render + write).
   double renderMilliseconds = 0.0;     ///< Render only.
   std::vector<std::string> problems;   ///< Failed checks (empty = plausible).

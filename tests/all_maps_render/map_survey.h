@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -15,28 +16,57 @@ struct BspFile;
 
 namespace pa::allmaps {
 
+/// Farthest a spawn point's origin may be above the floor for a player spawned there to land
+/// without falling damage (README.md "Spawn"): the game lifts the spawn by 9 units, the feet are
+/// 24 below the origin, and a fall of h units at gravity 800 lands with delta = 2 * 800 * h * 1e-4,
+/// which hurts above 40: h <= 250, floor <= 250 + 24 - 9 = 265 units below the origin.
+inline constexpr float kMaxSpawnFloorDistance = 265.0f;
+
 /// The spawn point a map is rendered from.
 struct SpawnPoint {
   std::string cameraName;      ///< As pa-render names it: "info_player_deathmatch 12" (classname, entity index).
   uint32_t cameraIndex = 0;    ///< pa-render --camera index.
   glm::vec3 origin{0.0f};      ///< Entity origin (Quake units).
   glm::vec3 eye{0.0f};         ///< Where the camera stands: origin + 35 (spawn lift + view height).
+  std::optional<float> floorDistance;  ///< Origin height above the floor below it (floorBelow); nullopt = none.
+  /// True when a floor lies at most kMaxSpawnFloorDistance below the origin (the player lands unhurt).
+  bool standsOnFloor() const { return floorDistance && *floorDistance <= kMaxSpawnFloorDistance; }
 };
 
 /// One map, surveyed from its .bsp.
 struct MapSurvey {
-  std::optional<SpawnPoint> spawn;   ///< First player spawn point; nullopt when the map has none.
-  int32_t eyeCluster = -1;           ///< PVS cluster of the leaf holding the eye; -1 = solid/outside.
-  size_t lightEntities = 0;          ///< `light` entities left in the BSP (q3map2 usually strips them).
+  std::optional<SpawnPoint> spawn;        ///< The spawn point rendered (chooseSpawn); nullopt when the map has none.
+  std::optional<SpawnPoint> firstSpawn;   ///< First player spawn point in file order (the choice before the floor rule).
+  size_t spawnsWithoutFloor = 0;          ///< Player spawn points before `spawn` that stand on no floor.
+  int32_t eyeCluster = -1;                ///< PVS cluster of the leaf holding the eye; -1 = solid/outside.
+  size_t lightEntities = 0;               ///< `light` entities left in the BSP (q3map2 usually strips them).
   /// True when the eye is in a leaf of the playable volume (cluster >= 0).
   bool eyeInsideLevel() const { return eyeCluster >= 0; }
 };
 
-/// Finds the first player spawn point the way pa-render's .bsp importer numbers cameras
-/// (entity order; info_player_deathmatch/start, CTF spawns and info_player_intermission with a
-/// valid origin are cameras; the first that is not an intermission point is chosen) and the
-/// cluster of its eye. Throws q3::FormatError for a malformed entity lump.
+/// Surveys a map. Player spawn points are numbered the way pa-render's .bsp importer numbers
+/// cameras (entity order; info_player_deathmatch/start, CTF spawns and info_player_intermission
+/// with a valid origin are cameras; intermission points are not player spawns). The rendered
+/// spawn is the first player spawn, in file order, that stands on a floor (standsOnFloor);
+/// when none does, the first player spawn. Throws q3::FormatError for a malformed entity lump.
 MapSurvey surveyMap(const q3::BspFile& bsp);
+
+/// What a player stands on in a map: brushes and curved patches with solid or playerclip
+/// contents, of the world and of the brush entities where the map places them (a func_static or
+/// a lowered platform is a floor); triangle soups (misc_model) do not collide and do not count.
+class FloorProbe {
+ public:
+  /// Tessellates the solid patches (q3::tessellateSurfaces); throws q3::FormatError
+  /// when they exceed its budget.
+  explicit FloorProbe(const q3::BspFile& bsp);
+  /// Distance from `point` straight down (-Z) to the first such brush or patch triangle,
+  /// searched up to `maxDistance`; 0 when the point is inside a brush; nullopt when nothing is hit.
+  std::optional<float> below(const glm::vec3& point, float maxDistance) const;
+
+ private:
+  const q3::BspFile& bsp_;
+  std::vector<glm::vec3> patchTriangles_;   ///< Three corners per triangle.
+};
 
 /// Cluster of the BSP leaf containing `point` (walks the node tree from the root; a point on a
 /// plane goes to the front child, as the engine's CM_PointLeafnum does). -1 for a map without

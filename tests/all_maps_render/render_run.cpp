@@ -5,7 +5,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -53,15 +56,42 @@ int runProcess(const std::vector<std::string>& argv, const std::filesystem::path
 /// pa-render's command line for a request.
 std::vector<std::string> renderCommand(const RenderRequest& r, const std::filesystem::path& png,
                                        const std::filesystem::path& exr, const std::filesystem::path& json) {
-  return {r.paRender.string(), r.scene.string(), "-o", png.string(), "--exr", exr.string(), "--stats", json.string(),
+  std::vector<std::string> command = {r.paRender.string(), r.scene.string(), "-o", png.string(), "--exr", exr.string(), "--stats", json.string(),
           "--integrator", r.integrator, "--tonemap", r.tonemap, "--camera", std::to_string(r.camera), "--width", std::to_string(r.width),
           "--height", std::to_string(r.height), "--spp", std::to_string(r.samplesPerPixel), "--threads",
-          std::to_string(r.threads), "--seed", "0", "--quiet"};
+          std::to_string(r.threads), "--seed", "0", "--exposure", r.exposure, "--quiet"};
+  command.insert(command.end(), r.extraArguments.begin(), r.extraArguments.end());
+  return command;
 }
 
 std::string readText(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// True when a --stats record was made with --exposure `exposure` ("auto" or a gain).
+bool sameExposure(const nlohmann::json& stats, const std::string& exposure) {
+  const bool metered = stats.contains("auto_exposure") && stats["auto_exposure"].is_object();
+  if (exposure == "auto") return metered;
+  if (metered || !stats.contains("exposure") || !stats["exposure"].is_number()) return false;
+  return std::abs(stats["exposure"].get<double>() - std::strtod(exposure.c_str(), nullptr)) <= 1e-6 * std::abs(stats["exposure"].get<double>());
+}
+
+/// Linear radiance -> display RGBA8 at exposure 1 with the clamp tonemap (IEC 61966-2-1 sRGB).
+RgbaImage encodeUnexposed(uint32_t width, uint32_t height, const std::vector<float>& r, const std::vector<float>& g,
+                          const std::vector<float>& b) {
+  auto encode = [](float linear) {
+    const double x = std::clamp(std::isfinite(linear) ? double{linear} : 0.0, 0.0, 1.0);
+    const double srgb = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+    return static_cast<uint8_t>(std::lround(srgb * 255.0));
+  };
+  RgbaImage image{width, height, std::vector<uint8_t>(size_t{width} * height * 4, 255)};
+  for (size_t i = 0; i < size_t{width} * height; ++i) {
+    image.pixels[i * 4 + 0] = encode(r[i]);
+    image.pixels[i * 4 + 1] = encode(g[i]);
+    image.pixels[i * 4 + 2] = encode(b[i]);
+  }
+  return image;
 }
 
 /// True when the --stats file at `json` was written by a render with the settings of `r`.
@@ -72,7 +102,7 @@ bool madeWithSettings(const std::filesystem::path& json, const RenderRequest& r)
   return stats.value("scene", "") == r.scene.string() && stats.value("integrator", "") == r.integrator &&
          stats.value("tonemap", "") == r.tonemap && stats.value("camera_index", -1) == int64_t{r.camera} &&
          stats.value("width", 0u) == r.width && stats.value("height", 0u) == r.height &&
-         stats.value("spp", 0u) == r.samplesPerPixel;
+         stats.value("spp", 0u) == r.samplesPerPixel && sameExposure(stats, r.exposure);
 }
 
 RgbaImage readPng(const std::filesystem::path& path) {
@@ -158,6 +188,9 @@ RenderResult runPaRender(const RenderRequest& r) {
     result.triangles = stats.at("triangles").get<uint64_t>();
     result.lights = stats.at("lights").get<uint64_t>();
     result.renderMilliseconds = 1000.0 * stats.at("render_seconds").get<double>();
+    result.exposure = stats.at("exposure").get<double>();
+    if (stats.contains("auto_exposure") && stats["auto_exposure"].is_object())
+      result.exposureAtMaxGain = stats["auto_exposure"].value("clamped", "") == "max";
     if (reuse)   // the process time of the earlier run is not kept: report its load + render
       result.wallMilliseconds = result.renderMilliseconds + 1000.0 * stats.at("load_seconds").get<double>();
     result.image = readPng(png);
@@ -165,6 +198,9 @@ RenderResult runPaRender(const RenderRequest& r) {
     result.depth = readExrChannel(exr, "Z", width, height);
     if (width != result.image.width || height != result.image.height)
       throw std::runtime_error(exr.string() + ": size differs from the PNG's");
+    const std::vector<float> red = readExrChannel(exr, "R", width, height), green = readExrChannel(exr, "G", width, height),
+                             blue = readExrChannel(exr, "B", width, height);
+    result.unexposedImage = encodeUnexposed(width, height, red, green, blue);
   } catch (const std::exception& e) {
     result.error = e.what();
   }

@@ -16,12 +16,14 @@ struct RenderRequest {
   std::string integrator;            ///< "lightmap" or "direct".
   std::string tonemap;               ///< "clamp", "aces" or "reinhard".
   uint32_t camera = 0;               ///< --camera index.
+  std::string exposure = "1";        ///< --exposure: a gain or "auto" (metered by pa-render).
   uint32_t width = 160;
   uint32_t height = 90;
   uint32_t samplesPerPixel = 4;
   uint32_t threads = 0;              ///< 0 = pa-render's default (all cores).
   std::filesystem::path outputStem;  ///< Writes STEM.png, STEM.exr, STEM.json, STEM.log.
   bool reuseExisting = false;        ///< Read STEM.* left by an earlier run with these settings instead of rendering.
+  std::vector<std::string> extraArguments;   ///< Appended to pa-render's command line (tests: --light-scale).
 };
 
 /// What came back.
@@ -33,7 +35,10 @@ struct RenderResult {
   std::string cameraName;            ///< Camera pa-render reports having used.
   uint64_t triangles = 0;
   uint64_t lights = 0;
+  double exposure = 1.0;             ///< Gain pa-render applied (metered with "auto").
+  bool exposureAtMaxGain = false;    ///< "auto": the metered gain hit its upper clamp.
   RgbaImage image;                   ///< The PNG.
+  RgbaImage unexposedImage;          ///< The EXR's radiance at exposure 1, clamp, sRGB (the stock look).
   std::vector<float> depth;          ///< The EXR Z channel (inf = sky/nothing).
   std::string error;                 ///< Non-empty when something above could not be obtained.
   /// True when the render ran and every output was read back.

@@ -34,6 +34,8 @@ namespace q3 {
 // |                                                    |   image, shader name) / lightColor            |
 // | later stage blendFunc with dst ONE, not env/lm,    | glowTextures, emissive                        |
 // |   no $lightmap filter after it                     |                                               |
+// | the same over a reflecting base, multiplied by a   | reflectionOverlay (baseReflects only)         |
+// |   later $lightmap (src DST_COLOR)                  |                                               |
 // | later image stage after the base, same tcGen and   | baseModulations (scale 1; 2 for DST_COLOR     |
 // |   tcMods, filter / DST_COLOR SRC_COLOR             |   SRC_COLOR): multiplies the base texture     |
 // | surfaceparm sky or skyParms                        | sky, skyBox faces in cube order +X..-Z:       |
@@ -290,6 +292,22 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
     if (s.blends() && s.dstBlend == BlendFactor::One) m.glowTextures.push_back(s.textures.front());
   }
   m.emissive = m.surfaceLight > 0 || !m.glowTextures.empty() || m.alphaMode == AlphaMode::Additive;
+  // Shiny floors and trims (texture, chrome tcGen environment, the texture again with blendFunc
+  // add, then $lightmap multiplying the frame: filter or DST_COLOR ONE_MINUS_SRC_ALPHA): the
+  // added, lit texture is what the surface shows under the sheen.
+  if (m.baseReflects)
+    for (const auto* s = base + 1; s < stages.data() + stages.size(); ++s) {
+      if (!isImageStage(*s) || s->textures.front()[0] == '$' || s->tcGen == TcGen::Environment || !s->blends() ||
+          s->dstBlend != BlendFactor::One)
+        continue;
+      const bool lit = std::any_of(s + 1, stages.data() + stages.size(), [](const ShaderStage& later) {
+        return later.source == TextureSource::Lightmap && later.srcBlend == BlendFactor::DstColor;
+      });
+      if (lit) {
+        m.reflectionOverlay = s->textures.front();
+        break;
+      }
+    }
 
   // Sky.
   m.sky = shader.has(SurfaceParm::Sky) || shader.sky.has_value();

@@ -79,6 +79,8 @@ struct MaterialInfo {
   std::string baseTexture;                ///< first image of the base stage ("" if none)
   bool baseReflects = false;              ///< base stage is tcGen environment: baseTexture is a sphere
                                           ///< map read at the mirrored view direction, not at mesh uvs
+  std::string reflectionOverlay;          ///< baseReflects: the surface's own texture, added over the
+                                          ///< reflection by a later lightmap-lit stage ("" if none)
   std::vector<std::string> animFrames;    ///< animMap frames of the base stage (empty otherwise)
   float animFrequency = 0;                ///< animMap frames per second
   bool clampUv = false;

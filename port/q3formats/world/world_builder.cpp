@@ -136,6 +136,8 @@ class SceneAssembler {
     m.castsShadows = !m.sky && m.alphaMode != WorldAlphaMode::Additive && m.visible;
     m.specular = info.environmentMapped ? 0.5f : 0.0f;
     m.baseReflects = info.baseReflects;
+    if (m.baseReflects && !info.reflectionOverlay.empty() && textures_.exists(info.reflectionOverlay))
+      m.reflectionOverlayTexture = textures_.get(info.reflectionOverlay, false);
     for (const TcMod& mod : info.uvAnimation) {
       if (mod.kind == TcModKind::Scroll) m.uvScrollPerSecond += glm::vec2(mod.scroll[0], mod.scroll[1]);
       if (mod.kind == TcModKind::Scale) m.uvScale *= glm::vec2(mod.scroll[0], mod.scroll[1]);

@@ -90,6 +90,7 @@ struct WorldMaterial {
   glm::vec2 uvScrollPerSecond{0.0f};  ///< tcMod scroll of the base stage (texture units / s).
   glm::vec2 uvScale{1.0f};       ///< tcMod scale of the base stage.
   bool baseReflects = false;     ///< Base stage is tcGen environment: a sphere map read at the mirrored view.
+  int32_t reflectionOverlayTexture = -1;  ///< baseReflects: the surface's own texture added over the reflection (-1 = none).
 };
 
 /// A triangle mesh with one material (and one lightmap), in Quake units.

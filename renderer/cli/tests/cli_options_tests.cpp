@@ -56,6 +56,14 @@ TEST(CliOptions, ParsesEveryOption) {
   EXPECT_TRUE(o.denoise);
 }
 
+TEST(CliOptions, ExposureAutoMetersTheImage) {
+  const ParseResult r = parse({"map.glb", "-o", "o.png", "--exposure", "auto"});
+  ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
+  EXPECT_TRUE(r.options.autoExposure);
+  EXPECT_FALSE(parse({"map.glb", "-o", "o.png", "--exposure", "auto", "--exposure", "3"}).options.autoExposure);
+  EXPECT_FALSE(parse({"map.glb", "-o", "o.png"}).options.autoExposure);
+}
+
 TEST(CliOptions, HelpWinsOverEverythingElse) {
   EXPECT_EQ(parse({"--help"}).status, ParseStatus::Help);
   EXPECT_EQ(parse({"scene.gltf", "--bogus", "-h"}).status, ParseStatus::Error);  // first error stops parsing
@@ -79,6 +87,7 @@ TEST(CliOptions, RejectsBadInputWithAMessageNamingTheOption) {
       {{"a.gltf", "-o", "x.png", "--frames", "0"}, "--frames"},
       {{"a.gltf", "-o", "x.png", "--seed", "99999999999"}, "--seed"},
       {{"a.gltf", "-o", "x.png", "--exposure", "0"}, "--exposure: expected a number > 0"},
+      {{"a.gltf", "-o", "x.png", "--exposure", "automatic"}, "or \"auto\""},
       {{"a.gltf", "-o", "x.png", "--clamp", "nan"}, "--clamp"},
       {{"a.gltf", "-o", "x.png", "--clamp", "-1"}, "--clamp"},
       {{"a.gltf", "-o", "x.png", "--integrator", "whitted"}, "--integrator: expected lightmap, direct or path"},

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "renderer/scene/sampling/warp.h"
 #include "renderer/scene/textures/texture.h"
@@ -86,15 +88,24 @@ void Film::resolveMeanRows(uint32_t rowBegin, uint32_t rowEnd) {
   }
 }
 
-void Film::encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op) {
-  for (size_t i = size_t{rowBegin} * width_; i < size_t{rowEnd} * width_; ++i) {
-    const glm::vec3 display = tonemap(radiance_[i] * exposure, op);
+void encodeDisplay(std::span<const glm::vec3> linear, float exposure, Tonemap op, std::span<uint8_t> rgba8) {
+  if (rgba8.size() != linear.size() * 4)
+    throw std::invalid_argument("encodeDisplay: " + std::to_string(rgba8.size()) + " bytes for " +
+                                std::to_string(linear.size()) + " pixels");
+  for (size_t i = 0; i < linear.size(); ++i) {
+    const glm::vec3 display = tonemap(linear[i] * exposure, op);
     for (int c = 0; c < 3; ++c) {
       const float encoded = linearToSrgb(display[c]);
-      rgba8_[i * 4 + c] = static_cast<uint8_t>(std::lround(std::clamp(encoded, 0.0f, 1.0f) * 255.0f));
+      rgba8[i * 4 + c] = static_cast<uint8_t>(std::lround(std::clamp(encoded, 0.0f, 1.0f) * 255.0f));
     }
-    rgba8_[i * 4 + 3] = 255;
+    rgba8[i * 4 + 3] = 255;
   }
+}
+
+void Film::encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op) {
+  const size_t begin = size_t{rowBegin} * width_, count = size_t{rowEnd - rowBegin} * width_;
+  encodeDisplay(std::span<const glm::vec3>(radiance_).subspan(begin, count), exposure, op,
+                std::span<uint8_t>(rgba8_).subspan(begin * 4, count * 4));
 }
 
 }  // namespace pa

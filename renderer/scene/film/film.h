@@ -68,6 +68,10 @@ struct PixelAccumulator {
 /// Maps linear radiance to display-referred [0, 1] (before sRGB encoding).
 glm::vec3 tonemap(const glm::vec3& linear, Tonemap op);
 
+/// Encodes linear radiance as display RGBA8: x exposure, tonemap, sRGB, alpha 255 (what the
+/// film's rgba8 holds). `rgba8` has 4 bytes per radiance pixel; throws std::invalid_argument otherwise.
+void encodeDisplay(std::span<const glm::vec3> linear, float exposure, Tonemap op, std::span<uint8_t> rgba8);
+
 /// The accumulation buffer plus resolved outputs.
 class Film {
  public:

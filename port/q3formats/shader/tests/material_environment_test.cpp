@@ -25,6 +25,7 @@ TEST(MaterialEnvironment, SingleEnvironmentStageIsAReflectingBase) {
   EXPECT_TRUE(m.environmentMapped);
   EXPECT_EQ(m.alphaMode, AlphaMode::Opaque);
   EXPECT_EQ(m.lighting, LightingMode::Diffuse);
+  EXPECT_EQ(m.reflectionOverlay, "");   // nothing drawn over the chrome
   ASSERT_EQ(m.uvAnimation.size(), 1u);   // the stage's tcMods apply after the reflection lookup
   const UvAffine uv = uvTransformAt(m.uvAnimation, 0.0);
   EXPECT_FLOAT_EQ(uv.a, 0.5f);
@@ -43,6 +44,16 @@ TEST(MaterialEnvironment, OpaqueEnvironmentStageOverwritesEarlierStages) {
   // The added texture is multiplied by the lightmap after it: lit, not a glow.
   EXPECT_TRUE(m.glowTextures.empty());
   EXPECT_FALSE(m.emissive);
+  EXPECT_EQ(m.reflectionOverlay, "panel.tga");   // what the panel shows under its sheen
+  // textures/base_floor/hfloor3: the lightmap multiplies with DST_COLOR ONE_MINUS_SRC_ALPHA.
+  auto floor = material(R"(hfloor3 { { map hfloor3.jpg rgbGen identity }
+    { map tinfx.jpg tcGen environment rgbGen oneminusvertex } { map hfloor3.jpg blendfunc add }
+    { map $lightmap blendfunc gl_dst_color gl_one_minus_src_alpha tcGen lightmap } })");
+  EXPECT_TRUE(floor.baseReflects);
+  EXPECT_EQ(floor.reflectionOverlay, "hfloor3.jpg");
+  // An unlit additive stage over chrome is a glow, not the surface's texture.
+  auto glowing = material(R"(tele { { map env.tga tcGen environment } { map swirl.tga blendFunc add } })");
+  EXPECT_EQ(glowing.reflectionOverlay, "");
   // An additive stage after the lightmap filter still glows.
   auto glow = material(R"(g { { map $lightmap } { map w.tga blendFunc filter } { map g.tga blendFunc add } })");
   ASSERT_EQ(glow.glowTextures.size(), 1u);
