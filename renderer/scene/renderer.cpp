@@ -70,6 +70,7 @@ struct Renderer::Impl {
   Film film;
   denoise::Denoiser denoiser;
   bool sceneChanged = true;   // a commit happened since the last render
+  bool environmentAttached = false;   // the committed scene has its sun/sky visibility map
   bool haveLast = false;
   Camera lastCamera;
   RenderSettings lastSettings;
@@ -101,6 +102,7 @@ void Renderer::commit() {
   if (!im.store.dirty()) return;
   try {
     im.arena.execute([&] { im.scene = im.store.commit(); });
+    im.environmentAttached = false;
   } catch (const SceneError&) {
     throw;   // validation failed before anything changed
   } catch (...) {
@@ -118,6 +120,10 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   if (settings.width == 0 || settings.height == 0) return FrameView{};
   const CameraRays rays(camera, settings.width, settings.height);
 
+  if (settings.integrator != Integrator::Lightmap && !im.environmentAttached) {
+    im.arena.execute([&] { im.store.attachEnvironmentVisibility(im.scene); });   // Lightmap never samples lights
+    im.environmentAttached = true;
+  }
   im.film.resize(settings.width, settings.height);
   const bool keep = settings.accumulate && im.haveLast && !im.sceneChanged && sameCamera(camera, im.lastCamera) &&
                     sameEstimate(settings, im.lastSettings);

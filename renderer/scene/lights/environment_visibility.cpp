@@ -5,6 +5,7 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 #include <tbb/parallel_for.h>
 
 #include "renderer/scene/sampling/sobol_sampler.h"
@@ -121,18 +122,41 @@ std::shared_ptr<const EnvironmentVisibility> EnvironmentVisibilityCache::get(
     const EnvironmentVisibility::EscapeTest& escapes) {
   glm::vec3 windowSum(0.0f);
   for (const glm::vec3& w : skyWindows) windowSum += glm::abs(w);
-  const bool same = map_ != nullptr && bounds.min == bounds_.min && bounds.max == bounds_.max && sky == sky_ &&
-                    skyWindows.size() == windowCount_ && windowSum == windowSum_ &&
-                    std::equal(sunDirections.begin(), sunDirections.end(), suns_.begin(), suns_.end());
-  if (same) return map_;
+  for (size_t i = 0; i < entries_.size(); ++i) {
+    const Entry& e = entries_[i];
+    // Bounds within 5% of the cached diagonal: moving entities (players, projectiles) nudge the
+    // scene's box every frame; a map of their own needs a real change (and other windows).
+    const float slack = 0.05f * glm::length(e.bounds.max - e.bounds.min);
+    const bool nearBounds = glm::all(glm::lessThanEqual(glm::abs(bounds.min - e.bounds.min), glm::vec3(slack))) &&
+                            glm::all(glm::lessThanEqual(glm::abs(bounds.max - e.bounds.max), glm::vec3(slack)));
+    // Windows and suns compared with a tolerance: the game re-sends them every frame, and the
+    // sky windows' summed area moves with moving brush entities and summation order.
+    const bool nearWindows = skyWindows.size() == e.windowCount &&
+                             glm::all(glm::lessThanEqual(glm::abs(windowSum - e.windowSum),
+                                                         0.01f * glm::max(glm::abs(windowSum), glm::abs(e.windowSum))));
+    // Suns as a set: the game re-adds its lights in any order.
+    const bool sameSuns = sunDirections.size() == e.suns.size() &&
+                          std::all_of(sunDirections.begin(), sunDirections.end(), [&e](const glm::vec3& a) {
+                            return std::any_of(e.suns.begin(), e.suns.end(),
+                                               [&a](const glm::vec3& b) { return glm::dot(a, b) > 0.9999f; });
+                          });
+    const bool same = nearBounds && sky == e.sky && nearWindows && sameSuns;
+    if (!same) continue;
+    std::rotate(entries_.begin(), entries_.begin() + static_cast<std::ptrdiff_t>(i),
+                entries_.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+    return entries_.front().map;
+  }
   const std::vector<SurfacePoint> points = surfacePoints();
-  map_ = std::make_shared<const EnvironmentVisibility>(points, sunDirections, sky, escapes);
-  bounds_ = bounds;
-  suns_.assign(sunDirections.begin(), sunDirections.end());
-  sky_ = sky;
-  windowCount_ = skyWindows.size();
-  windowSum_ = windowSum;
-  return map_;
+  Entry entry;
+  entry.map = std::make_shared<const EnvironmentVisibility>(points, sunDirections, sky, escapes);
+  entry.bounds = bounds;
+  entry.suns.assign(sunDirections.begin(), sunDirections.end());
+  entry.sky = sky;
+  entry.windowCount = skyWindows.size();
+  entry.windowSum = windowSum;
+  entries_.insert(entries_.begin(), std::move(entry));
+  if (entries_.size() > kEntries) entries_.pop_back();
+  return entries_.front().map;
 }
 
 }  // namespace pa

@@ -74,25 +74,33 @@ class EnvironmentVisibility {
   int64_t slot(const glm::vec3& p, const glm::vec3& n) const;
 };
 
-/// The last map built and what it was traced from: commit() rebuilds it only when the scene
-/// bounds, the suns, the sky or the sky windows change, not for every moved entity (a map that is
-/// a little stale costs variance, never bias).
+/// The last maps built and what they were traced from: a render that needs one retraces only
+/// when the suns, the sky or the sky windows change or the scene bounds move by more than 5% of
+/// their diagonal, not for every moved entity (a map that is a little stale costs variance,
+/// never bias).
 class EnvironmentVisibilityCache {
  public:
   /// The map for these inputs (`bounds`: the scene's), traced from surfacePoints() with `escapes`
-  /// unless the last one matches.
+  /// unless one of the kept maps matches.
   std::shared_ptr<const EnvironmentVisibility> get(const Bounds& bounds, std::span<const glm::vec3> sunDirections,
                                                    bool sky, std::span<const glm::vec3> skyWindows,
                                                    const std::function<std::vector<SurfacePoint>()>& surfacePoints,
                                                    const EnvironmentVisibility::EscapeTest& escapes);
 
  private:
-  std::shared_ptr<const EnvironmentVisibility> map_;
-  Bounds bounds_;
-  std::vector<glm::vec3> suns_;
-  bool sky_ = false;
-  size_t windowCount_ = 0;
-  glm::vec3 windowSum_{0.0f};   ///< Summed |area x normal| of the windows.
+  /// One traced map and the inputs it was traced for.
+  struct Entry {
+    std::shared_ptr<const EnvironmentVisibility> map;
+    Bounds bounds;
+    std::vector<glm::vec3> suns;
+    bool sky = false;
+    size_t windowCount = 0;
+    glm::vec3 windowSum{0.0f};   ///< Summed |area x normal| of the windows.
+  };
+  /// Maps kept, most recent first: a game alternates scenes within a frame (world view, HUD
+  /// model views) and must not retrace at each switch.
+  static constexpr size_t kEntries = 4;
+  std::vector<Entry> entries_;
 };
 
 }  // namespace pa

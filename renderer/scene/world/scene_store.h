@@ -58,6 +58,10 @@ class SceneStore {
   /// RenderScene. Run inside the renderer's task arena. Throws SceneError (leaving the
   /// store unchanged) when an instance uses a removed mesh or an id is out of range.
   RenderScene commit();
+  /// Gives scene (this store's last commit) the map of where sun and sky reach, which Direct and
+  /// Path use to share light samples: traced from ~256k surface points (cached while the scene
+  /// bounds, suns, sky and sky windows stay), so only renders that need it pay for it.
+  void attachEnvironmentVisibility(RenderScene& scene);
 
  private:
   struct MeshSlot {
@@ -82,6 +86,7 @@ class SceneStore {
   std::vector<PortalDesc> portals_;
   std::vector<FogVolume> fogs_;
   EnvironmentVisibilityCache environmentVisibility_;   ///< Where sun and sky reach (lights/).
+  std::vector<glm::vec3> skyWindows_;                  ///< The last commit's sky windows (area x normal).
   bool dirty_ = true;
 };
 
