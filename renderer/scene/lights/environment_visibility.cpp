@@ -134,12 +134,10 @@ std::shared_ptr<const EnvironmentVisibility> EnvironmentVisibilityCache::get(
     const bool nearWindows = skyWindows.size() == e.windowCount &&
                              glm::all(glm::lessThanEqual(glm::abs(windowSum - e.windowSum),
                                                          0.01f * glm::max(glm::abs(windowSum), glm::abs(e.windowSum))));
-    // Suns as a set: the game re-adds its lights in any order.
-    const bool sameSuns = sunDirections.size() == e.suns.size() &&
-                          std::all_of(sunDirections.begin(), sunDirections.end(), [&e](const glm::vec3& a) {
-                            return std::any_of(e.suns.begin(), e.suns.end(),
-                                               [&a](const glm::vec3& b) { return glm::dot(a, b) > 0.9999f; });
-                          });
+    // Suns by count only: the game re-sends its directional lights every frame and some of them
+    // turn (in demo088 a third one comes and goes); a map traced for older directions costs
+    // variance, never bias, and a new map brings other bounds and windows.
+    const bool sameSuns = sunDirections.size() == e.suns.size();
     const bool same = nearBounds && sky == e.sky && nearWindows && sameSuns;
     if (!same) continue;
     std::rotate(entries_.begin(), entries_.begin() + static_cast<std::ptrdiff_t>(i),

@@ -75,9 +75,9 @@ class EnvironmentVisibility {
 };
 
 /// The last maps built and what they were traced from: a render that needs one retraces only
-/// when the suns, the sky or the sky windows change or the scene bounds move by more than 5% of
-/// their diagonal, not for every moved entity (a map that is a little stale costs variance,
-/// never bias).
+/// when the number of suns, the sky or the sky windows change or the scene bounds move by more
+/// than 5% of their diagonal, not for every moved entity or turned sun (a map that is a little
+/// stale costs variance, never bias).
 class EnvironmentVisibilityCache {
  public:
   /// The map for these inputs (`bounds`: the scene's), traced from surfacePoints() with `escapes`
