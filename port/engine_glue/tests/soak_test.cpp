@@ -388,10 +388,15 @@ TEST_F(ModuleSoak, MapChangesAndVidRestartsHoldMemoryAndThreadsFlat) {
     for (size_t i = warm + 1; i < afterUnload.size(); ++i)
       EXPECT_LE(afterUnload[i].residentKiB - afterUnload[warm].residentKiB, kResidentSlackKiB)
           << "resident memory grows across vid_restarts (unload " << i + 1 << ")";
+    // With a map loaded, resident size differs from load to load by up to ~40 MB either way
+    // (allocator arenas of 7 threads, textures read lazily on first use: e.g. aggressor 209, 188,
+    // 209, 209 MB); growth shows as a later load above the larger of the first two.
     for (const auto& [map, samples] : withMap)
-      for (size_t i = 2; i < samples.size(); ++i)
-        EXPECT_LE(samples[i].residentKiB - samples[1].residentKiB, kResidentSlackKiB)
-            << map << " grows from load 2 to load " << i + 1;
+      for (size_t i = 2; i < samples.size(); ++i) {
+        const long warmLoaded = std::max(samples[0].residentKiB, samples[1].residentKiB);
+        EXPECT_LE(samples[i].residentKiB - warmLoaded, kResidentSlackKiB)
+            << map << " grows from loads 1-2 to load " << i + 1;
+      }
   }
 #endif
   for (const auto& [map, samples] : withMap) {
