@@ -129,15 +129,15 @@ std::shared_ptr<const EnvironmentVisibility> EnvironmentVisibilityCache::get(
     const float slack = 0.05f * glm::length(e.bounds.max - e.bounds.min);
     const bool nearBounds = glm::all(glm::lessThanEqual(glm::abs(bounds.min - e.bounds.min), glm::vec3(slack))) &&
                             glm::all(glm::lessThanEqual(glm::abs(bounds.max - e.bounds.max), glm::vec3(slack)));
-    // Windows and suns compared with a tolerance: the game re-sends them every frame, and the
-    // sky windows' summed area moves with moving brush entities and summation order.
+    // Windows compared with a tolerance: the game re-sends them every frame, and their summed
+    // area moves with moving brush entities and summation order.
     const bool nearWindows = skyWindows.size() == e.windowCount &&
                              glm::all(glm::lessThanEqual(glm::abs(windowSum - e.windowSum),
                                                          0.01f * glm::max(glm::abs(windowSum), glm::abs(e.windowSum))));
     // Suns by count only: the game re-sends its directional lights every frame and some of them
     // turn (in demo088 a third one comes and goes); a map traced for older directions costs
     // variance, never bias, and a new map brings other bounds and windows.
-    const bool sameSuns = sunDirections.size() == e.suns.size();
+    const bool sameSuns = sunDirections.size() == e.sunCount;
     const bool same = nearBounds && sky == e.sky && nearWindows && sameSuns;
     if (!same) continue;
     std::rotate(entries_.begin(), entries_.begin() + static_cast<std::ptrdiff_t>(i),
@@ -148,7 +148,7 @@ std::shared_ptr<const EnvironmentVisibility> EnvironmentVisibilityCache::get(
   Entry entry;
   entry.map = std::make_shared<const EnvironmentVisibility>(points, sunDirections, sky, escapes);
   entry.bounds = bounds;
-  entry.suns.assign(sunDirections.begin(), sunDirections.end());
+  entry.sunCount = sunDirections.size();
   entry.sky = sky;
   entry.windowCount = skyWindows.size();
   entry.windowSum = windowSum;

@@ -92,7 +92,7 @@ class EnvironmentVisibilityCache {
   struct Entry {
     std::shared_ptr<const EnvironmentVisibility> map;
     Bounds bounds;
-    std::vector<glm::vec3> suns;
+    size_t sunCount = 0;   ///< Suns it was traced for (directions are not compared).
     bool sky = false;
     size_t windowCount = 0;
     glm::vec3 windowSum{0.0f};   ///< Summed |area x normal| of the windows.
