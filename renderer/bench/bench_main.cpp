@@ -1,7 +1,9 @@
 // bench: our BVH against Embree 3 on the same scene and the same rays.
 //   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
 //         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames]
-//         [--frame-reps N] [--build-only]
+//         [--frame-reps N] [--build-only] [--embree-robust]
+// --embree-robust builds Embree's scene with RTC_SCENE_FLAG_ROBUST (its conservative traversal
+// and watertight-leaning kernels: the like-for-like comparison for our robust traversal).
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
 // the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
 // (and process CPU) with N threads for both (one TBB arena; Embree's device also gets N threads).
@@ -38,13 +40,14 @@ struct Options {
   bool frames = true;
   uint32_t frameReps = 7;
   bool buildOnly = false;   ///< Time the builds only (for profiling the build).
+  bool embreeRobust = false;   ///< Embree with RTC_SCENE_FLAG_ROBUST (its conservative traversal).
   BvhBuildConfig build;
 };
 
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames] [--frame-reps N] [--build-only]\n",
+               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust]\n",
                error.c_str());
   std::exit(2);
 }
@@ -72,6 +75,7 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--json") o.json = true;
     else if (a == "--no-frames") o.frames = false;
     else if (a == "--build-only") o.buildOnly = true;
+    else if (a == "--embree-robust") o.embreeRobust = true;
     else if (a == "--frame-reps") o.frameReps = parseCount(value(), "--frame-reps");
     else if (a == "--bins") o.build.binCount = parseCount(value(), "--bins");
     else if (a == "--max-leaf") o.build.maxLeafTriangles = parseCount(value(), "--max-leaf");
@@ -215,7 +219,9 @@ int run(int argc, char** argv) {
     ours.add([&] { arena.execute([&] { blas.build(mesh.input(), opt.build); }); });
     theirs.add([&] {
       embree.reset();
-      auto s = std::make_unique<testing::EmbreeScene>(device);
+      testing::EmbreeSceneOptions embreeOptions;
+      embreeOptions.robust = opt.embreeRobust;
+      auto s = std::make_unique<testing::EmbreeScene>(device, embreeOptions);
       s->addMesh(mesh);
       arena.execute([&] { s->commit(); });
       embree = std::move(s);
@@ -264,7 +270,7 @@ int run(int argc, char** argv) {
 
   if (opt.json) {
     std::printf(
-        "{\"scene\": \"%s\", \"triangles\": %u, \"threads\": %u, \"reps\": %u, \"embree_isa\": \"%s\", "
+        "{\"scene\": \"%s\", \"triangles\": %u, \"threads\": %u, \"reps\": %u, \"embree_isa\": \"%s\", \"embree_robust\": %s, "
         "\"build_ms_ours\": %.3f, \"build_ms_embree\": %.3f, \"build_ratio\": %.3f, "
         "\"build_cpu_ms_ours\": %.3f, \"build_cpu_ms_embree\": %.3f, \"build_cpu_ratio\": %.3f, "
         "\"rays_incoherent\": %zu, \"mrays_incoherent_ours\": %.3f, \"mrays_incoherent_embree\": %.3f, "
@@ -275,7 +281,7 @@ int run(int argc, char** argv) {
         "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, "
         "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_cpu_ms_1t\": %s, \"frame_cpu_ms_2t\": %s, "
         "\"frame_speedup_2t\": %s, \"frame_samples_ms_1t\": %s, \"frame_samples_ms_2t\": %s, \"frame_note\": \"%s\"}\n",
-        scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), bOurs,
+        scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), opt.embreeRobust ? "true" : "false", bOurs,
         bEmbree, bOurs / bEmbree, bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree, rays.incoherent.size(), iOurs, iEmbree, iOurs / iEmbree, rays.shadow.size(),
         sOurs, sEmbree, sOurs / sEmbree, rays.primary.size(), pOurs, pEmbree, pOurs / pEmbree,
         (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
@@ -286,8 +292,9 @@ int run(int argc, char** argv) {
         samples(frames.twoThreadsSamplesMs).c_str(), frames.note.c_str());
     return 0;
   }
-  std::printf("scene %s: %u triangles, build threads %u, %u repetitions (medians), Embree ISA %s\n",
-              scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str());
+  std::printf("scene %s: %u triangles, build threads %u, %u repetitions (medians), Embree ISA %s%s\n",
+              scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(),
+              opt.embreeRobust ? ", RTC_SCENE_FLAG_ROBUST" : "");
   std::printf("%-28s %12s %12s %8s\n", "", "ours", "embree", "ratio");
   std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms (wall)", bOurs, bEmbree, bOurs / bEmbree);
   std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms (process CPU)", bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree);
