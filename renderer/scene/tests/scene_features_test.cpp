@@ -129,6 +129,36 @@ TEST(Scene, InstanceMasksSelectRayKinds) {
   EXPECT_NEAR(greyStats(r.render(cam, s)).mean, 0.5, 1e-4);
 }
 
+TEST(Scene, HiddenInstancesNeitherShowNorLight) {
+  // An emissive quad above a floor lights it; with mask 0 (a mover the game did not add this
+  // frame) it must neither be seen, nor shadow, nor remain a light, and it comes back when shown.
+  Renderer r({2});
+  test::MeshArrays floor = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  floor.setMaterial(r.addMaterial(test::diffuse(0.5f)));
+  r.addInstance({r.addMesh(floor.desc())});
+  MaterialDesc lampMaterial;
+  lampMaterial.baseColor = {0, 0, 0, 1};
+  lampMaterial.emission = glm::vec3(4.0f);
+  lampMaterial.twoSided = true;
+  test::MeshArrays lamp = test::quad({-1, -1, 2}, {2, 0, 0}, {0, 2, 0});
+  lamp.setMaterial(r.addMaterial(lampMaterial));
+  InstanceDesc lampInstance{r.addMesh(lamp.desc())};
+  const InstanceId lampId = r.addInstance(lampInstance);
+  r.commit();
+  const Camera cam = lookAt({3, 0, 1}, {0, 0, 0}, 60.0f);
+  const RenderSettings s = settingsFor(Integrator::Direct, 8, 1, 1);
+  const double lit = greyStats(r.render(cam, s)).mean;
+  EXPECT_GT(lit, 0.01);
+  lampInstance.mask = 0;
+  r.setInstance(lampId, lampInstance);
+  r.commit();
+  EXPECT_EQ(greyStats(r.render(cam, s)).maxValue, 0.0);   // no light left, nothing emissive seen
+  lampInstance.mask = kMaskAll;
+  r.setInstance(lampId, lampInstance);
+  r.commit();
+  EXPECT_DOUBLE_EQ(greyStats(r.render(cam, s)).mean, lit);
+}
+
 TEST(Scene, DistantFineTexturesUseCoarseMips) {
   // A 256x256 one-texel checker seen so that each pixel covers ~32x32 texels: the footprint
   // picks a coarse level, so every single sample is already ~0.5 grey (no aliasing noise).

@@ -395,6 +395,9 @@ RenderScene SceneStore::commit() {
     const InstanceDesc& d = *instances_[id];
     const MeshRecord* mesh = meshes_[d.mesh].record.get();
     if (mesh == nullptr || mesh->geometry.triangleCount() == 0) continue;
+    // No ray kind sees a mask-0 instance: it stays out of the TLAS, and its emissive triangles and
+    // sky windows are no lights (a mover the game did not add this frame must not glow).
+    if (d.mask == 0) continue;
     RenderInstance ri;
     ri.mesh = mesh;
     ri.objectToWorld = d.objectToWorld;
