@@ -14,6 +14,7 @@
 
 #include "assets_converter/glb_builder.h"
 #include "port/q3formats/world/world_lights.h"
+#include "renderer/core/srgb.h"
 
 namespace pa::converter {
 namespace {
@@ -57,10 +58,7 @@ glm::mat3 basisLookingAlong(const glm::vec3& dir, const glm::vec3& upHint) {
 glm::vec3 averageLinearColor(const q3::WorldImage& image) {
   const size_t texels = size_t(image.width) * image.height;
   if (texels == 0 || image.rgba8.size() != texels * 4) return glm::vec3(1.0f);
-  auto linear = [](uint8_t value) {
-    const double c = value / 255.0;
-    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);   // IEC 61966-2-1
-  };
+  auto linear = [](uint8_t value) { return pa::srgbToLinear(value / 255.0); };
   double sum[3] = {0.0, 0.0, 0.0};
   for (size_t i = 0; i < texels; ++i)
     for (int c = 0; c < 3; ++c) sum[c] += linear(image.rgba8[i * 4 + size_t(c)]);

@@ -9,6 +9,7 @@
 
 #include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/scene.h"
+#include "renderer/core/srgb.h"
 
 namespace glue {
 namespace {
@@ -36,8 +37,7 @@ const std::array<float, kBlobSize * kBlobSize>& blobImage() {
 
 /// The sRGB decoding of a display value, continued above 1 (several lights multiply past white).
 float displayToLinear(float c) {
-  c = std::max(c, 0.0f);
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+  return pa::srgbToLinear(std::max(c, 0.0f));
 }
 
 bool reaches(const DynamicLight& light, const glm::vec3& mins, const glm::vec3& maxs) {

@@ -6,6 +6,7 @@
 
 #include "port/engine_glue/scene.h"
 #include "port/q3formats/model/md3.h"
+#include "renderer/core/srgb.h"
 
 namespace glue {
 namespace {
@@ -16,11 +17,6 @@ constexpr float kRailCoreWidth = 6.0f;     // r_railCoreWidth
 constexpr float kRailRingsWidth = 16.0f;   // r_railWidth
 constexpr float kLightningWidth = 8.0f;
 constexpr float kBeamWidth = 8.0f;         // a 6-sided tube of radius 4 in the stock renderer
-
-float srgbToLinear(uint8_t byte) {
-  const float c = byte / 255.0f;
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 glm::vec3 vec(const float* v) { return {v[0], v[1], v[2]}; }
 
@@ -67,8 +63,8 @@ void GeometryBatch::addQuad(const glm::vec3& a, const glm::vec3& b, const glm::v
 }
 
 glm::vec4 entityColor(const q3abi::refEntity_t& entity) {
-  return {srgbToLinear(entity.shaderRGBA[0]), srgbToLinear(entity.shaderRGBA[1]),
-          srgbToLinear(entity.shaderRGBA[2]), entity.shaderRGBA[3] / 255.0f};
+  return {pa::srgbByteToLinear(entity.shaderRGBA[0]), pa::srgbByteToLinear(entity.shaderRGBA[1]),
+          pa::srgbByteToLinear(entity.shaderRGBA[2]), entity.shaderRGBA[3] / 255.0f};
 }
 
 bool appendEffect(const q3abi::refEntity_t& e, const Viewer& viewer, GeometryBatch& out) {
@@ -125,8 +121,8 @@ void appendPolys(const std::vector<ScenePoly>& polys, const std::vector<q3abi::p
       out.positions.push_back(vec(v[i].xyz));
       out.normals.push_back(normal);
       out.uvs.emplace_back(v[i].st[0], v[i].st[1]);
-      out.colors.emplace_back(srgbToLinear(v[i].modulate[0]), srgbToLinear(v[i].modulate[1]),
-                              srgbToLinear(v[i].modulate[2]), v[i].modulate[3] / 255.0f);
+      out.colors.emplace_back(pa::srgbByteToLinear(v[i].modulate[0]), pa::srgbByteToLinear(v[i].modulate[1]),
+                              pa::srgbByteToLinear(v[i].modulate[2]), v[i].modulate[3] / 255.0f);
     }
     for (uint32_t i = 1; i + 1 < poly.numVerts; ++i) {
       out.indices.insert(out.indices.end(), {base, base + i, base + i + 1});

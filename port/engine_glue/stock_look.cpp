@@ -9,6 +9,7 @@
 
 #include "port/q3formats/shader/material.h"
 #include "port/q3formats/shader/shader_library.h"
+#include "renderer/core/srgb.h"
 
 namespace glue {
 namespace {
@@ -64,8 +65,7 @@ void premultiplyBlendedEffects(ShaderRegistry& shaders, GeometryBatch& batch) {
 }
 
 float byteToLinear(float byte) {
-  const float c = std::clamp(byte / 255.0f, 0.0f, 1.0f);
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+  return pa::srgbToLinearClamped(byte / 255.0f);
 }
 
 /// Lightmap preset: each vertex of an MD3 batch gets the colour the stock renderer gives it

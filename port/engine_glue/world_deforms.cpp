@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "port/q3formats/shader/shader_library.h"
+#include "renderer/core/srgb.h"
 
 namespace glue {
 namespace {
@@ -31,11 +32,6 @@ float smoothNoise(const glm::vec3& p, float t) {
   const float b = std::sin(0.097f * p.y - 0.059f * p.z + 2.11f * t + 1.3f);
   const float c = std::sin(0.083f * p.z + 0.047f * p.x - 1.73f * t + 2.9f);
   return (a + b + c) / 3.0f;
-}
-
-float byteToLinear(float value01) {
-  const float c = std::clamp(value01, 0.0f, 1.0f);
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
 bool finiteVec(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -208,7 +204,7 @@ void WorldDeforms::bind(const q3::WorldScene& scene, const pa::bridge::WorldHand
       group.uvs.insert(group.uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
       group.lightmapUvs.insert(group.lightmapUvs.end(), mesh.lightmapUvs.begin(), mesh.lightmapUvs.end());
       for (const glm::vec4& c : mesh.colors)
-        group.colors.push_back(vertexLight ? glm::vec4(byteToLinear(c.r), byteToLinear(c.g), byteToLinear(c.b), c.a)
+        group.colors.push_back(vertexLight ? glm::vec4(pa::srgbToLinearClamped(c.r), pa::srgbToLinearClamped(c.g), pa::srgbToLinearClamped(c.b), c.a)
                                            : glm::vec4(1.0f, 1.0f, 1.0f, c.a));
       const uint32_t n = static_cast<uint32_t>(mesh.positions.size());
       for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {

@@ -8,6 +8,7 @@
 
 #include "port/q3formats/shader/material.h"   // uvTransformAt
 #include "port/q3formats/shader/shader_library.h"
+#include "renderer/core/srgb.h"
 
 namespace glue {
 namespace {
@@ -15,11 +16,6 @@ namespace {
 bool hasAutosprite(const q3::ShaderDef& shader) {
   return std::any_of(shader.deforms.begin(), shader.deforms.end(),
                      [](const q3::Deform& d) { return d.kind == q3::DeformKind::AutoSprite; });
-}
-
-float byteToLinear(float value01) {
-  const float c = std::clamp(value01, 0.0f, 1.0f);
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
 }  // namespace
@@ -77,7 +73,7 @@ void WorldSprites::append(double seconds, const Viewer& viewer,
     for (const q3::Deform& move : kind.moves)
       n.offset += glm::vec3(move.params[0], move.params[1], move.params[2]) * move.wave.evaluate(seconds);
     const q3::ShaderStage& stage = kind.stage;
-    if (stage.rgbGen == q3::RgbGen::Wave) n.color = glm::vec4(glm::vec3(byteToLinear(stage.rgbWave.evaluate(seconds))), 1.0f);
+    if (stage.rgbGen == q3::RgbGen::Wave) n.color = glm::vec4(glm::vec3(pa::srgbToLinearClamped(stage.rgbWave.evaluate(seconds))), 1.0f);
     if (stage.alphaGen == q3::AlphaGen::Wave) n.color.a = std::clamp(stage.alphaWave.evaluate(seconds), 0.0f, 1.0f);
     else if (stage.alphaGen == q3::AlphaGen::Const) n.color.a = std::clamp(stage.constAlpha, 0.0f, 1.0f);
     n.uv = q3::uvTransformAt(stage.tcMods, seconds);

@@ -10,11 +10,10 @@
 
 #include "port/q3formats/world/world_lights.h"
 #include "port/scene_bridge/light_calibration.h"
+#include "renderer/core/srgb.h"
 
 namespace pa::bridge {
 namespace {
-
-float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 /// Mean linear colour of an RGBA8 sRGB image (1 when empty).
 glm::vec3 meanLinearColor(const q3::WorldImage& image) {

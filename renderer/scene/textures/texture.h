@@ -6,6 +6,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
+#include "renderer/core/srgb.h"   // srgbToLinear / linearToSrgb, used with textures
 #include "renderer/scene/scene_types.h"
 
 namespace pa {
@@ -51,9 +52,5 @@ class Texture {
   glm::vec4 average_{0.0f};
 };
 
-/// sRGB electro-optical transfer: encoded [0,1] -> linear.
-float srgbToLinear(float encoded);
-/// Inverse: linear [0,1] -> encoded.
-float linearToSrgb(float linear);
 
 }  // namespace pa
