@@ -1,0 +1,426 @@
+// Triangle pre-splitting (see presplit.h).
+//
+// 1. Priority per triangle: p = (w * (A_box - A_ideal))^(1/3): A_box is the half area of its
+//    box, A_ideal the sum of its projected areas on the three axis planes (what the boxes of ever
+//    finer pieces of it tend towards), w = 2^-level of the coarsest grid plane crossing its box
+//    (level 0 halves the mesh box). The cube root spreads the budget over more triangles.
+// 2. Splits per triangle: min(cap, floor(D * p)), D the largest scale whose total fits the budget
+//    (bisection on exact integer totals, so the plan does not depend on the thread count).
+// 3. A triangle with s splits: its box is cut at one of the three coarsest grid planes strictly
+//    inside it (one per axis: the one leaving the smallest boxes), each side gets the
+//    conservative box of the triangle's part in it, and the other s - 1 splits go to the sides
+//    in proportion to their half areas; recursively.
+#include "renderer/bvh/presplit.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace pa::bvh_detail {
+namespace {
+
+constexpr int kGridBits = 20;                        // finest grid: 2^20 cells per axis
+constexpr uint32_t kGridCells = 1u << kGridBits;
+constexpr uint32_t kMaxSplitsPerTriangle = 64;
+constexpr double kUnitRoundoff = 0x1p-53;
+constexpr uint32_t kGrain = 1 << 12;
+
+using DVec = glm::dvec3;
+
+float roundDown(double x) {
+  const float f = static_cast<float>(x);
+  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+float roundUp(double x) {
+  const float f = static_cast<float>(x);
+  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+/// Box in double, for the candidate extreme points of a clipped triangle.
+struct DBox {
+  DVec min{std::numeric_limits<double>::infinity()};
+  DVec max{-std::numeric_limits<double>::infinity()};
+  void extend(const DVec& p) {
+    min = glm::min(min, p);
+    max = glm::max(max, p);
+  }
+};
+
+bool insideClosed(const Bounds& cell, const glm::vec3& p) {
+  for (int a = 0; a < 3; ++a)
+    if (!(p[a] >= cell.min[a] && p[a] <= cell.max[a])) return false;
+  return true;
+}
+
+/// Intersection of two boxes (empty when they do not overlap).
+Bounds intersect(const Bounds& a, const Bounds& b) {
+  Bounds r;
+  r.min = glm::max(a.min, b.min);
+  r.max = glm::min(a.max, b.max);
+  return r;
+}
+
+Bounds triangleBox(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  Bounds box;
+  box.extend(a);
+  box.extend(b);
+  box.extend(c);
+  return box;
+}
+
+/// Sum of the triangle's areas projected on the three axis planes (its "ideal" half area).
+float projectedAreaSum(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  const glm::vec3 e1 = b - a, e2 = c - a;
+  const glm::vec3 n{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
+  return 0.5f * (std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z));
+}
+
+/// Rounding error of the double sum s = fl(a + b) (TwoSum: exact).
+double sumError(double a, double b, double s) {
+  const double bv = s - a;
+  return (a - (s - bv)) + (b - bv);
+}
+
+/// 2D cross product of (b - a) and (p - a) in the plane of axes (x, y), in double, with
+/// `exact` cleared when any of its operations rounded (an exact zero means "on the line").
+double edgeFunction(const DVec& a, const DVec& b, double px, double py, int x, int y, bool& exact) {
+  const double d1 = b[x] - a[x], d2 = py - a[y], d3 = b[y] - a[y], d4 = px - a[x];
+  const double p1 = d1 * d2, p2 = d3 * d4, r = p1 - p2;
+  exact = sumError(b[x], -a[x], d1) == 0.0 && sumError(py, -a[y], d2) == 0.0 && sumError(b[y], -a[y], d3) == 0.0 &&
+          sumError(px, -a[x], d4) == 0.0 && std::fma(d1, d2, -p1) == 0.0 && std::fma(d3, d4, -p2) == 0.0 &&
+          sumError(p1, -p2, r) == 0.0;
+  return r;
+}
+
+/// A grid plane: axis (-1 = none), level (larger = coarser: the bit that changes) and position.
+struct GridPlane {
+  int axis = -1;
+  int level = -1;
+  float position = 0.0f;
+};
+
+/// Power-of-two grid over the mesh box. The plane at integer coordinate k along an axis has
+/// level = countr_zero(k): the coarsest plane crossing a box is the one where the integer
+/// coordinates of its two ends differ in the highest bit.
+class Grid {
+ public:
+  explicit Grid(const Bounds& box) : origin_(box.min) {
+    for (int a = 0; a < 3; ++a) {
+      const float extent = box.max[a] - box.min[a];
+      cell_[a] = extent / float(kGridCells);
+      inverseCell_[a] = extent > 0.0f ? float(kGridCells) / extent : 0.0f;
+    }
+  }
+
+  /// The coarsest plane strictly inside box on `axis` (axis -1 when there is none).
+  GridPlane coarsestPlane(const Bounds& box, int axis) const {
+    uint32_t lo = cellOf(box.min[axis], axis), hi = cellOf(box.max[axis], axis);
+    while (lo < hi) {
+      const int level = std::bit_width(lo ^ hi) - 1;
+      const uint32_t index = hi >> level << level;   // in (lo, hi]
+      const float position = origin_[axis] + float(index) * cell_[axis];
+      if (position >= box.max[axis]) {
+        hi = index - 1;   // a box ending on a plane: look below it
+      } else if (position <= box.min[axis]) {
+        lo = index;       // (rounding) starting on it: look above it
+      } else {
+        return {axis, level, position};
+      }
+    }
+    return {};
+  }
+
+  /// The coarsest plane strictly inside box on any axis (ties: the longer axis, then the lower).
+  GridPlane coarsestPlane(const Bounds& box) const {
+    GridPlane best;
+    float bestExtent = -1.0f;
+    for (int a = 0; a < 3; ++a) {
+      const GridPlane plane = coarsestPlane(box, a);
+      const float extent = box.max[a] - box.min[a];
+      if (plane.axis >= 0 && (plane.level > best.level || (plane.level == best.level && extent > bestExtent))) {
+        best = plane;
+        bestExtent = extent;
+      }
+    }
+    return best;
+  }
+
+ private:
+  uint32_t cellOf(float x, int axis) const {
+    const float q = (x - origin_[axis]) * inverseCell_[axis];
+    if (!(q > 0.0f)) return 0;
+    return q >= float(kGridCells - 1) ? kGridCells - 1 : static_cast<uint32_t>(q);
+  }
+
+  glm::vec3 origin_, cell_{0.0f}, inverseCell_{0.0f};
+};
+
+/// Splits one triangle's box `s` times and writes its references.
+class TriangleSplitter {
+ public:
+  TriangleSplitter(const Grid& grid, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, uint32_t tri,
+                   SplitRef* out)
+      : grid_(grid), a_(a), b_(b), c_(c), tri_(tri), out_(out) {}
+
+  /// Writes the references of box (split `splits` times where possible); returns their count.
+  uint32_t run(const Bounds& box, uint32_t splits) {
+    split(box, splits);
+    return written_;
+  }
+
+ private:
+  /// Each axis offers its coarsest grid plane; the one whose two parts have the smallest boxes
+  /// (sum of half areas) wins, ties to the coarser plane. Parts that lose nothing are no split.
+  void split(const Bounds& box, uint32_t splits) {
+    Bounds bestLeft, bestRight;
+    float bestArea = box.halfArea();
+    int bestLevel = -1;
+    for (int axis = 0; axis < 3 && splits > 0; ++axis) {
+      const GridPlane plane = grid_.coarsestPlane(box, axis);
+      if (plane.axis < 0) continue;
+      Bounds leftCell = box, rightCell = box;
+      leftCell.max[axis] = plane.position;
+      rightCell.min[axis] = plane.position;
+      const Bounds left = clippedTriangleBounds(a_, b_, c_, leftCell);
+      const Bounds right = clippedTriangleBounds(a_, b_, c_, rightCell);
+      if (left.empty() || right.empty()) continue;
+      const float area = left.halfArea() + right.halfArea();
+      if (area < bestArea || (area == bestArea && bestLevel >= 0 && plane.level > bestLevel)) {
+        bestArea = area;
+        bestLevel = plane.level;
+        bestLeft = left;
+        bestRight = right;
+      }
+    }
+    if (bestLevel < 0) {
+      out_[written_++] = {box.min, tri_, box.max, 0u};
+      return;
+    }
+    const float wl = bestLeft.halfArea(), wr = bestRight.halfArea();
+    const uint32_t rest = splits - 1;
+    const uint32_t toLeft =
+        wl + wr > 0.0f ? std::min(rest, static_cast<uint32_t>(std::lround(float(rest) * wl / (wl + wr)))) : rest / 2;
+    split(bestLeft, toLeft);
+    split(bestRight, rest - toLeft);
+  }
+
+  const Grid& grid_;
+  glm::vec3 a_, b_, c_;
+  uint32_t tri_;
+  SplitRef* out_;
+  uint32_t written_ = 0;
+};
+
+/// Sum over triangles of min(cap, floor(scale * priority)).
+uint64_t totalSplits(std::span<const float> priority, float scale) {
+  uint64_t total = 0;
+  // Blocks of int32 sums (at most 2^16 * 64 each) keep the loop vectorisable.
+  for (size_t begin = 0; begin < priority.size(); begin += 1 << 16) {
+    const size_t end = std::min(priority.size(), begin + (1 << 16));
+    int32_t block = 0;
+    for (size_t i = begin; i < end; ++i) block += static_cast<int32_t>(std::min(scale * priority[i], float(kMaxSplitsPerTriangle)));
+    total += static_cast<uint64_t>(block);
+  }
+  return total;
+}
+
+/// The largest scale (to bisection precision) whose total does not exceed budget.
+float splitScale(std::span<const float> priority, uint64_t budget) {
+  double sum = 0.0;
+  for (const float p : priority) sum += p;
+  if (sum <= 0.0 || budget == 0) return 0.0f;
+  float lo = 0.0f, hi = static_cast<float>(double(budget) / sum);
+  for (int i = 0; i < 40 && totalSplits(priority, hi) <= budget; ++i) {
+    lo = hi;
+    hi *= 2.0f;
+    if (!std::isfinite(hi)) return lo;
+  }
+  for (int i = 0; i < 12; ++i) {   // the total to within ~0.1 % of the budget
+    const float mid = 0.5f * (lo + hi);
+    (totalSplits(priority, mid) <= budget ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+}  // namespace
+
+Bounds clippedTriangleBounds(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const Bounds& cell) {
+  const Bounds triBox = triangleBox(a, b, c);
+  const Bounds limit = intersect(triBox, cell);
+  if (limit.empty()) return Bounds{};
+  if (insideClosed(cell, triBox.min) && insideClosed(cell, triBox.max)) return triBox;
+  const std::array<DVec, 3> v{DVec(a), DVec(b), DVec(c)};
+  double magnitude = 0.0;
+  for (const DVec& p : v) magnitude = std::max({magnitude, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+  // Every candidate point below is within 2^-46 * magnitude of exact (see each case); pad more.
+  const double pad = magnitude * 0x1p-40;
+  const DVec cellMin(cell.min), cellMax(cell.max);
+  auto nearCell = [&](const DVec& p, int skipAxis) {
+    for (int k = 0; k < 3; ++k)
+      if (k != skipAxis && (p[k] < cellMin[k] - pad || p[k] > cellMax[k] + pad)) return false;
+    return true;
+  };
+  DBox found;
+  // 1. Vertices inside the cell (exact).
+  for (int i = 0; i < 3; ++i)
+    if (insideClosed(cell, i == 0 ? a : i == 1 ? b : c)) found.extend(v[i]);
+  // 2. Edges through the cell's faces. da, db: one rounding each; t = da / (da - db) with
+  //    opposite signs has a relative error of a few units in the last place, and the point
+  //    an absolute error of a few ulps of the magnitude.
+  for (int i = 0; i < 3; ++i) {
+    const DVec& p = v[i];
+    const DVec& q = v[(i + 1) % 3];
+    for (int axis = 0; axis < 3; ++axis)
+      for (const double s : {cellMin[axis], cellMax[axis]}) {
+        const double dp = p[axis] - s, dq = q[axis] - s;
+        if (!((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0))) continue;
+        const double t = dp / (dp - dq);
+        DVec x = p + t * (q - p);
+        x[axis] = s;
+        if (nearCell(x, axis)) found.extend(x);
+      }
+  }
+  // 3. The cell's edges through the triangle: the edge along axis `along` at (X, Y) on the
+  //    other two axes meets the triangle's plane at along = c0 + N / W (barycentric weights of
+  //    (X, Y) in the triangle's projection). With edge-function errors bounded by errW, the
+  //    true value lies in the interval of (N +- errN) / (W -+ errW); where that is not
+  //    decidable (W within its error of 0) the whole range is kept.
+  for (int along = 0; along < 3; ++along) {
+    const int x = (along + 1) % 3, y = (along + 2) % 3;
+    // A triangle parallel to `along` (flat in x or y) meets these edges only where other
+    // cases already put points (its vertices, its edges through faces, or other edges).
+    if (triBox.min[x] == triBox.max[x] || triBox.min[y] == triBox.max[y]) continue;
+    const double span = std::max(double(triBox.max[x]) - triBox.min[x], double(triBox.max[y]) - triBox.min[y]);
+    const double errBound = 16.0 * kUnitRoundoff * span * span;
+    bool exact = false;
+    double w = edgeFunction(v[0], v[1], v[2][x], v[2][y], x, y, exact);
+    // Exactly parallel to `along` (e.g. the plane z = y for along = x): as above.
+    if (w == 0.0 && exact) continue;
+    const double errW = exact ? 0.0 : errBound;
+    const double sign = w < 0.0 ? -1.0 : 1.0;
+    w *= sign;
+    const double d1 = v[1][along] - v[0][along], d2 = v[2][along] - v[0][along];
+    for (const float X : {cell.min[x], cell.max[x]})
+      for (const float Y : {cell.min[y], cell.max[y]}) {
+        if (X < triBox.min[x] || X > triBox.max[x] || Y < triBox.min[y] || Y > triBox.max[y]) continue;
+        bool exact0 = false, exact1 = false, exact2 = false;
+        const double w0 = sign * edgeFunction(v[1], v[2], X, Y, x, y, exact0);
+        const double w1 = sign * edgeFunction(v[2], v[0], X, Y, x, y, exact1);
+        const double w2 = sign * edgeFunction(v[0], v[1], X, Y, x, y, exact2);
+        const double err0 = exact0 ? 0.0 : errBound, err1 = exact1 ? 0.0 : errBound, err2 = exact2 ? 0.0 : errBound;
+        if (w0 < -err0 || w1 < -err1 || w2 < -err2) continue;   // surely outside the triangle
+        double lo = triBox.min[along], hi = triBox.max[along];
+        if (w > errW) {
+          const double n = w1 * d1 + w2 * d2;
+          const double errN = err1 * std::fabs(d1) + err2 * std::fabs(d2) + 4.0 * kUnitRoundoff * std::fabs(n);
+          const double q1 = (n - errN) / (w - errW), q2 = (n - errN) / (w + errW);
+          const double q3 = (n + errN) / (w - errW), q4 = (n + errN) / (w + errW);
+          lo = std::max(lo, v[0][along] + std::min({q1, q2, q3, q4}) - pad);
+          hi = std::min(hi, v[0][along] + std::max({q1, q2, q3, q4}) + pad);
+        }
+        lo = std::max(lo, cellMin[along] - pad);
+        hi = std::min(hi, cellMax[along] + pad);
+        if (lo > hi) continue;
+        DVec p;
+        p[x] = X;
+        p[y] = Y;
+        p[along] = lo;
+        found.extend(p);
+        p[along] = hi;
+        found.extend(p);
+      }
+  }
+  if (!(found.min.x <= found.max.x)) return Bounds{};
+  Bounds box;
+  for (int k = 0; k < 3; ++k) {
+    box.min[k] = roundDown(found.min[k] - pad);
+    box.max[k] = roundUp(found.max[k] + pad);
+  }
+  box = intersect(box, limit);
+  return box.empty() ? Bounds{} : box;
+}
+
+void PresplitScratch::release() {
+  priority = {};
+  splits = {};
+  firstSlot = {};
+  slots = {};
+  refs = {};
+}
+
+std::span<const SplitRef> presplitTriangles(const TriangleMesh& mesh, float budget, PresplitScratch& scratch) {
+  const uint32_t n = mesh.triangleCount();
+  Bounds meshBox;
+  for (const glm::vec3& p : mesh.positions) meshBox.extend(p);   // a superset of the triangles' box
+  const Grid grid(meshBox);
+  const float meshArea = std::max(meshBox.halfArea(), std::numeric_limits<float>::min());
+  // 1. Priorities.
+  scratch.priority.resize(n);
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kGrain), [&](const auto& r) {
+    for (uint32_t t = r.begin(); t < r.end(); ++t) {
+      float p = 0.0f;
+      if (!mesh.degenerate[t]) {
+        const glm::vec3 a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
+        const Bounds box = triangleBox(a, b, c);
+        const GridPlane plane = grid.coarsestPlane(box);
+        const float waste = box.halfArea() - projectedAreaSum(a, b, c);
+        if (plane.axis >= 0 && waste > 0.0f)
+          p = std::cbrt(std::ldexp(waste / meshArea, plane.level - kGridBits));
+      }
+      scratch.priority[t] = p;
+    }
+  });
+  // 2. Splits per triangle and their slots.
+  const auto budgetRefs = static_cast<uint64_t>(double(budget) * double(n));
+  const float scale = splitScale(scratch.priority, budgetRefs);
+  scratch.splits.resize(n);
+  scratch.firstSlot.resize(size_t(n) + 1);
+  uint64_t slots = 0;
+  for (uint32_t t = 0; t < n; ++t) {
+    const auto s = static_cast<uint32_t>(static_cast<int32_t>(std::min(scale * scratch.priority[t], float(kMaxSplitsPerTriangle))));
+    scratch.splits[t] = s;
+    scratch.firstSlot[t] = static_cast<uint32_t>(slots);
+    slots += s + 1;
+  }
+  if (slots >= (uint64_t(1) << 31)) throw std::length_error("presplitTriangles: too many references");
+  scratch.firstSlot[n] = static_cast<uint32_t>(slots);
+  // 3. Split; a triangle writes at most splits + 1 references into its slots.
+  scratch.slots.resize(slots);
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kGrain), [&](const auto& r) {
+    for (uint32_t t = r.begin(); t < r.end(); ++t) {
+      const glm::vec3 a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
+      SplitRef* out = &scratch.slots[scratch.firstSlot[t]];
+      const Bounds box = triangleBox(a, b, c);
+      if (scratch.splits[t] == 0) {
+        *out = {box.min, t, box.max, 0u};
+        scratch.splits[t] = 1;
+      } else {
+        scratch.splits[t] = TriangleSplitter(grid, a, b, c, t, out).run(box, scratch.splits[t]);
+      }
+    }
+  });
+  // Splits that found no plane leave slots unused: pack the references.
+  uint64_t written = 0;
+  for (uint32_t t = 0; t < n; ++t) written += scratch.splits[t];
+  if (written == slots) {
+    std::swap(scratch.refs, scratch.slots);
+    return scratch.refs;
+  }
+  scratch.refs.resize(written);
+  uint32_t next = 0;
+  for (uint32_t t = 0; t < n; ++t) {
+    std::copy_n(&scratch.slots[scratch.firstSlot[t]], scratch.splits[t], &scratch.refs[next]);
+    next += scratch.splits[t];
+  }
+  return scratch.refs;
+}
+
+}  // namespace pa::bvh_detail
