@@ -1,15 +1,20 @@
 // Triangle pre-splitting (see presplit.h).
 //
-// 1. Priority per triangle: p = (w * (A_box - A_ideal))^(1/3): A_box is the half area of its
-//    box, A_ideal the sum of its projected areas on the three axis planes (what the boxes of ever
-//    finer pieces of it tend towards), w = 2^-level of the coarsest grid plane crossing its box
-//    (level 0 halves the mesh box). The cube root spreads the budget over more triangles.
+// 1. Priority per triangle: p = (w * A_box)^(1/4): A_box is the half area of its box, w =
+//    2^-level of the coarsest grid plane crossing its box (level 0 halves the mesh box): large
+//    boxes across coarse planes are what keeps the top of the tree from separating its
+//    children. (The box's excess over the triangle's projected areas, as in Karras & Aila, was
+//    measured too: it never splits long axis-aligned slivers, whose boxes fit them, and gained
+//    less on oa_dm1; docs/performance.md.) The fourth root spreads the budget over more triangles.
+//    "Crossing" means inside the middle three quarters of the box on that axis: planes near a
+//    box's end would cut off slivers that cost a reference and save next to nothing.
 // 2. Splits per triangle: min(cap, floor(D * p)), D the largest scale whose total fits the budget
 //    (bisection on exact integer totals, so the plan does not depend on the thread count).
-// 3. A triangle with s splits: its box is cut at one of the three coarsest grid planes strictly
-//    inside it (one per axis: the one leaving the smallest boxes), each side gets the
-//    conservative box of the triangle's part in it, and the other s - 1 splits go to the sides
-//    in proportion to their half areas; recursively.
+// 3. A triangle with s splits: its box is cut at the coarsest grid plane crossing it (of
+//    equally coarse ones on several axes, the one leaving the smallest boxes; a cut that leaves
+//    the same total area, as along a sliver, still lets the tree separate the halves), each
+//    side gets the conservative box of the triangle's part in it, and the other s - 1 splits go
+//    to the sides in proportion to their half areas; recursively.
 #include "renderer/bvh/presplit.h"
 
 #include <algorithm>
@@ -76,28 +81,24 @@ Bounds triangleBox(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
   return box;
 }
 
-/// Sum of the triangle's areas projected on the three axis planes (its "ideal" half area).
-float projectedAreaSum(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
-  const glm::vec3 e1 = b - a, e2 = c - a;
-  const glm::vec3 n{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
-  return 0.5f * (std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z));
-}
-
 /// Rounding error of the double sum s = fl(a + b) (TwoSum: exact).
 double sumError(double a, double b, double s) {
   const double bv = s - a;
   return (a - (s - bv)) + (b - bv);
 }
 
-/// 2D cross product of (b - a) and (p - a) in the plane of axes (x, y), in double, with
-/// `exact` cleared when any of its operations rounded (an exact zero means "on the line").
-double edgeFunction(const DVec& a, const DVec& b, double px, double py, int x, int y, bool& exact) {
+/// 2D cross product of (b - a) and (p - a) in the plane of axes (x, y), in double.
+double edgeFunction(const DVec& a, const DVec& b, double px, double py, int x, int y) {
+  return (b[x] - a[x]) * (py - a[y]) - (b[y] - a[y]) * (px - a[x]);
+}
+
+/// Whether edgeFunction(a, b, px, py, x, y) is exact (none of its operations rounded).
+bool edgeFunctionIsExact(const DVec& a, const DVec& b, double px, double py, int x, int y) {
   const double d1 = b[x] - a[x], d2 = py - a[y], d3 = b[y] - a[y], d4 = px - a[x];
-  const double p1 = d1 * d2, p2 = d3 * d4, r = p1 - p2;
-  exact = sumError(b[x], -a[x], d1) == 0.0 && sumError(py, -a[y], d2) == 0.0 && sumError(b[y], -a[y], d3) == 0.0 &&
-          sumError(px, -a[x], d4) == 0.0 && std::fma(d1, d2, -p1) == 0.0 && std::fma(d3, d4, -p2) == 0.0 &&
-          sumError(p1, -p2, r) == 0.0;
-  return r;
+  const double p1 = d1 * d2, p2 = d3 * d4;
+  return sumError(b[x], -a[x], d1) == 0.0 && sumError(py, -a[y], d2) == 0.0 && sumError(b[y], -a[y], d3) == 0.0 &&
+         sumError(px, -a[x], d4) == 0.0 && std::fma(d1, d2, -p1) == 0.0 && std::fma(d3, d4, -p2) == 0.0 &&
+         sumError(p1, -p2, p1 - p2) == 0.0;
 }
 
 /// A grid plane: axis (-1 = none), level (larger = coarser: the bit that changes) and position.
@@ -120,16 +121,19 @@ class Grid {
     }
   }
 
-  /// The coarsest plane strictly inside box on `axis` (axis -1 when there is none).
+  /// The coarsest plane on `axis` strictly inside the middle of box (its outer eighths are
+  /// left out: a plane there would cut off a sliver); axis -1 when there is none.
   GridPlane coarsestPlane(const Bounds& box, int axis) const {
-    uint32_t lo = cellOf(box.min[axis], axis), hi = cellOf(box.max[axis], axis);
+    const float margin = 0.125f * (box.max[axis] - box.min[axis]);
+    const float min = box.min[axis] + margin, max = box.max[axis] - margin;
+    uint32_t lo = cellOf(min, axis), hi = cellOf(max, axis);
     while (lo < hi) {
       const int level = std::bit_width(lo ^ hi) - 1;
       const uint32_t index = hi >> level << level;   // in (lo, hi]
       const float position = origin_[axis] + float(index) * cell_[axis];
-      if (position >= box.max[axis]) {
-        hi = index - 1;   // a box ending on a plane: look below it
-      } else if (position <= box.min[axis]) {
+      if (position >= max) {
+        hi = index - 1;   // a range ending on a plane: look below it
+      } else if (position <= min) {
         lo = index;       // (rounding) starting on it: look above it
       } else {
         return {axis, level, position};
@@ -138,7 +142,7 @@ class Grid {
     return {};
   }
 
-  /// The coarsest plane strictly inside box on any axis (ties: the longer axis, then the lower).
+  /// The coarsest plane in the middle of box on any axis (ties: the longer axis, then the lower).
   GridPlane coarsestPlane(const Bounds& box) const {
     GridPlane best;
     float bestExtent = -1.0f;
@@ -177,15 +181,22 @@ class TriangleSplitter {
   }
 
  private:
-  /// Each axis offers its coarsest grid plane; the one whose two parts have the smallest boxes
-  /// (sum of half areas) wins, ties to the coarser plane. Parts that lose nothing are no split.
+  /// Cuts at the coarsest grid plane crossing box (the one the top of the tree is most likely
+  /// to split at); where several axes offer one of the same level, at the one whose two parts
+  /// have the smallest boxes (sum of half areas). No split where the boxes would grow.
   void split(const Bounds& box, uint32_t splits) {
+    GridPlane planes[3];
+    int coarsest = -1;
+    for (int axis = 0; axis < 3 && splits > 0; ++axis) {
+      planes[axis] = grid_.coarsestPlane(box, axis);
+      coarsest = std::max(coarsest, planes[axis].level);
+    }
     Bounds bestLeft, bestRight;
     float bestArea = box.halfArea();
     int bestLevel = -1;
-    for (int axis = 0; axis < 3 && splits > 0; ++axis) {
-      const GridPlane plane = grid_.coarsestPlane(box, axis);
-      if (plane.axis < 0) continue;
+    for (int axis = 0; axis < 3 && coarsest >= 0; ++axis) {
+      const GridPlane& plane = planes[axis];
+      if (plane.axis < 0 || plane.level != coarsest) continue;
       Bounds leftCell = box, rightCell = box;
       leftCell.max[axis] = plane.position;
       rightCell.min[axis] = plane.position;
@@ -193,7 +204,7 @@ class TriangleSplitter {
       const Bounds right = clippedTriangleBounds(a_, b_, c_, rightCell);
       if (left.empty() || right.empty()) continue;
       const float area = left.halfArea() + right.halfArea();
-      if (area < bestArea || (area == bestArea && bestLevel >= 0 && plane.level > bestLevel)) {
+      if (area < bestArea || (bestLevel < 0 && area == bestArea)) {
         bestArea = area;
         bestLevel = plane.level;
         bestLeft = left;
@@ -300,27 +311,34 @@ Bounds clippedTriangleBounds(const glm::vec3& a, const glm::vec3& b, const glm::
     if (triBox.min[x] == triBox.max[x] || triBox.min[y] == triBox.max[y]) continue;
     const double span = std::max(double(triBox.max[x]) - triBox.min[x], double(triBox.max[y]) - triBox.min[y]);
     const double errBound = 16.0 * kUnitRoundoff * span * span;
-    bool exact = false;
-    double w = edgeFunction(v[0], v[1], v[2][x], v[2][y], x, y, exact);
-    // Exactly parallel to `along` (e.g. the plane z = y for along = x): as above.
-    if (w == 0.0 && exact) continue;
-    const double errW = exact ? 0.0 : errBound;
+    double w = edgeFunction(v[0], v[1], v[2][x], v[2][y], x, y);
+    double errW = errBound;
+    if (std::fabs(w) <= errBound && edgeFunctionIsExact(v[0], v[1], v[2][x], v[2][y], x, y)) {
+      if (w == 0.0) continue;   // exactly parallel to `along` (e.g. the plane z = y for x): as above
+      errW = 0.0;
+    }
     const double sign = w < 0.0 ? -1.0 : 1.0;
     w *= sign;
     const double d1 = v[1][along] - v[0][along], d2 = v[2][along] - v[0][along];
     for (const float X : {cell.min[x], cell.max[x]})
       for (const float Y : {cell.min[y], cell.max[y]}) {
-        if (X < triBox.min[x] || X > triBox.max[x] || Y < triBox.min[y] || Y > triBox.max[y]) continue;
-        bool exact0 = false, exact1 = false, exact2 = false;
-        const double w0 = sign * edgeFunction(v[1], v[2], X, Y, x, y, exact0);
-        const double w1 = sign * edgeFunction(v[2], v[0], X, Y, x, y, exact1);
-        const double w2 = sign * edgeFunction(v[0], v[1], X, Y, x, y, exact2);
-        const double err0 = exact0 ? 0.0 : errBound, err1 = exact1 ? 0.0 : errBound, err2 = exact2 ? 0.0 : errBound;
-        if (w0 < -err0 || w1 < -err1 || w2 < -err2) continue;   // surely outside the triangle
+        // Only corners strictly inside the triangle's box on both axes: a point of the triangle
+        // on a face of its box is a vertex or on an edge lying in that face, found above.
+        if (!(X > triBox.min[x] && X < triBox.max[x] && Y > triBox.min[y] && Y < triBox.max[y])) continue;
+        // Outside when an edge function is below -errBound, or negative and exact.
+        auto outside = [&](const DVec& p, const DVec& q, double value) {
+          return value < -errBound || (value < 0.0 && edgeFunctionIsExact(p, q, X, Y, x, y));
+        };
+        const double w0 = sign * edgeFunction(v[1], v[2], X, Y, x, y);
+        if (outside(v[1], v[2], w0)) continue;
+        const double w1 = sign * edgeFunction(v[2], v[0], X, Y, x, y);
+        if (outside(v[2], v[0], w1)) continue;
+        const double w2 = sign * edgeFunction(v[0], v[1], X, Y, x, y);
+        if (outside(v[0], v[1], w2)) continue;
         double lo = triBox.min[along], hi = triBox.max[along];
         if (w > errW) {
           const double n = w1 * d1 + w2 * d2;
-          const double errN = err1 * std::fabs(d1) + err2 * std::fabs(d2) + 4.0 * kUnitRoundoff * std::fabs(n);
+          const double errN = errBound * (std::fabs(d1) + std::fabs(d2)) + 4.0 * kUnitRoundoff * std::fabs(n);
           const double q1 = (n - errN) / (w - errW), q2 = (n - errN) / (w + errW);
           const double q3 = (n + errN) / (w - errW), q4 = (n + errN) / (w + errW);
           lo = std::max(lo, v[0][along] + std::min({q1, q2, q3, q4}) - pad);
@@ -371,9 +389,9 @@ std::span<const SplitRef> presplitTriangles(const TriangleMesh& mesh, float budg
         const glm::vec3 a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
         const Bounds box = triangleBox(a, b, c);
         const GridPlane plane = grid.coarsestPlane(box);
-        const float waste = box.halfArea() - projectedAreaSum(a, b, c);
-        if (plane.axis >= 0 && waste > 0.0f)
-          p = std::cbrt(std::ldexp(waste / meshArea, plane.level - kGridBits));
+        const float area = box.halfArea();
+        if (plane.axis >= 0 && area > 0.0f)
+          p = std::sqrt(std::sqrt(area / meshArea * std::bit_cast<float>(uint32_t(127 + plane.level - kGridBits) << 23)));
       }
       scratch.priority[t] = p;
     }
