@@ -1,11 +1,11 @@
 // Triangle pre-splitting (see presplit.h).
 //
-// 1. Priority per triangle: p = (w * A_box)^(1/4): A_box is the half area of its box, w =
-//    2^-level of the coarsest grid plane crossing its box (level 0 halves the mesh box): large
+// 1. Priority per triangle: p = (w * A_box)^(1/4): A_box is the half area of its box, w = 2^-d
+//    with d the depth of the coarsest grid plane crossing its box (d = 1 halves the mesh box): large
 //    boxes across coarse planes are what keeps the top of the tree from separating its
 //    children. (The box's excess over the triangle's projected areas, as in Karras & Aila, was
-//    measured too: it never splits long axis-aligned slivers, whose boxes fit them, and gained
-//    less on oa_dm1; docs/performance.md.) The fourth root spreads the budget over more triangles.
+//    measured too: it never splits long axis-aligned slivers, whose boxes fit them; neither is
+//    better at every budget, docs/performance.md.) The fourth root spreads the budget wider.
 //    "Crossing" means inside the middle three quarters of the box on that axis: planes near a
 //    box's end would cut off slivers that cost a reference and save next to nothing.
 // 2. Splits per triangle: min(cap, floor(D * p)), D the largest scale whose total fits the budget
@@ -24,7 +24,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
