@@ -80,6 +80,13 @@ Bounds triangleBox(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
   return box;
 }
 
+/// Half surface area in double (float overflows from extents of ~1e19); 0 for an empty box.
+double halfArea(const Bounds& b) {
+  if (b.empty()) return 0.0;
+  const DVec d = DVec(b.max) - DVec(b.min);
+  return d.x * d.y + d.y * d.z + d.z * d.x;
+}
+
 /// Rounding error of the double sum s = fl(a + b) (TwoSum: exact).
 double sumError(double a, double b, double s) {
   const double bv = s - a;
@@ -191,7 +198,7 @@ class TriangleSplitter {
       coarsest = std::max(coarsest, planes[axis].level);
     }
     Bounds bestLeft, bestRight;
-    float bestArea = box.halfArea();
+    double bestArea = halfArea(box);
     int bestLevel = -1;
     for (int axis = 0; axis < 3 && coarsest >= 0; ++axis) {
       const GridPlane& plane = planes[axis];
@@ -202,7 +209,7 @@ class TriangleSplitter {
       const Bounds left = clippedTriangleBounds(a_, b_, c_, leftCell);
       const Bounds right = clippedTriangleBounds(a_, b_, c_, rightCell);
       if (left.empty() || right.empty()) continue;
-      const float area = left.halfArea() + right.halfArea();
+      const double area = halfArea(left) + halfArea(right);
       if (area < bestArea || (bestLevel < 0 && area == bestArea)) {
         bestArea = area;
         bestLevel = plane.level;
@@ -214,10 +221,10 @@ class TriangleSplitter {
       out_[written_++] = {box.min, tri_, box.max, 0u};
       return;
     }
-    const float wl = bestLeft.halfArea(), wr = bestRight.halfArea();
+    const double wl = halfArea(bestLeft), wr = halfArea(bestRight);
     const uint32_t rest = splits - 1;
-    const uint32_t toLeft =
-        wl + wr > 0.0f ? std::min(rest, static_cast<uint32_t>(std::lround(float(rest) * wl / (wl + wr)))) : rest / 2;
+    const double share = wl / (wl + wr);   // NaN for 0 / 0: halve
+    const uint32_t toLeft = share >= 0.0 && share <= 1.0 ? static_cast<uint32_t>(std::lround(rest * share)) : rest / 2;
     split(bestLeft, toLeft);
     split(bestRight, rest - toLeft);
   }
@@ -378,7 +385,7 @@ std::span<const SplitRef> presplitTriangles(const TriangleMesh& mesh, float budg
   Bounds meshBox;
   for (const glm::vec3& p : mesh.positions) meshBox.extend(p);   // a superset of the triangles' box
   const Grid grid(meshBox);
-  const float meshArea = std::max(meshBox.halfArea(), std::numeric_limits<float>::min());
+  const double meshArea = std::max(halfArea(meshBox), std::numeric_limits<double>::min());
   // 1. Priorities.
   scratch.priority.resize(n);
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kGrain), [&](const auto& r) {
@@ -388,11 +395,11 @@ std::span<const SplitRef> presplitTriangles(const TriangleMesh& mesh, float budg
         const glm::vec3 a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
         const Bounds box = triangleBox(a, b, c);
         const GridPlane plane = grid.coarsestPlane(box);
-        const float area = box.halfArea();
-        if (plane.axis >= 0 && area > 0.0f)
-          p = std::sqrt(std::sqrt(area / meshArea * std::bit_cast<float>(uint32_t(127 + plane.level - kGridBits) << 23)));
+        const double area = halfArea(box);
+        if (plane.axis >= 0 && area > 0.0)
+          p = static_cast<float>(std::sqrt(std::sqrt(std::ldexp(area / meshArea, plane.level - kGridBits))));
       }
-      scratch.priority[t] = p;
+      scratch.priority[t] = std::isfinite(p) ? p : 0.0f;   // boxes too large for float areas: not split
     }
   });
   // 2. Splits per triangle and their slots.

@@ -249,6 +249,52 @@ TEST(Presplit, SameHitsThroughTheHitFilter) {
   expectSameHits(plain, split, {glm::vec3(-1.5f), glm::vec3(1.5f)}, 56, filter);
 }
 
+/// Splits m with the largest budget and checks the references and the hits against no split.
+void expectSafeSplit(const TestMesh& m, size_t minRefs) {
+  const TriangleMesh mesh = makeTriangleMesh(m.input());
+  PresplitScratch scratch;
+  const std::span<const SplitRef> refs = presplitTriangles(mesh, 4.0f, scratch);
+  EXPECT_GE(refs.size(), minRefs);
+  const std::vector<Bounds> boxes = triangleBounds(mesh);
+  for (const SplitRef& r : refs)
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GE(r.min[a], boxes[r.tri].min[a]);
+      EXPECT_LE(r.max[a], boxes[r.tri].max[a]);
+      EXPECT_LE(r.min[a], r.max[a]);
+    }
+  Blas plain, split;
+  BvhBuildConfig on;
+  on.splitBudget = 4.0f;
+  plain.build(m.input());
+  split.build(m.input(), on);
+  uint32_t hits = 0;
+  for (const Ray& r : makeRaysFromPoint(glm::vec3(0.0f, 0.0f, -1.0f), 20000, 57)) {
+    Ray ra = r, rb = r;
+    Hit ha, hb;
+    ASSERT_EQ(plain.intersect(ra, ha), split.intersect(rb, hb));
+    ASSERT_EQ(ha.t, hb.t);
+    hits += ha.valid();
+  }
+  EXPECT_GT(hits, 0u);
+}
+
+TEST(Presplit, ExtremeCoordinatesSplitSafely) {
+  // A long diagonal across 1e30, a small triangle far out and a tiny one at the origin: split,
+  // with references inside their triangles' boxes and the same hits.
+  TestMesh m;
+  m.positions = {{-1e30f, 0, 0},       {1e30f, 1e30f, 1e30f},         {1e30f, 0, 1e-30f},
+                 {1e20f, 1e20f, 1e20f}, {1e20f + 1e13f, 1e20f, 1e20f}, {1e20f, 1e20f + 1e13f, 1e20f + 1e13f},
+                 {1e-30f, 0, 0},        {0, 1e-30f, 0},                {0, 0, 1e-30f}};
+  m.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+  expectSafeSplit(m, 4);
+  // Add a triangle whose box area (and the mesh box's extent) overflows float: the grid has no
+  // planes on those axes and priorities are not finite, so nothing is split; still no crash.
+  constexpr float kHuge = 3e38f;
+  m.positions.insert(m.positions.end(), {{-kHuge, -kHuge, 0}, {kHuge, kHuge, 1}, {kHuge, -kHuge, 2}});
+  m.indices.insert(m.indices.end(), {9, 10, 11});
+  expectSafeSplit(m, 4);
+}
+
 TEST(Presplit, RefitOfASplitTreeEqualsRebuild) {
   TestMesh base = makeThinTriangles(6000, 49);
   base.append(makeSphere(4000));
