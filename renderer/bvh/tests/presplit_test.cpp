@@ -126,6 +126,18 @@ TEST(Presplit, LongDiagonalTriangleSplitsIntoSmallerCoveringBoxes) {
     area += Bounds{r.min, r.max}.halfArea();
   }
   EXPECT_LT(area, 0.5f * whole.halfArea());   // a diagonal sliver: the pieces' boxes are far smaller
+  // The cuts are planes of the power-of-two grid over the mesh box [0, 100]^3: 50 (the middle),
+  // then 25 and 75, then 12.5 (the outer eighths of a box are not cut), here all across y (exact
+  // ends); z = y on this triangle, x follows the edge from (0.5, 0, 0): 0.5 + 0.995 y.
+  const float cuts[6] = {0.0f, 12.5f, 25.0f, 50.0f, 75.0f, 100.0f};
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(refs[k].min.y, cuts[k]);
+    EXPECT_EQ(refs[k].max.y, cuts[k + 1]);
+    EXPECT_NEAR(refs[k].min.z, cuts[k], 1e-4f);       // z and x are clipped (rounded outwards)
+    EXPECT_NEAR(refs[k].max.z, cuts[k + 1], 1e-4f);
+    EXPECT_NEAR(refs[k].min.x, cuts[k], 1e-4f);
+    EXPECT_NEAR(refs[k].max.x, k == 4 ? 100.0f : 0.5f + 0.995f * cuts[k + 1], 1e-4f);
+  }
   for (const glm::dvec3& p : samplePoints(m.positions[0], m.positions[1], m.positions[2], 200))
     ASSERT_TRUE(std::any_of(refs.begin(), refs.end(), [&](const SplitRef& r) { return contains({r.min, r.max}, p); }));
   // No budget: one reference, the triangle's box.
