@@ -39,14 +39,18 @@ constexpr uint32_t kGrain = 1 << 12;
 
 using DVec = glm::dvec3;
 
+/// The next float towards -inf (f finite; the bit pattern steps by one).
+float nextDown(float f) {
+  if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
+  const auto bits = std::bit_cast<uint32_t>(f);
+  return std::bit_cast<float>(f > 0.0f ? bits - 1 : bits + 1);
+}
+/// The largest float <= x and the smallest float >= x (x within the float range).
 float roundDown(double x) {
   const float f = static_cast<float>(x);
-  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+  return double(f) > x ? nextDown(f) : f;
 }
-float roundUp(double x) {
-  const float f = static_cast<float>(x);
-  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
-}
+float roundUp(double x) { return -roundDown(-x); }
 
 /// Box in double, for the candidate extreme points of a clipped triangle.
 struct DBox {
@@ -387,6 +391,8 @@ std::span<const SplitRef> presplitTriangles(const TriangleMesh& mesh, float budg
   const Grid grid(meshBox);
   const double meshArea = std::max(halfArea(meshBox), std::numeric_limits<double>::min());
   // 1. Priorities.
+  std::array<double, kGridBits> gridWeight;   // 2^-depth of a plane of each level
+  for (int level = 0; level < kGridBits; ++level) gridWeight[level] = std::ldexp(1.0, level - kGridBits);
   scratch.priority.resize(n);
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kGrain), [&](const auto& r) {
     for (uint32_t t = r.begin(); t < r.end(); ++t) {
@@ -397,7 +403,7 @@ std::span<const SplitRef> presplitTriangles(const TriangleMesh& mesh, float budg
         const GridPlane plane = grid.coarsestPlane(box);
         const double area = halfArea(box);
         if (plane.axis >= 0 && area > 0.0)
-          p = static_cast<float>(std::sqrt(std::sqrt(std::ldexp(area / meshArea, plane.level - kGridBits))));
+          p = static_cast<float>(std::sqrt(std::sqrt(area / meshArea * gridWeight[plane.level])));
       }
       scratch.priority[t] = std::isfinite(p) ? p : 0.0f;   // boxes too large for float areas: not split
     }
