@@ -37,6 +37,7 @@ constexpr uint32_t kSahBlock = 8;      // triangles per leaf pack (kPackWidth of
 // Past this depth splits are object medians, so the depth stays below kMaxSahDepth + 32 and
 // traversal stacks of 128 levels cannot overflow even for pathological inputs.
 constexpr uint32_t kMaxSahDepth = 64;
+constexpr float kMaxSplitBudget = 4.0f;   // extra references per triangle, at most
 
 /// Box as two SSE registers (x, y, z, unused).
 struct Box {
@@ -164,11 +165,13 @@ inline __m128 halfAreas(const Box (&boxes)[3]) {
 
 class Builder {
  public:
-  /// boundsOf(i, lo, hi) gives primitive i's box as two SSE registers (lane 3 is overwritten).
+  /// boundsOf(i, lo, hi) gives reference i's box as two SSE registers (lane 3 is overwritten)
+  /// and returns its primitive index. With repeatsPrims, several references may name the same
+  /// primitive (pre-split triangles): leaves then list each primitive once.
   template <typename BoundsOf>
   Builder(size_t count, const BoundsOf& boundsOf, const BvhBuildConfig& config, BinaryBuildScratch& scratch,
-          BinaryBvh& out)
-      : config_(config), out_(out), primCount_(static_cast<uint32_t>(count)) {
+          BinaryBvh& out, bool repeatsPrims = false)
+      : config_(config), out_(out), primCount_(static_cast<uint32_t>(count)), repeatsPrims_(repeatsPrims) {
     // One block: refs | partitioned | nodes (room for the worst case, 2n - 1 nodes).
     static_assert(alignof(PrimRef) <= 64 && alignof(BinaryNode) <= 64 && std::is_trivially_copyable_v<PrimRef>);
     const size_t refBytes = (count * sizeof(PrimRef) + 63) / 64 * 64;
@@ -179,8 +182,8 @@ class Builder {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1 << 14), [&](const auto& r) {
       for (size_t i = r.begin(); i < r.end(); ++i) {
         __m128 lo, hi;
-        boundsOf(i, lo, hi);
-        const __m128 id = _mm_castsi128_ps(_mm_cvtsi32_si128(static_cast<int>(i)));
+        const uint32_t prim = boundsOf(i, lo, hi);
+        const __m128 id = _mm_castsi128_ps(_mm_cvtsi32_si128(static_cast<int>(prim)));
         refs_[i] = {_mm_insert_ps(lo, id, 0x30), hi};
       }
     });
@@ -300,7 +303,20 @@ class Builder {
     node.bounds = box.toBounds();
     node.first = t.begin;
     node.count = t.end - t.begin;
-    for (uint32_t i = t.begin; i < t.end; ++i) out_.primIndices[i] = refs[i].prim();
+    if (!repeatsPrims_) {
+      for (uint32_t i = t.begin; i < t.end; ++i) out_.primIndices[i] = refs[i].prim();
+      return;
+    }
+    // Pieces of one triangle that land in the same leaf: keep one (the leaf's box already
+    // covers all of them). The range's tail is left unused and packed by renumberDepthFirst.
+    uint32_t* prims = &out_.primIndices[t.begin];
+    uint32_t unique = 0;
+    for (uint32_t i = t.begin; i < t.end; ++i) {
+      const uint32_t prim = refs[i].prim();
+      if (std::find(prims, prims + unique, prim) == prims + unique) prims[unique++] = prim;
+    }
+    node.count = unique;
+    if (unique < t.end - t.begin) repeatsDropped_.fetch_add(t.end - t.begin - unique, std::memory_order_relaxed);
   }
 
   /// Copies [begin, end) of src into dst split by the split plane, the left side first, each
@@ -376,11 +392,14 @@ class Builder {
   }
 
   /// Copies the nodes into out_.nodes in depth-first order (left child = parent + 1), which
-  /// removes the dependence on task timing and keeps children after their parents.
+  /// removes the dependence on task timing and keeps children after their parents. Leaves that
+  /// dropped repeated primitives are packed: depth-first order is the order of their ranges,
+  /// so each moves its primitives down in place.
   void renumberDepthFirst() {
     const uint32_t total = nextNode_.load();
     out_.nodes.resize(total);
-    uint32_t leaves = 0, written = 0;
+    const bool pack = repeatsDropped_.load() > 0;
+    uint32_t leaves = 0, written = 0, packedPrims = 0;
     std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, kInvalidId}};   // (source, parent to patch)
     while (!stack.empty()) {
       const auto [source, parent] = stack.back();
@@ -390,6 +409,11 @@ class Builder {
       BinaryNode node = nodes_[source];
       if (node.isLeaf()) {
         ++leaves;
+        if (pack) {
+          std::copy_n(out_.primIndices.begin() + node.first, node.count, out_.primIndices.begin() + packedPrims);
+          node.first = packedPrims;
+          packedPrims += node.count;
+        }
       } else {
         stack.push_back({node.right, target});
         stack.push_back({node.left, kInvalidId});
@@ -399,6 +423,7 @@ class Builder {
     }
     out_.nodeCount = written;
     out_.leafCount = leaves;
+    if (pack) out_.primIndices.resize(packedPrims);
   }
 
   const BvhBuildConfig& config_;
@@ -407,7 +432,9 @@ class Builder {
   PrimRef* partitioned_;   // second buffer: disjoint ranges per task
   BinaryNode* nodes_;      // build-time nodes, indexed by allocation order (room for 2n)
   uint32_t primCount_;
+  bool repeatsPrims_;
   std::atomic<uint32_t> nextNode_{1};
+  std::atomic<uint32_t> repeatsDropped_{0};   // references dropped from leaves as repeats
 };
 
 }  // namespace
@@ -421,6 +448,9 @@ void validateBuildConfig(const BvhBuildConfig& config) {
                                 std::to_string(config.maxLeafTriangles));
   if (!(config.traversalCost >= 0.0f) || !std::isfinite(config.traversalCost))
     throw std::invalid_argument("BvhBuildConfig.traversalCost must be finite and >= 0");
+  if (!(config.splitBudget >= 0.0f && config.splitBudget <= kMaxSplitBudget))
+    throw std::invalid_argument("BvhBuildConfig.splitBudget must be in [0, " + std::to_string(kMaxSplitBudget) +
+                                "], got " + std::to_string(config.splitBudget));
 }
 
 BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfig& config) {
@@ -430,6 +460,7 @@ BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfi
   const auto boundsOf = [&](size_t i, __m128& lo, __m128& hi) {
     lo = load3(primBounds[i].min);
     hi = load3(primBounds[i].max);
+    return static_cast<uint32_t>(i);
   };
   BinaryBuildScratch scratch;
   Builder(primBounds.size(), boundsOf, config, scratch, bvh).run();
@@ -443,11 +474,22 @@ void buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config, Bina
     out = BinaryBvh{};
     return;
   }
+  if (config.splitBudget > 0.0f) {
+    const std::span<const SplitRef> refs = presplitTriangles(mesh, config.splitBudget, scratch.presplit);
+    const auto boundsOf = [&](size_t i, __m128& lo, __m128& hi) {
+      lo = _mm_loadu_ps(&refs[i].min.x);   // lane 3: the index, replaced by the builder
+      hi = _mm_loadu_ps(&refs[i].max.x);
+      return refs[i].tri;
+    };
+    Builder(refs.size(), boundsOf, config, scratch, out, refs.size() > count).run();
+    return;
+  }
   const auto boundsOf = [&](size_t i, __m128& lo, __m128& hi) {
     const uint32_t* tri = &mesh.indices[3 * i];
     const __m128 a = load3(mesh.positions[tri[0]]), b = load3(mesh.positions[tri[1]]), c = load3(mesh.positions[tri[2]]);
     lo = _mm_min_ps(_mm_min_ps(a, b), c);
     hi = _mm_max_ps(_mm_max_ps(a, b), c);
+    return static_cast<uint32_t>(i);
   };
   Builder(count, boundsOf, config, scratch, out).run();
 }

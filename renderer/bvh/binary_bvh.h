@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "renderer/bvh/bvh.h"
+#include "renderer/bvh/presplit.h"
 #include "renderer/bvh/scratch_buffer.h"
 #include "renderer/bvh/triangle_mesh.h"
 #include "renderer/core/bounds.h"
@@ -38,16 +39,23 @@ struct BinaryBvh {
 /// fresh pages.
 struct BinaryBuildScratch {
   ScratchBuffer memory;
-  /// Frees the block.
-  void release() { memory.release(); }
+  PresplitScratch presplit;   ///< Pre-split references (BvhBuildConfig::splitBudget > 0).
+  /// Frees the block and the pre-split arrays.
+  void release() {
+    memory.release();
+    presplit.release();
+  }
 };
 
 /// Builds over primBounds (each must be finite and non-empty). Deterministic: the result does
-/// not depend on the number of threads. Runs in the caller's TBB arena.
+/// not depend on the number of threads. Runs in the caller's TBB arena. Pre-splitting needs the
+/// triangles, so this overload ignores config.splitBudget.
 BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfig& config);
 
 /// Builds over the triangles of mesh, with their bounds taken straight from the vertices (no
-/// separate bounds array); the same tree as buildBinaryBvh(triangleBounds(mesh), config).
+/// separate bounds array). With config.splitBudget == 0 the same tree as
+/// buildBinaryBvh(triangleBounds(mesh), config); otherwise over pre-split references
+/// (presplitTriangles), where a triangle may be listed in several leaves (once per leaf).
 BinaryBvh buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config);
 
 /// Same as buildBinaryBvh(mesh, config), into out (whose vectors are reused) with the given

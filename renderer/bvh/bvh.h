@@ -20,6 +20,10 @@ struct BvhBuildConfig {
   uint32_t maxLeafTriangles = 8;   ///< Hard upper bound on triangles per leaf.
   float traversalCost = 1.0f;      ///< SAH cost of visiting a node, relative to one triangle test.
   uint32_t parallelThreshold = 4096;  ///< Subtrees smaller than this are built serially.
+  /// Pre-splitting: extra references to parts of large triangles, as a fraction of the triangle
+  /// count (0 = off, at most 4). Off by default: gains and losses by scene, 1.2-3.5x the build
+  /// time at 0.3-1 (docs/performance.md, "Pre-splitting").
+  float splitBudget = 0.0f;
 };
 
 /// Triangle mesh input. Indices are 3 per triangle; masked (optional, one byte per
