@@ -1,6 +1,8 @@
 // pa-all-maps: renders every map of a game folder from a player spawn point with pa-render
 // (lightmap, direct and path integrators), checks that each picture is plausible, and writes a
 // results table and a contact sheet. See README.md.
+#include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <optional>
@@ -10,9 +12,11 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include <stb_image_write.h>
@@ -55,6 +59,9 @@ the renders (DIR/renders/MAP_INTEGRATOR.{png,exr,json,log}).
   --path-spp N            Samples per pixel of the path renders (default 16, pa-render's
                           default; bounces: pa-render's default, 4)
   --threads T             pa-render --threads (default 0 = all cores)
+  --jobs J                Maps checked at once, each by its own pa-render process (default 2:
+                          a call spends most of its time loading the map on one core); the
+                          pictures and reports do not depend on it
   --columns C             Contact sheet cells per row (default 6)
   --exposure GAIN         Judge every render at this fixed gain (1 = the stock look) instead
                           of the default: lightmap --exposure auto, direct and path at the
@@ -76,6 +83,7 @@ struct Options {
   uint32_t width = 160, height = 90;
   uint32_t lightmapSpp = 2, directSpp = 8, pathSpp = 16;
   uint32_t threads = 0;
+  uint32_t jobs = 2;
   uint32_t columns = 6;
   bool reuse = false;
   std::optional<std::string> fixedExposure;   ///< --exposure: one gain for every render instead of auto.
@@ -121,6 +129,7 @@ std::string parseOptions(int argc, char** argv, Options& o) {
     else if (name == "--direct-spp") ok = parseCount(value, 1, 4096, o.directSpp);
     else if (name == "--path-spp") ok = parseCount(value, 1, 4096, o.pathSpp);
     else if (name == "--threads") ok = parseCount(value, 0, 4096, o.threads);
+    else if (name == "--jobs") ok = parseCount(value, 1, 64, o.jobs);
     else if (name == "--columns") ok = parseCount(value, 1, 64, o.columns);
     else if (name == "--exposure") {
       char* end = nullptr;
@@ -258,6 +267,21 @@ ArenaIndex loadArenas(const q3::GameFileSystem& game) {
   return arenas;
 }
 
+/// One line per checked map on stdout: "[done/total] MAP ok|FAIL  integrator figures...".
+void printProgress(const MapResult& result, size_t done, size_t total) {
+  std::string line = result.failed() ? "FAIL" : "ok";
+  for (const IntegratorOutcome& r : result.renders)
+    if (r.rendered) {
+      char text[128];
+      std::snprintf(text, sizeof text, "  %s x%.2f lum %.3f (x1 %.3f) black %.0f%% sky %.0f%% %.0f ms",
+                    r.integrator.c_str(), r.exposure, r.stats.meanLuma, r.unexposedStats.meanLuma,
+                    100 * r.stats.blackFraction, 100 * r.stats.skyFraction, r.wallMilliseconds);
+      line += text;
+    }
+  std::printf("[%zu/%zu] %-20s %s\n", done, total, result.map.c_str(), line.c_str());
+  std::fflush(stdout);
+}
+
 ThumbVerdict thumbVerdict(const IntegratorOutcome& o) {
   if (!o.rendered) return ThumbVerdict::Missing;
   if (o.problems.empty()) return ThumbVerdict::Pass;
@@ -293,29 +317,39 @@ int run(const Options& o) {
   }
 
   fs::create_directories(o.out);
-  ContactSheet sheet(o.width, o.height, 3, o.columns);
-  std::vector<MapResult> results;
-  for (size_t i = 0; i < maps.size(); ++i) {
-    std::vector<RgbaImage> images;
-    MapResult result = checkMap(o, game, arenas, maps[i], known, images);
-    std::string line = result.failed() ? "FAIL" : "ok";
-    for (const IntegratorOutcome& r : result.renders)
-      if (r.rendered) {
-        char text[128];
-        std::snprintf(text, sizeof text, "  %s x%.2f lum %.3f (x1 %.3f) black %.0f%% sky %.0f%% %.0f ms",
-                      r.integrator.c_str(), r.exposure, r.stats.meanLuma, r.unexposedStats.meanLuma,
-                      100 * r.stats.blackFraction, 100 * r.stats.skyFraction, r.wallMilliseconds);
-        line += text;
+  // Maps are checked by `jobs` workers at once (pa-render spends most of a call loading the map
+  // on one core); results are kept in map order, so the reports do not depend on `jobs`.
+  std::vector<MapResult> results(maps.size());
+  std::vector<std::vector<RgbaImage>> images(maps.size());
+  std::atomic<size_t> nextMap{0};
+  std::mutex printing;
+  size_t done = 0;
+  auto worker = [&] {
+    for (size_t i = nextMap++; i < maps.size(); i = nextMap++) {
+      try {
+        results[i] = checkMap(o, game, arenas, maps[i], known, images[i]);
+      } catch (const std::exception& e) {
+        results[i].map = mapName(maps[i]);
+        results[i].mapProblems.push_back(std::string("cannot check: ") + e.what());
       }
-    std::printf("[%zu/%zu] %-20s %s\n", i + 1, maps.size(), result.map.c_str(), line.c_str());
-    std::fflush(stdout);
+      const std::lock_guard<std::mutex> lock(printing);
+      printProgress(results[i], ++done, maps.size());
+    }
+  };
+  std::vector<std::thread> workers;
+  for (uint32_t j = 1; j < std::min<size_t>(o.jobs, maps.size()); ++j) workers.emplace_back(worker);
+  worker();
+  for (std::thread& w : workers) w.join();
+
+  ContactSheet sheet(o.width, o.height, 3, o.columns);
+  for (size_t i = 0; i < maps.size(); ++i) {
     std::vector<Thumb> thumbs;
-    for (size_t k = 0; k < images.size(); ++k)
-      thumbs.push_back({std::move(images[k]), k < result.renders.size() ? thumbVerdict(result.renders[k])
-                                                                         : ThumbVerdict::Missing});
-    sheet.addCell(result.map, thumbs);
-    results.push_back(std::move(result));
+    for (size_t k = 0; k < images[i].size(); ++k)
+      thumbs.push_back({std::move(images[i][k]), k < results[i].renders.size() ? thumbVerdict(results[i].renders[k])
+                                                                                : ThumbVerdict::Missing});
+    sheet.addCell(results[i].map, thumbs);
   }
+
 
   std::ostringstream markdown;
   writeMarkdownReport(markdown, results, PlausibilityThresholds{});
