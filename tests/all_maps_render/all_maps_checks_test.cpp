@@ -188,6 +188,77 @@ TEST(MapSurvey, SpawnsOffTheFloorAreSkippedAndNoFloorKeepsTheFirst) {
   EXPECT_FALSE(floating.spawn->standsOnFloor());
 }
 
+TEST(MapSurvey, TeamGamesPreferTheTeamPlayerSpawns) {
+  // A deathmatch start first (on the floor), then a team respawn point and a team start point.
+  const q3::BspFile bsp = bspWithFloor(R"(
+{ "classname" "info_player_start" "origin" "10 0 24" }
+{ "classname" "team_CTF_bluespawn" "origin" "20 0 24" }
+{ "classname" "info_player_intermission" "origin" "0 0 300" }
+{ "classname" "team_CTF_redplayer" "origin" "30 0 24" }
+)");
+  const MapSurvey ctf = surveyMap(bsp, SpawnFamily::Team);
+  ASSERT_TRUE(ctf.spawn && ctf.firstSpawn);
+  EXPECT_EQ(ctf.spawn->cameraName, "team_CTF_redplayer 3");
+  EXPECT_EQ(ctf.spawn->cameraIndex, 3u);   // the intermission point is camera 2
+  EXPECT_EQ(ctf.spawn->className, "team_CTF_redplayer");
+  EXPECT_TRUE(ctf.familyFound);
+  EXPECT_EQ(ctf.firstSpawn->cameraName, "info_player_start 0");
+  EXPECT_EQ(surveyMap(bsp, SpawnFamily::Deathmatch).spawn->cameraName, "info_player_start 0");
+  EXPECT_EQ(surveyMap(bsp).spawn->cameraName, "info_player_start 0");   // no arena entry: first on a floor
+}
+
+TEST(MapSurvey, TeamRespawnPointsThenAnyFloorThenTheFirst) {
+  // The team start point floats (no floor): the team respawn point is next in preference.
+  const MapSurvey respawn = surveyMap(bspWithFloor(R"(
+{ "classname" "team_CTF_blueplayer" "origin" "500 0 24" }
+{ "classname" "info_player_deathmatch" "origin" "10 0 24" }
+{ "classname" "team_CTF_redspawn" "origin" "20 0 24" }
+)"), SpawnFamily::Team);
+  EXPECT_EQ(respawn.spawn->cameraName, "team_CTF_redspawn 2");
+  EXPECT_TRUE(respawn.familyFound);
+  // No team spawn stands on a floor: the first player spawn of any class that does.
+  const MapSurvey fallback = surveyMap(bspWithFloor(R"(
+{ "classname" "team_CTF_blueplayer" "origin" "500 0 24" }
+{ "classname" "info_player_deathmatch" "origin" "10 0 24" }
+)"), SpawnFamily::Team);
+  EXPECT_EQ(fallback.spawn->cameraName, "info_player_deathmatch 1");
+  EXPECT_FALSE(fallback.familyFound);
+  EXPECT_EQ(fallback.spawnsWithoutFloor, 1u);
+  // A deathmatch game skips the team spawns written first.
+  const MapSurvey dm = surveyMap(bspWithFloor(R"(
+{ "classname" "team_CTF_redplayer" "origin" "30 0 24" }
+{ "classname" "info_player_deathmatch" "origin" "10 0 24" }
+)"), SpawnFamily::Deathmatch);
+  EXPECT_EQ(dm.spawn->cameraName, "info_player_deathmatch 1");
+  EXPECT_EQ(dm.spawnsWithoutFloor, 0u);
+  // Nothing stands on a floor: the first player spawn.
+  const MapSurvey none = surveyMap(bspWithFloor(R"(
+{ "classname" "info_player_deathmatch" "origin" "500 0 24" }
+{ "classname" "team_CTF_redplayer" "origin" "600 0 24" }
+)"), SpawnFamily::Team);
+  EXPECT_EQ(none.spawn->cameraName, "info_player_deathmatch 0");
+  EXPECT_FALSE(none.familyFound);
+}
+
+TEST(Reports, ASpawnChosenByGameTypeIsExplained) {
+  MapResult r;
+  r.map = "ctfmap";
+  r.arena = ArenaEntry{"scripts/arenas.txt", "ctf elimination", "ctf", SpawnFamily::Team};
+  r.survey = surveyMap(bspWithFloor(R"(
+{ "classname" "info_player_start" "origin" "10 0 24" }
+{ "classname" "team_CTF_redplayer" "origin" "30 0 24" }
+)"), SpawnFamily::Team);
+  std::ostringstream md, tsv;
+  writeMarkdownReport(md, {r}, PlausibilityThresholds{});
+  EXPECT_NE(md.str().find("- ctfmap: team_CTF_redplayer 1 at (30 0 24) (floor 24 below) is rendered: the map's game "
+                          "type is `ctf` (first game type in scripts/arenas.txt)"),
+            std::string::npos)
+      << md.str();
+  EXPECT_NE(md.str().find("the first player spawn is info_player_start 0 at (10 0 24)"), std::string::npos);
+  writeTsvReport(tsv, {r});
+  EXPECT_NE(tsv.str().find("\tgame_type\t"), std::string::npos);
+}
+
 TEST(ImageStats, DarkAtTheLargestGainSaysSo) {
   const auto reasons = implausibilityReasons({0.01, 0.9, 0.0}, PlausibilityThresholds{}, true);
   ASSERT_EQ(reasons.size(), 2u);
@@ -252,9 +323,16 @@ TEST(KnownProblems, ParsesLinesCommentsAndWildcards) {
   EXPECT_EQ(knownProblemReason(known, "foo", "lightmap").value_or(""), "broken");
 }
 
+TEST(KnownProblems, PathIsAnIntegratorName) {
+  const auto known = parseKnownProblems("czest1tourney path lights missing\n", "k");
+  ASSERT_EQ(known.size(), 1u);
+  EXPECT_EQ(knownProblemReason(known, "czest1tourney", "path").value_or(""), "lights missing");
+  EXPECT_FALSE(knownProblemReason(known, "czest1tourney", "direct").has_value());
+}
+
 TEST(KnownProblems, MalformedLinesNameFileAndLine) {
   try {
-    parseKnownProblems("ok direct fine\nmap path reason\n", "known.txt");
+    parseKnownProblems("ok direct fine\nmap bounces reason\n", "known.txt");
     FAIL() << "no exception";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("known.txt:2"), std::string::npos) << e.what();
@@ -292,7 +370,7 @@ TEST(Reports, FailuresKnownProblemsAndStalePassesAreListed) {
   EXPECT_NE(text.find("fixed direct passes although listed"), std::string::npos) << text;
   std::ostringstream tsv;
   writeTsvReport(tsv, results);
-  EXPECT_NE(tsv.str().find("bad\t\t0\t0\t0\t\t0\t0\t0\t0\tnone\t\t-1\tdirect\t1.0000\t0\t0.0200\t0.9000\t0.1000\t0.0000\t0."
+  EXPECT_NE(tsv.str().find("bad\t\t0\t0\t0\t\t0\t0\t0\t0\tnone\t\t\t-1\tdirect\t1.0000\t0\t0.0200\t0.9000\t0.1000\t0.0000\t0."
                            "0000\t0\t0\tFAIL\tdark\n"),
             std::string::npos)
       << tsv.str();

@@ -1,6 +1,8 @@
-// pa-all-maps: renders every map of a game folder from its first spawn point with pa-render
-// (lightmap and direct integrators), checks that each picture is plausible, and writes a
+// pa-all-maps: renders every map of a game folder from a player spawn point with pa-render
+// (lightmap, direct and path integrators), checks that each picture is plausible, and writes a
 // results table and a contact sheet. See README.md.
+#include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <optional>
@@ -10,15 +12,18 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include <stb_image_write.h>
 
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/vfs/game_filesystem.h"
+#include "tests/all_maps_render/arena_info.h"
 #include "tests/all_maps_render/contact_sheet.h"
 #include "tests/all_maps_render/map_checks.h"
 #include "tests/all_maps_render/render_run.h"
@@ -35,24 +40,32 @@ constexpr int kExitSkip = 77;   // CTest SKIP_RETURN_CODE: the game data is not 
 
 constexpr const char* kUsage = R"(Usage: pa-all-maps --pa-render PATH --out DIR [options]
 
-Renders every map of the game folder from its first player spawn point that stands on a floor
-with pa-render, in the lightmap and direct integrators (--tonemap clamp; lightmap exposed
-automatically, direct at the lightmap's gain), and checks that each picture is plausible (not
-black, not all sky, spawn inside the level). Writes DIR/results.md, DIR/results.tsv, DIR/contact_sheet.png and
+Renders every map of the game folder with pa-render from the first player spawn point that
+stands on a floor, preferring the spawn class of the map's first game type in the game's arena
+lists (scripts/arenas.txt, scripts/*.arena: CTF-like games start at team_CTF_*player), in the
+lightmap, direct and path integrators (--tonemap clamp; lightmap exposed automatically, direct
+and path at the lightmap's gain), and checks that each picture is plausible (not black, not all
+sky, spawn inside the level). Writes DIR/results.md, DIR/results.tsv, DIR/contact_sheet.png and
 the renders (DIR/renders/MAP_INTEGRATOR.{png,exr,json,log}).
 
   --pa-render PATH        The pa-render executable (required)
   --out DIR               Output folder (required; created)
   --game-dir DIR          Game folder (default /usr/share/games/openarena/baseoa)
   --maps A,B,...          Only these maps (names without maps/ and .bsp); default: all
-  --known-problems FILE   "MAP lightmap|direct|* REASON" lines expected to fail (see README.md)
+  --known-problems FILE   "MAP lightmap|direct|path|* REASON" lines expected to fail (README.md)
   --width W --height H    Render size (default 160 x 90)
   --lightmap-spp N        Samples per pixel of the lightmap renders (default 2)
   --direct-spp N          Samples per pixel of the direct renders (default 8)
+  --path-spp N            Samples per pixel of the path renders (default 16, pa-render's
+                          default; bounces: pa-render's default, 4)
   --threads T             pa-render --threads (default 0 = all cores)
+  --jobs J                Maps checked at once, each by its own pa-render process (default 2:
+                          a call spends most of its time loading the map on one core); the
+                          pictures and reports do not depend on it
   --columns C             Contact sheet cells per row (default 6)
   --exposure GAIN         Judge every render at this fixed gain (1 = the stock look) instead
-                          of the default: lightmap --exposure auto, direct at the lightmap's gain
+                          of the default: lightmap --exposure auto, direct and path at the
+                          lightmap's gain
   --reuse                 Re-check the renders an earlier run left in DIR/renders instead of
                           rendering again, where its --stats JSON shows the same settings;
                           the others are rendered
@@ -68,8 +81,9 @@ struct Options {
   std::vector<std::string> maps;
   fs::path knownProblems;
   uint32_t width = 160, height = 90;
-  uint32_t lightmapSpp = 2, directSpp = 8;
+  uint32_t lightmapSpp = 2, directSpp = 8, pathSpp = 16;
   uint32_t threads = 0;
+  uint32_t jobs = 2;
   uint32_t columns = 6;
   bool reuse = false;
   std::optional<std::string> fixedExposure;   ///< --exposure: one gain for every render instead of auto.
@@ -113,7 +127,9 @@ std::string parseOptions(int argc, char** argv, Options& o) {
     else if (name == "--height") ok = parseCount(value, 8, 4096, o.height);
     else if (name == "--lightmap-spp") ok = parseCount(value, 1, 4096, o.lightmapSpp);
     else if (name == "--direct-spp") ok = parseCount(value, 1, 4096, o.directSpp);
+    else if (name == "--path-spp") ok = parseCount(value, 1, 4096, o.pathSpp);
     else if (name == "--threads") ok = parseCount(value, 0, 4096, o.threads);
+    else if (name == "--jobs") ok = parseCount(value, 1, 64, o.jobs);
     else if (name == "--columns") ok = parseCount(value, 1, 64, o.columns);
     else if (name == "--exposure") {
       char* end = nullptr;
@@ -153,23 +169,26 @@ std::string exposureText(double gain) {
 }
 
 /// Surveys, renders and checks one map.
-MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::string& gamePath,
-                   const std::vector<KnownProblem>& known, std::vector<RgbaImage>& images) {
+MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const ArenaIndex& arenas,
+                   const std::string& gamePath, const std::vector<KnownProblem>& known, std::vector<RgbaImage>& images) {
   MapResult result;
   result.map = mapName(gamePath);
+  if (const ArenaEntry* entry = arenas.find(result.map)) result.arena = *entry;
   result.archive = fs::path(game.sourceOf(gamePath)).filename().string();
   result.mapExpectedBecause = knownProblemReason(known, result.map, "*").value_or("");
   const PlausibilityThresholds thresholds;
-  // Both are judged in the stock renderer's look (clamp: no curve), so that one set of
-  // thresholds serves both; the filmic default (aces) would darken dim maps' shadows further.
-  const std::vector<IntegratorRun> runs = {{"lightmap", "clamp", o.lightmapSpp}, {"direct", "clamp", o.directSpp}};
+  // All are judged in the stock renderer's look (clamp: no curve), so that one set of
+  // thresholds serves all; the filmic default (aces) would darken dim maps' shadows further.
+  // Path: pa-render's default integrator (the offline render a user gets), at its defaults.
+  const std::vector<IntegratorRun> runs = {
+      {"lightmap", "clamp", o.lightmapSpp}, {"direct", "clamp", o.directSpp}, {"path", "clamp", o.pathSpp}};
   images.assign(runs.size(), RgbaImage{});
   double lightmapGain = 1.0;
   try {
     const auto bytes = game.readFile(gamePath);
     if (!bytes) throw std::runtime_error(gamePath + ": listed but not readable");
     const q3::BspFile bsp = q3::parseBsp(*bytes, gamePath);
-    result.survey = surveyMap(bsp);
+    result.survey = surveyMap(bsp, result.arena ? result.arena->family : std::nullopt);
   } catch (const std::exception& e) {
     result.mapProblems.push_back(std::string("cannot survey: ") + e.what());
     return result;
@@ -188,8 +207,8 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::
     request.integrator = runs[k].name;
     request.tonemap = runs[k].tonemap;
     request.camera = result.survey.spawn->cameraIndex;
-    // The lightmap picture is exposed automatically; the direct one with the lightmap's gain,
-    // so that Direct is judged against the baked light at the same exposure (README.md).
+    // The lightmap picture is exposed automatically; direct and path with the lightmap's gain,
+    // so that they are judged against the baked light at the same exposure (README.md).
     request.exposure = o.fixedExposure ? *o.fixedExposure : k == 0 ? "auto" : exposureText(lightmapGain);
     request.width = o.width;
     request.height = o.height;
@@ -228,6 +247,41 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const std::
   return result;
 }
 
+/// The game's arena lists in the order the game reads them: scripts/arenas.txt, then
+/// scripts/*.arena (a map's first entry counts). Problems are printed, not fatal.
+ArenaIndex loadArenas(const q3::GameFileSystem& game) {
+  ArenaIndex arenas;
+  std::vector<std::string> files = {"scripts/arenas.txt"};
+  for (const std::string& f : game.listFiles("scripts", ".arena")) files.push_back(f);
+  std::vector<std::string> warnings;
+  for (const std::string& file : files) {
+    try {
+      const auto bytes = game.readFile(file);
+      if (!bytes) continue;
+      arenas.addFile(std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()), file, warnings);
+    } catch (const std::exception& e) {
+      warnings.push_back(e.what());
+    }
+  }
+  for (const std::string& w : warnings) std::printf("pa-all-maps: arena list: %s\n", w.c_str());
+  return arenas;
+}
+
+/// One line per checked map on stdout: "[done/total] MAP ok|FAIL  integrator figures...".
+void printProgress(const MapResult& result, size_t done, size_t total) {
+  std::string line = result.failed() ? "FAIL" : "ok";
+  for (const IntegratorOutcome& r : result.renders)
+    if (r.rendered) {
+      char text[128];
+      std::snprintf(text, sizeof text, "  %s x%.2f lum %.3f (x1 %.3f) black %.0f%% sky %.0f%% %.0f ms",
+                    r.integrator.c_str(), r.exposure, r.stats.meanLuma, r.unexposedStats.meanLuma,
+                    100 * r.stats.blackFraction, 100 * r.stats.skyFraction, r.wallMilliseconds);
+      line += text;
+    }
+  std::printf("[%zu/%zu] %-20s %s\n", done, total, result.map.c_str(), line.c_str());
+  std::fflush(stdout);
+}
+
 ThumbVerdict thumbVerdict(const IntegratorOutcome& o) {
   if (!o.rendered) return ThumbVerdict::Missing;
   if (o.problems.empty()) return ThumbVerdict::Pass;
@@ -243,6 +297,7 @@ int run(const Options& o) {
   if (!o.knownProblems.empty()) known = parseKnownProblems(readTextFile(o.knownProblems), o.knownProblems.string());
 
   const q3::GameFileSystem game(o.gameDir);
+  const ArenaIndex arenas = loadArenas(game);
   std::vector<std::string> maps = game.listFiles("maps", ".bsp");
   if (maps.empty()) {
     std::printf("pa-all-maps: no maps in %s; skipping\n", o.gameDir.c_str());
@@ -262,29 +317,39 @@ int run(const Options& o) {
   }
 
   fs::create_directories(o.out);
-  ContactSheet sheet(o.width, o.height, 2, o.columns);
-  std::vector<MapResult> results;
-  for (size_t i = 0; i < maps.size(); ++i) {
-    std::vector<RgbaImage> images;
-    MapResult result = checkMap(o, game, maps[i], known, images);
-    std::string line = result.failed() ? "FAIL" : "ok";
-    for (const IntegratorOutcome& r : result.renders)
-      if (r.rendered) {
-        char text[128];
-        std::snprintf(text, sizeof text, "  %s x%.2f lum %.3f (x1 %.3f) black %.0f%% sky %.0f%% %.0f ms",
-                      r.integrator.c_str(), r.exposure, r.stats.meanLuma, r.unexposedStats.meanLuma,
-                      100 * r.stats.blackFraction, 100 * r.stats.skyFraction, r.wallMilliseconds);
-        line += text;
+  // Maps are checked by `jobs` workers at once (pa-render spends most of a call loading the map
+  // on one core); results are kept in map order, so the reports do not depend on `jobs`.
+  std::vector<MapResult> results(maps.size());
+  std::vector<std::vector<RgbaImage>> images(maps.size());
+  std::atomic<size_t> nextMap{0};
+  std::mutex printing;
+  size_t done = 0;
+  auto worker = [&] {
+    for (size_t i = nextMap++; i < maps.size(); i = nextMap++) {
+      try {
+        results[i] = checkMap(o, game, arenas, maps[i], known, images[i]);
+      } catch (const std::exception& e) {
+        results[i].map = mapName(maps[i]);
+        results[i].mapProblems.push_back(std::string("cannot check: ") + e.what());
       }
-    std::printf("[%zu/%zu] %-20s %s\n", i + 1, maps.size(), result.map.c_str(), line.c_str());
-    std::fflush(stdout);
+      const std::lock_guard<std::mutex> lock(printing);
+      printProgress(results[i], ++done, maps.size());
+    }
+  };
+  std::vector<std::thread> workers;
+  for (uint32_t j = 1; j < std::min<size_t>(o.jobs, maps.size()); ++j) workers.emplace_back(worker);
+  worker();
+  for (std::thread& w : workers) w.join();
+
+  ContactSheet sheet(o.width, o.height, 3, o.columns);
+  for (size_t i = 0; i < maps.size(); ++i) {
     std::vector<Thumb> thumbs;
-    for (size_t k = 0; k < images.size(); ++k)
-      thumbs.push_back({std::move(images[k]), k < result.renders.size() ? thumbVerdict(result.renders[k])
-                                                                         : ThumbVerdict::Missing});
-    sheet.addCell(result.map, thumbs);
-    results.push_back(std::move(result));
+    for (size_t k = 0; k < images[i].size(); ++k)
+      thumbs.push_back({std::move(images[i][k]), k < results[i].renders.size() ? thumbVerdict(results[i].renders[k])
+                                                                                : ThumbVerdict::Missing});
+    sheet.addCell(results[i].map, thumbs);
   }
+
 
   std::ostringstream markdown;
   writeMarkdownReport(markdown, results, PlausibilityThresholds{});

@@ -29,6 +29,25 @@ std::string spawnText(const MapResult& r) {
   return text;
 }
 
+std::string originText(const glm::vec3& o) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.0f %.0f %.0f)", o.x, o.y, o.z);
+  return text;
+}
+
+/// The spawn classes a family starts its players at, as the notes name them.
+std::string familyClasses(SpawnFamily family) {
+  return family == SpawnFamily::Team ? "team_CTF_redplayer/blueplayer (then team_CTF_redspawn/bluespawn)"
+                                     : "info_player_deathmatch/start";
+}
+
+/// "`ctf` (first game type in scripts/arenas.txt)" or "" without an arena entry.
+std::string gameTypeText(const MapResult& r) {
+  if (!r.arena) return "";
+  return "`" + (r.arena->gameType.empty() ? std::string("?") : r.arena->gameType) + "` (first game type in " +
+         r.arena->file + ")";
+}
+
 /// Why the rendered spawn is not the first player spawn (empty when it is).
 std::string spawnChoiceNote(const MapResult& r) {
   const MapSurvey& s = r.survey;
@@ -37,11 +56,17 @@ std::string spawnChoiceNote(const MapResult& r) {
     return "no player spawn stands on a floor (floor within " + format("%.0f", kMaxSpawnFloorDistance) +
            " units): the first, " + s.firstSpawn->cameraName + " (floor " + floorText(*s.firstSpawn) + "), is rendered";
   if (s.spawn->cameraName == s.firstSpawn->cameraName) return "";
-  return s.spawn->cameraName + " (floor " + floorText(*s.spawn) + " below) is rendered: " +
-         std::to_string(s.spawnsWithoutFloor) + " earlier spawn(s) stand on no floor, the first " +
-         s.firstSpawn->cameraName + " at (" + format("%.0f", s.firstSpawn->origin.x) + " " +
-         format("%.0f", s.firstSpawn->origin.y) + " " + format("%.0f", s.firstSpawn->origin.z) + ") with floor " +
-         floorText(*s.firstSpawn) + " below";
+  const std::string first = "the first player spawn is " + s.firstSpawn->cameraName + " at " +
+                            originText(s.firstSpawn->origin) + " with floor " + floorText(*s.firstSpawn) + " below";
+  const std::string rendered = s.spawn->cameraName + " at " + originText(s.spawn->origin) + " (floor " +
+                               floorText(*s.spawn) + " below) is rendered: ";
+  if (s.family && s.familyFound)
+    return rendered + "the map's game type is " + gameTypeText(r) + ", whose players start at " +
+           familyClasses(*s.family) + "; " + first;
+  const std::string noFamily = s.family ? "no " + familyClasses(*s.family) + " spawn of its game type " +
+                                              gameTypeText(r) + " stands on a floor; "
+                                        : "";
+  return rendered + noFamily + std::to_string(s.spawnsWithoutFloor) + " earlier spawn(s) stand on no floor; " + first;
 }
 
 std::string joined(const std::vector<std::string>& items, std::string_view separator) {
@@ -80,9 +105,10 @@ std::vector<KnownProblem> parseKnownProblems(std::string_view text, const std::s
     std::getline(fields >> std::ws, problem.reason);
     while (!problem.reason.empty() && std::isspace(static_cast<unsigned char>(problem.reason.back())))
       problem.reason.pop_back();
-    if (problem.integrator != "lightmap" && problem.integrator != "direct" && problem.integrator != "*")
+    if (problem.integrator != "lightmap" && problem.integrator != "direct" && problem.integrator != "path" &&
+        problem.integrator != "*")
       throw std::runtime_error(fileName + ":" + std::to_string(number) +
-                               ": expected MAP (lightmap|direct|*) REASON, got \"" + line + "\"");
+                               ": expected MAP (lightmap|direct|path|*) REASON, got \"" + line + "\"");
     if (problem.reason.empty())
       throw std::runtime_error(fileName + ":" + std::to_string(number) + ": a known problem needs a reason");
     known.push_back(std::move(problem));
@@ -151,8 +177,8 @@ void writeMarkdownReport(std::ostream& out, const std::vector<MapResult>& result
                << o.expectedBecause << "): remove it from the list\n";
     }
   }
-  out << "\nSpawn choices (the first player spawn that stands on a floor; \"floor\" = units from the origin down "
-         "to the floor):\n"
+  out << "\nSpawn choices (the first spawn that stands on a floor of the classes the map's first game type starts "
+         "its players at; \"floor\" = units from the origin down to the floor):\n"
       << (spawnChoices.str().empty() ? "- every map: its first player spawn\n" : spawnChoices.str());
   out << "\nFailures:\n" << (failures.str().empty() ? "- none\n" : failures.str());
   out << "\nKnown problems (expected to fail):\n" << (known.str().empty() ? "- none\n" : known.str());
@@ -160,7 +186,7 @@ void writeMarkdownReport(std::ostream& out, const std::vector<MapResult>& result
 }
 
 void writeTsvReport(std::ostream& out, const std::vector<MapResult>& results) {
-  out << "map\tarchive\ttriangles\tlights\tlight_entities\tcamera\tcamera_index\torigin_x\torigin_y\torigin_z\tfloor_distance\tfirst_spawn\tcluster"
+  out << "map\tarchive\ttriangles\tlights\tlight_entities\tcamera\tcamera_index\torigin_x\torigin_y\torigin_z\tfloor_distance\tfirst_spawn\tgame_type\tcluster"
          "\tintegrator\texposure\texposure_at_max\tmean_luma\tblack_fraction\tsky_fraction\tmean_luma_x1\tblack_fraction_x1\twall_ms\trender_ms\tverdict\tproblems\n";
   for (const MapResult& r : results) {
     const SpawnPoint spawn = r.survey.spawn.value_or(SpawnPoint{});
@@ -170,7 +196,8 @@ void writeTsvReport(std::ostream& out, const std::vector<MapResult>& results) {
       out << r.map << '\t' << r.archive << '\t' << r.triangles << '\t' << r.lights << '\t' << r.survey.lightEntities
           << '\t' << spawn.cameraName << '\t' << spawn.cameraIndex << '\t' << spawn.origin.x << '\t' << spawn.origin.y
           << '\t' << spawn.origin.z << '\t' << floorText(spawn) << '\t'
-          << (r.survey.firstSpawn ? r.survey.firstSpawn->cameraName : std::string()) << '\t' << r.survey.eyeCluster
+          << (r.survey.firstSpawn ? r.survey.firstSpawn->cameraName : std::string()) << '\t'
+          << (r.arena ? r.arena->gameType : std::string()) << '\t' << r.survey.eyeCluster
           << '\t' << o.integrator << '\t' << format("%.4f", o.exposure) << '\t' << (o.exposureAtMaxGain ? 1 : 0) << '\t'
           << format("%.4f", o.stats.meanLuma) << '\t' << format("%.4f", o.stats.blackFraction) << '\t'
           << format("%.4f", o.stats.skyFraction) << '\t' << format("%.4f", o.unexposedStats.meanLuma) << '\t'

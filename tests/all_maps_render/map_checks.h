@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "tests/all_maps_render/arena_info.h"
 #include "tests/all_maps_render/image_stats.h"
 #include "tests/all_maps_render/map_survey.h"
 
@@ -15,7 +16,7 @@ namespace pa::allmaps {
 
 /// One integrator's render of a map, as far as the checks are concerned.
 struct IntegratorOutcome {
-  std::string integrator;              ///< "lightmap" or "direct".
+  std::string integrator;              ///< "lightmap", "direct" or "path".
   bool rendered = false;               ///< pa-render succeeded and its outputs were read.
   ImageStats stats;                    ///< Valid when rendered: the judged picture (exposed by `exposure`).
   ImageStats unexposedStats;           ///< The same render at exposure 1 (the stock look), for the record.
@@ -35,6 +36,7 @@ struct IntegratorOutcome {
 struct MapResult {
   std::string map;                         ///< "oa_dm1".
   std::string archive;                     ///< Archive the .bsp is read from.
+  std::optional<ArenaEntry> arena;         ///< The map's entry in the game's arena lists (its first game type).
   MapSurvey survey;
   uint64_t triangles = 0;
   uint64_t lights = 0;                     ///< Lights pa-render created (entities, suns, surface lights).
@@ -45,7 +47,7 @@ struct MapResult {
   bool failed() const;
 };
 
-/// A known problem: map + integrator ("lightmap", "direct" or "*") expected to fail, and why.
+/// A known problem: map + integrator ("lightmap", "direct", "path" or "*") expected to fail, and why.
 struct KnownProblem {
   std::string map;
   std::string integrator;

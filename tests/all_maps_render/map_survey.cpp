@@ -107,10 +107,12 @@ std::optional<float> FloorProbe::below(const glm::vec3& point, float maxDistance
   return nearest;
 }
 
-MapSurvey surveyMap(const q3::BspFile& bsp) {
+MapSurvey surveyMap(const q3::BspFile& bsp, std::optional<SpawnFamily> family) {
   MapSurvey survey;
+  survey.family = family;
   const FloorProbe floor(bsp);
   const std::vector<q3::Entity> entities = q3::parseEntities(bsp.entities, bsp.fileName);
+  std::vector<SpawnPoint> spawns;   // player spawns in file order
   uint32_t cameraIndex = 0;
   for (size_t i = 0; i < entities.size(); ++i) {
     const q3::Entity& e = entities[i];
@@ -119,25 +121,44 @@ MapSurvey surveyMap(const q3::BspFile& bsp) {
     if (!isCameraClass(cls)) continue;
     const std::optional<glm::vec3> origin = e.getVec3("origin");
     if (!origin) continue;   // the importer skips it too (no camera index)
-    if (cls != "info_player_intermission" && !(survey.spawn && survey.spawn->standsOnFloor())) {
-      SpawnPoint spawn;
+    if (cls != "info_player_intermission") {
+      SpawnPoint& spawn = spawns.emplace_back();
+      spawn.className = std::string(cls);
       spawn.cameraName = std::string(cls) + " " + std::to_string(i);
       spawn.cameraIndex = cameraIndex;
       spawn.origin = *origin;
       spawn.eye = *origin + glm::vec3(0.0f, 0.0f, q3::kSpawnEyeHeight);
       spawn.floorDistance = floor.below(*origin, kFloorSearchDistance);
-      if (!survey.firstSpawn) {
-        survey.firstSpawn = spawn;
-        survey.spawn = spawn;
-      } else if (spawn.standsOnFloor()) {
-        survey.spawn = spawn;
-      }
-      if (!spawn.standsOnFloor()) ++survey.spawnsWithoutFloor;
     }
     ++cameraIndex;
   }
-  // No spawn stands on a floor: the first one is rendered (spawnsWithoutFloor counts them all).
-  if (survey.spawn) survey.eyeCluster = clusterAtPoint(bsp, survey.spawn->eye);
+  if (spawns.empty()) return survey;
+  survey.firstSpawn = spawns.front();
+
+  // The classes a player of the family starts at, most preferred first (OpenArena's
+  // SelectCTFSpawnPoint: the team's *player spawns at the start, *spawn after a death).
+  std::vector<std::vector<std::string_view>> tiers;
+  if (family == SpawnFamily::Team)
+    tiers = {{"team_CTF_redplayer", "team_CTF_blueplayer"}, {"team_CTF_redspawn", "team_CTF_bluespawn"}};
+  else if (family == SpawnFamily::Deathmatch)
+    tiers = {{"info_player_deathmatch", "info_player_start"}};
+  const auto firstOnFloor = [&](auto accepts) -> const SpawnPoint* {
+    for (const SpawnPoint& s : spawns)
+      if (accepts(s.className) && s.standsOnFloor()) return &s;
+    return nullptr;
+  };
+  const SpawnPoint* chosen = nullptr;
+  for (const auto& tier : tiers) {
+    chosen = firstOnFloor([&](std::string_view cls) { return std::find(tier.begin(), tier.end(), cls) != tier.end(); });
+    if (chosen) break;
+  }
+  survey.familyFound = chosen != nullptr;
+  // Fallback: the first player spawn of any class that stands on a floor, else the first.
+  if (!chosen) chosen = firstOnFloor([](std::string_view) { return true; });
+  if (!chosen) chosen = &spawns.front();
+  survey.spawn = *chosen;
+  for (const SpawnPoint* s = spawns.data(); s != chosen; ++s) survey.spawnsWithoutFloor += s->standsOnFloor() ? 0 : 1;
+  survey.eyeCluster = clusterAtPoint(bsp, survey.spawn->eye);
   return survey;
 }
 

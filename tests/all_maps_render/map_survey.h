@@ -10,6 +10,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "tests/all_maps_render/arena_info.h"
+
 namespace q3 {
 struct BspFile;
 }
@@ -24,6 +26,7 @@ inline constexpr float kMaxSpawnFloorDistance = 265.0f;
 
 /// The spawn point a map is rendered from.
 struct SpawnPoint {
+  std::string className;       ///< "info_player_deathmatch", "team_CTF_redplayer", ...
   std::string cameraName;      ///< As pa-render names it: "info_player_deathmatch 12" (classname, entity index).
   uint32_t cameraIndex = 0;    ///< pa-render --camera index.
   glm::vec3 origin{0.0f};      ///< Entity origin (Quake units).
@@ -37,7 +40,9 @@ struct SpawnPoint {
 struct MapSurvey {
   std::optional<SpawnPoint> spawn;        ///< The spawn point rendered (chooseSpawn); nullopt when the map has none.
   std::optional<SpawnPoint> firstSpawn;   ///< First player spawn point in file order (the choice before the floor rule).
-  size_t spawnsWithoutFloor = 0;          ///< Player spawn points before `spawn` that stand on no floor.
+  std::optional<SpawnFamily> family;      ///< Spawn family asked for (the map's first game type); nullopt = none.
+  bool familyFound = false;               ///< `spawn` is of the family asked for (false: the fallback rule chose it).
+  size_t spawnsWithoutFloor = 0;          ///< Player spawn points of any class before `spawn` that stand on no floor.
   int32_t eyeCluster = -1;                ///< PVS cluster of the leaf holding the eye; -1 = solid/outside.
   size_t lightEntities = 0;               ///< `light` entities left in the BSP (q3map2 usually strips them).
   /// True when the eye is in a leaf of the playable volume (cluster >= 0).
@@ -47,9 +52,12 @@ struct MapSurvey {
 /// Surveys a map. Player spawn points are numbered the way pa-render's .bsp importer numbers
 /// cameras (entity order; info_player_deathmatch/start, CTF spawns and info_player_intermission
 /// with a valid origin are cameras; intermission points are not player spawns). The rendered
-/// spawn is the first player spawn, in file order, that stands on a floor (standsOnFloor);
-/// when none does, the first player spawn. Throws q3::FormatError for a malformed entity lump.
-MapSurvey surveyMap(const q3::BspFile& bsp);
+/// spawn is the first, in file order, that stands on a floor (standsOnFloor) of the classes a
+/// player of `family` starts at: Team: team_CTF_redplayer/blueplayer, then team_CTF_redspawn/
+/// bluespawn; Deathmatch: info_player_deathmatch/start. When there is no such spawn (or no
+/// family), the first player spawn of any class that stands on a floor; when none does, the
+/// first player spawn. Throws q3::FormatError for a malformed entity lump.
+MapSurvey surveyMap(const q3::BspFile& bsp, std::optional<SpawnFamily> family = std::nullopt);
 
 /// What a player stands on in a map: brushes and curved patches with solid or playerclip
 /// contents, of the world and of the brush entities where the map places them (a func_static or

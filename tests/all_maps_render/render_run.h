@@ -13,7 +13,7 @@ namespace pa::allmaps {
 struct RenderRequest {
   std::filesystem::path paRender;    ///< The pa-render executable.
   std::filesystem::path scene;       ///< GAMEDIR/maps/NAME.bsp (resolved by pa-render's .bsp importer).
-  std::string integrator;            ///< "lightmap" or "direct".
+  std::string integrator;            ///< "lightmap", "direct" or "path".
   std::string tonemap;               ///< "clamp", "aces" or "reinhard".
   uint32_t camera = 0;               ///< --camera index.
   std::string exposure = "1";        ///< --exposure: a gain or "auto" (metered by pa-render).
