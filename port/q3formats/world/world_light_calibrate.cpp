@@ -217,10 +217,30 @@ std::vector<double> solveNonNegative(const std::vector<double>& gram, const std:
 
 }  // namespace
 
+float knownLightAt(const WorldScene& scene, const glm::vec3& position, const glm::vec3& normal,
+                   const SegmentBlocked& blocked, const std::vector<CalibrationEmitter>& emitters,
+                   const LightCalibrationOptions& o) {
+  const float length = glm::length(normal);
+  if (!blocked || !finite3(position) || !(length > 1e-4f) || !std::isfinite(length)) return 0.0f;
+  const Sample s{position, normal / length, 0.0f};
+  const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
+  size_t rays = 0;
+  float value = 0.0f;
+  for (const WorldLight& l : scene.lights)
+    if (!l.estimated) value += authoredLight(s, l, origin, blocked, rays);
+  for (const CalibrationEmitter& e : emitters) value += emitterLight(s, e, origin, blocked, o, rays);
+  if (o.skyLightValue > 0.0f && o.skyRays > 0) {
+    std::mt19937 rng(o.seed ^ 0x27d4eb2fu);
+    value += o.skyLightValue * openSky(s, origin, blocked, rng, o.skyRays);
+  }
+  return std::isfinite(value) ? value : 0.0f;
+}
+
 std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const SegmentBlocked& blocked,
                                                  const LightCalibrationOptions& o, LightCalibrationStats* statsOut,
                                                  const std::vector<CalibrationEmitter>& emitters,
-                                                 const PointInSolid& inSolid) {
+                                                 const PointInSolid& inSolid,
+                                                 const std::vector<WorldLight>& lightmapCandidates) {
   LightCalibrationStats stats;
   // The lights to fit: estimated ones, then the rejected candidates.
   std::vector<const WorldLight*> fitted;
@@ -233,6 +253,13 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   const size_t estimatedCount = fitted.size();
   for (const WorldLight& l : scene.lightCandidates)
     if (o.admitCandidates && fitted.size() < estimatedCount + o.maxCandidates && l.estimated && l.type == WorldLightType::Point && !l.linearFalloff && finite3(l.position)) {
+      if (inSolid && inSolid(l.position)) ++stats.inSolid;
+      else fitted.push_back(&l);
+    }
+  const size_t gridCount = fitted.size();
+  for (const WorldLight& l : lightmapCandidates)
+    if (o.admitCandidates && fitted.size() < gridCount + o.maxLightmapCandidates && l.estimated &&
+        l.type == WorldLightType::Point && !l.linearFalloff && finite3(l.position)) {
       if (inSolid && inSolid(l.position)) ++stats.inSolid;
       else fitted.push_back(&l);
     }
@@ -361,10 +388,11 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     WorldLight admitted = *fitted[i];
     admitted.quakeIntensity = float(x[i]);
     admitted.intensity = pointLightIntensity(admitted.quakeIntensity);
-    admitted.source += ", admitted by the lightmaps (grid value " + std::to_string(int(fitted[i]->quakeIntensity)) +
+    admitted.source += ", admitted by the lightmaps (first guess " + std::to_string(int(fitted[i]->quakeIntensity)) +
                        ", " + std::to_string(litSamples[i]) + " texels)";
     out.push_back(admitted);
     ++stats.admitted;
+    stats.admittedFromLightmaps += i >= gridCount ? 1 : 0;
   }
   const double count = double(samples.size());
   stats.unexplained = float(x[k]);
