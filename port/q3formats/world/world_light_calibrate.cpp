@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -186,10 +187,10 @@ struct Entry {
   float gain;
 };
 
-/// min 1/2 x'(G + L)x - (b + L x0)'x subject to x >= 0, by coordinate descent; the last
-/// unknown is the constant (no prior).
+/// min 1/2 x'(G + L)x - (b + L x0)'x subject to 0 <= x <= upper, by coordinate descent; the
+/// last unknown is the constant (no prior).
 std::vector<double> solveNonNegative(const std::vector<double>& gram, const std::vector<double>& rhs,
-                                     std::vector<double> x, int sweeps) {
+                                     std::vector<double> x, const std::vector<double>& upper, int sweeps) {
   const size_t n = rhs.size();
   std::vector<double> gradient(n);
   for (size_t i = 0; i < n; ++i) {
@@ -202,7 +203,7 @@ std::vector<double> solveNonNegative(const std::vector<double>& gram, const std:
     for (size_t i = 0; i < n; ++i) {
       const double diagonal = gram[i * n + i];
       if (!(diagonal > 0.0)) continue;
-      const double updated = std::max(0.0, x[i] - gradient[i] / diagonal);
+      const double updated = std::clamp(x[i] - gradient[i] / diagonal, 0.0, upper[i]);
       const double delta = updated - x[i];
       if (delta == 0.0) continue;
       x[i] = updated;
@@ -269,7 +270,10 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     return scene.lights;
   }
   LightCalibrationOptions budgeted = o;
-  budgeted.maxSamples = std::min(o.maxSamples, std::max<size_t>(1000, o.maxLightSamplePairs / fitted.size()));
+  // The budget counts the grid's lights: lightmap candidates light small regions (few shadow
+  // rays each) and must not thin out the samples the grid's lights were admitted with.
+  const size_t budgetLights = std::max<size_t>(1, gridCount > 0 ? gridCount : fitted.size());
+  budgeted.maxSamples = std::min(o.maxSamples, std::max<size_t>(1000, o.maxLightSamplePairs / budgetLights));
   const std::vector<Sample> samples = sampleLightmaps(scene, budgeted);
   stats.samples = samples.size();
   if (samples.empty()) {
@@ -328,10 +332,11 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   // Lights that reach too few samples are not fitted: estimated ones keep their grid value
   // (their column is replaced by a pinned unknown), candidates stay out.
   const size_t minLit = std::max<size_t>(1, o.minLitSamples);
-  std::vector<double> start(n, 0.0);
+  std::vector<double> start(n, 0.0), upper(n, std::numeric_limits<double>::infinity());
   for (size_t i = 0; i < k; ++i) {
     const double prior = fitted[i]->quakeIntensity;
     start[i] = prior;
+    if (fitted[i]->maxQuakeIntensity >= 0.0f) upper[i] = fitted[i]->maxQuakeIntensity;   // NaN: unbounded
     if (litSamples[i] < minLit) {
       for (size_t c = 0; c < n; ++c) gram[i * n + c] = gram[c * n + i] = 0.0;
       rhs[i] = 0.0;
@@ -350,7 +355,9 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
           if (litSamples[f.light] >= minLit) rhs[f.light] -= weights[j] * f.gain * pinned;
         rhs[k] -= weights[j] * pinned;
       }
-  const std::vector<double> x = solveNonNegative(gram, rhs, start, o.sweeps);
+  std::vector<double> initial = start;
+  for (size_t i = 0; i < n; ++i) initial[i] = std::min(initial[i], upper[i]);
+  const std::vector<double> x = solveNonNegative(gram, rhs, initial, upper, o.sweeps);
 
   std::vector<WorldLight> out;
   double sumAfter = 0.0;

@@ -54,7 +54,7 @@ struct LightCalibrationOptions {
   float skyLightValue = 0.0f;
   bool relativeErrors = true;      ///< Weight texels by 1 / (value + 32) (else plain least squares).
   size_t maxCandidates = 256;      ///< Candidates examined (the estimator lists the strongest peaks first).
-  size_t maxLightSamplePairs = 2000000;  ///< Budget: samples x fitted lights (fewer samples on crowded maps).
+  size_t maxLightSamplePairs = 2000000;  ///< Budget: samples x fitted grid lights (fewer samples on crowded maps).
   bool admitCandidates = true;     ///< Fit WorldScene::lightCandidates too (false: refit the estimated lights only).
   int skyRays = 16;                ///< Cosine-distributed rays per sample measuring its open sky.
   size_t maxLightmapCandidates = 128;  ///< Lightmap candidates examined (besides maxCandidates grid candidates).

@@ -21,17 +21,21 @@ constexpr float kSameNormalCos = 0.95f;      // texels whose normal is within ~1
 constexpr int kProminenceWindow = 4;         // pixels around a peak its prominence is measured over
 constexpr size_t kMinFitTexels = 5;          // fewer texels around a peak cannot show a falloff
 constexpr int kHeightAttempts = 8;           // best-fitting heights tried until one is valid
+constexpr uint8_t kSaturatedByte = 254;      // a clamped channel says nothing about the light's magnitude
 
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 float cross2(const glm::vec2& a, const glm::vec2& b) { return a.x * b.y - a.y * b.x; }
 
-/// True when the world mesh is one the lightmaps light (and the calibration samples).
+/// True when the world mesh is one the lightmaps light (as the calibration samples them) and does not emit.
 bool lightmapped(const WorldScene& scene, const WorldMesh& mesh) {
   if (mesh.lightmap < 0 || size_t(mesh.lightmap) >= scene.lightmaps.size() || mesh.material >= scene.materials.size())
     return false;
   const WorldMaterial& m = scene.materials[mesh.material];
   if (!m.visible || m.sky || m.vertexLit || m.alphaMode != WorldAlphaMode::Opaque) return false;
+  // An emitting surface's own texels are lit by itself (saturated around lamps): the renderer
+  // shows its emission there, and no light belongs in front of it.
+  if (m.surfaceLight > 0.0f || m.emissiveTexture >= 0) return false;
   const WorldImage& image = scene.lightmaps[size_t(mesh.lightmap)];
   if (image.width == 0 || image.height == 0 || image.rgba8.size() != size_t(image.width) * image.height * 4) return false;
   const size_t n = mesh.positions.size();
@@ -292,6 +296,12 @@ std::vector<WorldLight> lightsFromLightmaps(const WorldScene& scene, const Known
     const float colorSum = light.color.r + light.color.g + light.color.b;
     light.quakeIntensity = chosen->value / colorSum;
     light.intensity = pointLightIntensity(light.quakeIntensity);
+    // The light must not give its own peak more than the peak's unexplained light (with some
+    // slack for blur and rounding), unless the peak saturated and its true value is unknown.
+    const bool saturated = std::max({rgb[0], rgb[1], rgb[2]}) >= kSaturatedByte;
+    const float clamped = std::max(chosen->height, kMinLightDistance);
+    const float peakGain = kQ3mapPointScale / (clamped * clamped) * colorSum;
+    if (!saturated) light.maxQuakeIntensity = o.peakSlack * peak.unexplained / peakGain;
     light.estimated = true;
     light.source = "lightmap peak (lightmap " + std::to_string(page.lightmap) + " at " + std::to_string(peak.x) + "," +
                    std::to_string(peak.y) + ", " + std::to_string(int(chosen->height)) + " units off the surface)";

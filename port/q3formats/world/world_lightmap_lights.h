@@ -42,8 +42,7 @@ struct LightmapTexels {
   std::vector<LightmapTexel> texels;
 };
 
-/// Places the texels of the world model's lightmapped, visible, opaque surfaces (the ones the
-/// calibration samples). A pixel belongs to the first triangle whose lightmap UVs contain its
+/// Places the texels of the world model's lightmapped, visible, opaque, non-emitting surfaces. A pixel belongs to the first triangle whose lightmap UVs contain its
 /// centre. Bounded: at most `maxPixelTests` pixel-in-triangle tests and `maxPagePixels` pixels of
 /// lightmap pages; malformed meshes and lightmaps are skipped.
 LightmapTexels placeLightmapTexels(const WorldScene& scene, size_t maxPixelTests = size_t(1) << 24,
@@ -63,6 +62,9 @@ struct LightmapLightOptions {
   float fitRadius = 384.0f;         ///< ...and this distance on its plane.
   float minHeight = 16.0f;          ///< Candidate heights above the peak: minHeight x 1.08^k up to maxHeight (q3map2 clamps distances below 16).
   float maxHeight = 768.0f;
+  /// A candidate may give its own (unsaturated) peak at most this times the peak's unexplained
+  /// light (WorldLight::maxQuakeIntensity).
+  float peakSlack = 1.5f;
   float mergeDistance = 32.0f;      ///< Candidates this close to a stronger one or a known light are dropped.
   size_t maxCandidates = 128;       ///< Strongest candidates returned.
 };

@@ -8,7 +8,7 @@
 //   lightmap-match-check --recover MAP...   (maps that kept their lights: doubled values refitted)
 // Diagnosis switches (environment): PA_LIST_LIGHTS=1 lists the calibrated lights,
 // PA_NO_CANDIDATES=1 refits the estimated lights only, PA_NO_LIGHTMAP_LIGHTS=1 proposes no
-// lightmap candidates (world_lightmap_lights.h), PA_ABSOLUTE=1 fits absolute errors,
+// lightmap candidates (world_lightmap_lights.h), PA_LIGHTMAP_CANDIDATES=N at most N of them, PA_ABSOLUTE=1 fits absolute errors,
 // PA_CAL_SKY=V calibrates with sky light value V (summed over RGB, open surface) instead of the
 // sky shader's; what is rendered: PA_NO_SKY=1 without the sky, PA_NO_SUN=1 without q3map_sun
 // lights, PA_NO_EMITTERS=1 without surface lights and glow stages, PA_PATH=1 the calibrated
@@ -50,6 +50,7 @@ Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrato
   upload.sky = std::getenv("PA_NO_SKY") == nullptr;
   upload.calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
   upload.calibration.lightsFromLightmaps = std::getenv("PA_NO_LIGHTMAP_LIGHTS") == nullptr;
+  if (const char* most = std::getenv("PA_LIGHTMAP_CANDIDATES")) upload.calibration.maxLightmapCandidates = size_t(std::atoi(most));
   upload.calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
   if (const char* sky = std::getenv("PA_CAL_SKY")) upload.calibration.skyLightValue = float(std::atof(sky));
   pa::bridge::uploadWorld(scene, renderer, upload);
@@ -137,6 +138,7 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns, ui
   q3::LightCalibrationOptions calibration;
   calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
   calibration.lightsFromLightmaps = std::getenv("PA_NO_LIGHTMAP_LIGHTS") == nullptr;
+  if (const char* most = std::getenv("PA_LIGHTMAP_CANDIDATES")) calibration.maxLightmapCandidates = size_t(std::atoi(most));
   calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
   if (const char* sky = std::getenv("PA_CAL_SKY")) calibration.skyLightValue = float(std::atof(sky));
   const auto t0 = std::chrono::steady_clock::now();
