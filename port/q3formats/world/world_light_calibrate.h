@@ -57,7 +57,7 @@ struct LightCalibrationOptions {
   size_t maxLightSamplePairs = 2000000;  ///< Budget: samples x fitted grid lights (fewer samples on crowded maps).
   bool admitCandidates = true;     ///< Fit WorldScene::lightCandidates too (false: refit the estimated lights only).
   int skyRays = 16;                ///< Cosine-distributed rays per sample measuring its open sky.
-  size_t maxLightmapCandidates = 128;  ///< Lightmap candidates examined (besides maxCandidates grid candidates).
+  size_t maxLightmapCandidates = 64;   ///< Lightmap candidates examined (besides maxCandidates grid candidates).
   /// Callers with a shadow-ray tracer (pa::bridge::calibratedLights) propose lightmap candidates
   /// (world_lightmap_lights.h) on maps whose lights were stripped.
   bool lightsFromLightmaps = true;

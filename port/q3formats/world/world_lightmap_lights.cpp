@@ -250,23 +250,22 @@ std::vector<WorldLight> lightsFromLightmaps(const WorldScene& scene, const Known
     peaks = std::move(strongest);
   }
   stats.peaks = peaks.size();
-  // The known light's share.
-  std::vector<Peak> open;
-  for (Peak& p : peaks) {
-    const LightmapTexel& t = placed.texels[size_t(p.texel)];
-    const float explained = known ? known(t.position, t.normal) : 0.0f;
-    p.unexplained = t.value - (std::isfinite(explained) ? std::max(0.0f, explained) : 0.0f);
-    if (p.unexplained >= o.minUnexplainedShare * t.value) open.push_back(p);
-  }
-  stats.unexplained = open.size();
-  std::stable_sort(open.begin(), open.end(), [](const Peak& a, const Peak& b) { return a.unexplained > b.unexplained; });
 
   NearbyPoints taken(o.mergeDistance);
   for (const glm::vec3& p : avoid)
     if (finite3(p)) taken.add(p);
   std::vector<WorldLight> lights;
-  for (const Peak& peak : open) {
+  // Brightest peaks first; the known light (the costly part: shadow rays to every emitter) is
+  // evaluated only until enough candidates are found.
+  for (Peak& peak : peaks) {
     if (lights.size() >= o.maxCandidates) break;
+    {
+      const LightmapTexel& t = placed.texels[size_t(peak.texel)];
+      const float explained = known ? known(t.position, t.normal) : 0.0f;
+      peak.unexplained = t.value - (std::isfinite(explained) ? std::max(0.0f, explained) : 0.0f);
+      if (!(peak.unexplained >= o.minUnexplainedShare * t.value)) continue;
+      ++stats.unexplained;
+    }
     const LightmapTexel& centre = placed.texels[size_t(peak.texel)];
     const std::vector<HeightFit> fits = fitHeights(placed, peak, o);
     const HeightFit* chosen = nullptr;

@@ -57,7 +57,7 @@ struct LightmapLightOptions {
   float minProminence = 0.12f;      ///< A peak must exceed the lowest texel 2 pixels around it by this share.
   float suppressionRadius = 48.0f;  ///< A peak must be the brightest within this distance (Quake units).
   float minUnexplainedShare = 0.5f; ///< Share of the peak the known light must leave unexplained.
-  size_t maxKnownEvaluations = 512; ///< Peaks (most prominent first) whose known light is evaluated.
+  size_t maxKnownEvaluations = 512; ///< Brightest peaks examined (their known light is evaluated until maxCandidates are found).
   int fitWindow = 16;               ///< Falloff fit over the peak's lightmap pixels within this many pixels...
   float fitRadius = 384.0f;         ///< ...and this distance on its plane.
   float minHeight = 16.0f;          ///< Candidate heights above the peak: minHeight x 1.08^k up to maxHeight (q3map2 clamps distances below 16).
@@ -66,20 +66,20 @@ struct LightmapLightOptions {
   /// light (WorldLight::maxQuakeIntensity).
   float peakSlack = 1.5f;
   float mergeDistance = 32.0f;      ///< Candidates this close to a stronger one or a known light are dropped.
-  size_t maxCandidates = 128;       ///< Strongest candidates returned.
+  size_t maxCandidates = 64;        ///< Candidates returned (from the brightest unexplained peaks).
 };
 
 /// What the lightmap candidates step did (for logs, tools and tests).
 struct LightmapLightStats {
   size_t texels = 0;         ///< Lightmap texels placed on the world.
   size_t peaks = 0;          ///< Peaks found (before the known-light test).
-  size_t unexplained = 0;    ///< Peaks the known light leaves unexplained.
+  size_t unexplained = 0;    ///< Peaks the known light leaves unexplained (examined until maxCandidates are found).
   size_t candidates = 0;     ///< Candidates returned.
   size_t rejected = 0;       ///< Peaks without a valid height (every height blocked or in solid).
 };
 
-/// Point-light candidates (estimated, WorldLightType::Point, white, first-guess value) in front
-/// of the lightmap peaks that `known` does not explain, strongest first. `avoid` lists lights
+/// Point-light candidates (estimated, WorldLightType::Point, the peak's colour, first-guess value)
+/// in front of the lightmap peaks that `known` does not explain, brightest peak first. `avoid` lists lights
 /// already fitted or known (no candidate within mergeDistance of them). `blocked` and `inSolid`
 /// may be empty (then not tested). Never throws on hostile data; `stats` may be null.
 std::vector<WorldLight> lightsFromLightmaps(const WorldScene& scene, const KnownLightAt& known,
