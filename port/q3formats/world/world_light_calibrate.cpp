@@ -187,10 +187,10 @@ struct Entry {
   float gain;
 };
 
-/// min 1/2 x'(G + L)x - (b + L x0)'x subject to 0 <= x <= upper, by coordinate descent; the
-/// last unknown is the constant (no prior).
-std::vector<double> solveNonNegative(const std::vector<double>& gram, const std::vector<double>& rhs,
-                                     std::vector<double> x, const std::vector<double>& upper, int sweeps) {
+/// min 1/2 x'(G + L)x - (b + L x0)'x subject to lower <= x <= upper (lower >= 0), by
+/// coordinate descent; the last unknown is the constant (no prior).
+std::vector<double> solveBounded(const std::vector<double>& gram, const std::vector<double>& rhs, std::vector<double> x,
+                                 const std::vector<double>& lower, const std::vector<double>& upper, int sweeps) {
   const size_t n = rhs.size();
   std::vector<double> gradient(n);
   for (size_t i = 0; i < n; ++i) {
@@ -203,7 +203,7 @@ std::vector<double> solveNonNegative(const std::vector<double>& gram, const std:
     for (size_t i = 0; i < n; ++i) {
       const double diagonal = gram[i * n + i];
       if (!(diagonal > 0.0)) continue;
-      const double updated = std::clamp(x[i] - gradient[i] / diagonal, 0.0, upper[i]);
+      const double updated = std::clamp(x[i] - gradient[i] / diagonal, lower[i], upper[i]);
       const double delta = updated - x[i];
       if (delta == 0.0) continue;
       x[i] = updated;
@@ -355,9 +355,19 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
           if (litSamples[f.light] >= minLit) rhs[f.light] -= weights[j] * f.gain * pinned;
         rhs[k] -= weights[j] * pinned;
       }
-  std::vector<double> initial = start;
-  for (size_t i = 0; i < n; ++i) initial[i] = std::min(initial[i], upper[i]);
-  const std::vector<double> x = solveNonNegative(gram, rhs, initial, upper, o.sweeps);
+  // Two solves: the grid's lights and candidates first, as if no lightmap candidate existed;
+  // then the lightmap candidates (and the constant) on what they leave, the grid's values kept.
+  // Lightmap candidates thus add light where the grid's lights miss it and never take light
+  // from where the grid's lights put it.
+  std::vector<double> lower(n, 0.0), gridUpper = upper, x = start;
+  for (size_t i = gridCount; i < k; ++i) gridUpper[i] = x[i] = 0.0;
+  for (size_t i = 0; i < n; ++i) x[i] = std::min(x[i], gridUpper[i]);
+  x = solveBounded(gram, rhs, x, lower, gridUpper, o.sweeps);
+  if (gridCount < k) {
+    std::vector<double> lightmapLower = lower, lightmapUpper = upper;
+    for (size_t i = 0; i < gridCount; ++i) lightmapLower[i] = lightmapUpper[i] = x[i];
+    x = solveBounded(gram, rhs, x, lightmapLower, lightmapUpper, o.sweeps);
+  }
 
   std::vector<WorldLight> out;
   double sumAfter = 0.0;
