@@ -11,7 +11,9 @@
 // constant for what no point light explains (bounced light, ambient, surface lights) and a
 // weak prior towards the grid's values. Rejected grid candidates (WorldScene::lightCandidates)
 // join the fit and are admitted when the lightmaps need them. Authored lights stay as they are
-// and their light is subtracted first.
+// and their light is subtracted first. Lightmap candidates (world_lightmap_lights.h) are fitted
+// in a second solve, on what the grid's lights leave, with the grid's values kept: they add
+// light where the grid's lights miss it, each below its WorldLight::maxQuakeIntensity.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
