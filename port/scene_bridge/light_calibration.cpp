@@ -2,10 +2,13 @@
 #include "port/scene_bridge/light_calibration.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
+#include "port/q3formats/world/world_light_estimate.h"
+#include "port/q3formats/world/world_lightmap_lights.h"
 #include "port/q3formats/world/world_lights.h"
 #include "port/scene_bridge/scene_bridge.h"
 #include "renderer/bvh/bvh.h"
@@ -40,7 +43,9 @@ bool hasEstimatedLights(const q3::WorldScene& scene) {
 
 std::vector<q3::WorldLight> calibratedLights(const q3::WorldScene& scene, const q3::LightCalibrationOptions& options,
                                              q3::LightCalibrationStats* stats) {
-  if (!hasEstimatedLights(scene) || scene.models.empty()) return scene.lights;
+  const bool fromLightmaps = options.lightsFromLightmaps && options.admitCandidates && !scene.lightmaps.empty() &&
+                            q3::lightsStripped(scene);
+  if ((!hasEstimatedLights(scene) && !fromLightmaps) || scene.models.empty()) return scene.lights;
   // The world's opaque shadow casters (q3map2 traces against the world's brushes and patches).
   std::vector<glm::vec3> positions;
   std::vector<uint32_t> indices;
@@ -115,7 +120,33 @@ std::vector<q3::WorldLight> calibratedLights(const q3::WorldScene& scene, const 
     }
     return behind >= 10;
   };
-  return q3::calibrateEstimatedLights(scene, blocked, withSky, stats, emitters, inSolid);
+  // Candidates where the lightmaps show light that neither the authored lights, the emitters nor
+  // the sky explain (the light grid may be too coarse to show it, or its estimates blended).
+  std::vector<q3::WorldLight> lightmapCandidates;
+  q3::LightmapLightStats lightmapStats;
+  const auto start = std::chrono::steady_clock::now();
+  if (fromLightmaps) {
+    std::vector<glm::vec3> avoid;   // lights the calibration fits anyway
+    for (const q3::WorldLight& l : scene.lights)
+      if (l.type != q3::WorldLightType::Sun) avoid.push_back(l.position);
+    for (const q3::WorldLight& l : scene.lightCandidates) avoid.push_back(l.position);
+    const q3::KnownLightAt known = [&](const glm::vec3& position, const glm::vec3& normal) {
+      return q3::knownLightAt(scene, position, normal, blocked, emitters, withSky);
+    };
+    q3::LightmapLightOptions lightmapOptions;
+    lightmapOptions.maxCandidates = options.maxLightmapCandidates;
+    lightmapCandidates = q3::lightsFromLightmaps(scene, known, avoid, blocked, inSolid, lightmapOptions, &lightmapStats);
+  }
+  const double lightmapMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  std::vector<q3::WorldLight> lights =
+      q3::calibrateEstimatedLights(scene, blocked, withSky, stats, emitters, inSolid, lightmapCandidates);
+  if (stats) {
+    stats->lightmapPeaks = lightmapStats.peaks;
+    stats->lightmapUnexplained = lightmapStats.unexplained;
+    stats->lightmapCandidates = lightmapStats.candidates;
+    stats->lightmapMs = lightmapMs;
+  }
+  return lights;
 }
 
 }  // namespace pa::bridge

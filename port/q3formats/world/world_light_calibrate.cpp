@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -186,10 +187,10 @@ struct Entry {
   float gain;
 };
 
-/// min 1/2 x'(G + L)x - (b + L x0)'x subject to x >= 0, by coordinate descent; the last
-/// unknown is the constant (no prior).
-std::vector<double> solveNonNegative(const std::vector<double>& gram, const std::vector<double>& rhs,
-                                     std::vector<double> x, int sweeps) {
+/// min 1/2 x'(G + L)x - (b + L x0)'x subject to lower <= x <= upper (lower >= 0), by
+/// coordinate descent; the last unknown is the constant (no prior).
+std::vector<double> solveBounded(const std::vector<double>& gram, const std::vector<double>& rhs, std::vector<double> x,
+                                 const std::vector<double>& lower, const std::vector<double>& upper, int sweeps) {
   const size_t n = rhs.size();
   std::vector<double> gradient(n);
   for (size_t i = 0; i < n; ++i) {
@@ -202,7 +203,7 @@ std::vector<double> solveNonNegative(const std::vector<double>& gram, const std:
     for (size_t i = 0; i < n; ++i) {
       const double diagonal = gram[i * n + i];
       if (!(diagonal > 0.0)) continue;
-      const double updated = std::max(0.0, x[i] - gradient[i] / diagonal);
+      const double updated = std::clamp(x[i] - gradient[i] / diagonal, lower[i], upper[i]);
       const double delta = updated - x[i];
       if (delta == 0.0) continue;
       x[i] = updated;
@@ -217,10 +218,30 @@ std::vector<double> solveNonNegative(const std::vector<double>& gram, const std:
 
 }  // namespace
 
+float knownLightAt(const WorldScene& scene, const glm::vec3& position, const glm::vec3& normal,
+                   const SegmentBlocked& blocked, const std::vector<CalibrationEmitter>& emitters,
+                   const LightCalibrationOptions& o) {
+  const float length = glm::length(normal);
+  if (!blocked || !finite3(position) || !(length > 1e-4f) || !std::isfinite(length)) return 0.0f;
+  const Sample s{position, normal / length, 0.0f};
+  const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
+  size_t rays = 0;
+  float value = 0.0f;
+  for (const WorldLight& l : scene.lights)
+    if (!l.estimated) value += authoredLight(s, l, origin, blocked, rays);
+  for (const CalibrationEmitter& e : emitters) value += emitterLight(s, e, origin, blocked, o, rays);
+  if (o.skyLightValue > 0.0f && o.skyRays > 0) {
+    std::mt19937 rng(o.seed ^ 0x27d4eb2fu);
+    value += o.skyLightValue * openSky(s, origin, blocked, rng, o.skyRays);
+  }
+  return std::isfinite(value) ? value : 0.0f;
+}
+
 std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const SegmentBlocked& blocked,
                                                  const LightCalibrationOptions& o, LightCalibrationStats* statsOut,
                                                  const std::vector<CalibrationEmitter>& emitters,
-                                                 const PointInSolid& inSolid) {
+                                                 const PointInSolid& inSolid,
+                                                 const std::vector<WorldLight>& lightmapCandidates) {
   LightCalibrationStats stats;
   // The lights to fit: estimated ones, then the rejected candidates.
   std::vector<const WorldLight*> fitted;
@@ -236,13 +257,23 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
       if (inSolid && inSolid(l.position)) ++stats.inSolid;
       else fitted.push_back(&l);
     }
+  const size_t gridCount = fitted.size();
+  for (const WorldLight& l : lightmapCandidates)
+    if (o.admitCandidates && fitted.size() < gridCount + o.maxLightmapCandidates && l.estimated &&
+        l.type == WorldLightType::Point && !l.linearFalloff && finite3(l.position)) {
+      if (inSolid && inSolid(l.position)) ++stats.inSolid;
+      else fitted.push_back(&l);
+    }
   stats.inSolid += solid.size();
   if (fitted.empty() || !blocked) {
     if (statsOut) *statsOut = stats;
     return scene.lights;
   }
   LightCalibrationOptions budgeted = o;
-  budgeted.maxSamples = std::min(o.maxSamples, std::max<size_t>(1000, o.maxLightSamplePairs / fitted.size()));
+  // The budget counts the grid's lights: lightmap candidates light small regions (few shadow
+  // rays each) and must not thin out the samples the grid's lights were admitted with.
+  const size_t budgetLights = std::max<size_t>(1, gridCount > 0 ? gridCount : fitted.size());
+  budgeted.maxSamples = std::min(o.maxSamples, std::max<size_t>(1000, o.maxLightSamplePairs / budgetLights));
   const std::vector<Sample> samples = sampleLightmaps(scene, budgeted);
   stats.samples = samples.size();
   if (samples.empty()) {
@@ -301,10 +332,11 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   // Lights that reach too few samples are not fitted: estimated ones keep their grid value
   // (their column is replaced by a pinned unknown), candidates stay out.
   const size_t minLit = std::max<size_t>(1, o.minLitSamples);
-  std::vector<double> start(n, 0.0);
+  std::vector<double> start(n, 0.0), upper(n, std::numeric_limits<double>::infinity());
   for (size_t i = 0; i < k; ++i) {
     const double prior = fitted[i]->quakeIntensity;
     start[i] = prior;
+    if (fitted[i]->maxQuakeIntensity >= 0.0f) upper[i] = fitted[i]->maxQuakeIntensity;   // NaN: unbounded
     if (litSamples[i] < minLit) {
       for (size_t c = 0; c < n; ++c) gram[i * n + c] = gram[c * n + i] = 0.0;
       rhs[i] = 0.0;
@@ -323,7 +355,19 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
           if (litSamples[f.light] >= minLit) rhs[f.light] -= weights[j] * f.gain * pinned;
         rhs[k] -= weights[j] * pinned;
       }
-  const std::vector<double> x = solveNonNegative(gram, rhs, start, o.sweeps);
+  // Two solves: the grid's lights and candidates first, as if no lightmap candidate existed;
+  // then the lightmap candidates (and the constant) on what they leave, the grid's values kept.
+  // Lightmap candidates thus add light where the grid's lights miss it and never take light
+  // from where the grid's lights put it.
+  std::vector<double> lower(n, 0.0), gridUpper = upper, x = start;
+  for (size_t i = gridCount; i < k; ++i) gridUpper[i] = x[i] = 0.0;
+  for (size_t i = 0; i < n; ++i) x[i] = std::min(x[i], gridUpper[i]);
+  x = solveBounded(gram, rhs, x, lower, gridUpper, o.sweeps);
+  if (gridCount < k) {
+    std::vector<double> lightmapLower = lower, lightmapUpper = upper;
+    for (size_t i = 0; i < gridCount; ++i) lightmapLower[i] = lightmapUpper[i] = x[i];
+    x = solveBounded(gram, rhs, x, lightmapLower, lightmapUpper, o.sweeps);
+  }
 
   std::vector<WorldLight> out;
   double sumAfter = 0.0;
@@ -361,10 +405,11 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     WorldLight admitted = *fitted[i];
     admitted.quakeIntensity = float(x[i]);
     admitted.intensity = pointLightIntensity(admitted.quakeIntensity);
-    admitted.source += ", admitted by the lightmaps (grid value " + std::to_string(int(fitted[i]->quakeIntensity)) +
+    admitted.source += ", admitted by the lightmaps (first guess " + std::to_string(int(fitted[i]->quakeIntensity)) +
                        ", " + std::to_string(litSamples[i]) + " texels)";
     out.push_back(admitted);
     ++stats.admitted;
+    stats.admittedFromLightmaps += i >= gridCount ? 1 : 0;
   }
   const double count = double(samples.size());
   stats.unexplained = float(x[k]);

@@ -494,4 +494,12 @@ KnownLighting knownLightingOf(const WorldScene& scene) {
   return known;
 }
 
+bool lightsStripped(const WorldScene& scene) {
+  constexpr size_t kEnoughEntityLights = 16;
+  const size_t entityLights = size_t(std::count_if(scene.lights.begin(), scene.lights.end(), [](const WorldLight& l) {
+    return l.type != WorldLightType::Sun && !l.estimated;
+  }));
+  return entityLights < kEnoughEntityLights;
+}
+
 }  // namespace q3

@@ -82,4 +82,9 @@ std::vector<WorldLight> estimateLightsFromGrid(const WorldLightGrid& grid, const
 /// The light the scene's own lights, suns and q3map_surfacelight surfaces already give.
 KnownLighting knownLightingOf(const WorldScene& scene);
 
+/// True when the compiler stripped the map's `light` entities: fewer than 16 authored point or
+/// spot lights remain (a map that kept that many was compiled with -keeplights or never
+/// stripped, and its own lights are the authority). Such maps get estimated lights.
+bool lightsStripped(const WorldScene& scene);
+
 }  // namespace q3

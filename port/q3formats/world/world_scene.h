@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -134,6 +135,9 @@ struct WorldLight {
   /// Recovered from the light grid (not authored): its value may be refitted against the
   /// lightmaps (port/q3formats/world/world_light_calibrate.h).
   bool estimated = false;
+  /// Estimated lights: the largest value the lightmaps allow (a lightmap candidate must not give
+  /// the texel it was read from more light than the texel shows); the calibration fits below it.
+  float maxQuakeIntensity = std::numeric_limits<float>::infinity();
 };
 
 /// The environment: a sky box (six images) or a constant colour.

@@ -35,14 +35,34 @@ TEST(BridgeLightCalibration, DropsLightsInsideSolid) {
 }
 
 TEST(BridgeLightCalibration, MapsWithoutEstimatesKeepTheirLights) {
+  // The authored light explains the bake: no lightmap candidate either.
   q3::WorldScene scene = q3::testing::syntheticLitRoom(glm::vec3(0.0f, 0.0f, 128.0f), 300.0f, 0.0f);
-  q3::WorldLight authored = q3::testing::estimatedLight(glm::vec3(0.0f, 0.0f, 128.0f), 123.0f);
+  q3::WorldLight authored = q3::testing::estimatedLight(glm::vec3(0.0f, 0.0f, 128.0f), 300.0f);
   authored.estimated = false;
   scene.lights.push_back(authored);
   EXPECT_FALSE(hasEstimatedLights(scene));
-  const std::vector<q3::WorldLight> lights = calibratedLights(scene);
+  q3::LightCalibrationStats stats;
+  const std::vector<q3::WorldLight> lights = calibratedLights(scene, {}, &stats);
   ASSERT_EQ(lights.size(), 1u);
-  EXPECT_EQ(lights[0].quakeIntensity, 123.0f);
+  EXPECT_EQ(lights[0].quakeIntensity, 300.0f);
+  EXPECT_EQ(stats.lightmapCandidates, 0u);
+}
+
+TEST(BridgeLightCalibration, FindsTheLightOfAStrippedMapInItsLightmaps) {
+  // No light entity, no grid: the lightmaps alone give the light back.
+  const glm::vec3 light(-70.0f, 50.0f, 150.0f);
+  q3::WorldScene scene = q3::testing::syntheticLitRoom(light, 350.0f, 0.0f);
+  q3::LightCalibrationStats stats;
+  const std::vector<q3::WorldLight> lights = calibratedLights(scene, {}, &stats);
+  ASSERT_GE(lights.size(), 1u);
+  float total = 0.0f;
+  for (const q3::WorldLight& l : lights) {
+    EXPECT_TRUE(l.estimated);
+    EXPECT_LT(glm::length(l.position - light), 24.0f) << l.source;
+    total += l.quakeIntensity;
+  }
+  EXPECT_NEAR(total, 350.0f, 350.0f * 0.15f);
+  EXPECT_GE(stats.admittedFromLightmaps, 1u);
 }
 
 }  // namespace

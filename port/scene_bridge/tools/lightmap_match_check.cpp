@@ -7,7 +7,8 @@
 //   lightmap-match-check [--game DIR] [--spawns N] [--spp N (Direct, default 16)] MAP...
 //   lightmap-match-check --recover MAP...   (maps that kept their lights: doubled values refitted)
 // Diagnosis switches (environment): PA_LIST_LIGHTS=1 lists the calibrated lights,
-// PA_NO_CANDIDATES=1 refits the estimated lights only, PA_ABSOLUTE=1 fits absolute errors,
+// PA_NO_CANDIDATES=1 refits the estimated lights only, PA_NO_LIGHTMAP_LIGHTS=1 proposes no
+// lightmap candidates (world_lightmap_lights.h), PA_LIGHTMAP_CANDIDATES=N at most N of them, PA_ABSOLUTE=1 fits absolute errors,
 // PA_CAL_SKY=V calibrates with sky light value V (summed over RGB, open surface) instead of the
 // sky shader's; what is rendered: PA_NO_SKY=1 without the sky, PA_NO_SUN=1 without q3map_sun
 // lights, PA_NO_EMITTERS=1 without surface lights and glow stages, PA_PATH=1 the calibrated
@@ -48,6 +49,8 @@ Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrato
   upload.calibrateEstimatedLights = calibrate;
   upload.sky = std::getenv("PA_NO_SKY") == nullptr;
   upload.calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
+  upload.calibration.lightsFromLightmaps = std::getenv("PA_NO_LIGHTMAP_LIGHTS") == nullptr;
+  if (const char* most = std::getenv("PA_LIGHTMAP_CANDIDATES")) upload.calibration.maxLightmapCandidates = size_t(std::atoi(most));
   upload.calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
   if (const char* sky = std::getenv("PA_CAL_SKY")) upload.calibration.skyLightValue = float(std::atof(sky));
   pa::bridge::uploadWorld(scene, renderer, upload);
@@ -134,6 +137,8 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns, ui
   for (const q3::WorldLight& l : scene.lights) estimated += l.estimated ? 1 : 0;
   q3::LightCalibrationOptions calibration;
   calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
+  calibration.lightsFromLightmaps = std::getenv("PA_NO_LIGHTMAP_LIGHTS") == nullptr;
+  if (const char* most = std::getenv("PA_LIGHTMAP_CANDIDATES")) calibration.maxLightmapCandidates = size_t(std::atoi(most));
   calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
   if (const char* sky = std::getenv("PA_CAL_SKY")) calibration.skyLightValue = float(std::atof(sky));
   const auto t0 = std::chrono::steady_clock::now();
@@ -146,7 +151,10 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns, ui
               stats.shadowRays, stats.refitted, stats.dropped, stats.admitted, stats.inSolid, stats.meanTexel, stats.meanBefore,
               stats.meanAfter, stats.unexplained, ms);
   const glm::vec3 sky = pa::bridge::skyLightingRadiance(scene);
-  std::printf("  sky lighting radiance %.3f %.3f %.3f\n", sky.r, sky.g, sky.b);
+  std::printf("  sky lighting radiance %.3f %.3f %.3f | lightmap peaks %zu, unexplained %zu, candidates %zu, admitted %zu "
+              "(%.0f ms of the calibration)\n",
+              sky.r, sky.g, sky.b, stats.lightmapPeaks, stats.lightmapUnexplained, stats.lightmapCandidates,
+              stats.admittedFromLightmaps, stats.lightmapMs);
   if (std::getenv("PA_LIST_LIGHTS"))
     for (const q3::WorldLight& l : lights)
       std::printf("    %-60s (%7.1f %7.1f %7.1f) value %.0f\n", l.source.c_str(), l.position.x, l.position.y, l.position.z,

@@ -1,10 +1,12 @@
 #pragma once
-// Test helper: a closed box room lit by one q3map2 point light, with lightmaps synthesised the
+// Test helper: a closed box room lit by q3map2 point lights, with lightmaps synthesised the
 // way q3map2 computes them (value * pointScale * cos / max(d, 16)^2, plus a constant standing
 // for bounced light), one 64x64 lightmap per wall.
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -13,8 +15,8 @@
 
 namespace q3::testing {
 
-/// Builds the room [-256, 256] x [-256, 256] x [0, 256] lit by `value` at `light`.
-inline WorldScene syntheticLitRoom(const glm::vec3& light, float value, float bounce) {
+/// Builds the room [-256, 256] x [-256, 256] x [0, 256] lit by the (position, value) lights.
+inline WorldScene syntheticLitRoom(const std::vector<std::pair<glm::vec3, float>>& lights, float bounce) {
   constexpr uint32_t kSize = 64;
   WorldScene scene;
   scene.materials.push_back(WorldMaterial{});
@@ -38,11 +40,14 @@ inline WorldScene syntheticLitRoom(const glm::vec3& light, float value, float bo
     for (uint32_t y = 0; y < kSize; ++y)
       for (uint32_t x = 0; x < kSize; ++x) {
         const glm::vec3 p = w.origin + w.u * ((float(x) + 0.5f) / kSize) + w.v * ((float(y) + 0.5f) / kSize);
-        const glm::vec3 toLight = light - p;
-        const float d = glm::length(toLight);
-        const float cosine = std::max(0.0f, glm::dot(w.normal, toLight) / d);
-        const float clamped = std::max(d, 16.0f);
-        const float lit = value * kQ3mapPointScale * cosine / (clamped * clamped) + bounce;
+        float lit = bounce;
+        for (const auto& [light, value] : lights) {
+          const glm::vec3 toLight = light - p;
+          const float d = glm::length(toLight);
+          const float cosine = std::max(0.0f, glm::dot(w.normal, toLight) / d);
+          const float clamped = std::max(d, 16.0f);
+          lit += value * kQ3mapPointScale * cosine / (clamped * clamped);
+        }
         const uint8_t byte = uint8_t(std::clamp(std::lround(lit), 0l, 255l));
         uint8_t* texel = &image.rgba8[(size_t(y) * kSize + x) * 4];
         texel[0] = texel[1] = texel[2] = byte;
@@ -66,6 +71,11 @@ inline WorldScene syntheticLitRoom(const glm::vec3& light, float value, float bo
     scene.models[0].meshes.push_back(std::move(mesh));
   }
   return scene;
+}
+
+/// Builds the room [-256, 256] x [-256, 256] x [0, 256] lit by `value` at `light`.
+inline WorldScene syntheticLitRoom(const glm::vec3& light, float value, float bounce) {
+  return syntheticLitRoom({{light, value}}, bounce);
 }
 
 /// Adds a closed, outward-facing cube (a solid block, no lightmap) centred at `centre`.

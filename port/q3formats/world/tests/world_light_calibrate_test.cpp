@@ -49,6 +49,16 @@ TEST(LightCalibration, AdmitsAConfirmedCandidateAndLeavesASpuriousOneOut) {
   EXPECT_NEAR(lights[0].quakeIntensity, 200.0f, 200.0f * 0.05f);
 }
 
+TEST(LightCalibration, AFittedValueStaysBelowItsCap) {
+  const glm::vec3 light(10.0f, 20.0f, 120.0f);
+  WorldScene scene = testing::syntheticLitRoom(light, 300.0f, 0.0f);
+  WorldLight candidate = testing::estimatedLight(light, 50.0f);
+  candidate.maxQuakeIntensity = 120.0f;   // what its peak allows
+  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, kNothingBlocks, {}, nullptr, {}, {}, {candidate});
+  ASSERT_EQ(lights.size(), 1u);
+  EXPECT_FLOAT_EQ(lights[0].quakeIntensity, 120.0f);
+}
+
 TEST(LightCalibration, AuthoredLightsStayAndTheirLightIsNotFittedTwice) {
   const glm::vec3 light(30.0f, 30.0f, 120.0f);
   WorldScene scene = testing::syntheticLitRoom(light, 300.0f, 0.0f);
