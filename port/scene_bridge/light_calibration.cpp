@@ -12,6 +12,7 @@
 #include "port/q3formats/world/world_lights.h"
 #include "port/scene_bridge/scene_bridge.h"
 #include "renderer/bvh/bvh.h"
+#include "renderer/core/srgb.h"
 
 namespace pa::bridge {
 namespace {
@@ -27,10 +28,7 @@ float emittedRadiance(const q3::WorldScene& scene, const q3::WorldMaterial& m) {
   if (image.rgba8.size() != size_t(image.width) * image.height * 4 || image.rgba8.empty()) return 0.0f;
   double sum = 0.0;
   for (size_t i = 0; i + 3 < image.rgba8.size(); i += 4)
-    for (int c = 0; c < 3; ++c) {
-      const double v = image.rgba8[i + size_t(c)] / 255.0;
-      sum += v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-    }
+    for (int c = 0; c < 3; ++c) sum += pa::srgbToLinear(image.rgba8[i + size_t(c)] / 255.0);
   return float(sum / double(image.rgba8.size() / 4));
 }
 

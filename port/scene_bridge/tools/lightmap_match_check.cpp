@@ -31,6 +31,7 @@
 #include "port/q3formats/world/world_game.h"
 #include "port/scene_bridge/light_calibration.h"
 #include "port/scene_bridge/scene_bridge.h"
+#include "renderer/core/srgb.h"
 
 namespace {
 
@@ -68,7 +69,7 @@ Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrato
   for (size_t i = 0; i < frame.radiance.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
       const float v = std::clamp(frame.radiance[i][c], 0.0f, 1.0f);
-      const float srgb = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+      const float srgb = pa::linearToSrgb(v);
       rgb[i * 3 + size_t(c)] = uint8_t(255.0f * srgb + 0.5f);
     }
     const float luma = 0.2126f * rgb[i * 3] + 0.7152f * rgb[i * 3 + 1] + 0.0722f * rgb[i * 3 + 2];
