@@ -395,9 +395,6 @@ RenderScene SceneStore::commit() {
     const InstanceDesc& d = *instances_[id];
     const MeshRecord* mesh = meshes_[d.mesh].record.get();
     if (mesh == nullptr || mesh->geometry.triangleCount() == 0) continue;
-    // No ray kind sees a mask-0 instance: it stays out of the TLAS, and its emissive triangles and
-    // sky windows are no lights (a mover the game did not add this frame must not glow).
-    if (d.mask == 0) continue;
     RenderInstance ri;
     ri.mesh = mesh;
     ri.objectToWorld = d.objectToWorld;
@@ -432,7 +429,11 @@ RenderScene SceneStore::commit() {
         continue;
       }
       // Sky windows show the sky, additive surfaces add on camera/bounce rays: neither is a light.
-      if (!m.emits || m.desc.sky || m.desc.alphaMode == AlphaMode::Additive) continue;
+      // No ray sees a mask-0 instance (a mover the game did not add this frame, the world in a
+      // view without it), so its emitters are no lights either. It stays in the TLAS and its sky
+      // windows count, as the world's do in a HUD model view: the sun/sky visibility map keyed
+      // on them is then found in the cache instead of traced anew for every such frame.
+      if (!m.emits || m.desc.sky || m.desc.alphaMode == AlphaMode::Additive || inst.mask == 0) continue;
       if (!any) {
         scene.emissiveLookup.resize(size_t{offset} + g.triangleCount(), kNoId);
         inst.emissiveOffset = offset;
