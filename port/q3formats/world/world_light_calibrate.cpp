@@ -176,6 +176,20 @@ float emitterLight(const Sample& s, const CalibrationEmitter& e, const glm::vec3
   return blocked(origin, centre - dir * 0.5f) ? 0.0f : value;
 }
 
+/// Light value (summed over RGB) the scene's own light gives the sample: authored lights,
+/// emitting triangles and the open sky, shadows included. Shadow rays towards lights and
+/// emitters are counted in `rays` (the sky's are not).
+float knownLight(const WorldScene& scene, const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked,
+                 const std::vector<CalibrationEmitter>& emitters, const LightCalibrationOptions& o, std::mt19937& rng,
+                 size_t& rays) {
+  float value = 0.0f;
+  for (const WorldLight& l : scene.lights)
+    if (!l.estimated) value += authoredLight(s, l, origin, blocked, rays);
+  for (const CalibrationEmitter& e : emitters) value += emitterLight(s, e, origin, blocked, o, rays);
+  if (o.skyLightValue > 0.0f && o.skyRays > 0) value += o.skyLightValue * openSky(s, origin, blocked, rng, o.skyRays);
+  return value;
+}
+
 /// Least-squares weight of a texel: 1 (absolute errors) or 1 / (texel + 32) (relative).
 double weightOf(float texel, const LightCalibrationOptions& o) {
   return o.relativeErrors ? 1.0 / (double(texel) + 32.0) : 1.0;
@@ -226,14 +240,8 @@ float knownLightAt(const WorldScene& scene, const glm::vec3& position, const glm
   const Sample s{position, normal / length, 0.0f};
   const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
   size_t rays = 0;
-  float value = 0.0f;
-  for (const WorldLight& l : scene.lights)
-    if (!l.estimated) value += authoredLight(s, l, origin, blocked, rays);
-  for (const CalibrationEmitter& e : emitters) value += emitterLight(s, e, origin, blocked, o, rays);
-  if (o.skyLightValue > 0.0f && o.skyRays > 0) {
-    std::mt19937 rng(o.seed ^ 0x27d4eb2fu);
-    value += o.skyLightValue * openSky(s, origin, blocked, rng, o.skyRays);
-  }
+  std::mt19937 rng(o.seed ^ 0x27d4eb2fu);
+  const float value = knownLight(scene, s, origin, blocked, emitters, o, rng, rays);
   return std::isfinite(value) ? value : 0.0f;
 }
 
@@ -294,11 +302,7 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   for (size_t j = 0; j < samples.size(); ++j) {
     const Sample& s = samples[j];
     const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
-    float authored = 0.0f;
-    for (const WorldLight& l : scene.lights)
-      if (!l.estimated) authored += authoredLight(s, l, origin, blocked, stats.shadowRays);
-    for (const CalibrationEmitter& e : emitters) authored += emitterLight(s, e, origin, blocked, o, stats.shadowRays);
-    if (o.skyLightValue > 0.0f && o.skyRays > 0) authored += o.skyLightValue * openSky(s, origin, blocked, rng, o.skyRays);
+    const float authored = knownLight(scene, s, origin, blocked, emitters, o, rng, stats.shadowRays);
     stats.shadowRays += o.skyRays > 0 && o.skyLightValue > 0.0f ? size_t(o.skyRays) : 0;
     entries.clear();
     float predicted = authored;

@@ -150,15 +150,20 @@ TEST(SceneBridge, VertexLitSurfacesUseVertexColoursAsBakedLight) {
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(128 / 255.0f), 0.01f);
 }
 
+/// A q3map2 light of value 300 on the wall's axis at the distance where it lights a facing
+/// texel full bright (300 * pointScale / d^2 = 64, "texture unmodified").
+q3::WorldLight fullBrightPointLight() {
+  q3::WorldLight light;
+  light.position = {std::sqrt(300.0f * q3::kQ3mapPointScale / q3::kQ3FullBright), 0, 0};
+  light.intensity = q3::pointLightIntensity(300.0f);
+  return light;
+}
+
 TEST(SceneBridge, PointLightAtFullBrightDistanceGivesRadianceOne) {
   // q3map2: a 300 light at distance d lights a facing texel with 300 * 7500 / d^2; at 64 the
   // lightmapped look is "texture unmodified", so the direct look must give radiance 1 there.
   q3::WorldScene scene = wallScene(64, false);
-  const float d = std::sqrt(300.0f * q3::kQ3mapPointScale / q3::kQ3FullBright);
-  q3::WorldLight light;
-  light.position = {d, 0, 0};
-  light.intensity = q3::pointLightIntensity(300.0f);
-  scene.lights.push_back(light);
+  scene.lights.push_back(fullBrightPointLight());
   Renderer renderer;
   UploadOptions options;
   options.sky = false;
@@ -182,11 +187,7 @@ TEST(SceneBridge, WorldspawnAmbientAndMinlightLightTheWallAsTheyLitItsTexels) {
   }
   // A floor under a full-bright point light changes nothing; an ambient adds to it.
   q3::WorldScene scene = wallScene(64, false);
-  const float d = std::sqrt(300.0f * q3::kQ3mapPointScale / q3::kQ3FullBright);
-  q3::WorldLight light;
-  light.position = {d, 0, 0};
-  light.intensity = q3::pointLightIntensity(300.0f);
-  scene.lights.push_back(light);
+  scene.lights.push_back(fullBrightPointLight());
   scene.minimumLight = glm::vec3(32.0f);
   Renderer floored;
   uploadWorld(scene, floored);

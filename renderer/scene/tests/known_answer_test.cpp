@@ -219,6 +219,18 @@ TEST(KnownAnswer, EmissiveSquareOnAxisIrradiance) {
   }
 }
 
+/// Adds a 10x10 quad in the plane z = 0 with material m, every vertex at the centre of its
+/// lightmap, and commits.
+void addLightmappedFloor(Renderer& r, const MaterialDesc& m) {
+  test::MeshArrays q = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  q.setMaterial(r.addMaterial(m));
+  const std::vector<glm::vec2> lightmapUvs(4, glm::vec2(0.5f));
+  MeshDesc desc = q.desc();
+  desc.lightmapUvs = lightmapUvs;
+  r.addInstance({r.addMesh(desc)});
+  r.commit();
+}
+
 TEST(KnownAnswer, LightmapPresetIsAlbedoTimesBakedLight) {
   Renderer r({2});
   const std::vector<uint8_t> lm = test::solidPixels(2, 2, 51, 102, 204, 255);
@@ -226,13 +238,7 @@ TEST(KnownAnswer, LightmapPresetIsAlbedoTimesBakedLight) {
   MaterialDesc m = test::diffuse(0.5f);
   m.lightmapTexture = r.addTexture(lmDesc);
   m.emission = glm::vec3(0.25f);
-  test::MeshArrays q = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
-  q.setMaterial(r.addMaterial(m));
-  std::vector<glm::vec2> lmUv(4, glm::vec2(0.5f));
-  MeshDesc desc = q.desc();
-  desc.lightmapUvs = lmUv;
-  r.addInstance({r.addMesh(desc)});
-  r.commit();
+  addLightmappedFloor(r, m);
   const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 30.0f), settingsFor(Integrator::Lightmap, 4, 1));
   // Emission (a glow stage) adds to the lit texture in display values, as framebuffer blending does.
   const auto displaySum = [](float a, float b) {
@@ -260,13 +266,7 @@ glm::vec3 shineOverLitBase(LayerBlend blend, float baseAlpha, bool masked, Integ
   m.shineTexture = r.addTexture(TextureDesc{1, 1, shine, true});
   m.shineBlend = blend;
   m.shineMaskedByBaseAlpha = masked;
-  test::MeshArrays q = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
-  q.setMaterial(r.addMaterial(m));
-  std::vector<glm::vec2> lmUv(4, glm::vec2(0.5f));
-  MeshDesc desc = q.desc();
-  desc.lightmapUvs = lmUv;
-  r.addInstance({r.addMesh(desc)});
-  r.commit();
+  addLightmappedFloor(r, m);
   const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 30.0f), settingsFor(integrator, 4, 1));
   const glm::vec3 c = f.radiance[5];
   return {linearToSrgb(c.r), linearToSrgb(c.g), linearToSrgb(c.b)};
