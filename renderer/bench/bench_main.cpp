@@ -1,9 +1,11 @@
 // bench: our BVH against Embree 3 on the same scene and the same rays.
 //   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
 //         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X]
-//         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust]
+//         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree]
 // --embree-robust builds Embree's scene with RTC_SCENE_FLAG_ROBUST (its conservative traversal
 // and watertight-leaning kernels: the like-for-like comparison for our robust traversal).
+// --embree-tree also traces our kernels over a tree built by Embree's rtcBuildBVH (same leaf
+// rule as ours): the difference to our own tree is the tree's share of the gap to Embree.
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
 // the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
 // (and process CPU) with N threads for both (one TBB arena; Embree's device also gets N threads).
@@ -23,6 +25,7 @@
 #include <tbb/task_arena.h>
 
 #include "renderer/bench/bench_scene.h"
+#include "renderer/bench/embree_tree.h"
 #include "renderer/bench/frame_timing.h"
 #include "renderer/bench/ray_sets.h"
 #include "renderer/bvh/bvh.h"
@@ -41,13 +44,14 @@ struct Options {
   uint32_t frameReps = 7;
   bool buildOnly = false;   ///< Time the builds only (for profiling the build).
   bool embreeRobust = false;   ///< Embree with RTC_SCENE_FLAG_ROBUST (its conservative traversal).
+  bool embreeTree = false;     ///< Also trace our kernels over Embree's tree (embree_tree.h).
   BvhBuildConfig build;
 };
 
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust]\n",
+               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree]\n",
                error.c_str());
   std::exit(2);
 }
@@ -76,6 +80,7 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--no-frames") o.frames = false;
     else if (a == "--build-only") o.buildOnly = true;
     else if (a == "--embree-robust") o.embreeRobust = true;
+    else if (a == "--embree-tree") o.embreeTree = true;
     else if (a == "--frame-reps") o.frameReps = parseCount(value(), "--frame-reps");
     else if (a == "--bins") o.build.binCount = parseCount(value(), "--bins");
     else if (a == "--max-leaf") o.build.maxLeafTriangles = parseCount(value(), "--max-leaf");
@@ -146,6 +151,19 @@ uint64_t traceOccluded(const Blas& blas, const std::vector<Ray>& rays) {
 uint64_t traceOccluded(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
   uint64_t hits = 0;
   for (const Ray& r : rays) hits += scene.occluded(r);
+  return hits;
+}
+uint64_t traceClosest(const bvh_detail::WideBvh& bvh, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  for (Ray r : rays) {
+    Hit h;
+    hits += bvh_detail::isTraceableRay(r) && bvh_detail::intersectWide(bvh, r, h, {}, 0);
+  }
+  return hits;
+}
+uint64_t traceOccluded(const bvh_detail::WideBvh& bvh, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  for (const Ray& r : rays) hits += bvh_detail::isTraceableRay(r) && bvh_detail::occludedWide(bvh, r, {}, 0);
   return hits;
 }
 uint64_t tracePackets(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
@@ -245,11 +263,21 @@ int run(int argc, char** argv) {
   }
   const RaySets rays = makeRaySets(scene, blas, 1024, 576, opt.rays, 7);
   Pair incoherent, shadow, primary;
+  // Our kernels over Embree's tree (--embree-tree): .ours holds those samples, .embree is unused.
+  Pair incoherentEmbreeTree, shadowEmbreeTree;
+  bvh_detail::WideBvh embreeTree;
+  if (opt.embreeTree) embreeTree = buildWideFromEmbreeTree(device.get(), bvh_detail::makeTriangleMesh(mesh.input()));
   for (uint32_t rep = 0; rep < opt.reps; ++rep) {
     incoherent.ours.push_back(threadCpuSeconds([&] { incoherent.hitsOurs = traceClosest(blas, rays.incoherent); }));
     incoherent.embree.push_back(threadCpuSeconds([&] { incoherent.hitsEmbree = traceClosest(*embree, rays.incoherent); }));
     shadow.ours.push_back(threadCpuSeconds([&] { shadow.hitsOurs = traceOccluded(blas, rays.shadow); }));
     shadow.embree.push_back(threadCpuSeconds([&] { shadow.hitsEmbree = traceOccluded(*embree, rays.shadow); }));
+    if (opt.embreeTree) {
+      incoherentEmbreeTree.ours.push_back(
+          threadCpuSeconds([&] { incoherentEmbreeTree.hitsOurs = traceClosest(embreeTree, rays.incoherent); }));
+      shadowEmbreeTree.ours.push_back(
+          threadCpuSeconds([&] { shadowEmbreeTree.hitsOurs = traceOccluded(embreeTree, rays.shadow); }));
+    }
     primary.ours.push_back(threadCpuSeconds([&] { primary.hitsOurs = traceClosest(blas, rays.primary); }));
     primary.embree.push_back(threadCpuSeconds([&] { primary.hitsEmbree = tracePackets(*embree, rays.primary); }));
   }
@@ -262,6 +290,20 @@ int run(int argc, char** argv) {
   const double sEmbree = mrays(rays.shadow.size(), median(shadow.embree));
   const double pOurs = mrays(rays.primary.size(), median(primary.ours));
   const double pEmbree = mrays(rays.primary.size(), median(primary.embree));
+  const double iTree = opt.embreeTree ? mrays(rays.incoherent.size(), median(incoherentEmbreeTree.ours)) : 0.0;
+  const double sTree = opt.embreeTree ? mrays(rays.shadow.size(), median(shadowEmbreeTree.ours)) : 0.0;
+  std::string embreeTreeJson;
+  if (opt.embreeTree) {
+    char buffer[512];
+    std::snprintf(buffer, sizeof buffer,
+                  "\"embree_tree_nodes\": %zu, \"embree_tree_packs\": %zu, \"mrays_incoherent_ours_embree_tree\": %.3f, "
+                  "\"incoherent_ratio_embree_tree\": %.3f, \"mrays_shadow_ours_embree_tree\": %.3f, "
+                  "\"shadow_ratio_embree_tree\": %.3f, \"hits_incoherent_ours_embree_tree\": %llu, "
+                  "\"hits_shadow_ours_embree_tree\": %llu, ",
+                  embreeTree.nodes.size(), embreeTree.packs.size(), iTree, iTree / iEmbree, sTree, sTree / sEmbree,
+                  (unsigned long long)incoherentEmbreeTree.hitsOurs, (unsigned long long)shadowEmbreeTree.hitsOurs);
+    embreeTreeJson = buffer;
+  }
   auto frame = [](const std::optional<double>& v) { return v ? std::to_string(*v) : std::string("null"); };
   auto samples = [](const std::vector<double>& v) {
     std::string out = "[";
@@ -279,7 +321,7 @@ int run(int argc, char** argv) {
         "\"mrays_shadow_embree\": %.3f, \"shadow_ratio\": %.3f, \"rays_primary\": %zu, "
         "\"mrays_primary_ours\": %.3f, \"mrays_primary_embree\": %.3f, \"primary_ratio\": %.3f, "
         "\"hits_incoherent_ours\": %llu, \"hits_incoherent_embree\": %llu, \"hits_shadow_ours\": %llu, "
-        "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, "
+        "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, %s"
         "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_cpu_ms_1t\": %s, \"frame_cpu_ms_2t\": %s, "
         "\"frame_speedup_2t\": %s, \"frame_samples_ms_1t\": %s, \"frame_samples_ms_2t\": %s, \"frame_note\": \"%s\"}\n",
         scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), opt.embreeRobust ? "true" : "false", bOurs,
@@ -287,7 +329,7 @@ int run(int argc, char** argv) {
         sOurs, sEmbree, sOurs / sEmbree, rays.primary.size(), pOurs, pEmbree, pOurs / pEmbree,
         (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
         (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,
-        (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree,
+        (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree, embreeTreeJson.c_str(),
         frame(frames.oneThreadMs).c_str(), frame(frames.twoThreadsMs).c_str(), frame(frames.oneThreadCpuMs).c_str(),
         frame(frames.twoThreadsCpuMs).c_str(), frame(frames.speedup).c_str(), samples(frames.oneThreadSamplesMs).c_str(),
         samples(frames.twoThreadsSamplesMs).c_str(), frames.note.c_str());
@@ -302,6 +344,13 @@ int run(int argc, char** argv) {
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "incoherent Mrays/s (1t)", iOurs, iEmbree, iOurs / iEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "shadow Mrays/s (1t)", sOurs, sEmbree, sOurs / sEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "primary Mrays/s (1t)", pOurs, pEmbree, pOurs / pEmbree);
+  if (opt.embreeTree) {
+    std::printf("%-28s %12.3f %12.3f %8.3f\n", "incoherent, Embree's tree", iTree, iEmbree, iTree / iEmbree);
+    std::printf("%-28s %12.3f %12.3f %8.3f\n", "shadow, Embree's tree", sTree, sEmbree, sTree / sEmbree);
+    std::printf("Embree's tree in our layout: %zu nodes, %zu packs; hits incoherent %llu shadow %llu\n",
+                embreeTree.nodes.size(), embreeTree.packs.size(), (unsigned long long)incoherentEmbreeTree.hitsOurs,
+                (unsigned long long)shadowEmbreeTree.hitsOurs);
+  }
   std::printf("hits ours/embree: incoherent %llu/%llu shadow %llu/%llu primary %llu/%llu\n",
               (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
               (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,

@@ -116,26 +116,9 @@ class Collapser {
   }
 
   TrianglePack makePack(const BinaryNode& leaf, uint32_t p) const {
-    TrianglePack pack{};
-    for (uint32_t lane = 0; lane < kPackWidth; ++lane) {
-      const uint32_t k = p * kPackWidth + lane;
-      if (k >= leaf.count) {
-        // Padding repeats the first triangle's vertices so the math stays finite.
-        for (int vtx = 0; vtx < 3; ++vtx)
-          for (int axis = 0; axis < 3; ++axis) pack.v[vtx][axis][lane] = pack.v[vtx][axis][0];
-        pack.prim[lane] = kInvalidId;
-        continue;
-      }
-      const uint32_t tri = binary_.primIndices[leaf.first + k];
-      for (int vtx = 0; vtx < 3; ++vtx) {
-        const glm::vec3 p3 = mesh_.vertex(tri, vtx);
-        for (int axis = 0; axis < 3; ++axis) pack.v[vtx][axis][lane] = p3[axis];
-      }
-      pack.prim[lane] = tri;
-      if (!mesh_.degenerate[tri]) pack.validBits |= 1u << lane;
-      if (mesh_.isMasked(tri)) pack.maskedBits |= 1u << lane;
-    }
-    return pack;
+    const uint32_t first = p * kPackWidth;
+    return makeTrianglePack(mesh_, std::span(binary_.primIndices).subspan(leaf.first + first,
+                                                                          std::min(kPackWidth, leaf.count - first)));
   }
 
   const BinaryBvh& binary_;
@@ -145,6 +128,29 @@ class Collapser {
 };
 
 }  // namespace
+
+TrianglePack makeTrianglePack(const TriangleMesh& mesh, std::span<const uint32_t> tris) {
+  if (tris.empty() || tris.size() > kPackWidth) throw std::invalid_argument("a triangle pack holds 1 to 8 triangles");
+  TrianglePack pack{};
+  for (uint32_t lane = 0; lane < kPackWidth; ++lane) {
+    if (lane >= tris.size()) {
+      // Padding repeats the first triangle's vertices so the math stays finite.
+      for (int vtx = 0; vtx < 3; ++vtx)
+        for (int axis = 0; axis < 3; ++axis) pack.v[vtx][axis][lane] = pack.v[vtx][axis][0];
+      pack.prim[lane] = kInvalidId;
+      continue;
+    }
+    const uint32_t tri = tris[lane];
+    for (int vtx = 0; vtx < 3; ++vtx) {
+      const glm::vec3 p3 = mesh.vertex(tri, vtx);
+      for (int axis = 0; axis < 3; ++axis) pack.v[vtx][axis][lane] = p3[axis];
+    }
+    pack.prim[lane] = tri;
+    if (!mesh.degenerate[tri]) pack.validBits |= 1u << lane;
+    if (mesh.isMasked(tri)) pack.maskedBits |= 1u << lane;
+  }
+  return pack;
+}
 
 WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh) {
   WideBvh out;

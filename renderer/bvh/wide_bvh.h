@@ -2,6 +2,7 @@
 // The 8-wide BVH layout traversed with SIMD slab tests, converted from the binary BVH, with leaf
 // triangles precomputed into 8-wide structure-of-arrays packs for the SIMD watertight test.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "renderer/bvh/binary_bvh.h"
@@ -54,6 +55,10 @@ struct WideBvh {
   WideKernel kernel = WideKernel::Baseline;   ///< Which traversal runs (tests may pick any available one).
   bool empty() const { return nodes.empty(); }
 };
+
+/// Packs up to kPackWidth triangles of mesh (indices in tris) into one pack; unused lanes repeat
+/// the first triangle's vertices (finite math) and are not valid.
+TrianglePack makeTrianglePack(const TriangleMesh& mesh, std::span<const uint32_t> tris);
 
 /// Converts the binary BVH into the 8-wide layout (children chosen by opening the largest box
 /// first) and packs the leaf triangles of mesh.

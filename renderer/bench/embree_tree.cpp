@@ -1,0 +1,189 @@
+// Our wide layout filled from Embree's rtcBuildBVH tree (see embree_tree.h).
+#include "renderer/bench/embree_tree.h"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <new>
+
+#include <embree3/rtcore_builder.h>
+
+namespace pa::bench {
+namespace {
+
+using bvh_detail::kLeafBit;
+using bvh_detail::kPackCountShift;
+using bvh_detail::kPackWidth;
+using bvh_detail::kWideWidth;
+
+constexpr unsigned kMaxLeafTriangles = 16 * kPackWidth;   // 16 packs: what a leaf reference can name
+
+/// A node or leaf of Embree's tree, in memory from Embree's thread-local allocator.
+struct BuiltNode {
+  bool leaf = false;
+  unsigned count = 0;                        ///< Children, or triangles of a leaf.
+  std::array<void*, kWideWidth> children{};
+  std::array<RTCBounds, kWideWidth> bounds{};
+  std::array<uint32_t, kMaxLeafTriangles> triangles{};
+};
+
+void* createNode(RTCThreadLocalAllocator allocator, unsigned childCount, void*) {
+  void* memory = rtcThreadLocalAlloc(allocator, sizeof(BuiltNode), alignof(BuiltNode));
+  auto* node = new (memory) BuiltNode();
+  node->count = childCount;
+  return node;
+}
+
+void setNodeChildren(void* nodePtr, void** children, unsigned childCount, void*) {
+  auto* node = static_cast<BuiltNode*>(nodePtr);
+  std::copy_n(children, childCount, node->children.begin());
+}
+
+void setNodeBounds(void* nodePtr, const RTCBounds** bounds, unsigned childCount, void*) {
+  auto* node = static_cast<BuiltNode*>(nodePtr);
+  for (unsigned i = 0; i < childCount; ++i) node->bounds[i] = *bounds[i];
+}
+
+void* createLeaf(RTCThreadLocalAllocator allocator, const RTCBuildPrimitive* primitives, size_t count, void*) {
+  void* memory = rtcThreadLocalAlloc(allocator, sizeof(BuiltNode), alignof(BuiltNode));
+  auto* leaf = new (memory) BuiltNode();
+  leaf->leaf = true;
+  leaf->count = static_cast<unsigned>(std::min<size_t>(count, kMaxLeafTriangles));   // maxLeafSize bounds it
+  for (unsigned i = 0; i < leaf->count; ++i) leaf->triangles[i] = primitives[i].primID;
+  return leaf;
+}
+
+float halfArea(const RTCBounds& b) {
+  const float dx = b.upper_x - b.lower_x, dy = b.upper_y - b.lower_y, dz = b.upper_z - b.lower_z;
+  return dx * dy + dy * dz + dz * dx;
+}
+
+/// Writes Embree's tree into our layout, depth first like collapseToWide.
+class Converter {
+ public:
+  Converter(const bvh_detail::TriangleMesh& mesh, bvh_detail::WideBvh& out) : mesh_(mesh), out_(out) {}
+
+  void fill(uint32_t wide, const BuiltNode& built) {
+    std::array<unsigned, kWideWidth> order{};
+    for (unsigned i = 0; i < built.count; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.begin() + built.count,
+                     [&](unsigned a, unsigned b) { return halfArea(built.bounds[a]) > halfArea(built.bounds[b]); });
+    bvh_detail::WideNode node;
+    for (int side = 0; side < 2; ++side)
+      for (int axis = 0; axis < 3; ++axis)
+        std::fill_n(node.bounds[side][axis], kWideWidth,
+                    side == 0 ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity());
+    std::fill_n(node.child, kWideWidth, 0u);
+    std::vector<std::pair<uint32_t, const BuiltNode*>> inner;
+    for (unsigned slot = 0; slot < built.count; ++slot) {
+      const RTCBounds& b = built.bounds[order[slot]];
+      const float lower[3] = {b.lower_x, b.lower_y, b.lower_z}, upper[3] = {b.upper_x, b.upper_y, b.upper_z};
+      for (int axis = 0; axis < 3; ++axis) {
+        node.bounds[0][axis][slot] = lower[axis];
+        node.bounds[1][axis][slot] = upper[axis];
+      }
+      const auto* child = static_cast<const BuiltNode*>(built.children[order[slot]]);
+      if (child->leaf) {
+        node.child[slot] = leafReference(*child);
+      } else {
+        node.child[slot] = static_cast<uint32_t>(out_.nodes.size());
+        out_.nodes.emplace_back();
+        inner.emplace_back(node.child[slot], child);
+      }
+    }
+    out_.nodes[wide] = node;
+    for (const auto& [index, child] : inner) fill(index, *child);
+  }
+
+  /// Packs a leaf's triangles and returns its leaf reference.
+  uint32_t leafReference(const BuiltNode& leaf) {
+    const auto first = static_cast<uint32_t>(out_.packs.size());
+    const uint32_t packs = (leaf.count + kPackWidth - 1) / kPackWidth;
+    for (uint32_t p = 0; p < packs; ++p) {
+      const uint32_t begin = p * kPackWidth;
+      out_.packs.push_back(bvh_detail::makeTrianglePack(
+          mesh_, std::span(leaf.triangles).subspan(begin, std::min(kPackWidth, leaf.count - begin))));
+    }
+    if (first + packs > bvh_detail::kFirstPackMask) throw std::runtime_error("too many triangles for the wide layout");
+    return kLeafBit | ((packs - 1) << kPackCountShift) | first;
+  }
+
+ private:
+  const bvh_detail::TriangleMesh& mesh_;
+  bvh_detail::WideBvh& out_;
+};
+
+}  // namespace
+
+bvh_detail::WideBvh buildWideFromEmbreeTree(RTCDevice device, const bvh_detail::TriangleMesh& mesh,
+                                            const EmbreeTreeConfig& config) {
+  if (config.maxLeafSize < 1 || config.maxLeafSize > kMaxLeafTriangles)
+    throw std::runtime_error("Embree tree: maxLeafSize must be in [1, " + std::to_string(kMaxLeafTriangles) + "]");
+  std::vector<RTCBuildPrimitive> primitives;
+  primitives.reserve(mesh.triangleCount());
+  for (uint32_t tri = 0; tri < mesh.triangleCount(); ++tri) {
+    if (mesh.degenerate[tri]) continue;   // never hit; our build keeps them, Embree's drops them
+    glm::vec3 lower = mesh.vertex(tri, 0), upper = lower;
+    for (int corner = 1; corner < 3; ++corner) {
+      lower = glm::min(lower, mesh.vertex(tri, corner));
+      upper = glm::max(upper, mesh.vertex(tri, corner));
+    }
+    primitives.push_back({lower.x, lower.y, lower.z, 0, upper.x, upper.y, upper.z, tri});
+  }
+  bvh_detail::WideBvh out;
+  out.kernel = bvh_detail::bestWideKernel();
+  if (primitives.empty()) return out;
+
+  RTCBVH bvh = rtcNewBVH(device);
+  RTCBuildArguments args = rtcDefaultBuildArguments();
+  args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;
+  args.maxBranchingFactor = kWideWidth;
+  args.maxDepth = 64;
+  args.sahBlockSize = config.sahBlockSize;
+  args.minLeafSize = config.minLeafSize;
+  args.maxLeafSize = config.maxLeafSize;
+  args.traversalCost = config.traversalCost;
+  args.intersectionCost = 1.0f;
+  args.bvh = bvh;
+  args.primitives = primitives.data();
+  args.primitiveCount = primitives.size();
+  args.primitiveArrayCapacity = primitives.size();
+  args.createNode = createNode;
+  args.setNodeChildren = setNodeChildren;
+  args.setNodeBounds = setNodeBounds;
+  args.createLeaf = createLeaf;
+  const auto* root = static_cast<const BuiltNode*>(rtcBuildBVH(&args));
+  try {
+    if (!root) throw std::runtime_error("Embree tree: rtcBuildBVH failed");
+    out.nodes.emplace_back();
+    Converter converter(mesh, out);
+    if (root->leaf) {
+      // A single leaf: one node whose only child is that leaf.
+      BuiltNode top;
+      top.count = 1;
+      top.children[0] = const_cast<BuiltNode*>(root);
+      const glm::vec3 lo{primitives[0].lower_x, primitives[0].lower_y, primitives[0].lower_z};
+      RTCBounds all{lo.x, lo.y, lo.z, 0.0f, lo.x, lo.y, lo.z, 0.0f};
+      for (const RTCBuildPrimitive& p : primitives) {
+        all.lower_x = std::min(all.lower_x, p.lower_x), all.lower_y = std::min(all.lower_y, p.lower_y);
+        all.lower_z = std::min(all.lower_z, p.lower_z), all.upper_x = std::max(all.upper_x, p.upper_x);
+        all.upper_y = std::max(all.upper_y, p.upper_y), all.upper_z = std::max(all.upper_z, p.upper_z);
+      }
+      top.bounds[0] = all;
+      converter.fill(0, top);
+    } else {
+      converter.fill(0, *root);
+    }
+  } catch (...) {
+    rtcReleaseBVH(bvh);
+    throw;
+  }
+  rtcReleaseBVH(bvh);
+  return out;
+}
+
+}  // namespace pa::bench

@@ -1,0 +1,71 @@
+// The bench's "our kernels over Embree's tree" layout: every triangle packed once, and the same
+// hits (distance bit for bit) as our own BVH, since only the tree differs.
+#include <bit>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "renderer/bench/embree_tree.h"
+#include "renderer/bvh/bvh.h"
+#include "renderer/bvh/testing/embree_oracle.h"
+#include "renderer/bvh/testing/scene_generators.h"
+
+namespace pa::bench {
+namespace {
+
+void expectSameHitsAsBlas(const testing::TestMesh& mesh, uint32_t seed, uint32_t minHits) {
+  testing::EmbreeDevice device("threads=1");
+  const bvh_detail::TriangleMesh triangles = bvh_detail::makeTriangleMesh(mesh.input());
+  const bvh_detail::WideBvh tree = buildWideFromEmbreeTree(device.get(), triangles);
+  ASSERT_FALSE(tree.empty());
+
+  // Every non-degenerate triangle sits in exactly one valid lane.
+  std::vector<int> seen(triangles.triangleCount(), 0);
+  for (const bvh_detail::TrianglePack& pack : tree.packs)
+    for (uint32_t lane = 0; lane < bvh_detail::kPackWidth; ++lane)
+      if (pack.validBits >> lane & 1) ++seen[pack.prim[lane]];
+  for (uint32_t tri = 0; tri < triangles.triangleCount(); ++tri)
+    ASSERT_EQ(seen[tri], triangles.degenerate[tri] ? 0 : 1) << "triangle " << tri;
+
+  Blas blas;
+  blas.build(mesh.input());
+  Bounds region = mesh.bounds();
+  region.min -= glm::vec3(0.5f);
+  region.max += glm::vec3(0.5f);
+  uint32_t hits = 0;
+  for (const Ray& ray : testing::makeRandomRays(region, 100000, seed)) {
+    Ray a = ray, b = ray;
+    Hit ha, hb;
+    const bool hitA = bvh_detail::intersectWide(tree, a, ha, {}, 0);
+    const bool hitB = blas.intersect(b, hb);
+    ASSERT_EQ(hitA, hitB);
+    ASSERT_EQ(bvh_detail::occludedWide(tree, ray, {}, 0), blas.occluded(ray));
+    if (!hitA) continue;
+    ++hits;
+    ASSERT_EQ(ha.t, hb.t);   // same triangle test, so the same distance; the triangle may differ on a tie
+  }
+  EXPECT_GE(hits, minHits);   // the comparison saw real hits, not only misses
+}
+
+TEST(EmbreeTree, SoupHasOurHits) { expectSameHitsAsBlas(testing::makeTriangleSoup(3000, 11), 5, 1000); }
+
+TEST(EmbreeTree, ThinTrianglesHaveOurHits) { expectSameHitsAsBlas(testing::makeThinTriangles(3000, 12), 6, 300); }
+
+TEST(EmbreeTree, OneTriangleIsOneLeaf) {
+  testing::TestMesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.indices = {0, 1, 2};
+  testing::EmbreeDevice device("threads=1");
+  const bvh_detail::WideBvh tree = buildWideFromEmbreeTree(device.get(), bvh_detail::makeTriangleMesh(mesh.input()));
+  ASSERT_EQ(tree.nodes.size(), 1u);
+  ASSERT_EQ(tree.packs.size(), 1u);
+  Ray ray;
+  ray.origin = {0.25f, 0.25f, 1.0f};
+  ray.dir = {0.0f, 0.0f, -1.0f};
+  Hit hit;
+  ASSERT_TRUE(bvh_detail::intersectWide(tree, ray, hit, {}, 0));
+  EXPECT_FLOAT_EQ(hit.t, 1.0f);
+}
+
+}  // namespace
+}  // namespace pa::bench
