@@ -194,7 +194,9 @@ TEST(Extremes, ZeroAreaTrianglesInALargeMeshNeverHit) {
     for (const glm::vec3& from : {t + glm::vec3(0, 0, 3), t + glm::vec3(3, 1, 0)}) {
       Ray ray{from, 0.0f, t - from, kInf};
       Hit hit;
-      if (blas.intersect(ray, hit)) EXPECT_LT(hit.prim, firstDegenerate);
+      if (blas.intersect(ray, hit)) {
+        EXPECT_LT(hit.prim, firstDegenerate);
+      }
     }
   }
 }
