@@ -16,7 +16,7 @@ namespace pa {
 
 /// Build knobs, with defaults that suit game maps. Every knob is measured in docs/performance.md.
 struct BvhBuildConfig {
-  uint32_t binCount = 16;          ///< SAH bins per axis.
+  uint32_t binCount = 32;          ///< SAH bins per axis (32 beat 16 on real maps: docs/performance.md).
   uint32_t maxLeafTriangles = 8;   ///< Hard upper bound on triangles per leaf.
   float traversalCost = 1.0f;      ///< SAH cost of visiting a node, relative to one triangle test.
   uint32_t parallelThreshold = 4096;  ///< Subtrees smaller than this are built serially.
