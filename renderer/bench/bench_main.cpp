@@ -1,6 +1,7 @@
 // bench: our BVH against Embree 3 on the same scene and the same rays.
 //   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
 //         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X]
+//         [--parallel-threshold N]
 //         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree]
 // --embree-robust builds Embree's scene with RTC_SCENE_FLAG_ROBUST (its conservative traversal
 // and watertight-leaning kernels: the like-for-like comparison for our robust traversal).
@@ -51,7 +52,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree]\n",
+               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree]\n",
                error.c_str());
   std::exit(2);
 }
@@ -86,6 +87,7 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--max-leaf") o.build.maxLeafTriangles = parseCount(value(), "--max-leaf");
     else if (a == "--traversal-cost") o.build.traversalCost = std::strtof(value(), nullptr);
     else if (a == "--split-budget") o.build.splitBudget = std::strtof(value(), nullptr);
+    else if (a == "--parallel-threshold") o.build.parallelThreshold = parseCount(value(), "--parallel-threshold");
     else usage("unknown argument " + a);
   }
   if (o.scene.empty() == o.synthetic.empty()) usage("give exactly one of --scene and --synthetic");
