@@ -293,9 +293,12 @@ class Builder {
     return best;
   }
 
-  /// A node under construction: its slot in nodes_ and its primitive range.
+  /// A node under construction: its slot in nodes_ and its primitive range. Inside a subtree
+  /// built serially, nextSlot points at that subtree's own block of free node slots (nullptr:
+  /// allocate from the shared counter).
   struct Task {
     uint32_t slot, begin, end, depth;
+    uint32_t* nextSlot = nullptr;
   };
 
   void makeLeaf(const Task& t, const Box& box, const PrimRef* refs) {
@@ -378,9 +381,25 @@ class Builder {
     BinaryNode& node = *new (&nodes_[t.slot]) BinaryNode();
     node.bounds = box.toBounds();
     node.count = 0;
-    node.left = nextNode_.fetch_add(2, std::memory_order_relaxed);
+    // A subtree built serially takes one block of slots for all its nodes (a binary tree over
+    // count references has at most 2 * count - 2 below its root), so the threads do not contend
+    // on the shared counter, nor write nodes into each other's cache lines, node by node. The
+    // blocks add up to no more than the 2n - 1 slots of nodes_; renumberDepthFirst drops the gaps.
+    uint32_t blockNext = 0;
+    uint32_t* nextSlot = t.nextSlot;
+    if (!nextSlot && !parallel(count)) {
+      blockNext = nextNode_.fetch_add(2 * count - 2, std::memory_order_relaxed);
+      nextSlot = &blockNext;
+    }
+    if (nextSlot) {
+      node.left = *nextSlot;
+      *nextSlot += 2;
+    } else {
+      node.left = nextNode_.fetch_add(2, std::memory_order_relaxed);
+    }
     node.right = node.left + 1;
-    const Task leftTask{node.left, t.begin, mid, t.depth + 1}, rightTask{node.right, mid, t.end, t.depth + 1};
+    const Task leftTask{node.left, t.begin, mid, t.depth + 1, nextSlot};
+    const Task rightTask{node.right, mid, t.end, t.depth + 1, nextSlot};
     auto buildLeft = [&] { buildNode(leftTask, left, leftCentroids, childRefs, childOther); };
     auto buildRight = [&] { buildNode(rightTask, right, rightCentroids, childRefs, childOther); };
     if (parallel(count)) {
@@ -421,6 +440,7 @@ class Builder {
       }
       out_.nodes[target] = node;
     }
+    out_.nodes.resize(written);   // slots reserved for serial subtrees but not used are dropped
     out_.nodeCount = written;
     out_.leafCount = leaves;
     if (pack) out_.primIndices.resize(packedPrims);
