@@ -22,38 +22,50 @@ using bvh_detail::kWideWidth;
 
 constexpr unsigned kMaxLeafTriangles = 16 * kPackWidth;   // 16 packs: what a leaf reference can name
 
-/// A node or leaf of Embree's tree, in memory from Embree's thread-local allocator.
+/// What Embree's builder callbacks make, in memory from its thread-local allocator: inner
+/// nodes and leaves start with this header.
 struct BuiltNode {
   bool leaf = false;
-  unsigned count = 0;                        ///< Children, or triangles of a leaf.
-  std::array<void*, kWideWidth> children{};
+  unsigned count = 0;   ///< Children, or triangles of a leaf.
+};
+
+/// An inner node: up to 8 children and their boxes.
+struct BuiltInner : BuiltNode {
+  std::array<const BuiltNode*, kWideWidth> children{};
   std::array<RTCBounds, kWideWidth> bounds{};
-  std::array<uint32_t, kMaxLeafTriangles> triangles{};
+};
+
+/// A leaf: its triangle indices follow it in the same allocation.
+struct BuiltLeaf : BuiltNode {
+  std::span<const uint32_t> triangles() const { return {reinterpret_cast<const uint32_t*>(this + 1), count}; }
 };
 
 void* createNode(RTCThreadLocalAllocator allocator, unsigned childCount, void*) {
-  void* memory = rtcThreadLocalAlloc(allocator, sizeof(BuiltNode), alignof(BuiltNode));
-  auto* node = new (memory) BuiltNode();
+  void* memory = rtcThreadLocalAlloc(allocator, sizeof(BuiltInner), alignof(BuiltInner));
+  auto* node = new (memory) BuiltInner();
   node->count = childCount;
   return node;
 }
 
 void setNodeChildren(void* nodePtr, void** children, unsigned childCount, void*) {
-  auto* node = static_cast<BuiltNode*>(nodePtr);
-  std::copy_n(children, childCount, node->children.begin());
+  auto* node = static_cast<BuiltInner*>(nodePtr);
+  for (unsigned i = 0; i < childCount; ++i) node->children[i] = static_cast<const BuiltNode*>(children[i]);
 }
 
 void setNodeBounds(void* nodePtr, const RTCBounds** bounds, unsigned childCount, void*) {
-  auto* node = static_cast<BuiltNode*>(nodePtr);
+  auto* node = static_cast<BuiltInner*>(nodePtr);
   for (unsigned i = 0; i < childCount; ++i) node->bounds[i] = *bounds[i];
 }
 
 void* createLeaf(RTCThreadLocalAllocator allocator, const RTCBuildPrimitive* primitives, size_t count, void*) {
-  void* memory = rtcThreadLocalAlloc(allocator, sizeof(BuiltNode), alignof(BuiltNode));
-  auto* leaf = new (memory) BuiltNode();
+  // maxLeafSize (<= kMaxLeafTriangles) bounds count; the clamp only keeps the writes in bounds.
+  const auto kept = static_cast<unsigned>(std::min<size_t>(count, kMaxLeafTriangles));
+  void* memory = rtcThreadLocalAlloc(allocator, sizeof(BuiltLeaf) + kept * sizeof(uint32_t), alignof(BuiltLeaf));
+  auto* leaf = new (memory) BuiltLeaf();
   leaf->leaf = true;
-  leaf->count = static_cast<unsigned>(std::min<size_t>(count, kMaxLeafTriangles));   // maxLeafSize bounds it
-  for (unsigned i = 0; i < leaf->count; ++i) leaf->triangles[i] = primitives[i].primID;
+  leaf->count = kept;
+  auto* triangles = reinterpret_cast<uint32_t*>(leaf + 1);
+  for (unsigned i = 0; i < kept; ++i) triangles[i] = primitives[i].primID;
   return leaf;
 }
 
@@ -67,7 +79,7 @@ class Converter {
  public:
   Converter(const bvh_detail::TriangleMesh& mesh, bvh_detail::WideBvh& out) : mesh_(mesh), out_(out) {}
 
-  void fill(uint32_t wide, const BuiltNode& built) {
+  void fill(uint32_t wide, const BuiltInner& built) {
     std::array<unsigned, kWideWidth> order{};
     for (unsigned i = 0; i < built.count; ++i) order[i] = i;
     std::stable_sort(order.begin(), order.begin() + built.count,
@@ -78,7 +90,7 @@ class Converter {
         std::fill_n(node.bounds[side][axis], kWideWidth,
                     side == 0 ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity());
     std::fill_n(node.child, kWideWidth, 0u);
-    std::vector<std::pair<uint32_t, const BuiltNode*>> inner;
+    std::vector<std::pair<uint32_t, const BuiltInner*>> inner;
     for (unsigned slot = 0; slot < built.count; ++slot) {
       const RTCBounds& b = built.bounds[order[slot]];
       const float lower[3] = {b.lower_x, b.lower_y, b.lower_z}, upper[3] = {b.upper_x, b.upper_y, b.upper_z};
@@ -86,13 +98,13 @@ class Converter {
         node.bounds[0][axis][slot] = lower[axis];
         node.bounds[1][axis][slot] = upper[axis];
       }
-      const auto* child = static_cast<const BuiltNode*>(built.children[order[slot]]);
+      const BuiltNode* child = built.children[order[slot]];
       if (child->leaf) {
-        node.child[slot] = leafReference(*child);
+        node.child[slot] = leafReference(*static_cast<const BuiltLeaf*>(child));
       } else {
         node.child[slot] = static_cast<uint32_t>(out_.nodes.size());
         out_.nodes.emplace_back();
-        inner.emplace_back(node.child[slot], child);
+        inner.emplace_back(node.child[slot], static_cast<const BuiltInner*>(child));
       }
     }
     out_.nodes[wide] = node;
@@ -100,13 +112,13 @@ class Converter {
   }
 
   /// Packs a leaf's triangles and returns its leaf reference.
-  uint32_t leafReference(const BuiltNode& leaf) {
+  uint32_t leafReference(const BuiltLeaf& leaf) {
     const auto first = static_cast<uint32_t>(out_.packs.size());
     const uint32_t packs = (leaf.count + kPackWidth - 1) / kPackWidth;
     for (uint32_t p = 0; p < packs; ++p) {
       const uint32_t begin = p * kPackWidth;
       out_.packs.push_back(bvh_detail::makeTrianglePack(
-          mesh_, std::span(leaf.triangles).subspan(begin, std::min(kPackWidth, leaf.count - begin))));
+          mesh_, leaf.triangles().subspan(begin, std::min(kPackWidth, leaf.count - begin))));
     }
     if (first + packs > bvh_detail::kFirstPackMask) throw std::runtime_error("too many triangles for the wide layout");
     return kLeafBit | ((packs - 1) << kPackCountShift) | first;
@@ -163,9 +175,9 @@ bvh_detail::WideBvh buildWideFromEmbreeTree(RTCDevice device, const bvh_detail::
     Converter converter(mesh, out);
     if (root->leaf) {
       // A single leaf: one node whose only child is that leaf.
-      BuiltNode top;
+      BuiltInner top;
       top.count = 1;
-      top.children[0] = const_cast<BuiltNode*>(root);
+      top.children[0] = root;
       const glm::vec3 lo{primitives[0].lower_x, primitives[0].lower_y, primitives[0].lower_z};
       RTCBounds all{lo.x, lo.y, lo.z, 0.0f, lo.x, lo.y, lo.z, 0.0f};
       for (const RTCBuildPrimitive& p : primitives) {
@@ -176,7 +188,7 @@ bvh_detail::WideBvh buildWideFromEmbreeTree(RTCDevice device, const bvh_detail::
       top.bounds[0] = all;
       converter.fill(0, top);
     } else {
-      converter.fill(0, *root);
+      converter.fill(0, *static_cast<const BuiltInner*>(root));
     }
   } catch (...) {
     rtcReleaseBVH(bvh);
