@@ -415,8 +415,10 @@ class Builder {
   /// dropped repeated primitives are packed: depth-first order is the order of their ranges,
   /// so each moves its primitives down in place.
   void renumberDepthFirst() {
-    const uint32_t total = nextNode_.load();
-    out_.nodes.resize(total);
+    // Slots reserved for serial subtrees but never used are not reachable: only the tree's own
+    // nodes are appended (the reservation touches no memory).
+    out_.nodes.clear();
+    out_.nodes.reserve(nextNode_.load());
     const bool pack = repeatsDropped_.load() > 0;
     uint32_t leaves = 0, written = 0, packedPrims = 0;
     std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, kInvalidId}};   // (source, parent to patch)
@@ -438,9 +440,8 @@ class Builder {
         stack.push_back({node.left, kInvalidId});
         node.left = target + 1;
       }
-      out_.nodes[target] = node;
+      out_.nodes.push_back(node);   // at index target
     }
-    out_.nodes.resize(written);   // slots reserved for serial subtrees but not used are dropped
     out_.nodeCount = written;
     out_.leafCount = leaves;
     if (pack) out_.primIndices.resize(packedPrims);
