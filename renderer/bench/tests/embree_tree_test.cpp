@@ -1,5 +1,5 @@
 // The bench's "our kernels over Embree's tree" layout: every triangle packed once, and the same
-// hits (distance bit for bit) as our own BVH, since only the tree differs.
+// answers (distance bit for bit) as our own BVH, since only the tree differs.
 #include <bit>
 #include <vector>
 
@@ -8,6 +8,7 @@
 #include "renderer/bench/embree_tree.h"
 #include "renderer/bvh/bvh.h"
 #include "renderer/bvh/testing/embree_oracle.h"
+#include "renderer/bvh/testing/identical_hits.h"
 #include "renderer/bvh/testing/scene_generators.h"
 
 namespace pa::bench {
@@ -32,18 +33,12 @@ void expectSameHitsAsBlas(const testing::TestMesh& mesh, uint32_t seed, uint32_t
   Bounds region = mesh.bounds();
   region.min -= glm::vec3(0.5f);
   region.max += glm::vec3(0.5f);
+  const testing::Tracer embreeTree{[&](Ray& r, Hit& h) { return bvh_detail::intersectWide(tree, r, h, {}, 0); },
+                                   [&](const Ray& r) { return bvh_detail::occludedWide(tree, r, {}, 0); }};
+  const testing::Tracer ours{[&](Ray& r, Hit& h) { return blas.intersect(r, h); },
+                             [&](const Ray& r) { return blas.occluded(r); }};
   uint32_t hits = 0;
-  for (const Ray& ray : testing::makeRandomRays(region, 100000, seed)) {
-    Ray a = ray, b = ray;
-    Hit ha, hb;
-    const bool hitA = bvh_detail::intersectWide(tree, a, ha, {}, 0);
-    const bool hitB = blas.intersect(b, hb);
-    ASSERT_EQ(hitA, hitB);
-    ASSERT_EQ(bvh_detail::occludedWide(tree, ray, {}, 0), blas.occluded(ray));
-    if (!hitA) continue;
-    ++hits;
-    ASSERT_EQ(ha.t, hb.t);   // same triangle test, so the same distance; the triangle may differ on a tie
-  }
+  testing::expectIdenticalHits(embreeTree, ours, testing::makeRandomRays(region, 100000, seed), hits);
   EXPECT_GE(hits, minHits);   // the comparison saw real hits, not only misses
 }
 

@@ -16,6 +16,7 @@
 #include "renderer/bvh/bvh.h"
 #include "renderer/bvh/ray_offset.h"
 #include "renderer/bvh/reference_traversal.h"
+#include "renderer/bvh/testing/identical_hits.h"
 #include "renderer/bvh/testing/scene_generators.h"
 #include "renderer/bvh/triangle_mesh.h"
 #include "renderer/bvh/wide_bvh.h"
@@ -44,26 +45,12 @@ void expectSameAsReference(const TestMesh& m, const BvhBuildConfig& config, uint
   region.min -= glm::vec3(0.5f);
   region.max += glm::vec3(0.5f);
   const std::vector<Ray> rays = makeRandomRays(region, 200000, seed);
+  const Tracer wide{[&](Ray& r, Hit& h) { return intersectWide(l.wide, r, h, {}, 0); },
+                    [&](const Ray& r) { return occludedWide(l.wide, r, {}, 0); }};
+  const Tracer reference{[&](Ray& r, Hit& h) { return intersectReference(l.mesh, l.binary, r, h, {}, 0); },
+                         [&](const Ray& r) { return occludedReference(l.mesh, l.binary, r, {}, 0); }};
   uint32_t hits = 0;
-  for (const Ray& r : rays) {
-    Ray a = r, b = r;
-    Hit ha, hb;
-    const bool hitA = intersectWide(l.wide, a, ha, {}, 0);
-    const bool hitB = intersectReference(l.mesh, l.binary, b, hb, {}, 0);
-    ASSERT_EQ(hitA, hitB);
-    if (!hitA) continue;
-    ++hits;
-    ASSERT_EQ(ha.t, hb.t);
-    if (ha.prim == hb.prim) {
-      ASSERT_EQ(ha.u, hb.u);
-      ASSERT_EQ(ha.v, hb.v);
-    }
-    Ray s = r;
-    s.tmax = ha.t * 0.5f;
-    ASSERT_EQ(occludedWide(l.wide, s, {}, 0), occludedReference(l.mesh, l.binary, s, {}, 0));
-    s.tmax = ha.t * 1.0001f;
-    ASSERT_TRUE(occludedWide(l.wide, s, {}, 0));
-  }
+  expectIdenticalHits(wide, reference, rays, hits);
   EXPECT_GT(hits, rays.size() / 50);
 }
 

@@ -17,6 +17,7 @@
 #include "renderer/bvh/bvh.h"
 #include "renderer/bvh/presplit.h"
 #include "renderer/bvh/reference_traversal.h"
+#include "renderer/bvh/testing/identical_hits.h"
 #include "renderer/bvh/testing/scene_generators.h"
 #include "renderer/bvh/triangle_mesh.h"
 
@@ -194,27 +195,14 @@ TEST(Presplit, RejectsBadBudgets) {
   }
 }
 
-/// Closest and any hits of two Blas over the same mesh must agree: same t bit for bit (the
-/// triangle test does not change), same triangle except on exact ties.
+/// Two Blas over the same mesh must answer every ray identically (identical_hits.h).
 void expectSameHits(const Blas& a, const Blas& b, const Bounds& region, uint32_t seed, const HitFilter& filter = {}) {
+  auto tracer = [&](const Blas& blas) {
+    return Tracer{[&blas, &filter](Ray& r, Hit& h) { return blas.intersect(r, h, filter); },
+                  [&blas, &filter](const Ray& r) { return blas.occluded(r, filter); }};
+  };
   uint32_t hits = 0;
-  for (const Ray& r : makeRandomRays(region, 100000, seed)) {
-    Ray ra = r, rb = r;
-    Hit ha, hb;
-    const bool hitA = a.intersect(ra, ha, filter), hitB = b.intersect(rb, hb, filter);
-    ASSERT_EQ(hitA, hitB);
-    ASSERT_EQ(a.occluded(r, filter), b.occluded(r, filter));
-    if (!hitA) continue;
-    ++hits;
-    ASSERT_EQ(ha.t, hb.t);
-    if (ha.prim == hb.prim) {
-      ASSERT_EQ(ha.u, hb.u);
-      ASSERT_EQ(ha.v, hb.v);
-    }
-    Ray s = r;
-    s.tmax = ha.t * 0.999f;
-    ASSERT_EQ(a.occluded(s, filter), b.occluded(s, filter));
-  }
+  expectIdenticalHits(tracer(a), tracer(b), makeRandomRays(region, 100000, seed), hits);
   EXPECT_GT(hits, 1000u);
 }
 

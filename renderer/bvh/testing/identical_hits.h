@@ -1,0 +1,51 @@
+#pragma once
+// For tests (needs GoogleTest): two ways of tracing the same triangles with the same triangle
+// test (two layouts, two trees, with and without pre-splitting) must give identical answers.
+// Header-only so the testing library itself stays free of GoogleTest (the bench links it).
+#include <cstdint>
+#include <functional>
+#include <span>
+
+#include <gtest/gtest.h>
+
+#include "renderer/core/ray.h"
+
+namespace pa::testing {
+
+/// One way of tracing: closest hit (shortens ray.tmax, fills hit) and any hit.
+struct Tracer {
+  std::function<bool(Ray&, Hit&)> closest;
+  std::function<bool(const Ray&)> occluded;
+};
+
+/// Same hit or miss, same t bit for bit, same barycentrics when the triangle is the same (it may
+/// differ only on an exact tie), and the same any-hit answer over the whole ray, half way to the
+/// hit and just short of it; just past the hit both must report occlusion. `hits` receives the
+/// number of rays that hit (callers check the comparison saw enough of them).
+inline void expectIdenticalHits(const Tracer& a, const Tracer& b, std::span<const Ray> rays, uint32_t& hits) {
+  hits = 0;
+  for (const Ray& r : rays) {
+    Ray ra = r, rb = r;
+    Hit ha, hb;
+    const bool hitA = a.closest(ra, ha), hitB = b.closest(rb, hb);
+    ASSERT_EQ(hitA, hitB);
+    ASSERT_EQ(a.occluded(r), b.occluded(r));
+    if (!hitA) continue;
+    ++hits;
+    ASSERT_EQ(ha.t, hb.t);
+    if (ha.prim == hb.prim) {
+      ASSERT_EQ(ha.u, hb.u);
+      ASSERT_EQ(ha.v, hb.v);
+    }
+    Ray s = r;
+    for (const float fraction : {0.5f, 0.999f}) {
+      s.tmax = ha.t * fraction;
+      ASSERT_EQ(a.occluded(s), b.occluded(s));
+    }
+    s.tmax = ha.t * 1.0001f;
+    ASSERT_TRUE(a.occluded(s));
+    ASSERT_TRUE(b.occluded(s));
+  }
+}
+
+}  // namespace pa::testing
