@@ -18,9 +18,10 @@ struct Tracer {
   std::function<bool(const Ray&)> occluded;
 };
 
-/// Same hit or miss, same t bit for bit, same barycentrics when the triangle is the same (it may
-/// differ only on an exact tie), and the same any-hit answer over the whole ray, half way to the
-/// hit and just short of it; just past the hit both must report occlusion. `hits` receives the
+/// Same hit or miss, same t bit for bit and instance, same barycentrics when the triangle is the
+/// same (it may differ only on an exact tie); any hit over the whole ray exactly when there is a
+/// closest hit, the same any-hit answer half way to the hit and just short of it, and occlusion
+/// just past it. `hits` receives the
 /// number of rays that hit (callers check the comparison saw enough of them).
 inline void expectIdenticalHits(const Tracer& a, const Tracer& b, std::span<const Ray> rays, uint32_t& hits) {
   hits = 0;
@@ -29,10 +30,12 @@ inline void expectIdenticalHits(const Tracer& a, const Tracer& b, std::span<cons
     Hit ha, hb;
     const bool hitA = a.closest(ra, ha), hitB = b.closest(rb, hb);
     ASSERT_EQ(hitA, hitB);
-    ASSERT_EQ(a.occluded(r), b.occluded(r));
+    ASSERT_EQ(a.occluded(r), hitA);
+    ASSERT_EQ(b.occluded(r), hitB);
     if (!hitA) continue;
     ++hits;
     ASSERT_EQ(ha.t, hb.t);
+    ASSERT_EQ(ha.instance, hb.instance);
     if (ha.prim == hb.prim) {
       ASSERT_EQ(ha.u, hb.u);
       ASSERT_EQ(ha.v, hb.v);

@@ -7,6 +7,7 @@
 
 #include "renderer/bvh/binary_bvh.h"
 #include "renderer/bvh/reference_traversal.h"
+#include "renderer/bvh/testing/identical_hits.h"
 #include "renderer/bvh/testing/scene_generators.h"
 #include "renderer/bvh/triangle_mesh.h"
 #include "renderer/bvh/wide_bvh.h"
@@ -45,26 +46,16 @@ void expectKernelsMatchReference(TestMesh m, uint32_t seed, bool masked) {
   for (WideKernel kernel : availableKernels()) {
     SCOPED_TRACE(kernel == WideKernel::Avx512 ? "AVX-512 kernel" : "baseline kernel");
     wide.kernel = kernel;
+    const Tracer kernelTracer{[&](Ray& r, Hit& h) {
+                                const bool hit = intersectWide(wide, r, h, filter, 7);
+                                EXPECT_TRUE(!hit || h.instance == 7u) << "hit reports instance " << h.instance;
+                                return hit;
+                              },
+                              [&](const Ray& r) { return occludedWide(wide, r, filter, 7); }};
+    const Tracer reference{[&](Ray& r, Hit& h) { return intersectReference(mesh, binary, r, h, filter, 7); },
+                           [&](const Ray& r) { return occludedReference(mesh, binary, r, filter, 7); }};
     uint32_t hits = 0;
-    for (const Ray& r : rays) {
-      Ray a = r, b = r;
-      Hit ha, hb;
-      const bool hitA = intersectWide(wide, a, ha, filter, 7);
-      const bool hitB = intersectReference(mesh, binary, b, hb, filter, 7);
-      ASSERT_EQ(hitA, hitB);
-      ASSERT_EQ(occludedWide(wide, r, filter, 7), hitB);
-      if (!hitA) continue;
-      ++hits;
-      ASSERT_EQ(ha.t, hb.t);
-      ASSERT_EQ(ha.instance, 7u);
-      if (ha.prim == hb.prim) {
-        ASSERT_EQ(ha.u, hb.u);
-        ASSERT_EQ(ha.v, hb.v);
-      }
-      Ray s = r;
-      s.tmax = ha.t * 0.5f;
-      ASSERT_EQ(occludedWide(wide, s, filter, 7), occludedReference(mesh, binary, s, filter, 7));
-    }
+    expectIdenticalHits(kernelTracer, reference, rays, hits);
     EXPECT_GT(hits, rays.size() / 50);
   }
 }
