@@ -96,17 +96,12 @@ TEST(Refit, EqualsRebuild) {
   EXPECT_EQ(refitted.bounds().min, rebuilt.bounds().min);
   EXPECT_EQ(refitted.bounds().max, rebuilt.bounds().max);
   const std::vector<Ray> rays = makeRandomRays({glm::vec3(-2.0f), glm::vec3(2.0f)}, 200000, 35);
+  auto tracer = [](const Blas& blas) {
+    return Tracer{[&blas](Ray& r, Hit& h) { return blas.intersect(r, h); },
+                  [&blas](const Ray& r) { return blas.occluded(r); }};
+  };
   uint32_t hits = 0;
-  for (const Ray& r : rays) {
-    Ray a = r, b = r;
-    Hit ha, hb;
-    const bool hitA = refitted.intersect(a, ha), hitB = rebuilt.intersect(b, hb);
-    ASSERT_EQ(hitA, hitB);
-    if (!hitA) continue;
-    ++hits;
-    ASSERT_EQ(ha.t, hb.t);
-    ASSERT_EQ(refitted.occluded(r), rebuilt.occluded(r));
-  }
+  expectIdenticalHits(tracer(refitted), tracer(rebuilt), rays, hits);
   EXPECT_GT(hits, rays.size() / 10);
   std::vector<glm::vec3> wrongCount(3);
   EXPECT_THROW(refitted.refit(wrongCount), std::invalid_argument);
