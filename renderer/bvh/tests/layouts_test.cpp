@@ -17,6 +17,7 @@
 #include "renderer/bvh/ray_offset.h"
 #include "renderer/bvh/reference_traversal.h"
 #include "renderer/bvh/testing/identical_hits.h"
+#include "renderer/bvh/tests/same_tree.h"
 #include "renderer/bvh/testing/scene_generators.h"
 #include "renderer/bvh/triangle_mesh.h"
 #include "renderer/bvh/wide_bvh.h"
@@ -133,18 +134,8 @@ TEST(Build, DeterministicForAnyThreadCount) {
   tbb::task_arena(2).execute([&] {
     for (const TriangleMesh* m : {&larger, &smaller, &mesh}) buildBinaryBvh(*m, config, scratch, reused);
   });
-  for (const BinaryBvh* other : std::initializer_list<const BinaryBvh*>{&two, &four, &fromMesh, &reused}) {
-    ASSERT_EQ(one.primIndices, other->primIndices);
-    ASSERT_EQ(one.nodeCount, other->nodeCount);
-    ASSERT_EQ(one.nodes.size(), other->nodes.size());
-    for (size_t i = 0; i < one.nodes.size(); ++i) {
-      ASSERT_EQ(one.nodes[i].count, other->nodes[i].count);
-      ASSERT_EQ(one.nodes[i].left, other->nodes[i].left);
-      ASSERT_EQ(one.nodes[i].right, other->nodes[i].right);
-      ASSERT_EQ(one.nodes[i].bounds.min, other->nodes[i].bounds.min);
-      ASSERT_EQ(one.nodes[i].bounds.max, other->nodes[i].bounds.max);
-    }
-  }
+  for (const BinaryBvh* other : std::initializer_list<const BinaryBvh*>{&two, &four, &fromMesh, &reused})
+    expectSameTree(one, *other);
 }
 
 TEST(Build, ScratchBufferGrowsOnlyAndAlignsHugeBlocks) {

@@ -18,6 +18,7 @@
 #include "renderer/bvh/presplit.h"
 #include "renderer/bvh/reference_traversal.h"
 #include "renderer/bvh/testing/identical_hits.h"
+#include "renderer/bvh/tests/same_tree.h"
 #include "renderer/bvh/testing/scene_generators.h"
 #include "renderer/bvh/triangle_mesh.h"
 
@@ -329,17 +330,7 @@ TEST(Presplit, DeterministicForAnyThreadCount) {
   tbb::task_arena(2).execute([&] {
     for (const TriangleMesh* mm : {&other, &mesh}) buildBinaryBvh(*mm, config, scratch, reused);
   });
-  for (const BinaryBvh* b : std::initializer_list<const BinaryBvh*>{&two, &four, &reused}) {
-    ASSERT_EQ(one.primIndices, b->primIndices);
-    ASSERT_EQ(one.nodes.size(), b->nodes.size());
-    for (size_t i = 0; i < one.nodes.size(); ++i) {
-      ASSERT_EQ(one.nodes[i].count, b->nodes[i].count);
-      ASSERT_EQ(one.nodes[i].first, b->nodes[i].first);
-      ASSERT_EQ(one.nodes[i].left, b->nodes[i].left);
-      ASSERT_EQ(one.nodes[i].bounds.min, b->nodes[i].bounds.min);
-      ASSERT_EQ(one.nodes[i].bounds.max, b->nodes[i].bounds.max);
-    }
-  }
+  for (const BinaryBvh* b : std::initializer_list<const BinaryBvh*>{&two, &four, &reused}) expectSameTree(one, *b);
 }
 
 }  // namespace
