@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -32,7 +31,7 @@ struct BuiltNode {
 /// An inner node: up to 8 children and their boxes.
 struct BuiltInner : BuiltNode {
   std::array<const BuiltNode*, kWideWidth> children{};
-  std::array<RTCBounds, kWideWidth> bounds{};
+  std::array<Bounds, kWideWidth> bounds{};
 };
 
 /// A leaf: its triangle indices follow it in the same allocation.
@@ -54,7 +53,10 @@ void setNodeChildren(void* nodePtr, void** children, unsigned childCount, void*)
 
 void setNodeBounds(void* nodePtr, const RTCBounds** bounds, unsigned childCount, void*) {
   auto* node = static_cast<BuiltInner*>(nodePtr);
-  for (unsigned i = 0; i < childCount; ++i) node->bounds[i] = *bounds[i];
+  for (unsigned i = 0; i < childCount; ++i) {
+    node->bounds[i].min = {bounds[i]->lower_x, bounds[i]->lower_y, bounds[i]->lower_z};
+    node->bounds[i].max = {bounds[i]->upper_x, bounds[i]->upper_y, bounds[i]->upper_z};
+  }
 }
 
 void* createLeaf(RTCThreadLocalAllocator allocator, const RTCBuildPrimitive* primitives, size_t count, void*) {
@@ -69,11 +71,6 @@ void* createLeaf(RTCThreadLocalAllocator allocator, const RTCBuildPrimitive* pri
   return leaf;
 }
 
-float halfArea(const RTCBounds& b) {
-  const float dx = b.upper_x - b.lower_x, dy = b.upper_y - b.lower_y, dz = b.upper_z - b.lower_z;
-  return dx * dy + dy * dz + dz * dx;
-}
-
 /// Writes Embree's tree into our layout, depth first like collapseToWide.
 class Converter {
  public:
@@ -83,29 +80,20 @@ class Converter {
     std::array<unsigned, kWideWidth> order{};
     for (unsigned i = 0; i < built.count; ++i) order[i] = i;
     std::stable_sort(order.begin(), order.begin() + built.count,
-                     [&](unsigned a, unsigned b) { return halfArea(built.bounds[a]) > halfArea(built.bounds[b]); });
-    bvh_detail::WideNode node;
-    for (int side = 0; side < 2; ++side)
-      for (int axis = 0; axis < 3; ++axis)
-        std::fill_n(node.bounds[side][axis], kWideWidth,
-                    side == 0 ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity());
-    std::fill_n(node.child, kWideWidth, 0u);
+                     [&](unsigned a, unsigned b) { return built.bounds[a].halfArea() > built.bounds[b].halfArea(); });
+    bvh_detail::WideNode node = bvh_detail::makeEmptyWideNode();
     std::vector<std::pair<uint32_t, const BuiltInner*>> inner;
     for (unsigned slot = 0; slot < built.count; ++slot) {
-      const RTCBounds& b = built.bounds[order[slot]];
-      const float lower[3] = {b.lower_x, b.lower_y, b.lower_z}, upper[3] = {b.upper_x, b.upper_y, b.upper_z};
-      for (int axis = 0; axis < 3; ++axis) {
-        node.bounds[0][axis][slot] = lower[axis];
-        node.bounds[1][axis][slot] = upper[axis];
-      }
       const BuiltNode* child = built.children[order[slot]];
+      uint32_t reference = 0;
       if (child->leaf) {
-        node.child[slot] = leafReference(*static_cast<const BuiltLeaf*>(child));
+        reference = leafReference(*static_cast<const BuiltLeaf*>(child));
       } else {
-        node.child[slot] = static_cast<uint32_t>(out_.nodes.size());
+        reference = static_cast<uint32_t>(out_.nodes.size());
         out_.nodes.emplace_back();
-        inner.emplace_back(node.child[slot], static_cast<const BuiltInner*>(child));
+        inner.emplace_back(reference, static_cast<const BuiltInner*>(child));
       }
+      bvh_detail::setWideChild(node, slot, built.bounds[order[slot]], reference);
     }
     out_.nodes[wide] = node;
     for (const auto& [index, child] : inner) fill(index, *child);
@@ -178,14 +166,10 @@ bvh_detail::WideBvh buildWideFromEmbreeTree(RTCDevice device, const bvh_detail::
       BuiltInner top;
       top.count = 1;
       top.children[0] = root;
-      const glm::vec3 lo{primitives[0].lower_x, primitives[0].lower_y, primitives[0].lower_z};
-      RTCBounds all{lo.x, lo.y, lo.z, 0.0f, lo.x, lo.y, lo.z, 0.0f};
       for (const RTCBuildPrimitive& p : primitives) {
-        all.lower_x = std::min(all.lower_x, p.lower_x), all.lower_y = std::min(all.lower_y, p.lower_y);
-        all.lower_z = std::min(all.lower_z, p.lower_z), all.upper_x = std::max(all.upper_x, p.upper_x);
-        all.upper_y = std::max(all.upper_y, p.upper_y), all.upper_z = std::max(all.upper_z, p.upper_z);
+        top.bounds[0].extend(glm::vec3(p.lower_x, p.lower_y, p.lower_z));
+        top.bounds[0].extend(glm::vec3(p.upper_x, p.upper_y, p.upper_z));
       }
-      top.bounds[0] = all;
       converter.fill(0, top);
     } else {
       converter.fill(0, *static_cast<const BuiltInner*>(root));

@@ -56,24 +56,15 @@ class Collapser {
     std::stable_sort(children, children + count, [&](uint32_t a, uint32_t b) {
       return binary_.nodes[a].bounds.halfArea() > binary_.nodes[b].bounds.halfArea();
     });
-    WideNode node;
-    for (int side = 0; side < 2; ++side)
-      for (int axis = 0; axis < 3; ++axis)
-        std::fill_n(node.bounds[side][axis], kWideWidth,
-                    side == 0 ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity());
-    std::fill_n(node.child, kWideWidth, 0u);
+    WideNode node = makeEmptyWideNode();
     for (uint32_t i = 0; i < count; ++i) {
       const BinaryNode& c = binary_.nodes[children[i]];
-      for (int axis = 0; axis < 3; ++axis) {
-        node.bounds[0][axis][i] = c.bounds.min[axis];
-        node.bounds[1][axis][i] = c.bounds.max[axis];
-      }
-      if (c.isLeaf()) {
-        node.child[i] = leafRef_[children[i]];
-      } else {
-        node.child[i] = static_cast<uint32_t>(out_.nodes.size());
+      uint32_t reference = leafRef_[children[i]];
+      if (!c.isLeaf()) {
+        reference = static_cast<uint32_t>(out_.nodes.size());
         out_.nodes.emplace_back();
       }
+      setWideChild(node, i, c.bounds, reference);
     }
     out_.nodes[wide] = node;
     for (uint32_t i = 0; i < count; ++i)
@@ -128,6 +119,24 @@ class Collapser {
 };
 
 }  // namespace
+
+WideNode makeEmptyWideNode() {
+  WideNode node;
+  for (int side = 0; side < 2; ++side)
+    for (int axis = 0; axis < 3; ++axis)
+      std::fill_n(node.bounds[side][axis], kWideWidth,
+                  side == 0 ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity());
+  std::fill_n(node.child, kWideWidth, 0u);
+  return node;
+}
+
+void setWideChild(WideNode& node, uint32_t slot, const Bounds& box, uint32_t child) {
+  for (int axis = 0; axis < 3; ++axis) {
+    node.bounds[0][axis][slot] = box.min[axis];
+    node.bounds[1][axis][slot] = box.max[axis];
+  }
+  node.child[slot] = child;
+}
 
 TrianglePack makeTrianglePack(const TriangleMesh& mesh, std::span<const uint32_t> tris) {
   if (tris.empty() || tris.size() > kPackWidth) throw std::invalid_argument("a triangle pack holds 1 to 8 triangles");

@@ -56,6 +56,12 @@ struct WideBvh {
   bool empty() const { return nodes.empty(); }
 };
 
+/// A node whose eight slots are empty (a box no ray enters, child reference 0).
+WideNode makeEmptyWideNode();
+
+/// Writes a child's box and reference into one slot of node.
+void setWideChild(WideNode& node, uint32_t slot, const Bounds& box, uint32_t child);
+
 /// Packs up to kPackWidth triangles of mesh (indices in tris) into one pack; unused lanes repeat
 /// the first triangle's vertices (finite math) and are not valid.
 TrianglePack makeTrianglePack(const TriangleMesh& mesh, std::span<const uint32_t> tris);
