@@ -7,7 +7,7 @@ PACKAGES=(
   libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev
   libgtest-dev libgmock-dev
   xvfb xauth libgl1-mesa-dri mesa-utils
-  ioquake3 openarena openarena-data
+  ioquake3 openarena openarena-data openarena-oacmp1
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
