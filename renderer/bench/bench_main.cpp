@@ -2,11 +2,13 @@
 //   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
 //         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X]
 //         [--parallel-threshold N]
-//         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree]
+//         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native]
 // --embree-robust builds Embree's scene with RTC_SCENE_FLAG_ROBUST (its conservative traversal
 // and watertight-leaning kernels: the like-for-like comparison for our robust traversal).
 // --embree-tree also traces our kernels over a tree built by Embree's rtcBuildBVH (same leaf
 // rule as ours): the difference to our own tree is the tree's share of the gap to Embree.
+// --isa avx2 runs our AVX2 kernel (what CPUs without AVX-512 run) against Embree's device limited
+// to AVX2 ("isa=avx2"); native (the default) lets both pick their best kernels.
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
 // the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
 // (and process CPU) with N threads for both (one TBB arena; Embree's device also gets N threads).
@@ -30,6 +32,7 @@
 #include "renderer/bench/frame_timing.h"
 #include "renderer/bench/ray_sets.h"
 #include "renderer/bvh/bvh.h"
+#include "renderer/bvh/wide_bvh.h"
 #include "renderer/bvh/testing/embree_oracle.h"
 
 namespace pa::bench {
@@ -46,13 +49,14 @@ struct Options {
   bool buildOnly = false;   ///< Time the builds only (for profiling the build).
   bool embreeRobust = false;   ///< Embree with RTC_SCENE_FLAG_ROBUST (its conservative traversal).
   bool embreeTree = false;     ///< Also trace our kernels over Embree's tree (embree_tree.h).
+  bool avx2 = false;           ///< --isa avx2: our AVX2 kernel against Embree limited to AVX2.
   BvhBuildConfig build;
 };
 
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree]\n",
+               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native]\n",
                error.c_str());
   std::exit(2);
 }
@@ -82,6 +86,12 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--build-only") o.buildOnly = true;
     else if (a == "--embree-robust") o.embreeRobust = true;
     else if (a == "--embree-tree") o.embreeTree = true;
+    else if (a == "--isa") {
+      const std::string isa = value();
+      if (isa != "avx2" && isa != "native") usage("--isa takes avx2 or native");
+      o.avx2 = isa == "avx2";
+      o.build.allowAvx512 = !o.avx2;
+    }
     else if (a == "--frame-reps") o.frameReps = parseCount(value(), "--frame-reps");
     else if (a == "--bins") o.build.binCount = parseCount(value(), "--bins");
     else if (a == "--max-leaf") o.build.maxLeafTriangles = parseCount(value(), "--max-leaf");
@@ -228,7 +238,7 @@ int run(int argc, char** argv) {
   FrameTimes frames = opt.frames ? measureFrames(scene, opt.frameReps) : FrameTimes{};
   if (!opt.frames) frames.note = "skipped (--no-frames)";
   tbb::task_arena arena(static_cast<int>(opt.threads));
-  testing::EmbreeDevice device("threads=" + std::to_string(opt.threads));
+  testing::EmbreeDevice device("threads=" + std::to_string(opt.threads) + (opt.avx2 ? ",isa=avx2" : ""));
 
   // Build times (median over repetitions, interleaved). Each side replaces its previous build
   // inside its timed region: our Blas rebuilds in place (as the renderer's meshes do), Embree's
@@ -306,6 +316,8 @@ int run(int argc, char** argv) {
                   (unsigned long long)incoherentEmbreeTree.hitsOurs, (unsigned long long)shadowEmbreeTree.hitsOurs);
     embreeTreeJson = buffer;
   }
+  const bool avx512 = opt.build.allowAvx512 && bvh_detail::wideKernelAvailable(bvh_detail::WideKernel::Avx512);
+  const char* ourKernel = avx512 ? "avx512" : "baseline";
   auto frame = [](const std::optional<double>& v) { return v ? std::to_string(*v) : std::string("null"); };
   auto samples = [](const std::vector<double>& v) {
     std::string out = "[";
@@ -315,7 +327,7 @@ int run(int argc, char** argv) {
 
   if (opt.json) {
     std::printf(
-        "{\"scene\": \"%s\", \"triangles\": %u, \"threads\": %u, \"reps\": %u, \"embree_isa\": \"%s\", \"embree_robust\": %s, "
+        "{\"scene\": \"%s\", \"triangles\": %u, \"threads\": %u, \"reps\": %u, \"embree_isa\": \"%s\", \"our_kernel\": \"%s\", \"embree_robust\": %s, "
         "\"build_ms_ours\": %.3f, \"build_ms_embree\": %.3f, \"build_ratio\": %.3f, "
         "\"build_cpu_ms_ours\": %.3f, \"build_cpu_ms_embree\": %.3f, \"build_cpu_ratio\": %.3f, "
         "\"rays_incoherent\": %zu, \"mrays_incoherent_ours\": %.3f, \"mrays_incoherent_embree\": %.3f, "
@@ -326,7 +338,7 @@ int run(int argc, char** argv) {
         "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, %s"
         "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_cpu_ms_1t\": %s, \"frame_cpu_ms_2t\": %s, "
         "\"frame_speedup_2t\": %s, \"frame_samples_ms_1t\": %s, \"frame_samples_ms_2t\": %s, \"frame_note\": \"%s\"}\n",
-        scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), opt.embreeRobust ? "true" : "false", bOurs,
+        scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), ourKernel, opt.embreeRobust ? "true" : "false", bOurs,
         bEmbree, bOurs / bEmbree, bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree, rays.incoherent.size(), iOurs, iEmbree, iOurs / iEmbree, rays.shadow.size(),
         sOurs, sEmbree, sOurs / sEmbree, rays.primary.size(), pOurs, pEmbree, pOurs / pEmbree,
         (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
@@ -337,9 +349,9 @@ int run(int argc, char** argv) {
         samples(frames.twoThreadsSamplesMs).c_str(), frames.note.c_str());
     return 0;
   }
-  std::printf("scene %s: %u triangles, build threads %u, %u repetitions (medians), Embree ISA %s%s\n",
+  std::printf("scene %s: %u triangles, build threads %u, %u repetitions (medians), Embree ISA %s%s, our kernel %s\n",
               scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(),
-              opt.embreeRobust ? ", RTC_SCENE_FLAG_ROBUST" : "");
+              opt.embreeRobust ? ", RTC_SCENE_FLAG_ROBUST" : "", ourKernel);
   std::printf("%-28s %12s %12s %8s\n", "", "ours", "embree", "ratio");
   std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms (wall)", bOurs, bEmbree, bOurs / bEmbree);
   std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms (process CPU)", bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree);

@@ -35,6 +35,7 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
     bvh_detail::assignTriangleMesh(input, impl.mesh);
     bvh_detail::buildBinaryBvh(impl.mesh, config, impl.scratch, impl.binary);
     bvh_detail::collapseToWide(impl.binary, impl.mesh, impl.wide);   // reuses the previous layout's memory
+    if (!config.allowAvx512) impl.wide.kernel = bvh_detail::WideKernel::Baseline;
     // The root box is the union of all triangles.
     impl.bounds = impl.binary.empty() ? Bounds{} : impl.binary.nodes[0].bounds;
   } catch (...) {
@@ -51,7 +52,9 @@ void Blas::refit(std::span<const glm::vec3> positions) {
   bvh_detail::updatePositions(impl_->mesh, positions);
   const std::vector<Bounds> triBounds = bvh_detail::triangleBounds(impl_->mesh);
   bvh_detail::refitBinaryBvh(impl_->binary, triBounds);
+  const bvh_detail::WideKernel kernel = impl_->wide.kernel;   // as the build chose it
   impl_->wide = bvh_detail::collapseToWide(impl_->binary, impl_->mesh);
+  if (impl_->builds > 0) impl_->wide.kernel = kernel;
   impl_->bounds = Bounds{};
   for (const Bounds& b : triBounds) impl_->bounds.extend(b);
 }

@@ -24,6 +24,9 @@ struct BvhBuildConfig {
   /// count (0 = off, at most 4). Off by default: gains and losses by scene, 1.2-3.5x the build
   /// time at 0.3-1 (docs/performance.md, "Pre-splitting").
   float splitBudget = 0.0f;
+  /// Traverse with the AVX-512 kernel where the CPU has it; false keeps the AVX2 (or SSE) kernel
+  /// that CPUs without AVX-512 run, so both can be measured on one machine (`bench --isa avx2`).
+  bool allowAvx512 = true;
 };
 
 /// Triangle mesh input. Indices are 3 per triangle; masked (optional, one byte per

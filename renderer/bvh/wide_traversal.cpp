@@ -273,6 +273,13 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
           current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
           continue;
         }
+        const int afterFirst = mask & (mask - 1);
+        if ((afterFirst & (afterFirst - 1)) == 0) {   // exactly two children
+          alignas(32) float entry[kWideWidth];
+          tNear.store(entry);
+          current = takeNearerOfTwo(node, static_cast<uint32_t>(mask), entry, stack);
+          continue;
+        }
         const int nearest = nearestLane(mask, tNear);
         current = node.child[nearest];
         pushChildren(node, mask & ~(1 << nearest), tNear, stack);

@@ -2,8 +2,9 @@
 // (WideBvh::kernel). The float and double operations are those of the AVX2 kernel and the
 // scalar reference, in the same order, so hit distances are bit-identical. What changes:
 // comparisons go straight to mask registers; hit children are pushed with one register
-// compress (no lane table); closest-hit rays push three or more remaining children sorted by
-// entry distance (a 64-bit key sorting network), so the nearest is popped first; a leaf's
+// compress (no lane table); of two children entered, the nearer is chosen by a branch
+// (takeNearerOfTwo); when three or more were entered, the others are pushed sorted by entry
+// distance (a 64-bit key sorting network), so the nearest is popped first; a leaf's
 // accurate plane distances are computed for all eight lanes in one 8-wide double register.
 // The sorted push changes the visiting order, so on an exact tie in t the reported triangle
 // may differ from the AVX2 kernel's (the distance never does).
@@ -283,13 +284,16 @@ PA_AVX512 bool intersectWideAvx512(const WideBvh& bvh, Ray& ray, Hit& hit, const
           current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
           continue;
         }
+        const uint32_t afterFirst = mask & (mask - 1u);
+        if ((afterFirst & (afterFirst - 1)) == 0) {   // exactly two children
+          alignas(32) float entry[kWideWidth];
+          _mm256_store_ps(entry, tNear);
+          current = takeNearerOfTwo(node, mask, entry, stack);
+          continue;
+        }
         const int nearest = nearestLane(mask, tNear);
         current = node.child[nearest];
-        const __mmask8 rest = static_cast<__mmask8>(mask & ~(1u << nearest));
-        if (rest & (rest - 1))
-          pushChildrenSorted(node, rest, tNear, stack);
-        else
-          pushChildren(node, rest, tNear, stack);
+        pushChildrenSorted(node, static_cast<__mmask8>(mask & ~(1u << nearest)), tNear, stack);
         continue;
       }
     } else if (testLeaf<false>(bvh, current, triRay, ray, ray.tmax, hit, filter, instanceId)) {

@@ -1,6 +1,7 @@
 #pragma once
 // Pieces shared by the wide traversal kernels (wide_traversal.cpp for AVX2 / SSE,
 // wide_traversal_avx512.cpp): the traversal stack and the leaf reference decoding.
+#include <bit>
 #include <cstdint>
 
 #include "renderer/bvh/wide_bvh.h"
@@ -19,6 +20,24 @@ struct TraversalStack {
   alignas(32) float entry[kWithDistance ? kWideStackSize + kWideWidth : 1];
   int top = 0;
 };
+
+/// For a node where exactly the two children in mask were entered, at the entry distances in
+/// entry (one per lane): pushes the farther child and returns the nearer one (the lower lane on
+/// a tie, as a SIMD minimum would pick). A branch rather than a SIMD reduction: the CPU
+/// speculates past the branch, while the reduction's latency sat between the node test and the
+/// next node load (docs/performance.md, "Session 7").
+inline uint32_t takeNearerOfTwo(const WideNode& node, uint32_t mask, const float* entry,
+                                TraversalStack<true>& stack) {
+  const int first = std::countr_zero(mask);
+  const int second = std::countr_zero(mask & (mask - 1));
+  const float firstEntry = entry[first], secondEntry = entry[second];
+  const uint32_t firstChild = node.child[first], secondChild = node.child[second];
+  const bool firstIsNearer = firstEntry <= secondEntry;
+  stack.node[stack.top] = firstIsNearer ? secondChild : firstChild;
+  stack.entry[stack.top] = firstIsNearer ? secondEntry : firstEntry;
+  ++stack.top;
+  return firstIsNearer ? firstChild : secondChild;
+}
 
 /// Decodes a leaf reference into its pack range.
 inline void leafPacks(uint32_t ref, uint32_t& first, uint32_t& count) {

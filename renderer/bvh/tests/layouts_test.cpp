@@ -108,6 +108,33 @@ TEST(Refit, EqualsRebuild) {
   EXPECT_THROW(refitted.refit(wrongCount), std::invalid_argument);
 }
 
+/// BvhBuildConfig::allowAvx512 = false (the AVX2 kernel, as on CPUs without AVX-512) answers
+/// exactly as the default, after a build and after a refit (which keeps the build's kernel).
+TEST(Build, KernelChoiceGivesIdenticalHits) {
+  const TestMesh base = makeThinTriangles(20000, 52);
+  TestMesh moved = base;
+  for (glm::vec3& p : moved.positions) p += 0.01f * glm::vec3(std::sin(5.0f * p.y), 0.0f, std::cos(5.0f * p.x));
+  BvhBuildConfig avx2Only;
+  avx2Only.allowAvx512 = false;
+  Blas best, baseline;
+  best.build(base.input());
+  baseline.build(base.input(), avx2Only);
+  auto tracer = [](const Blas& blas) {
+    return Tracer{[&blas](Ray& r, Hit& h) { return blas.intersect(r, h); },
+                  [&blas](const Ray& r) { return blas.occluded(r); }};
+  };
+  Bounds region = base.bounds();
+  region.min -= glm::vec3(0.5f);
+  region.max += glm::vec3(0.5f);
+  uint32_t hits = 0;
+  expectIdenticalHits(tracer(best), tracer(baseline), makeRandomRays(region, 50000, 53), hits);
+  EXPECT_GT(hits, 1000u);
+  best.refit(moved.positions);
+  baseline.refit(moved.positions);
+  expectIdenticalHits(tracer(best), tracer(baseline), makeRandomRays(region, 50000, 54), hits);
+  EXPECT_GT(hits, 1000u);
+}
+
 TEST(Build, DeterministicForAnyThreadCount) {
   const TestMesh m = makeTriangleSoup(60000, 36);
   const TriangleMesh mesh = makeTriangleMesh(m.input());
