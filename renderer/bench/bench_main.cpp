@@ -1,12 +1,13 @@
 // bench: our BVH against Embree 3 on the same scene and the same rays.
 //   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
 //         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X]
-//         [--parallel-threshold N]
+//         [--parallel-threshold N] [--width 8|16]
 //         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native]
 // --embree-robust builds Embree's scene with RTC_SCENE_FLAG_ROBUST (its conservative traversal
 // and watertight-leaning kernels: the like-for-like comparison for our robust traversal).
 // --embree-tree also traces our kernels over a tree built by Embree's rtcBuildBVH (same leaf
 // rule as ours): the difference to our own tree is the tree's share of the gap to Embree.
+// --width picks our layout (BvhBuildConfig::nodeWidth; default: the faster one for this CPU).
 // --isa avx2 runs our AVX2 kernel (what CPUs without AVX-512 run) against Embree's device limited
 // to AVX2 ("isa=avx2"); native (the default) lets both pick their best kernels.
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
@@ -56,7 +57,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native]\n",
+               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--width 8|16] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native]\n",
                error.c_str());
   std::exit(2);
 }
@@ -93,6 +94,7 @@ Options parseOptions(int argc, char** argv) {
       o.build.allowAvx512 = !o.avx2;
     }
     else if (a == "--frame-reps") o.frameReps = parseCount(value(), "--frame-reps");
+    else if (a == "--width") o.build.nodeWidth = parseCount(value(), "--width");
     else if (a == "--bins") o.build.binCount = parseCount(value(), "--bins");
     else if (a == "--max-leaf") o.build.maxLeafTriangles = parseCount(value(), "--max-leaf");
     else if (a == "--traversal-cost") o.build.traversalCost = std::strtof(value(), nullptr);
@@ -317,7 +319,7 @@ int run(int argc, char** argv) {
     embreeTreeJson = buffer;
   }
   const bool avx512 = opt.build.allowAvx512 && bvh_detail::wideKernelAvailable(bvh_detail::WideKernel::Avx512);
-  const char* ourKernel = avx512 ? "avx512" : "baseline";
+  const char* ourKernel = blas.nodeWidth() == 16 ? "avx512-16wide" : avx512 ? "avx512" : "baseline";
   auto frame = [](const std::optional<double>& v) { return v ? std::to_string(*v) : std::string("null"); };
   auto samples = [](const std::vector<double>& v) {
     std::string out = "[";

@@ -464,6 +464,8 @@ void validateBuildConfig(const BvhBuildConfig& config) {
   if (config.binCount < 2 || config.binCount > kMaxBins)
     throw std::invalid_argument("BvhBuildConfig.binCount must be in [2, " + std::to_string(kMaxBins) +
                                 "], got " + std::to_string(config.binCount));
+  if (config.nodeWidth != 0 && config.nodeWidth != 8 && config.nodeWidth != 16)
+    throw std::invalid_argument("BvhBuildConfig.nodeWidth must be 0, 8 or 16, got " + std::to_string(config.nodeWidth));
   if (config.maxLeafTriangles < 1 || config.maxLeafTriangles > 64)
     throw std::invalid_argument("BvhBuildConfig.maxLeafTriangles must be in [1, 64], got " +
                                 std::to_string(config.maxLeafTriangles));

@@ -7,6 +7,7 @@
 #include "renderer/bvh/binary_bvh.h"
 #include "renderer/bvh/bvh.h"
 #include "renderer/bvh/triangle_mesh.h"
+#include "renderer/bvh/wide16_bvh.h"
 #include "renderer/bvh/wide_bvh.h"
 
 namespace pa {
@@ -14,11 +15,41 @@ namespace pa {
 struct Blas::Impl {
   bvh_detail::TriangleMesh mesh;
   bvh_detail::BinaryBvh binary;   // reference layout, kept for refit and validation
-  bvh_detail::WideBvh wide;       // what rays traverse
+  bvh_detail::WideBvh wide;       // what rays traverse when nodeWidth is 8
+  bvh_detail::Wide16Bvh wide16;   // what rays traverse when nodeWidth is 16
+  uint32_t nodeWidth = 8;         // as the build resolved it
   Bounds bounds;
   bvh_detail::BinaryBuildScratch scratch;   // kept between builds once the Blas is rebuilt
   uint32_t builds = 0;
+
+  /// Converts binary into the layout of nodeWidth (the other layout is emptied); allowAvx512
+  /// false keeps the 8-wide layout on its baseline kernel.
+  void collapse(bool allowAvx512) {
+    if (nodeWidth == 16) {
+      wide = bvh_detail::WideBvh{};
+      bvh_detail::collapseToWide16(binary, mesh, wide16);
+      return;
+    }
+    wide16 = bvh_detail::Wide16Bvh{};
+    bvh_detail::collapseToWide(binary, mesh, wide);   // reuses the previous layout's memory
+    if (!allowAvx512) wide.kernel = bvh_detail::WideKernel::Baseline;
+  }
 };
+
+namespace {
+
+/// The node width a build with config uses (BvhBuildConfig::nodeWidth).
+uint32_t resolveNodeWidth(const BvhBuildConfig& config) {
+  const bool wide16 = config.allowAvx512 && bvh_detail::wide16Available();
+  if (config.nodeWidth == 16) {
+    if (!wide16) throw std::invalid_argument("BvhBuildConfig.nodeWidth 16 needs AVX-512 (and allowAvx512)");
+    return 16;
+  }
+  if (config.nodeWidth == 8) return 8;
+  return wide16 && bvh_detail::fullWidthAvx512() ? 16 : 8;
+}
+
+}  // namespace
 
 Blas::Blas() : impl_(std::make_unique<Impl>()) {}
 Blas::~Blas() = default;
@@ -31,11 +62,13 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
   bvh_detail::validateBlasInput(input);
   if (!impl_) impl_ = std::make_unique<Impl>();
   Impl& impl = *impl_;
+  BvhBuildConfig resolved = config;
+  resolved.nodeWidth = resolveNodeWidth(config);
   try {
     bvh_detail::assignTriangleMesh(input, impl.mesh);
-    bvh_detail::buildBinaryBvh(impl.mesh, config, impl.scratch, impl.binary);
-    bvh_detail::collapseToWide(impl.binary, impl.mesh, impl.wide);   // reuses the previous layout's memory
-    if (!config.allowAvx512) impl.wide.kernel = bvh_detail::WideKernel::Baseline;
+    bvh_detail::buildBinaryBvh(impl.mesh, resolved, impl.scratch, impl.binary);
+    impl.nodeWidth = resolved.nodeWidth;
+    impl.collapse(config.allowAvx512);
     // The root box is the union of all triangles.
     impl.bounds = impl.binary.empty() ? Bounds{} : impl.binary.nodes[0].bounds;
   } catch (...) {
@@ -52,25 +85,29 @@ void Blas::refit(std::span<const glm::vec3> positions) {
   bvh_detail::updatePositions(impl_->mesh, positions);
   const std::vector<Bounds> triBounds = bvh_detail::triangleBounds(impl_->mesh);
   bvh_detail::refitBinaryBvh(impl_->binary, triBounds);
-  const bvh_detail::WideKernel kernel = impl_->wide.kernel;   // as the build chose it
-  impl_->wide = bvh_detail::collapseToWide(impl_->binary, impl_->mesh);
-  if (impl_->builds > 0) impl_->wide.kernel = kernel;
+  // A refit keeps the build's layout and kernel.
+  const bool avx512 = impl_->builds == 0 || impl_->wide.kernel == bvh_detail::WideKernel::Avx512;
+  impl_->collapse(avx512);
   impl_->bounds = Bounds{};
   for (const Bounds& b : triBounds) impl_->bounds.extend(b);
 }
 
 bool Blas::intersect(Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId) const {
   if (!impl_ || !bvh_detail::isTraceableRay(ray)) return false;
+  if (impl_->nodeWidth == 16) return bvh_detail::intersectWide16(impl_->wide16, ray, hit, filter, instanceId);
   return bvh_detail::intersectWide(impl_->wide, ray, hit, filter, instanceId);
 }
 
 bool Blas::occluded(const Ray& ray, const HitFilter& filter, uint32_t instanceId) const {
   if (!impl_ || !bvh_detail::isTraceableRay(ray)) return false;
+  if (impl_->nodeWidth == 16) return bvh_detail::occludedWide16(impl_->wide16, ray, filter, instanceId);
   return bvh_detail::occludedWide(impl_->wide, ray, filter, instanceId);
 }
 
 Bounds Blas::bounds() const { return impl_ ? impl_->bounds : Bounds{}; }
 
 uint32_t Blas::triangleCount() const { return impl_ ? impl_->mesh.triangleCount() : 0; }
+
+uint32_t Blas::nodeWidth() const { return impl_ ? impl_->nodeWidth : 8; }
 
 }  // namespace pa

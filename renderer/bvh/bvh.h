@@ -17,7 +17,13 @@ namespace pa {
 /// Build knobs, with defaults that suit game maps. Every knob is measured in docs/performance.md.
 struct BvhBuildConfig {
   uint32_t binCount = 32;          ///< SAH bins per axis (32 beat 16 on real maps: docs/performance.md).
-  uint32_t maxLeafTriangles = 8;   ///< Hard upper bound on triangles per leaf.
+  /// Children per node of the traversed layout: 8 (AVX2, or AVX-512 run as 256-bit halves),
+  /// 16 (AVX-512 at full width; needs AVX-512), or 0 for the faster one on this CPU (16 where
+  /// 512-bit operations run at full width, docs/performance.md "16-wide BVH").
+  uint32_t nodeWidth = 0;
+  /// Hard upper bound on triangles per leaf of the binary SAH build. The 16-wide layout may
+  /// merge leaves up to 16 triangles where its cost model prefers that (wide_collapse.h).
+  uint32_t maxLeafTriangles = 8;
   float traversalCost = 1.0f;      ///< SAH cost of visiting a node, relative to one triangle test.
   uint32_t parallelThreshold = 4096;  ///< Subtrees smaller than this are built serially.
   /// Pre-splitting: extra references to parts of large triangles, as a fraction of the triangle
@@ -60,6 +66,8 @@ class Blas {
   Bounds bounds() const;
   /// Number of triangles built.
   uint32_t triangleCount() const;
+  /// Children per node of the layout rays traverse (8 or 16; BvhBuildConfig::nodeWidth).
+  uint32_t nodeWidth() const;
 
  private:
   struct Impl;

@@ -1,8 +1,11 @@
 #pragma once
 // The 8-wide BVH layout traversed with SIMD slab tests, converted from the binary BVH, with leaf
 // triangles precomputed into 8-wide structure-of-arrays packs for the SIMD watertight test.
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "renderer/bvh/binary_bvh.h"
@@ -56,18 +59,57 @@ struct WideBvh {
   bool empty() const { return nodes.empty(); }
 };
 
-/// A node whose eight slots are empty (a box no ray enters, child reference 0).
+/// A node of either width whose slots are empty (a box no ray enters, child reference 0; the
+/// rest of the node zero).
+template <class Node, uint32_t kWidth>
+Node makeEmptyNode() {
+  Node node{};
+  for (int axis = 0; axis < 3; ++axis) {
+    std::fill_n(node.bounds[0][axis], kWidth, std::numeric_limits<float>::infinity());
+    std::fill_n(node.bounds[1][axis], kWidth, -std::numeric_limits<float>::infinity());
+  }
+  return node;
+}
+
+/// A node whose eight slots are empty.
 WideNode makeEmptyWideNode();
 
-/// Writes a child's box and reference into one slot of node.
-void setWideChild(WideNode& node, uint32_t slot, const Bounds& box, uint32_t child);
+/// Writes a child's box and reference into one slot of a node of either width.
+template <class Node>
+void setWideChild(Node& node, uint32_t slot, const Bounds& box, uint32_t child) {
+  for (int axis = 0; axis < 3; ++axis) {
+    node.bounds[0][axis][slot] = box.min[axis];
+    node.bounds[1][axis][slot] = box.max[axis];
+  }
+  node.child[slot] = child;
+}
 
-/// Packs up to kPackWidth triangles of mesh (indices in tris) into one pack; unused lanes repeat
-/// the first triangle's vertices (finite math) and are not valid.
+/// Packs up to kLanes triangles of mesh (indices in tris) into one pack of either width; unused
+/// lanes repeat the first triangle's vertices (finite math) and are not valid.
+template <class Pack, uint32_t kLanes>
+Pack makePack(const TriangleMesh& mesh, std::span<const uint32_t> tris) {
+  if (tris.empty() || tris.size() > kLanes) throw std::invalid_argument("a triangle pack holds 1 to its width triangles");
+  Pack pack{};
+  for (uint32_t lane = 0; lane < kLanes; ++lane) {
+    const bool padding = lane >= tris.size();
+    const uint32_t tri = padding ? tris[0] : tris[lane];
+    for (int vtx = 0; vtx < 3; ++vtx) {
+      const glm::vec3 p3 = mesh.vertex(tri, vtx);
+      for (int axis = 0; axis < 3; ++axis) pack.v[vtx][axis][lane] = p3[axis];
+    }
+    pack.prim[lane] = padding ? kInvalidId : tri;
+    if (padding) continue;
+    if (!mesh.degenerate[tri]) pack.validBits |= 1u << lane;
+    if (mesh.isMasked(tri)) pack.maskedBits |= 1u << lane;
+  }
+  return pack;
+}
+
+/// Packs up to kPackWidth triangles into one 8-wide pack (makePack).
 TrianglePack makeTrianglePack(const TriangleMesh& mesh, std::span<const uint32_t> tris);
 
-/// Converts the binary BVH into the 8-wide layout (children chosen by opening the largest box
-/// first) and packs the leaf triangles of mesh.
+/// Converts the binary BVH into the 8-wide layout along the SAH-optimal plan of wide_collapse.h
+/// (leaves may merge binary leaves up to two packs) and packs the leaf triangles of mesh.
 WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh);
 /// Same, into `out`, reusing its vectors' memory (rebuilds of a Blas).
 void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& out);

@@ -1,0 +1,82 @@
+#pragma once
+// The 16-wide BVH layout for CPUs whose AVX-512 units are a full 512 bits wide: sixteen child
+// boxes and sixteen leaf triangles per instruction (after Fuetterling et al., "Accelerated
+// Single Ray Tracing for Wide Vector Units", HPG 2017). Converted from the same binary BVH as
+// the 8-wide layout, with the same conservative slab test and watertight triangle test, so hit
+// distances are bit-identical to the scalar reference. Children of a closest-hit ray are
+// visited in an order fixed per ray octant at build time (no sorting during traversal).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "renderer/bvh/binary_bvh.h"
+#include "renderer/bvh/triangle_mesh.h"
+#include "renderer/bvh/wide_bvh.h"
+#include "renderer/core/ray.h"
+
+namespace pa::bvh_detail {
+
+inline constexpr uint32_t kWide16Width = 16;
+
+/// Sixteen child boxes as structure of arrays (bounds[0] = lower, bounds[1] = upper, then axis),
+/// their references (as in WideNode: kLeafBit | packs - 1 << kPackCountShift | first pack) and,
+/// for each of the 8 ray octants (bit 0: x < 0, bit 1: y < 0, bit 2: z < 0), the slots from the
+/// farthest to the nearest child along the octant's diagonal: bits 4o..4o+3 of order[i] are the
+/// slot visited i-th last by a ray of octant o. Unused slots hold an empty box.
+struct alignas(64) Wide16Node {
+  float bounds[2][3][kWide16Width];
+  uint32_t child[kWide16Width];
+  uint32_t order[kWide16Width];
+};
+static_assert(sizeof(Wide16Node) == 512);
+
+/// Up to sixteen triangles: vertices as structure of arrays (vertex, axis, lane), as in
+/// TrianglePack. Lanes not in validBits (padding, degenerate triangles) are never reported.
+struct alignas(64) TrianglePack16 {
+  float v[3][3][kWide16Width];
+  uint32_t prim[kWide16Width];
+  uint32_t validBits = 0;    ///< Lanes holding a real, non-degenerate triangle.
+  uint32_t maskedBits = 0;   ///< Lanes whose hits go through the HitFilter.
+};
+
+/// Leaf reference bit of the 16-wide layout: the leaf is one 8-wide TrianglePack (<= 8
+/// triangles, in small_packs) instead of 16-wide packs. Small leaves are most leaves of game maps,
+/// and half the bytes of a 16-wide pack; both kinds are tested 16 lanes at once.
+inline constexpr uint32_t kSmallLeafBit = 1u << 30;
+
+/// 16-wide BVH; node 0 is the root (when not empty). Traversed only by the AVX-512 kernels.
+/// Leaf references: kLeafBit | (kSmallLeafBit, index in small_packs) or (packs - 1 <<
+/// kPackCountShift, first of 1..4 consecutive packs).
+struct Wide16Bvh {
+  std::vector<Wide16Node> nodes;
+  std::vector<TrianglePack16> packs;
+  std::vector<TrianglePack> smallPacks;
+  bool empty() const { return nodes.empty(); }
+};
+
+/// Whether this build has the 16-wide kernels and this CPU (and OS) can run them (AVX-512
+/// F/VL/BW/DQ, like WideKernel::Avx512).
+bool wide16Available();
+
+/// Whether this CPU is known to execute 512-bit operations at full width (the case where the
+/// 16-wide layout is the faster one): Intel CPUs with AVX-512 and AMD Zen 5 or newer; AMD Zen 4
+/// splits them into two 256-bit halves.
+bool fullWidthAvx512();
+
+/// Packs up to 16 triangles of mesh (indices in tris) into one pack; unused lanes repeat the
+/// first triangle's vertices (finite math) and are not valid.
+TrianglePack16 makeTrianglePack16(const TriangleMesh& mesh, std::span<const uint32_t> tris);
+
+/// Converts the binary BVH into the 16-wide layout along the SAH-optimal plan of
+/// wide_collapse.h (leaves may merge binary leaves up to 16 triangles) into `out`, reusing its
+/// vectors' memory.
+void collapseToWide16(const BinaryBvh& binary, const TriangleMesh& mesh, Wide16Bvh& out);
+
+/// Closest hit, same contract as Blas::intersect (the ray must be traceable). Needs
+/// wide16Available().
+bool intersectWide16(const Wide16Bvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
+
+/// Any hit, same contract as Blas::occluded (the ray must be traceable). Needs wide16Available().
+bool occludedWide16(const Wide16Bvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId);
+
+}  // namespace pa::bvh_detail

@@ -1,0 +1,132 @@
+// SAH-optimal choice of the wide tree over the binary BVH (see wide_collapse.h).
+#include "renderer/bvh/wide_collapse.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace pa::bvh_detail {
+
+OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& costs)
+    : binary_(binary), width_(costs.width) {
+  if (width_ < 2 || width_ > 64) throw std::invalid_argument("collapse width must be in [2, 64]");
+  const size_t n = binary.nodes.size();
+  const uint32_t w = width_;
+  cost_.assign(n * w, 0.0f);
+  leftSlots_.assign(n * w, 0);
+  usedSlots_.assign(n * w, 1);
+  leaf_.assign(n, 0);
+  count_.assign(n, 0);
+  distributedLeftW_.assign(n, 1);
+  leaves_.assign(n, 0);
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  std::vector<float> distributed(w + 1);
+  std::vector<uint8_t> distributedLeft(w + 1);
+  // Children come after their parents (depth-first order): a reverse sweep sees them first.
+  for (size_t i = n; i-- > 0;) {
+    const BinaryNode& node = binary.nodes[i];
+    const float area = node.bounds.halfArea();
+    float* cost = &cost_[i * w];
+    if (node.isLeaf()) {
+      count_[i] = node.count;
+    } else {
+      count_[i] = count_[node.left] + count_[node.right];
+    }
+    const uint32_t tris = count_[i];
+    float leafCost = inf;
+    if (node.isLeaf() || tris <= costs.maxLeaf) {
+      leafCost = tris <= costs.smallLeafMax ? area * costs.smallLeaf
+                                            : area * costs.largePack * float((tris + costs.packWidth - 1) / costs.packWidth);
+    }
+    if (node.isLeaf()) {
+      leaves_[i] = 1;
+      leaf_[i] = 1;
+      std::fill_n(cost, w, leafCost);
+      continue;
+    }
+    const float* left = &cost_[size_t(node.left) * w];
+    const float* right = &cost_[size_t(node.right) * w];
+    // A subtree never gains from more slots than it has binary leaves (its costs stay level
+    // from there on), so the slot counts are bounded by the leaves below: exact, and it skips
+    // most of the search near the leaves, where most nodes are.
+    const uint32_t leftLeaves = leaves_[node.left], rightLeaves = leaves_[node.right];
+    leaves_[i] = leftLeaves + rightLeaves;
+    const uint32_t maxSlots = std::min(w, leaves_[i]);
+    for (uint32_t j = 2; j <= w; ++j) {
+      if (j > maxSlots) {
+        distributed[j] = distributed[maxSlots];
+        distributedLeft[j] = distributedLeft[maxSlots];
+        continue;
+      }
+      float best = inf;
+      uint8_t bestK = 1;
+      const uint32_t kEnd = std::min(j - 1, leftLeaves);
+      for (uint32_t k = j > rightLeaves ? j - rightLeaves : 1; k <= kEnd; ++k) {
+        const float c = left[k - 1] + right[j - k - 1];
+        if (c < best) {
+          best = c;
+          bestK = static_cast<uint8_t>(k);
+        }
+      }
+      distributed[j] = best;
+      distributedLeft[j] = bestK;
+    }
+    const float internalCost = area * costs.node + distributed[w];
+    leaf_[i] = leafCost <= internalCost;
+    cost[0] = std::min(leafCost, internalCost);
+    // Slot counts 2..w: n split between its children, unless n as one slot is cheaper.
+    uint8_t* leftSlots = &leftSlots_[i * w];
+    uint8_t* used = &usedSlots_[i * w];
+    for (uint32_t j = 2; j <= w; ++j) {
+      if (distributed[j] < cost[j - 2]) {
+        cost[j - 1] = distributed[j];
+        leftSlots[j - 1] = distributedLeft[j];
+        used[j - 1] = static_cast<uint8_t>(j);
+      } else {
+        cost[j - 1] = cost[j - 2];
+        leftSlots[j - 1] = leftSlots[j - 2];
+        used[j - 1] = used[j - 2];
+      }
+    }
+    distributedLeftW_[i] = distributedLeft[w];   // for children(): n's own wide node
+  }
+}
+
+void OptimalCollapse::collect(uint32_t n, uint32_t slots, uint32_t* out, uint32_t& count) const {
+  const size_t e = size_t(n) * width_ + slots - 1;
+  const uint32_t k = leftSlots_[e];
+  if (k == 0 || binary_.nodes[n].isLeaf()) {
+    out[count++] = n;
+    return;
+  }
+  collect(binary_.nodes[n].left, k, out, count);
+  collect(binary_.nodes[n].right, usedSlots_[e] - k, out, count);
+}
+
+uint32_t OptimalCollapse::children(uint32_t n, uint32_t* out) const {
+  uint32_t count = 0;
+  const BinaryNode& node = binary_.nodes[n];
+  if (node.isLeaf()) {
+    out[count++] = n;
+  } else {
+    const uint32_t k = distributedLeftW_[n];
+    collect(node.left, k, out, count);
+    collect(node.right, width_ - k, out, count);
+  }
+  std::stable_sort(out, out + count, [&](uint32_t a, uint32_t b) {
+    return binary_.nodes[a].bounds.halfArea() > binary_.nodes[b].bounds.halfArea();
+  });
+  return count;
+}
+
+void OptimalCollapse::trianglesBelow(uint32_t n, std::vector<uint32_t>& out) const {
+  const BinaryNode& node = binary_.nodes[n];
+  if (node.isLeaf()) {
+    out.insert(out.end(), binary_.primIndices.begin() + node.first, binary_.primIndices.begin() + node.first + node.count);
+    return;
+  }
+  trianglesBelow(node.left, out);   // depth <= log2(maxLeaf) below a leaf slot
+  trianglesBelow(node.right, out);
+}
+
+}  // namespace pa::bvh_detail

@@ -1,0 +1,154 @@
+#pragma once
+// Steps shared by the conversions of the binary BVH into the wide layouts (8-wide wide_bvh,
+// 16-wide wide16_bvh): which binary nodes become a wide node's children, and where each
+// binary leaf's triangle packs go.
+#include <algorithm>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "renderer/bvh/binary_bvh.h"
+#include "renderer/bvh/triangle_mesh.h"
+#include "renderer/bvh/wide_bvh.h"
+
+namespace pa::bvh_detail {
+
+}  // namespace pa::bvh_detail
+
+namespace pa::bvh_detail {
+
+/// Cost model of the SAH-optimal collapse, in units of one wide node visit. A leaf of up to
+/// smallLeafMax triangles is one small pack; a larger one (up to maxLeaf) is tested in packs of
+/// packWidth.
+struct CollapseCosts {
+  uint32_t width = 16;          ///< Children per wide node.
+  uint32_t smallLeafMax = 8;    ///< Triangles of a small (8-wide) leaf pack.
+  uint32_t packWidth = 16;      ///< Triangles per pack of a larger leaf.
+  uint32_t maxLeaf = 16;        ///< Most triangles in one leaf.
+  float node = 1.0f;            ///< Visiting a wide node (its children's box tests).
+  float smallLeaf = 1.0f;       ///< Testing a small pack.
+  float largePack = 1.0f;       ///< Testing one pack of a larger leaf.
+};
+
+/// Chooses the wide tree over a binary BVH that minimises the SAH cost of the given model
+/// (dynamic programming over the binary tree as in Ylitie, Karras, Laine, "Efficient Incoherent
+/// Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017): which binary nodes become a
+/// wide node's children, and which become leaves (a leaf may merge several binary leaves).
+class OptimalCollapse {
+ public:
+  OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& costs);
+
+  /// Whether binary node n, taken as a child slot, is a leaf holding all triangles below it.
+  bool isLeaf(uint32_t n) const { return leaf_[n] != 0; }
+  /// Writes the binary nodes that become the children of the wide node made from binary node n
+  /// (not a leaf slot, or the root); returns how many (1..width), in decreasing box area.
+  uint32_t children(uint32_t n, uint32_t* out) const;
+  /// Triangles below binary node n, in leaf order, appended to out.
+  void trianglesBelow(uint32_t n, std::vector<uint32_t>& out) const;
+  /// Triangle count below binary node n.
+  uint32_t triangleCount(uint32_t n) const { return count_[n]; }
+
+ private:
+  void collect(uint32_t n, uint32_t slots, uint32_t* out, uint32_t& count) const;
+
+  const BinaryBvh& binary_;
+  uint32_t width_;
+  std::vector<float> cost_;          // [n * width + j - 1]: best cost of n's subtree in <= j slots
+  std::vector<uint8_t> leftSlots_;   // [n * width + j - 1]: slots given to the left child, 0 = n is one slot
+  std::vector<uint8_t> usedSlots_;   // [n * width + j - 1]: slots that best cost uses (<= j)
+  std::vector<uint8_t> leaf_;        // n as one slot is a leaf
+  std::vector<uint32_t> count_;      // triangles below n
+  std::vector<uint32_t> leaves_;     // binary leaves below n
+  std::vector<uint8_t> distributedLeftW_;   // [n]: left child's slots in n's own wide node
+};
+
+}  // namespace pa::bvh_detail
+
+namespace pa::bvh_detail {
+
+/// Converts a binary BVH into a wide layout along an OptimalCollapse plan. Layout provides:
+/// Node, Bvh (with vector `nodes`), kWidth, kMaxPacks (per leaf); emptyNode(); setChild(node, slot, box, reference);
+/// finishNode(node, count) (after the children are set); pool(count) (0 or 1: which pack array
+/// a leaf of count triangles goes to) and packs(count) (how many packs it takes there);
+/// resizePools(bvh, sizes); writeLeaf(bvh, mesh, triangles, first) -> the leaf reference.
+template <class Layout>
+class WideCollapser {
+ public:
+  using Node = typename Layout::Node;
+  using Bvh = typename Layout::Bvh;
+
+  WideCollapser(const BinaryBvh& binary, const TriangleMesh& mesh, const CollapseCosts& costs, Bvh& out)
+      : binary_(binary), mesh_(mesh), plan_(binary, costs), out_(out) {}
+
+  void run() {
+    out_.nodes.clear();
+    out_.nodes.reserve(binary_.nodeCount / Layout::kWidth + 1);
+    out_.nodes.emplace_back();
+    leaves_.clear();
+    fillNode(0, 0);
+    packLeaves();
+  }
+
+ private:
+  /// A leaf slot: the binary node whose triangles it holds, and where its reference goes.
+  struct LeafSlot {
+    uint32_t binary, node, slot;
+  };
+
+  /// Fills wide node `wide` with the children the plan gives binary node `root` (depth first);
+  /// leaf slots are listed in leaves_ and referenced by packLeaves().
+  void fillNode(uint32_t wide, uint32_t root) {
+    uint32_t children[Layout::kWidth];
+    const uint32_t count = plan_.children(root, children);
+    Node node = Layout::emptyNode();
+    for (uint32_t i = 0; i < count; ++i) {
+      uint32_t reference = 0;
+      if (plan_.isLeaf(children[i])) {
+        leaves_.push_back({children[i], wide, i});
+      } else {
+        reference = static_cast<uint32_t>(out_.nodes.size());
+        out_.nodes.emplace_back();
+      }
+      Layout::setChild(node, i, binary_.nodes[children[i]].bounds, reference);
+    }
+    Layout::finishNode(node, count);
+    out_.nodes[wide] = node;
+    for (uint32_t i = 0; i < count; ++i)
+      if (!plan_.isLeaf(children[i])) fillNode(node.child[i], children[i]);
+  }
+
+  /// Packs every leaf's triangles (in parallel; packs in depth-first order) and writes the leaf
+  /// references.
+  void packLeaves() {
+    std::vector<uint32_t> first(leaves_.size());
+    uint32_t sizes[2] = {0, 0};
+    for (size_t i = 0; i < leaves_.size(); ++i) {
+      const uint32_t count = plan_.triangleCount(leaves_[i].binary);
+      const uint32_t packs = Layout::packs(count);
+      if (packs > Layout::kMaxPacks) throw std::invalid_argument("BVH leaf too large for the wide layout");
+      first[i] = sizes[Layout::pool(count)];
+      sizes[Layout::pool(count)] += packs;
+    }
+    if (std::max(sizes[0], sizes[1]) > kFirstPackMask) throw std::invalid_argument("too many triangles for the wide layout");
+    Layout::resizePools(out_, sizes);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves_.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+      std::vector<uint32_t> tris;
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        tris.clear();
+        plan_.trianglesBelow(leaves_[i].binary, tris);
+        out_.nodes[leaves_[i].node].child[leaves_[i].slot] = Layout::writeLeaf(out_, mesh_, tris, first[i]);
+      }
+    });
+  }
+
+  const BinaryBvh& binary_;
+  const TriangleMesh& mesh_;
+  const OptimalCollapse plan_;
+  Bvh& out_;
+  std::vector<LeafSlot> leaves_;
+};
+
+}  // namespace pa::bvh_detail
