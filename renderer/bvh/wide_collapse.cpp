@@ -12,9 +12,11 @@ OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& c
   if (width_ < 2 || width_ > 64) throw std::invalid_argument("collapse width must be in [2, 64]");
   const size_t n = binary.nodes.size();
   const uint32_t w = width_;
-  cost_.assign(n * w, 0.0f);
-  leftSlots_.assign(n * w, 0);
-  usedSlots_.assign(n * w, 1);
+  // Every entry the sweep below writes before it is read (no zero fill: these are the largest
+  // arrays of the collapse); the slot arrays are read for inner nodes only.
+  cost_.reset(new float[n * w]);
+  leftSlots_.reset(new uint8_t[n * w]);
+  usedSlots_.reset(new uint8_t[n * w]);
   leaf_.assign(n, 0);
   count_.assign(n, 0);
   distributedLeftW_.assign(n, 1);
@@ -27,6 +29,8 @@ OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& c
     const BinaryNode& node = binary.nodes[i];
     const float area = node.bounds.halfArea();
     float* cost = &cost_[i * w];
+    uint8_t* leftSlots = &leftSlots_[i * w];
+    uint8_t* used = &usedSlots_[i * w];
     if (node.isLeaf()) {
       count_[i] = node.count;
     } else {
@@ -75,8 +79,8 @@ OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& c
     leaf_[i] = leafCost <= internalCost;
     cost[0] = std::min(leafCost, internalCost);
     // Slot counts 2..w: n split between its children, unless n as one slot is cheaper.
-    uint8_t* leftSlots = &leftSlots_[i * w];
-    uint8_t* used = &usedSlots_[i * w];
+    leftSlots[0] = 0;
+    used[0] = 1;
     for (uint32_t j = 2; j <= w; ++j) {
       if (distributed[j] < cost[j - 2]) {
         cost[j - 1] = distributed[j];
@@ -94,11 +98,11 @@ OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& c
 
 void OptimalCollapse::collect(uint32_t n, uint32_t slots, uint32_t* out, uint32_t& count) const {
   const size_t e = size_t(n) * width_ + slots - 1;
-  const uint32_t k = leftSlots_[e];
-  if (k == 0 || binary_.nodes[n].isLeaf()) {
+  if (binary_.nodes[n].isLeaf() || leftSlots_[e] == 0) {
     out[count++] = n;
     return;
   }
+  const uint32_t k = leftSlots_[e];
   collect(binary_.nodes[n].left, k, out, count);
   collect(binary_.nodes[n].right, usedSlots_[e] - k, out, count);
 }

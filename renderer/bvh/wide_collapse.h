@@ -4,6 +4,7 @@
 // binary leaf's triangle packs go.
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -56,9 +57,9 @@ class OptimalCollapse {
 
   const BinaryBvh& binary_;
   uint32_t width_;
-  std::vector<float> cost_;          // [n * width + j - 1]: best cost of n's subtree in <= j slots
-  std::vector<uint8_t> leftSlots_;   // [n * width + j - 1]: slots given to the left child, 0 = n is one slot
-  std::vector<uint8_t> usedSlots_;   // [n * width + j - 1]: slots that best cost uses (<= j)
+  std::unique_ptr<float[]> cost_;          // [n * width + j - 1]: best cost of n's subtree in <= j slots
+  std::unique_ptr<uint8_t[]> leftSlots_;   // [n * width + j - 1]: left child's slots, 0 = n is one slot
+  std::unique_ptr<uint8_t[]> usedSlots_;   // [n * width + j - 1]: slots that best cost uses (<= j)
   std::vector<uint8_t> leaf_;        // n as one slot is a leaf
   std::vector<uint32_t> count_;      // triangles below n
   std::vector<uint32_t> leaves_;     // binary leaves below n
