@@ -96,7 +96,7 @@ void collapseToWide16(const BinaryBvh& binary, const TriangleMesh& mesh, Wide16B
     out = Wide16Bvh{};
     return;
   }
-  CollapseCosts costs;   // the defaults are the 16-wide layout's (docs/performance.md, "16-wide BVH")
+  CollapseCosts costs;   // the defaults are the 16-wide layout's (docs/performance.md, "Session 8")
   WideCollapser<Layout16>(binary, mesh, costs, out).run();
 }
 

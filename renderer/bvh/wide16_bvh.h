@@ -30,14 +30,8 @@ struct alignas(64) Wide16Node {
 };
 static_assert(sizeof(Wide16Node) == 512);
 
-/// Up to sixteen triangles: vertices as structure of arrays (vertex, axis, lane), as in
-/// TrianglePack. Lanes not in validBits (padding, degenerate triangles) are never reported.
-struct alignas(64) TrianglePack16 {
-  float v[3][3][kWide16Width];
-  uint32_t prim[kWide16Width];
-  uint32_t validBits = 0;    ///< Lanes holding a real, non-degenerate triangle.
-  uint32_t maskedBits = 0;   ///< Lanes whose hits go through the HitFilter.
-};
+/// Up to sixteen triangles (see TrianglePackOf).
+using TrianglePack16 = TrianglePackOf<kWide16Width>;
 
 /// Leaf reference bit of the 16-wide layout: the leaf is one 8-wide TrianglePack (<= 8
 /// triangles, in small_packs) instead of 16-wide packs. Small leaves are most leaves of game maps,

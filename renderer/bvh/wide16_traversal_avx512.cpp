@@ -17,6 +17,7 @@
 #include "renderer/bvh/slab_test.h"
 #include "renderer/bvh/watertight.h"
 #include "renderer/bvh/wide16_bvh.h"
+#include "renderer/bvh/wide_traversal_stack.h"
 
 #if defined(__AVX2__)
 
@@ -32,17 +33,9 @@
 namespace pa::bvh_detail {
 namespace {
 
-/// Bound for the stack: the wide tree is no deeper than the binary one (< 128 levels) and each
-/// level pushes at most 15 entries; pushes write sixteen lanes at once (the slack).
-inline constexpr int kStack16Size = 15 * 128 + 1;
-
-/// Traversal stack: child references with, for closest-hit rays, their entry distances.
+/// Traversal stack of the 16-wide tree (wide_traversal_stack.h).
 template <bool kWithDistance>
-struct Stack16 {
-  alignas(64) uint32_t node[kStack16Size + kWide16Width];
-  alignas(64) float entry[kWithDistance ? kStack16Size + kWide16Width : 1];
-  int top = 0;
-};
+using Stack16 = TraversalStack<kWithDistance, kWide16Width>;
 
 /// Per-ray constants for the box tests.
 struct BoxRay16 {

@@ -30,14 +30,19 @@ struct alignas(32) WideNode {
 };
 static_assert(sizeof(WideNode) == 224);
 
-/// Up to kPackWidth triangles: vertices as structure of arrays (vertex, axis, lane).
-/// Lanes not in validBits (padding, degenerate triangles) are never reported.
-struct alignas(32) TrianglePack {
-  float v[3][3][kPackWidth];
-  uint32_t prim[kPackWidth];
+/// Up to kLanes triangles: vertices as structure of arrays (vertex, axis, lane), aligned to
+/// one SIMD register of kLanes floats. Lanes not in validBits (padding, degenerate triangles)
+/// are never reported.
+template <uint32_t kLanes>
+struct alignas(4 * kLanes) TrianglePackOf {
+  float v[3][3][kLanes];
+  uint32_t prim[kLanes];
   uint32_t validBits = 0;    ///< Lanes holding a real, non-degenerate triangle.
   uint32_t maskedBits = 0;   ///< Lanes whose hits go through the HitFilter.
 };
+
+/// The 8-wide layout's pack (kPackWidth triangles).
+using TrianglePack = TrianglePackOf<kPackWidth>;
 
 /// Traversal kernel implementations. All give the same results bit for bit (same arithmetic).
 enum class WideKernel : uint8_t {

@@ -1,6 +1,7 @@
 #pragma once
 // Pieces shared by the wide traversal kernels (wide_traversal.cpp for AVX2 / SSE,
-// wide_traversal_avx512.cpp): the traversal stack and the leaf reference decoding.
+// wide_traversal_avx512.cpp, and the 16-wide wide16_traversal_avx512.cpp): the traversal stack
+// and the leaf reference decoding.
 #include <bit>
 #include <cstdint>
 
@@ -8,16 +9,17 @@
 
 namespace pa::bvh_detail {
 
-/// Bound for the stack: the wide tree is no deeper than the binary one (< 128 levels) and each
-/// level pushes at most 7 entries.
-inline constexpr int kWideStackSize = 7 * 128 + 1;
+/// Bound for the stack of a kWidth-wide tree: it is no deeper than the binary one (< 128
+/// levels) and each level pushes at most kWidth - 1 entries.
+template <uint32_t kWidth>
+inline constexpr int kStackSizeFor = int(kWidth - 1) * 128 + 1;
 
 /// Traversal stack: child references with, for closest-hit rays, their entry distances.
-/// Pushes write eight lanes at once, so the arrays have a lane's worth of slack.
-template <bool kWithDistance>
+/// Pushes write kWidth lanes at once, so the arrays have a register's worth of slack.
+template <bool kWithDistance, uint32_t kWidth = kWideWidth>
 struct TraversalStack {
-  alignas(32) uint32_t node[kWideStackSize + kWideWidth];
-  alignas(32) float entry[kWithDistance ? kWideStackSize + kWideWidth : 1];
+  alignas(4 * kWidth) uint32_t node[kStackSizeFor<kWidth> + kWidth];
+  alignas(4 * kWidth) float entry[kWithDistance ? kStackSizeFor<kWidth> + kWidth : 1];
   int top = 0;
 };
 
