@@ -21,8 +21,8 @@ struct BvhBuildConfig {
   /// 16 (AVX-512 at full width; needs AVX-512), or 0 for the faster one on this CPU (16 where
   /// 512-bit operations run at full width, docs/performance.md "Session 8").
   uint32_t nodeWidth = 0;
-  /// Hard upper bound on triangles per leaf of the binary SAH build. The 16-wide layout may
-  /// merge leaves up to 16 triangles where its cost model prefers that (wide_collapse.h).
+  /// Hard upper bound on triangles per leaf of the binary SAH build. The wide layouts may merge
+  /// leaves up to 16 triangles where the collapse's cost model prefers that (wide_collapse.h).
   uint32_t maxLeafTriangles = 8;
   float traversalCost = 1.0f;      ///< SAH cost of visiting a node, relative to one triangle test.
   uint32_t parallelThreshold = 4096;  ///< Subtrees smaller than this are built serially.

@@ -34,12 +34,12 @@ static_assert(sizeof(Wide16Node) == 512);
 using TrianglePack16 = TrianglePackOf<kWide16Width>;
 
 /// Leaf reference bit of the 16-wide layout: the leaf is one 8-wide TrianglePack (<= 8
-/// triangles, in small_packs) instead of 16-wide packs. Small leaves are most leaves of game maps,
+/// triangles, in smallPacks) instead of 16-wide packs. Small leaves are most leaves of game maps,
 /// and half the bytes of a 16-wide pack; both kinds are tested 16 lanes at once.
 inline constexpr uint32_t kSmallLeafBit = 1u << 30;
 
 /// 16-wide BVH; node 0 is the root (when not empty). Traversed only by the AVX-512 kernels.
-/// Leaf references: kLeafBit | (kSmallLeafBit, index in small_packs) or (packs - 1 <<
+/// Leaf references: kLeafBit | (kSmallLeafBit, index in smallPacks) or (packs - 1 <<
 /// kPackCountShift, first of 1..4 consecutive packs).
 struct Wide16Bvh {
   std::vector<Wide16Node> nodes;

@@ -129,7 +129,7 @@ void OptimalCollapse::trianglesBelow(uint32_t n, std::vector<uint32_t>& out) con
     out.insert(out.end(), binary_.primIndices.begin() + node.first, binary_.primIndices.begin() + node.first + node.count);
     return;
   }
-  trianglesBelow(node.left, out);   // depth <= log2(maxLeaf) below a leaf slot
+  trianglesBelow(node.left, out);   // a leaf slot holds <= maxLeaf triangles: shallow
   trianglesBelow(node.right, out);
 }
 

@@ -1,6 +1,6 @@
 // Embree 3 as the oracle: the same random rays against the same scenes give the same closest
 // hits (t within 1e-4 relative, same triangle except at shared edges/vertices) and the same
-// any-hit answers.
+// any-hit answers, for every layout this CPU traverses (8-wide, and 16-wide with AVX-512).
 #include <random>
 #include <span>
 #include <string>
@@ -14,6 +14,7 @@
 #include "renderer/bvh/testing/embree_oracle.h"
 #include "renderer/bvh/testing/scene_generators.h"
 #include "renderer/bvh/tests/oracle_compare.h"
+#include "renderer/bvh/wide16_bvh.h"
 
 namespace pa::testing {
 namespace {
@@ -100,14 +101,26 @@ void expectAgreement(const OracleResult& r) {
   ::testing::Test::RecordProperty("edge_cases", std::to_string(r.closest.edgeCases));
 }
 
+/// Every layout this CPU can traverse: 8-wide, and 16-wide where AVX-512 is available.
+std::vector<uint32_t> availableNodeWidths() {
+  std::vector<uint32_t> widths{8};
+  if (bvh_detail::wide16Available()) widths.push_back(16);
+  return widths;
+}
+
 void checkMesh(const TestMesh& mesh, uint32_t seed) {
-  Blas blas;
-  blas.build(mesh.input());
   EmbreeDevice device;
   EmbreeScene embree(device);
   embree.addMesh(mesh);
   embree.commit();
-  expectAgreement(runOracle(blas, embree, mesh.bounds(), seed));
+  for (const uint32_t width : availableNodeWidths()) {
+    SCOPED_TRACE("node width " + std::to_string(width));
+    BvhBuildConfig config;
+    config.nodeWidth = width;
+    Blas blas;
+    blas.build(mesh.input(), config);
+    expectAgreement(runOracle(blas, embree, mesh.bounds(), seed));
+  }
 }
 
 TEST(EmbreeOracle, RandomTriangleSoup) { checkMesh(makeTriangleSoup(100000, 1), 11); }
