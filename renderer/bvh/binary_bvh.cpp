@@ -335,11 +335,13 @@ class Builder {
       const PrimRef ref = src[i];
       const __m128 c = ref.centroid2();
       const int leftAxes = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(limit, map.bins(c))));
-      const bool isLeft = (leftAxes >> split.axis) & 1;
-      dst[isLeft ? left : right] = ref;
+      const uint32_t isLeft = (leftAxes >> split.axis) & 1;
+      // The target index by arithmetic, not a ternary: GCC compiled that into a branch, which
+      // mispredicts on half the primitives.
+      dst[right + (left - right) * isLeft] = ref;
       left += isLeft;
-      right += !isLeft;
-      const __m128 keep = _mm_castsi128_ps(_mm_set1_epi32(isLeft ? -1 : 0));
+      right += 1 - isLeft;
+      const __m128 keep = _mm_castsi128_ps(_mm_set1_epi32(-static_cast<int>(isLeft)));
       leftCentroids.lo = _mm_blendv_ps(leftCentroids.lo, _mm_min_ps(leftCentroids.lo, c), keep);
       leftCentroids.hi = _mm_blendv_ps(leftCentroids.hi, _mm_max_ps(leftCentroids.hi, c), keep);
       rightCentroids.lo = _mm_blendv_ps(_mm_min_ps(rightCentroids.lo, c), rightCentroids.lo, keep);
