@@ -7,7 +7,7 @@
 // when popped, as in the 8-wide kernels. Any-hit rays take the children in slot order.
 //
 // Only the functions below carry the AVX-512 target attribute (see wide_traversal_avx512.cpp);
-// the file is empty in x86-64-v2 builds.
+// in x86-64-v2 builds the file holds only stubs (wide16Available() is false there).
 #include <bit>
 #include <cstdint>
 #include <limits>
