@@ -18,13 +18,14 @@ struct Blas::Impl {
   bvh_detail::WideBvh wide;       // what rays traverse when nodeWidth is 8
   bvh_detail::Wide16Bvh wide16;   // what rays traverse when nodeWidth is 16
   uint32_t nodeWidth = 8;         // as the build resolved it
+  bool allowAvx512 = true;        // the build's BvhBuildConfig::allowAvx512 (a refit keeps it)
   Bounds bounds;
   bvh_detail::BinaryBuildScratch scratch;   // kept between builds once the Blas is rebuilt
   uint32_t builds = 0;
 
   /// Converts binary into the layout of nodeWidth (the other layout is emptied); allowAvx512
   /// false keeps the 8-wide layout on its baseline kernel.
-  void collapse(bool allowAvx512) {
+  void collapse() {
     if (nodeWidth == 16) {
       wide = bvh_detail::WideBvh{};
       bvh_detail::collapseToWide16(binary, mesh, wide16);
@@ -68,7 +69,8 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
     bvh_detail::assignTriangleMesh(input, impl.mesh);
     bvh_detail::buildBinaryBvh(impl.mesh, resolved, impl.scratch, impl.binary);
     impl.nodeWidth = resolved.nodeWidth;
-    impl.collapse(config.allowAvx512);
+    impl.allowAvx512 = config.allowAvx512;
+    impl.collapse();
     // The root box is the union of all triangles.
     impl.bounds = impl.binary.empty() ? Bounds{} : impl.binary.nodes[0].bounds;
   } catch (...) {
@@ -85,9 +87,7 @@ void Blas::refit(std::span<const glm::vec3> positions) {
   bvh_detail::updatePositions(impl_->mesh, positions);
   const std::vector<Bounds> triBounds = bvh_detail::triangleBounds(impl_->mesh);
   bvh_detail::refitBinaryBvh(impl_->binary, triBounds);
-  // A refit keeps the build's layout and kernel.
-  const bool avx512 = impl_->builds == 0 || impl_->wide.kernel == bvh_detail::WideKernel::Avx512;
-  impl_->collapse(avx512);
+  impl_->collapse();   // the build's layout and kernel
   impl_->bounds = Bounds{};
   for (const Bounds& b : triBounds) impl_->bounds.extend(b);
 }

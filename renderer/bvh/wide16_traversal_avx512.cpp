@@ -37,6 +37,15 @@ namespace {
 template <bool kWithDistance>
 using Stack16 = TraversalStack<kWithDistance, kWide16Width>;
 
+/// Pushes the lanes of children in mask (in lane order), with their entry distances when the
+/// stack keeps them: one register compress each, stored sixteen lanes at once.
+template <bool kWithDistance>
+PA_AVX512 inline void push(Stack16<kWithDistance>& stack, __mmask16 mask, __m512i children, __m512 entry) {
+  _mm512_storeu_si512(stack.node + stack.top, _mm512_maskz_compress_epi32(mask, children));
+  if constexpr (kWithDistance) _mm512_storeu_ps(stack.entry + stack.top, _mm512_maskz_compress_ps(mask, entry));
+  stack.top += std::popcount(static_cast<uint32_t>(mask));
+}
+
 /// Per-ray constants for the box tests.
 struct BoxRay16 {
   __m512 ox, oy, oz, idx, idy, idz, tmin;
@@ -222,28 +231,13 @@ PA_AVX512 inline unsigned testPack(const Pack& pack, const TriangleRay16& r, flo
 /// Tests a leaf's triangles against [ray.tmin, tmax], in lane order: closest hit (kAnyHit
 /// false) shortens tmax and writes hit for every accepted hit; any hit returns true at the
 /// first accepted one.
-/// Tests one pack's triangles against [ray.tmin, tmax], in lane order: closest hit (kAnyHit
-/// false) shortens tmax and writes hit for every accepted hit; any hit returns true at the
-/// first accepted one.
+/// Tests one pack's triangles against [ray.tmin, tmax] and accepts its hits (acceptPackHits).
 template <bool kAnyHit, class Pack>
 PA_AVX512 inline bool testPackHits(const Pack& pack, const TriangleRay16& triRay, const Ray& ray, float& tmax, Hit& hit,
                                    const HitFilter& filter, uint32_t instanceId) {
-  bool found = false;
   PackCandidates16 c;
-  for (unsigned lanes = testPack(pack, triRay, ray.tmin, tmax, c); lanes; lanes &= lanes - 1) {
-    const int lane = std::countr_zero(lanes);
-    const float t = c.t[lane];
-    if (!(t <= tmax)) continue;   // a nearer hit earlier in this pack
-    if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], c.u[lane], c.v[lane])) continue;
-    if constexpr (kAnyHit) {
-      return true;
-    } else {
-      tmax = t;
-      hit = {t, c.u[lane], c.v[lane], pack.prim[lane], instanceId};
-      found = true;
-    }
-  }
-  return found;
+  const unsigned lanes = testPack(pack, triRay, ray.tmin, tmax, c);
+  return acceptPackHits<kAnyHit>(pack, lanes, c.t, c.u, c.v, tmax, hit, filter, instanceId);
 }
 
 /// Tests a leaf's triangles (its small pack or its 16-wide packs) as testPackHits does.
@@ -252,8 +246,8 @@ PA_AVX512 inline bool testLeaf(const Wide16Bvh& bvh, uint32_t ref, const Triangl
                                float& tmax, Hit& hit, const HitFilter& filter, uint32_t instanceId) {
   if (ref & kSmallLeafBit)
     return testPackHits<kAnyHit>(bvh.smallPacks[ref & kFirstPackMask], triRay, ray, tmax, hit, filter, instanceId);
-  const uint32_t first = ref & kFirstPackMask;
-  const uint32_t count = ((ref & ~kLeafBit) >> kPackCountShift) + 1;
+  uint32_t first, count;
+  leafPacks(ref, first, count);
   bool found = false;
   for (uint32_t p = first; p < first + count; ++p) {
     if (testPackHits<kAnyHit>(bvh.packs[p], triRay, ray, tmax, hit, filter, instanceId)) {
@@ -298,25 +292,15 @@ PA_AVX512 bool intersectWide16(const Wide16Bvh& bvh, Ray& ray, Hit& hit, const H
         const int nearestPosition = 31 - std::countl_zero(ordered);
         current = node.child[(node.order[nearestPosition] >> boxRay.orderShift) & 15];
         const __mmask16 rest = static_cast<__mmask16>(ordered & ~(1u << nearestPosition));
-        const __m512i children = _mm512_permutexvar_epi32(order, _mm512_load_si512(node.child));
-        _mm512_storeu_si512(stack.node + stack.top, _mm512_maskz_compress_epi32(rest, children));
-        _mm512_storeu_ps(stack.entry + stack.top, _mm512_maskz_compress_ps(rest, _mm512_permutexvar_ps(order, tNear)));
-        stack.top += std::popcount(static_cast<uint32_t>(rest));
+        push(stack, rest, _mm512_permutexvar_epi32(order, _mm512_load_si512(node.child)),
+             _mm512_permutexvar_ps(order, tNear));
         continue;
       }
     } else if (testLeaf<false>(bvh, current, triRay, ray, ray.tmax, hit, filter, instanceId)) {
       found = true;
     }
     // Pop the next entry that may still hold a nearer hit.
-    const float cull = ray.tmax * kRobustFarScale;
-    for (;;) {
-      if (stack.top == 0) return found;
-      --stack.top;
-      if (stack.entry[stack.top] <= cull) {
-        current = stack.node[stack.top];
-        break;
-      }
-    }
+    if (!popEntryWithin(stack, ray.tmax * kRobustFarScale, current)) return found;
   }
 }
 
@@ -333,11 +317,7 @@ PA_AVX512 bool occludedWide16(const Wide16Bvh& bvh, const Ray& ray, const HitFil
       const __mmask16 mask = testNode(boxRay, node, ray.tmax, tNear);
       if (mask != 0) {
         current = node.child[std::countr_zero(static_cast<uint32_t>(mask))];
-        if (const __mmask16 rest = mask & (mask - 1)) {
-          const __m512i children = _mm512_load_si512(node.child);
-          _mm512_storeu_si512(stack.node + stack.top, _mm512_maskz_compress_epi32(rest, children));
-          stack.top += std::popcount(static_cast<uint32_t>(rest));
-        }
+        if (const __mmask16 rest = mask & (mask - 1)) push(stack, rest, _mm512_load_si512(node.child), tNear);
         continue;
       }
     } else {

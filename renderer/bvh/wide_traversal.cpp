@@ -289,15 +289,7 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
       found = true;
     }
     // Pop the next entry that may still hold a nearer hit.
-    const float cull = ray.tmax * kRobustFarScale;
-    for (;;) {
-      if (stack.top == 0) return found;
-      --stack.top;
-      if (stack.entry[stack.top] <= cull) {
-        current = stack.node[stack.top];
-        break;
-      }
-    }
+    if (!popEntryWithin(stack, ray.tmax * kRobustFarScale, current)) return found;
   }
 }
 

@@ -247,18 +247,10 @@ PA_AVX512 inline bool testLeaf(const WideBvh& bvh, uint32_t ref, const TriangleR
   for (uint32_t p = first; p < first + count; ++p) {
     const TrianglePack& pack = bvh.packs[p];
     PackCandidates c;
-    for (unsigned lanes = testPack(pack, triRay, ray.tmin, tmax, c); lanes; lanes &= lanes - 1) {
-      const int lane = std::countr_zero(lanes);
-      const float t = c.t[lane];
-      if (!(t <= tmax)) continue;   // a nearer hit earlier in this pack
-      if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], c.u[lane], c.v[lane])) continue;
-      if constexpr (kAnyHit) {
-        return true;
-      } else {
-        tmax = t;
-        hit = {t, c.u[lane], c.v[lane], pack.prim[lane], instanceId};
-        found = true;
-      }
+    const unsigned lanes = testPack(pack, triRay, ray.tmin, tmax, c);
+    if (acceptPackHits<kAnyHit>(pack, lanes, c.t, c.u, c.v, tmax, hit, filter, instanceId)) {
+      if constexpr (kAnyHit) return true;
+      found = true;
     }
   }
   return found;
@@ -300,15 +292,7 @@ PA_AVX512 bool intersectWideAvx512(const WideBvh& bvh, Ray& ray, Hit& hit, const
       found = true;
     }
     // Pop the next entry that may still hold a nearer hit.
-    const float cull = ray.tmax * kRobustFarScale;
-    for (;;) {
-      if (stack.top == 0) return found;
-      --stack.top;
-      if (stack.entry[stack.top] <= cull) {
-        current = stack.node[stack.top];
-        break;
-      }
-    }
+    if (!popEntryWithin(stack, ray.tmax * kRobustFarScale, current)) return found;
   }
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // Pieces shared by the wide traversal kernels (wide_traversal.cpp for AVX2 / SSE,
 // wide_traversal_avx512.cpp, and the 16-wide wide16_traversal_avx512.cpp): the traversal stack
-// and the leaf reference decoding.
+// and its culled pop, the acceptance of one pack's candidate hits, and the leaf reference
+// decoding.
 #include <bit>
 #include <cstdint>
 
@@ -39,6 +40,43 @@ inline uint32_t takeNearerOfTwo(const WideNode& node, uint32_t mask, const float
   stack.entry[stack.top] = firstIsNearer ? secondEntry : firstEntry;
   ++stack.top;
   return firstIsNearer ? firstChild : secondChild;
+}
+
+/// Closest-hit rays: pops the next entry whose entry distance is within cull (the farther ones
+/// cannot hold a nearer hit) into current; false when the stack runs empty.
+template <uint32_t kWidth>
+inline bool popEntryWithin(TraversalStack<true, kWidth>& stack, float cull, uint32_t& current) {
+  while (stack.top > 0) {
+    --stack.top;
+    if (stack.entry[stack.top] <= cull) {
+      current = stack.node[stack.top];
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Accepts the candidate lanes of one pack test (t, u, v per lane, already within [tmin, tmax]
+/// when tested) in lane order: a lane behind a nearer hit of the same pack or rejected by the
+/// filter (alpha-masked lanes only) is skipped. Closest hit (kAnyHit false) shortens tmax and
+/// writes hit for every accepted lane; any hit returns true at the first one.
+template <bool kAnyHit, class Pack>
+inline bool acceptPackHits(const Pack& pack, unsigned lanes, const float* t, const float* u, const float* v,
+                           float& tmax, Hit& hit, const HitFilter& filter, uint32_t instanceId) {
+  bool found = false;
+  for (; lanes; lanes &= lanes - 1) {
+    const int lane = std::countr_zero(lanes);
+    if (!(t[lane] <= tmax)) continue;   // a nearer hit earlier in this pack
+    if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], u[lane], v[lane])) continue;
+    if constexpr (kAnyHit) {
+      return true;
+    } else {
+      tmax = t[lane];
+      hit = {t[lane], u[lane], v[lane], pack.prim[lane], instanceId};
+      found = true;
+    }
+  }
+  return found;
 }
 
 /// Decodes a leaf reference into its pack range.
