@@ -14,13 +14,14 @@ OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& c
   const uint32_t w = width_;
   // Every entry the sweep below writes before it is read (no zero fill: these are the largest
   // arrays of the collapse); the slot arrays are read for inner nodes only.
-  cost_.reset(new float[n * w]);
+  // subtreeCost[i * w + j - 1]: the best cost of node i's subtree in <= j slots (planning only).
+  const std::unique_ptr<float[]> subtreeCost(new float[n * w]);
+  std::vector<uint32_t> leaves(n, 0);   // binary leaves below each node
   leftSlots_.reset(new uint8_t[n * w]);
   usedSlots_.reset(new uint8_t[n * w]);
   leaf_.assign(n, 0);
   count_.assign(n, 0);
   distributedLeftW_.assign(n, 1);
-  leaves_.assign(n, 0);
   constexpr float inf = std::numeric_limits<float>::infinity();
   std::vector<float> distributed(w + 1);
   std::vector<uint8_t> distributedLeft(w + 1);
@@ -28,7 +29,7 @@ OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& c
   for (size_t i = n; i-- > 0;) {
     const BinaryNode& node = binary.nodes[i];
     const float area = node.bounds.halfArea();
-    float* cost = &cost_[i * w];
+    float* cost = &subtreeCost[i * w];
     uint8_t* leftSlots = &leftSlots_[i * w];
     uint8_t* used = &usedSlots_[i * w];
     if (node.isLeaf()) {
@@ -43,19 +44,19 @@ OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& c
                                             : area * costs.largePack * float((tris + costs.packWidth - 1) / costs.packWidth);
     }
     if (node.isLeaf()) {
-      leaves_[i] = 1;
+      leaves[i] = 1;
       leaf_[i] = 1;
       std::fill_n(cost, w, leafCost);
       continue;
     }
-    const float* left = &cost_[size_t(node.left) * w];
-    const float* right = &cost_[size_t(node.right) * w];
+    const float* left = &subtreeCost[size_t(node.left) * w];
+    const float* right = &subtreeCost[size_t(node.right) * w];
     // A subtree never gains from more slots than it has binary leaves (its costs stay level
     // from there on), so the slot counts are bounded by the leaves below: exact, and it skips
     // most of the search near the leaves, where most nodes are.
-    const uint32_t leftLeaves = leaves_[node.left], rightLeaves = leaves_[node.right];
-    leaves_[i] = leftLeaves + rightLeaves;
-    const uint32_t maxSlots = std::min(w, leaves_[i]);
+    const uint32_t leftLeaves = leaves[node.left], rightLeaves = leaves[node.right];
+    leaves[i] = leftLeaves + rightLeaves;
+    const uint32_t maxSlots = std::min(w, leaves[i]);
     for (uint32_t j = 2; j <= w; ++j) {
       if (j > maxSlots) {
         distributed[j] = distributed[maxSlots];

@@ -1,7 +1,7 @@
 #pragma once
-// Steps shared by the conversions of the binary BVH into the wide layouts (8-wide wide_bvh,
-// 16-wide wide16_bvh): which binary nodes become a wide node's children, and where each
-// binary leaf's triangle packs go.
+// The conversion of the binary BVH into both wide layouts (8-wide wide_bvh, 16-wide
+// wide16_bvh): the SAH-optimal plan of which binary nodes become wide nodes and leaves
+// (OptimalCollapse), and the collapser that writes a layout along it (WideCollapser).
 #include <algorithm>
 #include <cstdint>
 #include <memory>
@@ -14,10 +14,6 @@
 #include "renderer/bvh/binary_bvh.h"
 #include "renderer/bvh/triangle_mesh.h"
 #include "renderer/bvh/wide_bvh.h"
-
-namespace pa::bvh_detail {
-
-}  // namespace pa::bvh_detail
 
 namespace pa::bvh_detail {
 
@@ -57,12 +53,10 @@ class OptimalCollapse {
 
   const BinaryBvh& binary_;
   uint32_t width_;
-  std::unique_ptr<float[]> cost_;          // [n * width + j - 1]: best cost of n's subtree in <= j slots
   std::unique_ptr<uint8_t[]> leftSlots_;   // [n * width + j - 1]: left child's slots, 0 = n is one slot
   std::unique_ptr<uint8_t[]> usedSlots_;   // [n * width + j - 1]: slots that best cost uses (<= j)
   std::vector<uint8_t> leaf_;        // n as one slot is a leaf
   std::vector<uint32_t> count_;      // triangles below n
-  std::vector<uint32_t> leaves_;     // binary leaves below n
   std::vector<uint8_t> distributedLeftW_;   // [n]: left child's slots in n's own wide node
 };
 
