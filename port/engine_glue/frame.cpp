@@ -1,5 +1,7 @@
 // A frame: BeginFrame, 3D views (ClearScene, adds, RenderScene), 2D (SetColor,
 // DrawStretchPic, DrawStretchRaw), EndFrame. Everything is drawn in call order.
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
 
@@ -13,11 +15,41 @@ bool finiteRect(float x, float y, float w, float h) {
   return std::isfinite(x) && std::isfinite(y) && std::isfinite(w) && std::isfinite(h);
 }
 
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+/// Adds the milliseconds a scope takes to `total`.
+class ScopeTimer {
+ public:
+  explicit ScopeTimer(double& total) : total_(total), start_(Clock::now()) {}
+  ~ScopeTimer() { total_ += millisecondsSince(start_); }
+  ScopeTimer(const ScopeTimer&) = delete;
+  ScopeTimer& operator=(const ScopeTimer&) = delete;
+
+ private:
+  double& total_;
+  Clock::time_point start_;
+};
+
+void addTimings(ViewTimings& sum, const ViewTimings& t) {
+  sum.sceneMs += t.sceneMs;
+  sum.commitMs += t.commitMs;
+  sum.traceMs += t.traceMs;
+  sum.denoiseMs += t.denoiseMs;
+  sum.resolveMs += t.resolveMs;
+}
+
 }  // namespace
 
 void Module::beginFrame(int /*stereoFrame*/) {
   if (!window_.isOpen()) return;
   frameStartMs_ = engine_.milliseconds();
+  const Clock::time_point now = Clock::now();
+  if (frameBegan_ != Clock::time_point{}) stats_.frameMs += std::chrono::duration<double, std::milli>(now - frameBegan_).count();
+  frameBegan_ = now;
   overlay_.beginFrame(window_.width(), window_.height());
   frameOpen_ = true;
 }
@@ -26,34 +58,46 @@ void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
   if (frontEndMsec != nullptr) *frontEndMsec = 0;
   if (backEndMsec != nullptr) *backEndMsec = 0;
   if (!window_.isOpen() || !frameOpen_) return;
-  // Screenshot commands ran during the frame: capture what was drawn before it is shown.
-  std::vector<ScreenshotRequest> shots;
-  shots.swap(pendingShots_);
-  for (const ScreenshotRequest& request : shots) takeScreenshot(request);
-  if (pendingVideo_) {
-    const VideoFrameRequest video = *pendingVideo_;
-    pendingVideo_.reset();
-    captureVideoFrame(video);
+  {
+    const ScopeTimer present(stats_.presentMs);
+    // Screenshot commands ran during the frame: capture what was drawn before it is shown.
+    std::vector<ScreenshotRequest> shots;
+    shots.swap(pendingShots_);
+    for (const ScreenshotRequest& request : shots) takeScreenshot(request);
+    if (pendingVideo_) {
+      const VideoFrameRequest video = *pendingVideo_;
+      pendingVideo_.reset();
+      captureVideoFrame(video);
+    }
+    window_.swap();
   }
-  window_.swap();
   frameOpen_ = false;
   const int now = engine_.milliseconds();
   if (frontEndMsec != nullptr) *frontEndMsec = traceMsThisFrame_;
   if (backEndMsec != nullptr) *backEndMsec = now - frameStartMs_ - traceMsThisFrame_;
   stats_.frames += 1;
-  stats_.traceMs += traceMsThisFrame_;
   traceMsThisFrame_ = 0;
   if (now - stats_.sinceMs >= 2000) {
-    if (settings_.tracer(engine_).printStats && stats_.frames > 0) {
-      engine_.print(q3abi::PRINT_ALL,
-                    "pathtracer: %.1f fps, %.1f ms tracing per frame, %d views, %s preset\n",
-                    1000.0 * stats_.frames / (now - stats_.sinceMs),
-                    double(stats_.traceMs) / stats_.frames, stats_.views,
-                    presetName(settings_.tracer(engine_).preset));
-    }
+    if (settings_.tracer(engine_).printStats && stats_.frames > 0) printFrameStats(now);
     stats_ = FrameStats{};
     stats_.sinceMs = now;
   }
+}
+
+void Module::printFrameStats(int nowMs) const {
+  const FrameStats& s = stats_;
+  const double n = s.frames;
+  const double accounted = s.world.sceneMs + s.world.commitMs + s.world.traceMs + s.world.denoiseMs +
+                           s.world.resolveMs + s.uploadMs + s.modelViewMs + s.overlay2dMs + s.presentMs;
+  // One line of name=value pairs (per-frame means) that scripts/engine_bench.sh parses.
+  engine_.print(q3abi::PRINT_ALL,
+                "pathtracer: stats %s fps=%.1f frame_ms=%.2f world_views=%.2f scene_ms=%.2f commit_ms=%.2f "
+                "trace_ms=%.2f denoise_ms=%.2f resolve_ms=%.2f upload_ms=%.2f model_views=%.2f model_view_ms=%.2f "
+                "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f\n",
+                presetName(settings_.tracer(engine_).preset), 1000.0 * n / std::max(1, nowMs - s.sinceMs),
+                s.frameMs / n, s.views / n, s.world.sceneMs / n, s.world.commitMs / n, s.world.traceMs / n,
+                s.world.denoiseMs / n, s.world.resolveMs / n, s.uploadMs / n, s.modelViews / n, s.modelViewMs / n,
+                s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n);
 }
 
 void Module::clearScene() { scene_.clear(); }
@@ -84,19 +128,28 @@ void Module::renderScene(const q3abi::refdef_t* view) {
   if (!noWorld && !world_) throw DropError("RenderScene: no world loaded");
   if (view->width <= 0 || view->height <= 0 || view->width > 16384 || view->height > 16384) return;
   if (!std::isfinite(view->fov_x) || !std::isfinite(view->fov_y)) return;
-  if (views_) {
+  ViewRenderer* const views = noWorld ? modelViews_.get() : views_.get();
+  if (views != nullptr) {
     std::optional<TracedPicture> picture;
     const int start = engine_.milliseconds();
+    const Clock::time_point began = Clock::now();
     try {
-      picture = views_->render(*view, scene_, settings_.tracer(engine_), shaders_, models_,
+      picture = views->render(*view, scene_, settings_.tracer(engine_), shaders_, models_,
                                noWorld ? nullptr : world_.get());
     } catch (const std::exception& error) {
       // Keep playing (2D still works); say it a few times, not every frame.
       if (renderFailures_++ < 3) engine_.warn(std::string("RenderScene: ") + error.what());
     }
     traceMsThisFrame_ += engine_.milliseconds() - start;
-    stats_.views += 1;
+    if (noWorld) {
+      stats_.modelViews += 1;
+      stats_.modelViewMs += millisecondsSince(began);
+    } else {
+      stats_.views += 1;
+      if (picture) addTimings(stats_.world, picture->timings);
+    }
     if (picture) {
+      const ScopeTimer upload(stats_.uploadMs);
       overlay_.drawPixels(0, picture->rgba, picture->width, picture->height,
                           static_cast<float>(view->x), static_cast<float>(view->y),
                           static_cast<float>(view->width), static_cast<float>(view->height),
@@ -112,6 +165,7 @@ void Module::setColor(const float* rgba) { overlay_.setColor(rgba); }
 void Module::drawStretchPic(float x, float y, float w, float h, float s1, float t1, float s2,
                             float t2, q3abi::qhandle_t shader) {
   if (!frameOpen_ || !finiteRect(x, y, w, h) || !finiteRect(s1, t1, s2, t2)) return;
+  const ScopeTimer timer(stats_.overlay2dMs);
   const ImageSource images = [this](const std::string& name) { return images_.load(engine_, name); };
   overlay_.drawPic(shaders_, engine_, images, shader, seconds(), x, y, w, h, s1, t1, s2, t2);
 }
@@ -120,6 +174,7 @@ void Module::drawStretchRaw(int x, int y, int w, int h, int cols, int rows,
                             const q3abi::byte* data, int client, bool dirty) {
   if (!frameOpen_) return;
   if (cols <= 0 || rows <= 0 || cols > 4096 || rows > 4096) return;
+  const ScopeTimer timer(stats_.overlay2dMs);
   if (dirty && data != nullptr) overlay_.uploadRaw(client, data, cols, rows);
   overlay_.drawRaw(client, static_cast<float>(x), static_cast<float>(y), static_cast<float>(w),
                    static_cast<float>(h));

@@ -30,6 +30,7 @@ void Module::shutdown(bool destroyWindow) {
   scene_.clear();
   world_.reset();
   if (views_) views_->clearWorld();
+  if (modelViews_) modelViews_->clearWorld();   // its materials name this registration's shaders
   models_.clear();
   fonts_.clear();
   if (window_.isOpen()) shaders_.clear();   // GL textures need the context
@@ -38,6 +39,7 @@ void Module::shutdown(bool destroyWindow) {
   frameOpen_ = false;
   if (destroyWindow) {
     views_.reset();
+    modelViews_.reset();
     if (window_.isOpen()) {
       overlay_.release();
       engine_.ri().IN_Shutdown();
@@ -62,6 +64,7 @@ void Module::beginRegistration(q3abi::glconfig_t* config) {
   if (registered_) shutdown(false);
   ensureWindow(config);
   if (!views_) views_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);
+  if (!modelViews_) modelViews_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);
   scripts_.load(engine_);
   engine_.print(q3abi::PRINT_DEVELOPER, "pathtracer: %zu shaders in scripts\n", scripts_.size());
   addCommands();
@@ -214,6 +217,7 @@ void Module::remapShader(const char* oldShader, const char* newShader, const cha
   shaders_.remap(engine_, scripts_, images_, oldShader, newShader,
                  std::isfinite(offset) ? offset : 0.0f);
   if (views_) views_->shadersChanged();
+  if (modelViews_) modelViews_->shadersChanged();
 }
 
 bool Module::getEntityToken(char* buffer, int size) {

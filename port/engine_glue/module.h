@@ -1,6 +1,7 @@
 #pragma once
 // The renderer module's one state object: created by GetRefAPI, destroyed by Shutdown(1) or
 // dlclose. Every refexport_t entry point lands on a method of Module (see module_entry.cpp).
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "port/engine_glue/settings.h"
 #include "port/engine_glue/shader_scripts.h"
 #include "port/engine_glue/shaders.h"
+#include "port/engine_glue/views.h"
 #include "port/engine_glue/window.h"
 #include "port/engine_glue/world.h"
 
@@ -39,12 +41,18 @@ struct VideoFrameRequest {
   bool motionJpeg = false;
 };
 
-/// Frame timing gathered for r_pt_stats.
+/// Frame timing gathered for r_pt_stats: sums over the frames since `sinceMs`, in milliseconds.
 struct FrameStats {
   int sinceMs = 0;
   int frames = 0;
-  int views = 0;
-  long long traceMs = 0;
+  int views = 0;               ///< World views traced.
+  int modelViews = 0;          ///< Views without the world (HUD heads, 3D icons, menu models).
+  ViewTimings world;           ///< The world views' phases.
+  double uploadMs = 0.0;       ///< Traced pictures into GL textures (all views).
+  double modelViewMs = 0.0;    ///< Views without the world, all of their phases.
+  double overlay2dMs = 0.0;    ///< 2D calls (DrawStretchPic, DrawStretchRaw, cinematics).
+  double presentMs = 0.0;      ///< Screenshots, video frames and the buffer swap.
+  double frameMs = 0.0;        ///< BeginFrame to BeginFrame of the next frame (engine and game included).
 };
 
 /// All of the renderer's state.
@@ -104,6 +112,8 @@ class Module {
 
  private:
   void ensureWindow(q3abi::glconfig_t* config);
+  /// Prints the r_pt_stats line: per-frame means of stats_ up to `nowMs`.
+  void printFrameStats(int nowMs) const;
   double seconds() const;
   void takeScreenshot(const ScreenshotRequest& request);
   void captureVideoFrame(const VideoFrameRequest& request);
@@ -124,7 +134,10 @@ class Module {
   std::unordered_map<std::string, q3abi::fontInfo_t> fonts_;
   std::unique_ptr<World> world_;
   SceneFrame scene_;
-  std::unique_ptr<ViewRenderer> views_;
+  std::unique_ptr<ViewRenderer> views_;        ///< Views of the world: its scene, film and history.
+  /// Views without the world (RDF_NOWORLDMODEL: HUD heads, 3D icons, menu models): a scene and
+  /// film of their own, so that they never rebuild, resize or reset the world view's.
+  std::unique_ptr<ViewRenderer> modelViews_;
   std::vector<ScreenshotRequest> pendingShots_;
   std::optional<VideoFrameRequest> pendingVideo_;
   bool registered_ = false;        ///< Between BeginRegistration and Shutdown.
@@ -135,6 +148,7 @@ class Module {
   int traceMsThisFrame_ = 0;
   FrameStats stats_;
   int frameStartMs_ = 0;
+  std::chrono::steady_clock::time_point frameBegan_{};   ///< Last BeginFrame (r_pt_stats).
 };
 
 }  // namespace glue

@@ -11,6 +11,7 @@
 #include <glm/vec4.hpp>
 
 #include "port/q3formats/shader/material.h"   // uvTransformAt, skyFaceImage
+#include "renderer/core/srgb.h"
 #include "renderer/scene/lights/sky.h"      // cubeFaceBasis, cubeLookup: the layout of SkyDesc::faces
 
 namespace glue {
@@ -101,37 +102,6 @@ glm::vec3 skyCubeDirection(int face, int x, int y, int size) {
   return f.axis + f.right * (2.0f * u - 1.0f) + f.top * (1.0f - 2.0f * v);
 }
 
-uint32_t skyFacesInView(const glm::vec3& forward, const glm::vec3& left, const glm::vec3& up, float fovX,
-                        float fovY, float marginDegrees) {
-  const float wideX = fovX + 2.0f * marginDegrees, wideY = fovY + 2.0f * marginDegrees;
-  if (!(wideX < 179.0f && wideY < 179.0f)) return kAllSkyFaces;   // also NaN
-  const float tanX = std::tan(glm::radians(0.5f * wideX)), tanY = std::tan(glm::radians(0.5f * wideY));
-  // The view pyramid's section by the plane one unit ahead: a convex quad of directions. A face
-  // is reached when the quad, clipped by the four planes through the origin that bound the face's
-  // pyramid (d.axis >= |d.right|, d.axis >= |d.top|), keeps some area (Sutherland-Hodgman).
-  const std::vector<glm::vec3> corners = {forward + left * tanX + up * tanY, forward - left * tanX + up * tanY,
-                                          forward - left * tanX - up * tanY, forward + left * tanX - up * tanY};
-  uint32_t faces = 0;
-  for (uint32_t face = 0; face < 6; ++face) {
-    const pa::CubeFaceBasis& f = pa::cubeFaceBasis(face);
-    std::vector<glm::vec3> polygon = corners;
-    for (const glm::vec3& normal : {f.axis - f.right, f.axis + f.right, f.axis - f.top, f.axis + f.top}) {
-      std::vector<glm::vec3> kept;
-      for (size_t i = 0; i < polygon.size(); ++i) {
-        const glm::vec3& a = polygon[i];
-        const glm::vec3& b = polygon[(i + 1) % polygon.size()];
-        const float da = glm::dot(a, normal), db = glm::dot(b, normal);
-        if (da >= 0.0f) kept.push_back(a);
-        if ((da >= 0.0f) != (db >= 0.0f)) kept.push_back(a + (b - a) * (da / (da - db)));
-      }
-      polygon = std::move(kept);
-      if (polygon.empty()) break;
-    }
-    if (!polygon.empty()) faces |= 1u << face;
-  }
-  return faces;
-}
-
 glm::vec2 cloudTexCoords(const glm::vec3& direction, float cloudHeight) {
   const float h = cloudHeight > 0.0f ? cloudHeight : kDefaultCloudHeight;
   const float r = kSkyRadius;
@@ -175,63 +145,94 @@ bool SkyBaker::prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, 
         if (const Image* box = farBox_[size_t(where.face)].get())
           boxColors_[(size_t(face) * size_ + y) * size_ + x] = glm::vec3(sampleImage(*box, where.uv, true));
       }
-  const float height = shader.sky ? shader.sky->cloudHeight : kDefaultCloudHeight;
+  cloudHeight_ = shader.sky ? shader.sky->cloudHeight : kDefaultCloudHeight;
   cloudCoords_.assign(size_t(kBottomFace) * size_ * size_, glm::vec2(0.0f));
   for (int face = 0; face < kBottomFace; ++face)
     for (int y = 0; y < size_; ++y)
       for (int x = 0; x < size_; ++x)
         cloudCoords_[(size_t(face) * size_ + y) * size_ + x] =
-            cloudTexCoords(skyCubeDirection(face, x, y, size_), height);
+            cloudTexCoords(skyCubeDirection(face, x, y, size_), cloudHeight_);
   return true;
 }
 
-uint32_t SkyBaker::bake(double seconds, SkyCube& out, uint32_t faces) const {
-  if (out.size != size_) faces = kAllSkyFaces;
-  faces &= kAllSkyFaces;
-  out.size = size_;
-  std::vector<q3::UvAffine> transforms;
-  std::vector<glm::vec4> colors;
+SkyBaker::LayerState SkyBaker::layersAt(double seconds) const {
+  LayerState state;
+  state.transforms.reserve(layers_.size());
+  state.colors.reserve(layers_.size());
   for (const Layer& layer : layers_) {
-    transforms.push_back(q3::uvTransformAt(layer.stage.tcMods, seconds));
-    colors.push_back(stageColor(layer.stage, seconds));
+    state.transforms.push_back(q3::uvTransformAt(layer.stage.tcMods, seconds));
+    state.colors.push_back(stageColor(layer.stage, seconds));
   }
-  std::vector<int> chosen;
-  for (int face = 0; face < 6; ++face) {
-    if (!(faces & (1u << face))) continue;
-    chosen.push_back(face);
-    out.faces[size_t(face)].resize(size_t(size_) * size_ * 4);
+  return state;
+}
+
+glm::vec3 SkyBaker::composeClouds(glm::vec3 color, glm::vec2 st, const LayerState& state) const {
+  for (size_t l = 0; l < layers_.size(); ++l) {
+    const Layer& layer = layers_[l];
+    const auto uv = state.transforms[l].apply(st.x, st.y);
+    const glm::vec4 src = sampleImage(*layer.image, {uv[0], uv[1]}, layer.stage.clamp) * state.colors[l];
+    if (!layer.stage.blends()) {
+      color = glm::vec3(src);
+      continue;
+    }
+    color = glm::clamp(glm::vec3(src) * blendFactor(layer.stage.srcBlend, src, color) +
+                           color * blendFactor(layer.stage.dstBlend, src, color),
+                       0.0f, 1.0f);
   }
+  return color;
+}
+
+glm::vec3 SkyBaker::colorAt(const glm::vec3& direction, const LayerState& state) const {
+  const BoxLookup where = stockBoxLookup(direction);
+  glm::vec3 color(0.0f);
+  if (const Image* box = farBox_[size_t(where.face)].get()) color = glm::vec3(sampleImage(*box, where.uv, true));
+  if (where.face == kBottomFace) return color;
+  return composeClouds(color, cloudTexCoords(direction, cloudHeight_), state);
+}
+
+void SkyBaker::bake(double seconds, SkyCube& out) const {
+  out.size = size_;
+  const LayerState state = layersAt(seconds);
+  for (auto& face : out.faces) face.resize(size_t(size_) * size_ * 4);
   auto bakeRow = [&](int face, int y) {
     uint8_t* p = &out.faces[size_t(face)][size_t(y) * size_ * 4];
     const size_t row = (size_t(face) * size_ + y) * size_;
     for (int x = 0; x < size_; ++x, p += 4) {
       glm::vec3 color = boxColors_[row + x];
-      if (face != kBottomFace) {
-        const glm::vec2 st = cloudCoords_[row + x];
-        for (size_t l = 0; l < layers_.size(); ++l) {
-          const Layer& layer = layers_[l];
-          const auto uv = transforms[l].apply(st.x, st.y);
-          const glm::vec4 src = sampleImage(*layer.image, {uv[0], uv[1]}, layer.stage.clamp) * colors[l];
-          if (!layer.stage.blends()) {
-            color = glm::vec3(src);
-            continue;
-          }
-          color = glm::clamp(glm::vec3(src) * blendFactor(layer.stage.srcBlend, src, color) +
-                                 color * blendFactor(layer.stage.dstBlend, src, color),
-                             0.0f, 1.0f);
-        }
-      }
+      if (face != kBottomFace) color = composeClouds(color, cloudCoords_[row + x], state);
       p[0] = toByte(color.r);
       p[1] = toByte(color.g);
       p[2] = toByte(color.b);
       p[3] = 255;
     }
   };
-  const int rows = static_cast<int>(chosen.size()) * size_;
-  tbb::parallel_for(tbb::blocked_range<int>(0, rows, 16), [&](const tbb::blocked_range<int>& range) {
-    for (int r = range.begin(); r < range.end(); ++r) bakeRow(chosen[size_t(r / size_)], r % size_);
+  tbb::parallel_for(tbb::blocked_range<int>(0, 6 * size_, 16), [&](const tbb::blocked_range<int>& range) {
+    for (int r = range.begin(); r < range.end(); ++r) bakeRow(r / size_, r % size_);
   });
-  return faces;
+}
+
+namespace {
+
+/// The stock sky at one shader time, per direction: display colour decoded to linear radiance.
+class StockSkyPicture final : public pa::SkyPicture {
+ public:
+  StockSkyPicture(std::shared_ptr<const SkyBaker> baker, double seconds)
+      : baker_(std::move(baker)), state_(baker_->layersAt(seconds)) {}
+  glm::vec3 radiance(const glm::vec3& dir) const override {
+    const glm::vec3 display = baker_->colorAt(dir, state_);
+    return {pa::srgbToLinear(display.r), pa::srgbToLinear(display.g), pa::srgbToLinear(display.b)};
+  }
+
+ private:
+  std::shared_ptr<const SkyBaker> baker_;
+  SkyBaker::LayerState state_;
+};
+
+}  // namespace
+
+std::shared_ptr<const pa::SkyPicture> stockSkyPictureAt(std::shared_ptr<const SkyBaker> baker, double seconds) {
+  if (!baker) return nullptr;
+  return std::make_shared<StockSkyPicture>(std::move(baker), seconds);
 }
 
 }  // namespace glue

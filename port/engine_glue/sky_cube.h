@@ -14,9 +14,12 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "port/engine_glue/images.h"
+#include "port/q3formats/shader/material.h"   // q3::UvAffine
 #include "port/q3formats/shader/shader_types.h"
+#include "renderer/scene/scene_types.h"   // pa::SkyPicture
 
 namespace glue {
 
@@ -38,15 +41,6 @@ struct SkyCube {
   std::array<std::vector<uint8_t>, 6> faces;
 };
 
-/// Bit f set for cube face f: all six faces.
-inline constexpr uint32_t kAllSkyFaces = 0x3Fu;
-
-/// The cube faces (bit f for face f) that directions inside a view pyramid can reach: forward,
-/// left and up are the camera axes, fovX and fovY the full fields of view in degrees, each widened
-/// by `marginDegrees`. All faces when the widened view spans 179 degrees or more.
-uint32_t skyFacesInView(const glm::vec3& forward, const glm::vec3& left, const glm::vec3& up, float fovX,
-                        float fovY, float marginDegrees);
-
 /// Bakes a sky shader's stock look.
 class SkyBaker {
  public:
@@ -55,15 +49,25 @@ class SkyBaker {
   bool prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, int size);
   /// True when the clouds move with time (a stage has tcMods or wave colours).
   bool animated() const { return animated_; }
-  /// The faces whose picture changes with time (bit f for face f): the five under the clouds
-  /// (the bottom gets none) when animated(), else none.
-  uint32_t changingFaces() const { return animated_ ? kAllSkyFaces & ~(1u << 5) : 0u; }
-  /// The faces in `faces` (all six when `out` has another size) at shader time `seconds`, rows
-  /// in parallel (tbb::parallel_for: call it inside the task arena whose threads it may use).
-  /// Returns the faces written.
-  uint32_t bake(double seconds, SkyCube& out, uint32_t faces = kAllSkyFaces) const;
+  /// Writes the six faces at shader time `seconds`, rows in parallel (tbb::parallel_for: call it
+  /// inside the task arena whose threads it may use).
+  void bake(double seconds, SkyCube& out) const;
+
+  /// The cloud layers' uv transforms and colours at one shader time.
+  struct LayerState {
+    std::vector<q3::UvAffine> transforms;
+    std::vector<glm::vec4> colors;
+  };
+  /// The layers' state at shader time `seconds`.
+  LayerState layersAt(double seconds) const;
+  /// The display colour (each channel in [0, 1]) seen along a non-zero direction: the far box
+  /// and the cloud layers in `state`; what bake() writes at a texel centre, without its resampling.
+  glm::vec3 colorAt(const glm::vec3& direction, const LayerState& state) const;
 
  private:
+  /// `color` under the cloud layers at cloud coordinates `st`.
+  glm::vec3 composeClouds(glm::vec3 color, glm::vec2 st, const LayerState& state) const;
+
   struct Layer {
     q3::ShaderStage stage;
     std::shared_ptr<const Image> image;
@@ -73,7 +77,12 @@ class SkyBaker {
   int size_ = 0;
   std::vector<glm::vec2> cloudCoords_;   ///< Per texel of faces 0..4 (the bottom has no clouds).
   std::vector<glm::vec3> boxColors_;     ///< Far-box colour per texel of the six faces (time-free).
+  float cloudHeight_ = 0.0f;
   bool animated_ = false;
 };
+
+/// The stock sky of a prepared baker at shader time `seconds`, as a per-direction picture for
+/// pa::SkyDesc::picture (what camera rays see; no texture is baked or uploaded). Null for null.
+std::shared_ptr<const pa::SkyPicture> stockSkyPictureAt(std::shared_ptr<const SkyBaker> baker, double seconds);
 
 }  // namespace glue

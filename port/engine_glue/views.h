@@ -19,11 +19,21 @@ class ShaderRegistry;
 class ModelRegistry;
 class SceneFrame;
 
+/// Where a traced view's time went, in milliseconds.
+struct ViewTimings {
+  double sceneMs = 0.0;     ///< Entities, effects, lights, sky and materials into the renderer's scene.
+  double commitMs = 0.0;    ///< The renderer's commit: BLAS builds and refits, TLAS, light tables.
+  double traceMs = 0.0;     ///< Rays and shading.
+  double denoiseMs = 0.0;   ///< Denoiser.
+  double resolveMs = 0.0;   ///< Film resolve and display encode.
+};
+
 /// A traced view: RGBA8, top row first; alpha 0 where nothing was hit (HUD model views).
 struct TracedPicture {
   int width = 0;
   int height = 0;
   const uint8_t* rgba = nullptr;
+  ViewTimings timings;
 };
 
 /// Owns the path tracer and what it knows of the world.

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -169,11 +170,12 @@ struct ViewRenderer::Impl {
   std::unordered_map<std::string, q3abi::qhandle_t> spriteHandles;
   const ShaderScripts* scripts = nullptr;           ///< The module's, while a world is loaded.
   ImageCache* images = nullptr;
-  SkyBaker skyBaker;
-  SkyCube skyCube;
+  /// The stock sky: its cube faces are baked once per map (the sky's mean and sampling); camera
+  /// rays see stockSkyPictureAt(skyBaker, shader time), so moving clouds cost no bake per frame.
+  std::shared_ptr<const SkyBaker> skyBaker;
   /// The threads the sky bake may use: as many as the renderer's (r_pt_threads, 0 = all cores).
   tbb::task_arena bakeArena{threads > 0 ? threads : int(tbb::task_arena::automatic)};
-  std::array<double, 6> skyFaceBakedAt{};   ///< Shader time of each face's last bake.
+  double stockSkySeconds = -1.0;   ///< Shader time of stockSky.picture.
   DlightOverlayBuilder dlightBuilder;  ///< The world's triangles for the stock dynamic-light pass.
   DlightOverlay dlightOverlay;
   DynamicSlot dlightSlot;
@@ -198,6 +200,8 @@ struct ViewRenderer::Impl {
     defaultMaterial = renderer->addMaterial(pa::MaterialDesc{});
     emptyMesh = renderer->addMesh(pa::MeshDesc{});
     bridgeSky = stockSky = pa::SkyDesc{};
+    skyBaker.reset();
+    stockSkySeconds = -1.0;
     dlightBuilder = DlightOverlayBuilder{};
     dlightSlot = DynamicSlot{};
     dlightMaterials.clear();
@@ -323,40 +327,34 @@ struct ViewRenderer::Impl {
     const q3::ShaderDef* shader = library.find(worldScene->sky.shaderName);
     if (shader == nullptr) return;
     const SkyImageLoader load = [&](const std::string& path) { return images.load(engine, path); };
-    if (!skyBaker.prepare(*shader, load, kStockSkyFaceSize)) return;
-    bakeArena.execute([&] { skyBaker.bake(0.0, skyCube); });
-    skyFaceBakedAt.fill(0.0);
+    auto baker = std::make_shared<SkyBaker>();
+    if (!baker->prepare(*shader, load, kStockSkyFaceSize)) return;
+    SkyCube cube;
+    bakeArena.execute([&] { baker->bake(0.0, cube); });
     stockSky = pa::SkyDesc{};
     stockSky.color = glm::vec3(1.0f);
-    for (size_t f = 0; f < 6; ++f) stockSky.faces[f] = renderer->addTexture(skyFaceDesc(f));
+    for (size_t f = 0; f < 6; ++f) {
+      pa::TextureDesc desc;
+      desc.width = desc.height = static_cast<uint32_t>(cube.size);
+      desc.rgba8 = cube.faces[f];
+      desc.wrap = pa::TextureWrap::Clamp;
+      stockSky.faces[f] = renderer->addTexture(desc);
+    }
+    skyBaker = std::move(baker);
+    stockSky.picture = stockSkyPictureAt(skyBaker, 0.0);
+    stockSkySeconds = 0.0;
     stockSkyReady = true;
   }
 
-  pa::TextureDesc skyFaceDesc(size_t face) const {
-    pa::TextureDesc desc;
-    desc.width = desc.height = static_cast<uint32_t>(skyCube.size);
-    desc.rgba8 = skyCube.faces[face];
-    desc.wrap = pa::TextureWrap::Clamp;
-    return desc;
-  }
-
-  /// Shows the stock sky (moved to shader time `seconds`) or the bridge's one. Clouds move only
-  /// on the faces the camera can see (`facesInView`); the others are brought to the time of the
-  /// view that next shows them.
-  void selectSky(bool stockLook, double seconds, uint32_t facesInView) {
+  /// Shows the stock sky (its clouds moved to shader time `seconds`) or the bridge's one.
+  void selectSky(bool stockLook, double seconds) {
     const bool stock = stockLook && stockSkyReady;
-    uint32_t stale = 0;
-    for (uint32_t f = 0; f < 6; ++f)
-      if (skyFaceBakedAt[f] != seconds) stale |= 1u << f;
-    if (const uint32_t due = stock ? skyBaker.changingFaces() & facesInView & stale : 0u) {
-      const uint32_t written = bakeArena.execute([&] { return skyBaker.bake(seconds, skyCube, due); });
-      for (uint32_t f = 0; f < 6; ++f) {
-        if (!(written & (1u << f))) continue;
-        skyFaceBakedAt[f] = seconds;
-        renderer->updateTexture(stockSky.faces[f], skyFaceDesc(f));
-      }
+    const bool moved = stock && skyBaker->animated() && seconds != stockSkySeconds;
+    if (moved) {
+      stockSky.picture = stockSkyPictureAt(skyBaker, seconds);
+      stockSkySeconds = seconds;
     }
-    if (stock == stockSkyShown && !skyHidden) return;
+    if (!moved && stock == stockSkyShown && !skyHidden) return;
     renderer->setSky(stock ? stockSky : bridgeSky);
     stockSkyShown = stock;
     skyHidden = false;
@@ -588,6 +586,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
                                                   ShaderRegistry& shaders,
                                                   const ModelRegistry& models, const World* world) {
   Impl& d = *impl_;
+  const auto start = std::chrono::steady_clock::now();
   const bool withWorld = world != nullptr && d.worldScene.has_value();
   pa::Camera camera;
   camera.origin = {view.vieworg[0], view.vieworg[1], view.vieworg[2]};
@@ -719,18 +718,14 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   }
   if (withWorld) {
     d.portals.update(scene.entities(), view.time, *d.renderer);
-    // Lightmap camera rays end on the first opaque surface: without portals or mirrors only the
-    // view pyramid (widened by a degree for the pixel footprint) can see the sky.
-    const uint32_t skyFaces = d.portals.planes().empty()
-                                  ? skyFacesInView(camera.forward, camera.left, camera.up, camera.fovX, camera.fovY, 1.0f)
-                                  : kAllSkyFaces;
-    d.selectSky(lightmapLook, seconds, skyFaces);
+    d.selectSky(lightmapLook, seconds);
     d.selectWorldEmission(lightmapLook);
   } else {
     d.hideSky();
   }
   d.drawStockDlights(scene.lights(), withWorld && lightmapLook);
   d.fog.show(withWorld, *d.renderer);
+  const double sceneMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   d.renderer->commit();
 
   pa::RenderSettings rs;
@@ -753,7 +748,9 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     for (size_t i = 0; i < frame.depth.size(); ++i)
       if (!std::isfinite(frame.depth[i])) d.picture[i * 4 + 3] = 0;   // see-through background
   }
-  return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), d.picture.data()};
+  const ViewTimings timings{sceneMs, frame.timings.commitMs, frame.timings.traceMs, frame.timings.denoiseMs,
+                            frame.timings.resolveMs};
+  return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), d.picture.data(), timings};
 }
 
 }  // namespace glue

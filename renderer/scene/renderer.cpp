@@ -3,10 +3,12 @@
 #include "renderer/scene/renderer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -27,6 +29,12 @@ namespace {
 constexpr uint32_t kTileSize = 16;
 constexpr uint32_t kMaxImageSide = 16384;
 constexpr uint32_t kMaxSamplesPerPixel = 1u << 16;
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
 
 int arenaConcurrency(uint32_t threads) {
   return threads == 0 ? tbb::task_arena::automatic : static_cast<int>(threads);
@@ -72,6 +80,7 @@ struct Renderer::Impl {
   bool sceneChanged = true;   // a commit happened since the last render
   bool environmentAttached = false;   // the committed scene has its sun/sky visibility map
   bool haveLast = false;
+  double commitMsSinceRender = 0.0;   // commit() time to report with the next render
   Camera lastCamera;
   RenderSettings lastSettings;
 };
@@ -100,6 +109,7 @@ void Renderer::setFogVolumes(std::span<const FogVolumeDesc> volumes) { impl_->st
 void Renderer::commit() {
   Impl& im = *impl_;
   if (!im.store.dirty()) return;
+  const auto start = Clock::now();
   try {
     im.arena.execute([&] { im.scene = im.store.commit(); });
     im.environmentAttached = false;
@@ -110,6 +120,7 @@ void Renderer::commit() {
     throw;
   }
   im.sceneChanged = true;
+  im.commitMsSinceRender += millisecondsSince(start);
 }
 
 void Renderer::resetAccumulation() { impl_->film.reset(); }
@@ -119,11 +130,21 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   validateSettings(settings);
   if (settings.width == 0 || settings.height == 0) return FrameView{};
   const CameraRays rays(camera, settings.width, settings.height);
+  RenderTimings timings;
+  timings.commitMs = std::exchange(im.commitMsSinceRender, 0.0);
+  auto phaseStart = Clock::now();
+  const auto endPhase = [&phaseStart](double& ms) {
+    ms = millisecondsSince(phaseStart);
+    phaseStart = Clock::now();
+  };
 
   if (settings.integrator != Integrator::Lightmap && !im.environmentAttached) {
     im.arena.execute([&] { im.store.attachEnvironmentVisibility(im.scene); });   // Lightmap never samples lights
     im.environmentAttached = true;
   }
+  double attachMs = 0.0;
+  endPhase(attachMs);
+  timings.commitMs += attachMs;
   im.film.resize(settings.width, settings.height);
   const bool keep = settings.accumulate && im.haveLast && !im.sceneChanged && sameCamera(camera, im.lastCamera) &&
                     sameEstimate(settings, im.lastSettings);
@@ -162,20 +183,27 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       }
     });
     film.finishFrame();
+    endPhase(timings.traceMs);
     const auto forRows = [&](auto&& body) {
       tbb::parallel_for(tbb::blocked_range<uint32_t>(0, settings.height, 8),
                         [&](const tbb::blocked_range<uint32_t>& r) { body(r.begin(), r.end()); });
     };
     if (!settings.denoise) {
       forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap); });
+      endPhase(timings.resolveMs);
       return;
     }
     forRows([&](uint32_t y0, uint32_t y1) { film.resolveMeanRows(y0, y1); });
+    double meanMs = 0.0;
+    endPhase(meanMs);
     const denoise::Guides guides{film.width(), film.height(), film.albedo(), film.normal(), film.depth(),
                                  film.variance(), uint64_t{film.frames()} * settings.samplesPerPixel,
                                  film.emission()};
     im.denoiser.apply(guides, film.resolvedRadiance());
+    endPhase(timings.denoiseMs);
     forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap); });
+    endPhase(timings.resolveMs);
+    timings.resolveMs += meanMs;
   });
 
   FrameView view;
@@ -188,6 +216,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   view.depth = film.depth();
   view.variance = film.variance();
   view.rgba8 = film.rgba8();
+  view.timings = timings;
   return view;
 }
 

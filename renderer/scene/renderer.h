@@ -15,6 +15,14 @@ struct RendererConfig {
   uint32_t threads = 0;   ///< Worker threads for builds and rendering; 0 = all cores.
 };
 
+/// Where one render() call's time went (milliseconds, wall clock on the calling thread).
+struct RenderTimings {
+  double commitMs = 0.0;    ///< commit() calls since the previous render: BLAS builds/refits, TLAS, light tables.
+  double traceMs = 0.0;     ///< Camera, bounce and shadow rays with their shading (one pass per pixel).
+  double denoiseMs = 0.0;   ///< The denoiser (0 when off).
+  double resolveMs = 0.0;   ///< Film resolve: means, AOVs, exposure, tonemap, sRGB encode.
+};
+
 /// Output of render(): linear HDR radiance (running mean) plus AOVs for denoising, and the
 /// tonemapped sRGB RGBA8 image. All arrays are width*height, row-major from the top row.
 struct FrameView {
@@ -27,6 +35,7 @@ struct FrameView {
   std::span<const float> depth;          ///< First-hit distance along the ray (inf = sky).
   std::span<const float> variance;       ///< Per-pixel variance of the mean's luminance estimate.
   std::span<const uint8_t> rgba8;        ///< Exposure + tonemap + sRGB, alpha 255.
+  RenderTimings timings;                 ///< What this call (and the commits before it) cost.
 };
 
 /// The path tracer and its scene. Not thread-safe: call from one thread.

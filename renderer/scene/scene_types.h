@@ -54,6 +54,7 @@
 //   volumes holding the segment's end fog it (stock fogs surfaces inside a fog brush, never the
 //   sky); and the blend is done on display values (sRGB-encoded, behind clamped to 1).
 #include <array>
+#include <memory>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -223,11 +224,24 @@ struct LightDesc {
   float angularRadius = 0.0f;               ///< Directional: half-angle of the sun disc, radians.
 };
 
+/// A sky picture computed per direction (e.g. cloud layers scrolled to one frame's time),
+/// evaluated from any render thread: no state may change while a scene holds it.
+class SkyPicture {
+ public:
+  virtual ~SkyPicture() = default;
+  /// Linear radiance seen along a non-zero direction (world axes, Z up), before color * intensity.
+  virtual glm::vec3 radiance(const glm::vec3& dir) const = 0;
+};
+
 /// Environment seen by rays that leave the scene (and through sky surfaces).
 /// Faces order: +X, -X, +Y, -Y, +Z, -Z (world axes); all kNoId = constant colour.
 struct SkyDesc {
   glm::vec3 color{0.0f};                    ///< Constant radiance, or multiplier of the cube map.
   std::array<TextureId, 6> faces{kNoId, kNoId, kNoId, kNoId, kNoId, kNoId};
+  /// When set, what camera, mirror and bounce rays see instead of the faces (times color *
+  /// intensity); the faces still give the sky's mean and its sampling distribution. Lets a
+  /// moving sky change per frame without baking and re-uploading textures.
+  std::shared_ptr<const SkyPicture> picture;
   float intensity = 1.0f;
   /// Extra multiplier where the sky lights surfaces (light samples, rays after a diffuse or
   /// glossy bounce); what the camera and mirrors see stays color * intensity. Lets a dark

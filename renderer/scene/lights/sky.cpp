@@ -57,6 +57,7 @@ CubeLookup cubeLookup(const glm::vec3& d) {
 Sky::Sky(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>& textures)
     : scale_(desc.color * desc.intensity),
       lightingScale_(desc.lightingScale),
+      picture_(desc.picture),
       ambient_{desc.ambientRadiance, desc.minimumRadiance} {
   glm::vec3 faceMean(0.0f);
   for (size_t i = 0; i < 6; ++i) {
@@ -121,6 +122,7 @@ float Sky::pdf(const glm::vec3& dir) const {
 }
 
 glm::vec3 Sky::radiance(const glm::vec3& dir) const {
+  if (picture_) return scale_ * picture_->radiance(dir);
   if (!hasFaces_) return scale_;
   const CubeLookup c = cubeLookup(dir);
   const auto& tex = faces_[c.face];

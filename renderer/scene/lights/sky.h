@@ -1,5 +1,6 @@
 #pragma once
-// The environment: a constant radiance or a cube map (six textures) times colour * intensity,
+// The environment: a constant radiance, a cube map (six textures) or a per-direction picture
+// (SkyPicture) times colour * intensity,
 // and the scene's unshadowed ambient terms (lights/ambient.h).
 #include <array>
 #include <memory>
@@ -65,6 +66,7 @@ class Sky {
   glm::vec3 scale_{0.0f};
   float lightingScale_ = 1.0f;
   std::array<std::shared_ptr<const Texture>, 6> faces_{};
+  std::shared_ptr<const SkyPicture> picture_;
   bool hasFaces_ = false;
   glm::vec3 average_{0.0f};
   sampling::AliasTable table_;
