@@ -97,7 +97,7 @@ run_one() {  # run_one DEMO NAME RENDERER [engine args...]
     fps[$key]="-"; frames[$key]="-"; seconds[$key]="-"
     return 1
   fi
-  read -r frames[$key] _ seconds[$key] _ fps[$key] _ <<<"$line"
+  read -r "frames[$key]" _ "seconds[$key]" _ "fps[$key]" _ <<<"$line"
 }
 
 failed=0
