@@ -1,19 +1,23 @@
 #!/usr/bin/env bash
 # scripts/engine_bench.sh [options]: speed of each PathArena preset beside the stock opengl1
-# renderer, measured in one invocation with Debian's unmodified ioquake3 under xvfb-run:
-# `timedemo 1` + OpenArena's demo088-test1, the engine's own result line
-# "N frames X seconds Y fps ..." parsed for every run.
+# renderer, measured in one invocation with Debian's unmodified ioquake3 under xvfb-run over a
+# set of demos: for each demo, `timedemo 1` with opengl1 then with each preset, the engine's own
+# result line "N frames X seconds Y fps ..." parsed for every run. Prints a table per demo (fps and
+# ratio to opengl1), then per preset the geometric mean of the ratios over the demos and the
+# worst demo.
+#   --demos "a b"     demos to play (default: every tests/demos/*.dm_71, by name without the
+#                     extension, then OpenArena's demo088-test1; a path to a .dm_71 file works too)
 #   --module PATH     our renderer module (default build/port/engine_glue/renderer_pathtracer_x86_64.so)
 #   --size WxH        window size (default 640x360)
-#   --messages N      cap: play only the first N demo messages (about N frames, 50 ms of game each;
-#                     default 200; 0 = the full demo, 3389 messages, too long for the traced presets
-#                     on a small machine)
+#   --messages N      cap: play only the first N messages of each demo (about N frames, 50 ms of game
+#                     each; default 200; 0 = whole demos, demo088-test1 alone is 3389 messages, too
+#                     long for the traced presets on a small machine)
 #   --presets "..."   presets to run after opengl1 (default "lightmap direct path reference")
 #   --scale S         r_pt_scale for our module (default: the module's default)
 #   --threads N       r_pt_threads (default 0 = all cores)
 #   --timeout S       per-run limit in seconds (default 600)
-#   --json FILE       also write the table as JSON
-#   --keep DIR        keep each run's engine log in DIR
+#   --json FILE       also write the tables as JSON
+#   --keep DIR        keep each run's engine log in DIR (DEMO.RENDERER.log)
 # Exit 77 when the engine, the game data or xvfb-run are missing; 1 when a run fails.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -21,9 +25,10 @@ source "$root/tests/fidelity/engine_env.sh"
 
 module="$root/build/port/engine_glue/renderer_pathtracer_x86_64.so"
 size=640x360; messages=200; presets="lightmap direct path reference"
-scale=""; threads=0; timeout_s=600; json=""; keep=""
+scale=""; threads=0; timeout_s=600; json=""; keep=""; demos=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
+    --demos) demos="$2"; shift 2 ;;
     --module) module="$2"; shift 2 ;;
     --size) size="$2"; shift 2 ;;
     --messages) messages="$2"; shift 2 ;;
@@ -33,7 +38,7 @@ while [[ $# -gt 0 ]]; do
     --timeout) timeout_s="$2"; shift 2 ;;
     --json) json="$2"; shift 2 ;;
     --keep) keep="$2"; shift 2 ;;
-    -h|--help) sed -n '2,20p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h|--help) sed -n '2,22p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "engine_bench: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -43,63 +48,127 @@ width="${BASH_REMATCH[1]}"; height="${BASH_REMATCH[2]}"
 pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not installed"; exit 77; }
 [[ -f "$module" ]] || { echo "engine_bench: no module at $module (build the renderer_pathtracer target)" >&2; exit 1; }
 
+if [[ -z "$demos" ]]; then
+  for file in "$root"/tests/demos/*.dm_71; do
+    [[ -f "$file" ]] && demos+="$(basename "$file" .dm_71) "
+  done
+  demos+="demo088-test1"
+fi
+
 work="$(mktemp -d /tmp/pa-bench.XXXXXX)"
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/demo"
-if [[ "$messages" -gt 0 ]]; then
-  played="$(pa_demo_truncate "$work/demo/pa_bench.dm_71" "$messages")"
-else
-  played="full"; pa_demo_truncate "$work/demo/pa_bench.dm_71" 1000000 >/dev/null
-fi
 
+# Each demo is written to $work/demo/NAME.dm_71, cut to the cap and ended by the end marker.
+declare -A played
+names=""
+cap="$messages"; [[ "$cap" -eq 0 ]] && cap=1000000000
+for demo in $demos; do
+  source_file=""
+  case "$demo" in
+    demo088-test1) ;;  # read by pa_demo_truncate from OpenArena's pak6-patch088.pk3
+    */*|*.dm_71) source_file="$demo"; demo="$(basename "$demo" .dm_71)" ;;
+    *) source_file="$root/tests/demos/$demo.dm_71" ;;
+  esac
+  [[ -z "$source_file" || -f "$source_file" ]] || { echo "engine_bench: no demo $source_file" >&2; exit 2; }
+  played[$demo]="$(pa_demo_truncate "$work/demo/$demo.dm_71" "$cap" "$source_file")"
+  names+="$demo "
+done
+
+# Results keyed "DEMO:RENDERER"; "-" where a run failed.
 declare -A fps frames seconds
-run_one() {  # run_one NAME RENDERER [engine args...]
-  local name="$1" renderer="$2"; shift 2
-  local dir="$work/$name" log="$work/$name.log"
+run_one() {  # run_one DEMO NAME RENDERER [engine args...]
+  local demo="$1" name="$2" renderer="$3"; shift 3
+  local key="$demo:$name" dir="$work/run" log="$work/run.log"
+  rm -rf "$dir"
   if [[ "$renderer" == pathtracer ]]; then pa_engine_prepare "$dir" "$module"; else pa_engine_prepare "$dir"; fi
   mkdir -p "$dir/home/baseoa/demos"
-  cp "$work/demo/pa_bench.dm_71" "$dir/home/baseoa/demos/"
-  echo "engine_bench: running $name ..." >&2
+  cp "$work/demo/$demo.dm_71" "$dir/home/baseoa/demos/pa_bench.dm_71"
+  echo "engine_bench: running $demo with $name ..." >&2
   local status=0
   pa_engine_run "$dir" "$log" "$timeout_s" "$width" "$height" "$renderer" \
     +set timedemo 1 +set com_maxfps 0 +set nextdemo quit "$@" +demo pa_bench || status=$?
-  [[ -n "$keep" ]] && { mkdir -p "$keep"; cp "$log" "$keep/$name.log"; }
+  [[ -n "$keep" ]] && { mkdir -p "$keep"; cp "$log" "$keep/$demo.$name.log"; }
   local line
   line="$(grep -a -E '^[0-9]+ frames [0-9.]+ seconds [0-9.]+ fps' "$log" | tail -n 1 || true)"
   if [[ -z "$line" ]] || ! pa_engine_used_renderer "$log" "$renderer"; then
-    echo "engine_bench: $name failed (status $status); log tail:" >&2
+    echo "engine_bench: $demo with $name failed (status $status); log tail:" >&2
     grep -a -v GL_EXTENSIONS "$log" | tail -n 15 >&2
-    fps[$name]="-"; frames[$name]="-"; seconds[$name]="-"
+    fps[$key]="-"; frames[$key]="-"; seconds[$key]="-"
     return 1
   fi
-  read -r frames[$name] _ seconds[$name] _ fps[$name] _ <<<"$line"
+  read -r "frames[$key]" _ "seconds[$key]" _ "fps[$key]" _ <<<"$line"
 }
 
 failed=0
-run_one opengl1 opengl1 || failed=1
 pt_args=(+set r_pt_threads "$threads")
 [[ -n "$scale" ]] && pt_args+=(+set r_pt_scale "$scale")
-for preset in $presets; do
-  run_one "$preset" pathtracer "${pt_args[@]}" +set r_pt_preset "$preset" || failed=1
+for demo in $names; do
+  run_one "$demo" opengl1 opengl1 || failed=1
+  for preset in $presets; do
+    run_one "$demo" "$preset" pathtracer "${pt_args[@]}" +set r_pt_preset "$preset" || failed=1
+  done
 done
 
-ratio() { [[ "${fps[$1]}" != - && "${fps[opengl1]}" != - ]] && awk -v a="${fps[$1]}" -v b="${fps[opengl1]}" 'BEGIN{printf "%.3f", a/b}' || echo "-"; }
-echo "demo088-test1, first $played messages, ${width}x${height}, timedemo 1, $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
+ratio() {  # ratio DEMO NAME -> fps of NAME / fps of opengl1 on DEMO, or "-"
+  local a="${fps[$1:$2]}" b="${fps[$1:opengl1]}"
+  [[ "$a" != - && "$b" != - ]] && awk -v a="$a" -v b="$b" 'BEGIN{printf "%.3f", a/b}' || echo "-"
+}
+# summary PRESET -> "GEOMEAN WORST_DEMO WORST_RATIO COUNT" over the demos where both runs worked
+summary() {
+  local demo r list=""
+  for demo in $names; do
+    r="$(ratio "$demo" "$1")"; [[ "$r" != - ]] && list+="$demo $r"$'\n'
+  done
+  awk 'NF == 2 { n++; s += log($2); if (n == 1 || $2 < w) { w = $2; wd = $1 } }
+       END { if (n) printf "%.3f %s %.3f %d\n", exp(s / n), wd, w, n; else print "- - - 0" }' <<<"$list"
+}
+
+load="$(cut -d' ' -f1-3 /proc/loadavg)"
+echo "${width}x${height}, timedemo 1, messages cap ${messages} (0 = whole demos), $(nproc) cores, load $load"
 echo "pathtracer: r_pt_scale ${scale:-default} r_pt_threads $threads, other cvars at their defaults"
-printf '%-10s %8s %9s %9s %10s\n' renderer frames seconds fps vs_opengl1
-for name in opengl1 $presets; do
-  printf '%-10s %8s %9s %9s %10s\n' "$name" "${frames[$name]}" "${seconds[$name]}" "${fps[$name]}" "$(ratio "$name")"
+for demo in $names; do
+  echo
+  echo "$demo: ${played[$demo]} messages"
+  printf '%-10s %8s %9s %9s %10s\n' renderer frames seconds fps vs_opengl1
+  for name in opengl1 $presets; do
+    printf '%-10s %8s %9s %9s %10s\n' "$name" "${frames[$demo:$name]}" "${seconds[$demo:$name]}" \
+      "${fps[$demo:$name]}" "$(ratio "$demo" "$name")"
+  done
 done
+echo
+echo "over $(wc -w <<<"$names") demos: ratio to opengl1"
+printf '%-10s %8s %-16s %8s %6s\n' preset geomean worst_demo worst demos
+for preset in $presets; do
+  read -r geomean worst_demo worst count <<<"$(summary "$preset")"
+  printf '%-10s %8s %-16s %8s %6s\n' "$preset" "$geomean" "$worst_demo" "$worst" "$count"
+done
+
 if [[ -n "$json" ]]; then
+  q() { [[ "$1" == - ]] && echo null || echo "$1"; }
   {
-    printf '{"demo": "demo088-test1", "messages": "%s", "width": %d, "height": %d, "cores": %d, "load": "%s", "runs": [' \
-      "$played" "$width" "$height" "$(nproc)" "$(cut -d' ' -f1-3 /proc/loadavg)"
+    printf '{"messages_cap": %d, "width": %d, "height": %d, "cores": %d, "load": "%s", "demos": [' \
+      "$messages" "$width" "$height" "$(nproc)" "$load"
     sep=""
-    for name in opengl1 $presets; do
-      q() { [[ "$1" == - ]] && echo null || echo "$1"; }
-      r="$(ratio "$name")"
-      printf '%s{"renderer": "%s", "frames": %s, "seconds": %s, "fps": %s, "ratio_to_opengl1": %s}' "$sep" "$name" \
-        "$(q "${frames[$name]}")" "$(q "${seconds[$name]}")" "$(q "${fps[$name]}")" "$(q "$r")"
+    for demo in $names; do
+      printf '%s{"demo": "%s", "messages": %d, "runs": [' "$sep" "$demo" "${played[$demo]}"
+      rsep=""
+      for name in opengl1 $presets; do
+        printf '%s{"renderer": "%s", "frames": %s, "seconds": %s, "fps": %s, "ratio_to_opengl1": %s}' \
+          "$rsep" "$name" "$(q "${frames[$demo:$name]}")" "$(q "${seconds[$demo:$name]}")" \
+          "$(q "${fps[$demo:$name]}")" "$(q "$(ratio "$demo" "$name")")"
+        rsep=", "
+      done
+      printf ']}'
+      sep=", "
+    done
+    printf '], "presets": ['
+    sep=""
+    for preset in $presets; do
+      read -r geomean worst_demo worst count <<<"$(summary "$preset")"
+      [[ "$worst_demo" == - ]] && worst_demo=null || worst_demo="\"$worst_demo\""
+      printf '%s{"preset": "%s", "geomean_ratio": %s, "worst_demo": %s, "worst_ratio": %s, "demos": %d}' \
+        "$sep" "$preset" "$(q "$geomean")" "$worst_demo" "$(q "$worst")" "$count"
       sep=", "
     done
     printf ']}\n'

@@ -49,16 +49,23 @@ pa_engine_used_renderer() {
   fi
 }
 
-# pa_demo_truncate OUT MESSAGES: writes OpenArena's demo088-test1 (from pak6-patch088.pk3) cut
-# after MESSAGES server messages, with the end-of-demo marker (-1, -1) appended, so that a
-# timedemo of it ends by itself and prints its "N frames X seconds Y fps" line. The full demo
-# has 3389 messages (about 170 s of game at 20 snapshots/s). Needs python3 (zip + struct).
+# pa_demo_truncate OUT MESSAGES [SOURCE]: writes the demo SOURCE cut after MESSAGES server
+# messages, with the end-of-demo marker (-1, -1) appended, so that a timedemo of it ends by itself
+# and prints its "N frames X seconds Y fps" line; prints the number of messages kept. SOURCE is a
+# .dm_71 file; without it, OpenArena's demo088-test1 (read from pak6-patch088.pk3; 3389 messages,
+# about 170 s of game at 20 snapshots/s). A recorded demo holds one server message per snapshot.
+# OUT /dev/null with a large MESSAGES counts a demo's messages. Needs python3 (zip + struct).
 pa_demo_truncate() {
-  local out="$1" messages="$2"
-  python3 - "$PA_GAME_DIR/pak6-patch088.pk3" "$out" "$messages" <<'PY'
+  local out="$1" messages="$2" source="${3:-}"
+  python3 - "$out" "$messages" "$source" "$PA_GAME_DIR/pak6-patch088.pk3" <<'PY'
 import struct, sys, zipfile
-pk3, out, limit = sys.argv[1], sys.argv[2], int(sys.argv[3])
-data = zipfile.ZipFile(pk3).read("demos/demo088-test1.dm_71")
+out, limit, source, pk3 = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
+if source:
+    with open(source, "rb") as f:
+        data = f.read()
+else:
+    data = zipfile.ZipFile(pk3).read("demos/demo088-test1.dm_71")
+# Each message: sequence (int32), length (int32), then length bytes; (-1, -1) ends the demo.
 offset = count = 0
 while count < limit and offset + 8 <= len(data):
     sequence, length = struct.unpack_from("<ii", data, offset)
