@@ -24,6 +24,7 @@ namespace q3 {
 // | first stage: filter (DST_COLOR, ZERO),             | Multiply                                      |
 // |   (ZERO, SRC_COLOR), (DST_COLOR, SRC_COLOR)        |                                               |
 // | any $lightmap stage                                | lighting Lightmap                             |
+// | first lightmap stage is q3map2's external image    | lightmapImage (its path)                      |
 // | base rgbGen vertex / exactVertex / oneMinusVertex  | lighting Vertex, vertexColor                  |
 // | base rgbGen lightingDiffuse                        | lighting Diffuse                              |
 // | no lightmap, rgbGen identity / const / wave / none | lighting Unlit (const colour kept)            |
@@ -230,7 +231,12 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   if (const ShaderStage* reflecting = environmentBase(stages)) base = reflecting;
 
   bool hasLightmap = false;
-  for (const auto& s : stages) hasLightmap |= s.source == TextureSource::Lightmap;
+  for (const auto& s : stages) {
+    const bool lightmap = s.source == TextureSource::Lightmap;
+    if (lightmap && !hasLightmap && !s.textures.empty() && s.textures.front()[0] != '$')
+      m.lightmapImage = s.textures.front();
+    hasLightmap |= lightmap;
+  }
 
   if (base) {
     m.baseTexture = base->textures.front();

@@ -26,6 +26,25 @@ TEST(Material, LightmappedWallIsOpaqueWithItsTexture) {
   EXPECT_FALSE(m.invisible);
 }
 
+TEST(Material, Q3map2ExternalLightmapStageIsTheLightmap) {
+  // q3map2 replaces $lightmap by the image it wrote beside the map (non-128 lightmap sizes).
+  auto m = material(R"(maps/ext/textures/w_1a2b3c4d { { map textures/w.tga rgbGen identity }
+    { map maps/ext/lm_0002.tga blendFunc GL_DST_COLOR GL_ZERO tcgen lightmap } })");
+  EXPECT_EQ(m.baseTexture, "textures/w.tga");
+  EXPECT_EQ(m.lighting, LightingMode::Lightmap);
+  EXPECT_EQ(m.lightmapImage, "maps/ext/lm_0002.tga");
+  EXPECT_TRUE(m.baseModulations.empty());   // not multiplied into the base on its uvs
+  // Older q3map2 wrote the image without tcGen lightmap; the name alone says what it is.
+  auto old = material("w { { map $whiteimage } { map maps/ext/lm_0000 blendFunc filter } { map t.tga blendFunc filter } }");
+  EXPECT_EQ(old.lightmapImage, "maps/ext/lm_0000");
+  EXPECT_EQ(old.lighting, LightingMode::Lightmap);
+  // A plain $lightmap stage names no image; an image merely in maps/ is an image.
+  EXPECT_EQ(material("w { { map $lightmap } }").lightmapImage, "");
+  auto image = material("w { { map maps/ext/lm_logo.tga } }");
+  EXPECT_EQ(image.lightmapImage, "");
+  EXPECT_EQ(image.baseTexture, "maps/ext/lm_logo.tga");
+}
+
 TEST(Material, AlphaTestedFoliageIsMaskAndTwoSided) {
   auto m = material(R"(f { cull none
     { map leaves.tga alphaFunc GE128 depthWrite rgbGen vertex }
