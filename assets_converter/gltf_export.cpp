@@ -13,6 +13,7 @@
 #include <glm/mat3x3.hpp>
 
 #include "assets_converter/glb_builder.h"
+#include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/world/world_lights.h"
 #include "renderer/core/srgb.h"
 
@@ -131,7 +132,7 @@ class Exporter {
   }
 
   std::optional<uint32_t> lightmapTexture(int32_t lightmap) {
-    if (!options_.lightmaps || lightmap < 0 || size_t(lightmap) >= scene_.lightmaps.size()) return std::nullopt;
+    if (!options_.lightmaps || q3::lightmapPageOf(lightmap, scene_.lightmaps.size()) < 0) return std::nullopt;
     if (auto it = lightmaps_.find(lightmap); it != lightmaps_.end()) return it->second;
     const q3::WorldImage& image = scene_.lightmaps[size_t(lightmap)];
     if (image.width == 0 || image.rgba8.size() != size_t(image.width) * image.height * 4) return std::nullopt;

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/world/world_lights.h"
 #include "port/scene_bridge/light_calibration.h"
 #include "renderer/core/srgb.h"
@@ -91,7 +92,7 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   desc.alphaInvert = m.alphaInvert;
   desc.opacity = m.opacity;
   desc.lightmapTexture =
-      lightmap >= 0 && size_t(lightmap) < handles.lightmaps.size() ? handles.lightmaps[size_t(lightmap)] : kNoId;
+      q3::lightmapPageOf(lightmap, handles.lightmaps.size()) >= 0 ? handles.lightmaps[size_t(lightmap)] : kNoId;
   desc.useVertexLight = m.vertexLit || desc.lightmapTexture == kNoId;
   desc.mirror = m.mirror;
   desc.specular = m.specular;

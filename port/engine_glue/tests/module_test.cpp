@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "fake_engine.h"
+#include "port/q3formats/bsp/tests/external_lightmap_map.h"
 #include "port/q3formats/vfs/game_filesystem.h"
 
 namespace {
@@ -362,6 +363,29 @@ TEST_F(ModuleTest, MalformedMapDropsNamingTheFileAndField) {
   EXPECT_EQ(e.lastErrorLevel, q3abi::ERR_DROP);
   EXPECT_NE(e.lastError.find("maps/broken.bsp"), std::string::npos) << e.lastError;
   EXPECT_NE(e.lastError.find("surfaces"), std::string::npos) << e.lastError;
+}
+
+TEST_F(ModuleTest, MapWithExternalLightmapsLoadsAsInTheStockRenderer) {
+  begin();
+  fake::FakeEngine& e = fake::engine();
+  const auto asBytes = [](const std::vector<std::byte>& in) {
+    std::vector<uint8_t> out(in.size());
+    std::memcpy(out.data(), in.data(), in.size());
+    return out;
+  };
+  // q3map2 -external: an empty lightmap lump, lightmap number 0 = maps/ext/lm_0000.tga.
+  e.files["maps/ext.bsp"] = asBytes(q3::testing::externalLightmapMap(0).build());
+  e.files["maps/ext/lm_0000.tga"] =
+      asBytes(q3::testing::tga24(4, 4, [](int, int) { return std::array<uint8_t, 3>{0, 64, 0}; }));
+  re_->LoadWorld("maps/ext.bsp");
+  EXPECT_TRUE(e.printed("loaded maps/ext.bsp"));
+  EXPECT_FALSE(e.printed("selects none"));
+  re_->Shutdown(0);
+  // Without the image the map still loads, vertex-lit, with one warning.
+  e.files.erase("maps/ext/lm_0000.tga");
+  begin();
+  re_->LoadWorld("maps/ext.bsp");
+  EXPECT_TRUE(e.printed("selects none"));
 }
 
 TEST_F(ModuleTest, ScreenshotNamesFollowTheEngineConvention) {

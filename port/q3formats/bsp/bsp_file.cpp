@@ -93,7 +93,8 @@ std::array<LumpRange, 17> readLumpTable(const ByteReader& r) {
                                 std::to_string(length));
     r.require(static_cast<size_t>(offset), static_cast<size_t>(length), 1, field.c_str());
     const size_t elem = kBspLumpElementSize[i];
-    if (elem && length % elem != 0)
+    // The engine reads whole lightmap pages and ignores a partial last one (checked below).
+    if (elem && length % elem != 0 && static_cast<BspLump>(i) != BspLump::Lightmaps)
       r.fail(field.c_str(), "length " + std::to_string(length) + " is not a multiple of " +
                                 std::to_string(elem));
     lumps[i] = {static_cast<size_t>(offset), static_cast<size_t>(length)};
@@ -225,8 +226,13 @@ void decodeGeometryLumps(BspFile& bsp, const ByteReader& r, const std::array<Lum
   }
 
   const auto lightmaps = lump(BspLump::Lightmaps).bytes();
-  bsp.lightmaps.resize(lightmaps.size());
-  if (!lightmaps.empty()) std::memcpy(bsp.lightmaps.data(), lightmaps.data(), lightmaps.size());
+  constexpr size_t kPage = kBspLumpElementSize[static_cast<int>(BspLump::Lightmaps)];
+  const size_t whole = lightmaps.size() / kPage * kPage;
+  if (whole != lightmaps.size())
+    bsp.warnings.push_back("lightmaps: " + std::to_string(lightmaps.size() - whole) +
+                           " bytes after the last whole 128x128 page ignored");
+  bsp.lightmaps.resize(whole);
+  if (whole) std::memcpy(bsp.lightmaps.data(), lightmaps.data(), whole);
 }
 
 void validateReferences(BspFile& bsp, const ByteReader& r, const std::array<LumpRange, 17>& L) {
@@ -297,7 +303,6 @@ void validateReferences(BspFile& bsp, const ByteReader& r, const std::array<Lump
   }
 
   const auto surfaces = lump(BspLump::Surfaces);
-  const size_t numLightmaps = bsp.numLightmaps();
   size_t badFogs = 0;
   for (size_t i = 0; i < bsp.surfaces.size(); ++i) {
     auto& s = bsp.surfaces[i];
@@ -307,7 +312,7 @@ void validateReferences(BspFile& bsp, const ByteReader& r, const std::array<Lump
       s.fog = -1;
       ++badFogs;
     }
-    if (s.lightmap >= 0) surfaces.checkIndex(i, "lightmap", s.lightmap, 0, numLightmaps);
+    // Any lightmap number loads: lightmapPageOf() decides which ones select a page.
     if (s.type == SurfaceType::Flare) continue;  // flares carry no geometry we use
     surfaces.checkRange(i, "vertices", s.firstVert, s.numVerts, bsp.drawVerts.size());
     if (s.type == SurfaceType::Patch) {
@@ -404,6 +409,10 @@ bool BspVisibility::clusterVisible(int32_t from, int32_t to) const {
     return true;
   const size_t byte = static_cast<size_t>(from) * bytesPerCluster + static_cast<size_t>(to >> 3);
   return (rows[byte] >> (to & 7)) & 1;
+}
+
+int32_t lightmapPageOf(int32_t lightmap, size_t pages) {
+  return lightmap >= 0 && static_cast<size_t>(lightmap) < pages ? lightmap : -1;
 }
 
 std::span<const uint8_t> BspFile::lightmapPage(size_t index) const {

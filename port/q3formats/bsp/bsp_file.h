@@ -17,9 +17,21 @@ enum class SurfaceType : int32_t { Planar = 1, Patch = 2, TriangleSoup = 3, Flar
 
 /// Special lightmap numbers used by the engine (negative = no lightmap page).
 inline constexpr int32_t kLightmapNone = -1;
+/// Lightmap number of a surface lit through a white image (the engine's fullbright mode).
+inline constexpr int32_t kLightmapWhiteImage = -2;
+/// Lightmap number of a vertex-lit surface (q3map2 writes it on every unlightmapped surface).
+inline constexpr int32_t kLightmapByVertex = -3;
+/// Lightmap number of 2D (menu) drawing; the lowest number the engine accepts.
+inline constexpr int32_t kLightmap2D = -4;
 
-/// Edge length in texels of one lightmap page (pages are RGB8, row-major).
+/// Edge length in texels of one lightmap page of the lightmaps lump (pages are RGB8, row-major).
 inline constexpr int kLightmapSize = 128;
+
+/// The one rule for a surface's lightmap number: the page it selects among `pages` lightmaps,
+/// or -1 when the surface is drawn with vertex light instead (negative numbers, and numbers past
+/// the last page, as the engine does: maps compiled with external lightmaps number past an empty
+/// lump). Never throws; any int32 is acceptable input.
+int32_t lightmapPageOf(int32_t lightmap, size_t pages);
 
 /// Largest patch control-grid dimension accepted (engine MAX_PATCH_SIZE).
 inline constexpr int kMaxPatchSize = 32;
@@ -137,7 +149,7 @@ struct BspFile {
   std::vector<int32_t> drawIndexes;
   std::vector<BspFog> fogs;
   std::vector<BspSurface> surfaces;
-  std::vector<uint8_t> lightmaps;  ///< numLightmaps() pages of 128x128 RGB8
+  std::vector<uint8_t> lightmaps;  ///< numLightmaps() pages of 128x128 RGB8 (a partial last page dropped)
   BspLightGrid lightGrid;
   BspVisibility visibility;
   std::vector<std::string> warnings;  ///< non-fatal oddities (e.g. light grid size mismatch)
@@ -163,8 +175,10 @@ inline constexpr std::array<size_t, 17> kBspLumpElementSize = {
 /// Human-readable lump name, e.g. "surfaces".
 const char* bspLumpName(BspLump lump);
 
-/// Parses an IBSP 46 file. Throws FormatError (file + field) on any malformed or
-/// inconsistent data; never reads outside `bytes`.
+/// Parses an IBSP 46 file. Throws FormatError (file + field) on malformed or inconsistent data
+/// the engine would refuse too; never reads outside `bytes`. What the engine tolerates loads with
+/// one line in `warnings` (a lightmaps lump that is not whole pages, fog numbers past the fogs
+/// lump); lightmap numbers are kept as written, whatever their value (see lightmapPageOf).
 BspFile parseBsp(std::span<const std::byte> bytes, std::string fileName);
 
 }  // namespace q3

@@ -24,6 +24,8 @@ namespace q3 {
 // | first stage: filter (DST_COLOR, ZERO),             | Multiply                                      |
 // |   (ZERO, SRC_COLOR), (DST_COLOR, SRC_COLOR)        |                                               |
 // | any $lightmap stage                                | lighting Lightmap                             |
+// | first lightmap stage is q3map2's external image,   | lightmapImage (its path)                      |
+// |   not additive (light style stages add)            |                                               |
 // | base rgbGen vertex / exactVertex / oneMinusVertex  | lighting Vertex, vertexColor                  |
 // | base rgbGen lightingDiffuse                        | lighting Diffuse                              |
 // | no lightmap, rgbGen identity / const / wave / none | lighting Unlit (const colour kept)            |
@@ -230,7 +232,14 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   if (const ShaderStage* reflecting = environmentBase(stages)) base = reflecting;
 
   bool hasLightmap = false;
-  for (const auto& s : stages) hasLightmap |= s.source == TextureSource::Lightmap;
+  for (const auto& s : stages) {
+    const bool lightmap = s.source == TextureSource::Lightmap;
+    // The stage that lights the surface; q3map2's light style stages add to it (blend add).
+    if (lightmap && !hasLightmap && !s.textures.empty() && s.textures.front()[0] != '$' &&
+        blendMode(s) != AlphaMode::Additive)
+      m.lightmapImage = s.textures.front();
+    hasLightmap |= lightmap;
+  }
 
   if (base) {
     m.baseTexture = base->textures.front();

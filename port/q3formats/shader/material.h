@@ -88,6 +88,8 @@ struct MaterialInfo {
   float alphaCutoff = 0.5f;               ///< Mask: threshold in [0,1]
   bool alphaInvert = false;               ///< Mask with LT128: keep texels below the cutoff
   LightingMode lighting = LightingMode::Lightmap;
+  std::string lightmapImage;              ///< the lightmap stage's own image (q3map2's external
+                                          ///< "maps/<map>/lm_NNNN"); "" for $lightmap or none
   std::array<float, 3> constColor{1, 1, 1};  ///< base stage rgbGen const colour (else white)
   bool vertexColor = false;               ///< base colour is multiplied by vertex colours
   bool entityColor = false;               ///< base colour comes from the entity (shaderRGBA)

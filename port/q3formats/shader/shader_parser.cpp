@@ -20,6 +20,31 @@ std::optional<float> parseNumber(std::string_view text) {
   return value;  // like atof, trailing garbage ("1.0f") is ignored
 }
 
+/// True for the name q3map2 gives a lightmap it writes beside the map: "maps/<map>/lm_NNNN"
+/// (four or more digits, any image extension).
+bool isExternalLightmapName(std::string_view path) {
+  std::string lower = toLowerAscii(std::string(path));
+  if (!lower.starts_with("maps/")) return false;
+  const size_t slash = lower.rfind('/');
+  std::string_view file = std::string_view(lower).substr(slash + 1);
+  if (const size_t dot = file.rfind('.'); dot != std::string_view::npos) file = file.substr(0, dot);
+  if (!file.starts_with("lm_") || file.size() < 7) return false;
+  for (char c : file.substr(3))
+    if (c < '0' || c > '9') return false;
+  return slash > 5;   // a folder named after the map between "maps/" and the file
+}
+
+/// q3map2 writes lightmaps that are not the game's 128x128 pages beside the map and names them
+/// in place of `$lightmap` ("map maps/<map>/lm_0000" + "tcGen lightmap"): such a stage is the
+/// lightmap stage, drawn from its own image.
+void markExternalLightmap(ShaderStage& s) {
+  if (s.source != TextureSource::Image || s.textures.size() != 1 || s.animFrequency > 0) return;
+  if (s.tcGen == TcGen::Lightmap || isExternalLightmapName(s.textures.front())) {
+    s.source = TextureSource::Lightmap;
+    s.tcGen = TcGen::Lightmap;
+  }
+}
+
 struct NamedParm {
   const char* name;
   SurfaceParm bit;
@@ -354,7 +379,10 @@ class ScriptParser {
       auto t = tok_.next();
       if (!t)
         throw FormatError(file_, "shader '" + current_->name + "' stage", "missing closing brace");
-      if (!t->quoted && t->text == "}") return;
+      if (!t->quoted && t->text == "}") {
+        markExternalLightmap(stage);
+        return;
+      }
       if (!t->quoted && t->text == "{") {
         warn("{", "nested block inside a stage ignored", t->line);
         if (!tok_.skipBracedSection())

@@ -51,7 +51,8 @@ struct Deform {
   int textIndex = 0;                  ///< text0..text7
 };
 
-/// Where a stage's texture comes from.
+/// Where a stage's texture comes from. Lightmap: `$lightmap`, or an image q3map2 wrote beside the
+/// map in its place ("maps/<map>/lm_NNNN", tcGen lightmap; `textures` then holds its path).
 enum class TextureSource { Image, Lightmap, WhiteImage, Video };
 
 /// OpenGL blend factors of `blendFunc`.

@@ -10,8 +10,10 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/shader/material.h"
 #include "port/q3formats/shader/shader_library.h"
+#include "port/q3formats/world/world_external_lightmaps.h"
 #include "port/q3formats/world/world_light_estimate.h"
 #include "port/q3formats/world/world_lights.h"
 #include "port/q3formats/world/world_source.h"
@@ -50,7 +52,8 @@ class SceneAssembler {
   SceneAssembler(const SourceWorld& source, const ShaderLibrary& shaders, const FileLoader& loadFile,
                  const WorldBuildOptions& options)
       : source_(source), shaders_(shaders), options_(options),
-        textures_(loadFile, options.loadTextures, scene_.textures, scene_.warnings) {}
+        textures_(loadFile, options.loadTextures, scene_.textures, scene_.warnings),
+        externalLightmaps_(textures_, scene_.lightmaps, scene_.warnings) {}
 
   WorldScene run() {
     scene_.mapName = source_.mapName;
@@ -65,6 +68,12 @@ class SceneAssembler {
       }
       scene_.lightmaps.push_back(std::move(image));
     }
+    // q3map2 -external: an empty lump, the lightmap numbers count lm_NNNN images beside the map.
+    const bool numbered = std::any_of(source_.surfaces.begin(), source_.surfaces.end(),
+                                      [](const SourceSurface& s) { return s.lightmap >= 0; });
+    if (scene_.lightmaps.empty() && numbered && !source_.externalLightmapFolder.empty())
+      externalLightmaps_.addNumbered(source_.externalLightmapFolder);
+    numberedLightmaps_ = scene_.lightmaps.size();
     scene_.models.resize(std::max<size_t>(1, source_.modelBounds.size()));
     for (size_t m = 0; m < source_.modelBounds.size(); ++m) scene_.models[m].bounds = source_.modelBounds[m];
 
@@ -131,7 +140,9 @@ class SceneAssembler {
     const bool solidStage = info.alphaMode == AlphaMode::Opaque || info.alphaMode == AlphaMode::Mask;
     m.visible = !info.invisible && (!m.fog || solidStage) &&
                 (m.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
-    m.vertexLit = info.lighting == LightingMode::Vertex || (!hasLightmap && info.lighting == LightingMode::Lightmap) ||
+    if (!info.lightmapImage.empty()) m.lightmap = externalLightmaps_.get(info.lightmapImage);
+    const bool lightmapped = hasLightmap || m.lightmap >= 0;
+    m.vertexLit = info.lighting == LightingMode::Vertex || (!lightmapped && info.lighting == LightingMode::Lightmap) ||
                   (m.surfaceFlags & kSurfNolightmap) != 0;
     m.castsShadows = !m.sky && m.alphaMode != WorldAlphaMode::Additive && m.visible;
     m.specular = info.environmentMapped ? 0.5f : 0.0f;
@@ -324,16 +335,20 @@ class SceneAssembler {
         scene_.warnings.push_back("surface with non-finite vertex skipped (shader '" + source_.shaders[s.shader].name + "')");
         return;
       }
-    const bool lightmapValid = s.lightmap >= 0 && size_t(s.lightmap) < scene_.lightmaps.size();
-    if (s.lightmap >= 0 && !lightmapValid && !externalLightmapWarned_) {
-      externalLightmapWarned_ = true;
-      scene_.warnings.push_back("lightmap index " + std::to_string(s.lightmap) +
-                                " beyond the lightmap lump (external lightmaps?): surfaces drawn vertex-lit");
-    }
-    uint32_t mat = material(s.shader, lightmapValid);
+    // Lightmap: the image the shader names, else the one the surface's number selects (one
+    // rule: lightmapPageOf), else vertex light as the engine does, with one warning per map.
+    const int32_t page = lightmapPageOf(s.lightmap, numberedLightmaps_);
+    uint32_t mat = material(s.shader, page >= 0);
     const WorldMaterial& m = scene_.materials[mat];
+    const bool engineNumber = s.lightmap < 0 && s.lightmap >= kLightmap2D;
+    if (page < 0 && m.lightmap < 0 && !engineNumber && !lightmapNumberWarned_) {
+      lightmapNumberWarned_ = true;
+      scene_.warnings.push_back("lightmap number " + std::to_string(s.lightmap) + " selects none of the " +
+                                std::to_string(numberedLightmaps_) +
+                                " lightmaps (external lightmaps missing?): such surfaces drawn vertex-lit");
+    }
     if (!m.visible && m.surfaceLight <= 0.0f && !options_.keepInvisible) return;
-    const int32_t lightmap = lightmapValid && !m.vertexLit ? s.lightmap : -1;
+    const int32_t lightmap = m.vertexLit ? -1 : m.lightmap >= 0 ? m.lightmap : page;
 
     // Whole, in-range, non-degenerate triangles.
     std::vector<uint32_t> triangles;
@@ -378,12 +393,14 @@ class SceneAssembler {
   const WorldBuildOptions& options_;
   WorldScene scene_;
   TextureCache textures_;
+  ExternalLightmaps externalLightmaps_;
+  size_t numberedLightmaps_ = 0;   ///< lightmaps lightmap numbers select (internal, else lm_NNNN)
   std::map<std::pair<uint32_t, bool>, uint32_t> materials_;
   std::map<std::tuple<uint32_t, uint32_t, int32_t>, size_t> meshes_;
   std::optional<std::pair<ShaderDef, MaterialInfo>> skyMaterial_;
   std::map<std::string, int32_t> modulatedTextures_;   ///< modulatedBase() results by request
   bool sunShaderSeen_ = false;
-  bool externalLightmapWarned_ = false;
+  bool lightmapNumberWarned_ = false;
 };
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include "port/q3formats/bsp/entities.h"
 #include "port/q3formats/common/format_error.h"
 #include "port/q3formats/bsp/tessellate.h"
+#include "port/q3formats/world/world_external_lightmaps.h"
 #include "port/q3formats/world/world_source.h"
 
 namespace q3 {
@@ -99,6 +100,8 @@ WorldScene buildWorldScene(const BspFile& bsp, const ShaderLibrary& shaders, con
     auto& rgb = source.lightmaps.emplace_back();
     std::copy(bytes.begin(), bytes.begin() + std::min(bytes.size(), rgb.size()), rgb.begin());
   }
+
+  source.externalLightmapFolder = externalLightmapFolder(bsp.fileName);
 
   for (const BspFog& fog : bsp.fogs)
     source.fogs.push_back({fog.shaderName, fogBrushBounds(bsp, fog.brush), fogBrushPlanes(bsp, fog.brush)});

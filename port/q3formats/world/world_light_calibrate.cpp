@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/world/world_lights.h"
 
 namespace q3 {
@@ -42,7 +43,7 @@ std::vector<Sample> sampleLightmaps(const WorldScene& scene, const LightCalibrat
   double total = 0.0;
   if (scene.models.empty()) return {};
   for (const WorldMesh& mesh : scene.models[0].meshes) {
-    if (mesh.lightmap < 0 || size_t(mesh.lightmap) >= scene.lightmaps.size() || mesh.material >= scene.materials.size())
+    if (lightmapPageOf(mesh.lightmap, scene.lightmaps.size()) < 0 || mesh.material >= scene.materials.size())
       continue;
     const WorldMaterial& m = scene.materials[mesh.material];
     if (!m.visible || m.sky || m.vertexLit || m.alphaMode != WorldAlphaMode::Opaque) continue;

@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
+#include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/world/world_lights.h"
 
 namespace q3 {
@@ -29,7 +30,7 @@ float cross2(const glm::vec2& a, const glm::vec2& b) { return a.x * b.y - a.y * 
 
 /// True when the world mesh is one the lightmaps light (as the calibration samples them) and does not emit.
 bool lightmapped(const WorldScene& scene, const WorldMesh& mesh) {
-  if (mesh.lightmap < 0 || size_t(mesh.lightmap) >= scene.lightmaps.size() || mesh.material >= scene.materials.size())
+  if (lightmapPageOf(mesh.lightmap, scene.lightmaps.size()) < 0 || mesh.material >= scene.materials.size())
     return false;
   const WorldMaterial& m = scene.materials[mesh.material];
   if (!m.visible || m.sky || m.vertexLit || m.alphaMode != WorldAlphaMode::Opaque) return false;

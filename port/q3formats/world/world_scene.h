@@ -92,6 +92,8 @@ struct WorldMaterial {
   glm::vec2 uvScale{1.0f};       ///< tcMod scale of the base stage.
   bool baseReflects = false;     ///< Base stage is tcGen environment: a sphere map read at the mirrored view.
   int32_t reflectionOverlayTexture = -1;  ///< baseReflects: the surface's own texture added over the reflection (-1 = none).
+  int32_t lightmap = -1;         ///< Lightmap the shader names itself (q3map2's external lm_NNNN stage), index
+                                 ///< into WorldScene::lightmaps; -1 = the surface's lightmap number decides.
 };
 
 /// A triangle mesh with one material (and one lightmap), in Quake units.
@@ -189,7 +191,8 @@ struct WorldScene {
   std::vector<WorldModel> models;        ///< [0] world, [1..] brush sub-models.
   std::vector<WorldMaterial> materials;
   std::vector<WorldTexture> textures;
-  /// Baked lightmaps: RGB(A=255) 128x128 as stored. Quake brightens them at load by
+  /// Baked lightmaps: RGB(A=255) as stored, 128x128 from the lump, any size from external
+  /// lm_NNNN images (world_external_lightmaps.h). Quake brightens them at load by
   /// 2^r_mapOverBrightBits (= 4, with per-texel saturation keeping hue): a stored value of
   /// 64 is "full bright". kLightmapOverbrightScale carries that factor.
   std::vector<WorldImage> lightmaps;

@@ -26,7 +26,7 @@ struct SourceShader {
 /// One drawable BSP surface as triangles (planar faces, soups, tessellated patches).
 struct SourceSurface {
   uint32_t shader = 0;          ///< Index into SourceWorld::shaders.
-  int32_t lightmap = -1;        ///< Lightmap index, negative = vertex-lit / none.
+  int32_t lightmap = -1;        ///< Lightmap number as stored (lightmapPageOf decides its use).
   uint32_t model = 0;           ///< Owning BSP model (0 = world).
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;
@@ -54,13 +54,18 @@ struct SourceWorld {
   std::vector<WorldBounds> modelBounds;             ///< One per BSP model.
   std::vector<SourceEntity> entities;
   std::vector<std::array<uint8_t, 128 * 128 * 3>> lightmaps;   ///< Internal lightmaps, RGB.
+  /// Where external lightmaps lie ("maps/<map>", see world_external_lightmaps.h): read, numbered
+  /// from lm_0000, when there are no internal lightmaps and a surface has a lightmap number.
+  std::string externalLightmapFolder;
   std::vector<SourceFog> fogs;
   WorldLightGrid lightGrid;
 };
 
 /// Assembles the scene: materials from the shader library (implicit shader when missing),
-/// textures through loadFile (fallback + warning when missing), meshes grouped per model by
-/// (material, lightmap), lights/sky/sun/cameras/fogs.
+/// textures through loadFile (fallback + warning when missing), lightmaps (internal, else
+/// external), meshes grouped per model by (material, lightmap), lights/sky/sun/cameras/fogs.
+/// A surface whose lightmap number selects no lightmap is drawn vertex-lit, with one warning
+/// per map; a shader that names its own lightmap image (q3map2) uses that image.
 WorldScene assembleWorldScene(const SourceWorld& source, const ShaderLibrary& shaders, const FileLoader& loadFile,
                               const WorldBuildOptions& options = {});
 

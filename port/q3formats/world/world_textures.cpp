@@ -68,6 +68,17 @@ int32_t TextureCache::get(const std::string& name, bool clamp, bool warnIfMissin
   return index;
 }
 
+std::optional<WorldImage> TextureCache::image(const std::string& name) {
+  auto file = read(name);
+  if (!file) return std::nullopt;
+  try {
+    return toWorldImage(decodeImage(file->second, file->first));
+  } catch (const FormatError& e) {
+    warnings_.push_back(std::string(e.what()) + ": image left out");
+    return std::nullopt;
+  }
+}
+
 glm::vec3 TextureCache::averageColor(int32_t index) const {
   if (index < 0 || size_t(index) >= textures_.size()) return glm::vec3(0.5f);
   const WorldImage& image = textures_[size_t(index)].image;

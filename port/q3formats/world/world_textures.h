@@ -24,6 +24,9 @@ class TextureCache {
   int32_t get(const std::string& name, bool clamp, bool warnIfMissing = true);
   /// True when one of the name's image candidates exists (bytes kept for a later get()).
   bool exists(const std::string& name);
+  /// The decoded image of a name (decoded even when textures are not), adding no texture;
+  /// nullopt when no candidate file exists or it does not decode (one warning).
+  std::optional<WorldImage> image(const std::string& name);
   /// Mean linear colour of a texture (alpha-weighted), {0.5} when unknown.
   glm::vec3 averageColor(int32_t index) const;
 

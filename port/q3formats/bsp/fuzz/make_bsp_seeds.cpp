@@ -7,6 +7,7 @@
 #include <string>
 
 #include "port/q3formats/bsp/tests/bsp_writer.h"
+#include "port/q3formats/bsp/tests/external_lightmap_map.h"
 
 namespace {
 
@@ -55,6 +56,13 @@ int main(int argc, char** argv) {
     w.finishWorld({-512, -512, -512}, {512, 512, 512});
     write(dir, "patches_" + std::to_string(variant) + ".bsp", w.build());
   }
+
+  // Loaded as leniently as the engine: q3map2 -external (empty lump, numbers past it), numbers
+  // below the engine's, and a lump with a partial last page.
+  write(dir, "external_lightmaps.bsp", q3::testing::externalLightmapMap(3).build());
+  BspWriter odd = q3::testing::externalLightmapMap(-1000);
+  odd.lightmaps.assign(q3::kLightmapSize * q3::kLightmapSize * 3 + 100, 50);
+  write(dir, "odd_lightmaps.bsp", odd.build());
 
   std::ofstream(dir / "entities.txt") << "{ \"classname\" \"light\" \"origin\" \"1 2 3\" \"target\" \"t\" }\n"
                                          "// comment\n{ \"targetname\" \"t\" \"origin\" \"0 0 0\" /* c */ }";

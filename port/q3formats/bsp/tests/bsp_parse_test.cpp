@@ -85,6 +85,40 @@ TEST(BspParse, ToleratesShippedOddities) {
   EXPECT_EQ(bsp.warnings.size(), 2u);
 }
 
+TEST(BspParse, LoadsWhatTheEngineLoadsWithExternalOrMissingLightmaps) {
+  // q3map2 -external: an empty lump, lightmap numbers counting the lm_NNNN.tga files beside it.
+  auto w = testing::sampleMap();
+  w.lightmaps.clear();
+  w.surfaces[0].lightmap = 3;
+  w.surfaces[1].lightmap = -7;   // below LIGHTMAP_2D: the engine warns and lights by vertex
+  const BspFile bsp = parseBsp(w.build(), "external.bsp");
+  EXPECT_EQ(bsp.numLightmaps(), 0u);
+  EXPECT_EQ(bsp.surfaces[0].lightmap, 3);   // kept as written: the scene builder decides
+  EXPECT_EQ(bsp.surfaces[1].lightmap, -7);
+  EXPECT_TRUE(bsp.warnings.empty());
+}
+
+TEST(BspParse, PartialLightmapPageIsDroppedWithOneWarning) {
+  auto w = testing::sampleMap();
+  w.lightmaps.resize(w.lightmaps.size() + 1000, 7);   // the engine reads whole pages only
+  const BspFile bsp = parseBsp(w.build(), "partial.bsp");
+  EXPECT_EQ(bsp.numLightmaps(), 1u);
+  EXPECT_EQ(bsp.lightmaps.size(), size_t(kLightmapSize) * kLightmapSize * 3);
+  ASSERT_EQ(bsp.warnings.size(), 1u);
+  EXPECT_NE(bsp.warnings[0].find("1000 bytes"), std::string::npos);
+}
+
+TEST(BspParse, LightmapPageOfIsTheOneRuleForLightmapNumbers) {
+  EXPECT_EQ(lightmapPageOf(0, 2), 0);
+  EXPECT_EQ(lightmapPageOf(1, 2), 1);
+  EXPECT_EQ(lightmapPageOf(2, 2), -1);            // past the last page: vertex light
+  EXPECT_EQ(lightmapPageOf(0, 0), -1);            // external lightmaps not found
+  EXPECT_EQ(lightmapPageOf(kLightmapByVertex, 2), -1);
+  EXPECT_EQ(lightmapPageOf(kLightmapWhiteImage, 2), -1);
+  EXPECT_EQ(lightmapPageOf(INT32_MIN, 2), -1);
+  EXPECT_EQ(lightmapPageOf(INT32_MAX, size_t(1) << 40), INT32_MAX);
+}
+
 TEST(BspParse, LightGridSizeMismatchIsAWarningNotAnError) {
   auto w = testing::sampleMap();
   w.lightGrid.resize(8 * 5);

@@ -26,6 +26,34 @@ TEST(Material, LightmappedWallIsOpaqueWithItsTexture) {
   EXPECT_FALSE(m.invisible);
 }
 
+TEST(Material, Q3map2ExternalLightmapStageIsTheLightmap) {
+  // q3map2 replaces $lightmap by the image it wrote beside the map (non-128 lightmap sizes).
+  auto m = material(R"(maps/ext/textures/w_1a2b3c4d { { map textures/w.tga rgbGen identity }
+    { map maps/ext/lm_0002.tga blendFunc GL_DST_COLOR GL_ZERO tcgen lightmap } })");
+  EXPECT_EQ(m.baseTexture, "textures/w.tga");
+  EXPECT_EQ(m.lighting, LightingMode::Lightmap);
+  EXPECT_EQ(m.lightmapImage, "maps/ext/lm_0002.tga");
+  EXPECT_TRUE(m.baseModulations.empty());   // not multiplied into the base on its uvs
+  // Older q3map2 wrote the image without tcGen lightmap; the name alone says what it is.
+  auto old = material("w { { map $whiteimage } { map maps/ext/lm_0000 blendFunc filter } { map t.tga blendFunc filter } }");
+  EXPECT_EQ(old.lightmapImage, "maps/ext/lm_0000");
+  EXPECT_EQ(old.lighting, LightingMode::Lightmap);
+  // q3map2's light style stage (an external page added with a flicker) is light, not the base
+  // and not a glow; the surface keeps its own lightmap.
+  auto styled = material(R"(void3/5D65 { { map $lightmap rgbGen identity }
+    { map maps/void3/lm_0000.tga blendFunc GL_SRC_ALPHA GL_ONE rgbGen wave noise 0.5 1 0 5.37 tcGen lightmap }
+    { map textures/oquartz/hazard_crate.tga blendFunc GL_DST_COLOR GL_ZERO rgbGen identity } })");
+  EXPECT_EQ(styled.baseTexture, "textures/oquartz/hazard_crate.tga");
+  EXPECT_EQ(styled.lightmapImage, "");
+  EXPECT_TRUE(styled.glowTextures.empty());
+  EXPECT_EQ(styled.lighting, LightingMode::Lightmap);
+  // A plain $lightmap stage names no image; an image merely in maps/ is an image.
+  EXPECT_EQ(material("w { { map $lightmap } }").lightmapImage, "");
+  auto image = material("w { { map maps/ext/lm_logo.tga } }");
+  EXPECT_EQ(image.lightmapImage, "");
+  EXPECT_EQ(image.baseTexture, "maps/ext/lm_logo.tga");
+}
+
 TEST(Material, AlphaTestedFoliageIsMaskAndTwoSided) {
   auto m = material(R"(f { cull none
     { map leaves.tga alphaFunc GE128 depthWrite rgbGen vertex }
