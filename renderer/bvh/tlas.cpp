@@ -1,6 +1,11 @@
-// Tlas: binary BVH over instance world bounds; leaves transform the ray into object space
-// (without normalising the direction, so t stays the world-space t) and trace the Blas.
+// Tlas: the instances' world bounds, tested all at once in 8-lane groups when there are at most
+// kFlatInstances of them (a game frame's movers, items and effect batches), else through a binary
+// BVH over them. Either way instances are entered nearest box first; each transforms the ray into
+// object space (without normalising the direction, so t stays the world-space t) and traces its Blas.
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -11,6 +16,7 @@
 #include "renderer/bvh/binary_bvh.h"
 #include "renderer/bvh/binary_traversal.h"
 #include "renderer/bvh/bvh.h"
+#include "renderer/bvh/slab_test.h"
 #include "renderer/bvh/triangle_mesh.h"
 
 namespace pa {
@@ -41,12 +47,99 @@ Bounds transformBounds(const glm::mat4x3& m, const Bounds& b) {
   return out;
 }
 
+/// Instance counts up to this are tested without a hierarchy (8 groups of 8 lanes).
+constexpr size_t kFlatInstances = 64;
+
+using Lanes = float __attribute__((vector_size(32)));
+using IntLanes = int32_t __attribute__((vector_size(32)));
+constexpr uint32_t kLanes = 8;
+
+/// Eight instance boxes, one per lane ([axis] = x, y, z), and which ray masks reach each lane
+/// (0 for unused lanes).
+struct BoxGroup {
+  Lanes min[3];
+  Lanes max[3];
+  IntLanes mask;
+};
+
+/// A box the ray enters: its entry distance and its instance.
+struct Candidate {
+  float entry;
+  uint32_t instance;
+};
+
+/// The boxes of `groups` that the ray enters within [tmin, tmax] and whose mask matches, with
+/// their entry distances: bvh_detail::slabEntry's operations lane by lane (same values).
+uint32_t enteredBoxes(std::span<const BoxGroup> groups, const Ray& ray, float tmax, uint32_t rayMask,
+                      std::array<Candidate, kFlatInstances>& out) {
+  const bvh_detail::SlabRay slab(ray.origin, ray.dir);
+  const int nearSide[3] = {slab.nearX, slab.nearY, slab.nearZ};
+  const float origin[3] = {slab.origin.x, slab.origin.y, slab.origin.z};
+  const float invDir[3] = {slab.invDir.x, slab.invDir.y, slab.invDir.z};
+  uint32_t count = 0;
+  for (uint32_t g = 0; g < groups.size(); ++g) {
+    const BoxGroup& group = groups[g];
+    Lanes tNear = Lanes{} + ray.tmin;
+    Lanes tFar = Lanes{} + tmax;
+    // Innermost axis first, as slabEntry nests maxKeep(nx, maxKeep(ny, maxKeep(nz, tmin))).
+    for (int axis = 2; axis >= 0; --axis) {
+      const Lanes& nearBound = nearSide[axis] ? group.max[axis] : group.min[axis];
+      const Lanes& farBound = nearSide[axis] ? group.min[axis] : group.max[axis];
+      const Lanes n = (nearBound - origin[axis]) * invDir[axis];
+      const Lanes f = (farBound - origin[axis]) * invDir[axis];
+      tNear = n > tNear ? n : tNear;
+      tFar = f < tFar ? f : tFar;
+    }
+    tFar = tFar * bvh_detail::kRobustFarScale;
+    const IntLanes entered = (tNear <= tFar) & ((group.mask & static_cast<int32_t>(rayMask)) != 0);
+    for (uint32_t lane = 0; lane < kLanes; ++lane)
+      if (entered[lane]) out[count++] = {tNear[lane], g * kLanes + lane};
+  }
+  return count;
+}
+
+/// Removes and returns the nearest candidate (the first of equal ones).
+Candidate takeNearest(std::array<Candidate, kFlatInstances>& candidates, uint32_t& count) {
+  uint32_t best = 0;
+  for (uint32_t i = 1; i < count; ++i)
+    if (candidates[i].entry < candidates[best].entry) best = i;
+  const Candidate nearest = candidates[best];
+  for (uint32_t i = best + 1; i < count; ++i) candidates[i - 1] = candidates[i];
+  --count;
+  return nearest;
+}
+
 }  // namespace
 
 struct Tlas::Impl {
   std::vector<PlacedInstance> instances;   // only instances with geometry, in BVH leaf order source
-  bvh_detail::BinaryBvh bvh;
+  bvh_detail::BinaryBvh bvh;               // built when there are more than kFlatInstances
+  std::vector<BoxGroup> groups;            // the instances' boxes, 8 to a group, when at most kFlatInstances
   Bounds bounds;
+
+  /// Visits the instances whose boxes the ray enters, nearest box first, while their entry is
+  /// within the ray's current tmax; visit(instance) returns true to stop.
+  template <typename Visit>
+  void forEachEntered(const Ray& ray, uint32_t rayMask, Visit&& visit) const {
+    if (groups.empty()) {
+      bvh_detail::traverseBinary(bvh, ray, ray.tmax, [&](uint32_t first, uint32_t count) {
+        for (uint32_t k = first; k < first + count; ++k) {
+          const PlacedInstance& inst = instances[bvh.primIndices[k]];
+          if ((inst.mask & rayMask) != 0 && visit(inst)) return true;
+        }
+        return false;
+      });
+      return;
+    }
+    std::array<Candidate, kFlatInstances> candidates;
+    uint32_t count = enteredBoxes(groups, ray, ray.tmax, rayMask, candidates);
+    while (count > 0) {
+      const Candidate next = takeNearest(candidates, count);
+      // Every other box starts beyond the hit found (the far bound widened as slabEntry widens it).
+      if (next.entry > ray.tmax * bvh_detail::kRobustFarScale) return;
+      if (visit(instances[next.instance])) return;
+    }
+  }
 
   Ray toObject(const PlacedInstance& inst, const Ray& ray) const {
     Ray r = ray;
@@ -83,9 +176,23 @@ void Tlas::build(std::span<const TlasInstance> instances) {
     worldBounds.push_back(transformBounds(in.objectToWorld, objectBounds));
     next->bounds.extend(worldBounds.back());
   }
-  BvhBuildConfig config;
-  config.maxLeafTriangles = 1;
-  next->bvh = bvh_detail::buildBinaryBvh(worldBounds, config);
+  if (worldBounds.size() <= kFlatInstances) {
+    next->groups.resize((worldBounds.size() + kLanes - 1) / kLanes);
+    for (BoxGroup& group : next->groups) group = BoxGroup{};   // unused lanes: mask 0
+    for (size_t i = 0; i < worldBounds.size(); ++i) {
+      BoxGroup& group = next->groups[i / kLanes];
+      const size_t lane = i % kLanes;
+      for (int axis = 0; axis < 3; ++axis) {
+        group.min[axis][lane] = worldBounds[i].min[axis];
+        group.max[axis][lane] = worldBounds[i].max[axis];
+      }
+      group.mask[lane] = static_cast<int32_t>(next->instances[i].mask);
+    }
+  } else {
+    BvhBuildConfig config;
+    config.maxLeafTriangles = 1;
+    next->bvh = bvh_detail::buildBinaryBvh(worldBounds, config);
+  }
   impl_ = std::move(next);
 }
 
@@ -93,15 +200,12 @@ bool Tlas::intersect(Ray& ray, Hit& hit, uint32_t rayMask, const HitFilter& filt
   if (!impl_ || !bvh_detail::isTraceableRay(ray)) return false;
   bool found = false;
   const Impl& self = *impl_;
-  bvh_detail::traverseBinary(self.bvh, ray, ray.tmax, [&](uint32_t first, uint32_t count) {
-    for (uint32_t k = first; k < first + count; ++k) {
-      const PlacedInstance& inst = self.instances[self.bvh.primIndices[k]];
-      if ((inst.mask & rayMask) == 0) continue;
-      Ray local = self.toObject(inst, ray);
-      if (inst.blas->intersect(local, hit, filter, inst.index)) {
-        ray.tmax = local.tmax;
-        found = true;
-      }
+  // ray.tmax shrinks with each hit: forEachEntered reads it before entering the next instance.
+  self.forEachEntered(ray, rayMask, [&](const PlacedInstance& inst) {
+    Ray local = self.toObject(inst, ray);
+    if (inst.blas->intersect(local, hit, filter, inst.index)) {
+      ray.tmax = local.tmax;
+      found = true;
     }
     return false;
   });
@@ -112,16 +216,9 @@ bool Tlas::occluded(const Ray& ray, uint32_t rayMask, const HitFilter& filter) c
   if (!impl_ || !bvh_detail::isTraceableRay(ray)) return false;
   bool found = false;
   const Impl& self = *impl_;
-  bvh_detail::traverseBinary(self.bvh, ray, ray.tmax, [&](uint32_t first, uint32_t count) {
-    for (uint32_t k = first; k < first + count; ++k) {
-      const PlacedInstance& inst = self.instances[self.bvh.primIndices[k]];
-      if ((inst.mask & rayMask) == 0) continue;
-      if (inst.blas->occluded(self.toObject(inst, ray), filter, inst.index)) {
-        found = true;
-        return true;
-      }
-    }
-    return false;
+  self.forEachEntered(ray, rayMask, [&](const PlacedInstance& inst) {
+    found = inst.blas->occluded(self.toObject(inst, ray), filter, inst.index);
+    return found;
   });
   return found;
 }

@@ -80,26 +80,25 @@ Texture Texture::fromDesc(const TextureDesc& desc, const char* what) {
   return tex;
 }
 
-glm::vec4 Texture::texel(const MipLevel& level, int x, int y) const {
-  const int w = static_cast<int>(level.width);
-  const int h = static_cast<int>(level.height);
-  if (wrap_ == TextureWrap::Repeat) {
-    x %= w;
-    y %= h;
-    if (x < 0) x += w;
-    if (y < 0) y += h;
-  } else {
-    x = std::clamp(x, 0, w - 1);
-    y = std::clamp(y, 0, h - 1);
-  }
-  return level.texels[static_cast<size_t>(y) * level.width + static_cast<size_t>(x)];
+namespace {
+
+/// The two texel indices along an axis of n texels that a bilinear lookup at integer i blends:
+/// i and i + 1, wrapped (one division at most) or clamped to [0, n - 1].
+std::array<uint32_t, 2> texelPair(int i, int n, bool repeat) {
+  if (!repeat) return {uint32_t(std::clamp(i, 0, n - 1)), uint32_t(std::clamp(i + 1, 0, n - 1))};
+  int first = i % n;
+  if (first < 0) first += n;
+  return {uint32_t(first), uint32_t(first + 1 == n ? 0 : first + 1)};
 }
+
+}  // namespace
 
 glm::vec4 Texture::sampleLevel(uint32_t levelIndex, glm::vec2 uv) const {
   const MipLevel& level = levels_[std::min<size_t>(levelIndex, levels_.size() - 1)];
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = {0.0f, 0.0f};
   // Keep coordinates in a range where float -> int conversion is exact and safe.
-  if (wrap_ == TextureWrap::Repeat) {
+  const bool repeat = wrap_ == TextureWrap::Repeat;
+  if (repeat) {
     uv -= glm::floor(uv);
   } else {
     uv = glm::clamp(uv, glm::vec2(-1.0f), glm::vec2(2.0f));
@@ -110,12 +109,14 @@ glm::vec4 Texture::sampleLevel(uint32_t levelIndex, glm::vec2 uv) const {
   const float fy0 = std::floor(py);
   const float fx = px - fx0;
   const float fy = py - fy0;
-  const int x0 = static_cast<int>(fx0);
-  const int y0 = static_cast<int>(fy0);
-  const glm::vec4 a = texel(level, x0, y0);
-  const glm::vec4 b = texel(level, x0 + 1, y0);
-  const glm::vec4 c = texel(level, x0, y0 + 1);
-  const glm::vec4 d = texel(level, x0 + 1, y0 + 1);
+  const auto [x0, x1] = texelPair(static_cast<int>(fx0), static_cast<int>(level.width), repeat);
+  const auto [y0, y1] = texelPair(static_cast<int>(fy0), static_cast<int>(level.height), repeat);
+  const glm::vec4* row0 = &level.texels[size_t{y0} * level.width];
+  const glm::vec4* row1 = &level.texels[size_t{y1} * level.width];
+  const glm::vec4 a = row0[x0];
+  const glm::vec4 b = row0[x1];
+  const glm::vec4 c = row1[x0];
+  const glm::vec4 d = row1[x1];
   return (a * (1.0f - fx) + b * fx) * (1.0f - fy) + (c * (1.0f - fx) + d * fx) * fy;
 }
 

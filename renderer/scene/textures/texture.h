@@ -45,7 +45,6 @@ class Texture {
 
  private:
   glm::vec4 sampleLevel(uint32_t level, glm::vec2 uv) const;
-  glm::vec4 texel(const MipLevel& level, int x, int y) const;
 
   std::vector<MipLevel> levels_;
   TextureWrap wrap_ = TextureWrap::Repeat;
