@@ -50,6 +50,7 @@ void Module::beginFrame(int /*stereoFrame*/) {
   const Clock::time_point now = Clock::now();
   if (frameBegan_ != Clock::time_point{}) stats_.frameMs += std::chrono::duration<double, std::milli>(now - frameBegan_).count();
   frameBegan_ = now;
+  modelViewsThisFrame_ = 0;
   overlay_.beginFrame(window_.width(), window_.height());
   frameOpen_ = true;
 }
@@ -150,7 +151,9 @@ void Module::renderScene(const q3abi::refdef_t* view) {
     }
     if (picture) {
       const ScopeTimer upload(stats_.uploadMs);
-      overlay_.drawPixels(0, picture->rgba, picture->width, picture->height,
+      // The world view keeps texture 0; model views of the frame take the next ones in turn.
+      const int slot = noWorld ? 1 + std::min(modelViewsThisFrame_++, Overlay2D::kViewSlots - 2) : 0;
+      overlay_.drawPixels(slot, picture->rgba, picture->width, picture->height,
                           static_cast<float>(view->x), static_cast<float>(view->y),
                           static_cast<float>(view->width), static_cast<float>(view->height),
                           !noWorld);

@@ -146,6 +146,7 @@ class Module {
   int lastShotNumber_ = 0;
   int renderFailures_ = 0;
   int traceMsThisFrame_ = 0;
+  int modelViewsThisFrame_ = 0;    ///< Views without the world drawn since BeginFrame.
   FrameStats stats_;
   int frameStartMs_ = 0;
   std::chrono::steady_clock::time_point frameBegan_{};   ///< Last BeginFrame (r_pt_stats).

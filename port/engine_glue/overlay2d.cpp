@@ -14,7 +14,8 @@
 namespace glue {
 namespace {
 
-constexpr int kMaxSlots = 1 + 16;   // views + the engine's MAX_VIDEO_HANDLES cinematics
+constexpr int kCinematicSlots = 16;   // the engine's MAX_VIDEO_HANDLES
+constexpr int kMaxSlots = Overlay2D::kViewSlots + kCinematicSlots;
 
 }  // namespace
 
@@ -93,31 +94,7 @@ unsigned Overlay2D::slotTexture(int slot) {
   return slotTextures_[slot];
 }
 
-void Overlay2D::uploadRaw(int client, const uint8_t* rgba, int cols, int rows) {
-  const int slot = 1 + client;
-  if (slot < 1 || slot >= kMaxSlots || rgba == nullptr || cols <= 0 || rows <= 0) return;
-  glBindTexture(GL_TEXTURE_2D, slotTexture(slot));
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  if (slotSizes_[slot][0] != cols || slotSizes_[slot][1] != rows) {
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, cols, rows, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-    slotSizes_[slot] = {cols, rows};
-  } else {
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, cols, rows, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-  }
-}
-
-void Overlay2D::drawRaw(int client, float x, float y, float w, float h) {
-  const int slot = 1 + client;
-  if (slot < 1 || slot >= kMaxSlots || slotTextures_.empty() || slotTextures_[slot] == 0) return;
-  glBindTexture(GL_TEXTURE_2D, slotTextures_[slot]);
-  glDisable(GL_BLEND);
-  glColor4f(1, 1, 1, 1);
-  drawQuad2D(x, y, w, h, 0, 0, 1, 1);
-}
-
-void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height, float x, float y,
-                           float w, float h, bool opaque) {
-  if (rgba == nullptr || width <= 0 || height <= 0 || slot < 0 || slot >= kMaxSlots) return;
+void Overlay2D::upload(int slot, const uint8_t* rgba, int width, int height) {
   glBindTexture(GL_TEXTURE_2D, slotTexture(slot));
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   if (slotSizes_[slot][0] != width || slotSizes_[slot][1] != height) {
@@ -126,6 +103,27 @@ void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height,
   } else {
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
   }
+}
+
+void Overlay2D::uploadRaw(int client, const uint8_t* rgba, int cols, int rows) {
+  const int slot = kViewSlots + client;
+  if (slot < kViewSlots || slot >= kMaxSlots || rgba == nullptr || cols <= 0 || rows <= 0) return;
+  upload(slot, rgba, cols, rows);
+}
+
+void Overlay2D::drawRaw(int client, float x, float y, float w, float h) {
+  const int slot = kViewSlots + client;
+  if (slot < kViewSlots || slot >= kMaxSlots || slotTextures_.empty() || slotTextures_[slot] == 0) return;
+  glBindTexture(GL_TEXTURE_2D, slotTextures_[slot]);
+  glDisable(GL_BLEND);
+  glColor4f(1, 1, 1, 1);
+  drawQuad2D(x, y, w, h, 0, 0, 1, 1);
+}
+
+void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height, float x, float y,
+                           float w, float h, bool opaque) {
+  if (rgba == nullptr || width <= 0 || height <= 0 || slot < 0 || slot >= kViewSlots) return;
+  upload(slot, rgba, width, height);
   if (opaque) {
     glDisable(GL_BLEND);
   } else {

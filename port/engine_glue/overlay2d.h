@@ -16,6 +16,9 @@ class Engine;
 /// Immediate 2D drawing into the window's back buffer.
 class Overlay2D {
  public:
+  /// Textures kept for 3D views (a view keeps its slot's texture when its size is unchanged).
+  static constexpr int kViewSlots = 8;
+
   Overlay2D() = default;
   ~Overlay2D() = default;
   Overlay2D(const Overlay2D&) = delete;
@@ -31,7 +34,8 @@ class Overlay2D {
                double seconds, float x, float y, float w, float h, float s1, float t1, float s2, float t2);
   /// Draws RGBA8 pixels (width*height, top row first) stretched over a rectangle; when not
   /// `opaque` the colours are premultiplied by alpha (alpha 0 still adds its colour).
-  /// `slot` picks a reusable texture (0 = 3D views, 1.. = cinematic clients).
+  /// `slot` in [0, kViewSlots) picks a reusable texture: give each view of a frame its own, so
+  /// that views of different sizes do not re-create one texture back and forth.
   void drawPixels(int slot, const uint8_t* rgba, int width, int height, float x, float y, float w,
                   float h, bool opaque);
   /// UploadCinematic: replaces a cinematic slot's pixels (RGBA8 `cols` x `rows`).
@@ -45,11 +49,13 @@ class Overlay2D {
 
  private:
   unsigned slotTexture(int slot);
+  /// Replaces a slot's pixels (re-creating its texture only when the size changes).
+  void upload(int slot, const uint8_t* rgba, int width, int height);
 
   int width_ = 0;
   int height_ = 0;
   std::array<float, 4> color_{1, 1, 1, 1};
-  std::vector<unsigned> slotTextures_;                  ///< 0 = views, 1+client = cinematics
+  std::vector<unsigned> slotTextures_;   ///< Views, then kViewSlots + client for cinematics
   std::vector<std::array<int, 2>> slotSizes_;
 };
 
