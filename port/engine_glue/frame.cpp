@@ -94,11 +94,11 @@ void Module::printFrameStats(int nowMs) const {
   engine_.print(q3abi::PRINT_ALL,
                 "pathtracer: stats %s fps=%.1f frame_ms=%.2f world_views=%.2f scene_ms=%.2f commit_ms=%.2f "
                 "trace_ms=%.2f denoise_ms=%.2f resolve_ms=%.2f upload_ms=%.2f model_views=%.2f model_view_ms=%.2f "
-                "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f\n",
+                "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u\n",
                 presetName(settings_.tracer(engine_).preset), 1000.0 * n / std::max(1, nowMs - s.sinceMs),
                 s.frameMs / n, s.views / n, s.world.sceneMs / n, s.world.commitMs / n, s.world.traceMs / n,
                 s.world.denoiseMs / n, s.world.resolveMs / n, s.uploadMs / n, s.modelViews / n, s.modelViewMs / n,
-                s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n);
+                s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n, s.accumulated);
 }
 
 void Module::clearScene() { scene_.clear(); }
@@ -147,7 +147,10 @@ void Module::renderScene(const q3abi::refdef_t* view) {
       stats_.modelViewMs += millisecondsSince(began);
     } else {
       stats_.views += 1;
-      if (picture) addTimings(stats_.world, picture->timings);
+      if (picture) {
+        addTimings(stats_.world, picture->timings);
+        stats_.accumulated = picture->accumulatedFrames;
+      }
     }
     if (picture) {
       const ScopeTimer upload(stats_.uploadMs);

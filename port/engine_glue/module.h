@@ -53,6 +53,7 @@ struct FrameStats {
   double overlay2dMs = 0.0;    ///< 2D calls (DrawStretchPic, DrawStretchRaw, cinematics).
   double presentMs = 0.0;      ///< Screenshots, video frames and the buffer swap.
   double frameMs = 0.0;        ///< BeginFrame to BeginFrame of the next frame (engine and game included).
+  uint32_t accumulated = 0;    ///< Frames in the last world view's picture.
 };
 
 /// All of the renderer's state.

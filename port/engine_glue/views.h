@@ -34,6 +34,7 @@ struct TracedPicture {
   int height = 0;
   const uint8_t* rgba = nullptr;
   ViewTimings timings;
+  uint32_t accumulatedFrames = 1;   ///< Frames averaged in this picture (the reference preset's history).
 };
 
 /// Owns the path tracer and what it knows of the world.

@@ -750,7 +750,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   }
   const ViewTimings timings{sceneMs, frame.timings.commitMs, frame.timings.traceMs, frame.timings.denoiseMs,
                             frame.timings.resolveMs};
-  return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), d.picture.data(), timings};
+  return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), d.picture.data(), timings,
+                       frame.accumulatedFrames};
 }
 
 }  // namespace glue

@@ -78,6 +78,7 @@ struct Renderer::Impl {
   Film film;
   denoise::Denoiser denoiser;
   bool sceneChanged = true;   // a commit happened since the last render
+  bool worldChanged = true;   // ... that changed more than camera-only overlays
   bool environmentAttached = false;   // the committed scene has its sun/sky visibility map
   bool haveLast = false;
   double commitMsSinceRender = 0.0;   // commit() time to report with the next render
@@ -113,6 +114,7 @@ void Renderer::commit() {
   try {
     im.arena.execute([&] { im.scene = im.store.commit(); });
     im.environmentAttached = false;
+    im.worldChanged = im.worldChanged || !im.store.lastCommitOnlyCameraOverlays();
   } catch (const SceneError&) {
     throw;   // validation failed before anything changed
   } catch (...) {
@@ -146,11 +148,15 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   endPhase(attachMs);
   timings.commitMs += attachMs;
   im.film.resize(settings.width, settings.height);
-  const bool keep = settings.accumulate && im.haveLast && !im.sceneChanged && sameCamera(camera, im.lastCamera) &&
+  const bool keep = settings.accumulate && im.haveLast && !im.worldChanged && sameCamera(camera, im.lastCamera) &&
                     sameEstimate(settings, im.lastSettings);
   if (!keep) im.film.reset();
+  // Only camera-only overlays changed (the first-person weapon moved): the pixels they covered
+  // last frame or cover now start again, every other pixel keeps its history.
+  const bool restartOverlayPixels = keep && im.sceneChanged;
   im.haveLast = true;
   im.sceneChanged = false;
+  im.worldChanged = false;
   im.lastCamera = camera;
   im.lastSettings = settings;
 
@@ -172,12 +178,22 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
           for (uint32_t x = x0; x < x1; ++x) {
             const uint32_t pixelSeed = sampling::hashCombine(seedHash, y * settings.width + x);
             PixelAccumulator& acc = film.pixel(x, y);
+            bool overlaySeen = false;
+            const bool coveredBefore = restartOverlayPixels && film.overlayAt(x, y);
+            bool restarted = false;
             for (uint32_t s = 0; s < settings.samplesPerPixel; ++s) {
               const sampling::PixelSampler sampler(pixelSeed, firstSample + s);
               const glm::vec4 jitter = sampler.get4(0);
-              acc.add(traceSample(scene, rays, settings, static_cast<float>(x) + jitter.x,
-                                  static_cast<float>(y) + jitter.y, sampler));
+              const PixelSample sample = traceSample(scene, rays, settings, static_cast<float>(x) + jitter.x,
+                                                     static_cast<float>(y) + jitter.y, sampler);
+              overlaySeen = overlaySeen || sample.overlay;
+              if (restartOverlayPixels && !restarted && (coveredBefore || sample.overlay)) {
+                acc = PixelAccumulator{};   // the overlay's old picture, or the world now under it, goes
+                restarted = true;
+              }
+              acc.add(sample);
             }
+            film.setOverlayAt(x, y, overlaySeen);
           }
         }
       }

@@ -196,7 +196,15 @@ struct InstanceDesc {
   MaterialId materialOverride = kNoId;
   glm::vec4 tint{1.0f};
   bool drawOnTop = false;   ///< Composited over the world regardless of depth (first-person weapon).
+
+  bool operator==(const InstanceDesc&) const = default;
 };
+
+/// An instance drawn on top that only camera rays see (the first-person weapon): it changes no
+/// other ray, so a moving one restarts accumulation only in the pixels it covers.
+inline bool cameraOnlyOverlay(const InstanceDesc& instance) {
+  return instance.drawOnTop && (instance.mask & ~uint32_t(kMaskCamera)) == 0;
+}
 
 /// Light source kinds. Emissive triangles are not lights here: they are collected from
 /// materials with non-zero emission at commit() and sampled by power.

@@ -58,12 +58,14 @@ void Film::resize(uint32_t width, uint32_t height) {
   normal_.assign(n, glm::vec3(0.0f));
   depth_.assign(n, 0.0f);
   variance_.assign(n, 0.0f);
+  overlay_.assign(n, 0);
   rgba8_.assign(n * 4, 0);
   frames_ = 0;
 }
 
 void Film::reset() {
   std::fill(pixels_.begin(), pixels_.end(), PixelAccumulator{});
+  std::fill(overlay_.begin(), overlay_.end(), uint8_t{0});
   frames_ = 0;
 }
 

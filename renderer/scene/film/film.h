@@ -47,6 +47,7 @@ struct PixelSample {
   glm::vec3 albedo{0.0f};
   glm::vec3 normal{0.0f};
   float depth = std::numeric_limits<float>::infinity();
+  bool overlay = false;   ///< The camera ray's first hit was on a drawOnTop instance.
 };
 
 /// Sums of one pixel's samples.
@@ -81,6 +82,10 @@ class Film {
   void reset();
   /// Accumulator of pixel (x, y); callers give each pixel to one thread at a time.
   PixelAccumulator& pixel(uint32_t x, uint32_t y) { return pixels_[size_t{y} * width_ + x]; }
+  /// True when a sample of pixel (x, y) in the last frame that set it met an overlay first.
+  bool overlayAt(uint32_t x, uint32_t y) const { return overlay_[size_t{y} * width_ + x] != 0; }
+  /// Records whether this frame's samples of pixel (x, y) met an overlay first.
+  void setOverlayAt(uint32_t x, uint32_t y, bool overlay) { overlay_[size_t{y} * width_ + x] = overlay ? 1 : 0; }
   /// Counts one finished render() call.
   void finishFrame() { ++frames_; }
   /// Frames in the mean.
@@ -115,6 +120,7 @@ class Film {
   std::vector<glm::vec3> radiance_, emission_, albedo_, normal_;
   std::vector<float> depth_, variance_;
   std::vector<uint8_t> rgba8_;
+  std::vector<uint8_t> overlay_;   ///< Per pixel: overlayAt.
 };
 
 }  // namespace pa

@@ -166,6 +166,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     const bool found =
         traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
     const float tHit = found ? hit.t : kInfinity;
+    if (depth == 0) out.overlay = found && onOverlay;
     const glm::vec3 dir = glm::normalize(ray.dir);
     // Fog along this segment; the Lightmap look measures camera rays by eye-space depth.
     const float eyeDepthScale = lightmapOnly && depth == 0 ? glm::dot(dir, camera.forward()) : 1.0f;

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <span>
+#include <vector>
 
 #include "scene_builders.h"
 
@@ -109,6 +111,76 @@ TEST(Determinism, AccumulationResetsOnCameraSettingsAndSceneChanges) {
   EXPECT_EQ(r.render(moved, s).accumulatedFrames, 1u);
   s.accumulate = false;
   EXPECT_EQ(r.render(moved, s).accumulatedFrames, 1u);
+}
+
+TEST(Determinism, AMovingCameraOnlyOverlayRestartsOnlyThePixelsItCovers) {
+  // The first-person weapon case: a drawOnTop instance seen only by camera rays moves while the
+  // camera and the world stay. Accumulation goes on; pixels it covered or covers start again.
+  const RenderSettings s = settingsFor(Integrator::Direct, 16, 1, 1);
+  Renderer reference({2});   // the same world without the overlay
+  buildScene(reference);
+  Renderer r({2});
+  buildScene(r);
+  MaterialDesc grip = test::diffuse(0.25f);
+  grip.twoSided = true;
+  const MaterialId gripMaterial = r.addMaterial(grip);
+  test::MeshArrays plate = test::quad({-0.45f, -5, -1}, {0.3f, 0, 0}, {0, 0, 6});   // 1 in front, a third of the view
+  plate.setMaterial(gripMaterial);
+  const MeshDesc plateDesc = plate.desc();
+  InstanceDesc weapon;
+  weapon.mesh = r.addMesh(plateDesc);
+  weapon.mask = kMaskCamera;
+  weapon.drawOnTop = true;
+  const InstanceId weaponId = r.addInstance(weapon);
+  r.commit();
+  const auto covered = [](std::span<const float> depth) {   // pixels the plate covers, grown by one pixel for jitter
+    std::vector<bool> near(depth.size()), grown(depth.size());
+    for (size_t i = 0; i < near.size(); ++i) near[i] = depth[i] < 2.0f;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx >= 0 && nx < 16 && ny >= 0 && ny < 16 && near[size_t(ny * 16 + nx)]) grown[size_t(y * 16 + x)] = true;
+          }
+    return grown;
+  };
+  r.render(camera(), s);
+  const FrameView second = r.render(camera(), s);   // its views show the film: keep a copy
+  const std::vector<float> depthBefore(second.depth.begin(), second.depth.end());
+  const std::vector<bool> coveredBefore = covered(depthBefore);
+  // The same mesh data again changes nothing: no restart at all.
+  r.updateMesh(weapon.mesh, plateDesc);
+  r.setInstance(weaponId, weapon);
+  r.commit();
+  EXPECT_EQ(r.render(camera(), s).accumulatedFrames, 3u);
+  weapon.objectToWorld[3] = glm::vec3(0.3f, 0, 0);   // the next third
+  r.setInstance(weaponId, weapon);
+  r.commit();
+  const FrameView after = r.render(camera(), s);
+  EXPECT_EQ(after.accumulatedFrames, 4u);
+  const std::vector<bool> coveredAfter = covered(after.depth);
+  FrameView expected;
+  for (int i = 0; i < 4; ++i) expected = reference.render(camera(), s);
+  size_t untouched = 0, nowCovered = 0;
+  for (size_t i = 0; i < after.radiance.size(); ++i) {
+    if (!coveredBefore[i] && !coveredAfter[i]) {   // four frames of the world, as without the plate
+      ++untouched;
+      EXPECT_EQ(after.radiance[i], expected.radiance[i]) << "pixel " << i;
+    } else if (after.depth[i] < 2.0f && depthBefore[i] > 2.0f) {   // the plate alone: no world history
+      ++nowCovered;
+      EXPECT_EQ(after.albedo[i], glm::vec3(0.25f)) << "pixel " << i;
+    } else if (depthBefore[i] < 2.0f && !coveredAfter[i]) {   // uncovered: the world alone
+      EXPECT_GT(after.depth[i], 2.0f) << "pixel " << i;
+      EXPECT_NE(after.albedo[i], glm::vec3(0.25f)) << "pixel " << i;
+    }
+  }
+  EXPECT_GT(untouched, 16u);
+  EXPECT_GT(nowCovered, 16u);
+  // A change to the world restarts everything.
+  r.setMaterial(gripMaterial, test::diffuse(0.5f));
+  r.commit();
+  EXPECT_EQ(r.render(camera(), s).accumulatedFrames, 1u);
 }
 
 TEST(Determinism, AovsDescribeTheFirstHit) {

@@ -27,6 +27,7 @@ struct MeshGeometry {
   std::vector<MaterialId> materials;
   bool dynamic = false;
 
+  bool operator==(const MeshGeometry&) const = default;
   /// Copies and validates; throws SceneError naming `what` and the offending field/element.
   /// Material ids are range-checked later, at commit (materials may be added after meshes).
   static MeshGeometry fromDesc(const MeshDesc& desc, const std::string& what);

@@ -124,13 +124,17 @@ MeshId SceneStore::addMesh(const MeshDesc& mesh) {
   MeshSlot slot;
   slot.pending = MeshGeometry::fromDesc(mesh, "addMesh: " + idName("mesh", id));
   meshes_.push_back(std::move(slot));
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
   return id;
 }
 
 void SceneStore::updateMesh(MeshId id, const MeshDesc& mesh) {
   MeshSlot& slot = liveMesh(id, "updateMesh");
-  slot.pending = MeshGeometry::fromDesc(mesh, "updateMesh: " + idName("mesh", id));
+  MeshGeometry next = MeshGeometry::fromDesc(mesh, "updateMesh: " + idName("mesh", id));
+  const MeshGeometry* current = slot.pending ? &*slot.pending : slot.record ? &slot.record->geometry : nullptr;
+  if (current != nullptr && *current == next) return;   // the same data: nothing changes
+  slot.pending = std::move(next);
+  touchedMeshes_.push_back(id);   // whether it changes the world is decided at commit
   dirty_ = true;
 }
 
@@ -138,14 +142,14 @@ void SceneStore::removeMesh(MeshId id) {
   MeshSlot& slot = liveMesh(id, "removeMesh");
   slot.removed = true;
   slot.pending.reset();
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
 }
 
 InstanceId SceneStore::addInstance(const InstanceDesc& instance) {
   const auto id = static_cast<InstanceId>(instances_.size());
   validateInstance(instance, "addInstance: " + idName("instance", id));
   instances_.emplace_back(instance);
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
   return id;
 }
 
@@ -154,6 +158,8 @@ void SceneStore::setInstance(InstanceId id, const InstanceDesc& instance) {
     throw SceneError("setInstance: instance " + std::to_string(id) + " does not exist");
   }
   validateInstance(instance, "setInstance: " + idName("instance", id));
+  if (*instances_[id] == instance) return;
+  if (!cameraOnlyOverlay(*instances_[id]) || !cameraOnlyOverlay(instance)) worldDirty_ = true;
   instances_[id] = instance;
   dirty_ = true;
 }
@@ -163,14 +169,14 @@ void SceneStore::removeInstance(InstanceId id) {
     throw SceneError("removeInstance: instance " + std::to_string(id) + " does not exist");
   }
   instances_[id].reset();
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
 }
 
 TextureId SceneStore::addTexture(const TextureDesc& texture) {
   const auto id = static_cast<TextureId>(textures_.size());
   const std::string what = "addTexture: " + idName("texture", id);
   textures_.push_back(std::make_shared<const Texture>(Texture::fromDesc(texture, what.c_str())));
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
   return id;
 }
 
@@ -180,14 +186,14 @@ void SceneStore::updateTexture(TextureId id, const TextureDesc& texture) {
   }
   const std::string what = "updateTexture: " + idName("texture", id);
   textures_[id] = std::make_shared<const Texture>(Texture::fromDesc(texture, what.c_str()));
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
 }
 
 MaterialId SceneStore::addMaterial(const MaterialDesc& material) {
   const auto id = static_cast<MaterialId>(materials_.size());
   validateMaterial(material, "addMaterial: " + idName("material", id));
   materials_.push_back(material);
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
   return id;
 }
 
@@ -197,13 +203,13 @@ void SceneStore::setMaterial(MaterialId id, const MaterialDesc& material) {
   }
   validateMaterial(material, "setMaterial: " + idName("material", id));
   materials_[id] = material;
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
 }
 
 LightId SceneStore::addLight(const LightDesc& light) {
   const auto id = static_cast<LightId>(lights_.size());
   lights_.emplace_back(validateLight(light, "addLight: " + idName("light", id)));
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
   return id;
 }
 
@@ -212,7 +218,7 @@ void SceneStore::setLight(LightId id, const LightDesc& light) {
     throw SceneError("setLight: light " + std::to_string(id) + " does not exist");
   }
   lights_[id] = validateLight(light, "setLight: " + idName("light", id));
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
 }
 
 void SceneStore::removeLight(LightId id) {
@@ -220,7 +226,7 @@ void SceneStore::removeLight(LightId id) {
     throw SceneError("removeLight: light " + std::to_string(id) + " does not exist");
   }
   lights_[id].reset();
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
 }
 
 void SceneStore::setSky(const SkyDesc& sky) {
@@ -240,7 +246,7 @@ void SceneStore::setSky(const SkyDesc& sky) {
   requireNonNegative(sky.ambientRadiance, "setSky", "ambientRadiance");
   requireNonNegative(sky.minimumRadiance, "setSky", "minimumRadiance");
   sky_ = sky;
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
 }
 
 void SceneStore::setPortals(std::span<const PortalDesc> portals) {
@@ -259,7 +265,7 @@ void SceneStore::setPortals(std::span<const PortalDesc> portals) {
     valid.push_back(p);
   }
   portals_ = std::move(valid);
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
 }
 
 void SceneStore::setFogVolumes(std::span<const FogVolumeDesc> volumes) {
@@ -271,7 +277,7 @@ void SceneStore::setFogVolumes(std::span<const FogVolumeDesc> volumes) {
   for (size_t i = 0; i < volumes.size(); ++i)
     valid.push_back(makeFogVolume(volumes[i], "setFogVolumes: volume " + std::to_string(i)));
   fogs_ = std::move(valid);
-  dirty_ = true;
+  dirty_ = worldDirty_ = true;
 }
 
 // ---------------------------------------------------------------- commit
@@ -362,8 +368,18 @@ void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
   });
 }
 
+bool SceneStore::changesOnlyCameraOverlays() const {
+  if (worldDirty_) return false;
+  for (const auto& instance : instances_) {
+    if (!instance || cameraOnlyOverlay(*instance)) continue;
+    if (std::find(touchedMeshes_.begin(), touchedMeshes_.end(), instance->mesh) != touchedMeshes_.end()) return false;
+  }
+  return true;
+}
+
 RenderScene SceneStore::commit() {
   validateReferences();
+  lastCommitOnlyCameraOverlays_ = changesOnlyCameraOverlays();
   RenderScene scene;
   scene.textures = textures_;
   auto texturePtr = [&](TextureId id) { return id == kNoId ? nullptr : scene.textures[id].get(); };
@@ -477,7 +493,8 @@ RenderScene SceneStore::commit() {
   scene.sky = Sky(sky_, scene.textures);
   scene.lights = LightSampler(lights, std::move(emissive), scene.sky, scene.bounds, skyWindows);
   skyWindows_ = std::move(skyWindows);
-  dirty_ = false;
+  dirty_ = worldDirty_ = false;
+  touchedMeshes_.clear();
   return scene;
 }
 

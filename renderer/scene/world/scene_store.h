@@ -54,6 +54,9 @@ class SceneStore {
 
   /// True when something changed since the last successful commit.
   bool dirty() const { return dirty_; }
+  /// True when the last commit changed only camera-only overlays (cameraOnlyOverlay instances and
+  /// meshes no other instance uses): what every other ray sees, and every pixel they cover, stayed.
+  bool lastCommitOnlyCameraOverlays() const { return lastCommitOnlyCameraOverlays_; }
   /// Validates cross references, builds acceleration structures and light tables into a new
   /// RenderScene. Run inside the renderer's task arena. Throws SceneError (leaving the
   /// store unchanged) when an instance uses a removed mesh or an id is out of range.
@@ -76,6 +79,7 @@ class SceneStore {
   void validateInstance(const InstanceDesc& d, const std::string& what) const;
   MeshSlot& liveMesh(MeshId id, const char* call);
   void buildMeshes(const std::vector<MaterialRecord>& materials);
+  bool changesOnlyCameraOverlays() const;
 
   std::vector<MeshSlot> meshes_;
   std::vector<std::optional<InstanceDesc>> instances_;
@@ -88,6 +92,9 @@ class SceneStore {
   EnvironmentVisibilityCache environmentVisibility_;   ///< Where sun and sky reach (lights/).
   std::vector<glm::vec3> skyWindows_;                  ///< The last commit's sky windows (area x normal).
   bool dirty_ = true;
+  bool worldDirty_ = true;                   ///< A change since the last commit beyond camera-only overlays.
+  std::vector<MeshId> touchedMeshes_;        ///< Meshes updated since the last commit.
+  bool lastCommitOnlyCameraOverlays_ = false;
 };
 
 }  // namespace pa
