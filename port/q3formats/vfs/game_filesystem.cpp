@@ -18,6 +18,7 @@ namespace q3 {
 namespace {
 
 constexpr size_t kMaxFileBytes = size_t{1} << 28;  // 256 MiB: larger entries (zip bombs) are refused
+constexpr long kMaxFolderDepth = 64;               // deeper folders of an archive are not indexed
 
 std::string physfsError() {
   return PHYSFS_getErrorByCode(PHYSFS_getLastErrorCode());
@@ -293,10 +294,16 @@ void GameFileSystem::indexArchive(size_t archive) {
     char** names = PHYSFS_enumerateFiles(physDir.c_str());
     if (!names) continue;
     for (char** n = names; *n; ++n) {
-      const std::string inner = dir.empty() ? std::string(*n) : dir + "/" + *n;
+      // A hostile zip can make physfs list an empty name or "." for a folder: that folder again,
+      // without end. Only plain names are followed, and folders at most kMaxFolderDepth deep.
+      const std::string_view name(*n);
+      if (name.empty() || name == "." || name == ".." || name.find('/') != std::string_view::npos) continue;
+      const std::string inner = dir.empty() ? std::string(name) : dir + "/" + std::string(name);
       PHYSFS_Stat st;
       if (!PHYSFS_stat((mount + "/" + inner).c_str(), &st)) continue;
-      if (st.filetype == PHYSFS_FILETYPE_DIRECTORY) pending.push_back(inner);
+      if (st.filetype == PHYSFS_FILETYPE_DIRECTORY) {
+        if (std::count(inner.begin(), inner.end(), '/') < kMaxFolderDepth) pending.push_back(inner);
+      }
       else if (st.filetype == PHYSFS_FILETYPE_REGULAR) {
         // Keyed as lookups normalise ('\\' reads as '/'); a name no game path can reach is skipped.
         if (auto key = normalizeGamePath(inner)) index_[toLowerAscii(*key)] = {archive, inner};

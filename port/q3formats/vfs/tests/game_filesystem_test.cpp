@@ -154,6 +154,15 @@ TEST(GameFileSystem, RefusesZip64LocatorPastItsRecordInMemoryAndOnDisk) {
   EXPECT_EQ(text(disk.readFile("x.txt")), "x");
 }
 
+TEST(GameFileSystem, DoubleSlashEntryDoesNotLoopForever) {
+  // physfs lists an empty name inside "dir" for "dir//x.cfg"; following it would never end.
+  std::vector<q3::GameFileSystem::MemoryArchive> archives;
+  archives.push_back({"pak0.pk3", bytesOf(q3::test::storedZip({{"dir//x.cfg", "d"}, {"maps/x.bsp", "m"}}))});
+  q3::GameFileSystem fs(std::move(archives));
+  EXPECT_EQ(fs.allFiles(), std::vector<std::string>{"maps/x.bsp"});
+  EXPECT_EQ(text(fs.readFile("maps/x.bsp")), "m");
+}
+
 TEST(GameFileSystem, MissingFolderThrows) {
   EXPECT_THROW(q3::GameFileSystem("/nonexistent/patharena/folder"), std::runtime_error);
 }
