@@ -31,9 +31,10 @@ uint32_t le32(const unsigned char* p) {
 /// Reads `n` bytes at `offset` of an archive; false when they are not all there.
 using ReadAt = std::function<bool(uint64_t offset, unsigned char* out, size_t n)>;
 
-/// physfs 3.0.2 aborts the process (an assert left on in Debian's build) on a zip64 "end of
-/// central directory locator" whose record offset lies after the record that physfs then finds
-/// 56 or 84 bytes before the locator. Returns why `archive` is such a zip, or nullopt.
+/// physfs 3.0.2 aborts the process (asserts left on in Debian's build) on a zip64 "end of
+/// central directory locator" at the very start of the file, or whose record offset lies after
+/// the record that physfs then finds 56 or 84 bytes before the locator. Returns why an archive
+/// is such a zip, or nullopt.
 /// Every end-of-central-directory signature in the last 64 KiB is checked, whichever physfs picks.
 std::optional<std::string> physfsZip64Hazard(uint64_t size, const ReadAt& readAt) {
   constexpr uint32_t kEnd = 0x06054b50, kLocator = 0x07064b50, kZip64End = 0x06064b50;
@@ -48,7 +49,9 @@ std::optional<std::string> physfsZip64Hazard(uint64_t size, const ReadAt& readAt
     if (le32(&tail[i]) != kEnd || start + i < 20) continue;
     const uint64_t locator = start + i - 20;
     unsigned char offsetBytes[8];
-    if (!signatureAt(locator, kLocator) || !readAt(locator + 8, offsetBytes, 8)) continue;
+    if (!signatureAt(locator, kLocator)) continue;
+    if (locator == 0) return std::string("zip64 end of central directory locator at the start of the file");
+    if (!readAt(locator + 8, offsetBytes, 8)) continue;
     const uint64_t recordOffset = le32(offsetBytes) | uint64_t{le32(offsetBytes + 4)} << 32;
     if (signatureAt(recordOffset, kZip64End)) continue;  // physfs uses the record at the offset
     for (uint64_t back : {56u, 84u}) {

@@ -154,6 +154,20 @@ TEST(GameFileSystem, RefusesZip64LocatorPastItsRecordInMemoryAndOnDisk) {
   EXPECT_EQ(text(disk.readFile("x.txt")), "x");
 }
 
+TEST(GameFileSystem, RefusesZip64LocatorAtTheStart) {
+  // An end record right after a zip64 locator at byte 0: physfs 3.0.2 asserts on it.
+  std::string bytes;
+  auto u32 = [&bytes](uint32_t v) { for (int i = 0; i < 4; ++i) bytes.push_back(char((v >> (8 * i)) & 0xFF)); };
+  u32(0x07064b50), u32(0), u32(0), u32(0), u32(1);  // locator: disk 0, record at 0, 1 disk
+  u32(0x06054b50), u32(0), u32(0), u32(0), u32(0);  // end record, no entries
+  bytes.append(2, '\0');                            // comment length
+  std::vector<q3::GameFileSystem::MemoryArchive> archives;
+  archives.push_back({"hostile.pk3", bytesOf(bytes)});
+  q3::GameFileSystem fs(std::move(archives));
+  ASSERT_EQ(fs.mountErrors().size(), 1u);
+  EXPECT_NE(fs.mountErrors()[0].find("locator at the start"), std::string::npos) << fs.mountErrors()[0];
+}
+
 TEST(GameFileSystem, DoubleSlashEntryDoesNotLoopForever) {
   // physfs lists an empty name inside "dir" for "dir//x.cfg"; following it would never end.
   std::vector<q3::GameFileSystem::MemoryArchive> archives;
