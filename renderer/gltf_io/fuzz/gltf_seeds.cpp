@@ -116,6 +116,8 @@ void layouts(ModelBuilder& b) {
   sparse.sparse.isSparse = true;
   sparse.sparse.count = 1;
   sparse.sparse.indices.bufferView = indicesView;
+  sparse.sparse.indices.byteOffset = 0;  // tinygltf 2.7 leaves the sparse offsets uninitialised
+  sparse.sparse.values.byteOffset = 0;
   sparse.sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
   sparse.sparse.values.bufferView = valuesView;
   p.attributes["NORMAL"] = normals;
