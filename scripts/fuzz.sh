@@ -99,7 +99,7 @@ run() {
     -max_total_time="$seconds" -max_len="$maxlen" -timeout=60 -rss_limit_mb=2560 \
     -print_final_stats=1 -artifact_prefix="$artifacts/" >"$log" 2>&1 || rc=$?
   local wall=$((SECONDS - start))
-  grep -E '^#[0-9]+ +DONE' "$log" | tail -1 || true
+  grep -E '^#[0-9]+[[:space:]]+DONE' "$log" | tail -1 || true
   grep -E '^stat::' "$log" || true
   local findings
   findings=$(find "$artifacts" -type f | wc -l)
