@@ -405,11 +405,9 @@ std::vector<int> rootNodes(const tinygltf::Model& model, const LoadOptions& opti
   return source.nodes;
 }
 
-}  // namespace
-
-GltfScene loadScene(const std::filesystem::path& path, const LoadOptions& options) {
-  GltfScene scene;
-  const tinygltf::Model model = detail::readModel(path, options.decodeImages, scene.warnings);
+/// Turns a parsed model into a scene; errors are prefixed with `name`.
+GltfScene convertModel(const tinygltf::Model& model, const std::string& name, const LoadOptions& options,
+                       GltfScene scene) {
   try {
     for (const std::string& extension : model.extensionsRequired)
       if (!supportedRequiredExtensions().count(extension))
@@ -420,9 +418,25 @@ GltfScene loadScene(const std::filesystem::path& path, const LoadOptions& option
     SceneBuilder builder(model, options, scene);
     for (int root : rootNodes(model, options, scene)) builder.visit(root, glm::dmat4(1.0), 0, "scene.nodes");
   } catch (const std::runtime_error& e) {
-    throw std::runtime_error(path.string() + ": " + e.what());
+    throw std::runtime_error(name + ": " + e.what());
   }
   return scene;
+}
+
+}  // namespace
+
+GltfScene loadScene(const std::filesystem::path& path, const LoadOptions& options) {
+  GltfScene scene;
+  const tinygltf::Model model = detail::readModel(path, options.decodeImages, scene.warnings);
+  return convertModel(model, path.string(), options, std::move(scene));
+}
+
+GltfScene loadSceneFromMemory(std::span<const std::byte> bytes, const std::string& name,
+                              const std::filesystem::path& baseDir, const LoadOptions& options) {
+  GltfScene scene;
+  const std::span<const unsigned char> raw(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size());
+  const tinygltf::Model model = detail::readModel(raw, name, baseDir, options.decodeImages, scene.warnings);
+  return convertModel(model, name, options, std::move(scene));
 }
 
 TriangleSoup flattenTriangles(const GltfScene& scene) {

@@ -2,7 +2,10 @@
 // glTF 2.0 (.gltf with embedded or external buffers, .glb) import through tinygltf.
 // Every index, offset and count in the file is checked; malformed input throws
 // std::runtime_error whose message names the file and the offending field.
+#include <cstddef>
 #include <filesystem>
+#include <span>
+#include <string>
 
 #include "renderer/gltf_io/gltf_scene.h"
 
@@ -19,6 +22,12 @@ struct LoadOptions {
 
 /// Loads a whole scene: meshes, instances, materials, textures, lights, cameras.
 GltfScene loadScene(const std::filesystem::path& path, const LoadOptions& options = {});
+
+/// Loads a whole scene from the bytes of a .gltf or .glb; `name` labels error messages.
+/// External buffer/image URIs resolve against `baseDir`; with an empty baseDir no file is
+/// read (such URIs fail: data URIs and the GLB chunk still work).
+GltfScene loadSceneFromMemory(std::span<const std::byte> bytes, const std::string& name,
+                              const std::filesystem::path& baseDir = {}, const LoadOptions& options = {});
 
 /// Loads the world-space triangles of every mesh primitive of the default scene
 /// (node transforms applied, strips and fans converted, mirrored instances re-wound).

@@ -34,7 +34,7 @@ uint32_t readLittleEndian32(const unsigned char* p) {
 }
 
 /// Checks the GLB container (header, chunk lengths) so that truncation gets a precise message.
-void validateGlbContainer(const std::vector<unsigned char>& bytes, const std::string& name) {
+void validateGlbContainer(std::span<const unsigned char> bytes, const std::string& name) {
   if (bytes.size() < 20) throw std::runtime_error(name + ": truncated GLB (" + std::to_string(bytes.size()) +
                                                   " bytes, header needs 20)");
   const uint32_t version = readLittleEndian32(bytes.data() + 4);
@@ -95,22 +95,43 @@ bool decodeImage(tinygltf::Image* image, const int imageIndex, std::string*, std
   return true;
 }
 
+/// File-system callbacks for in-memory input: every external file is missing.
+bool noFileExists(const std::string&, void*) { return false; }
+std::string noExpand(const std::string& path, void*) { return path; }
+bool noRead(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
+  if (err) *err += "external file \"" + path + "\" is not available to in-memory input\n";
+  return false;
+}
+bool noWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "writing is not supported\n";
+  return false;
+}
+
 }  // namespace
 
 tinygltf::Model readModel(const std::filesystem::path& path, bool decodeImages,
                           std::vector<std::string>& warnings) {
-  const std::string name = path.string();
   const std::vector<unsigned char> bytes = readFileBytes(path);
+  std::filesystem::path baseDir = path.parent_path();
+  if (baseDir.empty()) baseDir = ".";
+  return readModel(bytes, path.string(), baseDir, decodeImages, warnings);
+}
+
+tinygltf::Model readModel(std::span<const unsigned char> bytes, const std::string& name,
+                          const std::filesystem::path& baseDirPath, bool decodeImages,
+                          std::vector<std::string>& warnings) {
+  if (bytes.size() > kMaxFileBytes) throw std::runtime_error(name + ": file too large");
   const bool isBinary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (isBinary) validateGlbContainer(bytes, name);
 
   tinygltf::TinyGLTF parser;
   ImageDecodeContext context{decodeImages, &warnings};
   parser.SetImageLoader(&decodeImage, &context);
+  if (baseDirPath.empty()) parser.SetFsCallbacks({&noFileExists, &noExpand, &noRead, &noWrite, nullptr});
   tinygltf::Model model;
   std::string error;
   std::string warning;
-  const std::string baseDir = path.parent_path().string();
+  const std::string baseDir = baseDirPath.string();
   bool ok = false;
   try {
     ok = isBinary ? parser.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(),

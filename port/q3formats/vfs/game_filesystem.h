@@ -22,12 +22,23 @@ namespace q3 {
 /// Archives are read through physfs, a library with process-wide state: init/deinit are
 /// reference-counted and each archive is mounted once at a private mount point, so several
 /// GameFileSystem objects (and threads reading) can coexist. physfs's own search order is not
-/// used: the override order above is ours.
+/// used: the override order above is ours. Archives are hostile input: one that would make
+/// physfs 3.0.2 abort (a zip64 locator pointing past its record) is refused like a corrupt one.
 class GameFileSystem {
  public:
+  /// An archive held in memory: the name that archives() and sourceOf() report, and its bytes.
+  struct MemoryArchive {
+    std::string name;
+    std::vector<std::byte> bytes;
+  };
+
+
   /// Mounts `gameDir`. Throws std::runtime_error if it is not a readable folder; an archive
   /// that physfs cannot open is skipped and named in mountErrors().
   explicit GameFileSystem(const std::filesystem::path& gameDir);
+  /// Mounts in-memory archives, lowest priority first, with no loose files (tests, fuzzing).
+  /// An archive that physfs cannot open is skipped and named in mountErrors().
+  explicit GameFileSystem(std::vector<MemoryArchive> archives);
   ~GameFileSystem();
   GameFileSystem(const GameFileSystem&) = delete;
   GameFileSystem& operator=(const GameFileSystem&) = delete;
@@ -61,9 +72,11 @@ class GameFileSystem {
   std::optional<std::filesystem::path> loosePath(std::string_view path) const;
   void indexArchive(size_t archive);
 
-  std::filesystem::path root_;
+  std::filesystem::path root_;  ///< empty for in-memory archives: no loose files
   std::vector<std::filesystem::path> archives_;
+  std::vector<std::string> mountKeys_;    ///< physfs's name of each mount (to unmount it)
   std::vector<std::string> mountPoints_;
+  std::vector<std::vector<std::byte>> memoryBytes_;  ///< bytes of in-memory archives, kept while mounted
   std::vector<std::string> mountErrors_;
   std::unordered_map<std::string, Entry> index_;  ///< key: lower-cased game path
 };

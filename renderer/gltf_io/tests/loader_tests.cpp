@@ -2,6 +2,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <span>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -155,6 +157,55 @@ TEST_F(GltfLoaderTest, MissingFileIsAClearError) {
   const std::string message = errorOf([&] { loadTriangles(file("nope.gltf")); });
   EXPECT_NE(message.find("nope.gltf"), std::string::npos) << message;
   EXPECT_NE(message.find("cannot open"), std::string::npos) << message;
+}
+
+std::vector<std::byte> readBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const auto* p = reinterpret_cast<const std::byte*>(text.data());
+  return {p, p + text.size()};
+}
+
+TEST_F(GltfLoaderTest, LoadsFromMemoryLikeFromAFile) {
+  ModelBuilder builder;
+  builder.addNode(meshNode(addMesh(builder, kTriangle, {0, 1, 2})));
+  builder.writeGlb(file("tri.glb"));
+  builder.writeGltf(file("tri.gltf"));
+  for (const char* name : {"tri.glb", "tri.gltf"}) {
+    const GltfScene fromFile = loadScene(file(name));
+    const GltfScene fromMemory = loadSceneFromMemory(readBytes(file(name)), name);
+    ASSERT_EQ(fromMemory.meshes.size(), 1u) << name;
+    EXPECT_EQ(fromMemory.meshes[0].positions, fromFile.meshes[0].positions) << name;
+    EXPECT_EQ(fromMemory.meshes[0].indices, fromFile.meshes[0].indices) << name;
+    EXPECT_EQ(fromMemory.instances.size(), fromFile.instances.size()) << name;
+  }
+  const std::vector<std::byte> glb = readBytes(file("tri.glb"));
+  const std::string message = errorOf([&] { loadSceneFromMemory(std::span(glb).first(30), "cut.glb"); });
+  EXPECT_NE(message.find("cut.glb: truncated GLB"), std::string::npos) << message;
+}
+
+TEST_F(GltfLoaderTest, InMemoryInputReadsNoExternalFileUnlessGivenAFolder) {
+  ModelBuilder builder;
+  builder.addNode(meshNode(addMesh(builder, kTriangle, {0, 1, 2})));
+  builder.writeGltf(file("tri.gltf"));
+  // The same buffer as an external file beside the JSON.
+  std::ifstream in(file("tri.gltf"));
+  std::string json{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const size_t uri = json.find("data:application/octet-stream;base64,");
+  ASSERT_NE(uri, std::string::npos);
+  const size_t end = json.find('"', uri);
+  tinygltf::Model& model = builder.model();
+  std::ofstream(file("tri.bin"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(model.buffers[0].data.data()), static_cast<std::streamsize>(model.buffers[0].data.size()));
+  json.replace(uri, end - uri, "tri.bin");
+  const auto* p = reinterpret_cast<const std::byte*>(json.data());
+  const std::vector<std::byte> bytes(p, p + json.size());
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir_);  // tri.bin is even in the working directory: still not read
+  const std::string message = errorOf([&] { loadSceneFromMemory(bytes, "external.gltf"); });
+  fs::current_path(cwd);
+  EXPECT_NE(message.find("File not found : tri.bin"), std::string::npos) << message;  // our FileExists says no
+  EXPECT_EQ(loadSceneFromMemory(bytes, "external.gltf", dir_).meshes.size(), 1u);
 }
 
 TEST_F(GltfLoaderTest, GarbageJsonIsAClearError) {

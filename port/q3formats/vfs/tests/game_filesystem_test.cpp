@@ -101,6 +101,82 @@ TEST(GameFileSystem, SkipsCorruptArchiveAndSharesMountsBetweenInstances) {
   EXPECT_EQ(text(again.readFile("x.txt")), "x");
 }
 
+std::vector<std::byte> bytesOf(const std::string& s) {
+  const auto* p = reinterpret_cast<const std::byte*>(s.data());
+  return {p, p + s.size()};
+}
+
+TEST(GameFileSystem, MountsArchivesFromMemoryWithoutLooseFiles) {
+  std::vector<q3::GameFileSystem::MemoryArchive> archives;
+  archives.push_back({"pak0.pk3", bytesOf(q3::test::storedZip({{"scripts/a.shader", "old"}, {"Maps/X.bsp", "m"}}))});
+  archives.push_back({"junk.pk3", bytesOf("not a zip")});
+  archives.push_back({"pak1.pk3", bytesOf(q3::test::storedZip({{"scripts/a.shader", "new"}}))});
+  q3::GameFileSystem fs(std::move(archives));
+  ASSERT_EQ(fs.archives().size(), 2u);
+  ASSERT_EQ(fs.mountErrors().size(), 1u);
+  EXPECT_NE(fs.mountErrors()[0].find("junk.pk3"), std::string::npos);
+  EXPECT_EQ(text(fs.readFile("scripts/a.shader")), "new");
+  EXPECT_EQ(fs.sourceOf("scripts/a.shader"), "pak1.pk3");
+  EXPECT_EQ(text(fs.readFile("maps/x.bsp")), "m");
+  EXPECT_EQ(fs.allFiles(), (std::vector<std::string>{"Maps/X.bsp", "scripts/a.shader"}));
+  EXPECT_EQ(fs.listFiles("", ""), std::vector<std::string>{});  // nothing loose at the top
+  EXPECT_FALSE(fs.exists("CMakeLists.txt"));  // never the working directory
+}
+
+/// A zip whose zip64 locator gives a record offset past the record physfs finds before the
+/// locator: physfs 3.0.2 asserts (aborts the game) on it, so the VFS must refuse it first.
+std::string zip64LocatorPastItsRecord() {
+  const std::string zip = q3::test::storedZip({{"maps/x.bsp", "IBSP"}});
+  std::string out = zip.substr(0, zip.size() - 22);  // everything before the end record
+  auto u32 = [&out](uint32_t v) { for (int i = 0; i < 4; ++i) out.push_back(char((v >> (8 * i)) & 0xFF)); };
+  const uint32_t record = static_cast<uint32_t>(out.size());
+  u32(0x06064b50);                                      // zip64 end of central directory, 56 bytes
+  out.append(52, '\0');
+  u32(0x07064b50), u32(0), u32(record + 1), u32(0), u32(1);  // locator: offset one byte past the record
+  return out + zip.substr(zip.size() - 22);             // the original end record
+}
+
+TEST(GameFileSystem, RefusesZip64LocatorPastItsRecordInMemoryAndOnDisk) {
+  const std::string hostile = zip64LocatorPastItsRecord();
+  std::vector<q3::GameFileSystem::MemoryArchive> archives;
+  archives.push_back({"hostile.pk3", bytesOf(hostile)});
+  q3::GameFileSystem memory(std::move(archives));
+  EXPECT_TRUE(memory.archives().empty());
+  ASSERT_EQ(memory.mountErrors().size(), 1u);
+  EXPECT_NE(memory.mountErrors()[0].find("zip64"), std::string::npos) << memory.mountErrors()[0];
+
+  q3::test::TempDir dir("vfs_zip64");
+  writeLoose(dir.path() / "hostile.pk3", hostile);
+  q3::test::writeStoredZip(dir.path() / "good.pk3", {{"x.txt", "x"}});
+  q3::GameFileSystem disk(dir.path());
+  ASSERT_EQ(disk.mountErrors().size(), 1u);
+  EXPECT_NE(disk.mountErrors()[0].find("hostile.pk3: zip64"), std::string::npos) << disk.mountErrors()[0];
+  EXPECT_EQ(text(disk.readFile("x.txt")), "x");
+}
+
+TEST(GameFileSystem, RefusesZip64LocatorAtTheStart) {
+  // An end record right after a zip64 locator at byte 0: physfs 3.0.2 asserts on it.
+  std::string bytes;
+  auto u32 = [&bytes](uint32_t v) { for (int i = 0; i < 4; ++i) bytes.push_back(char((v >> (8 * i)) & 0xFF)); };
+  u32(0x07064b50), u32(0), u32(0), u32(0), u32(1);  // locator: disk 0, record at 0, 1 disk
+  u32(0x06054b50), u32(0), u32(0), u32(0), u32(0);  // end record, no entries
+  bytes.append(2, '\0');                            // comment length
+  std::vector<q3::GameFileSystem::MemoryArchive> archives;
+  archives.push_back({"hostile.pk3", bytesOf(bytes)});
+  q3::GameFileSystem fs(std::move(archives));
+  ASSERT_EQ(fs.mountErrors().size(), 1u);
+  EXPECT_NE(fs.mountErrors()[0].find("locator at the start"), std::string::npos) << fs.mountErrors()[0];
+}
+
+TEST(GameFileSystem, DoubleSlashEntryDoesNotLoopForever) {
+  // physfs lists an empty name inside "dir" for "dir//x.cfg"; following it would never end.
+  std::vector<q3::GameFileSystem::MemoryArchive> archives;
+  archives.push_back({"pak0.pk3", bytesOf(q3::test::storedZip({{"dir//x.cfg", "d"}, {"maps/x.bsp", "m"}}))});
+  q3::GameFileSystem fs(std::move(archives));
+  EXPECT_EQ(fs.allFiles(), std::vector<std::string>{"maps/x.bsp"});
+  EXPECT_EQ(text(fs.readFile("maps/x.bsp")), "m");
+}
+
 TEST(GameFileSystem, MissingFolderThrows) {
   EXPECT_THROW(q3::GameFileSystem("/nonexistent/patharena/folder"), std::runtime_error);
 }

@@ -19,9 +19,8 @@ inline uint32_t crc32(const std::string& data) {
   return ~crc;
 }
 
-/// Writes `entries` (name, contents) as a zip file with no compression.
-inline void writeStoredZip(const std::filesystem::path& file,
-                           const std::vector<std::pair<std::string, std::string>>& entries) {
+/// The bytes of a zip file holding `entries` (name, contents) with no compression.
+inline std::string storedZip(const std::vector<std::pair<std::string, std::string>>& entries) {
   std::string out, central;
   auto u16 = [](std::string& s, uint16_t v) { s.push_back(char(v & 0xFF)), s.push_back(char(v >> 8)); };
   auto u32 = [&](std::string& s, uint32_t v) { u16(s, uint16_t(v & 0xFFFF)), u16(s, uint16_t(v >> 16)); };
@@ -43,6 +42,13 @@ inline void writeStoredZip(const std::filesystem::path& file,
   u32(out, 0x06054b50); u16(out, 0); u16(out, 0); u16(out, uint16_t(entries.size()));
   u16(out, uint16_t(entries.size())); u32(out, static_cast<uint32_t>(central.size()));
   u32(out, centralOffset); u16(out, 0);
+  return out;
+}
+
+/// Writes `entries` (name, contents) as a zip file with no compression.
+inline void writeStoredZip(const std::filesystem::path& file,
+                           const std::vector<std::pair<std::string, std::string>>& entries) {
+  const std::string out = storedZip(entries);
   std::ofstream(file, std::ios::binary).write(out.data(), static_cast<std::streamsize>(out.size()));
 }
 
