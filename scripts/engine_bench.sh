@@ -18,6 +18,9 @@
 #   --timeout S       per-run limit in seconds (default 600)
 #   --json FILE       also write the tables as JSON
 #   --keep DIR        keep each run's engine log in DIR (DEMO.RENDERER.log)
+# Our module runs with r_pt_stats 1: the per-frame breakdown it prints every 2 s (scene update,
+# commit, trace, denoise, resolve, upload, HUD model views, 2D, present, rest of the engine) is
+# averaged over the run, printed under each demo's table and written to the JSON.
 # Exit 77 when the engine, the game data or xvfb-run are missing; 1 when a run fails.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -76,7 +79,15 @@ for demo in $demos; do
 done
 
 # Results keyed "DEMO:RENDERER"; "-" where a run failed.
-declare -A fps frames seconds
+declare -A fps frames seconds breakdown
+# The r_pt_stats lines of a log averaged field by field: "name=value ..." (empty without any).
+average_stats() {
+  grep -a '^pathtracer: stats ' "$1" | awk '{
+      for (i = 4; i <= NF; i++) { split($i, kv, "="); if (!(kv[1] in sum)) order[++n] = kv[1]; sum[kv[1]] += kv[2] }
+      lines++
+    }
+    END { for (i = 1; i <= n; i++) printf "%s%s=%.2f", (i > 1 ? " " : ""), order[i], sum[order[i]] / lines }'
+}
 run_one() {  # run_one DEMO NAME RENDERER [engine args...]
   local demo="$1" name="$2" renderer="$3"; shift 3
   local key="$demo:$name" dir="$work/run" log="$work/run.log"
@@ -98,10 +109,11 @@ run_one() {  # run_one DEMO NAME RENDERER [engine args...]
     return 1
   fi
   read -r "frames[$key]" _ "seconds[$key]" _ "fps[$key]" _ <<<"$line"
+  breakdown[$key]="$(average_stats "$log")"
 }
 
 failed=0
-pt_args=(+set r_pt_threads "$threads")
+pt_args=(+set r_pt_threads "$threads" +set r_pt_stats 1)
 [[ -n "$scale" ]] && pt_args+=(+set r_pt_scale "$scale")
 for demo in $names; do
   run_one "$demo" opengl1 opengl1 || failed=1
@@ -135,6 +147,9 @@ for demo in $names; do
     printf '%-10s %8s %9s %9s %10s\n' "$name" "${frames[$demo:$name]}" "${seconds[$demo:$name]}" \
       "${fps[$demo:$name]}" "$(ratio "$demo" "$name")"
   done
+  for name in $presets; do
+    [[ -n "${breakdown[$demo:$name]:-}" ]] && echo "  $name per frame (r_pt_stats means): ${breakdown[$demo:$name]}"
+  done
 done
 echo
 echo "over $(wc -w <<<"$names") demos: ratio to opengl1"
@@ -154,9 +169,13 @@ if [[ -n "$json" ]]; then
       printf '%s{"demo": "%s", "messages": %d, "runs": [' "$sep" "$demo" "${played[$demo]}"
       rsep=""
       for name in opengl1 $presets; do
-        printf '%s{"renderer": "%s", "frames": %s, "seconds": %s, "fps": %s, "ratio_to_opengl1": %s}' \
+        # The breakdown as a JSON object of numbers (null for opengl1 and failed runs).
+        parts="null"
+        [[ -n "${breakdown[$demo:$name]:-}" ]] &&
+          parts="{$(tr ' ' '\n' <<<"${breakdown[$demo:$name]}" | awk -F= '{printf "%s\"%s\": %s", (NR > 1 ? ", " : ""), $1, $2}')}"
+        printf '%s{"renderer": "%s", "frames": %s, "seconds": %s, "fps": %s, "ratio_to_opengl1": %s, "frame_breakdown": %s}' \
           "$rsep" "$name" "$(q "${frames[$demo:$name]}")" "$(q "${seconds[$demo:$name]}")" \
-          "$(q "${fps[$demo:$name]}")" "$(q "$(ratio "$demo" "$name")")"
+          "$(q "${fps[$demo:$name]}")" "$(q "$(ratio "$demo" "$name")")" "$parts"
         rsep=", "
       done
       printf ']}'
