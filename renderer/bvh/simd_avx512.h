@@ -101,6 +101,16 @@ PA_AVX512_INLINE void compressStore(float* p, unsigned mask, vfloat16 v) {
   _mm512_storeu_ps(p, _mm512_maskz_compress_ps(static_cast<__mmask16>(mask), v.v));
 }
 
+/// Pushes the lanes of children set in mask onto a traversal stack (node[], entry[], top; see
+/// wide_traversal_stack.h) in lane order, with their entry distances where kWithDistance: one
+/// register compress each.
+template <bool kWithDistance, class Stack, class Children, class Float>
+PA_AVX512_INLINE void compressPush(Stack& stack, unsigned mask, Children children, Float entry) {
+  compressStore(stack.node + stack.top, mask, children);
+  if constexpr (kWithDistance) compressStore(stack.entry + stack.top, mask, entry);
+  stack.top += __builtin_popcount(mask);
+}
+
 /// Per-ray constants of the accurate plane distance, in double.
 struct PlaneRay {
   __m512d ox, oy, oz, dx, dy, dz;

@@ -61,22 +61,14 @@ struct Avx512Lanes16 {
   static constexpr uint32_t kWidth = kWide16Width;
   static constexpr bool kOctantOrder = true;
   static constexpr bool kSmallLeaves = true;
+  static constexpr bool kLaneByLaneHits = false;
 
-  /// Pushes the lanes of children in mask (in lane order), with their entry distances when the
-  /// stack keeps them: one register compress each, stored sixteen lanes at once.
-  template <bool kWithDistance>
-  PA_AVX512_INLINE static void push(TraversalStack<kWithDistance, kWidth>& stack, unsigned mask, __m512i children,
-                                    vfloat16 entry) {
-    simd::avx512::compressStore(stack.node + stack.top, mask, children);
-    if constexpr (kWithDistance) simd::avx512::compressStore(stack.entry + stack.top, mask, entry);
-    stack.top += std::popcount(mask);
-  }
-
-  /// Pushes the children in mask in slot order.
+  /// Pushes the children in mask (in slot order), with their entry distances when the stack
+  /// keeps them, sixteen lanes at once.
   template <bool kWithDistance>
   PA_AVX512_INLINE static void pushChildren(const Wide16Node& node, unsigned mask, vfloat16 tNear,
                                             TraversalStack<kWithDistance, kWidth>& stack) {
-    push(stack, mask, _mm512_load_si512(node.child), tNear);
+    simd::avx512::compressPush<kWithDistance>(stack, mask, _mm512_load_si512(node.child), tNear);
   }
 
   /// Closest hit: of the children in mask (>= 2), returns the nearest in the octant's order and
@@ -89,8 +81,9 @@ struct Avx512Lanes16 {
         _mm512_movepi32_mask(_mm512_permutexvar_epi32(order, _mm512_movm_epi32(static_cast<__mmask16>(mask))));
     const int nearestPosition = 31 - std::countl_zero(ordered);
     const uint32_t next = node.child[(node.order[nearestPosition] >> orderShift) & 15];
-    push(stack, ordered & ~(1u << nearestPosition), _mm512_permutexvar_epi32(order, _mm512_load_si512(node.child)),
-         _mm512_permutexvar_ps(order, tNear.v));
+    simd::avx512::compressPush<true>(stack, ordered & ~(1u << nearestPosition),
+                                     _mm512_permutexvar_epi32(order, _mm512_load_si512(node.child)),
+                                     vfloat16(_mm512_permutexvar_ps(order, tNear.v)));
     return next;
   }
 

@@ -56,6 +56,7 @@ struct BaselineLanes {
   static constexpr uint32_t kWidth = kWideWidth;
   static constexpr bool kOctantOrder = false;
   static constexpr bool kSmallLeaves = false;
+  static constexpr bool kLaneByLaneHits = true;
 
   /// The ray, for planeHitDistance.
   struct PlaneRay {
@@ -141,18 +142,37 @@ struct BaselineLanes {
     w = vfloat8::load(f[8]);
   }
 
-  /// planeHitDistance of the lanes in hits (fallback where the ray runs parallel to the plane);
-  /// the other lanes keep fallback.
-  [[gnu::always_inline]] static vfloat8 planeDistances(const TrianglePack& pack, const PlaneRay& r,
-                                                       vfloat8 fallback, unsigned hits) {
-    alignas(32) float t[kPackWidth];
-    fallback.store(t);
-    for (; hits; hits &= hits - 1) {
-      const int lane = std::countr_zero(hits);
+  /// Accepts the lanes of a pack test in lane order, each lane's accurate distance computed
+  /// (planeHitDistance) and range-tested on its own: closest hit (kAnyHit false) shortens tmax
+  /// and writes hit for every accepted lane; any hit returns true at the first one.
+  template <bool kAnyHit>
+  [[gnu::always_inline]] static bool acceptLaneByLane(const TrianglePack& pack, unsigned lanes,
+                                                      const PackEdges<vfloat8>& e, const PlaneRay& r, float tmin,
+                                                      float& tmax, Hit& hit, const HitFilter& filter,
+                                                      uint32_t instanceId) {
+    alignas(32) float tScaled[kPackWidth], det[kPackWidth], bu[kPackWidth], bv[kPackWidth];
+    e.tScaled.store(tScaled);
+    e.det.store(det);
+    e.u.store(bu);
+    e.v.store(bv);
+    bool found = false;
+    for (; lanes; lanes &= lanes - 1) {
+      const int lane = std::countr_zero(lanes);
+      const float rcp = 1.0f / det[lane];
       const auto vertex = [&](int k) { return glm::vec3(pack.v[k][0][lane], pack.v[k][1][lane], pack.v[k][2][lane]); };
-      t[lane] = planeHitDistance(r.origin, r.dir, vertex(0), vertex(1), vertex(2), t[lane]);
+      const float t = planeHitDistance(r.origin, r.dir, vertex(0), vertex(1), vertex(2), tScaled[lane] * rcp);
+      if (!(t >= tmin && t <= tmax)) continue;
+      const float u = bu[lane] * rcp, v = bv[lane] * rcp;
+      if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], u, v)) continue;
+      if constexpr (kAnyHit) {
+        return true;
+      } else {
+        tmax = t;
+        hit = {t, u, v, pack.prim[lane], instanceId};
+        found = true;
+      }
     }
-    return vfloat8::load(t);
+    return found;
   }
 };
 

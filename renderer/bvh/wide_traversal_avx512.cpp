@@ -59,16 +59,15 @@ struct Avx512Lanes8 {
   static constexpr uint32_t kWidth = kWideWidth;
   static constexpr bool kOctantOrder = false;
   static constexpr bool kSmallLeaves = false;
+  static constexpr bool kLaneByLaneHits = false;
 
   /// Pushes the children in mask (in lane order), with their entry distances when the stack
-  /// keeps them: one register compress each, stored eight lanes at once.
+  /// keeps them, eight lanes at once.
   template <bool kWithDistance>
   PA_AVX512_INLINE static void pushChildren(const WideNode& node, unsigned mask, vfloat8 tNear,
                                             TraversalStack<kWithDistance>& stack) {
-    simd::avx512::compressStore(stack.node + stack.top, mask,
-                                _mm256_load_si256(reinterpret_cast<const __m256i*>(node.child)));
-    if constexpr (kWithDistance) simd::avx512::compressStore(stack.entry + stack.top, mask, tNear);
-    stack.top += std::popcount(mask);
+    const __m256i children = _mm256_load_si256(reinterpret_cast<const __m256i*>(node.child));
+    simd::avx512::compressPush<kWithDistance>(stack, mask, children, tNear);
   }
 
   /// Pushes the children in mask (>= 2) farthest first, so the nearest is popped first: keys

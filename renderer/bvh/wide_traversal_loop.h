@@ -14,13 +14,17 @@
 //   kOctantOrder                     true: closest-hit rays take entered children in the node's
 //                                    per-octant order (enterInOctantOrder); false: the nearest
 //                                    first (nearestLane), the rest pushed by pushFarther
-//   loadVertex, redoEdgesInDouble, planeDistances   pieces of the triangle pack test
+//   loadVertex, redoEdgesInDouble    pieces of the triangle pack test
+//   kLaneByLaneHits                  true: accurate distances and acceptance lane by lane
+//                                    (acceptLaneByLane); false: distances of all lanes in SIMD
+//                                    (planeDistances), then acceptPackHits
 //   kSmallLeaves                     leaves may be one 8-wide pack in bvh.smallPacks
 //
 // Include this header once per kernel file, after the other headers, with PA_BVH_KERNEL
 // defined as the file's target attribute (empty for the build's ISA): the templates below take
 // it, and every L is local to its file, so no instantiation is shared between ISAs.
 #include <bit>
+#include <cmath>
 #include <cstdint>
 
 #include "renderer/bvh/slab_test.h"
@@ -89,12 +93,19 @@ struct PackCandidates {
   alignas(4 * kWidth) float v[kWidth];
 };
 
-/// Watertight test of a pack's triangles (intersectTriangleWatertight, lane for lane); returns
-/// the lanes hit within [tmin, tmax] by their accurate distance, with their distances and
-/// barycentrics in out.
+/// What a pack's hit distances and barycentrics are computed from, per lane.
+template <class Float>
+struct PackEdges {
+  Float tScaled;   ///< Sheared-space distance times det (tScaled / det: the fallback distance).
+  Float det;       ///< Sum of the edge functions.
+  Float u, v;      ///< Barycentrics of vertices 1 and 2, times det.
+};
+
+/// Watertight test of a pack's triangles (intersectTriangleWatertight, lane for lane) up to the
+/// distance: returns the valid lanes whose triangle the ray's line passes through (any t), with
+/// what their distances and barycentrics are computed from in out.
 template <class L, class Pack>
-PA_BVH_INLINE unsigned testPack(const Pack& pack, const TriangleRay<L>& r, float tmin,
-                                                              float tmax, PackCandidates<L::kWidth>& out) {
+PA_BVH_INLINE unsigned testPackEdges(const Pack& pack, const TriangleRay<L>& r, PackEdges<typename L::Float>& out) {
   using Float = typename L::Float;
   const int kx = r.shear.kx, ky = r.shear.ky, kz = r.shear.kz;
   const Float az = L::loadVertex(pack, 0, kz) - r.oz;
@@ -122,25 +133,37 @@ PA_BVH_INLINE unsigned testPack(const Pack& pack, const TriangleRay<L>& r, float
   hits &= static_cast<unsigned>((det != zero).mask());
   if (!hits) return 0;
   // No range test on the sheared distance (inaccurate on slivers): only on the plane distance.
-  const Float tScaled = (u * (r.sz * az) + v * (r.sz * bz)) + w * (r.sz * cz);
-  const Float rcp = Float(1.0f) / det;
-  const Float t = L::planeDistances(pack, r.plane, tScaled * rcp, hits);
-  hits &= static_cast<unsigned>(((t >= Float(tmin)) & (t <= Float(tmax))).mask());
-  if (!hits) return 0;
-  t.store(out.t);
-  (v * rcp).store(out.u);
-  (w * rcp).store(out.v);
+  out.tScaled = (u * (r.sz * az) + v * (r.sz * bz)) + w * (r.sz * cz);
+  out.det = det;
+  out.u = v;
+  out.v = w;
   return hits;
 }
 
-/// Tests one pack's triangles against [ray.tmin, tmax] and accepts its hits (acceptPackHits).
+/// Tests one pack's triangles against [ray.tmin, tmax] and accepts its hits in lane order (as
+/// acceptPackHits): the accurate distances of all candidate lanes in SIMD, or lane by lane where
+/// L::kLaneByLaneHits (L::acceptLaneByLane).
 template <class L, bool kAnyHit, class Pack>
-PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay,
-                                                              const Ray& ray, float& tmax, Hit& hit,
-                                                              const HitFilter& filter, uint32_t instanceId) {
-  PackCandidates<L::kWidth> c;
-  const unsigned lanes = testPack<L>(pack, triRay, ray.tmin, tmax, c);
-  return acceptPackHits<kAnyHit>(pack, lanes, c.t, c.u, c.v, tmax, hit, filter, instanceId);
+PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, const Ray& ray, float& tmax, Hit& hit,
+                                const HitFilter& filter, uint32_t instanceId) {
+  using Float = typename L::Float;
+  PackEdges<Float> e;
+  unsigned lanes = testPackEdges<L>(pack, triRay, e);
+  if (!lanes) return false;
+  if constexpr (L::kLaneByLaneHits) {
+    return L::template acceptLaneByLane<kAnyHit>(pack, lanes, e, triRay.plane, ray.tmin, tmax, hit, filter,
+                                                 instanceId);
+  } else {
+    const Float rcp = Float(1.0f) / e.det;
+    const Float t = L::planeDistances(pack, triRay.plane, e.tScaled * rcp, lanes);
+    lanes &= static_cast<unsigned>(((t >= Float(ray.tmin)) & (t <= Float(tmax))).mask());
+    if (!lanes) return false;
+    PackCandidates<L::kWidth> c;
+    t.store(c.t);
+    (e.u * rcp).store(c.u);
+    (e.v * rcp).store(c.v);
+    return acceptPackHits<kAnyHit>(pack, lanes, c.t, c.u, c.v, tmax, hit, filter, instanceId);
+  }
 }
 
 /// Tests a leaf's triangles against [ray.tmin, tmax], pack by pack in lane order: closest hit
