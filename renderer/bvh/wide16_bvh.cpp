@@ -84,7 +84,8 @@ void collapseToWide16(const BinaryBvh& binary, const TriangleMesh& mesh, Wide16B
     out = Wide16Bvh{};
     return;
   }
-  CollapseCosts costs;   // the defaults are the 16-wide layout's (docs/performance.md, "16-wide BVH and SAH-optimal collapse")
+  // The defaults are the 16-wide layout's (docs/performance.md, "16-wide BVH and SAH-optimal collapse").
+  CollapseCosts costs;
   WideCollapser<Layout16>(binary, mesh, costs, out).run();
 }
 

@@ -121,7 +121,9 @@ struct BaselineLanes {
   }
 
   /// One vertex coordinate of the pack's eight triangles.
-  static vfloat8 loadVertex(const TrianglePack& pack, int vertex, int axis) { return vfloat8::load(pack.v[vertex][axis]); }
+  static vfloat8 loadVertex(const TrianglePack& pack, int vertex, int axis) {
+    return vfloat8::load(pack.v[vertex][axis]);
+  }
 
   /// The edge functions u, v, w of the lanes in onEdge, again in double (as the scalar test).
   static void redoEdgesInDouble(unsigned onEdge, vfloat8 ax, vfloat8 ay, vfloat8 bx, vfloat8 by, vfloat8 cx,

@@ -59,7 +59,7 @@ struct BoxRay {
 /// tmax (slabEntry of slab_test.h, lane for lane).
 template <class L, class Node>
 PA_BVH_INLINE unsigned testChildren(const BoxRay<L>& r, const Node& node, float tmax,
-                                                                  typename L::Float& tNear) {
+                                    typename L::Float& tNear) {
   using Float = typename L::Float;
   const Float nx = (Float::load(node.bounds[r.nearX][0]) - r.ox) * r.idx;
   const Float ny = (Float::load(node.bounds[r.nearY][1]) - r.oy) * r.idy;
@@ -171,8 +171,8 @@ PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, 
 /// was; any hit returns true at the first accepted one.
 template <class L, bool kAnyHit>
 PA_BVH_INLINE bool testLeaf(const typename L::Bvh& bvh, uint32_t ref,
-                                                          const TriangleRay<L>& triRay, const Ray& ray, float& tmax,
-                                                          Hit& hit, const HitFilter& filter, uint32_t instanceId) {
+                            const TriangleRay<L>& triRay, const Ray& ray, float& tmax,
+                            Hit& hit, const HitFilter& filter, uint32_t instanceId) {
   if constexpr (L::kSmallLeaves) {
     if (ref & kSmallLeafBit)
       return testPackHits<L, kAnyHit>(bvh.smallPacks[ref & kFirstPackMask], triRay, ray, tmax, hit, filter,
@@ -194,8 +194,8 @@ PA_BVH_INLINE bool testLeaf(const typename L::Bvh& bvh, uint32_t ref,
 /// the others with their entry distances, the nearer ones popped first where the kernel can.
 template <class L>
 PA_BVH_INLINE uint32_t enterNearest(const typename L::Node& node, unsigned mask,
-                                                                  typename L::Float tNear, const BoxRay<L>& boxRay,
-                                                                  TraversalStack<true, L::kWidth>& stack) {
+                                    typename L::Float tNear, const BoxRay<L>& boxRay,
+                                    TraversalStack<true, L::kWidth>& stack) {
   if constexpr (L::kOctantOrder) {
     return L::enterInOctantOrder(node, mask, tNear, boxRay.orderShift, stack);
   } else {
@@ -218,7 +218,7 @@ PA_BVH_INLINE uint32_t enterNearest(const typename L::Node& node, unsigned mask,
 /// children in slot order, true at the first accepted hit (tmax and hit stay as they are).
 template <class L, bool kAnyHit>
 PA_BVH_INLINE bool traverse(const typename L::Bvh& bvh, const Ray& ray, float& tmax,
-                                                          Hit& hit, const HitFilter& filter, uint32_t instanceId) {
+                            Hit& hit, const HitFilter& filter, uint32_t instanceId) {
   if (bvh.empty()) return false;
   const BoxRay<L> boxRay(ray);
   const TriangleRay<L> triRay(ray);
