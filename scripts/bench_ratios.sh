@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # scripts/bench_ratios.sh [--bench PATH] [--runs N] [-- extra bench arguments]: the BVH's speed
 # against Embree on the four standard scenes (soup:10000, soup:100000, thin:100000, the oa_dm1
-# map), one line per scene and run with the ours / Embree ratios, as docs/performance.md quotes
-# them. Runs alternate scenes, so several runs spread a load spike over all of them; read medians.
+# map), one line per scene and run with the ours / Embree ratios (incoherent, shadow, primary
+# rays), as docs/performance.md quotes them. Runs alternate scenes, so several runs spread a
+# load spike over all of them; read medians.
 #   --bench PATH   bench binary (default build/renderer/bench/bench); copy binaries aside to A/B
 #   --runs N       repetitions of the four scenes (default 1)
 # Anything after -- goes to every bench call (e.g. -- --embree-robust, -- --bins 16).
@@ -35,8 +36,9 @@ for ((run = 1; run <= runs; ++run)); do
     "$bench" $scene --threads 1 --reps 5 --json --no-frames --rays 262144 "${extra[@]}" | python3 -c '
 import json, sys
 d = json.load(sys.stdin)
-print("run %s  %-14s incoherent %.3f  shadow %.3f  (Mrays/s ours/Embree %.2f/%.2f, %.2f/%.2f)  build %.3f" % (
-    sys.argv[1], d["scene"][-14:], d["incoherent_ratio"], d["shadow_ratio"], d["mrays_incoherent_ours"],
-    d["mrays_incoherent_embree"], d["mrays_shadow_ours"], d["mrays_shadow_embree"], d["build_ratio"]))' "$run"
+print("run %s  %-14s incoherent %.3f  shadow %.3f  primary %.3f  (Mrays/s ours/Embree %.2f/%.2f, %.2f/%.2f, %.2f/%.2f)  build %.3f" % (
+    sys.argv[1], d["scene"][-14:], d["incoherent_ratio"], d["shadow_ratio"], d["primary_ratio"],
+    d["mrays_incoherent_ours"], d["mrays_incoherent_embree"], d["mrays_shadow_ours"], d["mrays_shadow_embree"],
+    d["mrays_primary_ours"], d["mrays_primary_embree"], d["build_ratio"]))' "$run"
   done
 done

@@ -6,6 +6,7 @@
 
 #include "renderer/bvh/binary_bvh.h"
 #include "renderer/bvh/bvh.h"
+#include "renderer/bvh/cpu_features.h"
 #include "renderer/bvh/triangle_mesh.h"
 #include "renderer/bvh/wide16_bvh.h"
 #include "renderer/bvh/wide_bvh.h"
@@ -47,7 +48,7 @@ uint32_t resolveNodeWidth(const BvhBuildConfig& config) {
     return 16;
   }
   if (config.nodeWidth == 8) return 8;
-  return wide16 && bvh_detail::fullWidthAvx512() ? 16 : 8;
+  return wide16 && bvh_detail::cpuFeatures().fullWidthAvx512 ? 16 : 8;
 }
 
 }  // namespace

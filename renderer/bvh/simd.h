@@ -1,5 +1,6 @@
 #pragma once
-// Minimal SIMD wrapper for the BVH kernels: 4- and 8-wide float lanes.
+// Minimal SIMD wrapper for the BVH kernels' baseline lanes: 4- and 8-wide floats (the AVX-512
+// lanes are in simd_avx512.h).
 // With AVX2 (the x86-64-v3 build target) vfloat8 is one __m256. Without it (the x86-64-v2
 // fallback, SSE4.2) vfloat8 is emulated with two __m128 halves, so the same kernels compile
 // and give bit-identical results, only slower. Only what the kernels need is provided.
@@ -52,11 +53,13 @@ struct vfloat8 {
   friend vfloat8 operator+(vfloat8 a, vfloat8 b) { return _mm256_add_ps(a.v, b.v); }
   friend vfloat8 operator-(vfloat8 a, vfloat8 b) { return _mm256_sub_ps(a.v, b.v); }
   friend vfloat8 operator*(vfloat8 a, vfloat8 b) { return _mm256_mul_ps(a.v, b.v); }
+  friend vfloat8 operator/(vfloat8 a, vfloat8 b) { return _mm256_div_ps(a.v, b.v); }
   friend vfloat8 operator&(vfloat8 a, vfloat8 b) { return _mm256_and_ps(a.v, b.v); }
   friend vfloat8 operator|(vfloat8 a, vfloat8 b) { return _mm256_or_ps(a.v, b.v); }
   friend vfloat8 operator<(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ); }
   friend vfloat8 operator<=(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ); }
   friend vfloat8 operator>(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ); }
+  friend vfloat8 operator>=(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_GE_OQ); }
   friend vfloat8 operator==(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ); }
   friend vfloat8 operator!=(vfloat8 a, vfloat8 b) { return _mm256_cmp_ps(a.v, b.v, _CMP_NEQ_UQ); }
   /// One bit per lane.
@@ -78,11 +81,13 @@ struct vfloat8 {
   friend vfloat8 operator+(vfloat8 a, vfloat8 b) { return {_mm_add_ps(a.lo, b.lo), _mm_add_ps(a.hi, b.hi)}; }
   friend vfloat8 operator-(vfloat8 a, vfloat8 b) { return {_mm_sub_ps(a.lo, b.lo), _mm_sub_ps(a.hi, b.hi)}; }
   friend vfloat8 operator*(vfloat8 a, vfloat8 b) { return {_mm_mul_ps(a.lo, b.lo), _mm_mul_ps(a.hi, b.hi)}; }
+  friend vfloat8 operator/(vfloat8 a, vfloat8 b) { return {_mm_div_ps(a.lo, b.lo), _mm_div_ps(a.hi, b.hi)}; }
   friend vfloat8 operator&(vfloat8 a, vfloat8 b) { return {_mm_and_ps(a.lo, b.lo), _mm_and_ps(a.hi, b.hi)}; }
   friend vfloat8 operator|(vfloat8 a, vfloat8 b) { return {_mm_or_ps(a.lo, b.lo), _mm_or_ps(a.hi, b.hi)}; }
   friend vfloat8 operator<(vfloat8 a, vfloat8 b) { return {_mm_cmplt_ps(a.lo, b.lo), _mm_cmplt_ps(a.hi, b.hi)}; }
   friend vfloat8 operator<=(vfloat8 a, vfloat8 b) { return {_mm_cmple_ps(a.lo, b.lo), _mm_cmple_ps(a.hi, b.hi)}; }
   friend vfloat8 operator>(vfloat8 a, vfloat8 b) { return {_mm_cmpgt_ps(a.lo, b.lo), _mm_cmpgt_ps(a.hi, b.hi)}; }
+  friend vfloat8 operator>=(vfloat8 a, vfloat8 b) { return {_mm_cmpge_ps(a.lo, b.lo), _mm_cmpge_ps(a.hi, b.hi)}; }
   friend vfloat8 operator==(vfloat8 a, vfloat8 b) { return {_mm_cmpeq_ps(a.lo, b.lo), _mm_cmpeq_ps(a.hi, b.hi)}; }
   friend vfloat8 operator!=(vfloat8 a, vfloat8 b) { return {_mm_cmpneq_ps(a.lo, b.lo), _mm_cmpneq_ps(a.hi, b.hi)}; }
   /// One bit per lane.

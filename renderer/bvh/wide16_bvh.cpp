@@ -1,13 +1,11 @@
 // Binary -> 16-wide conversion along the SAH-optimal plan (wide_collapse.h), 16-triangle packs,
-// the per-octant child order, and the CPU test for full-width AVX-512.
+// and the per-octant child order.
 #include "renderer/bvh/wide16_bvh.h"
 
 #include <algorithm>
 #include <array>
 #include <limits>
 #include <stdexcept>
-
-#include <cpuid.h>
 
 #include "renderer/bvh/wide_collapse.h"
 
@@ -77,16 +75,6 @@ struct Layout16 {
 
 }  // namespace
 
-bool fullWidthAvx512() {
-  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
-  if (!__get_cpuid(0, &eax, &ebx, &ecx, &edx)) return false;
-  const bool amd = ebx == 0x68747541u && edx == 0x69746e65u && ecx == 0x444d4163u;   // "AuthenticAMD"
-  if (!amd) return true;
-  if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
-  const unsigned family = ((eax >> 8) & 0xf) + (((eax >> 8) & 0xf) == 0xf ? ((eax >> 20) & 0xff) : 0);
-  return family >= 0x1a;   // Zen 5 (family 1Ah); Zen 4 (19h) splits 512-bit operations in two
-}
-
 TrianglePack16 makeTrianglePack16(const TriangleMesh& mesh, std::span<const uint32_t> tris) {
   return makePack<TrianglePack16, kWide16Width>(mesh, tris);
 }
@@ -96,7 +84,8 @@ void collapseToWide16(const BinaryBvh& binary, const TriangleMesh& mesh, Wide16B
     out = Wide16Bvh{};
     return;
   }
-  CollapseCosts costs;   // the defaults are the 16-wide layout's (docs/performance.md, "Session 8")
+  // The defaults are the 16-wide layout's (docs/performance.md, "16-wide BVH and SAH-optimal collapse").
+  CollapseCosts costs;
   WideCollapser<Layout16>(binary, mesh, costs, out).run();
 }
 

@@ -49,13 +49,8 @@ struct Wide16Bvh {
 };
 
 /// Whether this build has the 16-wide kernels and this CPU (and OS) can run them (AVX-512
-/// F/VL/BW/DQ, like WideKernel::Avx512).
+/// F/VL/BW/DQ, like WideKernel::Avx512; see cpu_features.h).
 bool wide16Available();
-
-/// Whether this CPU is known to execute 512-bit operations at full width (the case where the
-/// 16-wide layout is the faster one): Intel CPUs with AVX-512 and AMD Zen 5 or newer; AMD Zen 4
-/// splits them into two 256-bit halves.
-bool fullWidthAvx512();
 
 /// Packs up to 16 triangles of mesh (indices in tris) into one pack; unused lanes repeat the
 /// first triangle's vertices (finite math) and are not valid.

@@ -1,0 +1,258 @@
+#pragma once
+// The wide BVH traversal, written once over lane traits L (one traversal loop for the 8-wide
+// AVX2 / SSE, 8-wide AVX-512 and 16-wide AVX-512 kernels) and over the kind of query (closest
+// hit or any hit). The loop tests one ray against all N children of a node (the conservative
+// slab test of slab_test.h), goes on with one entered child and pushes the others, and tests a
+// leaf's triangles N at a time with the watertight test of watertight.h: the same float and
+// double operations in the same order as the scalar reference, so hit distances are
+// bit-identical to it in every kernel.
+//
+// L supplies the per-ISA pieces:
+//   Float, Node, Bvh, kWidth         lane type (N floats, comparisons -> .mask()), node, tree
+//   PlaneRay                         per-ray constants of L::planeDistances
+//   pushChildren<kWithDistance>      push the children in a lane mask (lane order)
+//   kOctantOrder                     true: closest-hit rays take entered children in the node's
+//                                    per-octant order (enterInOctantOrder); false: the nearest
+//                                    first (nearestLane), the rest pushed by pushFarther
+//   loadVertex, redoEdgesInDouble    pieces of the triangle pack test
+//   kLaneByLaneHits                  true: accurate distances and acceptance lane by lane
+//                                    (acceptLaneByLane); false: distances of all lanes in SIMD
+//                                    (planeDistances), then acceptPackHits
+//   kSmallLeaves                     leaves may be one 8-wide pack in bvh.smallPacks
+//
+// Include this header once per kernel file, after the other headers, with PA_BVH_KERNEL
+// defined as the file's target attribute (empty for the build's ISA): the templates below take
+// it, and every L is local to its file, so no instantiation is shared between ISAs.
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include "renderer/bvh/slab_test.h"
+#include "renderer/bvh/watertight.h"
+#include "renderer/bvh/wide16_bvh.h"
+#include "renderer/bvh/wide_bvh.h"
+#include "renderer/bvh/wide_traversal_stack.h"
+
+#if !defined(PA_BVH_KERNEL)
+#error "define PA_BVH_KERNEL (the kernel's target attribute) before including wide_traversal_loop.h"
+#endif
+/// The kernel's target attribute on a function that always inlines into its caller.
+#define PA_BVH_INLINE [[gnu::always_inline]] PA_BVH_KERNEL inline
+
+namespace pa::bvh_detail {
+
+/// Per-ray constants of the slab test of N children.
+template <class L>
+struct BoxRay {
+  using Float = typename L::Float;
+  Float ox, oy, oz, idx, idy, idz, tmin;
+  int nearX, nearY, nearZ;
+  int orderShift;   ///< 4 x the ray's octant: where its slot order sits in Wide16Node::order.
+
+  PA_BVH_KERNEL explicit BoxRay(const Ray& ray)
+      : ox(ray.origin.x), oy(ray.origin.y), oz(ray.origin.z), idx(1.0f / ray.dir.x), idy(1.0f / ray.dir.y),
+        idz(1.0f / ray.dir.z), tmin(ray.tmin), nearX(std::signbit(ray.dir.x)), nearY(std::signbit(ray.dir.y)),
+        nearZ(std::signbit(ray.dir.z)), orderShift(4 * (nearX | nearY << 1 | nearZ << 2)) {}
+};
+
+/// Entry distances of the node's children (tNear) and the mask of those the ray enters before
+/// tmax (slabEntry of slab_test.h, lane for lane).
+template <class L, class Node>
+PA_BVH_INLINE unsigned testChildren(const BoxRay<L>& r, const Node& node, float tmax,
+                                    typename L::Float& tNear) {
+  using Float = typename L::Float;
+  const Float nx = (Float::load(node.bounds[r.nearX][0]) - r.ox) * r.idx;
+  const Float ny = (Float::load(node.bounds[r.nearY][1]) - r.oy) * r.idy;
+  const Float nz = (Float::load(node.bounds[r.nearZ][2]) - r.oz) * r.idz;
+  const Float fx = (Float::load(node.bounds[1 - r.nearX][0]) - r.ox) * r.idx;
+  const Float fy = (Float::load(node.bounds[1 - r.nearY][1]) - r.oy) * r.idy;
+  const Float fz = (Float::load(node.bounds[1 - r.nearZ][2]) - r.oz) * r.idz;
+  tNear = maxKeep(nx, maxKeep(ny, maxKeep(nz, r.tmin)));
+  const Float tFar = minKeep(fx, minKeep(fy, minKeep(fz, Float(tmax)))) * Float(kRobustFarScale);
+  return static_cast<unsigned>((tNear <= tFar).mask());
+}
+
+/// Per-ray constants of the watertight pack test and of the accurate plane distance.
+template <class L>
+struct TriangleRay {
+  using Float = typename L::Float;
+  RayShear shear;
+  Float ox, oy, oz, sx, sy, sz;
+  typename L::PlaneRay plane;
+
+  PA_BVH_KERNEL explicit TriangleRay(const Ray& ray)
+      : shear(ray.dir), ox(ray.origin[shear.kx]), oy(ray.origin[shear.ky]), oz(ray.origin[shear.kz]),
+        sx(shear.sx), sy(shear.sy), sz(shear.sz), plane(ray) {}
+};
+
+/// Final lane results of one pack test.
+template <uint32_t kWidth>
+struct PackCandidates {
+  alignas(4 * kWidth) float t[kWidth];   ///< Accurate (plane) hit distance.
+  alignas(4 * kWidth) float u[kWidth];
+  alignas(4 * kWidth) float v[kWidth];
+};
+
+/// What a pack's hit distances and barycentrics are computed from, per lane.
+template <class Float>
+struct PackEdges {
+  Float tScaled;   ///< Sheared-space distance times det (tScaled / det: the fallback distance).
+  Float det;       ///< Sum of the edge functions.
+  Float u, v;      ///< Barycentrics of vertices 1 and 2, times det.
+};
+
+/// Watertight test of a pack's triangles (intersectTriangleWatertight, lane for lane) up to the
+/// distance: returns the valid lanes whose triangle the ray's line passes through (any t), with
+/// what their distances and barycentrics are computed from in out.
+template <class L, class Pack>
+PA_BVH_INLINE unsigned testPackEdges(const Pack& pack, const TriangleRay<L>& r, PackEdges<typename L::Float>& out) {
+  using Float = typename L::Float;
+  const int kx = r.shear.kx, ky = r.shear.ky, kz = r.shear.kz;
+  const Float az = L::loadVertex(pack, 0, kz) - r.oz;
+  const Float bz = L::loadVertex(pack, 1, kz) - r.oz;
+  const Float cz = L::loadVertex(pack, 2, kz) - r.oz;
+  const Float ax = (L::loadVertex(pack, 0, kx) - r.ox) - r.sx * az;
+  const Float ay = (L::loadVertex(pack, 0, ky) - r.oy) - r.sy * az;
+  const Float bx = (L::loadVertex(pack, 1, kx) - r.ox) - r.sx * bz;
+  const Float by = (L::loadVertex(pack, 1, ky) - r.oy) - r.sy * bz;
+  const Float cx = (L::loadVertex(pack, 2, kx) - r.ox) - r.sx * cz;
+  const Float cy = (L::loadVertex(pack, 2, ky) - r.oy) - r.sy * cz;
+  Float u = cx * by - cy * bx;
+  Float v = ax * cy - ay * cx;
+  Float w = bx * ay - by * ax;
+  const Float zero(0.0f);
+  const unsigned valid = pack.validBits;
+  // Exact zero in float: these lanes are decided with the edge functions in double.
+  if (const unsigned onEdge = static_cast<unsigned>(((u == zero) | (v == zero) | (w == zero)).mask()) & valid)
+    L::redoEdgesInDouble(onEdge, ax, ay, bx, by, cx, cy, u, v, w);
+  const unsigned negative = static_cast<unsigned>(((u < zero) | (v < zero) | (w < zero)).mask());
+  const unsigned positive = static_cast<unsigned>(((u > zero) | (v > zero) | (w > zero)).mask());
+  unsigned hits = valid & ~(negative & positive);
+  if (!hits) return 0;
+  const Float det = u + v + w;
+  hits &= static_cast<unsigned>((det != zero).mask());
+  if (!hits) return 0;
+  // No range test on the sheared distance (inaccurate on slivers): only on the plane distance.
+  out.tScaled = (u * (r.sz * az) + v * (r.sz * bz)) + w * (r.sz * cz);
+  out.det = det;
+  out.u = v;
+  out.v = w;
+  return hits;
+}
+
+/// Tests one pack's triangles against [ray.tmin, tmax] and accepts its hits in lane order (as
+/// acceptPackHits): the accurate distances of all candidate lanes in SIMD, or lane by lane where
+/// L::kLaneByLaneHits (L::acceptLaneByLane).
+template <class L, bool kAnyHit, class Pack>
+PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, const Ray& ray, float& tmax, Hit& hit,
+                                const HitFilter& filter, uint32_t instanceId) {
+  using Float = typename L::Float;
+  PackEdges<Float> e;
+  unsigned lanes = testPackEdges<L>(pack, triRay, e);
+  if (!lanes) return false;
+  if constexpr (L::kLaneByLaneHits) {
+    return L::template acceptLaneByLane<kAnyHit>(pack, lanes, e, triRay.plane, ray.tmin, tmax, hit, filter,
+                                                 instanceId);
+  } else {
+    const Float rcp = Float(1.0f) / e.det;
+    const Float t = L::planeDistances(pack, triRay.plane, e.tScaled * rcp, lanes);
+    lanes &= static_cast<unsigned>(((t >= Float(ray.tmin)) & (t <= Float(tmax))).mask());
+    if (!lanes) return false;
+    PackCandidates<L::kWidth> c;
+    t.store(c.t);
+    (e.u * rcp).store(c.u);
+    (e.v * rcp).store(c.v);
+    return acceptPackHits<kAnyHit>(pack, lanes, c.t, c.u, c.v, tmax, hit, filter, instanceId);
+  }
+}
+
+/// Tests a leaf's triangles against [ray.tmin, tmax], pack by pack in lane order: closest hit
+/// (kAnyHit false) shortens tmax and writes hit for every accepted hit and returns whether any
+/// was; any hit returns true at the first accepted one.
+template <class L, bool kAnyHit>
+PA_BVH_INLINE bool testLeaf(const typename L::Bvh& bvh, uint32_t ref,
+                            const TriangleRay<L>& triRay, const Ray& ray, float& tmax,
+                            Hit& hit, const HitFilter& filter, uint32_t instanceId) {
+  if constexpr (L::kSmallLeaves) {
+    if (ref & kSmallLeafBit)
+      return testPackHits<L, kAnyHit>(bvh.smallPacks[ref & kFirstPackMask], triRay, ray, tmax, hit, filter,
+                                      instanceId);
+  }
+  uint32_t first, count;
+  leafPacks(ref, first, count);
+  bool found = false;
+  for (uint32_t p = first; p < first + count; ++p) {
+    if (testPackHits<L, kAnyHit>(bvh.packs[p], triRay, ray, tmax, hit, filter, instanceId)) {
+      if constexpr (kAnyHit) return true;
+      found = true;
+    }
+  }
+  return found;
+}
+
+/// Closest hit: of the two or more children in mask, returns the one to visit next and pushes
+/// the others with their entry distances, the nearer ones popped first where the kernel can.
+template <class L>
+PA_BVH_INLINE uint32_t enterNearest(const typename L::Node& node, unsigned mask,
+                                    typename L::Float tNear, const BoxRay<L>& boxRay,
+                                    TraversalStack<true, L::kWidth>& stack) {
+  if constexpr (L::kOctantOrder) {
+    return L::enterInOctantOrder(node, mask, tNear, boxRay.orderShift, stack);
+  } else {
+    const unsigned afterFirst = mask & (mask - 1);
+    if ((afterFirst & (afterFirst - 1)) == 0) {   // exactly two children
+      alignas(4 * L::kWidth) float entry[L::kWidth];
+      tNear.store(entry);
+      return takeNearerOfTwo(node, mask, entry, stack);
+    }
+    const int nearest = L::nearestLane(mask, tNear);
+    const uint32_t next = node.child[nearest];
+    L::pushFarther(node, mask & ~(1u << nearest), tNear, stack);
+    return next;
+  }
+}
+
+/// The traversal loop. Closest hit (kAnyHit false): nearest entered child first, the others
+/// pushed with their entry distances and culled when popped behind a nearer hit; tmax shrinks
+/// to each accepted hit (written to hit) and the result says whether there was one. Any hit:
+/// children in slot order, true at the first accepted hit (tmax and hit stay as they are).
+template <class L, bool kAnyHit>
+PA_BVH_INLINE bool traverse(const typename L::Bvh& bvh, const Ray& ray, float& tmax,
+                            Hit& hit, const HitFilter& filter, uint32_t instanceId) {
+  if (bvh.empty()) return false;
+  const BoxRay<L> boxRay(ray);
+  const TriangleRay<L> triRay(ray);
+  TraversalStack<!kAnyHit, L::kWidth> stack;
+  uint32_t current = 0;
+  bool found = false;
+  for (;;) {
+    if (!(current & kLeafBit)) {
+      const typename L::Node& node = bvh.nodes[current];
+      typename L::Float tNear;
+      const unsigned mask = testChildren(boxRay, node, tmax, tNear);
+      if (mask != 0) {
+        const unsigned rest = mask & (mask - 1);
+        if constexpr (kAnyHit) {
+          current = node.child[std::countr_zero(mask)];
+          if (rest) L::pushChildren(node, rest, tNear, stack);
+        } else if (rest == 0) {   // exactly one child
+          current = node.child[std::countr_zero(mask)];
+        } else {
+          current = enterNearest<L>(node, mask, tNear, boxRay, stack);
+        }
+        continue;
+      }
+    } else if (testLeaf<L, kAnyHit>(bvh, current, triRay, ray, tmax, hit, filter, instanceId)) {
+      if constexpr (kAnyHit) return true;
+      found = true;
+    }
+    if constexpr (kAnyHit) {
+      if (stack.top == 0) return false;
+      current = stack.node[--stack.top];
+    } else if (!popEntryWithin(stack, tmax * kRobustFarScale, current)) {   // the next that may hold a nearer hit
+      return found;
+    }
+  }
+}
+
+}  // namespace pa::bvh_detail
