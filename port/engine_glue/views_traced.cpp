@@ -5,11 +5,11 @@
 // renderer lights, portals follow the frame's RT_PORTALSURFACE entities, and the frame is traced
 // at r_pt_scale resolution.
 // The lightmap preset adds the stock opengl1 look (README "The lightmap preset's stock look"):
-// baked sky, dynamic-light overlay, world autosprites, stock model colours (stock_look.h).
+// the stock sky (sky_cube.h), dynamic-light overlay, world autosprites, stock model colours
+// (stock_look.h).
 #include <dlfcn.h>
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
