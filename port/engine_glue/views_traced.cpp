@@ -704,12 +704,12 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     desc.range = light.radius;
     d.setLight(lightIndex++, desc, true);
   }
-  {
+  if (!withWorld) {   // views of the world are lit by the world alone
     pa::LightDesc head;
     head.type = pa::LightType::Directional;
     head.direction = glm::normalize(camera.forward - camera.up * 0.5f);
-    head.intensity = withWorld ? 0.0f : kPi;
-    d.setLight(lightIndex++, head, !withWorld);
+    head.intensity = kPi;
+    d.setLight(lightIndex++, head, true);
   }
   for (size_t i = lightIndex; i < d.lights.size(); ++i) {
     pa::LightDesc off;

@@ -175,8 +175,10 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
 
 std::vector<glm::vec3> LightSampler::sunDirections() const {
   std::vector<glm::vec3> directions;
-  for (const LightDesc& l : analytic_)
-    if (l.type == LightType::Directional) directions.push_back(l.direction);
+  // Analytic light i is table entry i; a sun that carries no power (intensity or colour 0, as a
+  // pooled light switched off) lights nothing and is left out.
+  for (uint32_t i = 0; i < analytic_.size(); ++i)
+    if (analytic_[i].type == LightType::Directional && table_.pdf(i) > 0.0f) directions.push_back(analytic_[i].direction);
   return directions;
 }
 

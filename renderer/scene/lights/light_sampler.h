@@ -87,7 +87,8 @@ class LightSampler {
   /// True when sun or sky and local emitters share the choice: the only case where an
   /// EnvironmentVisibility map changes anything.
   bool mixesEnvironmentAndLocal() const { return localEntry_ != UINT32_MAX && environmentShare_ > 0.0; }
-  /// The unit directions the sun lights travel (what an EnvironmentVisibility map traces).
+  /// The unit directions the suns that carry light travel (what an EnvironmentVisibility map
+  /// traces); suns of zero intensity or colour are not among them.
   std::vector<glm::vec3> sunDirections() const;
   /// Where sun and sky can reach (null: everywhere). Shared: it outlives commits that keep the
   /// world, the suns and the sky.

@@ -140,6 +140,29 @@ TEST(LightSampler, NoSampleWhereNoPointLightReaches) {
   EXPECT_FALSE(sampler.sample(glm::vec3(50.0f, 0.0f, 10.0f), glm::vec3(0.0f, 0.0f, 1.0f), glm::vec4(0.5f), ls));
 }
 
+TEST(LightSampler, SunsWithoutLightAreNoSunDirections) {
+  // A renderer's light pool keeps switched-off slots: a dark directional light must not count as
+  // a sun (the sun/sky visibility map is traced anew whenever the number of suns changes).
+  LightDesc sun;
+  sun.type = LightType::Directional;
+  sun.direction = glm::vec3(0.0f, 0.0f, -1.0f);
+  LightDesc off = sun;
+  off.direction = glm::vec3(1.0f, 0.0f, 0.0f);
+  off.intensity = 0.0f;
+  LightDesc black = sun;
+  black.color = glm::vec3(0.0f);
+  LightDesc lamp;
+  lamp.position = glm::vec3(0.0f, 0.0f, 10.0f);
+  const std::vector<LightDesc> lights{off, sun, lamp, black};
+  Bounds bounds;
+  bounds.extend(glm::vec3(-10.0f));
+  bounds.extend(glm::vec3(10.0f));
+  const LightSampler sampler(lights, {}, Sky{}, bounds);
+  const std::vector<glm::vec3> suns = sampler.sunDirections();
+  ASSERT_EQ(suns.size(), 1u);
+  EXPECT_EQ(suns[0], sun.direction);
+}
+
 TEST(LightSampler, LocalWeightBoundsSphereLights) {
   // A sphere light whose centre is out of range still reaches p with its near side: weight > 0.
   LightDesc sphere;
