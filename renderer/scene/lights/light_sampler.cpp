@@ -143,9 +143,10 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
       continue;
     }
     power.push_back(0.0);   // chosen through the local entry
-    localLights_.push_back(i);
     const double p = analyticPower(l, radius);
-    if (std::isfinite(p) && p > 0.0) localPower += p;
+    if (!(std::isfinite(p) && p > 0.0)) continue;   // dark (a pooled light switched off): weight 0 everywhere
+    localLights_.push_back(i);
+    localPower += p;
   }
   emissiveTree_ = LightTree(emitters);
   if ((!emissiveTree_.empty() || !localLights_.empty()) && localPower > 0.0) {

@@ -125,7 +125,7 @@ class LightSampler {
   uint32_t skyEntry_ = UINT32_MAX;
   uint32_t localEntry_ = UINT32_MAX;   ///< The table entry of all local emitters.
   LightTree emissiveTree_;             ///< Over triangles_ (same indices).
-  std::vector<uint32_t> localLights_;   ///< Indices into analytic_ of the point and spot lights.
+  std::vector<uint32_t> localLights_;   ///< Indices into analytic_ of the point and spot lights that carry power.
   sampling::AliasTable table_;
   std::vector<uint32_t> environmentEntries_;   ///< Table entries of the suns and the sky.
   sampling::AliasTable environmentTable_;      ///< Over environmentEntries_, the same proportions.

@@ -163,6 +163,36 @@ TEST(LightSampler, SunsWithoutLightAreNoSunDirections) {
   EXPECT_EQ(suns[0], sun.direction);
 }
 
+TEST(LightSampler, DarkPointLightsChangeNoSample) {
+  // Switched-off pool lights (intensity 0) are skipped when choosing a lamp: every sample equals
+  // the one drawn without them.
+  std::vector<LightDesc> lit = lampAmongDistantLights();
+  std::vector<LightDesc> withDark;
+  for (const LightDesc& l : lit) {
+    LightDesc dark = l;
+    dark.position += glm::vec3(1.0f);
+    dark.intensity = 0.0f;
+    withDark.push_back(dark);
+    withDark.push_back(l);
+  }
+  Bounds bounds;
+  bounds.extend(glm::vec3(-100.0f));
+  bounds.extend(glm::vec3(3000.0f));
+  const LightSampler plain(lit, {}, Sky{}, bounds);
+  const LightSampler padded(withDark, {}, Sky{}, bounds);
+  const glm::vec3 p(1.0f, 2.0f, 0.0f), n(0.0f, 0.0f, 1.0f);
+  for (int i = 0; i < 256; ++i) {
+    const glm::vec4 u((i + 0.5f) / 256.0f, 0.37f, 0.61f, std::fmod(0.618034f * float(i), 1.0f));
+    LightSample a, b;
+    const bool okA = plain.sample(p, n, u, a);
+    ASSERT_EQ(padded.sample(p, n, u, b), okA) << i;
+    if (!okA) continue;
+    EXPECT_EQ(a.wi, b.wi) << i;
+    EXPECT_EQ(a.radiance, b.radiance) << i;
+    EXPECT_EQ(a.pdf, b.pdf) << i;
+  }
+}
+
 TEST(LightSampler, LocalWeightBoundsSphereLights) {
   // A sphere light whose centre is out of range still reaches p with its near side: weight > 0.
   LightDesc sphere;
