@@ -16,6 +16,8 @@
 // Frames: --frame-reps path-traced frames with 1 and 2 threads, alternating; medians of the wall
 // clock and of the process CPU time, the median per-pair speedup and every wall-clock sample.
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <chrono>
 #include <ctime>
 #include <cstdio>
@@ -180,6 +182,21 @@ uint64_t traceOccluded(const bvh_detail::WideBvh& bvh, const std::vector<Ray>& r
   for (const Ray& r : rays) hits += bvh_detail::isTraceableRay(r) && bvh_detail::occludedWide(bvh, r, {}, 0);
   return hits;
 }
+/// Our packet query over 16 consecutive rays at a time (the primary rays come in 4x4 tiles).
+uint64_t tracePackets(const Blas& blas, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  std::array<Ray, kMaxPacketRays> packet;
+  std::array<Hit, kMaxPacketRays> packetHits;
+  const std::array<HitFilter, kMaxPacketRays> filters{};
+  for (size_t i = 0; i < rays.size(); i += kMaxPacketRays) {
+    const size_t n = std::min<size_t>(kMaxPacketRays, rays.size() - i);
+    std::copy_n(rays.begin() + i, n, packet.begin());
+    std::fill(packetHits.begin(), packetHits.end(), Hit{});
+    hits += std::popcount(blas.intersectPacket(packet, packetHits, (1u << n) - 1, filters));
+  }
+  return hits;
+}
+
 uint64_t tracePackets(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
   uint64_t hits = 0;
   Ray packet[16];
@@ -276,7 +293,7 @@ int run(int argc, char** argv) {
     return 0;
   }
   const RaySets rays = makeRaySets(scene, blas, 1024, 576, opt.rays, 7);
-  Pair incoherent, shadow, primary;
+  Pair incoherent, shadow, primary, primarySingle;   // primary: our packets; primarySingle: ray by ray
   // Our kernels over Embree's tree (--embree-tree): .ours holds those samples, .embree is unused.
   Pair incoherentEmbreeTree, shadowEmbreeTree;
   bvh_detail::WideBvh embreeTree;
@@ -292,7 +309,8 @@ int run(int argc, char** argv) {
       shadowEmbreeTree.ours.push_back(
           threadCpuSeconds([&] { shadowEmbreeTree.hitsOurs = traceOccluded(embreeTree, rays.shadow); }));
     }
-    primary.ours.push_back(threadCpuSeconds([&] { primary.hitsOurs = traceClosest(blas, rays.primary); }));
+    primary.ours.push_back(threadCpuSeconds([&] { primary.hitsOurs = tracePackets(blas, rays.primary); }));
+    primarySingle.ours.push_back(threadCpuSeconds([&] { primarySingle.hitsOurs = traceClosest(blas, rays.primary); }));
     primary.embree.push_back(threadCpuSeconds([&] { primary.hitsEmbree = tracePackets(*embree, rays.primary); }));
   }
 
@@ -304,6 +322,7 @@ int run(int argc, char** argv) {
   const double sEmbree = mrays(rays.shadow.size(), median(shadow.embree));
   const double pOurs = mrays(rays.primary.size(), median(primary.ours));
   const double pEmbree = mrays(rays.primary.size(), median(primary.embree));
+  const double pSingle = mrays(rays.primary.size(), median(primarySingle.ours));
   const double iTree = opt.embreeTree ? mrays(rays.incoherent.size(), median(incoherentEmbreeTree.ours)) : 0.0;
   const double sTree = opt.embreeTree ? mrays(rays.shadow.size(), median(shadowEmbreeTree.ours)) : 0.0;
   std::string embreeTreeJson;
@@ -336,6 +355,7 @@ int run(int argc, char** argv) {
         "\"incoherent_ratio\": %.3f, \"rays_shadow\": %zu, \"mrays_shadow_ours\": %.3f, "
         "\"mrays_shadow_embree\": %.3f, \"shadow_ratio\": %.3f, \"rays_primary\": %zu, "
         "\"mrays_primary_ours\": %.3f, \"mrays_primary_embree\": %.3f, \"primary_ratio\": %.3f, "
+        "\"mrays_primary_single_ours\": %.3f, \"primary_single_ratio\": %.3f, "
         "\"hits_incoherent_ours\": %llu, \"hits_incoherent_embree\": %llu, \"hits_shadow_ours\": %llu, "
         "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, %s"
         "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_cpu_ms_1t\": %s, \"frame_cpu_ms_2t\": %s, "
@@ -343,7 +363,7 @@ int run(int argc, char** argv) {
         scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), ourKernel, opt.embreeRobust ? "true" : "false", bOurs,
         bEmbree, bOurs / bEmbree, bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree, rays.incoherent.size(), iOurs, iEmbree, iOurs / iEmbree, rays.shadow.size(),
         sOurs, sEmbree, sOurs / sEmbree, rays.primary.size(), pOurs, pEmbree, pOurs / pEmbree,
-        (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
+        pSingle, pSingle / pEmbree, (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
         (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,
         (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree, embreeTreeJson.c_str(),
         frame(frames.oneThreadMs).c_str(), frame(frames.twoThreadsMs).c_str(), frame(frames.oneThreadCpuMs).c_str(),
@@ -360,6 +380,7 @@ int run(int argc, char** argv) {
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "incoherent Mrays/s (1t)", iOurs, iEmbree, iOurs / iEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "shadow Mrays/s (1t)", sOurs, sEmbree, sOurs / sEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "primary Mrays/s (1t)", pOurs, pEmbree, pOurs / pEmbree);
+  std::printf("%-28s %12.3f %12.3f %8.3f\n", "primary, ray by ray", pSingle, pEmbree, pSingle / pEmbree);
   if (opt.embreeTree) {
     std::printf("%-28s %12.3f %12.3f %8.3f\n", "incoherent, Embree's tree", iTree, iEmbree, iTree / iEmbree);
     std::printf("%-28s %12.3f %12.3f %8.3f\n", "shadow, Embree's tree", sTree, sEmbree, sTree / sEmbree);

@@ -2,6 +2,7 @@
 // A rebuild reuses the previous build's memory (mesh copy, binary nodes, and, from the second
 // build on, the builder's scratch arrays), so meshes rebuilt every frame do not page-fault
 // fresh memory on each build.
+#include <bit>
 #include <stdexcept>
 
 #include "renderer/bvh/binary_bvh.h"
@@ -97,6 +98,29 @@ bool Blas::intersect(Ray& ray, Hit& hit, const HitFilter& filter, uint32_t insta
   if (!impl_ || !bvh_detail::isTraceableRay(ray)) return false;
   if (impl_->nodeWidth == 16) return bvh_detail::intersectWide16(impl_->wide16, ray, hit, filter, instanceId);
   return bvh_detail::intersectWide(impl_->wide, ray, hit, filter, instanceId);
+}
+
+uint32_t Blas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_t active,
+                               std::span<const HitFilter> filters, uint32_t instanceId) const {
+  if (!impl_) return 0;
+  active &= (1u << kMaxPacketRays) - 1;
+  const uint32_t highest = active ? 32 - std::countl_zero(active) : 0;
+  if (rays.size() < highest || hits.size() < highest || filters.size() < highest)
+    throw std::invalid_argument("Blas::intersectPacket: spans shorter than the active rays");
+  uint32_t traceable = 0;
+  for (uint32_t r = active; r; r &= r - 1) {
+    const int lane = std::countr_zero(r);
+    if (bvh_detail::isTraceableRay(rays[lane])) traceable |= 1u << lane;
+  }
+  if (impl_->nodeWidth == 16)
+    return bvh_detail::intersectWide16Packet(impl_->wide16, rays.data(), hits.data(), traceable, filters.data(),
+                                             instanceId);
+  uint32_t found = 0;   // the 8-wide layouts trace the rays one by one
+  for (uint32_t r = traceable; r; r &= r - 1) {
+    const int lane = std::countr_zero(r);
+    if (bvh_detail::intersectWide(impl_->wide, rays[lane], hits[lane], filters[lane], instanceId)) found |= 1u << lane;
+  }
+  return found;
 }
 
 bool Blas::occluded(const Ray& ray, const HitFilter& filter, uint32_t instanceId) const {

@@ -35,6 +35,9 @@ struct BvhBuildConfig {
   bool allowAvx512 = true;
 };
 
+/// Most rays one packet query (Blas::intersectPacket, Tlas::intersectPacket) traces.
+inline constexpr uint32_t kMaxPacketRays = 16;
+
 /// Triangle mesh input. Indices are 3 per triangle; masked (optional, one byte per
 /// triangle, non-zero = alpha-tested) selects the triangles whose hits go through the HitFilter.
 struct BlasInput {
@@ -62,6 +65,12 @@ class Blas {
   bool intersect(Ray& ray, Hit& hit, const HitFilter& filter = {}, uint32_t instanceId = 0) const;
   /// Any hit in [ray.tmin, ray.tmax] (shadow rays).
   bool occluded(const Ray& ray, const HitFilter& filter = {}, uint32_t instanceId = 0) const;
+  /// Closest hits of up to kMaxPacketRays rays traced together (coherent rays such as a tile's
+  /// camera rays): for each bit i of active, as intersect(rays[i], hits[i], filters[i],
+  /// instanceId). Returns the bits of the rays that hit. The spans hold at least the highest
+  /// active bit's ray.
+  uint32_t intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_t active,
+                           std::span<const HitFilter> filters, uint32_t instanceId = 0) const;
   /// Bounds of all triangles.
   Bounds bounds() const;
   /// Number of triangles built.
@@ -96,6 +105,11 @@ class Tlas {
   void build(std::span<const TlasInstance> instances);
   /// Closest hit over all instances whose mask matches rayMask.
   bool intersect(Ray& ray, Hit& hit, uint32_t rayMask = 0xffffffffu, const HitFilter& filter = {}) const;
+  /// Closest hits of up to kMaxPacketRays rays traced together, over all instances whose mask
+  /// matches rayMask: for each bit i of active, as intersect(rays[i], hits[i], rayMask,
+  /// filters[i]). Returns the bits of the rays that hit.
+  uint32_t intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_t active, uint32_t rayMask,
+                           std::span<const HitFilter> filters) const;
   /// Any hit over all instances whose mask matches rayMask.
   bool occluded(const Ray& ray, uint32_t rayMask = 0xffffffffu, const HitFilter& filter = {}) const;
   /// World bounds of all instances.

@@ -2,7 +2,10 @@
 // kFlatInstances of them (a game frame's movers, items and effect batches), else through a binary
 // BVH over them. Either way instances are entered nearest box first; each transforms the ray into
 // object space (without normalising the direction, so t stays the world-space t) and traces its Blas.
+#include <algorithm>
 #include <array>
+#include <bit>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -98,6 +101,67 @@ uint32_t enteredBoxes(std::span<const BoxGroup> groups, const Ray& ray, float tm
   return count;
 }
 
+/// Interval bounds of a packet of rays that share one octant (finite inverse directions): a box
+/// that no origin in [oLo, oHi] along no inverse direction in [iLo, iHi] enters is culled for
+/// the whole packet before any ray is tested on its own.
+struct PacketInterval {
+  float oLo[3], oHi[3], iLo[3], iHi[3];
+  float tminLo = std::numeric_limits<float>::infinity();
+  int nearSide[3] = {0, 0, 0};
+  bool valid = false;   ///< False when the rays span octants or run along an axis plane.
+};
+
+PacketInterval packetInterval(std::span<const Ray> rays, uint32_t lanes) {
+  PacketInterval p;
+  for (int axis = 0; axis < 3; ++axis) {
+    p.oLo[axis] = p.iLo[axis] = std::numeric_limits<float>::infinity();
+    p.oHi[axis] = p.iHi[axis] = -std::numeric_limits<float>::infinity();
+  }
+  int octant = -1;
+  for (uint32_t r = lanes; r; r &= r - 1) {
+    const Ray& ray = rays[std::countr_zero(r)];
+    const int o = std::signbit(ray.dir.x) | std::signbit(ray.dir.y) << 1 | std::signbit(ray.dir.z) << 2;
+    if (octant >= 0 && o != octant) return p;
+    octant = o;
+    for (int axis = 0; axis < 3; ++axis) {
+      const float inverse = 1.0f / ray.dir[axis];
+      if (ray.dir[axis] == 0.0f || !std::isfinite(inverse)) return p;
+      p.oLo[axis] = std::min(p.oLo[axis], ray.origin[axis]);
+      p.oHi[axis] = std::max(p.oHi[axis], ray.origin[axis]);
+      p.iLo[axis] = std::min(p.iLo[axis], inverse);
+      p.iHi[axis] = std::max(p.iHi[axis], inverse);
+    }
+    p.tminLo = std::min(p.tminLo, ray.tmin);
+  }
+  for (int axis = 0; axis < 3; ++axis) p.nearSide[axis] = (octant >> axis) & 1;
+  p.valid = octant >= 0;
+  return p;
+}
+
+/// False only when no ray of the packet can enter the box before tmaxHi: (bound - origin) *
+/// inverse bounded over the intervals' corners, as each ray's slab test rounds it (rounding is
+/// monotonic, so the bounds hold for the rounded per-ray values too).
+bool packetMayEnter(const PacketInterval& p, const Bounds& box, float tmaxHi) {
+  float tNear = p.tminLo, tFar = tmaxHi;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float nearBound = p.nearSide[axis] ? box.max[axis] : box.min[axis];
+    const float farBound = p.nearSide[axis] ? box.min[axis] : box.max[axis];
+    const float n0 = nearBound - p.oHi[axis], n1 = nearBound - p.oLo[axis];
+    const float f0 = farBound - p.oHi[axis], f1 = farBound - p.oLo[axis];
+    tNear = std::max({tNear, std::min({n0 * p.iLo[axis], n0 * p.iHi[axis], n1 * p.iLo[axis], n1 * p.iHi[axis]})});
+    tFar = std::min({tFar, std::max({f0 * p.iLo[axis], f0 * p.iHi[axis], f1 * p.iLo[axis], f1 * p.iHi[axis]})});
+  }
+  return tNear <= tFar * bvh_detail::kRobustFarScale;
+}
+
+/// An instance some rays of a packet enter: each ray's entry distance (inf: not entered).
+struct PacketCandidate {
+  float nearest;
+  uint32_t instance;
+  uint32_t rays;
+  std::array<float, kMaxPacketRays> entry;
+};
+
 /// Removes and returns the nearest candidate (the first of equal ones).
 Candidate takeNearest(std::array<Candidate, kFlatInstances>& candidates, uint32_t& count) {
   uint32_t best = 0;
@@ -115,6 +179,7 @@ struct Tlas::Impl {
   std::vector<PlacedInstance> instances;   // only instances with geometry, in BVH leaf order source
   bvh_detail::BinaryBvh bvh;               // built when there are more than kFlatInstances
   std::vector<BoxGroup> groups;            // the instances' boxes, 8 to a group, when at most kFlatInstances
+  std::vector<Bounds> worldBounds;         // the instances' boxes, when at most kFlatInstances
   Bounds bounds;
 
   /// Visits the instances whose boxes the ray enters, nearest box first, while their entry is
@@ -177,6 +242,7 @@ void Tlas::build(std::span<const TlasInstance> instances) {
     next->bounds.extend(worldBounds.back());
   }
   if (worldBounds.size() <= kFlatInstances) {
+    next->worldBounds = worldBounds;
     next->groups.resize((worldBounds.size() + kLanes - 1) / kLanes);
     for (BoxGroup& group : next->groups) group = BoxGroup{};   // unused lanes: mask 0
     for (size_t i = 0; i < worldBounds.size(); ++i) {
@@ -209,6 +275,74 @@ bool Tlas::intersect(Ray& ray, Hit& hit, uint32_t rayMask, const HitFilter& filt
     }
     return false;
   });
+  return found;
+}
+
+uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_t active, uint32_t rayMask,
+                               std::span<const HitFilter> filters) const {
+  active &= (1u << kMaxPacketRays) - 1;
+  const uint32_t highest = active ? 32 - std::countl_zero(active) : 0;
+  if (rays.size() < highest || hits.size() < highest || filters.size() < highest)
+    throw std::invalid_argument("Tlas::intersectPacket: spans shorter than the active rays");
+  if (!impl_) return 0;
+  const Impl& self = *impl_;
+  uint32_t traceable = 0;
+  for (uint32_t r = active; r; r &= r - 1)
+    if (bvh_detail::isTraceableRay(rays[std::countr_zero(r)])) traceable |= 1u << std::countr_zero(r);
+  uint32_t found = 0;
+  if (self.groups.empty() || std::popcount(traceable) < 2) {   // many instances, or one ray: ray by ray
+    for (uint32_t r = traceable; r; r &= r - 1) {
+      const int lane = std::countr_zero(r);
+      if (intersect(rays[lane], hits[lane], rayMask, filters[lane])) found |= 1u << lane;
+    }
+    return found;
+  }
+  // Which rays enter which instance box (each ray's own slab test, as forEachEntered's), after
+  // the packet's interval test has culled the boxes no ray can enter.
+  const PacketInterval interval = packetInterval(rays, traceable);
+  float tmaxHi = -std::numeric_limits<float>::infinity();
+  for (uint32_t r = traceable; r; r &= r - 1) tmaxHi = std::max(tmaxHi, rays[std::countr_zero(r)].tmax);
+  std::array<PacketCandidate, kFlatInstances> candidates;
+  uint32_t count = 0;
+  for (uint32_t k = 0; k < self.instances.size(); ++k) {
+    if ((self.instances[k].mask & rayMask) == 0) continue;
+    const Bounds& box = self.worldBounds[k];
+    if (interval.valid && !packetMayEnter(interval, box, tmaxHi)) continue;
+    PacketCandidate& c = candidates[count];
+    c.nearest = std::numeric_limits<float>::infinity();
+    c.instance = k;
+    c.rays = 0;
+    for (uint32_t r = traceable; r; r &= r - 1) {
+      const int lane = std::countr_zero(r);
+      const bvh_detail::SlabRay slab(rays[lane].origin, rays[lane].dir);
+      c.entry[lane] = bvh_detail::slabEntry(slab, box, rays[lane].tmin, rays[lane].tmax);
+      if (c.entry[lane] == std::numeric_limits<float>::infinity()) continue;
+      c.rays |= 1u << lane;
+      c.nearest = std::min(c.nearest, c.entry[lane]);
+    }
+    if (c.rays) ++count;
+  }
+  // Nearest box first (over the packet's rays); each ray enters only while its entry is within
+  // its current tmax, as forEachEntered stops a single ray.
+  std::sort(candidates.begin(), candidates.begin() + count, [](const PacketCandidate& a, const PacketCandidate& b) {
+    return a.nearest < b.nearest || (a.nearest == b.nearest && a.instance < b.instance);
+  });
+  std::array<Ray, kMaxPacketRays> local;
+  for (uint32_t i = 0; i < count; ++i) {
+    const PacketCandidate& c = candidates[i];
+    uint32_t live = 0;
+    for (uint32_t r = c.rays; r; r &= r - 1) {
+      const int lane = std::countr_zero(r);
+      if (c.entry[lane] > rays[lane].tmax * bvh_detail::kRobustFarScale) continue;
+      live |= 1u << lane;
+    }
+    if (!live) continue;
+    const PlacedInstance& inst = self.instances[c.instance];
+    for (uint32_t r = live; r; r &= r - 1) local[std::countr_zero(r)] = self.toObject(inst, rays[std::countr_zero(r)]);
+    const uint32_t hitLanes = inst.blas->intersectPacket(local, hits, live, filters, inst.index);
+    for (uint32_t r = hitLanes; r; r &= r - 1) rays[std::countr_zero(r)].tmax = local[std::countr_zero(r)].tmax;
+    found |= hitLanes;
+  }
   return found;
 }
 

@@ -1,0 +1,200 @@
+// Packet queries (Blas::intersectPacket, Tlas::intersectPacket) against tracing the same rays one
+// by one: per ray the same hit or miss, the same distance bit for bit and the same instance, the
+// same triangle and barycentrics unless two triangles are hit at exactly the same distance, and
+// each ray's own filter. Packets of camera rays (one origin, one octant), of rays spanning
+// octants, of rays along axis planes (zero direction components), partly active packets, and
+// instanced scenes with flat and hierarchical TLASes, on both node widths.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
+#include <utility>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "renderer/bvh/bvh.h"
+#include "renderer/bvh/testing/scene_generators.h"
+#include "renderer/bvh/wide16_bvh.h"
+
+namespace pa::testing {
+namespace {
+
+/// Per-ray alpha test stand-in: the ray's lane (ctx) changes which hits count, so a kernel that
+/// gave one ray another ray's filter would be caught.
+bool rejectByLane(const void* ctx, uint32_t, uint32_t prim, float u, float) {
+  const auto lane = static_cast<uint32_t>(reinterpret_cast<uintptr_t>(ctx));
+  return (prim + lane) % 3 != 0 && u <= 0.7f;
+}
+
+/// Camera rays through a width x height image from eye towards target, in 4x4 tiles (16
+/// consecutive rays = one tile), as the renderer's tiles make them.
+std::vector<Ray> cameraTiles(const glm::vec3& eye, const glm::vec3& target, uint32_t width, uint32_t height,
+                             float tmax = std::numeric_limits<float>::infinity()) {
+  const glm::vec3 forward = glm::normalize(target - eye);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0.0f, 0.0f, 1.0f)));
+  const glm::vec3 up = glm::cross(right, forward);
+  std::vector<Ray> rays;
+  for (uint32_t ty = 0; ty < height; ty += 4)
+    for (uint32_t tx = 0; tx < width; tx += 4)
+      for (uint32_t y = ty; y < ty + 4; ++y)
+        for (uint32_t x = tx; x < tx + 4; ++x) {
+          Ray r;
+          r.origin = eye;
+          r.dir = glm::normalize(forward + (2.0f * (x + 0.5f) / width - 1.0f) * right +
+                                 (1.0f - 2.0f * (y + 0.5f) / height) * up);
+          r.tmax = tmax;
+          rays.push_back(r);
+        }
+  return rays;
+}
+
+/// Some rays with exactly zero direction components, and axis-aligned rays, mixed into packets.
+std::vector<Ray> axisPlaneRays(const Bounds& region, uint32_t count, uint32_t seed) {
+  std::vector<Ray> rays = makeRandomRays(region, count, seed);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (i % 3 == 0) rays[i].dir[i % 9 / 3] = 0.0f;
+    if (i % 7 == 0) rays[i].dir = glm::vec3(0.0f, 0.0f, i % 2 ? 1.0f : -1.0f);
+  }
+  return rays;
+}
+
+/// Traces rays in packets of 16 (active lanes per activePattern) with tracePacket and one by
+/// one with traceOne, and compares; returns the number of hits.
+template <class PacketFn, class OneFn>
+uint32_t expectSameAsOneByOne(const std::vector<Ray>& rays, bool filtered, uint32_t activePattern,
+                              PacketFn&& tracePacket, OneFn&& traceOne) {
+  std::array<HitFilter, kMaxPacketRays> filters;
+  for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane)
+    filters[lane] = filtered ? HitFilter{rejectByLane, reinterpret_cast<const void*>(uintptr_t{lane})} : HitFilter{};
+  uint32_t hits = 0;
+  for (size_t base = 0; base + kMaxPacketRays <= rays.size(); base += kMaxPacketRays) {
+    std::array<Ray, kMaxPacketRays> packet;
+    std::array<Hit, kMaxPacketRays> packetHits;
+    std::copy_n(rays.begin() + base, kMaxPacketRays, packet.begin());
+    const uint32_t active = activePattern;
+    const uint32_t found = tracePacket(packet, packetHits, active, filters);
+    EXPECT_EQ(found & ~active, 0u);
+    for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
+      Ray one = rays[base + lane];
+      Hit oneHit;
+      if (!(active >> lane & 1)) {
+        EXPECT_EQ(packet[lane].tmax, one.tmax) << "an idle lane's ray changed";
+        EXPECT_FALSE(packetHits[lane].valid()) << "an idle lane got a hit";
+        continue;
+      }
+      const bool hitOne = traceOne(one, oneHit, filters[lane]);
+      const bool hitPacket = (found >> lane & 1) != 0;
+      EXPECT_EQ(hitPacket, hitOne) << "ray " << base + lane;
+      if (!hitOne || !hitPacket) continue;
+      ++hits;
+      EXPECT_EQ(packetHits[lane].t, oneHit.t) << "ray " << base + lane;
+      EXPECT_EQ(packet[lane].tmax, one.tmax) << "ray " << base + lane;
+      EXPECT_EQ(packetHits[lane].instance, oneHit.instance) << "ray " << base + lane;
+      if (packetHits[lane].prim == oneHit.prim) {
+        EXPECT_EQ(packetHits[lane].u, oneHit.u);
+        EXPECT_EQ(packetHits[lane].v, oneHit.v);
+      }
+    }
+  }
+  return hits;
+}
+
+struct PacketCase {
+  uint32_t nodeWidth;
+  bool filtered;
+};
+
+class BlasPackets : public ::testing::TestWithParam<PacketCase> {};
+
+TEST_P(BlasPackets, SameHitsAsRayByRay) {
+  const PacketCase param = GetParam();
+  if (param.nodeWidth == 16 && !bvh_detail::wide16Available()) GTEST_SKIP() << "no AVX-512 on this CPU";
+  const std::pair<TestMesh, uint32_t> meshes[] = {   // mesh, hits the comparison must see at least
+      {makeTriangleSoup(20000, 5), 2000}, {makeThinTriangles(3000, 9), 50}, {makeSphere(5000), 2000}};
+  for (const auto& [source, minimumHits] : meshes) {
+    TestMesh m = source;
+    if (param.filtered) {
+      m.masked.assign(m.triangleCount(), 0);
+      for (uint32_t i = 0; i < m.triangleCount(); i += 2) m.masked[i] = 1;
+    }
+    BvhBuildConfig config;
+    config.nodeWidth = param.nodeWidth;
+    Blas blas;
+    blas.build(m.input(), config);
+    const auto packet = [&](std::array<Ray, 16>& rays, std::array<Hit, 16>& hits, uint32_t active,
+                            const std::array<HitFilter, 16>& filters) {
+      return blas.intersectPacket(rays, hits, active, filters, 3);
+    };
+    const auto one = [&](Ray& r, Hit& h, const HitFilter& f) { return blas.intersect(r, h, f, 3); };
+    Bounds region = m.bounds();
+    region.min -= glm::vec3(0.5f);
+    region.max += glm::vec3(0.5f);
+    uint32_t hits = 0;
+    // Camera tiles from outside and from inside the mesh's bounds, with a finite tmax too.
+    hits += expectSameAsOneByOne(cameraTiles({3.0f, -2.5f, 1.5f}, {0.0f, 0.0f, 0.0f}, 64, 48), param.filtered,
+                                 0xffffu, packet, one);
+    hits += expectSameAsOneByOne(cameraTiles({0.1f, 0.2f, 0.05f}, {1.0f, -0.3f, 0.2f}, 64, 48, 0.8f), param.filtered,
+                                 0xffffu, packet, one);
+    // Partly active camera packets, random rays spanning octants, rays along axis planes.
+    hits += expectSameAsOneByOne(cameraTiles({-2.0f, 2.0f, -1.0f}, {0.0f, 0.0f, 0.0f}, 32, 32), param.filtered,
+                                 0x5a3cu, packet, one);
+    hits += expectSameAsOneByOne(makeRandomRays(region, 4096, 17), param.filtered, 0xffffu, packet, one);
+    hits += expectSameAsOneByOne(axisPlaneRays(region, 4096, 23), param.filtered, 0xfff7u, packet, one);
+    EXPECT_GT(hits, minimumHits);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Widths, BlasPackets,
+                         ::testing::Values(PacketCase{16, false}, PacketCase{16, true}, PacketCase{8, false},
+                                           PacketCase{8, true}));
+
+class TlasPackets : public ::testing::TestWithParam<uint32_t> {};
+
+TEST_P(TlasPackets, SameHitsAsRayByRay) {
+  const uint32_t instanceCount = GetParam();
+  std::mt19937 rng(instanceCount);
+  const TestMesh soup = makeTriangleSoup(3000, 41, 0.2f);
+  const TestMesh sphere = makeSphere(800);
+  Blas soupBlas, sphereBlas;
+  soupBlas.build(soup.input());
+  sphereBlas.build(sphere.input());
+  std::vector<TlasInstance> instances(instanceCount);
+  for (uint32_t i = 0; i < instanceCount; ++i) {
+    instances[i].blas = i % 2 ? &sphereBlas : &soupBlas;
+    instances[i].objectToWorld = i == 0 ? glm::mat4x3(4.0f) : makeRandomTransform(rng, 6.0f);   // a big "world"
+    instances[i].mask = i % 5 == 4 ? 2u : 1u;
+  }
+  Tlas tlas;
+  tlas.build(instances);
+  for (const uint32_t rayMask : {1u, 3u}) {
+    const auto packet = [&](std::array<Ray, 16>& rays, std::array<Hit, 16>& hits, uint32_t active,
+                            const std::array<HitFilter, 16>& filters) {
+      return tlas.intersectPacket(rays, hits, active, rayMask, filters);
+    };
+    const auto one = [&](Ray& r, Hit& h, const HitFilter& f) { return tlas.intersect(r, h, rayMask, f); };
+    uint32_t hits = 0;
+    hits += expectSameAsOneByOne(cameraTiles({15.0f, -12.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, 64, 64), false, 0xffffu,
+                                 packet, one);
+    hits += expectSameAsOneByOne(cameraTiles({0.5f, 0.5f, 0.5f}, {3.0f, 1.0f, -1.0f}, 32, 32), false, 0xbeefu,
+                                 packet, one);
+    hits += expectSameAsOneByOne(makeRandomRays(tlas.bounds(), 2048, 7), false, 0xffffu, packet, one);
+    EXPECT_GT(hits, 500u);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(InstanceCounts, TlasPackets, ::testing::Values(1u, 9u, 64u, 65u));
+
+TEST(Packets, ShortSpansAreRejected) {
+  Blas blas;
+  blas.build(makeSphere(100).input());
+  std::array<Ray, 4> rays;
+  std::array<Hit, 4> hits;
+  std::array<HitFilter, 4> filters;
+  EXPECT_THROW(blas.intersectPacket(rays, hits, 0x1fu, filters), std::invalid_argument);
+  EXPECT_EQ(blas.intersectPacket(rays, hits, 0u, filters), 0u);
+}
+
+}  // namespace
+}  // namespace pa::testing
