@@ -3,6 +3,7 @@
 #include "renderer/scene/renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -27,6 +28,8 @@ namespace pa {
 namespace {
 
 constexpr uint32_t kTileSize = 16;
+constexpr uint32_t kBlockSide = 4;   // camera-ray packets: 4x4 pixels (bvh.h kMaxPacketRays)
+static_assert(kBlockSide * kBlockSide <= kMaxPacketRays && kTileSize % kBlockSide == 0);
 constexpr uint32_t kMaxImageSide = 16384;
 constexpr uint32_t kMaxSamplesPerPixel = 1u << 16;
 
@@ -174,26 +177,48 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
         const uint32_t y0 = (tile / tilesX) * kTileSize;
         const uint32_t x1 = std::min(x0 + kTileSize, settings.width);
         const uint32_t y1 = std::min(y0 + kTileSize, settings.height);
-        for (uint32_t y = y0; y < y1; ++y) {
-          for (uint32_t x = x0; x < x1; ++x) {
-            const uint32_t pixelSeed = sampling::hashCombine(seedHash, y * settings.width + x);
-            PixelAccumulator& acc = film.pixel(x, y);
-            bool overlaySeen = false;
-            const bool coveredBefore = restartOverlayPixels && film.overlayAt(x, y);
-            bool restarted = false;
+        // Blocks of 4x4 pixels: each sample's camera rays of a block are traced as one packet.
+        for (uint32_t by = y0; by < y1; by += kBlockSide) {
+          for (uint32_t bx = x0; bx < x1; bx += kBlockSide) {
+            struct PixelState {
+              uint32_t x, y, seed;
+              bool overlaySeen = false, coveredBefore = false, restarted = false;
+            };
+            std::array<PixelState, kBlockSide * kBlockSide> pixels;
+            uint32_t count = 0;
+            for (uint32_t y = by; y < std::min(by + kBlockSide, y1); ++y)
+              for (uint32_t x = bx; x < std::min(bx + kBlockSide, x1); ++x)
+                pixels[count++] = {x, y, sampling::hashCombine(seedHash, y * settings.width + x), false,
+                                   restartOverlayPixels && film.overlayAt(x, y), false};
+            std::array<TracedCameraRay, kBlockSide * kBlockSide> traced;
             for (uint32_t s = 0; s < settings.samplesPerPixel; ++s) {
-              const sampling::PixelSampler sampler(pixelSeed, firstSample + s);
-              const glm::vec4 jitter = sampler.get4(0);
-              const PixelSample sample = traceSample(scene, rays, settings, static_cast<float>(x) + jitter.x,
-                                                     static_cast<float>(y) + jitter.y, sampler);
-              overlaySeen = overlaySeen || sample.overlay;
-              if (restartOverlayPixels && !restarted && (coveredBefore || sample.overlay)) {
-                acc = PixelAccumulator{};   // the overlay's old picture, or the world now under it, goes
-                restarted = true;
+              if (settings.cameraPackets) {
+                for (uint32_t i = 0; i < count; ++i) {
+                  const sampling::PixelSampler sampler(pixels[i].seed, firstSample + s);
+                  const glm::vec4 jitter = sampler.get4(0);
+                  traced[i].ray = rays.generate(static_cast<float>(pixels[i].x) + jitter.x,
+                                                static_cast<float>(pixels[i].y) + jitter.y);
+                  traced[i].randomBits = cameraRayBits(sampler);
+                }
+                scene.intersectCameraPacket(std::span(traced.data(), count));
               }
-              acc.add(sample);
+              for (uint32_t i = 0; i < count; ++i) {
+                PixelState& p = pixels[i];
+                const sampling::PixelSampler sampler(p.seed, firstSample + s);
+                const glm::vec4 jitter = sampler.get4(0);
+                const PixelSample sample =
+                    traceSample(scene, rays, settings, static_cast<float>(p.x) + jitter.x,
+                                static_cast<float>(p.y) + jitter.y, sampler, settings.cameraPackets ? &traced[i] : nullptr);
+                PixelAccumulator& acc = film.pixel(p.x, p.y);
+                p.overlaySeen = p.overlaySeen || sample.overlay;
+                if (restartOverlayPixels && !p.restarted && (p.coveredBefore || sample.overlay)) {
+                  acc = PixelAccumulator{};   // the overlay's old picture, or the world now under it, goes
+                  p.restarted = true;
+                }
+                acc.add(sample);
+              }
             }
-            film.setOverlayAt(x, y, overlaySeen);
+            for (uint32_t i = 0; i < count; ++i) film.setOverlayAt(pixels[i].x, pixels[i].y, pixels[i].overlaySeen);
           }
         }
       }

@@ -330,6 +330,9 @@ struct RenderSettings {
   /// Edge-aware à-trous filter of the mean (renderer/scene/denoise) before exposure and tonemap:
   /// the returned radiance and rgba8 are filtered, the accumulation is not (does not reset it).
   bool denoise = false;
+  /// Trace camera rays 4x4 pixels at a time (BVH packet queries): the same image, faster; false
+  /// traces them one by one (for A/B measurements). Does not reset accumulation.
+  bool cameraPackets = true;
 };
 
 }  // namespace pa

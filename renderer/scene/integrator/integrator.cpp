@@ -25,7 +25,7 @@ constexpr float kMinCosForFootprint = 0.05f;
 // Sampler dimension groups within one path vertex.
 constexpr uint32_t kGroupLight = 1;     // light choice, light point (2), sky cell
 constexpr uint32_t kGroupBsdf = 2;      // direction (2), lobe choice, roulette
-constexpr uint32_t kGroupRays = 3;      // random bits for stochastic transparency
+constexpr uint32_t kGroupRays = kGroupRayBits;   // random bits for stochastic transparency
 
 float maxComponent(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
 
@@ -126,9 +126,9 @@ glm::vec3 additiveThroughFog(const AdditiveHits& additive, float tHit, const Fog
 }  // namespace
 
 PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
-                        float px, float py, const sampling::PixelSampler& sampler) {
+                        float px, float py, const sampling::PixelSampler& sampler, const TracedCameraRay* traced) {
   PixelSample out;
-  Ray ray = camera.generate(px, py);
+  Ray ray = traced ? traced->ray : camera.generate(px, py);
   glm::vec3 radiance(0.0f);
   glm::vec3 seen(0.0f);   // the part of radiance gathered before the first scattering
   glm::vec3 beta(1.0f);
@@ -163,8 +163,15 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     AdditiveHits additive;
     Hit hit;
     bool onOverlay = false;
-    const bool found =
-        traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
+    bool found;
+    if (depth == 0 && traced) {   // the camera ray was traced ahead (as traceClosest would have)
+      hit = traced->hit;
+      onOverlay = traced->onOverlay;
+      additive = traced->additive;
+      found = traced->found;
+    } else {
+      found = traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
+    }
     const float tHit = found ? hit.t : kInfinity;
     if (depth == 0) out.overlay = found && onOverlay;
     const glm::vec3 dir = glm::normalize(ray.dir);

@@ -14,10 +14,18 @@ namespace pa {
 
 /// Traces one camera sample through film position (px, py) and returns radiance and AOVs.
 /// A pure function of its arguments (the sampler carries pixel, seed and sample index).
+/// `traced`, when given, is this sample's camera ray already traced (cameraRayBits, packets of
+/// RenderScene::intersectCameraPacket): the sample starts from its hit instead of tracing it.
 PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
-                        float px, float py, const sampling::PixelSampler& sampler);
+                        float px, float py, const sampling::PixelSampler& sampler,
+                        const TracedCameraRay* traced = nullptr);
 
 /// Dimension groups of the sampler used per path vertex (group = kGroupsPerVertex * depth + k).
 inline constexpr uint32_t kGroupsPerVertex = 4;
+/// The group within a vertex whose bits seed the vertex's ray (stochastic transparency).
+inline constexpr uint32_t kGroupRayBits = 3;
+
+/// TraceRequest::randomBits of the camera ray of the sample that `sampler` draws.
+inline uint32_t cameraRayBits(const sampling::PixelSampler& sampler) { return sampler.bits(kGroupRayBits); }
 
 }  // namespace pa

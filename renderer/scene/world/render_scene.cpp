@@ -1,6 +1,8 @@
 #include "renderer/scene/world/render_scene.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -146,6 +148,49 @@ bool RenderScene::intersect(Ray& ray, Hit& hit, const TraceRequest& request) con
   const HitFilter filter{&acceptCandidate, &ctx};
   const Tlas& tlas = request.overlay ? overlayTlas : worldTlas;
   return tlas.intersect(ray, hit, rayMaskFor(request.kind), filter);
+}
+
+void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
+  const uint32_t count = static_cast<uint32_t>(std::min<size_t>(rays.size(), kMaxPacketRays));
+  std::array<Ray, kMaxPacketRays> packet;
+  std::array<Hit, kMaxPacketRays> hits;
+  std::array<TraceRequest, kMaxPacketRays> requests;
+  std::array<FilterContext, kMaxPacketRays> contexts;
+  std::array<HitFilter, kMaxPacketRays> filters;
+  for (uint32_t i = 0; i < count; ++i) {
+    TracedCameraRay& r = rays[i];
+    r.found = r.onOverlay = false;
+    r.hit = Hit{};
+    r.additive.count = 0;
+    requests[i].kind = RayKind::Camera;
+    requests[i].randomBits = r.randomBits;
+    requests[i].additive = &r.additive;
+  }
+  const uint32_t all = count == 32 ? ~0u : (1u << count) - 1;
+  uint32_t remaining = all;
+  // drawOnTop instances first; the rays that miss them go on into the world.
+  for (const bool overlayPass : {true, false}) {
+    const auto& instances = instancesFor(*this, overlayPass);
+    if (instances.empty() || remaining == 0) continue;
+    for (uint32_t r = remaining; r; r &= r - 1) {
+      const int i = std::countr_zero(r);
+      packet[i] = rays[i].ray;
+      hits[i] = Hit{};
+      requests[i].overlay = overlayPass;
+      contexts[i] = FilterContext{this, overlayPass, &packet[i], &requests[i]};
+      filters[i] = HitFilter{&acceptCandidate, &contexts[i]};
+    }
+    const Tlas& tlas = overlayPass ? overlayTlas : worldTlas;
+    const uint32_t found = tlas.intersectPacket(packet, hits, remaining, rayMaskFor(RayKind::Camera), filters);
+    for (uint32_t r = found; r; r &= r - 1) {
+      const int i = std::countr_zero(r);
+      rays[i].ray = packet[i];
+      rays[i].hit = hits[i];
+      rays[i].found = true;
+      rays[i].onOverlay = overlayPass;
+    }
+    remaining &= ~found;
+  }
 }
 
 bool RenderScene::occluded(const Ray& shadowRay, const TraceRequest& request) const {

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <glm/mat3x3.hpp>
@@ -77,6 +78,17 @@ struct TraceRequest {
   AdditiveHits* additive = nullptr; ///< Collects additive surfaces (camera and bounce rays).
 };
 
+/// A camera ray traced ahead of its sample (RenderScene::intersectCameraPacket): what the
+/// integrator's first closest-hit query would have returned.
+struct TracedCameraRay {
+  Ray ray;                  ///< In: the camera ray; out: tmax shortened to the hit.
+  uint32_t randomBits = 0;  ///< In: TraceRequest::randomBits of the camera ray.
+  Hit hit;                  ///< Out: the closest hit (valid when found).
+  bool found = false;       ///< Out: something was hit.
+  bool onOverlay = false;   ///< Out: the hit is on a drawOnTop instance.
+  AdditiveHits additive;    ///< Out: additive surfaces crossed (TraceRequest::additive).
+};
+
 /// Everything the integrator needs about a hit point.
 struct SurfaceHit {
   const RenderInstance* instance = nullptr;
@@ -116,6 +128,10 @@ struct RenderScene {
   const MaterialRecord& materialOf(const RenderInstance& instance, uint32_t prim) const;
   /// Closest hit; on a hit shortens ray.tmax and fills hit.
   bool intersect(Ray& ray, Hit& hit, const TraceRequest& request) const;
+  /// Closest hits of up to kMaxPacketRays camera rays traced together: for each, what
+  /// intersect() with RayKind::Camera and its additive collection gives, drawOnTop instances
+  /// first (as the integrator's camera query), the same hit per ray as one by one.
+  void intersectCameraPacket(std::span<TracedCameraRay> rays) const;
   /// Any blocking hit (shadow rays).
   bool occluded(const Ray& ray, const TraceRequest& request) const;
   /// Interpolated surface data at a hit from intersect() with the same `overlay` choice.
