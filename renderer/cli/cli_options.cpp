@@ -87,12 +87,17 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
       name = arg.substr(0, eq);
       inlineValue = arg.substr(eq + 1);
     }
-    if (name == "--progress" || name == "--quiet" || name == "-q" || name == "--denoise") {
+    if (name == "--progress" || name == "--quiet" || name == "-q" || name == "--denoise" ||
+        name == "--no-camera-packets") {
       if (inlineValue) {
         message = std::string(name) + " takes no value";
         return result;
       }
-      (name == "--progress" ? o.progress : name == "--denoise" ? o.denoise : o.quiet) = true;
+      if (name == "--no-camera-packets") {
+        o.cameraPackets = false;
+      } else {
+        (name == "--progress" ? o.progress : name == "--denoise" ? o.denoise : o.quiet) = true;
+      }
       continue;
     }
     std::string_view value;
@@ -222,6 +227,8 @@ Image and sampling:
   --threads T            Worker threads (default 0 = all cores)
   --denoise              Edge-aware a-trous filter of the image (albedo/normal/depth guided;
                          meant for 1..few spp): the PNG and the EXR's R,G,B are filtered
+  --no-camera-packets    Trace camera rays one by one instead of in 4x4 packets (same image;
+                         for speed comparisons)
 
 View:
   --camera INDEX         Camera of the scene to render (default 0). Without any camera in the

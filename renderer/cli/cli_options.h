@@ -34,6 +34,7 @@ struct CliOptions {
   bool progress = false;                        ///< Force the progress bar even when stderr is not a TTY.
   bool quiet = false;                           ///< No progress bar and no warnings; summary only.
   bool denoise = false;                         ///< Filter the image with the à-trous denoiser (--denoise).
+  bool cameraPackets = true;                    ///< Camera rays in 4x4 packets (off: --no-camera-packets).
 };
 
 /// Outcome of parsing.

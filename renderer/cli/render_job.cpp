@@ -137,6 +137,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.exposure = options.autoExposure ? 1.0f : options.exposure;
     settings.tonemap = options.tonemap;
     settings.denoise = options.denoise;
+    settings.cameraPackets = options.cameraPackets;
     const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);
 
     const bool showProgress = !options.quiet && (options.progress || ::isatty(::fileno(log)));

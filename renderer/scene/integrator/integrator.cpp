@@ -160,18 +160,20 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
   for (uint32_t depth = 0;; ++depth) {
     const uint32_t viewDepth = depth - portalsCrossed;
     const uint32_t group = kGroupsPerVertex * depth;
-    AdditiveHits additive;
+    AdditiveHits collected;
+    const AdditiveHits* crossed = &collected;   // additive surfaces along this segment
     Hit hit;
     bool onOverlay = false;
     bool found;
     if (depth == 0 && traced) {   // the camera ray was traced ahead (as traceClosest would have)
       hit = traced->hit;
       onOverlay = traced->onOverlay;
-      additive = traced->additive;
+      crossed = &traced->additive;
       found = traced->found;
     } else {
-      found = traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, additive, onOverlay);
+      found = traceClosest(scene, ray, hit, depth, sampler.bits(group + kGroupRays), prev.delta, collected, onOverlay);
     }
+    const AdditiveHits& additive = *crossed;
     const float tHit = found ? hit.t : kInfinity;
     if (depth == 0) out.overlay = found && onOverlay;
     const glm::vec3 dir = glm::normalize(ray.dir);
