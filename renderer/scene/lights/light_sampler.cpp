@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
+
+#include <immintrin.h>
 
 #include <glm/geometric.hpp>
 
@@ -40,12 +43,24 @@ double analyticPower(const LightDesc& l, double sceneRadius) {
   return 0.0;
 }
 
-/// localLightWeight at p, 0 where it is not a positive finite number or where the light lies
-/// wholly on or below the tangent plane of normal n (nothing there to reflect).
-float lampWeight(const LightDesc& l, const glm::vec3& p, const glm::vec3& n) {
-  if (glm::dot(l.position - p, n) + l.radius <= 0.0f && n != glm::vec3(0.0f)) return 0.0f;
-  const float w = localLightWeight(l, p);
-  return std::isfinite(w) && w > 0.0f ? w : 0.0f;
+/// Eight floats (GCC/Clang vector extension: one AVX register, or two SSE halves).
+using Lanes = float __attribute__((vector_size(32)));
+
+Lanes load(const float* p) {
+  Lanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+Lanes maxLanes(Lanes a, Lanes b) { return a > b ? a : b; }
+
+Lanes sqrtLanes(Lanes v) {
+#if defined(__AVX__)
+  return reinterpret_cast<Lanes>(_mm256_sqrt_ps(reinterpret_cast<__m256>(v)));
+#else
+  for (int i = 0; i < 8; ++i) v[i] = std::sqrt(v[i]);
+  return v;
+#endif
 }
 
 /// Summed area of the sky windows.
@@ -147,6 +162,20 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
     if (!(std::isfinite(p) && p > 0.0)) continue;   // dark (a pooled light switched off): weight 0 everywhere
     localLights_.push_back(i);
     localPower += p;
+  }
+  lampGroups_.assign((localLights_.size() + 7) / 8, LampGroup{});
+  for (size_t k = 0; k < localLights_.size(); ++k) {
+    const LightDesc& l = analytic_[localLights_[k]];
+    LampGroup& g = lampGroups_[k / 8];
+    const size_t lane = k % 8;
+    g.x[lane] = l.position.x, g.y[lane] = l.position.y, g.z[lane] = l.position.z;
+    g.radius[lane] = l.radius;
+    g.strength[lane] = float(meanComponent(l.color)) * l.intensity;
+    g.range[lane] = l.range;
+    g.linear[lane] = l.falloff == Falloff::Linear ? 1.0f : 0.0f;
+    g.spot[lane] = l.type == LightType::Spot && l.radius == 0.0f ? 1.0f : 0.0f;
+    g.dx[lane] = l.direction.x, g.dy[lane] = l.direction.y, g.dz[lane] = l.direction.z;
+    g.cosOuter[lane] = l.cosOuterAngle, g.cosInner[lane] = l.cosInnerAngle;
   }
   emissiveTree_ = LightTree(emitters);
   if ((!emissiveTree_.empty() || !localLights_.empty()) && localPower > 0.0) {
@@ -261,10 +290,39 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
   return out.pdf > 0.0f;
 }
 
+void LightSampler::lampWeights(uint32_t group, const glm::vec3& p, const glm::vec3& n, float* out) const {
+  // lampWeight (localLightWeight, distanceFalloff, spotFactor) for eight lamps at once.
+  const LampGroup& g = lampGroups_[group];
+  const Lanes x = load(g.x), y = load(g.y), z = load(g.z), radius = load(g.radius);
+  const Lanes tx = p.x - x, ty = p.y - y, tz = p.z - z;   // light -> point
+  const Lanes centre = sqrtLanes(tx * tx + ty * ty + tz * tz);
+  const Lanes nearest = maxLanes(centre - radius, Lanes{} + 1e-3f);
+  const Lanes range = load(g.range), linear = load(g.linear);
+  const Lanes inverseSquare = 1.0f / maxLanes(nearest * nearest, Lanes{} + 1e-8f);
+  const Lanes linearFalloff = maxLanes(1.0f - nearest / range, Lanes{});
+  Lanes weight = load(g.strength) * (linear != 0.0f ? linearFalloff : inverseSquare);
+  weight = (range > 0.0f) & (nearest > range) ? Lanes{} : weight;
+  // Spot lights without radius: the cone's smooth edge toward the point.
+  const Lanes c = (tx * load(g.dx) + ty * load(g.dy) + tz * load(g.dz)) / centre;
+  const Lanes lo = load(g.cosOuter), hi = load(g.cosInner);
+  const Lanes t = (c - lo) / (hi - lo);
+  const Lanes smooth = c <= lo ? Lanes{} : c >= hi ? Lanes{} + 1.0f : t * t * (3.0f - 2.0f * t);
+  weight = (load(g.spot) != 0.0f) & (centre > 0.0f) ? weight * smooth : weight;
+  // Nothing to reflect where the whole light lies on or below the tangent plane.
+  if (n != glm::vec3(0.0f)) weight = (-(tx * n.x + ty * n.y + tz * n.z) + radius <= 0.0f) ? Lanes{} : weight;
+  // Only positive finite weights (NaN fails both comparisons).
+  weight = (weight > 0.0f) & (weight <= std::numeric_limits<float>::max()) ? weight : Lanes{};
+  std::memcpy(out, &weight, sizeof weight);
+}
+
 LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm::vec3& n) const {
   LocalSplit split;
   double lamps = 0.0;
-  for (uint32_t light : localLights_) lamps += lampWeight(analytic_[light], p, n);
+  alignas(32) float w[8];
+  for (uint32_t g = 0; g < lampGroups_.size(); ++g) {
+    lampWeights(g, p, n, w);
+    for (float wi : w) lamps += wi;
+  }
   const double triangles = emissiveTree_.empty() ? 0.0 : double{emissiveTree_.importance(p, n)};
   split.lampWeight = lamps;
   const double total = lamps + triangles;
@@ -281,13 +339,16 @@ bool LightSampler::pickLocalLight(const glm::vec3& p, const glm::vec3& n, float 
   const double target = double(u) * total;
   double running = 0.0;
   float chosenWeight = 0.0f;
-  for (uint32_t light : localLights_) {
-    const float w = lampWeight(analytic_[light], p, n);
-    if (w == 0.0f) continue;
-    index = light;   // the last light with weight catches rounding at the top end
-    chosenWeight = w;
-    running += w;
-    if (target < running) break;
+  alignas(32) float w[8];
+  for (uint32_t g = 0; g < lampGroups_.size() && !(target < running); ++g) {
+    lampWeights(g, p, n, w);
+    for (uint32_t lane = 0; lane < 8; ++lane) {
+      if (w[lane] == 0.0f) continue;
+      index = localLights_[8 * g + lane];   // the last light with weight catches rounding at the top end
+      chosenWeight = w[lane];
+      running += w[lane];
+      if (target < running) break;
+    }
   }
   if (!(chosenWeight > 0.0f)) return false;
   probability = float(double(chosenWeight) / total);

@@ -126,6 +126,15 @@ class LightSampler {
   uint32_t localEntry_ = UINT32_MAX;   ///< The table entry of all local emitters.
   LightTree emissiveTree_;             ///< Over triangles_ (same indices).
   std::vector<uint32_t> localLights_;   ///< Indices into analytic_ of the point and spot lights that carry power.
+  /// localLights_ eight to a group as structure of arrays (padding lanes carry no light): their
+  /// weights at a shading point are computed eight per instruction (lampWeights).
+  struct LampGroup {
+    alignas(32) float x[8], y[8], z[8], radius[8], strength[8], range[8], linear[8];
+    alignas(32) float spot[8], dx[8], dy[8], dz[8], cosOuter[8], cosInner[8];
+  };
+  std::vector<LampGroup> lampGroups_;
+  /// The weights (lampWeight) of the eight lamps of group g at p, n.
+  void lampWeights(uint32_t g, const glm::vec3& p, const glm::vec3& n, float* out) const;
   sampling::AliasTable table_;
   std::vector<uint32_t> environmentEntries_;   ///< Table entries of the suns and the sky.
   sampling::AliasTable environmentTable_;      ///< Over environmentEntries_, the same proportions.

@@ -193,6 +193,50 @@ TEST(LightSampler, DarkPointLightsChangeNoSample) {
   }
 }
 
+TEST(LightSampler, LampChoiceProbabilityIsItsWeightShare) {
+  // The lamps' weights are computed eight at a time; the probability of each chosen lamp must be
+  // its localLightWeight over the sum of all (lamps wholly below the tangent plane weigh 0), for
+  // a mix of point, spot, linear, inverse-square and out-of-range lamps (13: a partial group).
+  std::vector<LightDesc> lights;
+  for (int i = 0; i < 13; ++i) {
+    LightDesc l;
+    l.type = i % 3 == 0 ? LightType::Spot : LightType::Point;
+    l.position = glm::vec3(37.0f * float(i % 5) - 60.0f, 23.0f * float(i % 4) - 30.0f, float(i) * 9.0f - 40.0f);
+    l.intensity = 100.0f + 50.0f * float(i);
+    l.color = glm::vec3(1.0f, 0.2f + 0.05f * float(i), 0.5f);
+    if (i % 2) {
+      l.falloff = Falloff::Linear;
+      l.range = 60.0f + 10.0f * float(i);
+    }
+    if (l.type == LightType::Spot) {
+      l.direction = glm::normalize(glm::vec3(0.3f, -0.2f, -1.0f));
+      l.cosInnerAngle = 0.95f;
+      l.cosOuterAngle = 0.6f;
+    }
+    lights.push_back(l);
+  }
+  const LightSampler sampler(lights, {}, Sky{}, Bounds{});
+  const glm::vec3 n = glm::normalize(glm::vec3(0.2f, 0.1f, 1.0f));
+  for (const glm::vec3 p : {glm::vec3(0.0f), glm::vec3(20.0f, -10.0f, -5.0f), glm::vec3(-50.0f, 30.0f, 40.0f)}) {
+    double total = 0.0;
+    for (const LightDesc& l : lights)
+      if (glm::dot(l.position - p, n) + l.radius > 0.0f) total += localLightWeight(l, p);
+    ASSERT_GT(total, 0.0);
+    int chosen = 0;
+    for (int i = 0; i < 512; ++i) {
+      LightSample ls;
+      if (!sampler.sample(p, n, glm::vec4(0.5f, 0.5f, 0.5f, (float(i) + 0.5f) / 512.0f), ls)) continue;
+      for (const LightDesc& l : lights) {
+        if (ls.lightPoint != l.position) continue;
+        ++chosen;
+        EXPECT_GT(glm::dot(l.position - p, n) + l.radius, 0.0f) << "a lamp below the tangent plane was chosen";
+        EXPECT_NEAR(ls.pdf, localLightWeight(l, p) / total, 1e-5 * ls.pdf);
+      }
+    }
+    EXPECT_GT(chosen, 400);
+  }
+}
+
 TEST(LightSampler, LocalWeightBoundsSphereLights) {
   // A sphere light whose centre is out of range still reaches p with its near side: weight > 0.
   LightDesc sphere;
