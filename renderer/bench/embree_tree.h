@@ -1,7 +1,8 @@
 #pragma once
 // Diagnostic for the bench: our 8-wide layout filled from a tree that Embree's own builder
 // (rtcBuildBVH) made. Traced by our kernels next to our own tree, it tells how much of the
-// distance to Embree is the tree and how much is the traversal (docs/performance.md).
+// distance to Embree is the tree and how much is the traversal (docs/performance.md, "Where the
+// gap to Embree is").
 #include <embree3/rtcore.h>
 
 #include "renderer/bvh/testing/scene_generators.h"

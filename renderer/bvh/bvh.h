@@ -16,10 +16,11 @@ namespace pa {
 
 /// Build knobs, with defaults that suit game maps. Every knob is measured in docs/performance.md.
 struct BvhBuildConfig {
-  uint32_t binCount = 32;          ///< SAH bins per axis (32 beat 16 on real maps: docs/performance.md).
+  /// SAH bins per axis (32 beat 16 on real maps: docs/performance.md, "Trade-off knobs").
+  uint32_t binCount = 32;
   /// Children per node of the traversed layout: 8 (AVX2, or AVX-512 run as 256-bit halves),
   /// 16 (AVX-512 at full width; needs AVX-512), or 0 for the faster one on this CPU (16 where
-  /// 512-bit operations run at full width, docs/performance.md "16-wide BVH and SAH-optimal collapse").
+  /// 512-bit operations run at full width, docs/performance.md "Rays per map and per layout").
   uint32_t nodeWidth = 0;
   /// Hard upper bound on triangles per leaf of the binary SAH build. The wide layouts may merge
   /// leaves up to 16 triangles where the collapse's cost model prefers that (wide_collapse.h).

@@ -5,7 +5,7 @@
 //    boxes across coarse planes are what keeps the top of the tree from separating its
 //    children. (The box's excess over the triangle's projected areas, as in Karras & Aila, was
 //    measured too: it never splits long axis-aligned slivers, whose boxes fit them; neither is
-//    better at every budget, docs/performance.md.) The fourth root spreads the budget wider.
+//    better at every budget, docs/performance.md "Pre-splitting".) The fourth root spreads the budget wider.
 //    "Crossing" means inside the middle three quarters of the box on that axis: planes near a
 //    box's end would cut off slivers that cost a reference and save next to nothing.
 // 2. Splits per triangle: min(cap, floor(D * p)), D the largest scale whose total fits the budget

@@ -1,6 +1,6 @@
 #pragma once
 // Reusable, uninitialised build memory. A BVH build touches every byte of its scratch arrays
-// once, and on the VM we measure on a 4 KiB page fault costs 13-17 us (docs/performance.md):
+// once, and on the VM we measure on a 4 KiB page fault costs 13-17 us (renderer/bvh/README.md, "Memory"):
 // fresh memory per build cost as much as the build itself on small meshes. A ScratchBuffer keeps
 // its block between builds and only grows; blocks of kHugePagesFrom bytes or more are mapped in
 // 2 MiB transparent huge pages, so a first build faults once per 2 MiB instead of per 4 KiB.

@@ -84,7 +84,7 @@ void collapseToWide16(const BinaryBvh& binary, const TriangleMesh& mesh, Wide16B
     out = Wide16Bvh{};
     return;
   }
-  // The defaults are the 16-wide layout's (docs/performance.md, "16-wide BVH and SAH-optimal collapse").
+  // The defaults are the 16-wide layout's (docs/performance.md, "Rays per map and per layout").
   CollapseCosts costs;
   WideCollapser<Layout16>(binary, mesh, costs, out).run();
 }

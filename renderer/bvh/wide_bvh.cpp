@@ -58,7 +58,8 @@ void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& 
   CollapseCosts costs;
   costs.width = kWideWidth;
   costs.packWidth = kPackWidth;
-  costs.maxLeaf = 2 * kPackWidth;   // leaves of two packs where they pay (docs/performance.md, "16-wide BVH and SAH-optimal collapse")
+  // Leaves of two packs where they pay (docs/performance.md, "Rays per map and per layout").
+  costs.maxLeaf = 2 * kPackWidth;
   WideCollapser<Layout8>(binary, mesh, costs, out).run();
   out.kernel = bestWideKernel();
 }

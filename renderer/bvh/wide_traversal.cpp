@@ -90,7 +90,7 @@ struct BaselineLanes {
   }
 
   /// Closest hit: the children other than the nearest are pushed unsorted and culled when
-  /// popped behind a nearer hit (a full sort measured slower, docs/performance.md).
+  /// popped behind a nearer hit (a full sort measured slower here, renderer/bvh/README.md).
   [[gnu::always_inline]] static void pushFarther(const WideNode& node, unsigned mask, vfloat8 tNear,
                                                  TraversalStack<true>& stack) {
     pushChildren(node, mask, tNear, stack);

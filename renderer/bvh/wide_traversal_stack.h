@@ -28,7 +28,7 @@ struct TraversalStack {
 /// entry (one per lane): pushes the farther child and returns the nearer one (the lower lane on
 /// a tie, as a SIMD minimum would pick). A branch rather than a SIMD reduction: the CPU
 /// speculates past the branch, while the reduction's latency sat between the node test and the
-/// next node load (docs/performance.md, "the nearer of two children by a branch").
+/// next node load (renderer/bvh/README.md, "Choices inside the loop").
 inline uint32_t takeNearerOfTwo(const WideNode& node, uint32_t mask, const float* entry,
                                 TraversalStack<true>& stack) {
   const int first = std::countr_zero(mask);

@@ -32,7 +32,7 @@ struct KnownLighting {
   std::vector<std::pair<glm::vec3, float>> emitters;
 };
 
-/// Knobs of the estimator (defaults measured on OpenArena maps, see docs/performance.md).
+/// Knobs of the estimator (defaults measured on OpenArena maps, see docs/performance.md, "Lights").
 struct LightEstimateOptions {
   float minDirected = 12.0f;        ///< Grid points whose directed colour (max channel, 0..255) is weaker do not vote.
   float voxelSize = 16.0f;          ///< Accumulator voxel edge (Quake units); grown when the map is huge.

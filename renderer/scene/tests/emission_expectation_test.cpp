@@ -1,5 +1,5 @@
-// The per-pixel expectation does not depend on the samples per pixel (issue #2: "an emissive
-// quad measured 0.2 at 1 spp, 3 at 128 spp"). Known answers: an emitter filling the view is
+// The per-pixel expectation does not depend on the samples per pixel (an emissive quad must not
+// read darker at 1 spp than at 128 spp). Known answers: an emitter filling the view is
 // exactly its radiance Le in every sample of every integrator, spp, frame count, denoised or
 // not, with or without other lights (light tree, MIS) in the scene. Statistics: a floor lit by
 // an emissive quad has the same mean at 1 spp (over many seeds) as at 256 spp, within 5

@@ -104,7 +104,7 @@ TEST(Denoiser, EmissionIsLeftOutOfTheFilterAndAddedBack) {
     EXPECT_NEAR(out[i].g, expected[i].g + added, 1e-4f * (1.0f + added)) << i;
   }
   // Without the emission guide the lamp is filtered as if it were noise: it loses most of its
-  // radiance (the symptom of issue #2).
+  // radiance (a 1-spp emitter would read far darker than the converged one).
   lit.emission.clear();
   EXPECT_LT(lit.denoised()[lamp].g, 25.0f);
 }
