@@ -27,6 +27,7 @@ struct SlabRay {
   glm::vec3 invDir;
   int nearX, nearY, nearZ;   ///< 0 = take min bound as near plane, 1 = max bound
 
+  SlabRay() = default;
   explicit SlabRay(const glm::vec3& o, const glm::vec3& d)
       : origin(o), invDir(1.0f / d.x, 1.0f / d.y, 1.0f / d.z),
         nearX(std::signbit(d.x)), nearY(std::signbit(d.y)), nearZ(std::signbit(d.z)) {}

@@ -302,6 +302,11 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   const PacketInterval interval = packetInterval(rays, traceable);
   float tmaxHi = -std::numeric_limits<float>::infinity();
   for (uint32_t r = traceable; r; r &= r - 1) tmaxHi = std::max(tmaxHi, rays[std::countr_zero(r)].tmax);
+  std::array<bvh_detail::SlabRay, kMaxPacketRays> slabs;
+  for (uint32_t r = traceable; r; r &= r - 1) {
+    const int lane = std::countr_zero(r);
+    slabs[lane] = bvh_detail::SlabRay(rays[lane].origin, rays[lane].dir);
+  }
   std::array<PacketCandidate, kFlatInstances> candidates;
   uint32_t count = 0;
   for (uint32_t k = 0; k < self.instances.size(); ++k) {
@@ -314,8 +319,7 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
     c.rays = 0;
     for (uint32_t r = traceable; r; r &= r - 1) {
       const int lane = std::countr_zero(r);
-      const bvh_detail::SlabRay slab(rays[lane].origin, rays[lane].dir);
-      c.entry[lane] = bvh_detail::slabEntry(slab, box, rays[lane].tmin, rays[lane].tmax);
+      c.entry[lane] = bvh_detail::slabEntry(slabs[lane], box, rays[lane].tmin, rays[lane].tmax);
       if (c.entry[lane] == std::numeric_limits<float>::infinity()) continue;
       c.rays |= 1u << lane;
       c.nearest = std::min(c.nearest, c.entry[lane]);
