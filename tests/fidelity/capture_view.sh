@@ -3,7 +3,7 @@
 # Loads MAP with devmap in Debian's ioquake3 under xvfb-run, puts the player at each viewpoint
 # (noclip + setviewpos: it stays there; no view bob, no gun, no 2D, 20 fps at most so that the stock renderer
 # too has run the teleport through the server before the screenshot: both see the same picture)
-# and writes OUT_DIR/view_N.tga (N = 1, 2, ...) plus OUT_DIR/engine.log. RENDERER and MODULE as
+# (CAPTURE_WAIT ticks there, default 40) and writes OUT_DIR/view_N.tga (N = 1, 2, ...) plus OUT_DIR/engine.log. RENDERER and MODULE as
 # in capture_frames.sh. Used for views the demo never shows (fog volumes: tests/fidelity/README.md).
 # Exit 77 when the engine, the game data or xvfb-run are missing.
 set -euo pipefail
@@ -25,7 +25,7 @@ n=0
 for view in "${views[@]}"; do
   [[ "$view" =~ ^-?[0-9.]+\ -?[0-9.]+\ -?[0-9.]+\ -?[0-9.]+$ ]] || { echo "bad view '$view' (X Y Z YAW)"; exit 2; }
   n=$((n + 1))
-  printf 'setviewpos %s\nwait 40\nscreenshot view_%d\nviewpos\n' "$view" "$n" >>"$cfg"
+  printf 'setviewpos %s\nwait %d\nscreenshot view_%d\nviewpos\n' "$view" "${CAPTURE_WAIT:-40}" "$n" >>"$cfg"
 done
 printf 'wait 5\nquit\n' >>"$cfg"
 mkdir -p "$out"

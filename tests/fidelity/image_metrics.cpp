@@ -70,6 +70,22 @@ void savePng(const std::string& path, const RgbImage& image) {
     throw std::runtime_error(path + ": cannot write PNG");
 }
 
+double meanLinearLuminance(const RgbImage& image) {
+  std::array<double, 256> decoded{};
+  for (int i = 0; i < 256; ++i) {
+    const double c = i / 255.0;
+    decoded[i] = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+  }
+  const size_t pixels = static_cast<size_t>(image.width) * image.height;
+  if (pixels == 0) return 0.0;
+  double sum = 0.0;
+  for (size_t i = 0; i < pixels; ++i) {
+    const std::uint8_t* p = &image.pixels[3 * i];
+    sum += 0.2126 * decoded[p[0]] + 0.7152 * decoded[p[1]] + 0.0722 * decoded[p[2]];
+  }
+  return sum / static_cast<double>(pixels);
+}
+
 std::vector<double> luma(const RgbImage& image) {
   std::vector<double> y(static_cast<size_t>(image.width) * image.height);
   for (size_t i = 0; i < y.size(); ++i) {

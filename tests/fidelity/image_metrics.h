@@ -41,6 +41,10 @@ double ssimLuma(std::span<const double> a, std::span<const double> b, int width,
 /// Compares two images of the same size; throws std::invalid_argument when the sizes differ.
 Comparison compare(const RgbImage& a, const RgbImage& b);
 
+/// Mean linear luminance of the image in [0, 1]: each 8-bit channel sRGB-decoded, then
+/// Y = 0.2126 R + 0.7152 G + 0.0722 B (ITU-R BT.709). What "as bright as" compares.
+double meanLinearLuminance(const RgbImage& image);
+
 /// Per-pixel absolute difference |a - b| per channel, multiplied by gain and clamped to 255.
 RgbImage differenceImage(const RgbImage& a, const RgbImage& b, double gain);
 

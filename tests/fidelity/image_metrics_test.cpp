@@ -22,6 +22,17 @@ RgbImage checkerboard(int width, int height, std::uint8_t low, std::uint8_t high
   return image;
 }
 
+TEST(ImageMetrics, MeanLinearLuminanceKnownAnswers) {
+  EXPECT_DOUBLE_EQ(meanLinearLuminance(filled(4, 4, 0)), 0.0);
+  EXPECT_NEAR(meanLinearLuminance(filled(4, 4, 255)), 1.0, 1e-12);
+  // sRGB 188 is linear 0.50289 (IEC 61966-2-1); a checkerboard of 0 and 255 has mean 0.5.
+  EXPECT_NEAR(meanLinearLuminance(filled(4, 4, 188)), 0.50289, 1e-5);
+  EXPECT_NEAR(meanLinearLuminance(checkerboard(8, 8, 0, 255)), 0.5, 1e-12);
+  RgbImage green = filled(2, 2, 0);
+  for (int i = 0; i < 4; ++i) green.pixels[3 * i + 1] = 255;
+  EXPECT_NEAR(meanLinearLuminance(green), 0.7152, 1e-12);
+}
+
 TEST(ImageMetrics, IdenticalImagesHaveInfinitePsnrAndUnitSsim) {
   const auto image = checkerboard(32, 24, 10, 200);
   const auto result = compare(image, image);

@@ -1,7 +1,8 @@
 // pa-imgcompare A B [--diff OUT.png] [--gain G] [--min-psnr DB] [--min-ssim S] [--json]
 // Compares two images of the same size (PNG, TGA, JPEG): PSNR over the R, G, B samples and
 // SSIM on BT.601 luma with an 11x11 Gaussian window (sigma 1.5), see image_metrics.h.
-// Prints "psnr_db=P ssim=S mse=M max_abs_diff=D" (or one JSON object with --json).
+// Prints "psnr_db=P ssim=S mse=M max_abs_diff=D luma_a=LA luma_b=LB luma_ratio=LB/LA" (or one JSON
+// object with --json); luma: mean linear luminance (meanLinearLuminance).
 // Exit 0: compared and above the thresholds; 1: below a threshold; 2: usage or file error.
 #include "tests/fidelity/image_metrics.h"
 
@@ -60,12 +61,15 @@ int main(int argc, char** argv) {
     if (!diffPath.empty()) pa::fidelity::savePng(diffPath, pa::fidelity::differenceImage(a, b, gain));
     // JSON has no infinity: identical images report psnr_db 999.
     const double psnr = std::isinf(result.psnr) ? 999.0 : result.psnr;
+    const double lumaA = pa::fidelity::meanLinearLuminance(a), lumaB = pa::fidelity::meanLinearLuminance(b);
+    const double lumaRatio = lumaA > 0.0 ? lumaB / lumaA : 0.0;   // B as bright as A: 1
     if (json)
-      std::printf("{\"psnr_db\": %.3f, \"ssim\": %.5f, \"mse\": %.4f, \"max_abs_diff\": %.0f, \"width\": %d, \"height\": %d}\n",
-                  psnr, result.ssim, result.mse, result.maxAbsDiff, a.width, a.height);
+      std::printf("{\"psnr_db\": %.3f, \"ssim\": %.5f, \"mse\": %.4f, \"max_abs_diff\": %.0f, \"width\": %d, \"height\": %d, "
+                  "\"luma_a\": %.5f, \"luma_b\": %.5f, \"luma_ratio\": %.4f}\n",
+                  psnr, result.ssim, result.mse, result.maxAbsDiff, a.width, a.height, lumaA, lumaB, lumaRatio);
     else
-      std::printf("psnr_db=%.3f ssim=%.5f mse=%.4f max_abs_diff=%.0f\n", psnr, result.ssim, result.mse,
-                  result.maxAbsDiff);
+      std::printf("psnr_db=%.3f ssim=%.5f mse=%.4f max_abs_diff=%.0f luma_a=%.5f luma_b=%.5f luma_ratio=%.4f\n", psnr,
+                  result.ssim, result.mse, result.maxAbsDiff, lumaA, lumaB, lumaRatio);
     if (result.psnr < minPsnr || result.ssim < minSsim) {
       std::fprintf(stderr, "pa-imgcompare: below threshold (psnr %.3f < %.3f or ssim %.5f < %.5f)\n", psnr,
                    minPsnr, result.ssim, minSsim);
