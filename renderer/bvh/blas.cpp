@@ -115,12 +115,7 @@ uint32_t Blas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   if (impl_->nodeWidth == 16)
     return bvh_detail::intersectWide16Packet(impl_->wide16, rays.data(), hits.data(), traceable, filters.data(),
                                              instanceId);
-  uint32_t found = 0;   // the 8-wide layouts trace the rays one by one
-  for (uint32_t r = traceable; r; r &= r - 1) {
-    const int lane = std::countr_zero(r);
-    if (bvh_detail::intersectWide(impl_->wide, rays[lane], hits[lane], filters[lane], instanceId)) found |= 1u << lane;
-  }
-  return found;
+  return bvh_detail::intersectWidePacket(impl_->wide, rays.data(), hits.data(), traceable, filters.data(), instanceId);
 }
 
 bool Blas::occluded(const Ray& ray, const HitFilter& filter, uint32_t instanceId) const {

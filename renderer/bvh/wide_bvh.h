@@ -122,6 +122,12 @@ void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& 
 /// Closest hit, same contract as Blas::intersect (the ray must be traceable).
 bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
 
+/// Closest hits of the rays in `active` (bit i: rays[i], hits[i], filters[i]; at most 16) traced
+/// as packets of up to eight rays that share an octant: per ray the contract of intersectWide.
+/// Returns the rays that hit.
+unsigned intersectWidePacket(const WideBvh& bvh, Ray* rays, Hit* hits, unsigned active, const HitFilter* filters,
+                             uint32_t instanceId);
+
 /// Any hit, same contract as Blas::occluded (the ray must be traceable).
 bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId);
 
