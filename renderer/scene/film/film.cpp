@@ -1,6 +1,7 @@
 #include "renderer/scene/film/film.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -90,24 +91,53 @@ void Film::resolveMeanRows(uint32_t rowBegin, uint32_t rowEnd) {
   }
 }
 
-void encodeDisplay(std::span<const glm::vec3> linear, float exposure, Tonemap op, std::span<uint8_t> rgba8) {
+namespace {
+
+/// The byte the exact curve gives a display value (what SrgbByteEncoder reproduces).
+uint8_t exactSrgbByte(float x) {
+  const float encoded = std::clamp(linearToSrgb(x), 0.0f, 1.0f);
+  return encoded >= 0.0f ? static_cast<uint8_t>(std::lround(encoded * 255.0f)) : 0;
+}
+
+void encodeWith(const SrgbByteEncoder& encode, std::span<const glm::vec3> linear, float exposure, Tonemap op,
+                std::span<uint8_t> rgba8) {
   if (rgba8.size() != linear.size() * 4)
     throw std::invalid_argument("encodeDisplay: " + std::to_string(rgba8.size()) + " bytes for " +
                                 std::to_string(linear.size()) + " pixels");
   for (size_t i = 0; i < linear.size(); ++i) {
     const glm::vec3 display = tonemap(linear[i] * exposure, op);
-    for (int c = 0; c < 3; ++c) {
-      const float encoded = linearToSrgb(display[c]);
-      rgba8[i * 4 + c] = static_cast<uint8_t>(std::lround(std::clamp(encoded, 0.0f, 1.0f) * 255.0f));
-    }
+    for (int c = 0; c < 3; ++c) rgba8[i * 4 + c] = encode(display[c]);
     rgba8[i * 4 + 3] = 255;
   }
 }
 
+}  // namespace
+
+SrgbByteEncoder::SrgbByteEncoder() {
+  // Bisection over the non-negative floats' bit patterns (ordered as integers) in [0, 1].
+  const uint32_t one = std::bit_cast<uint32_t>(1.0f);
+  for (uint32_t k = 0; k < 255; ++k) {
+    uint32_t lo = 0, hi = one;   // the first float with byte > k lies in (lo, hi]
+    if (exactSrgbByte(0.0f) > k) {
+      steps_[k] = 0.0f;
+      continue;
+    }
+    while (hi - lo > 1) {
+      const uint32_t mid = lo + (hi - lo) / 2;
+      if (exactSrgbByte(std::bit_cast<float>(mid)) > k) hi = mid; else lo = mid;
+    }
+    steps_[k] = std::bit_cast<float>(hi);
+  }
+}
+
+void encodeDisplay(std::span<const glm::vec3> linear, float exposure, Tonemap op, std::span<uint8_t> rgba8) {
+  encodeWith(SrgbByteEncoder(), linear, exposure, op, rgba8);
+}
+
 void Film::encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op) {
   const size_t begin = size_t{rowBegin} * width_, count = size_t{rowEnd - rowBegin} * width_;
-  encodeDisplay(std::span<const glm::vec3>(radiance_).subspan(begin, count), exposure, op,
-                std::span<uint8_t>(rgba8_).subspan(begin * 4, count * 4));
+  encodeWith(encoder_, std::span<const glm::vec3>(radiance_).subspan(begin, count), exposure, op,
+             std::span<uint8_t>(rgba8_).subspan(begin * 4, count * 4));
 }
 
 }  // namespace pa

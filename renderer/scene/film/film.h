@@ -2,6 +2,7 @@
 // Accumulation film: per-pixel running means over any number of frames, kept in double
 // precision (exact to ~1e-12 relative over millions of samples), a Welford variance of each
 // pixel's luminance samples, and the resolved float/RGBA8 buffers handed out by render().
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -69,6 +70,27 @@ struct PixelAccumulator {
 /// Maps linear radiance to display-referred [0, 1] (before sRGB encoding).
 glm::vec3 tonemap(const glm::vec3& linear, Tonemap op);
 
+/// The 8-bit sRGB byte of a display value in [0, 1] (lround(clamp(linearToSrgb(x)) x 255), NaN
+/// -> 0) without a power function: the byte is the number of the 255 values where it steps up
+/// that lie at or below x, those found once by bisection over floats with the exact curve, so
+/// every float encodes as with it.
+class SrgbByteEncoder {
+ public:
+  SrgbByteEncoder();
+  /// The byte of display value x.
+  uint8_t operator()(float x) const {
+    uint32_t lo = 0, hi = 255;   // the byte lies in [lo, hi]
+    while (lo < hi) {
+      const uint32_t mid = (lo + hi + 1) / 2;
+      if (steps_[mid - 1] <= x) lo = mid; else hi = mid - 1;
+    }
+    return static_cast<uint8_t>(lo);
+  }
+
+ private:
+  std::array<float, 255> steps_;   ///< steps_[k]: the smallest float whose byte is k + 1.
+};
+
 /// Encodes linear radiance as display RGBA8: x exposure, tonemap, sRGB, alpha 255 (what the
 /// film's rgba8 holds). `rgba8` has 4 bytes per radiance pixel; throws std::invalid_argument otherwise.
 void encodeDisplay(std::span<const glm::vec3> linear, float exposure, Tonemap op, std::span<uint8_t> rgba8);
@@ -121,6 +143,7 @@ class Film {
   std::vector<float> depth_, variance_;
   std::vector<uint8_t> rgba8_;
   std::vector<uint8_t> overlay_;   ///< Per pixel: overlayAt.
+  SrgbByteEncoder encoder_;
 };
 
 }  // namespace pa

@@ -1,7 +1,12 @@
 // Film accumulation (exactness over 100k frames), Welford variance, tonemapping.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <limits>
+
+#include "renderer/core/srgb.h"
 
 #include "renderer/scene/film/film.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
@@ -90,6 +95,32 @@ TEST(Film, TonemapCurvesAndSrgbEncoding) {
   EXPECT_EQ(film.rgba8()[4], 255);
   film.resolveRows(0, 1, 0.5f, Tonemap::Clamp);   // exposure halves radiance before encoding
   EXPECT_EQ(film.rgba8()[4], 188);                // sRGB(0.5) = 0.7354 -> 188
+}
+
+}  // namespace
+}  // namespace pa
+
+namespace pa {
+namespace {
+
+TEST(SrgbByteEncoder, EveryFloatEncodesAsTheExactCurve) {
+  // lround(clamp(linearToSrgb(x)) x 255) over every 64th float in [0, 1.25], plus the edges.
+  const SrgbByteEncoder encode;
+  const auto exact = [](float x) {
+    const float e = std::clamp(linearToSrgb(x), 0.0f, 1.0f);
+    return e >= 0.0f ? static_cast<uint8_t>(std::lround(e * 255.0f)) : uint8_t{0};
+  };
+  uint64_t checked = 0;
+  for (uint32_t bits = 0; bits <= std::bit_cast<uint32_t>(1.25f); bits += 64, ++checked) {
+    const float x = std::bit_cast<float>(bits);
+    ASSERT_EQ(encode(x), exact(x)) << "x = " << x;
+  }
+  EXPECT_GT(checked, 15'000'000u);
+  for (const float x : {-1.0f, -0.0f, 1.0f, 2.0f, std::numeric_limits<float>::infinity(),
+                        -std::numeric_limits<float>::infinity()})
+    EXPECT_EQ(encode(x), exact(x)) << "x = " << x;
+  EXPECT_EQ(encode(std::numeric_limits<float>::quiet_NaN()), 0);
+  EXPECT_EQ(encode(0.5f), 188);   // sRGB 0.7354 -> 187.5 rounds up
 }
 
 }  // namespace
