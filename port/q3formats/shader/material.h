@@ -121,6 +121,12 @@ struct MaterialInfo {
   bool hasTurbulence = false;             ///< tcMod turb present (not in uvAnimation)
   bool hasDeforms = false;                ///< deformVertexes present (autosprite, wave, ...)
   std::vector<TcMod> uvAnimation;         ///< tcMods of the base stage; see uvTransformAt
+  RgbGen baseRgbGen = RgbGen::Default;    ///< The base stage's rgbGen (Wave: baseRgbWave)
+  WaveForm baseRgbWave;
+  AlphaGen baseAlphaGen = AlphaGen::Default;   ///< The base stage's alphaGen (Wave: baseAlphaWave)
+  WaveForm baseAlphaWave;
+  bool glowWaves = false;                 ///< The first glow stage is rgbGen wave (glowWave)
+  WaveForm glowWave;
   uint64_t surfaceParms = 0;
 };
 
