@@ -39,8 +39,10 @@ void takeStage(const q3::ShaderStage& stage, ShaderLook& look) {
   look.vertexAlpha = stage.alphaGen == q3::AlphaGen::Vertex;
   look.rgbGen = stage.rgbGen;
   look.constColor = stage.constColor;
+  look.rgbWave = stage.rgbWave;
   look.alphaGen = stage.alphaGen;
   look.constAlpha = stage.constAlpha;
+  look.alphaWave = stage.alphaWave;
 }
 
 /// True for the blends a shine stage may use: add, filter x2 (dst src + src dst) and

@@ -57,8 +57,10 @@ struct ShaderLook {
   bool vertexAlpha = false;          ///< alphaGen vertex.
   q3::RgbGen rgbGen = q3::RgbGen::Default;   ///< The stage's rgbGen as written.
   std::array<float, 3> constColor{1, 1, 1};  ///< rgbGen const.
+  q3::WaveForm rgbWave;                      ///< rgbGen wave.
   q3::AlphaGen alphaGen = q3::AlphaGen::Default;   ///< The stage's alphaGen as written.
   float constAlpha = 1.0f;                   ///< alphaGen const.
+  q3::WaveForm alphaWave;                    ///< alphaGen wave.
   bool autosprite = false;           ///< deformVertexes autosprite: quads face the viewer.
   bool sky = false;                  ///< surfaceparm sky.
   bool nodraw = false;               ///< surfaceparm nodraw or no drawable stage.

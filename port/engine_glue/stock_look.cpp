@@ -153,12 +153,15 @@ void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
 void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch) {
   const size_t count = batch.triangles();
   batch.triangleLayers.assign(count, 0);
+  const bool timed = !batch.triangleShaderTimes.empty();
+  if (timed) batch.triangleShaderTimes.resize(count, 0.0f);
   for (size_t t = 0; t < count; ++t) {
     const size_t layers = shaders.resolve(batch.triangleShaders[t]).look.layers.size();
     for (size_t layer = 1; layer <= layers; ++layer) {
       batch.indices.insert(batch.indices.end(), {batch.indices[t * 3], batch.indices[t * 3 + 1], batch.indices[t * 3 + 2]});
       batch.triangleShaders.push_back(batch.triangleShaders[t]);
       batch.triangleLayers.push_back(static_cast<uint32_t>(layer));
+      if (timed) batch.triangleShaderTimes.push_back(batch.triangleShaderTimes[t]);
     }
   }
 }

@@ -10,6 +10,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -30,6 +31,7 @@
 #include "port/engine_glue/models.h"
 #include "port/engine_glue/portals.h"
 #include "port/engine_glue/scene.h"
+#include "port/engine_glue/shader_animation.h"
 #include "port/engine_glue/shaders.h"
 #include "port/engine_glue/sky_cube.h"
 #include "port/engine_glue/reflection_look.h"
@@ -44,6 +46,7 @@
 #include "port/q3formats/model/md3.h"
 #include "port/q3formats/shader/material.h"
 #include "port/q3formats/shader/shader_library.h"
+#include "port/q3formats/shader/shader_time.h"
 #include "port/q3formats/world/world_scene.h"
 #include "port/scene_bridge/scene_bridge.h"
 #include "renderer/scene/renderer.h"
@@ -143,7 +146,21 @@ struct ViewRenderer::Impl {
   pa::bridge::WorldHandles world;
   std::vector<pa::InstanceDesc> brushInstances;       ///< Current description per world model.
   /// (shader name, use, layer, animation frame) -> renderer material.
-  std::map<std::tuple<std::string, MaterialUse, uint32_t, uint32_t>, pa::MaterialId> materials;
+  using MaterialKey = std::tuple<std::string, MaterialUse, uint32_t, uint32_t>;
+  std::map<MaterialKey, pa::MaterialId> materials;
+  /// A renderer material of an animated shader, showing it at one shader time.
+  struct MovingMaterial {
+    pa::MaterialId id = pa::kNoId;
+    double seconds = 0.0;
+    std::array<float, 2> scroll{};
+    uint64_t view = 0;   ///< The view that last used it.
+  };
+  /// Animated shaders (shader_animation.h): their still look and a pool of materials, one per
+  /// shader time in use within a view (entities' shaderTime), reused by later views.
+  std::map<MaterialKey, pa::MaterialDesc> movingStills;
+  std::map<MaterialKey, std::vector<MovingMaterial>> movingMaterials;
+  uint64_t viewCount = 0;
+  WorldAnimation worldAnimation;   ///< World and brush-model materials at refdef time.
   std::map<std::pair<const Image*, bool>, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
   std::vector<DynamicSlot> slots;
   std::vector<pa::LightId> lights;
@@ -191,6 +208,9 @@ struct ViewRenderer::Impl {
     world = {};
     brushInstances.clear();
     materials.clear();
+    movingStills.clear();
+    movingMaterials.clear();
+    worldAnimation.clear();
     textures.clear();
     slots.clear();
     lights.clear();
@@ -223,7 +243,7 @@ struct ViewRenderer::Impl {
       pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, key.first, key.second);
       desc.visible = false;
       desc.castsShadows = false;
-      renderer->setMaterial(id, desc);
+      worldAnimation.setMaterial(id, desc, *renderer);
     }
   }
 
@@ -314,7 +334,7 @@ struct ViewRenderer::Impl {
         const auto colour = glowColors.find(key.first);
         desc.emission = glows ? (colour != glowColors.end() ? colour->second : glm::vec3(1.0f)) : glm::vec3(0.0f);
       }
-      renderer->setMaterial(id, desc);
+      worldAnimation.setMaterial(id, desc, *renderer);
     }
     stockEmissionShown = stockLook;
   }
@@ -383,23 +403,48 @@ struct ViewRenderer::Impl {
     return id;
   }
 
-  /// The renderer material of a shader handle (resolving RemapShader).
+  /// The renderer material of a shader handle (resolving RemapShader) at shader time `seconds`.
   /// `layer` 0 is the shader's first stage, k > 0 its look.layers[k - 1]; animMap stages show
-  /// the frame of shader time `seconds`.
+  /// the frame of that time, tcMods and waves move with it (entityTranslate by `scroll`).
   pa::MaterialId material(ShaderRegistry& shaders, q3abi::qhandle_t handle, MaterialUse use, uint32_t layer,
-                          double seconds) {
+                          double seconds, std::array<float, 2> scroll = {0, 0}) {
     const ShaderEntry& entry = shaders.resolve(handle);
     if (layer > entry.look.layers.size() || layer > entry.layerFrames.size()) layer = 0;
     const ShaderLook& look = layer == 0 ? entry.look : entry.look.layers[layer - 1];
     const auto& frames = layer == 0 ? entry.frames : entry.layerFrames[layer - 1];
     uint32_t frameIndex = 0;
-    if (frames.size() > 1 && look.animFrequency > 0.0f && std::isfinite(seconds)) {
-      const double step = std::floor(std::max(seconds, 0.0) * look.animFrequency);
-      frameIndex = static_cast<uint32_t>(std::fmod(step, double(frames.size())));
-    }
+    if (frames.size() > 1 && look.animFrequency > 0.0f && std::isfinite(seconds))
+      frameIndex = static_cast<uint32_t>(q3::animMapFrame(frames.size(), look.animFrequency, seconds));
     const std::shared_ptr<const Image> image = frames.empty() ? nullptr : frames[frameIndex];
     const auto key = std::make_tuple(entry.name, use, layer, frameIndex);
-    if (const auto found = materials.find(key); found != materials.end()) return found->second;
+    const StageMotion motion = motionOf(look);
+    if (!motion.timeDependent()) {
+      if (const auto found = materials.find(key); found != materials.end()) return found->second;
+      const pa::MaterialId id = renderer->addMaterial(materialAt(motion, 0.0, describe(entry, look, image, use, layer)));
+      materials.emplace(key, id);
+      return id;
+    }
+    auto still = movingStills.find(key);
+    if (still == movingStills.end()) still = movingStills.emplace(key, describe(entry, look, image, use, layer)).first;
+    std::vector<MovingMaterial>& pool = movingMaterials[key];
+    for (const MovingMaterial& m : pool)
+      if (m.view == viewCount && m.seconds == seconds && m.scroll == scroll) return m.id;
+    for (MovingMaterial& m : pool) {
+      if (m.view == viewCount) continue;
+      if (m.seconds != seconds || m.scroll != scroll) renderer->setMaterial(m.id, materialAt(motion, seconds, still->second, scroll));
+      m.seconds = seconds;
+      m.scroll = scroll;
+      m.view = viewCount;
+      return m.id;
+    }
+    const pa::MaterialId id = renderer->addMaterial(materialAt(motion, seconds, still->second, scroll));
+    pool.push_back(MovingMaterial{id, seconds, scroll, viewCount});
+    return id;
+  }
+
+  /// The still look (no animation) of a shader stage drawn as `use` with `image`.
+  pa::MaterialDesc describe(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,
+                            MaterialUse use, uint32_t layer) {
     pa::MaterialDesc desc;
     desc.baseTexture = texture(image, look.clamp);
     desc.useVertexLight = use == MaterialUse::Model;
@@ -447,9 +492,7 @@ struct ViewRenderer::Impl {
     if (entry.isDefault) desc.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
     applyReflectionLook(look, desc);
     if (layer == 0 && entry.shineImage) applyShineLook(look, texture(entry.shineImage, look.shine->clamp), desc);
-    const pa::MaterialId id = renderer->addMaterial(desc);
-    materials.emplace(key, id);
-    return id;
+    return desc;
   }
 
   /// The parsed geometry of an MD3 model (LOD 0), parsed once at registration.
@@ -458,17 +501,20 @@ struct ViewRenderer::Impl {
   }
 
   /// Puts a batch into dynamic slot `index` (creating it on first use).
+  /// Shader time `seconds` less each triangle's batch.triangleShaderTimes; entityTranslate scrolls by `scroll`.
   void fillSlot(size_t index, ShaderRegistry& shaders, MaterialUse use, const glm::mat4x3& transform,
-                uint32_t mask, bool onTop, double seconds) {
+                uint32_t mask, bool onTop, double seconds, std::array<float, 2> scroll = {0, 0}) {
     if (slots.size() <= index) slots.resize(index + 1);
     DynamicSlot& slot = slots[index];
     addShaderLayers(shaders, batch);
     triangleMaterials.resize(batch.triangles());
-    std::map<std::pair<q3abi::qhandle_t, uint32_t>, pa::MaterialId> local;
+    std::map<std::tuple<q3abi::qhandle_t, uint32_t, float>, pa::MaterialId> local;
     for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
-      const auto key = std::make_pair(batch.triangleShaders[t], t < batch.triangleLayers.size() ? batch.triangleLayers[t] : 0u);
+      const float behind = t < batch.triangleShaderTimes.size() ? batch.triangleShaderTimes[t] : 0.0f;
+      const auto key = std::make_tuple(batch.triangleShaders[t], t < batch.triangleLayers.size() ? batch.triangleLayers[t] : 0u, behind);
       auto found = local.find(key);
-      if (found == local.end()) found = local.emplace(key, material(shaders, key.first, use, key.second, seconds)).first;
+      if (found == local.end())
+        found = local.emplace(key, material(shaders, std::get<0>(key), use, std::get<1>(key), seconds - behind, scroll)).first;
       triangleMaterials[t] = found->second;
     }
     pa::InstanceDesc instance;
@@ -528,6 +574,8 @@ void ViewRenderer::clearWorld() {
 void ViewRenderer::shadersChanged() {
   // Remapped shaders resolve to other entries: rebuild entity materials lazily.
   impl_->materials.clear();
+  impl_->movingStills.clear();
+  impl_->movingMaterials.clear();
 }
 
 void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScripts, ImageCache& images) {
@@ -557,6 +605,9 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   d.worldDeforms.extract(*d.worldScene, library);   // before the upload: leaves the static mesh
   d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer);
   d.worldDeforms.bind(*d.worldScene, d.world);
+  d.worldAnimation.prepare(*d.worldScene, library, d.world, *d.renderer, [&](const std::string& path, bool clamp) {
+    return d.texture(images.load(engine, path), clamp);
+  });
   d.fog.load(*d.worldScene, *d.renderer);
   d.portals.load(bsp, *d.worldScene);
   d.bridgeSky = pa::bridge::skyDesc(*d.worldScene, d.world);
@@ -598,6 +649,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   const Viewer viewer{camera.origin, camera.left, camera.up};
   const bool lightmapLook = settings.preset == Preset::Lightmap;
   const double seconds = view.time * 0.001;   // the stock shader time of this view
+  ++d.viewCount;
 
   // The world and its brush models: hidden in model-only views, placed by their entities.
   std::vector<bool> brushPlaced(d.world.modelInstances.size(), false);
@@ -650,7 +702,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
       light = finishEntityLight(light, lightOrigin, scene.lights());
       lightModelLikeStock(e, entityTransform(e), light, shaders, d.batch);
     }
-    d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop, seconds);
+    d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop, seconds - e.shaderTime,
+               {e.shaderTexCoord[0], e.shaderTexCoord[1]});
   }
   for (size_t m = 0; m < brushPlaced.size(); ++m) {
     pa::InstanceDesc desc = d.brushInstances[m];
@@ -675,8 +728,13 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
 
   // Effects and polygons: one world-space mesh.
   d.batch.clear();
-  for (const q3abi::refEntity_t& e : scene.entities())
-    if (e.reType != q3abi::RT_MODEL) appendEffect(e, viewer, d.batch);
+  for (const q3abi::refEntity_t& e : scene.entities()) {
+    if (e.reType == q3abi::RT_MODEL) continue;
+    const size_t before = d.batch.triangles();
+    if (!appendEffect(e, viewer, d.batch) || e.shaderTime == 0.0f) continue;
+    d.batch.triangleShaderTimes.resize(before, 0.0f);   // an entity's shader clock runs shaderTime behind
+    d.batch.triangleShaderTimes.resize(d.batch.triangles(), e.shaderTime);
+  }
   appendPolys(scene.polys(), scene.polyVerts(), d.batch);
   if (withWorld)
     d.worldSprites.append(
@@ -720,6 +778,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     d.portals.update(scene.entities(), view.time, *d.renderer);
     d.selectSky(lightmapLook, seconds);
     d.selectWorldEmission(lightmapLook);
+    d.worldAnimation.update(seconds, *d.renderer);
   } else {
     d.hideSky();
   }
