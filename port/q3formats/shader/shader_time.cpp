@@ -20,7 +20,10 @@ int tableIndex(double cycles) {
 float tableEntry(WaveFunc func, int i) {
   const double x = double(i) / kWaveTableSize;
   switch (func) {
-    case WaveFunc::Sin: return static_cast<float>(std::sin(x * kTwoPi));
+    case WaveFunc::Sin: {   // stock fills entry i with sin(i x 360 / 1023 degrees): a period of 1023 entries
+      const float degrees = static_cast<float>(i) * 360.0f / static_cast<float>(kWaveTableSize - 1);
+      return static_cast<float>(std::sin(double(degrees) * kTwoPi / 360.0));
+    }
     case WaveFunc::Square: return i < kWaveTableSize / 2 ? 1.0f : -1.0f;
     case WaveFunc::Triangle: {
       const double f = x < 0.5 ? x : x - 0.5;

@@ -15,7 +15,8 @@ namespace q3 {
 inline constexpr int kWaveTableSize = 1024;
 
 /// A periodic function at `cycles` as the stock renderer reads its tables: entry
-/// trunc(cycles * 1024) mod 1024 of sin(2 pi i / 1024), the square (+1 then -1), the triangle,
+/// trunc(cycles * 1024) mod 1024 of sin(2 pi i / 1023) (stock spreads one period over 1023
+/// entries, so entry 256 is sin(90.09 degrees)), the square (+1 then -1), the triangle,
 /// the sawtooth i / 1024 and the inverse sawtooth 1 - i / 1024. Noise is not a table: see waveNoise.
 float waveTableValue(WaveFunc func, double cycles);
 

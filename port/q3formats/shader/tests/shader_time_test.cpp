@@ -1,5 +1,6 @@
 // Known answers for shader time as the stock renderer evaluates it: values worked out by hand
-// from the 1024-entry tables (entry trunc(cycles x 1024) mod 1024).
+// from the 1024-entry tables (entry trunc(cycles x 1024) mod 1024; the sin table holds
+// sin(i x 360 / 1023 degrees), so entry 256 is 0.9999988, not 1).
 #include "port/q3formats/shader/shader_time.h"
 
 #include <gtest/gtest.h>
@@ -39,10 +40,11 @@ std::array<float, 2> at(const TcModsAt& mods, float s, float t, float x = 0, flo
 }
 
 TEST(ShaderTime, WaveTablesAreReadAtTruncatedEntries) {
-  EXPECT_NEAR(waveTableValue(WaveFunc::Sin, 0.25), 1.0f, 1e-6);
-  EXPECT_NEAR(waveTableValue(WaveFunc::Sin, 0.1), 0.5857979f, 1e-6);     // entry 102 of 1024
-  EXPECT_NEAR(waveTableValue(WaveFunc::Sin, -0.25), -1.0f, 1e-6);        // -256 & 1023 = 768
-  EXPECT_NEAR(waveTableValue(WaveFunc::Sin, 3.25), 1.0f, 1e-6);          // periodic
+  EXPECT_NEAR(waveTableValue(WaveFunc::Sin, 0.25), 0.9999988f, 1e-7);   // entry 256: sin(90.088 degrees)
+  EXPECT_NEAR(waveTableValue(WaveFunc::Sin, 0.1), 0.5862936f, 1e-6);     // entry 102: sin(35.894 degrees)
+  EXPECT_NEAR(waveTableValue(WaveFunc::Sin, -0.25), -0.9999894f, 1e-6);  // -256 & 1023 = 768
+  EXPECT_NEAR(waveTableValue(WaveFunc::Sin, 3.25), 0.9999988f, 1e-7);    // periodic
+  EXPECT_EQ(waveTableValue(WaveFunc::Sin, 0.0), 0.0f);
   EXPECT_FLOAT_EQ(waveTableValue(WaveFunc::Square, 0.49), 1.0f);
   EXPECT_FLOAT_EQ(waveTableValue(WaveFunc::Square, 0.5), -1.0f);
   EXPECT_FLOAT_EQ(waveTableValue(WaveFunc::Triangle, 0.125), 0.5f);      // rising: 4x
@@ -56,7 +58,7 @@ TEST(ShaderTime, WaveTablesAreReadAtTruncatedEntries) {
 
 TEST(ShaderTime, WaveFormEvaluatesThroughTheTables) {
   const WaveForm w{WaveFunc::Sin, 1, 2, 0.05f, 0.5f};   // base + amp * sin(phase + t * freq)
-  EXPECT_NEAR(w.evaluate(0.1), 1 + 2 * 0.5857979f, 1e-5);
+  EXPECT_NEAR(w.evaluate(0.1), 1 + 2 * 0.5862936f, 1e-5);
   const WaveForm saw{WaveFunc::Sawtooth, 0, 1, 0, 1};
   EXPECT_NEAR(saw.evaluate(2.3), 0.2998046875f, 1e-6);
 }
@@ -85,14 +87,14 @@ TEST(ShaderTime, ScaleMultiplies) {
 }
 
 TEST(ShaderTime, RotateReadsTheSinTable) {
-  // 90 degrees/s at 1 s: -90 degrees = entry -256 -> sin -1, cos 0: (s, t) -> (t, 1 - s).
+  // 90 degrees/s at 1 s: -90 degrees = entry -256 -> sin(entry 768) ~ -1, cos (entry 0) 0: (s, t) -> (t, 1 - s).
   auto uv = at(tcModsAt({rotateMod(90)}, 1.0), 1.0f, 0.5f);
-  EXPECT_NEAR(uv[0], 0.5f, 1e-6);
-  EXPECT_NEAR(uv[1], 0.0f, 1e-6);
-  // 30 degrees/s at 0.5 s: -15 degrees = entry trunc(-42.67) = -42: sin(2 pi 982/1024), cos = sin(2 pi 214/1024).
+  EXPECT_NEAR(uv[0], 0.5f, 1e-5);
+  EXPECT_NEAR(uv[1], 0.0f, 1e-5);
+  // 30 degrees/s at 0.5 s: -15 degrees = entry trunc(-42.67) = -42: sin = entry 982, cos = entry 214.
   uv = at(tcModsAt({rotateMod(30)}, 0.5), 1.0f, 0.0f);
-  EXPECT_NEAR(uv[0], 0.8560554f, 1e-5);
-  EXPECT_NEAR(uv[1], -0.1109211f, 1e-5);
+  EXPECT_NEAR(uv[0], 0.8590684f, 1e-5);
+  EXPECT_NEAR(uv[1], -0.1082344f, 1e-5);
   const auto centre = at(tcModsAt({rotateMod(30)}, 0.5), 0.5f, 0.5f);
   EXPECT_NEAR(centre[0], 0.5f, 1e-6);
   EXPECT_NEAR(centre[1], 0.5f, 1e-6);
@@ -125,9 +127,9 @@ TEST(ShaderTime, TurbWobblesPerVertexAndLaterModsMoveTheWobble) {
   auto uv = at(tcModsAt({turb}, 1.0), 0.5f, 0.5f, 256, 512, 256);
   EXPECT_NEAR(uv[0], 0.6f, 1e-6);
   EXPECT_NEAR(uv[1], 0.6f, 1e-6);
-  // Vertex (0, 256, 0): s reads 0.75 -> -1, t reads 1.0 -> 0.
+  // Vertex (0, 256, 0): s reads 0.75 -> entry 768 (-0.9999894), t reads 1.0 -> entry 0 (0).
   uv = at(tcModsAt({turb}, 1.0), 0.5f, 0.5f, 0, 256, 0);
-  EXPECT_NEAR(uv[0], 0.4f, 1e-6);
+  EXPECT_NEAR(uv[0], 0.5f - 0.09999894f, 1e-6);
   EXPECT_NEAR(uv[1], 0.5f, 1e-6);
   // A scale after the turb scales the wobbled uv: (0.6, 0.6) x 2.
   uv = at(tcModsAt({turb, scaleMod(2, 2)}, 1.0), 0.5f, 0.5f, 256, 512, 256);
@@ -142,12 +144,12 @@ TEST(ShaderTime, TurbWobblesPerVertexAndLaterModsMoveTheWobble) {
 TEST(ShaderTime, ModsComposeInScriptOrder) {
   // scale 2 1, scroll 0.5 0, rotate 90 at 1 s: (0.25, 0.5) -> (0.5, 0.5) -> (1.0, 0.5) -> (t, 1 - s) = (0.5, 0).
   const auto uv = at(tcModsAt({scaleMod(2, 1), scrollMod(0.5f, 0), rotateMod(90)}, 1.0), 0.25f, 0.5f);
-  EXPECT_NEAR(uv[0], 0.5f, 1e-6);
-  EXPECT_NEAR(uv[1], 0.0f, 1e-6);
+  EXPECT_NEAR(uv[0], 0.5f, 1e-5);
+  EXPECT_NEAR(uv[1], 0.0f, 1e-5);
   // Reversed: rotate (0.25, 0.5) -> (0.5, 0.75), scroll -> (1.0, 0.75), scale -> (2.0, 0.75).
   const auto back = at(tcModsAt({rotateMod(90), scrollMod(0.5f, 0), scaleMod(2, 1)}, 1.0), 0.25f, 0.5f);
-  EXPECT_NEAR(back[0], 2.0f, 1e-6);
-  EXPECT_NEAR(back[1], 0.75f, 1e-6);
+  EXPECT_NEAR(back[0], 2.0f, 1e-5);
+  EXPECT_NEAR(back[1], 0.75f, 1e-5);
 }
 
 TEST(ShaderTime, EntityTranslateScrollsByTheEntitySpeed) {
@@ -178,7 +180,7 @@ TEST(ShaderTime, AnimMapFrameChoice) {
 TEST(ShaderTime, RgbAndAlphaWaves) {
   const WaveForm pulse{WaveFunc::Sin, 0.5f, 0.5f, 0, 1};
   EXPECT_NEAR(rgbWaveAt(pulse, 0.25), 1.0f, 1e-6);
-  EXPECT_NEAR(rgbWaveAt(pulse, 0.75), 0.0f, 1e-6);
+  EXPECT_NEAR(rgbWaveAt(pulse, 0.75), 0.0f, 1e-5);
   EXPECT_NEAR(rgbWaveAt(pulse, 0.25, 0.5f), 0.5f, 1e-6);   // x identityLight
   const WaveForm loud{WaveFunc::Square, 0.5f, 1, 0, 1};
   EXPECT_FLOAT_EQ(rgbWaveAt(loud, 0.1), 1.0f);              // 1.5 clamped
