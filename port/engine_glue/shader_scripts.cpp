@@ -104,6 +104,7 @@ ShaderLook lookOfShader(const q3::ShaderDef& shader) {
   look.sky = shader.has(q3::SurfaceParm::Sky);
   look.nodraw = shader.has(q3::SurfaceParm::NoDraw);
   look.translucent = shader.has(q3::SurfaceParm::Trans);
+  look.noPicmip = shader.noPicmip || shader.noMipmaps;
   look.surfaceLight = shader.surfaceLight;
   for (const q3::Deform& deform : shader.deforms)
     look.autosprite = look.autosprite || deform.kind == q3::DeformKind::AutoSprite;

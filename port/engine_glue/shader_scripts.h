@@ -65,6 +65,7 @@ struct ShaderLook {
   bool sky = false;                  ///< surfaceparm sky.
   bool nodraw = false;               ///< surfaceparm nodraw or no drawable stage.
   bool translucent = false;          ///< surfaceparm trans.
+  bool noPicmip = false;             ///< nopicmip: r_picmip leaves its images alone.
   float surfaceLight = 0.0f;         ///< q3map_surfacelight (emission, for the path tracer).
   bool fromScript = false;
   /// Every stage as written (2D draws them all in order, as the stock renderer does).

@@ -112,7 +112,7 @@ void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld
 /// traced presets ignore vertex colours of vertex-lit surfaces). Also records the colour of each
 /// material's glow stage (rgbGen const of the first additive stage), which the stock look adds.
 void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
-                    std::unordered_map<uint32_t, glm::vec3>& glowColors) {
+                    std::unordered_map<uint32_t, glm::vec3>& glowColors, int lightShift) {
   std::vector<bool> unlit(scene.materials.size(), false);
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const q3::WorldMaterial& m = scene.materials[i];
@@ -140,7 +140,7 @@ void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
         // Baked vertex light is brightened at load like lightmaps (tr_bsp.c shifts every
         // draw vertex colour by r_mapOverBrightBits - overbrightBits).
         for (glm::vec4& color : mesh.colors) {
-          const glm::vec3 shifted = colorShiftLight(glm::round(glm::vec3(color) * 255.0f), kLightOverbrightShift);
+          const glm::vec3 shifted = colorShiftLight(glm::round(glm::vec3(color) * 255.0f), lightShift);
           color = glm::vec4(shifted / 255.0f, color.a);
         }
       }

@@ -53,7 +53,8 @@ void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch);
 /// vertex colours of vertex-lit surfaces); the vertex colours of vertex-lit surfaces get the
 /// stock overbright shift (x4, hue kept). Also records each material's glow colour (rgbGen const
 /// of its first additive stage, linear), which the stock look adds.
+/// `lightShift` replaces the x4 (kLightOverbrightShift; r_mapOverBrightBits minus display bits).
 void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
-                    std::unordered_map<uint32_t, glm::vec3>& glowColors);
+                    std::unordered_map<uint32_t, glm::vec3>& glowColors, int lightShift = kLightOverbrightShift);
 
 }  // namespace glue

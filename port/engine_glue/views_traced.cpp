@@ -160,8 +160,11 @@ struct ViewRenderer::Impl {
   std::map<MaterialKey, pa::MaterialDesc> movingStills;
   std::map<MaterialKey, std::vector<MovingMaterial>> movingMaterials;
   uint64_t viewCount = 0;
+  size_t animationUpdates = 0;     ///< Entity materials replaced for animation in this view.
   WorldAnimation worldAnimation;   ///< World and brush-model materials at refdef time.
-  std::map<std::pair<const Image*, bool>, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
+  /// (image, clamp, picmip applies) -> renderer texture.
+  std::map<std::tuple<const Image*, bool, bool>, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
+  PictureSettings pictureSettings;   ///< r_picmip, r_intensity, r_mapOverBrightBits for what is loaded.
   std::vector<DynamicSlot> slots;
   std::vector<pa::LightId> lights;
   std::vector<bool> lightOn;
@@ -233,6 +236,36 @@ struct ViewRenderer::Impl {
     modelDeforms.reset(nullptr);
     fog = ViewFog{};
     stockSkyReady = stockSkyShown = stockEmissionShown = skyHidden = false;
+  }
+
+  /// r_picmip and r_intensity on the world's textures, as stock treats mipmapped images: every
+  /// texture but those of nopicmip / nomipmaps shaders and the sky is halved r_picmip times;
+  /// every texture's colours are multiplied by r_intensity.
+  void applyPictureToWorldTextures(const q3::ShaderLibrary& library) {
+    if (pictureSettings.picmip == 0 && !(pictureSettings.intensity > 1.0f)) return;
+    std::vector<bool> keepSize(worldScene->textures.size(), false);
+    auto keep = [&](int32_t index) {
+      if (index >= 0 && size_t(index) < keepSize.size()) keepSize[size_t(index)] = true;
+    };
+    for (const q3::WorldMaterial& m : worldScene->materials) {
+      const q3::ShaderDef* shader = m.fromScript ? library.find(m.shaderName) : nullptr;
+      if (!m.sky && (shader == nullptr || !(shader->noPicmip || shader->noMipmaps))) continue;
+      keep(m.baseTexture);
+      keep(m.emissiveTexture);
+      keep(m.reflectionOverlayTexture);
+    }
+    for (int32_t face : worldScene->sky.faces) keep(face);
+    for (size_t t = 0; t < worldScene->textures.size(); ++t) {
+      q3::WorldImage& image = worldScene->textures[t].image;
+      if (image.width == 0 || image.height == 0) continue;
+      if (!keepSize[t] && pictureSettings.picmip > 0) {
+        int width = int(image.width), height = int(image.height);
+        image.rgba8 = picmipImage(image.rgba8, width, height, pictureSettings.picmip);
+        image.width = uint32_t(width);
+        image.height = uint32_t(height);
+      }
+      applyIntensity(image.rgba8, pictureSettings.intensity);
+    }
   }
 
   /// Hides the static copies of the autosprite world surfaces (drawn per view instead).
@@ -388,15 +421,19 @@ struct ViewRenderer::Impl {
     skyHidden = true;
   }
 
-  /// The renderer texture of an image, repeating or clamped to its edges (clampMap).
-  pa::TextureId texture(const std::shared_ptr<const Image>& image, bool clamp = false) {
+  /// The renderer texture of an image, repeating or clamped to its edges (clampMap), shrunk by
+  /// r_picmip unless `noPicmip`, its colours scaled by r_intensity (as stock treats mipmapped images).
+  pa::TextureId texture(const std::shared_ptr<const Image>& image, bool clamp = false, bool noPicmip = false) {
     if (!image) return pa::kNoId;
-    const auto key = std::make_pair(image.get(), clamp);
+    const auto key = std::make_tuple(image.get(), clamp, !noPicmip);
     if (const auto found = textures.find(key); found != textures.end()) return found->second.second;
+    int width = image->width, height = image->height;
+    std::vector<uint8_t> pixels = picmipImage(image->rgba, width, height, noPicmip ? 0 : pictureSettings.picmip);
+    applyIntensity(pixels, pictureSettings.intensity);
     pa::TextureDesc desc;
-    desc.width = static_cast<uint32_t>(image->width);
-    desc.height = static_cast<uint32_t>(image->height);
-    desc.rgba8 = image->rgba;
+    desc.width = static_cast<uint32_t>(width);
+    desc.height = static_cast<uint32_t>(height);
+    desc.rgba8 = pixels;
     desc.wrap = clamp ? pa::TextureWrap::Clamp : pa::TextureWrap::Repeat;
     const pa::TextureId id = renderer->addTexture(desc);
     textures.emplace(key, std::make_pair(image, id));
@@ -431,7 +468,10 @@ struct ViewRenderer::Impl {
       if (m.view == viewCount && m.seconds == seconds && m.scroll == scroll) return m.id;
     for (MovingMaterial& m : pool) {
       if (m.view == viewCount) continue;
-      if (m.seconds != seconds || m.scroll != scroll) renderer->setMaterial(m.id, materialAt(motion, seconds, still->second, scroll));
+      if (m.seconds != seconds || m.scroll != scroll) {
+        renderer->setMaterial(m.id, materialAt(motion, seconds, still->second, scroll));
+        ++animationUpdates;
+      }
       m.seconds = seconds;
       m.scroll = scroll;
       m.view = viewCount;
@@ -446,7 +486,7 @@ struct ViewRenderer::Impl {
   pa::MaterialDesc describe(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,
                             MaterialUse use, uint32_t layer) {
     pa::MaterialDesc desc;
-    desc.baseTexture = texture(image, look.clamp);
+    desc.baseTexture = texture(image, look.clamp, look.noPicmip);
     desc.useVertexLight = use == MaterialUse::Model;
     if (look.nodraw) desc.visible = false;
     if (look.fromScript) {
@@ -455,7 +495,7 @@ struct ViewRenderer::Impl {
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.castsShadows = false;
       } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
-        desc.baseTexture = texture(premultipliedImage(image), look.clamp);
+        desc.baseTexture = texture(premultipliedImage(image), look.clamp, look.noPicmip);
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.layerBlend = pa::LayerBlend::Over;
         desc.castsShadows = false;
@@ -471,7 +511,7 @@ struct ViewRenderer::Impl {
       } else if (const auto darken = filterAsDarkening(look.blend); darken != Darkening::None) {
         // Multiplicative filters (bullet marks, blob shadows) darken what is behind. The tracer
         // has no multiply mode: draw them as black with an alpha of how much they darken.
-        desc.baseTexture = texture(darkeningImage(image, darken), look.clamp);
+        desc.baseTexture = texture(darkeningImage(image, darken), look.clamp, look.noPicmip);
         desc.alphaMode = pa::AlphaMode::Blend;
         desc.castsShadows = false;
       } else if (look.blend.blends()) {
@@ -571,6 +611,12 @@ void ViewRenderer::clearWorld() {
   impl_->resetRenderer();
 }
 
+void ViewRenderer::setPicture(const PictureSettings& picture) {
+  if (picture.picmip != impl_->pictureSettings.picmip || picture.intensity != impl_->pictureSettings.intensity)
+    impl_->textures.clear();   // entity textures are made again at the new detail
+  impl_->pictureSettings = picture;
+}
+
 void ViewRenderer::shadersChanged() {
   // Remapped shaders resolve to other entries: rebuild entity materials lazily.
   impl_->materials.clear();
@@ -601,9 +647,12 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   d.worldScene = q3::buildWorldScene(bsp, library, loader);
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
-  stockWorldLook(*d.worldScene, library, d.glowColors);
+  stockWorldLook(*d.worldScene, library, d.glowColors, d.pictureSettings.lightShift());
+  d.applyPictureToWorldTextures(library);
   d.worldDeforms.extract(*d.worldScene, library);   // before the upload: leaves the static mesh
-  d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer);
+  pa::bridge::UploadOptions upload;
+  upload.lightmapShift = d.pictureSettings.lightShift();
+  d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer, upload);
   d.worldDeforms.bind(*d.worldScene, d.world);
   d.worldAnimation.prepare(*d.worldScene, library, d.world, *d.renderer, [&](const std::string& path, bool clamp) {
     return d.texture(images.load(engine, path), clamp);
@@ -625,10 +674,10 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   d.renderer->commit();
   engine.print(q3abi::PRINT_ALL,
                "pathtracer: %s traced scene: %zu materials, %zu textures, %zu lights, %llu "
-               "triangles + %zu deformed, %zu fog volumes (%d ms)\n",
+               "triangles + %zu deformed, %zu fog volumes, %zu animated materials (%d ms)\n",
                world.name().c_str(), d.worldScene->materials.size(), d.worldScene->textures.size(),
                d.worldScene->lights.size(), static_cast<unsigned long long>(d.world.triangles),
-               d.worldDeforms.triangles(), d.fog.size(), engine.milliseconds() - start);
+               d.worldDeforms.triangles(), d.fog.size(), d.worldAnimation.animatedCount(), engine.milliseconds() - start);
 }
 
 std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
@@ -650,6 +699,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   const bool lightmapLook = settings.preset == Preset::Lightmap;
   const double seconds = view.time * 0.001;   // the stock shader time of this view
   ++d.viewCount;
+  d.animationUpdates = 0;
+  double animationMs = 0.0;
 
   // The world and its brush models: hidden in model-only views, placed by their entities.
   std::vector<bool> brushPlaced(d.world.modelInstances.size(), false);
@@ -698,7 +749,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
       const float* at = (e.renderfx & q3abi::RF_LIGHTING_ORIGIN) ? e.lightingOrigin : e.origin;
       const glm::vec3 lightOrigin(at[0], at[1], at[2]);
       EntityLight light;
-      if (!withWorld || !lightGridAt(d.worldScene->lightGrid, lightOrigin, light)) light = noWorldLight();
+      if (!withWorld || !lightGridAt(d.worldScene->lightGrid, lightOrigin, light, d.pictureSettings.lightShift()))
+        light = noWorldLight();
       light = finishEntityLight(light, lightOrigin, scene.lights());
       lightModelLikeStock(e, entityTransform(e), light, shaders, d.batch);
     }
@@ -778,7 +830,9 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     d.portals.update(scene.entities(), view.time, *d.renderer);
     d.selectSky(lightmapLook, seconds);
     d.selectWorldEmission(lightmapLook);
+    const auto animationStart = std::chrono::steady_clock::now();
     d.worldAnimation.update(seconds, *d.renderer);
+    animationMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - animationStart).count();
   } else {
     d.hideSky();
   }
@@ -808,7 +862,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
       if (!std::isfinite(frame.depth[i])) d.picture[i * 4 + 3] = 0;   // see-through background
   }
   const ViewTimings timings{sceneMs, frame.timings.commitMs, frame.timings.traceMs, frame.timings.denoiseMs,
-                            frame.timings.resolveMs};
+                            frame.timings.resolveMs, animationMs,
+                            double(d.animationUpdates + (withWorld ? d.worldAnimation.lastUpdates() : 0))};
   return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), d.picture.data(), timings,
                        frame.accumulatedFrames};
 }
