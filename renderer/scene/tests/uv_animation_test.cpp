@@ -111,6 +111,46 @@ TEST(UvAnimation, WobbleIsInterpolatedBetweenVertices) {
   expectColour(right, kRed);
 }
 
+/// Mean radiance of a floor lit only by a lamp above it whose emissive texture (4 x 1, clamped:
+/// black, black, white, white) is read through `uvTransform`.
+double floorLitByTexturedLamp(const glm::mat3x2& uvTransform) {
+  Renderer r{RendererConfig{2}};
+  test::MeshArrays floor = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  floor.setMaterial(r.addMaterial(test::diffuse(0.5f)));
+  r.addInstance(InstanceDesc{r.addMesh(floor.desc())});
+  const std::vector<uint8_t> pixels = {0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255, 255, 255, 255, 255, 255};
+  TextureDesc texture{4, 1, pixels};
+  texture.wrap = TextureWrap::Clamp;
+  texture.mipmaps = false;
+  MaterialDesc lamp;
+  lamp.baseColor = {0, 0, 0, 1};
+  lamp.emissiveTexture = r.addTexture(texture);
+  lamp.emission = glm::vec3(4.0f);
+  lamp.uvTransform = uvTransform;
+  test::MeshArrays quad = test::quad({-1, -1, 2}, {2, 0, 0}, {0, 2, 0});
+  quad.setMaterial(r.addMaterial(lamp));
+  r.addInstance(InstanceDesc{r.addMesh(quad.desc())});
+  r.commit();
+  const FrameView frame = r.render(test::lookAt({3, 0, 1}, {0, 0, 0}, 60.0f), test::settingsFor(Integrator::Direct, 8, 16, 1));
+  double sum = 0.0;
+  for (const glm::vec3& c : frame.radiance) sum += (c.r + c.g + c.b) / 3.0;
+  return sum / double(frame.radiance.size());
+}
+
+// Emission is read at the transformed uvs by the light sampler too: an animated lamp lights the
+// scene as it looks. Scaled to the texture's dark half it gives (almost) no light, moved by 0.5
+// onto the bright half it gives more than the whole texture does.
+TEST(UvAnimation, EmissiveLightFollowsTheUvTransform) {
+  const double whole = floorLitByTexturedLamp(glm::mat3x2(1.0f));
+  const glm::mat3x2 darkHalf(glm::vec2(0.4f, 0.0f), glm::vec2(0.0f, 1.0f), glm::vec2(0.0f));
+  const glm::mat3x2 brightHalf(glm::vec2(0.4f, 0.0f), glm::vec2(0.0f, 1.0f), glm::vec2(0.6f, 0.0f));
+  const double dark = floorLitByTexturedLamp(darkHalf);
+  const double bright = floorLitByTexturedLamp(brightHalf);
+  EXPECT_GT(whole, 0.01);
+  EXPECT_LT(dark, 0.05 * whole);
+  EXPECT_GT(bright, 1.5 * whole);
+}
+
 TEST(UvAnimation, RejectsANonFiniteWobble) {
   Renderer renderer{RendererConfig{1}};
   MaterialDesc material;
