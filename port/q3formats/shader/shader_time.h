@@ -22,7 +22,8 @@ float waveTableValue(WaveFunc func, double cycles);
 
 /// Noise of rgbGen / deform waves: linear between pseudo-random values in [-1, 1] at whole
 /// values of `t`, the shape of the stock noise at x = y = z = 0 (stock draws its lattice values
-/// from the C library's rand(), so the values themselves differ).
+/// from the C library's rand() when the renderer starts, after the engine seeded it for the run,
+/// so its values differ from run to run and no fixed table can match them).
 float waveNoise(double t);
 
 /// The tcMod turb wobble: per vertex, uv += after.linear * amplitude * (sin(2 pi ((x + z) / 1024
