@@ -76,6 +76,27 @@ pa::MaterialDesc materialAt(const StageMotion& motion, double seconds, const pa:
   return desc;
 }
 
+pa::MaterialId MovingMaterialPool::get(const StageMotion& motion, const pa::MaterialDesc& still, double seconds,
+                                       std::array<float, 2> scroll, uint64_t view, pa::Renderer& renderer,
+                                       size_t& updates) {
+  for (const Slot& slot : slots_)
+    if (slot.view == view && slot.seconds == seconds && slot.scroll == scroll) return slot.id;
+  for (Slot& slot : slots_) {
+    if (slot.view == view) continue;
+    if (slot.seconds != seconds || slot.scroll != scroll) {
+      renderer.setMaterial(slot.id, materialAt(motion, seconds, still, scroll));
+      ++updates;
+    }
+    slot.seconds = seconds;
+    slot.scroll = scroll;
+    slot.view = view;
+    return slot.id;
+  }
+  const pa::MaterialId id = renderer.addMaterial(materialAt(motion, seconds, still, scroll));
+  slots_.push_back(Slot{id, seconds, scroll, view});
+  return id;
+}
+
 void WorldAnimation::prepare(const q3::WorldScene& scene, const q3::ShaderLibrary& library,
                              const pa::bridge::WorldHandles& world, pa::Renderer& renderer,
                              const FrameTexture& frameTexture) {

@@ -60,6 +60,26 @@ void applyTcMods(const std::vector<q3::TcMod>& tcMods, double seconds, pa::Mater
 pa::MaterialDesc materialAt(const StageMotion& motion, double seconds, const pa::MaterialDesc& still,
                             std::array<float, 2> entityScroll = {0, 0});
 
+/// Renderer materials of one animated look: one per shader time in use within a view (entities'
+/// shaderTime differ), reused by later views.
+class MovingMaterialPool {
+ public:
+  /// The material showing `still` moved by `motion` to (`seconds`, `scroll`) in view number
+  /// `view`: one that already shows it in this view, else one this view has not used (replaced,
+  /// counted in `updates`), else a new one.
+  pa::MaterialId get(const StageMotion& motion, const pa::MaterialDesc& still, double seconds,
+                     std::array<float, 2> scroll, uint64_t view, pa::Renderer& renderer, size_t& updates);
+
+ private:
+  struct Slot {
+    pa::MaterialId id = pa::kNoId;
+    double seconds = 0.0;
+    std::array<float, 2> scroll{};
+    uint64_t view = 0;   ///< The view that last used it.
+  };
+  std::vector<Slot> slots_;
+};
+
 /// The world's animated materials (world and brush models, at refdef time).
 class WorldAnimation {
  public:

@@ -166,4 +166,31 @@ void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch) {
   }
 }
 
+void applyPictureToWorld(q3::WorldScene& scene, const q3::ShaderLibrary& library, const PictureSettings& picture) {
+  if (picture.picmip == 0 && !(picture.intensity > 1.0f)) return;
+  std::vector<bool> keepSize(scene.textures.size(), false);
+  auto keep = [&](int32_t index) {
+    if (index >= 0 && size_t(index) < keepSize.size()) keepSize[size_t(index)] = true;
+  };
+  for (const q3::WorldMaterial& m : scene.materials) {
+    const q3::ShaderDef* shader = m.fromScript ? library.find(m.shaderName) : nullptr;
+    if (!m.sky && (shader == nullptr || !(shader->noPicmip || shader->noMipmaps))) continue;
+    keep(m.baseTexture);
+    keep(m.emissiveTexture);
+    keep(m.reflectionOverlayTexture);
+  }
+  for (int32_t face : scene.sky.faces) keep(face);
+  for (size_t t = 0; t < scene.textures.size(); ++t) {
+    q3::WorldImage& image = scene.textures[t].image;
+    if (image.width == 0 || image.height == 0) continue;
+    if (!keepSize[t] && picture.picmip > 0) {
+      int width = int(image.width), height = int(image.height);
+      image.rgba8 = picmipImage(image.rgba8, width, height, picture.picmip);
+      image.width = uint32_t(width);
+      image.height = uint32_t(height);
+    }
+    applyIntensity(image.rgba8, picture.intensity);
+  }
+}
+
 }  // namespace glue

@@ -148,17 +148,8 @@ struct ViewRenderer::Impl {
   /// (shader name, use, layer, animation frame) -> renderer material.
   using MaterialKey = std::tuple<std::string, MaterialUse, uint32_t, uint32_t>;
   std::map<MaterialKey, pa::MaterialId> materials;
-  /// A renderer material of an animated shader, showing it at one shader time.
-  struct MovingMaterial {
-    pa::MaterialId id = pa::kNoId;
-    double seconds = 0.0;
-    std::array<float, 2> scroll{};
-    uint64_t view = 0;   ///< The view that last used it.
-  };
-  /// Animated shaders (shader_animation.h): their still look and a pool of materials, one per
-  /// shader time in use within a view (entities' shaderTime), reused by later views.
-  std::map<MaterialKey, pa::MaterialDesc> movingStills;
-  std::map<MaterialKey, std::vector<MovingMaterial>> movingMaterials;
+  /// Animated shaders (shader_animation.h): their still look and their materials per shader time.
+  std::map<MaterialKey, std::pair<pa::MaterialDesc, MovingMaterialPool>> moving;
   uint64_t viewCount = 0;
   size_t animationUpdates = 0;     ///< Entity materials replaced for animation in this view.
   WorldAnimation worldAnimation;   ///< World and brush-model materials at refdef time.
@@ -211,8 +202,7 @@ struct ViewRenderer::Impl {
     world = {};
     brushInstances.clear();
     materials.clear();
-    movingStills.clear();
-    movingMaterials.clear();
+    moving.clear();
     worldAnimation.clear();
     textures.clear();
     slots.clear();
@@ -236,36 +226,6 @@ struct ViewRenderer::Impl {
     modelDeforms.reset(nullptr);
     fog = ViewFog{};
     stockSkyReady = stockSkyShown = stockEmissionShown = skyHidden = false;
-  }
-
-  /// r_picmip and r_intensity on the world's textures, as stock treats mipmapped images: every
-  /// texture but those of nopicmip / nomipmaps shaders and the sky is halved r_picmip times;
-  /// every texture's colours are multiplied by r_intensity.
-  void applyPictureToWorldTextures(const q3::ShaderLibrary& library) {
-    if (pictureSettings.picmip == 0 && !(pictureSettings.intensity > 1.0f)) return;
-    std::vector<bool> keepSize(worldScene->textures.size(), false);
-    auto keep = [&](int32_t index) {
-      if (index >= 0 && size_t(index) < keepSize.size()) keepSize[size_t(index)] = true;
-    };
-    for (const q3::WorldMaterial& m : worldScene->materials) {
-      const q3::ShaderDef* shader = m.fromScript ? library.find(m.shaderName) : nullptr;
-      if (!m.sky && (shader == nullptr || !(shader->noPicmip || shader->noMipmaps))) continue;
-      keep(m.baseTexture);
-      keep(m.emissiveTexture);
-      keep(m.reflectionOverlayTexture);
-    }
-    for (int32_t face : worldScene->sky.faces) keep(face);
-    for (size_t t = 0; t < worldScene->textures.size(); ++t) {
-      q3::WorldImage& image = worldScene->textures[t].image;
-      if (image.width == 0 || image.height == 0) continue;
-      if (!keepSize[t] && pictureSettings.picmip > 0) {
-        int width = int(image.width), height = int(image.height);
-        image.rgba8 = picmipImage(image.rgba8, width, height, pictureSettings.picmip);
-        image.width = uint32_t(width);
-        image.height = uint32_t(height);
-      }
-      applyIntensity(image.rgba8, pictureSettings.intensity);
-    }
   }
 
   /// Hides the static copies of the autosprite world surfaces (drawn per view instead).
@@ -461,25 +421,10 @@ struct ViewRenderer::Impl {
       materials.emplace(key, id);
       return id;
     }
-    auto still = movingStills.find(key);
-    if (still == movingStills.end()) still = movingStills.emplace(key, describe(entry, look, image, use, layer)).first;
-    std::vector<MovingMaterial>& pool = movingMaterials[key];
-    for (const MovingMaterial& m : pool)
-      if (m.view == viewCount && m.seconds == seconds && m.scroll == scroll) return m.id;
-    for (MovingMaterial& m : pool) {
-      if (m.view == viewCount) continue;
-      if (m.seconds != seconds || m.scroll != scroll) {
-        renderer->setMaterial(m.id, materialAt(motion, seconds, still->second, scroll));
-        ++animationUpdates;
-      }
-      m.seconds = seconds;
-      m.scroll = scroll;
-      m.view = viewCount;
-      return m.id;
-    }
-    const pa::MaterialId id = renderer->addMaterial(materialAt(motion, seconds, still->second, scroll));
-    pool.push_back(MovingMaterial{id, seconds, scroll, viewCount});
-    return id;
+    auto found = moving.find(key);
+    if (found == moving.end())
+      found = moving.emplace(key, std::make_pair(describe(entry, look, image, use, layer), MovingMaterialPool{})).first;
+    return found->second.second.get(motion, found->second.first, seconds, scroll, viewCount, *renderer, animationUpdates);
   }
 
   /// The still look (no animation) of a shader stage drawn as `use` with `image`.
@@ -620,8 +565,7 @@ void ViewRenderer::setPicture(const PictureSettings& picture) {
 void ViewRenderer::shadersChanged() {
   // Remapped shaders resolve to other entries: rebuild entity materials lazily.
   impl_->materials.clear();
-  impl_->movingStills.clear();
-  impl_->movingMaterials.clear();
+  impl_->moving.clear();
 }
 
 void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScripts, ImageCache& images) {
@@ -648,7 +592,7 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
   stockWorldLook(*d.worldScene, library, d.glowColors, d.pictureSettings.lightShift());
-  d.applyPictureToWorldTextures(library);
+  applyPictureToWorld(*d.worldScene, library, d.pictureSettings);
   d.worldDeforms.extract(*d.worldScene, library);   // before the upload: leaves the static mesh
   pa::bridge::UploadOptions upload;
   upload.lightmapShift = d.pictureSettings.lightShift();

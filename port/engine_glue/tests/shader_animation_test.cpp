@@ -100,6 +100,27 @@ TEST(ShaderAnimation, StaticTransformsDoNotAnimate) {
   EXPECT_TRUE(motion.timeDependent());
 }
 
+TEST(ShaderAnimation, MaterialPoolKeepsOneMaterialPerShaderTimeInAView) {
+  pa::Renderer renderer{pa::RendererConfig{1}};
+  StageMotion motion;
+  motion.tcMods = {tcMod(q3::TcModKind::Scroll, 0.25f, 0)};
+  MovingMaterialPool pool;
+  size_t updates = 0;
+  const pa::MaterialDesc still;
+  const pa::MaterialId a = pool.get(motion, still, 1.0, {0, 0}, 1, renderer, updates);
+  EXPECT_EQ(pool.get(motion, still, 1.0, {0, 0}, 1, renderer, updates), a);   // same time, same view
+  const pa::MaterialId b = pool.get(motion, still, 2.0, {0, 0}, 1, renderer, updates);
+  EXPECT_NE(a, b);                                                            // another entity's time
+  EXPECT_EQ(updates, 0u);
+  // The next view reuses both, replacing them only when their time changed.
+  const pa::MaterialId c = pool.get(motion, still, 3.0, {0, 0}, 2, renderer, updates);
+  EXPECT_EQ(c, a);
+  EXPECT_EQ(updates, 1u);
+  EXPECT_EQ(pool.get(motion, still, 2.0, {0, 0}, 2, renderer, updates), b);
+  EXPECT_EQ(updates, 1u);
+  EXPECT_NE(pool.get(motion, still, 2.0, {0.5f, 0}, 2, renderer, updates), b);   // another scroll speed
+}
+
 /// A world of one 20 x 20 quad facing +X whose material is the script `shader`, textured with a
 /// 20 x 1 map (texels 0-9 red, 10-19 green), seen head-on from 2 units (u 0.4 .. 0.6 in view).
 struct ScriptedWorld {
