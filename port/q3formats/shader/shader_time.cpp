@@ -88,7 +88,8 @@ TcModsAt tcModsAt(const std::vector<TcMod>& mods, double seconds, std::array<flo
         break;
       case TcModKind::Rotate: {   // about (0.5, 0.5); the angle is read from the sin table
         const double degrees = -double(m.degreesPerSecond) * seconds;
-        const auto index = static_cast<int64_t>(degrees * (kWaveTableSize / 360.0));
+        const double scaled = degrees * (kWaveTableSize / 360.0);
+        const auto index = std::isfinite(scaled) ? static_cast<int64_t>(std::fmod(scaled, 1099511627776.0)) : 0;
         const float sn = tableEntry(WaveFunc::Sin, static_cast<int>(index & (kWaveTableSize - 1)));
         const float cs = tableEntry(WaveFunc::Sin, static_cast<int>((index + kWaveTableSize / 4) & (kWaveTableSize - 1)));
         step = {cs, -sn, sn, cs, 0.5f - 0.5f * cs + 0.5f * sn, 0.5f - 0.5f * sn - 0.5f * cs};
@@ -104,7 +105,7 @@ TcModsAt tcModsAt(const std::vector<TcMod>& mods, double seconds, std::array<flo
         step = {m.matrix[0], m.matrix[2], m.matrix[1], m.matrix[3], m.translate[0], m.translate[1]};
         break;
       case TcModKind::Turb:
-        if (!wobbling) {
+        if (!wobbling && std::isfinite(m.wave.amplitude) && std::isfinite(m.wave.phase + seconds * m.wave.frequency)) {
           wobbling = true;
           out.wobble.amplitude = m.wave.amplitude;
           out.wobble.phase = m.wave.phase + seconds * m.wave.frequency;
@@ -112,6 +113,10 @@ TcModsAt tcModsAt(const std::vector<TcMod>& mods, double seconds, std::array<flo
         }
         continue;
     }
+    // A step that is not finite (hostile numbers) is left out rather than poisoning the map.
+    if (!std::isfinite(step.a) || !std::isfinite(step.b) || !std::isfinite(step.c) || !std::isfinite(step.d) ||
+        !std::isfinite(step.tx) || !std::isfinite(step.ty))
+      continue;
     out.affine = step.after(out.affine);
     if (wobbling) out.wobble.after = step.after(out.wobble.after);
   }
@@ -155,12 +160,12 @@ float rgbWaveAt(const WaveForm& wave, double seconds, float identityLight) {
     glow = wave.base + waveNoise((seconds + wave.phase) * wave.frequency) * wave.amplitude;
   else
     glow = (wave.base + waveTableValue(wave.func, wave.phase + seconds * wave.frequency) * wave.amplitude) * identityLight;
-  return std::clamp(glow, 0.0f, 1.0f);
+  return std::isfinite(glow) ? std::clamp(glow, 0.0f, 1.0f) : 0.0f;
 }
 
 float alphaWaveAt(const WaveForm& wave, double seconds) {
-  return std::clamp(wave.base + waveTableValue(wave.func, wave.phase + seconds * wave.frequency) * wave.amplitude,
-                    0.0f, 1.0f);
+  const float alpha = wave.base + waveTableValue(wave.func, wave.phase + seconds * wave.frequency) * wave.amplitude;
+  return std::isfinite(alpha) ? std::clamp(alpha, 0.0f, 1.0f) : 0.0f;
 }
 
 }  // namespace q3

@@ -44,7 +44,7 @@ struct TcModsAt {
 
 /// The tcMods at `seconds`, composed in script order as the stock renderer applies them.
 /// entityTranslate scrolls by `entityScroll` units per second (refEntity shaderTexCoord). Only
-/// the first turb wobbles; later ones are left out.
+/// the first turb wobbles; later ones are left out, as are steps whose numbers are not finite.
 TcModsAt tcModsAt(const std::vector<TcMod>& mods, double seconds, std::array<float, 2> entityScroll = {0, 0});
 
 /// True when the tcMods change with time (scroll, rotate, stretch, turb, entityTranslate).
@@ -55,10 +55,10 @@ bool tcModsAnimate(const std::vector<TcMod>& mods);
 size_t animMapFrame(size_t frames, float frequency, double seconds);
 
 /// rgbGen wave's grey level in [0, 1]: base + noise((seconds + phase) x frequency) x amplitude for
-/// noise, else the table wave x `identityLight` (1 / 2^overbright bits), clamped.
+/// noise, else the table wave x `identityLight` (1 / 2^overbright bits), clamped (0 when not finite).
 float rgbWaveAt(const WaveForm& wave, double seconds, float identityLight = 1.0f);
 
-/// alphaGen wave's alpha in [0, 1]: the table wave, clamped.
+/// alphaGen wave's alpha in [0, 1]: the table wave, clamped (0 when not finite).
 float alphaWaveAt(const WaveForm& wave, double seconds);
 
 }  // namespace q3

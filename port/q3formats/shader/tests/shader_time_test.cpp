@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "port/q3formats/shader/shader_parser.h"
 
@@ -158,6 +160,19 @@ TEST(ShaderTime, EntityTranslateScrollsByTheEntitySpeed) {
   const auto uv = at(tcModsAt({m}, 2.0, {0.125f, 0.75f}), 0, 0);
   EXPECT_NEAR(uv[0], 0.25f, 1e-6);
   EXPECT_NEAR(uv[1], 0.5f, 1e-6);   // fraction of 1.5
+}
+
+TEST(ShaderTime, NonFiniteModsAreLeftOut) {
+  const float huge = 3.0e38f;
+  TcMod rotate = rotateMod(huge);
+  TcMod scroll = scrollMod(std::numeric_limits<float>::infinity(), 0);
+  const auto uv = at(tcModsAt({scaleMod(2, 2), rotate, scroll}, 1.0e9), 0.25f, 0.5f);
+  EXPECT_TRUE(std::isfinite(uv[0]) && std::isfinite(uv[1]));
+  const auto scaledOnly = at(tcModsAt({scaleMod(2, 2), scroll}, 1.0), 0.25f, 0.5f);
+  EXPECT_NEAR(scaledOnly[0], 0.5f, 1e-6);
+  EXPECT_NEAR(scaledOnly[1], 1.0f, 1e-6);
+  EXPECT_EQ(rgbWaveAt(WaveForm{WaveFunc::Sin, std::numeric_limits<float>::quiet_NaN(), 1, 0, 1}, 1.0), 0.0f);
+  EXPECT_EQ(alphaWaveAt(WaveForm{WaveFunc::Sin, 0, std::numeric_limits<float>::infinity(), 0.25f, 0}, 1.0), 0.0f);
 }
 
 TEST(ShaderTime, WhichModsAnimate) {
