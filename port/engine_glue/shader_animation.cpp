@@ -19,7 +19,8 @@ float greyByteToLinear(float level) { return byteToLinear(std::floor(255.0f * le
 
 bool sameLook(const pa::MaterialDesc& a, const pa::MaterialDesc& b) {
   return a.uvTransform == b.uvTransform && a.uvWobble == b.uvWobble && a.baseColor == b.baseColor &&
-         a.emission == b.emission && a.baseTexture == b.baseTexture && a.emissiveTexture == b.emissiveTexture;
+         a.emission == b.emission && a.baseTexture == b.baseTexture && a.emissiveTexture == b.emissiveTexture &&
+         a.emissiveOwnUv == b.emissiveOwnUv && a.emissiveUvTransform == b.emissiveUvTransform;
 }
 
 }  // namespace
@@ -27,7 +28,8 @@ bool sameLook(const pa::MaterialDesc& a, const pa::MaterialDesc& b) {
 bool StageMotion::timeDependent() const {
   const bool rgbWaves = rgbGen == q3::RgbGen::Wave && (rgbWave.amplitude != 0 || rgbWave.func == q3::WaveFunc::Noise);
   const bool alphaWaves = alphaGen == q3::AlphaGen::Wave && alphaWave.amplitude != 0;
-  return q3::tcModsAnimate(tcMods) || rgbWaves || alphaWaves || (glowWaves && glowWave.amplitude != 0);
+  return q3::tcModsAnimate(tcMods) || q3::tcModsAnimate(glowTcMods) || rgbWaves || alphaWaves ||
+         (glowWaves && glowWave.amplitude != 0);
 }
 
 StageMotion motionOf(const ShaderLook& look) {
@@ -73,6 +75,11 @@ pa::MaterialDesc materialAt(const StageMotion& motion, double seconds, const pa:
       desc.baseColor.a *= alpha;
   }
   if (motion.glowWaves) desc.emission = still.emission * greyByteToLinear(q3::rgbWaveAt(motion.glowWave, seconds));
+  if (!motion.glowTcMods.empty() && still.emissiveTexture != pa::kNoId && still.emissiveTexture != still.baseTexture) {
+    const q3::UvAffine m = q3::tcModsAt(motion.glowTcMods, seconds, entityScroll).affine;
+    desc.emissiveOwnUv = true;
+    desc.emissiveUvTransform = glm::mat3x2(glm::vec2(m.a, m.c), glm::vec2(m.b, m.d), glm::vec2(m.tx, m.ty));
+  }
   return desc;
 }
 
@@ -117,6 +124,7 @@ void WorldAnimation::prepare(const q3::WorldScene& scene, const q3::ShaderLibrar
     entry.motion.alphaWave = info.baseAlphaWave;
     entry.motion.glowWaves = info.glowWaves && m.emissiveTexture >= 0;
     entry.motion.glowWave = info.glowWave;
+    if (m.emissiveTexture >= 0) entry.motion.glowTcMods = info.glowTcMods;
     entry.still = pa::bridge::materialDesc(scene, world, key.first, key.second);
     entry.stillBase = entry.still.baseTexture;
     if (info.animFrames.size() > 1 && info.animFrequency > 0.0f) {

@@ -186,6 +186,10 @@ struct MaterialDesc {
   bool sky = false;                     ///< Surface is a window to the sky: shows and emits the sky.
   glm::mat3x2 uvTransform{1.0f};        ///< Affine uv' = M * (u, v, 1): texture animation (scroll, rotate, scale).
   UvWobble uvWobble;                    ///< Per-vertex wobble added after uvTransform (mesh uvs).
+  /// False: emissiveTexture is read at the base's uvs (after uvTransform and uvWobble). True: at
+  /// the mesh uvs through emissiveUvTransform (a glow layer that moves on its own).
+  bool emissiveOwnUv = false;
+  glm::mat3x2 emissiveUvTransform{1.0f};  ///< Affine uv' = M * (u, v, 1) of emissiveTexture when emissiveOwnUv.
   TexCoordSource baseTexCoords = TexCoordSource::Mesh;   ///< uv of baseTexture (emissiveTexture keeps mesh uvs).
   /// A shine over the base (kNoId = none): a second image stage (Quake III's environment-mapped
   /// chrome over a painted model) that the Lightmap integrator composes over the lit base in

@@ -91,6 +91,23 @@ TEST(ShaderAnimation, GlowWaveScalesEmission) {
   EXPECT_NEAR(materialAt(motion, 0.75, still).emission.x, 0.0f, 1e-6);   // level 0
 }
 
+TEST(ShaderAnimation, GlowTcModsMoveTheEmissiveTextureOnItsOwn) {
+  StageMotion motion;
+  motion.glowTcMods = {tcMod(q3::TcModKind::Scroll, 0.25f, 0.5f)};
+  EXPECT_TRUE(motion.timeDependent());
+  pa::MaterialDesc still;
+  still.baseTexture = 0;
+  still.emissiveTexture = 1;
+  const pa::MaterialDesc moved = materialAt(motion, 3.0, still);   // scroll (0.75, 0.5)
+  EXPECT_TRUE(moved.emissiveOwnUv);
+  const glm::vec2 uv = moved.emissiveUvTransform * glm::vec3(0.1f, 0.2f, 1.0f);
+  EXPECT_NEAR(uv.x, 0.85f, 1e-6);
+  EXPECT_NEAR(uv.y, 0.7f, 1e-6);
+  EXPECT_EQ(moved.uvTransform, still.uvTransform);   // the base stays
+  still.emissiveTexture = 0;                         // the base is its own glow: nothing to move apart
+  EXPECT_FALSE(materialAt(motion, 3.0, still).emissiveOwnUv);
+}
+
 TEST(ShaderAnimation, StaticTransformsDoNotAnimate) {
   StageMotion motion;
   motion.tcMods = {tcMod(q3::TcModKind::Scale, 2, 2)};

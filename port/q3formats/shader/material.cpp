@@ -52,7 +52,7 @@ namespace q3 {
 // | cull none / disable / twosided; cull back          | twoSided; backSided                           |
 // | base stage tcMods                                  | uvAnimation (uvTransformAt(t) = affine map)   |
 // | base stage rgbGen / alphaGen (wave)                | baseRgbGen/Wave, baseAlphaGen/Wave            |
-// | first glow stage rgbGen wave                       | glowWaves, glowWave                           |
+// | first glow stage rgbGen wave, tcMods               | glowWaves, glowWave, glowTcMods               |
 
 namespace {
 
@@ -272,6 +272,7 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
       m.glowWaves = true;
       m.glowWave = s.rgbWave;
     }
+    if (m.glowTextures.empty()) m.glowTcMods = s.tcMods;
     m.glowTextures.push_back(s.textures.front());
   }
   m.emissive = m.surfaceLight > 0 || !m.glowTextures.empty() || m.alphaMode == AlphaMode::Additive;

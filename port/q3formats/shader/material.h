@@ -127,6 +127,7 @@ struct MaterialInfo {
   WaveForm baseAlphaWave;
   bool glowWaves = false;                 ///< The first glow stage is rgbGen wave (glowWave)
   WaveForm glowWave;
+  std::vector<TcMod> glowTcMods;          ///< The first glow stage's tcMods
   uint64_t surfaceParms = 0;
 };
 

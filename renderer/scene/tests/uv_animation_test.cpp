@@ -112,8 +112,10 @@ TEST(UvAnimation, WobbleIsInterpolatedBetweenVertices) {
 }
 
 /// Mean radiance of a floor lit only by a lamp above it whose emissive texture (4 x 1, clamped:
-/// black, black, white, white) is read through `uvTransform`.
-double floorLitByTexturedLamp(const glm::mat3x2& uvTransform) {
+/// black, black, white, white) is read through `uvTransform` (or, with `ownUv`, through
+/// `emissiveUvTransform` whatever the base's transform).
+double floorLitByTexturedLamp(const glm::mat3x2& uvTransform, bool ownUv = false,
+                              const glm::mat3x2& emissiveUvTransform = glm::mat3x2(1.0f)) {
   Renderer r{RendererConfig{2}};
   test::MeshArrays floor = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
   floor.setMaterial(r.addMaterial(test::diffuse(0.5f)));
@@ -127,6 +129,8 @@ double floorLitByTexturedLamp(const glm::mat3x2& uvTransform) {
   lamp.emissiveTexture = r.addTexture(texture);
   lamp.emission = glm::vec3(4.0f);
   lamp.uvTransform = uvTransform;
+  lamp.emissiveOwnUv = ownUv;
+  lamp.emissiveUvTransform = emissiveUvTransform;
   test::MeshArrays quad = test::quad({-1, -1, 2}, {2, 0, 0}, {0, 2, 0});
   quad.setMaterial(r.addMaterial(lamp));
   r.addInstance(InstanceDesc{r.addMesh(quad.desc())});
@@ -149,6 +153,15 @@ TEST(UvAnimation, EmissiveLightFollowsTheUvTransform) {
   EXPECT_GT(whole, 0.01);
   EXPECT_LT(dark, 0.05 * whole);
   EXPECT_GT(bright, 1.5 * whole);
+}
+
+// A glow layer moving on its own: the emission follows emissiveUvTransform, not the base's map.
+TEST(UvAnimation, EmissiveOwnUvTransformLeadsTheLight) {
+  const glm::mat3x2 darkHalf(glm::vec2(0.4f, 0.0f), glm::vec2(0.0f, 1.0f), glm::vec2(0.0f));
+  const glm::mat3x2 brightHalf(glm::vec2(0.4f, 0.0f), glm::vec2(0.0f, 1.0f), glm::vec2(0.6f, 0.0f));
+  const double whole = floorLitByTexturedLamp(glm::mat3x2(1.0f));
+  EXPECT_GT(floorLitByTexturedLamp(darkHalf, true, brightHalf), 1.5 * whole);
+  EXPECT_LT(floorLitByTexturedLamp(brightHalf, true, darkHalf), 0.05 * whole);
 }
 
 TEST(UvAnimation, RejectsANonFiniteWobble) {

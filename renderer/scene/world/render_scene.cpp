@@ -210,6 +210,10 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
   }
   if (!g.colors.empty()) s.vertexColor = w0 * g.colors[i0] + hit.u * g.colors[i1] + hit.v * g.colors[i2];
   s.emissiveUv = s.uv;
+  if (desc.emissiveOwnUv) {
+    float area = 0.0f;
+    meshUv(desc.emissiveUvTransform, s.emissiveUv, area);
+  }
   return s;
 }
 
