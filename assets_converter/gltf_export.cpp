@@ -14,11 +14,73 @@
 
 #include "assets_converter/glb_builder.h"
 #include "port/q3formats/bsp/bsp_file.h"
+#include "port/q3formats/shader/material.h"
+#include "port/q3formats/shader/shader_time.h"
 #include "port/q3formats/world/world_lights.h"
 #include "renderer/core/srgb.h"
 
 namespace pa::converter {
 namespace {
+
+/// The script words of a wave.
+const char* waveName(q3::WaveFunc func) {
+  switch (func) {
+    case q3::WaveFunc::Sin: return "sin";
+    case q3::WaveFunc::Triangle: return "triangle";
+    case q3::WaveFunc::Square: return "square";
+    case q3::WaveFunc::Sawtooth: return "sawtooth";
+    case q3::WaveFunc::InverseSawtooth: return "inversesawtooth";
+    case q3::WaveFunc::Noise: return "noise";
+  }
+  return "sin";
+}
+
+nlohmann::json waveJson(const q3::WaveForm& w) {
+  return {{"func", waveName(w.func)}, {"base", w.base}, {"amplitude", w.amplitude}, {"phase", w.phase},
+          {"frequency", w.frequency}};
+}
+
+/// A stage's tcMods in script order, as extras (what a viewer needs to animate them).
+nlohmann::json tcModsJson(const std::vector<q3::TcMod>& mods) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const q3::TcMod& m : mods) {
+    switch (m.kind) {
+      case q3::TcModKind::Scroll: out.push_back({{"tcMod", "scroll"}, {"speed", {m.scroll[0], m.scroll[1]}}}); break;
+      case q3::TcModKind::Scale: out.push_back({{"tcMod", "scale"}, {"scale", {m.scroll[0], m.scroll[1]}}}); break;
+      case q3::TcModKind::Rotate: out.push_back({{"tcMod", "rotate"}, {"degreesPerSecond", m.degreesPerSecond}}); break;
+      case q3::TcModKind::Stretch: out.push_back({{"tcMod", "stretch"}, {"wave", waveJson(m.wave)}}); break;
+      case q3::TcModKind::Turb: out.push_back({{"tcMod", "turb"}, {"wave", waveJson(m.wave)}}); break;
+      case q3::TcModKind::Transform:
+        out.push_back({{"tcMod", "transform"},
+                       {"matrix", {m.matrix[0], m.matrix[1], m.matrix[2], m.matrix[3]}},
+                       {"translate", {m.translate[0], m.translate[1]}}});
+        break;
+      case q3::TcModKind::EntityTranslate: out.push_back({{"tcMod", "entityTranslate"}}); break;
+    }
+  }
+  return out;
+}
+
+/// KHR_texture_transform of an affine uv map (uv' = T R S uv; rotation r gives u' = cos r sx u +
+/// sin r sy v, v' = -sin r sx u + cos r sy v); nullopt when it is the identity or has a shear no
+/// offset / rotation / scale can express.
+std::optional<nlohmann::json> textureTransformJson(const q3::UvAffine& m) {
+  const float sx = std::hypot(m.a, m.c);
+  if (!(sx > 1e-6f)) return std::nullopt;
+  const float rotation = std::atan2(-m.c, m.a);
+  const float sy = m.b * std::sin(rotation) + m.d * std::cos(rotation);
+  const float tolerance = 1e-5f * std::max({1.0f, std::fabs(m.a), std::fabs(m.b), std::fabs(m.c), std::fabs(m.d)});
+  // Columns (a, c) and (b, d) of a rotation x scale are orthogonal and rebuild the map.
+  if (std::fabs(m.a * m.b + m.c * m.d) > tolerance * std::max(1.0f, sx * std::fabs(sy))) return std::nullopt;
+  if (std::fabs(std::sin(rotation) * sy - m.b) > tolerance || std::fabs(std::cos(rotation) * sy - m.d) > tolerance)
+    return std::nullopt;
+  nlohmann::json out = nlohmann::json::object();
+  if (m.tx != 0.0f || m.ty != 0.0f) out["offset"] = {m.tx, m.ty};
+  if (std::fabs(rotation) > 1e-7f) out["rotation"] = rotation;
+  if (std::fabs(sx - 1.0f) > 1e-7f || std::fabs(sy - 1.0f) > 1e-7f) out["scale"] = {sx, sy};
+  if (out.empty()) return std::nullopt;
+  return out;
+}
 
 using nlohmann::json;
 
@@ -200,6 +262,16 @@ class Exporter {
         break;
     }
     if (hasTexture) pbr["baseColorTexture"] = {{"index", texture(shownTexture, variant)}};
+    // tcMods: the look at time 0 as KHR_texture_transform (static scale / rotate / transform, a
+    // stretch's first size); animated ones also go to extras.quake.tcMods. A reflective base's
+    // tcMods move its sphere map, not the texture shown (the overlay has its own stage).
+    std::optional<json> uvTransform;
+    if (hasTexture && !reflective && !m.tcMods.empty()) uvTransform = textureTransformJson(q3::uvTransformAt(m.tcMods, 0.0));
+    if (uvTransform) {
+      glb_.useExtension("KHR_texture_transform");
+      pbr["baseColorTexture"]["extensions"]["KHR_texture_transform"] = *uvTransform;
+      if (out.contains("emissiveTexture")) out["emissiveTexture"]["extensions"]["KHR_texture_transform"] = *uvTransform;
+    }
     base = glm::clamp(base, 0.0f, 1.0f);
     pbr["baseColorFactor"] = json::array({base.r, base.g, base.b, base.a});
     out["pbrMetallicRoughness"] = std::move(pbr);
@@ -227,6 +299,7 @@ class Exporter {
     if (m.sky) quake["sky"] = true;
     if (m.mirror) quake["mirror"] = true;
     if (m.uvScrollPerSecond != glm::vec2(0.0f)) quake["uvScrollPerSecond"] = {m.uvScrollPerSecond.x, m.uvScrollPerSecond.y};
+    if (!reflective && q3::tcModsAnimate(m.tcMods)) quake["tcMods"] = tcModsJson(m.tcMods);
     if (hasTexture) quake["texture"] = scene_.textures[size_t(shownTexture)].resolvedPath;
     if (reflective && textureUsable(m.baseTexture))
       quake["environmentMap"] = scene_.textures[size_t(m.baseTexture)].resolvedPath;

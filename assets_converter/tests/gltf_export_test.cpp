@@ -374,3 +374,45 @@ TEST(GltfExport, CamerasLookAlongTheSpawnDirection) {
 }
 
 }  // namespace
+
+namespace {
+
+q3::TcMod tcMod(q3::TcModKind kind, std::array<float, 4> matrix = {1, 0, 0, 1}, std::array<float, 2> values = {0, 0}) {
+  q3::TcMod m;
+  m.kind = kind;
+  m.matrix = matrix;
+  m.scroll = values;
+  return m;
+}
+
+TEST(GltfExport, StaticTcModsBecomeTextureTransformsAnimatedOnesExtras) {
+  q3::WorldMaterial scaled = texturedMaterial("scaled");
+  scaled.tcMods = {tcMod(q3::TcModKind::Scale, {1, 0, 0, 1}, {2, 3})};
+  q3::WorldMaterial turned = texturedMaterial("turned");   // s' = -t, t' = s: a quarter turn
+  turned.tcMods = {tcMod(q3::TcModKind::Transform, {0, 1, -1, 0})};
+  q3::WorldMaterial sheared = texturedMaterial("sheared");  // s' = s + t: no rotation x scale gives it
+  sheared.tcMods = {tcMod(q3::TcModKind::Transform, {1, 0, 1, 1})};
+  q3::WorldMaterial scrolling = texturedMaterial("scrolling");
+  scrolling.tcMods = {tcMod(q3::TcModKind::Scale, {1, 0, 0, 1}, {2, 2}), tcMod(q3::TcModKind::Scroll, {1, 0, 0, 1}, {0.5f, 0})};
+  auto [doc, bin] = splitGlb(pa::converter::exportGlb(sceneWithMaterials({scaled, turned, sheared, scrolling})));
+  const json& mats = doc["materials"];
+  ASSERT_EQ(mats.size(), 4u);
+  auto transformOf = [&](size_t m) { return mats[m]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"]; };
+  EXPECT_EQ(transformOf(0)["scale"], json::array({2.0, 3.0}));
+  EXPECT_FALSE(transformOf(0).contains("rotation"));
+  EXPECT_FALSE(mats[0]["extras"]["quake"].contains("tcMods"));
+  EXPECT_NEAR(transformOf(1)["rotation"].get<float>(), -std::numbers::pi_v<float> / 2, 1e-6);
+  EXPECT_FALSE(transformOf(1).contains("scale"));
+  EXPECT_FALSE(mats[2]["pbrMetallicRoughness"]["baseColorTexture"].contains("extensions"));
+  // Animated: the time-0 look (scale 2) as a transform, the whole list in extras.
+  EXPECT_EQ(transformOf(3)["scale"], json::array({2.0, 2.0}));
+  const json& mods = mats[3]["extras"]["quake"]["tcMods"];
+  ASSERT_EQ(mods.size(), 2u);
+  EXPECT_EQ(mods[0]["tcMod"], "scale");
+  EXPECT_EQ(mods[1]["tcMod"], "scroll");
+  EXPECT_EQ(mods[1]["speed"], json::array({0.5, 0.0}));
+  EXPECT_NE(std::find(doc["extensionsUsed"].begin(), doc["extensionsUsed"].end(), "KHR_texture_transform"),
+            doc["extensionsUsed"].end());
+}
+
+}  // namespace

@@ -45,6 +45,7 @@ void GeometryBatch::clear() {
   indices.clear();
   triangleShaders.clear();
   triangleLayers.clear();
+  triangleShaderTimes.clear();
 }
 
 void GeometryBatch::addQuad(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,

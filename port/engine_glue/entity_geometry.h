@@ -29,6 +29,9 @@ struct GeometryBatch {
   std::vector<uint32_t> indices;
   std::vector<q3abi::qhandle_t> triangleShaders;
   std::vector<uint32_t> triangleLayers;   ///< Shader layer per triangle (0 = first stage); may be empty.
+  /// Per triangle: the entity's shaderTime (seconds the shader clock is behind the view's); may
+  /// be shorter than the triangle count (the rest: 0).
+  std::vector<float> triangleShaderTimes;
 
   /// Forgets everything (keeps capacity).
   void clear();

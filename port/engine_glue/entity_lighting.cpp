@@ -28,7 +28,7 @@ glm::vec3 colorShiftLight(const glm::vec3& bytes, int shift) {
   return shifted;
 }
 
-bool lightGridAt(const q3::WorldLightGrid& grid, const glm::vec3& point, EntityLight& out) {
+bool lightGridAt(const q3::WorldLightGrid& grid, const glm::vec3& point, EntityLight& out, int shift) {
   const auto& counts = grid.counts;
   if (counts[0] <= 0 || counts[1] <= 0 || counts[2] <= 0) return false;
   const size_t total = size_t(counts[0]) * size_t(counts[1]) * size_t(counts[2]);
@@ -64,9 +64,9 @@ bool lightGridAt(const q3::WorldLightGrid& grid, const glm::vec3& point, EntityL
     }
     if (!inside) continue;
     const auto& s = grid.samples[index];
-    const glm::vec3 sampleAmbient = colorShiftLight(glm::vec3(s[0], s[1], s[2]), kLightOverbrightShift);
+    const glm::vec3 sampleAmbient = colorShiftLight(glm::vec3(s[0], s[1], s[2]), shift);
     if (sampleAmbient.r + sampleAmbient.g + sampleAmbient.b <= 0.0f) continue;   // inside a wall
-    const glm::vec3 sampleDirected = colorShiftLight(glm::vec3(s[3], s[4], s[5]), kLightOverbrightShift);
+    const glm::vec3 sampleDirected = colorShiftLight(glm::vec3(s[3], s[4], s[5]), shift);
     totalFactor += factor;
     ambient += factor * sampleAmbient;
     directed += factor * sampleDirected;

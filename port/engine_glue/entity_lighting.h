@@ -35,7 +35,9 @@ struct EntityLight {
 /// (inside walls) and points beyond the grid are skipped and the weights renormalised when
 /// they sum below 0.99; ambient is then scaled by r_ambientScale (0.6). False when the grid is
 /// empty (the caller then uses noWorldLight()).
-bool lightGridAt(const q3::WorldLightGrid& grid, const glm::vec3& point, EntityLight& out);
+/// `shift` replaces kLightOverbrightShift (r_mapOverBrightBits minus display overbright bits).
+bool lightGridAt(const q3::WorldLightGrid& grid, const glm::vec3& point, EntityLight& out,
+                 int shift = kLightOverbrightShift);
 
 /// The light of entities in views without a world (HUD heads, menus): 150 ambient and directed
 /// from the stock sun direction (0.45, 0.3, 0.9).

@@ -40,6 +40,8 @@ void addTimings(ViewTimings& sum, const ViewTimings& t) {
   sum.traceMs += t.traceMs;
   sum.denoiseMs += t.denoiseMs;
   sum.resolveMs += t.resolveMs;
+  sum.animationMs += t.animationMs;
+  sum.animationUpdates += t.animationUpdates;
 }
 
 }  // namespace
@@ -51,6 +53,7 @@ void Module::beginFrame(int /*stereoFrame*/) {
   if (frameBegan_ != Clock::time_point{}) stats_.frameMs += std::chrono::duration<double, std::milli>(now - frameBegan_).count();
   frameBegan_ = now;
   modelViewsThisFrame_ = 0;
+  if (settings_.gammaChanged()) updateDisplayRamp();
   overlay_.beginFrame(window_.width(), window_.height());
   frameOpen_ = true;
 }
@@ -61,6 +64,8 @@ void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
   if (!window_.isOpen() || !frameOpen_) return;
   {
     const ScopeTimer present(stats_.presentMs);
+    // r_gamma: the frame through the display's ramp (stock screenshots carry the ramp too).
+    if (!rampIsIdentity_) overlay_.applyRamp(displayRamp_);
     // Screenshot commands ran during the frame: capture what was drawn before it is shown.
     std::vector<ScreenshotRequest> shots;
     shots.swap(pendingShots_);
@@ -94,11 +99,12 @@ void Module::printFrameStats(int nowMs) const {
   engine_.print(q3abi::PRINT_ALL,
                 "pathtracer: stats %s fps=%.1f frame_ms=%.2f world_views=%.2f scene_ms=%.2f commit_ms=%.2f "
                 "trace_ms=%.2f denoise_ms=%.2f resolve_ms=%.2f upload_ms=%.2f model_views=%.2f model_view_ms=%.2f "
-                "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u\n",
+                "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u anim_ms=%.3f anim_updates=%.2f\n",
                 presetName(settings_.tracer(engine_).preset), 1000.0 * n / std::max(1, nowMs - s.sinceMs),
                 s.frameMs / n, s.views / n, s.world.sceneMs / n, s.world.commitMs / n, s.world.traceMs / n,
                 s.world.denoiseMs / n, s.world.resolveMs / n, s.uploadMs / n, s.modelViews / n, s.modelViewMs / n,
-                s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n, s.accumulated);
+                s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n, s.accumulated,
+                s.world.animationMs / n, s.world.animationUpdates / n);
 }
 
 void Module::clearScene() { scene_.clear(); }

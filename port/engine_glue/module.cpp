@@ -58,13 +58,21 @@ void Module::ensureWindow(q3abi::glconfig_t* config) {
   if (config != nullptr) *config = glconfig_;
 }
 
+void Module::updateDisplayRamp() {
+  displayRamp_ = gammaRamp(settings_.picture(engine_).gamma, 0);
+  rampIsIdentity_ = isIdentityRamp(displayRamp_);
+}
+
 void Module::beginRegistration(q3abi::glconfig_t* config) {
   settings_.registerCvars(engine_);
   // Re-initialise fully (the engine calls Shutdown(0) before every map).
   if (registered_) shutdown(false);
   ensureWindow(config);
+  updateDisplayRamp();
   if (!views_) views_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);
   if (!modelViews_) modelViews_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);
+  views_->setPicture(settings_.picture(engine_));
+  modelViews_->setPicture(settings_.picture(engine_));
   scripts_.load(engine_);
   engine_.print(q3abi::PRINT_DEVELOPER, "pathtracer: %zu shaders in scripts\n", scripts_.size());
   addCommands();
@@ -112,6 +120,7 @@ void Module::loadWorld(const char* name) {
   }
   if (views_) {
     try {
+      views_->setPicture(settings_.picture(engine_));
       views_->loadWorld(*world_, scripts_, images_);
     } catch (const std::exception& error) {
       world_.reset();

@@ -2,6 +2,7 @@
 // The renderer module's one state object: created by GetRefAPI, destroyed by Shutdown(1) or
 // dlclose. Every refexport_t entry point lands on a method of Module (see module_entry.cpp).
 #include <chrono>
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -113,6 +114,8 @@ class Module {
 
  private:
   void ensureWindow(q3abi::glconfig_t* config);
+  /// Recomputes the display's gamma ramp from r_gamma.
+  void updateDisplayRamp();
   /// Prints the r_pt_stats line: per-frame means of stats_ up to `nowMs`.
   void printFrameStats(int nowMs) const;
   double seconds() const;
@@ -140,6 +143,9 @@ class Module {
   /// film of their own, so that they never rebuild, resize or reset the world view's.
   std::unique_ptr<ViewRenderer> modelViews_;
   std::vector<ScreenshotRequest> pendingShots_;
+  /// The display's gamma ramp (r_gamma; stock sets it on the display, we map the finished frame).
+  std::array<uint8_t, 256> displayRamp_{};
+  bool rampIsIdentity_ = true;
   std::optional<VideoFrameRequest> pendingVideo_;
   bool registered_ = false;        ///< Between BeginRegistration and Shutdown.
   bool commandsAdded_ = false;

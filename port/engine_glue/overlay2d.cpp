@@ -39,6 +39,37 @@ void Overlay2D::beginFrame(int width, int height) {
   color_ = {1, 1, 1, 1};
 }
 
+void Overlay2D::applyRamp(const std::array<uint8_t, 256>& ramp) {
+  if (width_ <= 0 || height_ <= 0) return;
+  rampPixels_.resize(size_t(width_) * size_t(height_) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rampPixels_.data());
+  for (size_t i = 0; i < rampPixels_.size(); i += 4)
+    for (size_t c = 0; c < 3; ++c) rampPixels_[i + c] = ramp[rampPixels_[i + c]];
+  glPushAttrib(GL_ENABLE_BIT | GL_COLOR_BUFFER_BIT | GL_CURRENT_BIT | GL_PIXEL_MODE_BIT);
+  glDisable(GL_TEXTURE_2D);
+  glDisable(GL_BLEND);
+  glDisable(GL_ALPHA_TEST);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_SCISSOR_TEST);
+  glPixelZoom(1.0f, 1.0f);
+  glMatrixMode(GL_PROJECTION);
+  glPushMatrix();
+  glLoadIdentity();
+  glOrtho(0, width_, 0, height_, -1, 1);
+  glMatrixMode(GL_MODELVIEW);
+  glPushMatrix();
+  glLoadIdentity();
+  glRasterPos2i(0, 0);
+  glDrawPixels(width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rampPixels_.data());
+  glPopMatrix();
+  glMatrixMode(GL_PROJECTION);
+  glPopMatrix();
+  glMatrixMode(GL_MODELVIEW);
+  glPopAttrib();
+}
+
 void Overlay2D::setColor(const float* rgba) {
   if (rgba == nullptr) color_ = {1, 1, 1, 1};
   else color_ = {rgba[0], rgba[1], rgba[2], rgba[3]};

@@ -42,6 +42,9 @@ class Overlay2D {
   void uploadRaw(int client, const uint8_t* rgba, int cols, int rows);
   /// DrawStretchRaw after an upload: draws that cinematic slot.
   void drawRaw(int client, float x, float y, float w, float h);
+  /// Maps every colour byte of the frame (the beginFrame size from the bottom-left) through
+  /// `ramp` (a gamma ramp applied in software): read back, mapped, drawn again.
+  void applyRamp(const std::array<uint8_t, 256>& ramp);
   /// Reads the back buffer as RGB8 rows, top row first.
   std::vector<uint8_t> readPixelsRGB(int width, int height) const;
   /// Deletes the GL objects (context must be current).
@@ -57,6 +60,7 @@ class Overlay2D {
   std::array<float, 4> color_{1, 1, 1, 1};
   std::vector<unsigned> slotTextures_;   ///< Views, then kViewSlots + client for cinematics
   std::vector<std::array<int, 2>> slotSizes_;
+  std::vector<uint8_t> rampPixels_;   ///< applyRamp's frame copy.
 };
 
 }  // namespace glue

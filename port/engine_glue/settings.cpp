@@ -58,6 +58,17 @@ void Settings::registerCvars(const Engine& engine) {
   denoise_ = engine.cvar("r_pt_denoise", "1", CVAR_ARCHIVE,
                          "Edge-aware denoiser on the direct and path presets (0 = raw samples)");
   if (denoise_ != nullptr) ri.Cvar_CheckRange(denoise_, 0, 1, 1);
+  // The stock picture cvars, with the stock defaults and flags (tr_init.c R_Register).
+  gamma_ = engine.cvar("r_gamma", "1", CVAR_ARCHIVE, "Display gamma (menu brightness), 0.5..3");
+  picmip_ = engine.cvar("r_picmip", "0", CVAR_ARCHIVE | CVAR_LATCH,
+                        "Halve world and model textures this many times (0..16)");
+  if (picmip_ != nullptr) ri.Cvar_CheckRange(picmip_, 0, 16, 1);
+  overBrightBits_ = engine.cvar("r_overBrightBits", "1", CVAR_ARCHIVE | CVAR_LATCH,
+                                "Display overbright bits (stock: with hardware gamma in fullscreen only)");
+  mapOverBrightBits_ = engine.cvar("r_mapOverBrightBits", "2", CVAR_LATCH,
+                                   "Lightmaps and baked vertex light are brightened by 2^(this - display bits)");
+  intensity_ = engine.cvar("r_intensity", "1", CVAR_LATCH, "Multiplies world and model texture colours (>= 1)");
+  flares_ = engine.cvar("r_flares", "0", CVAR_ARCHIVE, "Light flares (not drawn by the path tracer)");
 }
 
 VideoModeRequest Settings::videoMode() const {
@@ -67,6 +78,81 @@ VideoModeRequest Settings::videoMode() const {
   if (customHeight_ != nullptr) request.customHeight = customHeight_->integer;
   if (fullscreen_ != nullptr) request.fullscreen = fullscreen_->integer != 0;
   return request;
+}
+
+int PictureSettings::lightShift() const { return std::clamp(mapOverBrightBits - displayOverBrightBits(), 0, 8); }
+
+std::array<uint8_t, 256> gammaRamp(float gamma, int overbrightBits) {
+  std::array<uint8_t, 256> ramp{};
+  const int shift = std::clamp(overbrightBits, 0, 8);
+  for (int i = 0; i < 256; ++i) {
+    int value = i;
+    if (gamma != 1.0f) value = static_cast<int>(255.0f * std::pow(float(i) / 255.0f, 1.0f / gamma) + 0.5f);
+    ramp[size_t(i)] = static_cast<uint8_t>(std::clamp(value << shift, 0, 255));
+  }
+  return ramp;
+}
+
+bool isIdentityRamp(const std::array<uint8_t, 256>& ramp) {
+  for (int i = 0; i < 256; ++i)
+    if (ramp[size_t(i)] != i) return false;
+  return true;
+}
+
+void applyIntensity(std::vector<uint8_t>& rgba, float intensity) {
+  if (!(intensity > 1.0f)) return;
+  std::array<uint8_t, 256> table{};
+  for (int i = 0; i < 256; ++i) table[size_t(i)] = static_cast<uint8_t>(std::min(255, static_cast<int>(float(i) * intensity)));
+  for (size_t p = 0; p + 3 < rgba.size(); p += 4)
+    for (size_t c = 0; c < 3; ++c) rgba[p + c] = table[rgba[p + c]];
+}
+
+std::vector<uint8_t> picmipImage(const std::vector<uint8_t>& rgba, int& width, int& height, int times) {
+  std::vector<uint8_t> image = rgba;
+  for (int step = 0; step < times && (width > 1 || height > 1); ++step) {
+    const int w = std::max(1, width / 2), h = std::max(1, height / 2);
+    std::vector<uint8_t> half(size_t(w) * size_t(h) * 4);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 4; ++c) {
+          int sum = 0;
+          for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx) {
+              const int sx = std::min(width - 1, 2 * x + dx), sy = std::min(height - 1, 2 * y + dy);
+              sum += image[(size_t(sy) * size_t(width) + size_t(sx)) * 4 + size_t(c)];
+            }
+          half[(size_t(y) * size_t(w) + size_t(x)) * 4 + size_t(c)] = static_cast<uint8_t>((sum + 2) / 4);
+        }
+    image = std::move(half);
+    width = w;
+    height = h;
+  }
+  return image;
+}
+
+PictureSettings Settings::picture(const Engine& engine) const {
+  PictureSettings out;
+  const auto& ri = engine.ri();
+  if (gamma_ != nullptr && std::isfinite(gamma_->value)) {
+    if (gamma_->value < 0.5f) ri.Cvar_Set("r_gamma", "0.5");
+    else if (gamma_->value > 3.0f) ri.Cvar_Set("r_gamma", "3.0");
+    out.gamma = std::clamp(gamma_->value, 0.5f, 3.0f);
+  }
+  if (picmip_ != nullptr) out.picmip = std::clamp(picmip_->integer, 0, 16);
+  if (overBrightBits_ != nullptr) out.overBrightBits = overBrightBits_->integer;
+  if (mapOverBrightBits_ != nullptr) out.mapOverBrightBits = mapOverBrightBits_->integer;
+  if (intensity_ != nullptr && std::isfinite(intensity_->value)) {
+    if (intensity_->value <= 1.0f && intensity_->value != 1.0f) ri.Cvar_Set("r_intensity", "1");
+    out.intensity = std::max(1.0f, intensity_->value);
+  }
+  out.flares = flares_ != nullptr && flares_->integer != 0;
+  return out;
+}
+
+bool Settings::gammaChanged() const {
+  if (gamma_ == nullptr || !gamma_->modified) return false;
+  gamma_->modified = 0;
+  return true;
 }
 
 TracerSettings Settings::tracer(const Engine& engine) const {

@@ -1,7 +1,9 @@
 #pragma once
-// The module's cvars: the stock video-mode ones and the path tracer's r_pt_* knobs.
+// The module's cvars: the stock video-mode and picture ones and the path tracer's r_pt_* knobs.
+#include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "port/engine_glue/ioq3_abi.h"
 #include "port/engine_glue/window.h"
@@ -30,6 +32,39 @@ struct TracerSettings {
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
 };
 
+/// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,
+/// overbright bits, texture intensity, flares.
+struct PictureSettings {
+  float gamma = 1.0f;          ///< r_gamma in [0.5, 3] (stock sets it back into that range).
+  int picmip = 0;              ///< r_picmip in [0, 16]: mipmapped textures are halved this many times.
+  int overBrightBits = 1;      ///< r_overBrightBits as set (see displayOverBrightBits).
+  int mapOverBrightBits = 2;   ///< r_mapOverBrightBits: baked light is brightened by 2^(this - display bits).
+  float intensity = 1.0f;      ///< r_intensity, at least 1: mipmapped texture bytes are multiplied by it.
+  bool flares = false;         ///< r_flares (flares are not drawn: registered for configs and menus).
+
+  /// Overbright bits of the display: stock uses r_overBrightBits only with a hardware gamma ramp
+  /// in fullscreen; the module presents the picture as stock does without one: 0.
+  int displayOverBrightBits() const { return 0; }
+  /// The shift that brightens lightmaps and baked vertex light: r_mapOverBrightBits minus the
+  /// display's overbright bits, at least 0.
+  int lightShift() const;
+};
+
+/// The stock gamma ramp: entry i is 255 (i / 255)^(1 / gamma) + 0.5 truncated (i when gamma is
+/// 1), shifted left by `overbrightBits`, at most 255.
+std::array<uint8_t, 256> gammaRamp(float gamma, int overbrightBits);
+
+/// True when a ramp maps every byte to itself.
+bool isIdentityRamp(const std::array<uint8_t, 256>& ramp);
+
+/// The stock texture intensity table applied to a mipmapped texture's colour bytes: byte x
+/// intensity truncated, at most 255 (alpha kept). RGBA8 in place.
+void applyIntensity(std::vector<uint8_t>& rgba, float intensity);
+
+/// An RGBA8 image halved `times` times (2x2 box averages, odd sizes dropping the last row or
+/// column, never below 1 x 1), as r_picmip shrinks mipmapped textures.
+std::vector<uint8_t> picmipImage(const std::vector<uint8_t>& rgba, int& width, int& height, int times);
+
 /// Pointers to the engine's cvars (owned by the engine, valid while the module is loaded).
 class Settings {
  public:
@@ -39,6 +74,10 @@ class Settings {
   VideoModeRequest videoMode() const;
   /// The tracer knobs, clamped to their documented ranges.
   TracerSettings tracer(const Engine& engine) const;
+  /// The stock picture cvars; r_gamma and r_intensity are set back into their stock ranges.
+  PictureSettings picture(const Engine& engine) const;
+  /// True (once) when r_gamma changed since the last call.
+  bool gammaChanged() const;
 
  private:
   q3abi::cvar_t* mode_ = nullptr;
@@ -53,6 +92,12 @@ class Settings {
   q3abi::cvar_t* seed_ = nullptr;
   q3abi::cvar_t* stats_ = nullptr;
   q3abi::cvar_t* denoise_ = nullptr;
+  q3abi::cvar_t* gamma_ = nullptr;
+  q3abi::cvar_t* picmip_ = nullptr;
+  q3abi::cvar_t* overBrightBits_ = nullptr;
+  q3abi::cvar_t* mapOverBrightBits_ = nullptr;
+  q3abi::cvar_t* intensity_ = nullptr;
+  q3abi::cvar_t* flares_ = nullptr;
 };
 
 }  // namespace glue

@@ -39,8 +39,10 @@ void takeStage(const q3::ShaderStage& stage, ShaderLook& look) {
   look.vertexAlpha = stage.alphaGen == q3::AlphaGen::Vertex;
   look.rgbGen = stage.rgbGen;
   look.constColor = stage.constColor;
+  look.rgbWave = stage.rgbWave;
   look.alphaGen = stage.alphaGen;
   look.constAlpha = stage.constAlpha;
+  look.alphaWave = stage.alphaWave;
 }
 
 /// True for the blends a shine stage may use: add, filter x2 (dst src + src dst) and
@@ -102,6 +104,7 @@ ShaderLook lookOfShader(const q3::ShaderDef& shader) {
   look.sky = shader.has(q3::SurfaceParm::Sky);
   look.nodraw = shader.has(q3::SurfaceParm::NoDraw);
   look.translucent = shader.has(q3::SurfaceParm::Trans);
+  look.noPicmip = shader.noPicmip || shader.noMipmaps;
   look.surfaceLight = shader.surfaceLight;
   for (const q3::Deform& deform : shader.deforms)
     look.autosprite = look.autosprite || deform.kind == q3::DeformKind::AutoSprite;

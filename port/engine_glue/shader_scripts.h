@@ -57,12 +57,15 @@ struct ShaderLook {
   bool vertexAlpha = false;          ///< alphaGen vertex.
   q3::RgbGen rgbGen = q3::RgbGen::Default;   ///< The stage's rgbGen as written.
   std::array<float, 3> constColor{1, 1, 1};  ///< rgbGen const.
+  q3::WaveForm rgbWave;                      ///< rgbGen wave.
   q3::AlphaGen alphaGen = q3::AlphaGen::Default;   ///< The stage's alphaGen as written.
   float constAlpha = 1.0f;                   ///< alphaGen const.
+  q3::WaveForm alphaWave;                    ///< alphaGen wave.
   bool autosprite = false;           ///< deformVertexes autosprite: quads face the viewer.
   bool sky = false;                  ///< surfaceparm sky.
   bool nodraw = false;               ///< surfaceparm nodraw or no drawable stage.
   bool translucent = false;          ///< surfaceparm trans.
+  bool noPicmip = false;             ///< nopicmip: r_picmip leaves its images alone.
   float surfaceLight = 0.0f;         ///< q3map_surfacelight (emission, for the path tracer).
   bool fromScript = false;
   /// Every stage as written (2D draws them all in order, as the stock renderer does).

@@ -112,7 +112,7 @@ void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld
 /// traced presets ignore vertex colours of vertex-lit surfaces). Also records the colour of each
 /// material's glow stage (rgbGen const of the first additive stage), which the stock look adds.
 void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
-                    std::unordered_map<uint32_t, glm::vec3>& glowColors) {
+                    std::unordered_map<uint32_t, glm::vec3>& glowColors, int lightShift) {
   std::vector<bool> unlit(scene.materials.size(), false);
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const q3::WorldMaterial& m = scene.materials[i];
@@ -140,7 +140,7 @@ void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
         // Baked vertex light is brightened at load like lightmaps (tr_bsp.c shifts every
         // draw vertex colour by r_mapOverBrightBits - overbrightBits).
         for (glm::vec4& color : mesh.colors) {
-          const glm::vec3 shifted = colorShiftLight(glm::round(glm::vec3(color) * 255.0f), kLightOverbrightShift);
+          const glm::vec3 shifted = colorShiftLight(glm::round(glm::vec3(color) * 255.0f), lightShift);
           color = glm::vec4(shifted / 255.0f, color.a);
         }
       }
@@ -153,13 +153,43 @@ void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
 void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch) {
   const size_t count = batch.triangles();
   batch.triangleLayers.assign(count, 0);
+  const bool timed = !batch.triangleShaderTimes.empty();
+  if (timed) batch.triangleShaderTimes.resize(count, 0.0f);
   for (size_t t = 0; t < count; ++t) {
     const size_t layers = shaders.resolve(batch.triangleShaders[t]).look.layers.size();
     for (size_t layer = 1; layer <= layers; ++layer) {
       batch.indices.insert(batch.indices.end(), {batch.indices[t * 3], batch.indices[t * 3 + 1], batch.indices[t * 3 + 2]});
       batch.triangleShaders.push_back(batch.triangleShaders[t]);
       batch.triangleLayers.push_back(static_cast<uint32_t>(layer));
+      if (timed) batch.triangleShaderTimes.push_back(batch.triangleShaderTimes[t]);
     }
+  }
+}
+
+void applyPictureToWorld(q3::WorldScene& scene, const q3::ShaderLibrary& library, const PictureSettings& picture) {
+  if (picture.picmip == 0 && !(picture.intensity > 1.0f)) return;
+  std::vector<bool> keepSize(scene.textures.size(), false);
+  auto keep = [&](int32_t index) {
+    if (index >= 0 && size_t(index) < keepSize.size()) keepSize[size_t(index)] = true;
+  };
+  for (const q3::WorldMaterial& m : scene.materials) {
+    const q3::ShaderDef* shader = m.fromScript ? library.find(m.shaderName) : nullptr;
+    if (!m.sky && (shader == nullptr || !(shader->noPicmip || shader->noMipmaps))) continue;
+    keep(m.baseTexture);
+    keep(m.emissiveTexture);
+    keep(m.reflectionOverlayTexture);
+  }
+  for (int32_t face : scene.sky.faces) keep(face);
+  for (size_t t = 0; t < scene.textures.size(); ++t) {
+    q3::WorldImage& image = scene.textures[t].image;
+    if (image.width == 0 || image.height == 0) continue;
+    if (!keepSize[t] && picture.picmip > 0) {
+      int width = int(image.width), height = int(image.height);
+      image.rgba8 = picmipImage(image.rgba8, width, height, picture.picmip);
+      image.width = uint32_t(width);
+      image.height = uint32_t(height);
+    }
+    applyIntensity(image.rgba8, picture.intensity);
   }
 }
 

@@ -13,6 +13,7 @@
 #include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/images.h"
 #include "port/engine_glue/ioq3_abi.h"
+#include "port/engine_glue/settings.h"
 #include "port/engine_glue/shaders.h"
 #include "port/q3formats/world/world_scene.h"
 
@@ -53,7 +54,13 @@ void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch);
 /// vertex colours of vertex-lit surfaces); the vertex colours of vertex-lit surfaces get the
 /// stock overbright shift (x4, hue kept). Also records each material's glow colour (rgbGen const
 /// of its first additive stage, linear), which the stock look adds.
+/// r_picmip and r_intensity on the world's textures, as stock treats mipmapped images: every
+/// texture but those of nopicmip / nomipmaps shaders and the sky is halved picmip times; every
+/// texture's colours are multiplied by the intensity.
+void applyPictureToWorld(q3::WorldScene& scene, const q3::ShaderLibrary& library, const PictureSettings& picture);
+
+/// `lightShift` replaces the x4 (kLightOverbrightShift; r_mapOverBrightBits minus display bits).
 void stockWorldLook(q3::WorldScene& scene, const q3::ShaderLibrary& library,
-                    std::unordered_map<uint32_t, glm::vec3>& glowColors);
+                    std::unordered_map<uint32_t, glm::vec3>& glowColors, int lightShift = kLightOverbrightShift);
 
 }  // namespace glue

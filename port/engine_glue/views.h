@@ -26,6 +26,8 @@ struct ViewTimings {
   double traceMs = 0.0;     ///< Rays and shading.
   double denoiseMs = 0.0;   ///< Denoiser.
   double resolveMs = 0.0;   ///< Film resolve and display encode.
+  double animationMs = 0.0;       ///< Part of sceneMs: world materials moved to the shader time.
+  double animationUpdates = 0.0;  ///< Materials replaced for shader animation (world and entities).
 };
 
 /// A traced view: RGBA8, top row first; alpha 0 where nothing was hit (HUD model views).
@@ -45,6 +47,9 @@ class ViewRenderer {
   ViewRenderer(const ViewRenderer&) = delete;
   ViewRenderer& operator=(const ViewRenderer&) = delete;
 
+  /// The stock picture cvars for what is loaded next (r_picmip and r_intensity on world and model
+  /// textures, r_mapOverBrightBits on baked light).
+  void setPicture(const PictureSettings& picture);
   /// Builds the world's meshes, materials and lights from the parsed map.
   void loadWorld(const World& world, const ShaderScripts& scripts, ImageCache& images);
   /// Drops the world (map change).

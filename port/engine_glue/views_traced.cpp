@@ -10,6 +10,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -30,6 +31,7 @@
 #include "port/engine_glue/models.h"
 #include "port/engine_glue/portals.h"
 #include "port/engine_glue/scene.h"
+#include "port/engine_glue/shader_animation.h"
 #include "port/engine_glue/shaders.h"
 #include "port/engine_glue/sky_cube.h"
 #include "port/engine_glue/reflection_look.h"
@@ -44,6 +46,7 @@
 #include "port/q3formats/model/md3.h"
 #include "port/q3formats/shader/material.h"
 #include "port/q3formats/shader/shader_library.h"
+#include "port/q3formats/shader/shader_time.h"
 #include "port/q3formats/world/world_scene.h"
 #include "port/scene_bridge/scene_bridge.h"
 #include "renderer/scene/renderer.h"
@@ -143,8 +146,16 @@ struct ViewRenderer::Impl {
   pa::bridge::WorldHandles world;
   std::vector<pa::InstanceDesc> brushInstances;       ///< Current description per world model.
   /// (shader name, use, layer, animation frame) -> renderer material.
-  std::map<std::tuple<std::string, MaterialUse, uint32_t, uint32_t>, pa::MaterialId> materials;
-  std::map<std::pair<const Image*, bool>, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
+  using MaterialKey = std::tuple<std::string, MaterialUse, uint32_t, uint32_t>;
+  std::map<MaterialKey, pa::MaterialId> materials;
+  /// Animated shaders (shader_animation.h): their still look and their materials per shader time.
+  std::map<MaterialKey, std::pair<pa::MaterialDesc, MovingMaterialPool>> moving;
+  uint64_t viewCount = 0;
+  size_t animationUpdates = 0;     ///< Entity materials replaced for animation in this view.
+  WorldAnimation worldAnimation;   ///< World and brush-model materials at refdef time.
+  /// (image, clamp, picmip applies) -> renderer texture.
+  std::map<std::tuple<const Image*, bool, bool>, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
+  PictureSettings pictureSettings;   ///< r_picmip, r_intensity, r_mapOverBrightBits for what is loaded.
   std::vector<DynamicSlot> slots;
   std::vector<pa::LightId> lights;
   std::vector<bool> lightOn;
@@ -191,6 +202,8 @@ struct ViewRenderer::Impl {
     world = {};
     brushInstances.clear();
     materials.clear();
+    moving.clear();
+    worldAnimation.clear();
     textures.clear();
     slots.clear();
     lights.clear();
@@ -223,7 +236,7 @@ struct ViewRenderer::Impl {
       pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, key.first, key.second);
       desc.visible = false;
       desc.castsShadows = false;
-      renderer->setMaterial(id, desc);
+      worldAnimation.setMaterial(id, desc, *renderer);
     }
   }
 
@@ -314,7 +327,7 @@ struct ViewRenderer::Impl {
         const auto colour = glowColors.find(key.first);
         desc.emission = glows ? (colour != glowColors.end() ? colour->second : glm::vec3(1.0f)) : glm::vec3(0.0f);
       }
-      renderer->setMaterial(id, desc);
+      worldAnimation.setMaterial(id, desc, *renderer);
     }
     stockEmissionShown = stockLook;
   }
@@ -368,40 +381,57 @@ struct ViewRenderer::Impl {
     skyHidden = true;
   }
 
-  /// The renderer texture of an image, repeating or clamped to its edges (clampMap).
-  pa::TextureId texture(const std::shared_ptr<const Image>& image, bool clamp = false) {
+  /// The renderer texture of an image, repeating or clamped to its edges (clampMap), shrunk by
+  /// r_picmip unless `noPicmip`, its colours scaled by r_intensity (as stock treats mipmapped images).
+  pa::TextureId texture(const std::shared_ptr<const Image>& image, bool clamp = false, bool noPicmip = false) {
     if (!image) return pa::kNoId;
-    const auto key = std::make_pair(image.get(), clamp);
+    const auto key = std::make_tuple(image.get(), clamp, !noPicmip);
     if (const auto found = textures.find(key); found != textures.end()) return found->second.second;
+    int width = image->width, height = image->height;
+    std::vector<uint8_t> pixels = picmipImage(image->rgba, width, height, noPicmip ? 0 : pictureSettings.picmip);
+    applyIntensity(pixels, pictureSettings.intensity);
     pa::TextureDesc desc;
-    desc.width = static_cast<uint32_t>(image->width);
-    desc.height = static_cast<uint32_t>(image->height);
-    desc.rgba8 = image->rgba;
+    desc.width = static_cast<uint32_t>(width);
+    desc.height = static_cast<uint32_t>(height);
+    desc.rgba8 = pixels;
     desc.wrap = clamp ? pa::TextureWrap::Clamp : pa::TextureWrap::Repeat;
     const pa::TextureId id = renderer->addTexture(desc);
     textures.emplace(key, std::make_pair(image, id));
     return id;
   }
 
-  /// The renderer material of a shader handle (resolving RemapShader).
+  /// The renderer material of a shader handle (resolving RemapShader) at shader time `seconds`.
   /// `layer` 0 is the shader's first stage, k > 0 its look.layers[k - 1]; animMap stages show
-  /// the frame of shader time `seconds`.
+  /// the frame of that time, tcMods and waves move with it (entityTranslate by `scroll`).
   pa::MaterialId material(ShaderRegistry& shaders, q3abi::qhandle_t handle, MaterialUse use, uint32_t layer,
-                          double seconds) {
+                          double seconds, std::array<float, 2> scroll = {0, 0}) {
     const ShaderEntry& entry = shaders.resolve(handle);
     if (layer > entry.look.layers.size() || layer > entry.layerFrames.size()) layer = 0;
     const ShaderLook& look = layer == 0 ? entry.look : entry.look.layers[layer - 1];
     const auto& frames = layer == 0 ? entry.frames : entry.layerFrames[layer - 1];
     uint32_t frameIndex = 0;
-    if (frames.size() > 1 && look.animFrequency > 0.0f && std::isfinite(seconds)) {
-      const double step = std::floor(std::max(seconds, 0.0) * look.animFrequency);
-      frameIndex = static_cast<uint32_t>(std::fmod(step, double(frames.size())));
-    }
+    if (frames.size() > 1 && look.animFrequency > 0.0f && std::isfinite(seconds))
+      frameIndex = static_cast<uint32_t>(q3::animMapFrame(frames.size(), look.animFrequency, seconds));
     const std::shared_ptr<const Image> image = frames.empty() ? nullptr : frames[frameIndex];
     const auto key = std::make_tuple(entry.name, use, layer, frameIndex);
-    if (const auto found = materials.find(key); found != materials.end()) return found->second;
+    const StageMotion motion = motionOf(look);
+    if (!motion.timeDependent()) {
+      if (const auto found = materials.find(key); found != materials.end()) return found->second;
+      const pa::MaterialId id = renderer->addMaterial(materialAt(motion, 0.0, describe(entry, look, image, use, layer)));
+      materials.emplace(key, id);
+      return id;
+    }
+    auto found = moving.find(key);
+    if (found == moving.end())
+      found = moving.emplace(key, std::make_pair(describe(entry, look, image, use, layer), MovingMaterialPool{})).first;
+    return found->second.second.get(motion, found->second.first, seconds, scroll, viewCount, *renderer, animationUpdates);
+  }
+
+  /// The still look (no animation) of a shader stage drawn as `use` with `image`.
+  pa::MaterialDesc describe(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,
+                            MaterialUse use, uint32_t layer) {
     pa::MaterialDesc desc;
-    desc.baseTexture = texture(image, look.clamp);
+    desc.baseTexture = texture(image, look.clamp, look.noPicmip);
     desc.useVertexLight = use == MaterialUse::Model;
     if (look.nodraw) desc.visible = false;
     if (look.fromScript) {
@@ -410,7 +440,7 @@ struct ViewRenderer::Impl {
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.castsShadows = false;
       } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
-        desc.baseTexture = texture(premultipliedImage(image), look.clamp);
+        desc.baseTexture = texture(premultipliedImage(image), look.clamp, look.noPicmip);
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.layerBlend = pa::LayerBlend::Over;
         desc.castsShadows = false;
@@ -426,7 +456,7 @@ struct ViewRenderer::Impl {
       } else if (const auto darken = filterAsDarkening(look.blend); darken != Darkening::None) {
         // Multiplicative filters (bullet marks, blob shadows) darken what is behind. The tracer
         // has no multiply mode: draw them as black with an alpha of how much they darken.
-        desc.baseTexture = texture(darkeningImage(image, darken), look.clamp);
+        desc.baseTexture = texture(darkeningImage(image, darken), look.clamp, look.noPicmip);
         desc.alphaMode = pa::AlphaMode::Blend;
         desc.castsShadows = false;
       } else if (look.blend.blends()) {
@@ -447,9 +477,7 @@ struct ViewRenderer::Impl {
     if (entry.isDefault) desc.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
     applyReflectionLook(look, desc);
     if (layer == 0 && entry.shineImage) applyShineLook(look, texture(entry.shineImage, look.shine->clamp), desc);
-    const pa::MaterialId id = renderer->addMaterial(desc);
-    materials.emplace(key, id);
-    return id;
+    return desc;
   }
 
   /// The parsed geometry of an MD3 model (LOD 0), parsed once at registration.
@@ -458,17 +486,20 @@ struct ViewRenderer::Impl {
   }
 
   /// Puts a batch into dynamic slot `index` (creating it on first use).
+  /// Shader time `seconds` less each triangle's batch.triangleShaderTimes; entityTranslate scrolls by `scroll`.
   void fillSlot(size_t index, ShaderRegistry& shaders, MaterialUse use, const glm::mat4x3& transform,
-                uint32_t mask, bool onTop, double seconds) {
+                uint32_t mask, bool onTop, double seconds, std::array<float, 2> scroll = {0, 0}) {
     if (slots.size() <= index) slots.resize(index + 1);
     DynamicSlot& slot = slots[index];
     addShaderLayers(shaders, batch);
     triangleMaterials.resize(batch.triangles());
-    std::map<std::pair<q3abi::qhandle_t, uint32_t>, pa::MaterialId> local;
+    std::map<std::tuple<q3abi::qhandle_t, uint32_t, float>, pa::MaterialId> local;
     for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
-      const auto key = std::make_pair(batch.triangleShaders[t], t < batch.triangleLayers.size() ? batch.triangleLayers[t] : 0u);
+      const float behind = t < batch.triangleShaderTimes.size() ? batch.triangleShaderTimes[t] : 0.0f;
+      const auto key = std::make_tuple(batch.triangleShaders[t], t < batch.triangleLayers.size() ? batch.triangleLayers[t] : 0u, behind);
       auto found = local.find(key);
-      if (found == local.end()) found = local.emplace(key, material(shaders, key.first, use, key.second, seconds)).first;
+      if (found == local.end())
+        found = local.emplace(key, material(shaders, std::get<0>(key), use, std::get<1>(key), seconds - behind, scroll)).first;
       triangleMaterials[t] = found->second;
     }
     pa::InstanceDesc instance;
@@ -525,9 +556,16 @@ void ViewRenderer::clearWorld() {
   impl_->resetRenderer();
 }
 
+void ViewRenderer::setPicture(const PictureSettings& picture) {
+  if (picture.picmip != impl_->pictureSettings.picmip || picture.intensity != impl_->pictureSettings.intensity)
+    impl_->textures.clear();   // entity textures are made again at the new detail
+  impl_->pictureSettings = picture;
+}
+
 void ViewRenderer::shadersChanged() {
   // Remapped shaders resolve to other entries: rebuild entity materials lazily.
   impl_->materials.clear();
+  impl_->moving.clear();
 }
 
 void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScripts, ImageCache& images) {
@@ -553,10 +591,16 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   d.worldScene = q3::buildWorldScene(bsp, library, loader);
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
-  stockWorldLook(*d.worldScene, library, d.glowColors);
+  stockWorldLook(*d.worldScene, library, d.glowColors, d.pictureSettings.lightShift());
+  applyPictureToWorld(*d.worldScene, library, d.pictureSettings);
   d.worldDeforms.extract(*d.worldScene, library);   // before the upload: leaves the static mesh
-  d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer);
+  pa::bridge::UploadOptions upload;
+  upload.lightmapShift = d.pictureSettings.lightShift();
+  d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer, upload);
   d.worldDeforms.bind(*d.worldScene, d.world);
+  d.worldAnimation.prepare(*d.worldScene, library, d.world, *d.renderer, [&](const std::string& path, bool clamp) {
+    return d.texture(images.load(engine, path), clamp);
+  });
   d.fog.load(*d.worldScene, *d.renderer);
   d.portals.load(bsp, *d.worldScene);
   d.bridgeSky = pa::bridge::skyDesc(*d.worldScene, d.world);
@@ -574,10 +618,10 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   d.renderer->commit();
   engine.print(q3abi::PRINT_ALL,
                "pathtracer: %s traced scene: %zu materials, %zu textures, %zu lights, %llu "
-               "triangles + %zu deformed, %zu fog volumes (%d ms)\n",
+               "triangles + %zu deformed, %zu fog volumes, %zu animated materials (%d ms)\n",
                world.name().c_str(), d.worldScene->materials.size(), d.worldScene->textures.size(),
                d.worldScene->lights.size(), static_cast<unsigned long long>(d.world.triangles),
-               d.worldDeforms.triangles(), d.fog.size(), engine.milliseconds() - start);
+               d.worldDeforms.triangles(), d.fog.size(), d.worldAnimation.animatedCount(), engine.milliseconds() - start);
 }
 
 std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
@@ -598,6 +642,9 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   const Viewer viewer{camera.origin, camera.left, camera.up};
   const bool lightmapLook = settings.preset == Preset::Lightmap;
   const double seconds = view.time * 0.001;   // the stock shader time of this view
+  ++d.viewCount;
+  d.animationUpdates = 0;
+  double animationMs = 0.0;
 
   // The world and its brush models: hidden in model-only views, placed by their entities.
   std::vector<bool> brushPlaced(d.world.modelInstances.size(), false);
@@ -646,11 +693,13 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
       const float* at = (e.renderfx & q3abi::RF_LIGHTING_ORIGIN) ? e.lightingOrigin : e.origin;
       const glm::vec3 lightOrigin(at[0], at[1], at[2]);
       EntityLight light;
-      if (!withWorld || !lightGridAt(d.worldScene->lightGrid, lightOrigin, light)) light = noWorldLight();
+      if (!withWorld || !lightGridAt(d.worldScene->lightGrid, lightOrigin, light, d.pictureSettings.lightShift()))
+        light = noWorldLight();
       light = finishEntityLight(light, lightOrigin, scene.lights());
       lightModelLikeStock(e, entityTransform(e), light, shaders, d.batch);
     }
-    d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop, seconds);
+    d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop, seconds - e.shaderTime,
+               {e.shaderTexCoord[0], e.shaderTexCoord[1]});
   }
   for (size_t m = 0; m < brushPlaced.size(); ++m) {
     pa::InstanceDesc desc = d.brushInstances[m];
@@ -675,8 +724,13 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
 
   // Effects and polygons: one world-space mesh.
   d.batch.clear();
-  for (const q3abi::refEntity_t& e : scene.entities())
-    if (e.reType != q3abi::RT_MODEL) appendEffect(e, viewer, d.batch);
+  for (const q3abi::refEntity_t& e : scene.entities()) {
+    if (e.reType == q3abi::RT_MODEL) continue;
+    const size_t before = d.batch.triangles();
+    if (!appendEffect(e, viewer, d.batch) || e.shaderTime == 0.0f) continue;
+    d.batch.triangleShaderTimes.resize(before, 0.0f);   // an entity's shader clock runs shaderTime behind
+    d.batch.triangleShaderTimes.resize(d.batch.triangles(), e.shaderTime);
+  }
   appendPolys(scene.polys(), scene.polyVerts(), d.batch);
   if (withWorld)
     d.worldSprites.append(
@@ -720,6 +774,9 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     d.portals.update(scene.entities(), view.time, *d.renderer);
     d.selectSky(lightmapLook, seconds);
     d.selectWorldEmission(lightmapLook);
+    const auto animationStart = std::chrono::steady_clock::now();
+    d.worldAnimation.update(seconds, *d.renderer);
+    animationMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - animationStart).count();
   } else {
     d.hideSky();
   }
@@ -749,7 +806,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
       if (!std::isfinite(frame.depth[i])) d.picture[i * 4 + 3] = 0;   // see-through background
   }
   const ViewTimings timings{sceneMs, frame.timings.commitMs, frame.timings.traceMs, frame.timings.denoiseMs,
-                            frame.timings.resolveMs};
+                            frame.timings.resolveMs, animationMs,
+                            double(d.animationUpdates + (withWorld ? d.worldAnimation.lastUpdates() : 0))};
   return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), d.picture.data(), timings,
                        frame.accumulatedFrames};
 }

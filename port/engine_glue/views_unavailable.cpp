@@ -16,6 +16,7 @@ bool ViewRenderer::available() { return false; }
 
 void ViewRenderer::loadWorld(const World&, const ShaderScripts&, ImageCache&) {}
 void ViewRenderer::clearWorld() {}
+void ViewRenderer::setPicture(const PictureSettings&) {}
 void ViewRenderer::shadersChanged() {}
 
 std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t&, const SceneFrame&,

@@ -89,6 +89,14 @@ void Window::open(const VideoModeRequest& request, q3abi::glconfig_t& config) {
   SDL_GL_MakeCurrent(window_, glContext_);
   SDL_GL_SetSwapInterval(0);  // the path tracer sets the pace; never wait for vsync twice
   SDL_GL_GetDrawableSize(window_, &width_, &height_);
+  if (request.fullscreen) {
+    // As stock: a fullscreen picture is the requested mode's size, drawn from the bottom-left of
+    // whatever the display gave (a display without that mode keeps its own size: under Xvfb a
+    // 640x360 request yields a 1024x768 surface with the 640x360 picture in its corner, and
+    // screenshots read the 640x360 picture).
+    width_ = width;
+    height_ = height;
+  }
 
   std::memset(&config, 0, sizeof config);
   copyString(config.renderer_string, sizeof config.renderer_string, glString(GL_RENDERER));
@@ -108,7 +116,9 @@ void Window::open(const VideoModeRequest& request, q3abi::glconfig_t& config) {
   config.colorBits = red + green + blue;
   config.depthBits = depth;
   config.stencilBits = stencil;
-  config.deviceSupportsGamma = 0;  // we tonemap ourselves; no hardware gamma ramps
+  // r_gamma is honoured with a software ramp over the finished frame (the menu's brightness
+  // slider needs this set); overbright bits stay 0 (settings.h PictureSettings).
+  config.deviceSupportsGamma = 1;
   config.textureEnvAddAvailable = 1;
   config.vidWidth = width_;
   config.vidHeight = height_;

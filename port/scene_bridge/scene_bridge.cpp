@@ -150,7 +150,7 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
       handles.lightmaps.push_back(kNoId);
       continue;
     }
-    std::vector<uint8_t> shifted = colorShiftLightmap(lm.rgba8, 2);
+    std::vector<uint8_t> shifted = colorShiftLightmap(lm.rgba8, options.lightmapShift);
     TextureDesc desc;
     desc.width = lm.width;
     desc.height = lm.height;

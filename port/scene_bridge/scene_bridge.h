@@ -32,6 +32,9 @@ struct UploadOptions {
   bool calibrateEstimatedLights = true;
   q3::LightCalibrationOptions calibration;   ///< Knobs of that calibration.
   bool fog = true;           ///< Set the map's fog volumes (fogVolumes()).
+  /// Lightmaps are brightened by 2^lightmapShift with hue-keeping saturation (Quake's
+  /// r_mapOverBrightBits minus the display's overbright bits; 2 by default).
+  int lightmapShift = 2;
 };
 
 /// Renderer ids of everything uploaded, indexed like the WorldScene arrays.

@@ -61,6 +61,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <glm/geometric.hpp>
+#include <glm/mat2x2.hpp>
 #include <glm/mat3x2.hpp>
 #include <glm/mat4x3.hpp>
 #include <glm/vec2.hpp>
@@ -140,6 +142,26 @@ enum class TexCoordSource : uint8_t {
   ReflectionSphere,
 };
 
+/// A per-vertex wobble of mesh texture coordinates (rippling water, lava): each vertex's uv, after
+/// uvTransform, moves by linear * amplitude * (sin(2 pi (dot(p, axisU) + phase)),
+/// sin(2 pi (dot(p, axisV) + phase))), p the vertex's object-space position; between vertices the
+/// offset is interpolated like the uvs. amplitude 0 = none. Mesh uvs only.
+struct UvWobble {
+  float amplitude = 0.0f;
+  float phase = 0.0f;               ///< Cycles.
+  glm::vec3 axisU{0.0f};            ///< Cycles per unit along which the u offset varies.
+  glm::vec3 axisV{0.0f};            ///< Cycles per unit along which the v offset varies.
+  glm::mat2 linear{1.0f};           ///< Maps the (u, v) offset (the linear part of later transforms).
+
+  bool operator==(const UvWobble&) const = default;
+  /// The offset at object-space position p.
+  glm::vec2 offsetAt(const glm::vec3& p) const {
+    constexpr float kTwoPi = 6.28318530718f;
+    const glm::vec2 wave(std::sin(kTwoPi * (glm::dot(p, axisU) + phase)), std::sin(kTwoPi * (glm::dot(p, axisV) + phase)));
+    return linear * (amplitude * wave);
+  }
+};
+
 /// Material model limited to what a Quake III scene needs.
 struct MaterialDesc {
   TextureId baseTexture = kNoId;        ///< Albedo (RGB) + alpha (A).
@@ -163,6 +185,11 @@ struct MaterialDesc {
   bool visible = true;                  ///< False: invisible to camera and bounce rays (nodraw, but may emit).
   bool sky = false;                     ///< Surface is a window to the sky: shows and emits the sky.
   glm::mat3x2 uvTransform{1.0f};        ///< Affine uv' = M * (u, v, 1): texture animation (scroll, rotate, scale).
+  UvWobble uvWobble;                    ///< Per-vertex wobble added after uvTransform (mesh uvs).
+  /// False: emissiveTexture is read at the base's uvs (after uvTransform and uvWobble). True: at
+  /// the mesh uvs through emissiveUvTransform (a glow layer that moves on its own).
+  bool emissiveOwnUv = false;
+  glm::mat3x2 emissiveUvTransform{1.0f};  ///< Affine uv' = M * (u, v, 1) of emissiveTexture when emissiveOwnUv.
   TexCoordSource baseTexCoords = TexCoordSource::Mesh;   ///< uv of baseTexture (emissiveTexture keeps mesh uvs).
   /// A shine over the base (kNoId = none): a second image stage (Quake III's environment-mapped
   /// chrome over a painted model) that the Lightmap integrator composes over the lit base in

@@ -1,4 +1,5 @@
 #include "port/q3formats/shader/material.h"
+#include "port/q3formats/shader/shader_time.h"
 
 #include <algorithm>
 #include <cmath>
@@ -50,10 +51,11 @@ namespace q3 {
 // | stage with tcGen environment                       | environmentMapped, environmentTexture         |
 // | cull none / disable / twosided; cull back          | twoSided; backSided                           |
 // | base stage tcMods                                  | uvAnimation (uvTransformAt(t) = affine map)   |
+// | base stage rgbGen / alphaGen (wave)                | baseRgbGen/Wave, baseAlphaGen/Wave            |
+// | first glow stage rgbGen wave, tcMods               | glowWaves, glowWave, glowTcMods               |
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 bool isImageStage(const ShaderStage& s) {
   return s.source == TextureSource::Image && !s.textures.empty();
@@ -171,44 +173,7 @@ UvAffine UvAffine::after(const UvAffine& f) const {
   return r;
 }
 
-UvAffine uvTransformAt(const std::vector<TcMod>& mods, double seconds) {
-  UvAffine total;
-  for (const TcMod& m : mods) {
-    UvAffine step;
-    switch (m.kind) {
-      case TcModKind::Scroll: {
-        double s = m.scroll[0] * seconds, t = m.scroll[1] * seconds;
-        step.tx = static_cast<float>(s - std::floor(s));  // the engine keeps the fraction
-        step.ty = static_cast<float>(t - std::floor(t));
-        break;
-      }
-      case TcModKind::Scale:
-        step.a = m.scroll[0];
-        step.d = m.scroll[1];
-        break;
-      case TcModKind::Rotate: {  // about the texture centre (0.5, 0.5), clockwise for positive speeds
-        const double rad = -m.degreesPerSecond * seconds * kPi / 180.0;
-        const float cs = static_cast<float>(std::cos(rad)), sn = static_cast<float>(std::sin(rad));
-        step = {cs, -sn, sn, cs, 0.5f - 0.5f * cs + 0.5f * sn, 0.5f - 0.5f * sn - 0.5f * cs};
-        break;
-      }
-      case TcModKind::Stretch: {  // scale about the centre by 1 / wave
-        const float w = m.wave.evaluate(seconds);
-        const float p = w != 0 ? 1.0f / w : 1.0f;
-        step = {p, 0, 0, p, 0.5f - 0.5f * p, 0.5f - 0.5f * p};
-        break;
-      }
-      case TcModKind::Transform:  // s' = s*m00 + t*m10 + t0, t' = s*m01 + t*m11 + t1
-        step = {m.matrix[0], m.matrix[2], m.matrix[1], m.matrix[3], m.translate[0], m.translate[1]};
-        break;
-      case TcModKind::Turb:
-      case TcModKind::EntityTranslate:
-        continue;
-    }
-    total = step.after(total);
-  }
-  return total;
-}
+UvAffine uvTransformAt(const std::vector<TcMod>& mods, double seconds) { return tcModsAt(mods, seconds).affine; }
 
 MaterialInfo deriveMaterial(const ShaderDef& shader) {
   MaterialInfo m;
@@ -250,6 +215,10 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
     m.clampUv = base->clamp;
     m.baseReflects = base->tcGen == TcGen::Environment;
     m.uvAnimation = base->tcMods;
+    m.baseRgbGen = base->rgbGen;
+    m.baseRgbWave = base->rgbWave;
+    m.baseAlphaGen = base->alphaGen;
+    m.baseAlphaWave = base->alphaWave;
     for (const auto& t : base->tcMods) m.hasTurbulence |= t.kind == TcModKind::Turb;
   }
 
@@ -298,7 +267,13 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   for (const auto& s : stages) {
     if (&s == base || &s == &stages.front() || !isImageStage(s) || s.tcGen == TcGen::Environment) continue;
     if (litByLaterLightmap(stages, size_t(&s - stages.data()))) continue;
-    if (s.blends() && s.dstBlend == BlendFactor::One) m.glowTextures.push_back(s.textures.front());
+    if (!s.blends() || s.dstBlend != BlendFactor::One) continue;
+    if (m.glowTextures.empty() && s.rgbGen == RgbGen::Wave) {
+      m.glowWaves = true;
+      m.glowWave = s.rgbWave;
+    }
+    if (m.glowTextures.empty()) m.glowTcMods = s.tcMods;
+    m.glowTextures.push_back(s.textures.front());
   }
   m.emissive = m.surfaceLight > 0 || !m.glowTextures.empty() || m.alphaMode == AlphaMode::Additive;
   // Shiny floors and trims (texture, chrome tcGen environment, the texture again with blendFunc

@@ -121,6 +121,13 @@ struct MaterialInfo {
   bool hasTurbulence = false;             ///< tcMod turb present (not in uvAnimation)
   bool hasDeforms = false;                ///< deformVertexes present (autosprite, wave, ...)
   std::vector<TcMod> uvAnimation;         ///< tcMods of the base stage; see uvTransformAt
+  RgbGen baseRgbGen = RgbGen::Default;    ///< The base stage's rgbGen (Wave: baseRgbWave)
+  WaveForm baseRgbWave;
+  AlphaGen baseAlphaGen = AlphaGen::Default;   ///< The base stage's alphaGen (Wave: baseAlphaWave)
+  WaveForm baseAlphaWave;
+  bool glowWaves = false;                 ///< The first glow stage is rgbGen wave (glowWave)
+  WaveForm glowWave;
+  std::vector<TcMod> glowTcMods;          ///< The first glow stage's tcMods
   uint64_t surfaceParms = 0;
 };
 

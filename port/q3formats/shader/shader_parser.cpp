@@ -1,4 +1,5 @@
 #include "port/q3formats/shader/shader_parser.h"
+#include "port/q3formats/shader/shader_time.h"
 
 #include <charconv>
 #include <cmath>
@@ -9,8 +10,6 @@
 
 namespace q3 {
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586;
 
 std::optional<float> parseNumber(std::string_view text) {
   if (!text.empty() && text.front() == '+') text.remove_prefix(1);
@@ -593,23 +592,10 @@ class ScriptParser {
   std::map<std::string, size_t> unknownIndex_;
 };
 
-float waveTable(WaveFunc func, double x) {
-  const double f = x - std::floor(x);
-  switch (func) {
-    case WaveFunc::Sin: return static_cast<float>(std::sin(f * kTwoPi));
-    case WaveFunc::Triangle: return static_cast<float>(f < 0.25 ? 4 * f : f < 0.75 ? 2 - 4 * f : 4 * f - 4);
-    case WaveFunc::Square: return f < 0.5 ? 1.0f : -1.0f;
-    case WaveFunc::Sawtooth: return static_cast<float>(f);
-    case WaveFunc::InverseSawtooth: return static_cast<float>(1 - f);
-    case WaveFunc::Noise: return 0;
-  }
-  return 0;
-}
-
 }  // namespace
 
 float WaveForm::evaluate(double seconds) const {
-  return base + amplitude * waveTable(func, phase + seconds * frequency);
+  return base + amplitude * waveTableValue(func, phase + seconds * frequency);
 }
 
 std::optional<SurfaceParm> surfaceParmFromName(std::string_view name) {

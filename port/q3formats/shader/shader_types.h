@@ -15,7 +15,7 @@ enum class WaveFunc { Sin, Triangle, Square, Sawtooth, InverseSawtooth, Noise };
 struct WaveForm {
   WaveFunc func = WaveFunc::Sin;
   float base = 0, amplitude = 0, phase = 0, frequency = 0;
-  /// Value at `seconds`. Noise has no defined table here: it returns `base`.
+  /// Value at `seconds`, read from the stock wave tables (shader_time.h; noise: waveNoise).
   float evaluate(double seconds) const;
 };
 

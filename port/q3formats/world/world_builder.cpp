@@ -149,6 +149,7 @@ class SceneAssembler {
     m.baseReflects = info.baseReflects;
     if (m.baseReflects && !info.reflectionOverlay.empty() && textures_.exists(info.reflectionOverlay))
       m.reflectionOverlayTexture = textures_.get(info.reflectionOverlay, false);
+    m.tcMods = info.uvAnimation;
     for (const TcMod& mod : info.uvAnimation) {
       if (mod.kind == TcModKind::Scroll) m.uvScrollPerSecond += glm::vec2(mod.scroll[0], mod.scroll[1]);
       if (mod.kind == TcModKind::Scale) m.uvScale *= glm::vec2(mod.scroll[0], mod.scroll[1]);

@@ -18,6 +18,8 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "port/q3formats/shader/shader_types.h"
+
 namespace q3 {
 
 struct BspFile;       // port/q3formats/bsp: the parsed IBSP 46 file
@@ -90,6 +92,7 @@ struct WorldMaterial {
   float specular = 0.0f;         ///< Env-mapped (tcGen environment) stage strength in [0,1].
   glm::vec2 uvScrollPerSecond{0.0f};  ///< tcMod scroll of the base stage (texture units / s).
   glm::vec2 uvScale{1.0f};       ///< tcMod scale of the base stage.
+  std::vector<TcMod> tcMods;     ///< The base stage's tcMods in script order (uvScale and uvScrollPerSecond summarise them).
   bool baseReflects = false;     ///< Base stage is tcGen environment: a sphere map read at the mirrored view.
   int32_t reflectionOverlayTexture = -1;  ///< baseReflects: the surface's own texture added over the reflection (-1 = none).
   int32_t lightmap = -1;         ///< Lightmap the shader names itself (q3map2's external lm_NNNN stage), index

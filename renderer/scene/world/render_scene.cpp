@@ -245,6 +245,9 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
     areaOut = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
   };
   meshUv(desc.uvTransform, s.uv, s.uvArea);
+  if (desc.uvWobble.amplitude != 0.0f && desc.baseTexCoords == TexCoordSource::Mesh)
+    s.uv += w0 * desc.uvWobble.offsetAt(g.positions[i0]) + hit.u * desc.uvWobble.offsetAt(g.positions[i1]) +
+            hit.v * desc.uvWobble.offsetAt(g.positions[i2]);
   if (s.material->shine != nullptr && desc.shineTexCoords == TexCoordSource::Mesh)
     meshUv(desc.shineUvTransform, s.shineUv, s.shineUvArea);
   if (!g.lightmapUvs.empty()) {
@@ -252,6 +255,10 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
   }
   if (!g.colors.empty()) s.vertexColor = w0 * g.colors[i0] + hit.u * g.colors[i1] + hit.v * g.colors[i2];
   s.emissiveUv = s.uv;
+  if (desc.emissiveOwnUv) {
+    float area = 0.0f;
+    meshUv(desc.emissiveUvTransform, s.emissiveUv, area);
+  }
   return s;
 }
 
@@ -275,7 +282,11 @@ float RenderScene::coverageAt(const RenderInstance& inst, uint32_t prim, glm::ve
   if (m.base != nullptr) {
     glm::vec2 uv(0.0f);
     if (!g.uvs.empty()) uv = w0 * g.uvs[i0] + bary.x * g.uvs[i1] + bary.y * g.uvs[i2];
-    alpha *= m.base->sampleFull(m.desc.uvTransform * glm::vec3(uv, 1.0f)).a;
+    glm::vec2 at = m.desc.uvTransform * glm::vec3(uv, 1.0f);
+    if (m.desc.uvWobble.amplitude != 0.0f)
+      at += w0 * m.desc.uvWobble.offsetAt(g.positions[i0]) + bary.x * m.desc.uvWobble.offsetAt(g.positions[i1]) +
+            bary.y * m.desc.uvWobble.offsetAt(g.positions[i2]);
+    alpha *= m.base->sampleFull(at).a;
   }
   return alpha;
 }

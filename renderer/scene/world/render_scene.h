@@ -99,7 +99,7 @@ struct SurfaceHit {
   glm::vec3 geometricNormal{0.0f};      ///< Unit winding normal in world space (front side).
   glm::vec3 shadingNormal{0.0f};        ///< Unit interpolated normal in world space (front side).
   glm::vec2 uv{0.0f};                   ///< Base uv after the material's uvTransform.
-  glm::vec2 emissiveUv{0.0f};           ///< Mesh uv after uvTransform (the emissive texture's).
+  glm::vec2 emissiveUv{0.0f};           ///< The emissive texture's uv (the base's, or emissiveUvTransform's).
   glm::vec2 lightmapUv{0.0f};
   glm::vec2 shineUv{0.0f};              ///< Shine texture uv (MaterialDesc::shineTexCoords) after shineUvTransform.
   float shineUvArea = 0.0f;             ///< Triangle area in shine uv space (mip level).

@@ -67,6 +67,11 @@ void SceneStore::validateMaterial(const MaterialDesc& m, const std::string& what
   requireFinite(finite(m.specular), what, "specular");
   requireFinite(finite(m.roughness), what, "roughness");
   for (int c = 0; c < 3; ++c) requireFinite(finite(m.uvTransform[c]), what, "uvTransform");
+  for (int c = 0; c < 3; ++c) requireFinite(finite(m.emissiveUvTransform[c]), what, "emissiveUvTransform");
+  const UvWobble& w = m.uvWobble;
+  requireFinite(std::isfinite(w.amplitude) && std::isfinite(w.phase) && finite(w.axisU) && finite(w.axisV) &&
+                    finite(w.linear[0]) && finite(w.linear[1]),
+                what, "uvWobble");
   if (m.baseTexCoords != TexCoordSource::Mesh && m.baseTexCoords != TexCoordSource::ReflectionSphere)
     throw SceneError(what + ": baseTexCoords = " + std::to_string(unsigned(m.baseTexCoords)) + " is not a TexCoordSource");
 }
@@ -468,12 +473,18 @@ RenderScene SceneStore::commit() {
       tri.normal = cross / len;
       tri.area = 0.5f * len;
       if (!g.uvs.empty()) {
-        const glm::mat3x2& uvt = m.desc.uvTransform;
+        const glm::mat3x2& uvt = m.desc.emissiveOwnUv ? m.desc.emissiveUvTransform : m.desc.uvTransform;
         tri.uv0 = uvt * glm::vec3(g.uvs[i0], 1.0f);
         tri.uv1 = uvt * glm::vec3(g.uvs[i1], 1.0f);
         tri.uv2 = uvt * glm::vec3(g.uvs[i2], 1.0f);
+        if (m.desc.uvWobble.amplitude != 0.0f && !m.desc.emissiveOwnUv) {
+          tri.uv0 += m.desc.uvWobble.offsetAt(g.positions[i0]);
+          tri.uv1 += m.desc.uvWobble.offsetAt(g.positions[i1]);
+          tri.uv2 += m.desc.uvWobble.offsetAt(g.positions[i2]);
+        }
       } else {
-        tri.uv0 = tri.uv1 = tri.uv2 = m.desc.uvTransform * glm::vec3(0.0f, 0.0f, 1.0f);
+        tri.uv0 = tri.uv1 = tri.uv2 =
+            (m.desc.emissiveOwnUv ? m.desc.emissiveUvTransform : m.desc.uvTransform) * glm::vec3(0.0f, 0.0f, 1.0f);
       }
       tri.emission = m.desc.emission;
       tri.texture = m.emissive;

@@ -1,0 +1,68 @@
+// The stock picture settings' arithmetic: gamma ramp, texture intensity, picmip halving and the
+// baked-light shift (known answers worked out from the stock formulas).
+#include <gtest/gtest.h>
+
+#include "port/engine_glue/settings.h"
+
+namespace glue {
+namespace {
+
+TEST(PictureSettings, GammaRampKnownAnswers) {
+  const auto identity = gammaRamp(1.0f, 0);
+  EXPECT_TRUE(isIdentityRamp(identity));
+  const auto bright = gammaRamp(2.0f, 0);   // 255 sqrt(i / 255) + 0.5, truncated
+  EXPECT_EQ(bright[0], 0);
+  EXPECT_EQ(bright[128], 181);
+  EXPECT_EQ(bright[255], 255);
+  EXPECT_FALSE(isIdentityRamp(bright));
+  EXPECT_EQ(gammaRamp(1.5f, 0)[64], 101);
+  EXPECT_EQ(gammaRamp(0.5f, 0)[128], 64);    // darker: (128 / 255)^2 x 255
+  EXPECT_EQ(gammaRamp(3.0f, 0)[1], 40);
+  const auto overbright = gammaRamp(1.0f, 1);   // shifted left, clamped
+  EXPECT_EQ(overbright[100], 200);
+  EXPECT_EQ(overbright[200], 255);
+}
+
+TEST(PictureSettings, IntensityScalesColourBytesNotAlpha) {
+  std::vector<uint8_t> rgba = {100, 200, 10, 50};
+  applyIntensity(rgba, 1.5f);
+  EXPECT_EQ(rgba, (std::vector<uint8_t>{150, 255, 15, 50}));
+  std::vector<uint8_t> same = {100, 200, 10, 50};
+  applyIntensity(same, 1.0f);
+  EXPECT_EQ(same, (std::vector<uint8_t>{100, 200, 10, 50}));
+}
+
+TEST(PictureSettings, PicmipHalvesWithBoxAverages) {
+  // 4 x 2: left 2x2 block values 0, 40, 80, 120 (red), right block all 200.
+  std::vector<uint8_t> rgba;
+  const uint8_t reds[8] = {0, 40, 200, 200, 80, 120, 200, 200};
+  for (uint8_t r : reds) rgba.insert(rgba.end(), {r, 0, 0, 255});
+  int width = 4, height = 2;
+  auto half = picmipImage(rgba, width, height, 1);
+  EXPECT_EQ(width, 2);
+  EXPECT_EQ(height, 1);
+  ASSERT_EQ(half.size(), 8u);
+  EXPECT_EQ(half[0], 60);    // (0 + 40 + 80 + 120) / 4
+  EXPECT_EQ(half[4], 200);
+  EXPECT_EQ(half[3], 255);
+  // Never below 1 x 1.
+  width = 4;
+  height = 2;
+  auto tiny = picmipImage(rgba, width, height, 5);
+  EXPECT_EQ(width, 1);
+  EXPECT_EQ(height, 1);
+  EXPECT_EQ(tiny.size(), 4u);
+  EXPECT_EQ(tiny[0], 130);   // (60 + 200) / 2 rounded, the odd row repeated
+}
+
+TEST(PictureSettings, BakedLightShiftFollowsMapOverBrightBits) {
+  PictureSettings picture;
+  EXPECT_EQ(picture.lightShift(), 2);   // stock defaults: x4
+  picture.mapOverBrightBits = 1;
+  EXPECT_EQ(picture.lightShift(), 1);
+  picture.mapOverBrightBits = -3;
+  EXPECT_EQ(picture.lightShift(), 0);
+}
+
+}  // namespace
+}  // namespace glue
