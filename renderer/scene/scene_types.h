@@ -330,6 +330,11 @@ struct RenderSettings {
   /// Edge-aware à-trous filter of the mean (renderer/scene/denoise) before exposure and tonemap:
   /// the returned radiance and rgba8 are filtered, the accumulation is not (does not reset it).
   bool denoise = false;
+  /// Temporal accumulation (renderer/scene/temporal, SVGF's temporal stage) of Direct and Path
+  /// frames rendered without `accumulate`: each frame blends with the last ones, reprojected by
+  /// the camera's and the instances' motion, before the denoiser. Ignored by Lightmap and while
+  /// accumulating. Its history starts again when size, integrator, spp, bounces or clamp change.
+  bool temporal = false;
 };
 
 }  // namespace pa
