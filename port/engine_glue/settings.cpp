@@ -58,6 +58,9 @@ void Settings::registerCvars(const Engine& engine) {
   denoise_ = engine.cvar("r_pt_denoise", "1", CVAR_ARCHIVE,
                          "Edge-aware denoiser on the direct and path presets (0 = raw samples)");
   if (denoise_ != nullptr) ri.Cvar_CheckRange(denoise_, 0, 1, 1);
+  temporal_ = engine.cvar("r_pt_temporal", "1", CVAR_ARCHIVE,
+                          "Temporal accumulation (reprojected history) on the direct and path presets (0 = off)");
+  if (temporal_ != nullptr) ri.Cvar_CheckRange(temporal_, 0, 1, 1);
 }
 
 VideoModeRequest Settings::videoMode() const {
@@ -88,6 +91,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   if (seed_ != nullptr) out.seed = static_cast<uint32_t>(seed_->integer);
   out.printStats = stats_ != nullptr && stats_->integer != 0;
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
+  out.temporal = temporal_ == nullptr || temporal_->integer != 0;
   return out;
 }
 

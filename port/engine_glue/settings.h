@@ -28,6 +28,7 @@ struct TracerSettings {
   uint32_t seed = 0;
   bool printStats = false;   ///< r_pt_stats
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
+  bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
 };
 
 /// Pointers to the engine's cvars (owned by the engine, valid while the module is loaded).
@@ -53,6 +54,7 @@ class Settings {
   q3abi::cvar_t* seed_ = nullptr;
   q3abi::cvar_t* stats_ = nullptr;
   q3abi::cvar_t* denoise_ = nullptr;
+  q3abi::cvar_t* temporal_ = nullptr;
 };
 
 }  // namespace glue

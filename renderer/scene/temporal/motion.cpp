@@ -10,7 +10,9 @@ namespace pa::temporal {
 
 void InstanceMotion::record(std::span<const RenderInstance> instances) {
   for (const RenderInstance& instance : instances) {
-    if (instance.id == kNoId) continue;
+    // Hidden instances (reused slots showing nothing) are not recorded: an instance shown again
+    // has no previous transform and its pixels count as disoccluded.
+    if (instance.id == kNoId || (instance.mask & kMaskCamera) == 0) continue;
     if (instance.id >= current_.size()) {
       current_.resize(instance.id + 1, glm::mat4x3(1.0f));
       currentKnown_.resize(instance.id + 1, 0);

@@ -22,7 +22,8 @@ namespace pa::temporal {
 /// Per-instance map from this frame's world space to the previous frame's.
 class InstanceMotion {
  public:
-  /// Starts a frame with the committed instances; the previous frame is the last beginFrame's.
+  /// Starts a frame with the committed instances (those camera rays see); the previous frame is
+  /// the last beginFrame's.
   void beginFrame(std::span<const RenderInstance> world, std::span<const RenderInstance> overlay);
   /// Forgets the previous frame: every instance counts as new (disoccluded) in the next one.
   void reset();
