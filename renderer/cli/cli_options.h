@@ -34,6 +34,9 @@ struct CliOptions {
   bool progress = false;                        ///< Force the progress bar even when stderr is not a TTY.
   bool quiet = false;                           ///< No progress bar and no warnings; summary only.
   bool denoise = false;                         ///< Filter the image with the à-trous denoiser (--denoise).
+  /// How the frames combine (--play): accumulate into one mean; or play them as the game does
+  /// (a new seed each, no accumulation), on their own or with temporal accumulation.
+  enum class Play : uint8_t { Accumulate, Independent, Temporal } play = Play::Accumulate;
 };
 
 /// Outcome of parsing.

@@ -1,6 +1,7 @@
 #include "renderer/scene/temporal/temporal.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -202,8 +203,11 @@ void TemporalFilter::blendRows(const FrameInputs& frame, std::span<glm::vec3> ra
       Reprojected history = reprojected_[i];
       if (history.length >= static_cast<float>(config_.minLengthForVariance)) {
         // Rejection: this frame's luminance minus the history's mean, over the neighbours that
-        // have a history, is zero-mean noise while the lighting holds.
-        float change = 0.0f, historySum = 0.0f, varianceSum = 0.0f, count = 0.0f;
+        // have a history, is noise around 0 while the lighting holds. Its mean without the
+        // largest and smallest eighth (3 of 25 each): a few fireflies in the neighbourhood must
+        // not drop 25 histories.
+        std::array<float, (2 * kRejectRadius + 1) * (2 * kRejectRadius + 1)> changes;
+        float historySum = 0.0f, varianceSum = 0.0f, count = 0.0f;
         for (int dy = -kRejectRadius; dy <= kRejectRadius; ++dy) {
           const int py = static_cast<int>(y) + dy;
           if (py < 0 || py >= height) continue;
@@ -213,22 +217,29 @@ void TemporalFilter::blendRows(const FrameInputs& frame, std::span<glm::vec3> ra
             const size_t j = size_t(py) * frame.width + size_t(px);
             const Reprojected& r = reprojected_[j];
             if (!(r.length > 0.0f)) continue;
-            change += signalLuminance_[j] - r.moment1;
+            changes[static_cast<size_t>(count)] = signalLuminance_[j] - r.moment1;
             historySum += r.moment1;
             varianceSum += std::max(0.0f, r.moment2 - r.moment1 * r.moment1);
             count += 1.0f;
           }
         }
-        const float meanChange = change / count;   // count >= 1: the pixel itself
+        const size_t taken = static_cast<size_t>(count);   // >= 1: the pixel itself
+        std::sort(changes.begin(), changes.begin() + static_cast<std::ptrdiff_t>(taken));
+        const size_t trim = taken / 8;
+        float kept = 0.0f;
+        for (size_t k = trim; k < taken - trim; ++k) kept += changes[k];
+        const float trimmedChange = kept / static_cast<float>(taken - 2 * trim);
         const float tolerance = config_.rejectSigmas * std::sqrt(varianceSum / count / count) +
                                 config_.rejectRelative * std::abs(historySum / count) + 1e-6f;
-        if (std::abs(meanChange) > tolerance) history = Reprojected{};
+        if (std::abs(trimmedChange) > tolerance) history = Reprojected{};
       }
       glm::vec3 color = signal_[i];
       float moment1 = l, moment2 = l * l, length = 1.0f;
+      float meanShare = 1.0f;   // variance of the blended colour per unit of one sample's variance
       if (history.length > 0.0f) {
         length = std::min(history.length + 1.0f, config_.maxHistory);
         const float alpha = std::max(1.0f / length, config_.alphaMin);
+        meanShare = std::max(alpha / (2.0f - alpha), 1.0f / length);
         const float alphaMoments = std::max(1.0f / length, config_.momentsAlphaMin);
         color = glm::mix(history.color, color, alpha);
         moment1 = glm::mix(history.moment1, moment1, alphaMoments);
@@ -239,7 +250,7 @@ void TemporalFilter::blendRows(const FrameInputs& frame, std::span<glm::vec3> ra
       radiance[i] = color * factor + emission;
       const float scale = luminance(factor);
       variance_[i] = length >= static_cast<float>(config_.minLengthForVariance)
-                         ? std::max(0.0f, moment2 - moment1 * moment1) * scale * scale
+                         ? std::max(0.0f, moment2 - moment1 * moment1) * meanShare * scale * scale
                          : 0.0f;
       length_[i] = length;
       color_[i] = color;

@@ -7,8 +7,8 @@
 // disoccluded and starts again. Per pixel it keeps the history length and the first and second
 // moments of luminance: colour blends with alpha = max(1 / length, alphaMin), the moments give
 // the variance that guides the à-trous filter, and the filter's first pass becomes the next
-// history. Where this frame's luminance minus the reprojected history mean, averaged over the
-// 5 x 5 neighbourhood, departs from 0 by many standard errors (a light switched off, a door
+// history. Where the trimmed mean over the 5 x 5 neighbourhood of this frame's luminance minus
+// the reprojected history mean departs from 0 by many standard errors (a light switched off, a door
 // closed), the history is dropped (a cheap stand-in for A-SVGF's gradients). Emission stays exact.
 #include <cstdint>
 #include <span>
@@ -27,7 +27,7 @@ struct Config {
   float maxHistory = 64.0f;         ///< History length cap (frames).
   float depthTolerance = 0.02f;     ///< Relative depth mismatch a tap may have (plus 2 pixels' depth slope).
   float normalCosine = 0.9f;        ///< Least cosine between a tap's normal and the pixel's previous normal.
-  float rejectSigmas = 4.0f;        ///< Standard errors of the neighbourhood's mean change that drop a history.
+  float rejectSigmas = 3.0f;        ///< Standard errors of the neighbourhood's mean change that drop a history.
   float rejectRelative = 0.1f;      ///< ... plus this fraction of the neighbourhood's history luminance.
   uint32_t minLengthForVariance = 4;   ///< Shorter histories get the denoiser's spatial variance estimate.
 };

@@ -153,12 +153,13 @@ TEST(TemporalFilter, NoisyStillSignalConvergesToItsMean) {
   const double n = static_cast<double>(radiance.size());
   EXPECT_NEAR(sum / n, 0.5, 0.02);
   // An exponential average with alpha 0.1 keeps alpha / (2 - alpha) = 5.3% of the variance:
-  // rms 0.066 against one frame's 0.289. The rejection test (4 standard errors) may drop a
-  // history by chance now and then, rarely.
+  // rms 0.066 against one frame's 0.289. The rejection test (3 standard errors) drops a
+  // history by chance now and then: 145 of these 1024 pixels once in 60 frames (0.24% per
+  // pixel and frame, about what 3 sigma lets through).
   EXPECT_LT(std::sqrt(squaredError / n), 0.09);
   size_t dropped = 0;
   for (float length : t.historyLength()) dropped += length < 60.0f ? 1 : 0;
-  EXPECT_LE(dropped, radiance.size() / 100);
+  EXPECT_LE(dropped, radiance.size() / 5);
 }
 
 TEST(TemporalFilter, SwitchedOffSignalDropsHistoryAtOnce) {
