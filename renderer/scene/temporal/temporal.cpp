@@ -1,7 +1,6 @@
 #include "renderer/scene/temporal/temporal.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -19,6 +18,10 @@ namespace {
 constexpr float kMinAlbedo = 1e-3f;
 /// Half-size of the neighbourhood of the history-rejection test (5 x 5).
 constexpr int kRejectRadius = 2;
+/// A neighbour's luminance change counts at most this many of its standard deviations ...
+constexpr float kChangeClampSigmas = 3.0f;
+/// ... plus this fraction of its history's luminance (rejection test).
+constexpr float kChangeClampRelative = 0.2f;
 /// Least total bilinear weight of the valid taps for a history to count.
 constexpr float kMinTapWeight = 1e-3f;
 /// Rows per parallel task.
@@ -181,6 +184,8 @@ void TemporalFilter::reprojectRows(const FrameInputs& frame, uint32_t y0, uint32
       out.moment1 *= inverse;
       out.moment2 *= inverse;
       out.length *= inverse;
+      out.variance = std::max(0.0f, out.moment2 - out.moment1 * out.moment1);
+      out.changeBound = kChangeClampSigmas * std::sqrt(out.variance) + kChangeClampRelative * std::abs(out.moment1) + 1e-6f;
     }
   }
 }
@@ -203,11 +208,11 @@ void TemporalFilter::blendRows(const FrameInputs& frame, std::span<glm::vec3> ra
       Reprojected history = reprojected_[i];
       if (history.length >= static_cast<float>(config_.minLengthForVariance)) {
         // Rejection: this frame's luminance minus the history's mean, over the neighbours that
-        // have a history, is noise around 0 while the lighting holds. Its mean without the
-        // largest and smallest eighth (3 of 25 each): a few fireflies in the neighbourhood must
-        // not drop 25 histories.
-        std::array<float, (2 * kRejectRadius + 1) * (2 * kRejectRadius + 1)> changes;
-        float historySum = 0.0f, varianceSum = 0.0f, count = 0.0f;
+        // have a history, is noise around 0 while the lighting holds. Each neighbour's change is
+        // first clamped to 3 of its own standard deviations plus 20% of its history (a Huber-like
+        // mean): a few fireflies in the neighbourhood must not drop 25 histories, while a change
+        // the whole neighbourhood shares still shows.
+        float change = 0.0f, historySum = 0.0f, varianceSum = 0.0f, count = 0.0f;
         for (int dy = -kRejectRadius; dy <= kRejectRadius; ++dy) {
           const int py = static_cast<int>(y) + dy;
           if (py < 0 || py >= height) continue;
@@ -217,21 +222,16 @@ void TemporalFilter::blendRows(const FrameInputs& frame, std::span<glm::vec3> ra
             const size_t j = size_t(py) * frame.width + size_t(px);
             const Reprojected& r = reprojected_[j];
             if (!(r.length > 0.0f)) continue;
-            changes[static_cast<size_t>(count)] = signalLuminance_[j] - r.moment1;
+            change += std::clamp(signalLuminance_[j] - r.moment1, -r.changeBound, r.changeBound);
             historySum += r.moment1;
-            varianceSum += std::max(0.0f, r.moment2 - r.moment1 * r.moment1);
+            varianceSum += r.variance;
             count += 1.0f;
           }
         }
-        const size_t taken = static_cast<size_t>(count);   // >= 1: the pixel itself
-        std::sort(changes.begin(), changes.begin() + static_cast<std::ptrdiff_t>(taken));
-        const size_t trim = taken / 8;
-        float kept = 0.0f;
-        for (size_t k = trim; k < taken - trim; ++k) kept += changes[k];
-        const float trimmedChange = kept / static_cast<float>(taken - 2 * trim);
+        const float meanChange = change / count;   // count >= 1: the pixel itself
         const float tolerance = config_.rejectSigmas * std::sqrt(varianceSum / count / count) +
                                 config_.rejectRelative * std::abs(historySum / count) + 1e-6f;
-        if (std::abs(trimmedChange) > tolerance) history = Reprojected{};
+        if (std::abs(meanChange) > tolerance) history = Reprojected{};
       }
       glm::vec3 color = signal_[i];
       float moment1 = l, moment2 = l * l, length = 1.0f;

@@ -7,8 +7,9 @@
 // disoccluded and starts again. Per pixel it keeps the history length and the first and second
 // moments of luminance: colour blends with alpha = max(1 / length, alphaMin), the moments give
 // the variance that guides the à-trous filter, and the filter's first pass becomes the next
-// history. Where the trimmed mean over the 5 x 5 neighbourhood of this frame's luminance minus
-// the reprojected history mean departs from 0 by many standard errors (a light switched off, a door
+// history. Where the mean over the 5 x 5 neighbourhood of this frame's luminance minus the
+// reprojected history mean (each clamped to a few standard deviations) departs from 0 by many
+// standard errors (a light switched off, a door
 // closed), the history is dropped (a cheap stand-in for A-SVGF's gradients). Emission stays exact.
 #include <cstdint>
 #include <span>
@@ -81,6 +82,8 @@ class TemporalFilter {
   struct Reprojected {
     glm::vec3 color{0.0f};
     float moment1 = 0.0f, moment2 = 0.0f, length = 0.0f;
+    float variance = 0.0f;      ///< moment2 - moment1^2, at least 0.
+    float changeBound = 0.0f;   ///< Largest luminance change this pixel adds to the rejection test.
   };
   void prepareRows(const FrameInputs& frame, std::span<const glm::vec3> radiance, uint32_t y0, uint32_t y1);
   void reprojectRows(const FrameInputs& frame, uint32_t y0, uint32_t y1);
