@@ -157,23 +157,32 @@ void TemporalFilter::reprojectRows(const FrameInputs& frame, uint32_t y0, uint32
       const int x0 = static_cast<int>(bx), ty0 = static_cast<int>(by);
       const float tx = fx - bx, ty = fy - by;
       float weight = 0.0f;
-      for (int dy = 0; dy <= 1; ++dy) {
-        for (int dx = 0; dx <= 1; ++dx) {
-          const int px = x0 + dx, py = ty0 + dy;
-          if (px < 0 || py < 0 || px >= width || py >= height) continue;
-          const float w = (dx != 0 ? tx : 1.0f - tx) * (dy != 0 ? ty : 1.0f - ty);
-          if (!(w > 0.0f)) continue;
-          const size_t j = size_t(py) * frame.width + size_t(px);
-          const State& h = history_[j];
-          if (!(h.length > 0.0f) || h.instance != g.instance[i] || h.material != g.material[i]) continue;
-          if (!(std::abs(h.depth - expectedDepth) <= depthTolerance)) continue;
-          if (!(glm::dot(h.normal, expectedNormal) >= config_.normalCosine)) continue;
-          out.color += w * historyColor_[j];
-          out.moment1 += w * h.moment1;
-          out.moment2 += w * h.moment2;
-          out.length += w * h.length;
-          weight += w;
-        }
+      // Adds history pixel (px, py) with weight w when it shows the same surface as this pixel.
+      const auto addTap = [&](int px, int py, float w) {
+        if (px < 0 || py < 0 || px >= width || py >= height || !(w > 0.0f)) return;
+        const size_t j = size_t(py) * frame.width + size_t(px);
+        const State& h = history_[j];
+        if (!(h.length > 0.0f) || h.instance != g.instance[i] || h.material != g.material[i]) return;
+        if (!(std::abs(h.depth - expectedDepth) <= depthTolerance)) return;
+        if (!(glm::dot(h.normal, expectedNormal) >= config_.normalCosine)) return;
+        out.color += w * historyColor_[j];
+        out.moment1 += w * h.moment1;
+        out.moment2 += w * h.moment2;
+        out.length += w * h.length;
+        weight += w;
+      };
+      for (int dy = 0; dy <= 1; ++dy)
+        for (int dx = 0; dx <= 1; ++dx)
+          addTap(x0 + dx, ty0 + dy, (dx != 0 ? tx : 1.0f - tx) * (dy != 0 ? ty : 1.0f - ty));
+      if (weight < kMinTapWeight) {
+        // No bilinear tap shows this surface (at an edge the jittered sample may hit the other
+        // side of it than last frame's did): as SVGF, any pixel of the 3 x 3 around the previous
+        // position that does, equally weighted.
+        out = Reprojected{};
+        weight = 0.0f;
+        const int cx = static_cast<int>(std::floor(fx + 0.5f)), cy = static_cast<int>(std::floor(fy + 0.5f));
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) addTap(cx + dx, cy + dy, 1.0f);
       }
       if (weight < kMinTapWeight) {
         out = Reprojected{};
