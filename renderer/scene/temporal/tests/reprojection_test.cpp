@@ -114,6 +114,40 @@ TEST(Reprojection, MovingInstanceHasItsOwnMotionAndTheStillWorldNone) {
   EXPECT_GT(onFloor, 1000u);
 }
 
+TEST(Reprojection, InstanceShownAgainAfterBeingHiddenIsDisoccluded) {
+  // The glue reuses instances: a slot hidden last frame (mask 0) and shown now carries no
+  // previous transform, so its pixels have no motion and start a new history.
+  Renderer r({2});
+  const MaterialId grey = r.addMaterial(test::diffuse(0.5f));
+  test::addMesh(r, test::quad({-6, -6, 0}, {12, 0, 0}, {0, 12, 0}), grey);
+  test::MeshArrays box = test::quad({-1, -1, 0.01f}, {2, 0, 0}, {0, 2, 0});
+  box.setMaterial(grey);
+  InstanceDesc desc{r.addMesh(box.desc())};
+  desc.mask = 0;
+  const InstanceId id = r.addInstance(desc);
+  r.commit();
+  RenderSettings s = settingsFor(Integrator::Direct, 32, 1, 1);
+  s.accumulate = false;
+  s.temporal = true;
+  const Camera top = lookAt({0, 0, 10}, {0, 0, 0}, 40.0f);
+  r.render(top, s);
+  desc.mask = kMaskAll;
+  r.setInstance(id, desc);
+  r.commit();
+  const FrameView f = r.render(top, s);
+  size_t onBox = 0;
+  for (size_t i = 0; i < f.motion.size(); ++i) {
+    if (f.instance[i] != id) {
+      EXPECT_TRUE(std::isfinite(f.motion[i].x)) << i;   // the floor moved by 0: it has motion
+      continue;
+    }
+    ++onBox;
+    EXPECT_FALSE(std::isfinite(f.motion[i].x)) << i;
+    EXPECT_EQ(f.historyLength[i], 1.0f) << i;
+  }
+  EXPECT_GT(onBox, 20u);
+}
+
 /// Floor lit by two point lights far apart; the left one can be switched off. Black sky.
 struct TwoLamps {
   Renderer r{RendererConfig{2}};
