@@ -87,6 +87,10 @@ struct Renderer::Impl {
   RenderScene scene;
   Film film;
   denoise::Denoiser denoiser;
+  // After temporal accumulation the noise is lower: 4 à-trous passes (33 px reach) instead of 5.
+  // oa_dm1 still view, 24 frames: 5 passes 32.66 dB, 4 passes 32.70 dB, 3 passes 32.77 dB; 4
+  // keeps more reach for disoccluded pixels, which are filtered spatially only.
+  denoise::Denoiser temporalDenoiser{denoise::Config{4}};
   temporal::InstanceMotion motions;     // where each instance was last frame
   temporal::GBuffer gbuffer;
   temporal::TemporalFilter temporal;
@@ -259,7 +263,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       if (temporalOn) {
         guides.variance = im.temporal.variance();
         guides.historyLength = im.temporal.historyLength();
-        im.denoiser.apply(guides, film.resolvedRadiance(), im.temporal.feedback());
+        im.temporalDenoiser.apply(guides, film.resolvedRadiance(), im.temporal.feedback());
       } else {
         im.denoiser.apply(guides, film.resolvedRadiance());
       }
