@@ -12,7 +12,8 @@
 #   --messages N      cap: play only the first N messages of each demo (about N frames, 50 ms of game
 #                     each; default 200; 0 = whole demos, demo088-test1 alone is 3389 messages, too
 #                     long for the traced presets on a small machine)
-#   --presets "..."   presets to run after opengl1 (default "lightmap direct path reference")
+#   --presets "..."   presets to run after opengl1 (default "lightmap direct path reference"); a
+#                     preset may carry cvars of its own: "path:r_pt_temporal=0,r_pt_spp=2"
 #   --scale S         r_pt_scale for our module (default: the module's default)
 #   --threads N       r_pt_threads (default 0 = all cores)
 #   --timeout S       per-run limit in seconds (default 600)
@@ -41,7 +42,7 @@ while [[ $# -gt 0 ]]; do
     --timeout) timeout_s="$2"; shift 2 ;;
     --json) json="$2"; shift 2 ;;
     --keep) keep="$2"; shift 2 ;;
-    -h|--help) sed -n '2,22p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h|--help) sed -n '2,25p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "engine_bench: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -118,7 +119,12 @@ pt_args=(+set r_pt_threads "$threads" +set r_pt_stats 1)
 for demo in $names; do
   run_one "$demo" opengl1 opengl1 || failed=1
   for preset in $presets; do
-    run_one "$demo" "$preset" pathtracer "${pt_args[@]}" +set r_pt_preset "$preset" || failed=1
+    extra=()
+    if [[ "$preset" == *:* ]]; then
+      IFS=',' read -ra settings <<<"${preset#*:}"
+      for setting in "${settings[@]}"; do extra+=(+set "${setting%%=*}" "${setting#*=}"); done
+    fi
+    run_one "$demo" "$preset" pathtracer "${pt_args[@]}" +set r_pt_preset "${preset%%:*}" "${extra[@]}" || failed=1
   done
 done
 

@@ -69,6 +69,9 @@ void Settings::registerCvars(const Engine& engine) {
                                    "Lightmaps and baked vertex light are brightened by 2^(this - display bits)");
   intensity_ = engine.cvar("r_intensity", "1", CVAR_LATCH, "Multiplies world and model texture colours (>= 1)");
   flares_ = engine.cvar("r_flares", "0", CVAR_ARCHIVE, "Light flares (not drawn by the path tracer)");
+  temporal_ = engine.cvar("r_pt_temporal", "1", CVAR_ARCHIVE,
+                          "Temporal accumulation (reprojected history) on the direct and path presets (0 = off)");
+  if (temporal_ != nullptr) ri.Cvar_CheckRange(temporal_, 0, 1, 1);
 }
 
 VideoModeRequest Settings::videoMode() const {
@@ -174,6 +177,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   if (seed_ != nullptr) out.seed = static_cast<uint32_t>(seed_->integer);
   out.printStats = stats_ != nullptr && stats_->integer != 0;
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
+  out.temporal = temporal_ == nullptr || temporal_->integer != 0;
   return out;
 }
 

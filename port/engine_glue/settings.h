@@ -30,6 +30,7 @@ struct TracerSettings {
   uint32_t seed = 0;
   bool printStats = false;   ///< r_pt_stats
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
+  bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
 };
 
 /// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,
@@ -98,6 +99,7 @@ class Settings {
   q3abi::cvar_t* mapOverBrightBits_ = nullptr;
   q3abi::cvar_t* intensity_ = nullptr;
   q3abi::cvar_t* flares_ = nullptr;
+  q3abi::cvar_t* temporal_ = nullptr;
 };
 
 }  // namespace glue

@@ -24,6 +24,7 @@ struct ViewTimings {
   double sceneMs = 0.0;     ///< Entities, effects, lights, sky and materials into the renderer's scene.
   double commitMs = 0.0;    ///< The renderer's commit: BLAS builds and refits, TLAS, light tables.
   double traceMs = 0.0;     ///< Rays and shading.
+  double temporalMs = 0.0;  ///< Temporal accumulation.
   double denoiseMs = 0.0;   ///< Denoiser.
   double resolveMs = 0.0;   ///< Film resolve and display encode.
   double animationMs = 0.0;       ///< Part of sceneMs: world materials moved to the shader time.

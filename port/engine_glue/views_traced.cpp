@@ -28,6 +28,7 @@
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/entity_geometry.h"
 #include "port/engine_glue/entity_lighting.h"
+#include "port/engine_glue/entity_slots.h"
 #include "port/engine_glue/models.h"
 #include "port/engine_glue/portals.h"
 #include "port/engine_glue/scene.h"
@@ -157,6 +158,7 @@ struct ViewRenderer::Impl {
   std::map<std::tuple<const Image*, bool, bool>, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
   PictureSettings pictureSettings;   ///< r_picmip, r_intensity, r_mapOverBrightBits for what is loaded.
   std::vector<DynamicSlot> slots;
+  EntitySlots entitySlots;   ///< Which slot each model entity (and the effects batch) takes.
   std::vector<pa::LightId> lights;
   std::vector<bool> lightOn;
   pa::LightId headlight = pa::kNoId;
@@ -206,6 +208,7 @@ struct ViewRenderer::Impl {
     worldAnimation.clear();
     textures.clear();
     slots.clear();
+    entitySlots = EntitySlots{};
     lights.clear();
     lightOn.clear();
     headlight = pa::kNoId;
@@ -509,8 +512,10 @@ struct ViewRenderer::Impl {
     showInSlot(slot, batch, triangleMaterials, instance);
   }
 
-  void hideSlotsFrom(size_t first) {
-    for (size_t i = first; i < slots.size(); ++i) hideSlot(slots[i]);
+  /// Hides every slot no entity claimed this frame.
+  void hideUnclaimedSlots() {
+    for (size_t i = 0; i < slots.size(); ++i)
+      if (!entitySlots.claimed(i)) hideSlot(slots[i]);
   }
 
   /// Hides a dynamic slot's instance: it shows the empty mesh (its own mesh keeps the last
@@ -648,7 +653,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
 
   // The world and its brush models: hidden in model-only views, placed by their entities.
   std::vector<bool> brushPlaced(d.world.modelInstances.size(), false);
-  size_t slot = 0;
+  d.entitySlots.beginFrame();
   for (const q3abi::refEntity_t& e : scene.entities()) {
     uint32_t mask = pa::kMaskAll;
     if (e.renderfx & q3abi::RF_THIRD_PERSON) mask &= ~uint32_t(pa::kMaskCamera);
@@ -698,7 +703,9 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
       light = finishEntityLight(light, lightOrigin, scene.lights());
       lightModelLikeStock(e, entityTransform(e), light, shaders, d.batch);
     }
-    d.fillSlot(slot++, shaders, MaterialUse::Model, entityTransform(e), mask, onTop, seconds - e.shaderTime,
+    const EntityKey key{e.hModel, e.customSkin, e.customShader, onTop ? 1 : 0};
+    d.fillSlot(d.entitySlots.claim(key, glm::vec3(e.origin[0], e.origin[1], e.origin[2])), shaders,
+               MaterialUse::Model, entityTransform(e), mask, onTop, seconds - e.shaderTime,
                {e.shaderTexCoord[0], e.shaderTexCoord[1]});
   }
   for (size_t m = 0; m < brushPlaced.size(); ++m) {
@@ -741,10 +748,11 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
         d.batch);
   if (!d.batch.indices.empty()) {
     if (lightmapLook) premultiplyBlendedEffects(shaders, d.batch);
-    d.fillSlot(slot++, shaders, lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect, glm::mat4x3(1.0f),
-               pa::kMaskAll, false, seconds);
+    d.fillSlot(d.entitySlots.claim(EntityKey{0, 0, 0, 2}, glm::vec3(0.0f)), shaders,
+               lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect, glm::mat4x3(1.0f), pa::kMaskAll, false,
+               seconds);
   }
-  d.hideSlotsFrom(slot);
+  d.hideUnclaimedSlots();
 
   // Dynamic lights (radius = reach, linear falloff as in Quake); a headlight for model views.
   size_t lightIndex = 0;
@@ -796,6 +804,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   rs.radianceClamp = settings.preset == Preset::Reference ? 0.0f : 10.0f;
   rs.seed = settings.seed + (rs.accumulate ? 0u : d.frameCounter++);
   rs.denoise = settings.denoise && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
+  // Views of the world only: HUD model views share one renderer between differing views.
+  rs.temporal = settings.temporal && withWorld && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
   // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does.
   if (lightmapLook) rs.tonemap = pa::Tonemap::Clamp;
   const pa::FrameView frame = d.renderer->render(camera, rs);
@@ -805,8 +815,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     for (size_t i = 0; i < frame.depth.size(); ++i)
       if (!std::isfinite(frame.depth[i])) d.picture[i * 4 + 3] = 0;   // see-through background
   }
-  const ViewTimings timings{sceneMs, frame.timings.commitMs, frame.timings.traceMs, frame.timings.denoiseMs,
-                            frame.timings.resolveMs, animationMs,
+  const ViewTimings timings{sceneMs, frame.timings.commitMs, frame.timings.traceMs, frame.timings.temporalMs,
+                            frame.timings.denoiseMs, frame.timings.resolveMs, animationMs,
                             double(d.animationUpdates + (withWorld ? d.worldAnimation.lastUpdates() : 0))};
   return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), d.picture.data(), timings,
                        frame.accumulatedFrames};

@@ -154,6 +154,14 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
         ok = false;
         message = "--integrator: expected lightmap, direct or path, got \"" + std::string(value) + "\"";
       }
+    } else if (name == "--play") {
+      if (value == "accumulate") o.play = CliOptions::Play::Accumulate;
+      else if (value == "independent") o.play = CliOptions::Play::Independent;
+      else if (value == "temporal") o.play = CliOptions::Play::Temporal;
+      else {
+        ok = false;
+        message = "--play: expected accumulate, independent or temporal, got \"" + std::string(value) + "\"";
+      }
     } else if (name == "--tonemap") {
       if (value == "aces") o.tonemap = Tonemap::AcesFitted;
       else if (value == "reinhard") o.tonemap = Tonemap::Reinhard;
@@ -229,6 +237,12 @@ Image and sampling:
                          meant for 1..few spp): the PNG and the EXR's R,G,B are filtered
   --no-camera-packets    Trace camera rays one by one instead of in 4x4 packets (same image;
                          for speed comparisons)
+  --play MODE            How the F frames combine: accumulate (default: one mean of F x N spp);
+                         independent (as the game's direct/path: seed + frame, no accumulation,
+                         the last frame is written); temporal (the same with temporal
+                         accumulation, renderer/scene/temporal). With independent or temporal,
+                         --stats gets frame_change: mean absolute change of display luma (0..1)
+                         between consecutive frames over the last 8 pairs
 
 View:
   --camera INDEX         Camera of the scene to render (default 0). Without any camera in the

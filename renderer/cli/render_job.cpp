@@ -133,7 +133,8 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.maxBounces = options.bounces;
     settings.radianceClamp = options.clamp;
     settings.seed = options.seed;
-    settings.accumulate = true;
+    settings.accumulate = options.play == CliOptions::Play::Accumulate;
+    settings.temporal = options.play == CliOptions::Play::Temporal;
     settings.exposure = options.autoExposure ? 1.0f : options.exposure;
     settings.tonemap = options.tonemap;
     settings.denoise = options.denoise;
@@ -144,8 +145,24 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     ProgressBar progress(options.frames, showProgress, log);
     progress.update(0);
     FrameView frame;
+    // Frame-to-frame change of display luma (played frames only), over the last kChangePairs pairs.
+    constexpr uint32_t kChangePairs = 8;
+    std::vector<uint8_t> previousRgba8;
+    double changeSum = 0.0;
+    uint64_t changeCount = 0;
     for (uint32_t f = 0; f < options.frames; ++f) {
+      if (!settings.accumulate) settings.seed = options.seed + f;
       frame = renderer.render(view, settings);
+      if (!settings.accumulate && f + kChangePairs >= options.frames) {
+        if (!previousRgba8.empty()) {
+          for (size_t i = 0; i + 3 < frame.rgba8.size(); i += 4) {
+            const auto luma = [](const uint8_t* p) { return (0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]) / 255.0; };
+            changeSum += std::abs(luma(&frame.rgba8[i]) - luma(&previousRgba8[i]));
+            ++changeCount;
+          }
+        }
+        previousRgba8.assign(frame.rgba8.begin(), frame.rgba8.end());
+      }
       progress.update(f + 1);
     }
     progress.finish();
@@ -184,6 +201,10 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
           {"auto_exposure", metered ? autoExposureJson(*metered) : nlohmann::json(nullptr)},
           {"spp", options.samplesPerPixel},
           {"frames", options.frames},
+          {"play", options.play == CliOptions::Play::Accumulate ? "accumulate"
+                   : options.play == CliOptions::Play::Independent ? "independent" : "temporal"},
+          {"frame_change", changeCount > 0 ? nlohmann::json(changeSum / static_cast<double>(changeCount))
+                                           : nlohmann::json(nullptr)},
           {"load_seconds", loadSeconds},
           {"render_seconds", renderSeconds},
           {"sky_fraction", skyFraction(frame.depth)},

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
@@ -20,6 +21,8 @@
 #include "renderer/scene/integrator/camera_rays.h"
 #include "renderer/scene/integrator/integrator.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
+#include "renderer/scene/temporal/motion.h"
+#include "renderer/scene/temporal/temporal.h"
 #include "renderer/scene/world/render_scene.h"
 #include "renderer/scene/world/scene_store.h"
 
@@ -55,6 +58,13 @@ bool sameEstimate(const RenderSettings& a, const RenderSettings& b) {
          a.radianceClamp == b.radianceClamp && a.seed == b.seed;
 }
 
+/// Settings whose change starts the temporal history again (the seed changes every frame).
+bool sameTemporalEstimate(const RenderSettings& a, const RenderSettings& b) {
+  return a.width == b.width && a.height == b.height && a.integrator == b.integrator &&
+         a.samplesPerPixel == b.samplesPerPixel && a.maxBounces == b.maxBounces &&
+         a.radianceClamp == b.radianceClamp;
+}
+
 void validateSettings(const RenderSettings& s) {
   if (s.width > kMaxImageSide || s.height > kMaxImageSide) {
     throw SceneError("render: image size " + std::to_string(s.width) + "x" + std::to_string(s.height) +
@@ -80,6 +90,14 @@ struct Renderer::Impl {
   RenderScene scene;
   Film film;
   denoise::Denoiser denoiser;
+  // After temporal accumulation the noise is lower: 4 à-trous passes (33 px reach) instead of 5.
+  // oa_dm1 still view, 24 frames: 5 passes 32.66 dB, 4 passes 32.70 dB, 3 passes 32.77 dB; 4
+  // keeps more reach for disoccluded pixels, which are filtered spatially only.
+  denoise::Denoiser temporalDenoiser{denoise::Config{4}};
+  temporal::InstanceMotion motions;     // where each instance was last frame
+  temporal::GBuffer gbuffer;
+  temporal::TemporalFilter temporal;
+  bool temporalLast = false;            // the last render ran the temporal stage
   bool sceneChanged = true;   // a commit happened since the last render
   bool worldChanged = true;   // ... that changed more than camera-only overlays
   bool environmentAttached = false;   // the committed scene has its sun/sky visibility map
@@ -128,7 +146,10 @@ void Renderer::commit() {
   im.commitMsSinceRender += millisecondsSince(start);
 }
 
-void Renderer::resetAccumulation() { impl_->film.reset(); }
+void Renderer::resetAccumulation() {
+  impl_->film.reset();
+  impl_->temporal.reset();
+}
 
 FrameView Renderer::render(const Camera& camera, const RenderSettings& settings) {
   Impl& im = *impl_;
@@ -151,6 +172,16 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   endPhase(attachMs);
   timings.commitMs += attachMs;
   im.film.resize(settings.width, settings.height);
+  // Motion: last frame's camera at this size, and where each instance was.
+  std::optional<CameraRays> previousRays;
+  if (im.haveLast && im.lastSettings.width == settings.width && im.lastSettings.height == settings.height) {
+    previousRays.emplace(im.lastCamera, settings.width, settings.height);
+  }
+  im.motions.beginFrame(im.scene.world, im.scene.overlay);
+  im.gbuffer.resize(settings.width, settings.height);
+  const bool temporalOn = settings.temporal && !settings.accumulate && settings.integrator != Integrator::Lightmap;
+  if (!temporalOn || !im.temporalLast || !sameTemporalEstimate(settings, im.lastSettings)) im.temporal.reset();
+  im.temporalLast = temporalOn;
   const bool keep = settings.accumulate && im.haveLast && !im.worldChanged && sameCamera(camera, im.lastCamera) &&
                     sameEstimate(settings, im.lastSettings);
   if (!keep) im.film.reset();
@@ -169,6 +200,9 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   const uint32_t seedHash = sampling::hash32(settings.seed);
   const RenderScene& scene = im.scene;
   Film& film = im.film;
+  temporal::GBuffer& gbuffer = im.gbuffer;
+  const temporal::InstanceMotion& motions = im.motions;
+  const CameraRays* previousCamera = previousRays ? &*previousRays : nullptr;
 
   im.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<uint32_t>& r) {
@@ -209,6 +243,10 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                 const PixelSample sample =
                     traceSample(scene, rays, settings, static_cast<float>(p.x) + jitter.x,
                                 static_cast<float>(p.y) + jitter.y, sampler, settings.cameraPackets ? &traced[i] : nullptr);
+                if (s == 0) {
+                  gbuffer.write(size_t{p.y} * settings.width + p.x, sample, static_cast<float>(p.x) + jitter.x,
+                                static_cast<float>(p.y) + jitter.y, motions, previousCamera);
+                }
                 PixelAccumulator& acc = film.pixel(p.x, p.y);
                 p.overlaySeen = p.overlaySeen || sample.overlay;
                 if (restartOverlayPixels && !p.restarted && (p.coveredBefore || sample.overlay)) {
@@ -229,7 +267,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       tbb::parallel_for(tbb::blocked_range<uint32_t>(0, settings.height, 8),
                         [&](const tbb::blocked_range<uint32_t>& r) { body(r.begin(), r.end()); });
     };
-    if (!settings.denoise) {
+    if (!settings.denoise && !temporalOn) {
       forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap); });
       endPhase(timings.resolveMs);
       return;
@@ -237,11 +275,26 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
     forRows([&](uint32_t y0, uint32_t y1) { film.resolveMeanRows(y0, y1); });
     double meanMs = 0.0;
     endPhase(meanMs);
-    const denoise::Guides guides{film.width(), film.height(), film.albedo(), film.normal(), film.depth(),
-                                 film.variance(), uint64_t{film.frames()} * settings.samplesPerPixel,
-                                 film.emission()};
-    im.denoiser.apply(guides, film.resolvedRadiance());
-    endPhase(timings.denoiseMs);
+    if (temporalOn) {
+      const temporal::FrameInputs inputs{film.width(), film.height(), film.emission(), film.albedo(),
+                                         film.normal(), film.depth(), &gbuffer};
+      im.temporal.accumulate(inputs, film.resolvedRadiance());
+      endPhase(timings.temporalMs);
+    }
+    if (settings.denoise) {
+      denoise::Guides guides{film.width(), film.height(), film.albedo(), film.normal(), film.depth(),
+                             film.variance(), uint64_t{film.frames()} * settings.samplesPerPixel,
+                             film.emission(), {}};
+      if (temporalOn) {
+        guides.variance = im.temporal.variance();
+        guides.historyLength = im.temporal.historyLength();
+        im.temporalDenoiser.apply(guides, film.resolvedRadiance(), im.temporal.feedback());
+      } else {
+        im.denoiser.apply(guides, film.resolvedRadiance());
+      }
+      endPhase(timings.denoiseMs);
+    }
+    if (temporalOn) im.temporal.endFrame();
     forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap); });
     endPhase(timings.resolveMs);
     timings.resolveMs += meanMs;
@@ -257,6 +310,10 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   view.depth = film.depth();
   view.variance = film.variance();
   view.rgba8 = film.rgba8();
+  view.motion = gbuffer.motion;
+  view.instance = gbuffer.instance;
+  view.material = gbuffer.material;
+  if (temporalOn) view.historyLength = im.temporal.historyLength();
   view.timings = timings;
   return view;
 }

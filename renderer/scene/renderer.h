@@ -19,6 +19,7 @@ struct RendererConfig {
 struct RenderTimings {
   double commitMs = 0.0;    ///< commit() calls since the previous render: BLAS builds/refits, TLAS, light tables.
   double traceMs = 0.0;     ///< Camera, bounce and shadow rays with their shading (one pass per pixel).
+  double temporalMs = 0.0;  ///< Temporal accumulation (0 when off).
   double denoiseMs = 0.0;   ///< The denoiser (0 when off).
   double resolveMs = 0.0;   ///< Film resolve: means, AOVs, exposure, tonemap, sRGB encode.
 };
@@ -35,6 +36,14 @@ struct FrameView {
   std::span<const float> depth;          ///< First-hit distance along the ray (inf = sky).
   std::span<const float> variance;       ///< Per-pixel variance of the mean's luminance estimate.
   std::span<const uint8_t> rgba8;        ///< Exposure + tonemap + sRGB, alpha 255.
+  /// G-buffer of the first camera sample of each pixel: previous film position minus this one in
+  /// pixels (NaN where there is none: sky, seen through a portal, an instance new this frame, or
+  /// the first frame), the instance and material index hit (kNoId = none / default material).
+  std::span<const glm::vec2> motion;
+  std::span<const InstanceId> instance;
+  std::span<const MaterialId> material;
+  /// Frames in each pixel's temporal history (RenderSettings::temporal; empty when off).
+  std::span<const float> historyLength;
   RenderTimings timings;                 ///< What this call (and the commits before it) cost.
 };
 

@@ -360,6 +360,11 @@ struct RenderSettings {
   /// Trace camera rays 4x4 pixels at a time (BVH packet queries): the same image, faster; false
   /// traces them one by one (for A/B measurements). Does not reset accumulation.
   bool cameraPackets = true;
+  /// Temporal accumulation (renderer/scene/temporal, SVGF's temporal stage) of Direct and Path
+  /// frames rendered without `accumulate`: each frame blends with the last ones, reprojected by
+  /// the camera's and the instances' motion, before the denoiser. Ignored by Lightmap and while
+  /// accumulating. Its history starts again when size, integrator, spp, bounces or clamp change.
+  bool temporal = false;
 };
 
 }  // namespace pa

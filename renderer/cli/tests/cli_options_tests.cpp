@@ -18,6 +18,7 @@ TEST(CliOptions, MinimalCommandUsesDefaults) {
   EXPECT_FALSE(r.options.exrOut.has_value());
   EXPECT_FALSE(r.options.statsOut.has_value());
   EXPECT_FALSE(r.options.denoise);
+  EXPECT_EQ(r.options.play, CliOptions::Play::Accumulate);
   EXPECT_EQ(r.options.width, 0u);
   EXPECT_EQ(r.options.samplesPerPixel, 16u);
   EXPECT_EQ(r.options.frames, 1u);
@@ -32,9 +33,10 @@ TEST(CliOptions, ParsesEveryOption) {
                                "--threads", "3", "--integrator", "direct", "--camera", "1", "--clamp", "10.5",
                                "--exposure=2", "--frames", "5", "--exr", "o.exr", "--light-scale", "0.001",
                                "--stats", "s.json", "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png",
-                               "--denoise"});
+                               "--denoise", "--play", "temporal"});
   ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
   const CliOptions& o = r.options;
+  EXPECT_EQ(o.play, CliOptions::Play::Temporal);
   EXPECT_EQ(o.scene, "map.glb");
   EXPECT_EQ(o.pngOut, "o.png");
   EXPECT_EQ(o.exrOut, std::filesystem::path("o.exr"));
@@ -95,6 +97,7 @@ TEST(CliOptions, RejectsBadInputWithAMessageNamingTheOption) {
       {{"a.gltf", "-o", "x.png", "--frobnicate", "1"}, "unknown option --frobnicate"},
       {{"a.gltf", "-o", "x.png", "--progress=1"}, "--progress takes no value"},
       {{"a.gltf", "-o", "x.png", "--denoise=1"}, "--denoise takes no value"},
+      {{"a.gltf", "-o", "x.png", "--play", "loop"}, "--play: expected accumulate, independent or temporal"},
       {{"a.gltf", "-o", "x.png", "--progress", "--quiet"}, "contradict"},
   };
   for (const Case& c : cases) {
@@ -114,7 +117,7 @@ TEST(CliOptions, UsageDocumentsEveryOption) {
   const std::string usage = usageText("pa-render");
   for (const char* option : {"-o", "--exr", "--stats", "--width", "--height", "--spp", "--bounces", "--seed", "--threads",
                              "--integrator", "--camera", "--clamp", "--exposure", "--tonemap", "--frames", "--light-scale",
-                             "--progress", "--quiet", "--denoise", "--help", "Exit status"})
+                             "--progress", "--quiet", "--denoise", "--play", "--help", "Exit status"})
     EXPECT_NE(usage.find(option), std::string::npos) << option;
 }
 

@@ -96,7 +96,7 @@ void Denoiser::resize(uint32_t width, uint32_t height) {
   pad_ = std::max<uint32_t>(kVarianceRadius, config_.iterations > 0 ? 1u << (config_.iterations - 1) : 0u);
   const size_t stride = width + 2 * size_t{pad_};
   const size_t size = stride * (height + 2 * size_t{pad_});
-  for (Plane* plane : {&normalX_, &normalY_, &normalZ_, &depth_, &depthDx_, &depthDy_, &gives_, &takes_,
+  for (Plane* plane : {&normalX_, &normalY_, &normalZ_, &depth_, &depthDx_, &depthDy_, &gives_, &takes_, &ownVariance_,
                        &current_.red, &current_.green, &current_.blue, &current_.variance, &next_.red,
                        &next_.green, &next_.blue, &next_.variance}) {
     plane->data.assign(size, 0.0f);   // the border stays zero: gives = 0 there
@@ -105,7 +105,9 @@ void Denoiser::resize(uint32_t width, uint32_t height) {
   }
 }
 
-void Denoiser::apply(const Guides& guides, std::span<glm::vec3> radiance) {
+void Denoiser::apply(const Guides& guides, std::span<glm::vec3> radiance) { apply(guides, radiance, {}); }
+
+void Denoiser::apply(const Guides& guides, std::span<glm::vec3> radiance, std::span<glm::vec3> firstPass) {
   const size_t n = size_t{guides.width} * guides.height;
   const auto check = [n](size_t size, const char* name) {
     if (size != n) {
@@ -119,18 +121,31 @@ void Denoiser::apply(const Guides& guides, std::span<glm::vec3> radiance) {
   check(guides.depth.size(), "depth");
   check(guides.variance.size(), "variance");
   if (!guides.emission.empty()) check(guides.emission.size(), "emission");
+  if (!guides.historyLength.empty()) check(guides.historyLength.size(), "historyLength");
+  if (!firstPass.empty()) check(firstPass.size(), "firstPass");
   if (n == 0 || config_.iterations == 0) return;
 
   if (guides.width != width_ || guides.height != height_ || gives_.data.empty()) resize(guides.width, guides.height);
   const uint32_t height = guides.height;
   parallelRows(height, [&](uint32_t y0, uint32_t y1) { prepareRows(guides, radiance, y0, y1); });
-  if (guides.samplesPerPixel < kMinSamplesForPixelVariance) {
+  if (!guides.historyLength.empty() || guides.samplesPerPixel < kMinSamplesForPixelVariance) {
     parallelRows(height, [&](uint32_t y0, uint32_t y1) { estimateVarianceRows(y0, y1); });
     std::swap(current_, next_);
   }
   for (uint32_t i = 0; i < config_.iterations; ++i) {
     parallelRows(height, [&](uint32_t y0, uint32_t y1) { filterRows(1u << i, y0, y1); });
     std::swap(current_, next_);
+    if (i == 0 && !firstPass.empty()) {
+      parallelRows(height, [&](uint32_t y0, uint32_t y1) {
+        for (uint32_t y = y0; y < y1; ++y) {
+          const int row = static_cast<int>(y);
+          const float* takes = takes_.row(row);
+          const float *r = current_.red.row(row), *g = current_.green.row(row), *b = current_.blue.row(row);
+          for (uint32_t x = 0; x < guides.width; ++x)
+            if (takes[x] > 0.0f) firstPass[size_t{y} * guides.width + x] = glm::vec3(r[x], g[x], b[x]);
+        }
+      });
+    }
   }
   parallelRows(height, [&](uint32_t y0, uint32_t y1) {
     for (uint32_t y = y0; y < y1; ++y) {
@@ -158,12 +173,12 @@ void Denoiser::prepareRows(const Guides& guides, std::span<const glm::vec3> radi
     const int row = static_cast<int>(y);
     float *nx = normalX_.row(row), *ny = normalY_.row(row), *nz = normalZ_.row(row);
     float *depth = depth_.row(row), *dx = depthDx_.row(row), *dy = depthDy_.row(row);
-    float *gives = gives_.row(row), *takes = takes_.row(row);
+    float *gives = gives_.row(row), *takes = takes_.row(row), *own = ownVariance_.row(row);
     float *r = current_.red.row(row), *g = current_.green.row(row), *b = current_.blue.row(row);
     float* variance = current_.variance.row(row);
     for (uint32_t x = 0; x < width; ++x) {
       const size_t i = size_t{y} * width + x;
-      nx[x] = ny[x] = nz[x] = depth[x] = dx[x] = dy[x] = gives[x] = takes[x] = 0.0f;
+      nx[x] = ny[x] = nz[x] = depth[x] = dx[x] = dy[x] = gives[x] = takes[x] = own[x] = 0.0f;
       r[x] = g[x] = b[x] = variance[x] = 0.0f;
       const float z = guides.depth[i];
       const glm::vec3 albedo = guides.albedo[i];
@@ -186,7 +201,9 @@ void Denoiser::prepareRows(const Guides& guides, std::span<const glm::vec3> radi
       r[x] = demodulated.r;
       g[x] = demodulated.g;
       b[x] = demodulated.b;
-      if (pixelVariance) {
+      const bool ownVariance = guides.historyLength.empty() ? pixelVariance : guides.historyLength[i] >= 4.0f;
+      if (ownVariance) {
+        own[x] = 1.0f;
         const float scale = luminance(factor.r, factor.g, factor.b);
         const float v = guides.variance[i] / (scale * scale);
         variance[x] = std::isfinite(v) && v > 0.0f ? v : 0.0f;
@@ -314,12 +331,15 @@ void Denoiser::estimateVarianceRows(uint32_t y0, uint32_t y1) {
       for (int dx = -kVarianceRadius; dx <= kVarianceRadius; ++dx)
         addMomentTap(centre, tapAt(dx, dy, 1.0f), sums, width, config_.sigmaNormal, config_.sigmaDepth);
     const float* gives = gives_.row(row);
+    const float* own = ownVariance_.row(row);
+    const float* given = current_.variance.row(row);
     float* out = next_.variance.row(row);
     for (int x = 0; x < width; ++x) {
       const float inverse = 1.0f / std::max(sums.weight[x], 1e-30f);
       const float mean = sums.red[x] * inverse;
       const float variance = sums.variance[x] * inverse - mean * mean;
-      out[x] = (gives[x] > 0.0f) & (variance > 0.0f) ? variance : 0.0f;
+      const float estimated = (gives[x] > 0.0f) & (variance > 0.0f) ? variance : 0.0f;
+      out[x] = own[x] > 0.0f ? given[x] : estimated;
     }
     std::copy_n(current_.red.row(row), width, next_.red.row(row));
     std::copy_n(current_.green.row(row), width, next_.green.row(row));

@@ -36,6 +36,10 @@ struct Guides {
   /// Mean radiance gathered before the first scattering (Film::emission()): left out of the
   /// filter and added back unchanged. Empty = none (everything is filtered).
   std::span<const glm::vec3> emission;
+  /// Frames in each pixel's temporal history (temporal::TemporalFilter), or empty: when set,
+  /// pixels with 4 or more frames take `variance` as their noise and the others a spatial
+  /// estimate (SVGF), whatever samplesPerPixel says.
+  std::span<const float> historyLength;
 };
 
 /// The filter and its scratch buffers (reused across frames of the same size).
@@ -50,6 +54,9 @@ class Denoiser {
   /// Parallel over rows with tbb::parallel_for in the calling task arena; the result does not
   /// depend on the thread count. Throws std::invalid_argument when a buffer size mismatches.
   void apply(const Guides& guides, std::span<glm::vec3> radiance);
+  /// As apply(), and writes each filtered pixel's demodulated colour after the first pass into
+  /// `firstPass` (width * height; other pixels are left as they are): SVGF's temporal feedback.
+  void apply(const Guides& guides, std::span<glm::vec3> radiance, std::span<glm::vec3> firstPass);
 
  private:
   /// One float image with a border of `pad` zeros on every side, so that taps need no bounds
@@ -84,7 +91,8 @@ class Denoiser {
   uint32_t width_ = 0, height_ = 0, pad_ = 0;
   // Guides, padded: unit normal, depth, its per-pixel slopes, and two masks: `gives` = 1 where a
   // pixel is a valid neighbour, `takes` = 1 where a pixel is filtered (valid or a hole).
-  Plane normalX_, normalY_, normalZ_, depth_, depthDx_, depthDy_, gives_, takes_;
+  // `ownVariance` = 1 where the pixel's variance comes from the guides, not the spatial estimate.
+  Plane normalX_, normalY_, normalZ_, depth_, depthDx_, depthDy_, gives_, takes_, ownVariance_;
   Signal current_, next_;
 };
 

@@ -49,6 +49,11 @@ struct PixelSample {
   glm::vec3 normal{0.0f};
   float depth = std::numeric_limits<float>::infinity();
   bool overlay = false;   ///< The camera ray's first hit was on a drawOnTop instance.
+  /// First camera-visible hit for reprojection: its instance (kNoId = sky, or seen through a
+  /// portal), material index (kNoId = the default material) and world position.
+  InstanceId instance = kNoId;
+  MaterialId material = kNoId;
+  glm::vec3 position{0.0f};
 };
 
 /// Sums of one pixel's samples.

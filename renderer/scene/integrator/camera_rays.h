@@ -26,6 +26,18 @@ class CameraRays {
     r.dir = glm::normalize(forward_ + sx * right_ + sy * up_);
     return r;
   }
+  /// Film position (pixels, continuous) whose ray passes through world point p: the inverse of
+  /// generate() for orthonormal camera axes. False when p is not in front of the camera.
+  bool project(const glm::vec3& p, float& px, float& py) const {
+    const glm::vec3 d = p - origin_;
+    const float z = glm::dot(d, forward_);
+    if (!(z > 1e-6f)) return false;
+    px = (glm::dot(d, right_) / (z * tanHalfX_) + 1.0f) * 0.5f * width_;
+    py = (1.0f - glm::dot(d, up_) / (z * tanHalfY_)) * 0.5f * height_;
+    return std::isfinite(px) && std::isfinite(py);
+  }
+  /// Eye position.
+  const glm::vec3& origin() const { return origin_; }
   /// Unit forward axis (eye-space depth = distance along it).
   const glm::vec3& forward() const { return forward_; }
   /// Angle subtended by one pixel (ray-cone spread for texture filtering).

@@ -235,6 +235,12 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
       out.albedo = albedo;
       out.normal = ns;
       out.depth = hit.t;
+      if (portalsCrossed == 0) {   // through a portal the hit does not move with the camera's view
+        out.instance = s.instance != nullptr ? s.instance->id : kNoId;
+        out.material = s.material == &scene.defaultMaterial ? kNoId
+                                                             : static_cast<MaterialId>(s.material - scene.materials.data());
+        out.position = s.position;
+      }
     }
 
     const glm::vec3 le = scene.emission(s, front);

@@ -1,0 +1,68 @@
+#pragma once
+// Motion of each pixel's first hit from the previous frame to this one: where every instance
+// was (its previous objectToWorld, by InstanceId) and the G-buffer the temporal stage reads
+// (instance, material, screen-space motion, and the depth and normal the hit had then).
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x3.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "renderer/scene/film/film.h"
+#include "renderer/scene/integrator/camera_rays.h"
+#include "renderer/scene/scene_types.h"
+#include "renderer/scene/world/render_scene.h"
+
+namespace pa::temporal {
+
+/// Per-instance map from this frame's world space to the previous frame's.
+class InstanceMotion {
+ public:
+  /// Starts a frame with the committed instances (those camera rays see); the previous frame is
+  /// the last beginFrame's.
+  void beginFrame(std::span<const RenderInstance> world, std::span<const RenderInstance> overlay);
+  /// Forgets the previous frame: every instance counts as new (disoccluded) in the next one.
+  void reset();
+  /// Moves a point and a normal of instance `id` on this frame to where they were on the previous
+  /// one; false when the instance did not exist then (or its transform is not invertible).
+  bool toPrevious(InstanceId id, glm::vec3& point, glm::vec3& normal) const {
+    if (id >= valid_.size() || valid_[id] == 0) return false;
+    point = pointToPrevious_[id] * glm::vec4(point, 1.0f);
+    normal = normalToPrevious_[id] * normal;
+    return true;
+  }
+
+ private:
+  void record(std::span<const RenderInstance> instances);
+  std::vector<glm::mat4x3> current_, previous_;
+  std::vector<uint8_t> currentKnown_, previousKnown_;
+  std::vector<glm::mat4x3> pointToPrevious_;
+  std::vector<glm::mat3> normalToPrevious_;
+  std::vector<uint8_t> valid_;
+};
+
+/// Per-pixel reprojection data of one frame (width * height each, row-major from the top row).
+struct GBuffer {
+  /// Marks a pixel without a previous position (sky, portal views, new instances).
+  static constexpr float kNoMotion = std::numeric_limits<float>::quiet_NaN();
+  uint32_t width = 0;
+  uint32_t height = 0;
+  std::vector<InstanceId> instance;      ///< First camera-visible hit's instance (kNoId = none).
+  std::vector<MaterialId> material;      ///< Its material index (kNoId = default material or none).
+  std::vector<glm::vec2> motion;         ///< Previous film position minus this one, pixels (NaN = none).
+  std::vector<float> previousDepth;      ///< Distance from the previous eye to where the hit was then.
+  std::vector<glm::vec3> previousNormal; ///< The hit's shading normal as it was then.
+
+  /// Sizes every array (contents unspecified until written).
+  void resize(uint32_t w, uint32_t h);
+  /// Writes pixel i from a camera sample taken at film position (px, py): its instance and
+  /// material and, where the instance existed in the previous frame, its motion.
+  void write(size_t i, const PixelSample& sample, float px, float py, const InstanceMotion& motions,
+             const CameraRays* previousCamera);
+};
+
+}  // namespace pa::temporal

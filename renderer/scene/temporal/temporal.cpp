@@ -1,0 +1,273 @@
+#include "renderer/scene/temporal/temporal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace pa::temporal {
+namespace {
+
+/// As the denoiser: albedo below this per channel is raised to it to demodulate, and a pixel
+/// with every channel below it (black) is not accumulated.
+constexpr float kMinAlbedo = 1e-3f;
+/// Half-size of the neighbourhood of the history-rejection test (5 x 5).
+constexpr int kRejectRadius = 2;
+/// A neighbour's luminance change counts at most this many of its standard deviations ...
+constexpr float kChangeClampSigmas = 3.0f;
+/// ... plus this fraction of its history's luminance (rejection test).
+constexpr float kChangeClampRelative = 0.2f;
+/// Least total bilinear weight of the valid taps for a history to count.
+constexpr float kMinTapWeight = 1e-3f;
+/// Rows per parallel task.
+constexpr uint32_t kRowGrain = 4;
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+glm::vec3 demodulationFactor(const glm::vec3& albedo) { return glm::max(albedo, glm::vec3(kMinAlbedo)); }
+
+/// Depth change per pixel towards the neighbour on the same surface (the smaller change); 0 with none.
+float depthSlope(float here, float before, float after) {
+  const bool hasBefore = std::isfinite(before) && before > 0.0f;
+  const bool hasAfter = std::isfinite(after) && after > 0.0f;
+  if (hasBefore && hasAfter) return std::min(std::abs(here - before), std::abs(after - here));
+  if (hasBefore) return std::abs(here - before);
+  if (hasAfter) return std::abs(after - here);
+  return 0.0f;
+}
+
+template <typename Body>
+void parallelRows(uint32_t height, Body&& body) {
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, height, kRowGrain),
+                    [&](const tbb::blocked_range<uint32_t>& r) { body(r.begin(), r.end()); });
+}
+
+}  // namespace
+
+TemporalFilter::TemporalFilter(const Config& config) : config_(config) {
+  config_.alphaMin = std::clamp(std::isfinite(config_.alphaMin) ? config_.alphaMin : 0.1f, 1e-3f, 1.0f);
+  config_.momentsAlphaMin =
+      std::clamp(std::isfinite(config_.momentsAlphaMin) ? config_.momentsAlphaMin : 0.2f, 1e-3f, 1.0f);
+  config_.maxHistory = std::max(1.0f, std::isfinite(config_.maxHistory) ? config_.maxHistory : 64.0f);
+}
+
+void TemporalFilter::reset() { haveHistory_ = false; }
+
+void TemporalFilter::accumulate(const FrameInputs& frame, std::span<glm::vec3> radiance) {
+  const size_t n = size_t{frame.width} * frame.height;
+  const auto check = [n](size_t size, const char* name) {
+    if (size != n) {
+      throw std::invalid_argument(std::string("temporal: ") + name + " has " + std::to_string(size) +
+                                  " pixels, expected " + std::to_string(n));
+    }
+  };
+  check(radiance.size(), "radiance");
+  check(frame.emission.size(), "emission");
+  check(frame.albedo.size(), "albedo");
+  check(frame.normal.size(), "normal");
+  check(frame.depth.size(), "depth");
+  if (frame.gbuffer == nullptr) throw std::invalid_argument("temporal: no G-buffer");
+  check(frame.gbuffer->instance.size(), "G-buffer");
+  if (frame.gbuffer->width != frame.width || frame.gbuffer->height != frame.height) {
+    throw std::invalid_argument("temporal: G-buffer size differs from the frame's");
+  }
+  if (frame.width != width_ || frame.height != height_) {
+    width_ = frame.width;
+    height_ = frame.height;
+    haveHistory_ = false;
+    color_.assign(n, glm::vec3(0.0f));
+    historyColor_.assign(n, glm::vec3(0.0f));
+    state_.assign(n, State{});
+    history_.assign(n, State{});
+    variance_.assign(n, 0.0f);
+    length_.assign(n, 0.0f);
+    signal_.assign(n, glm::vec3(0.0f));
+    signalLuminance_.assign(n, 0.0f);
+    reprojected_.assign(n, Reprojected{});
+  }
+  if (n == 0) return;
+  parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { prepareRows(frame, radiance, y0, y1); });
+  parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { reprojectRows(frame, y0, y1); });
+  parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { blendRows(frame, radiance, y0, y1); });
+}
+
+void TemporalFilter::endFrame() {
+  if (width_ == 0 || height_ == 0) return;
+  std::swap(color_, historyColor_);
+  std::swap(state_, history_);
+  haveHistory_ = true;
+}
+
+void TemporalFilter::prepareRows(const FrameInputs& frame, std::span<const glm::vec3> radiance, uint32_t y0,
+                                 uint32_t y1) {
+  const float none = std::numeric_limits<float>::quiet_NaN();
+  for (size_t i = size_t{y0} * frame.width; i < size_t{y1} * frame.width; ++i) {
+    const float z = frame.depth[i];
+    const glm::vec3 albedo = frame.albedo[i];
+    const glm::vec3 normal = frame.normal[i];
+    const bool geometry = std::isfinite(z) && z > 0.0f && finite(albedo) && finite(normal) &&
+                          glm::length(normal) > 1e-6f && std::max({albedo.x, albedo.y, albedo.z}) >= kMinAlbedo &&
+                          finite(radiance[i]);
+    if (!geometry) {
+      signalLuminance_[i] = none;
+      continue;
+    }
+    const glm::vec3 emission = finite(frame.emission[i]) ? frame.emission[i] : glm::vec3(0.0f);
+    signal_[i] = (radiance[i] - emission) / demodulationFactor(albedo);
+    signalLuminance_[i] = luminance(signal_[i]);
+  }
+}
+
+void TemporalFilter::reprojectRows(const FrameInputs& frame, uint32_t y0, uint32_t y1) {
+  const GBuffer& g = *frame.gbuffer;
+  const int width = static_cast<int>(frame.width), height = static_cast<int>(frame.height);
+  const auto depthAt = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < width && y < height ? frame.depth[size_t(y) * frame.width + size_t(x)]
+                                                       : std::numeric_limits<float>::infinity();
+  };
+  for (uint32_t y = y0; y < y1; ++y) {
+    for (uint32_t x = 0; x < frame.width; ++x) {
+      const size_t i = size_t{y} * frame.width + x;
+      Reprojected& out = reprojected_[i];
+      out = Reprojected{};
+      const glm::vec2 motion = g.motion[i];
+      if (!haveHistory_ || !std::isfinite(signalLuminance_[i]) || !std::isfinite(motion.x) ||
+          !std::isfinite(motion.y)) {
+        continue;
+      }
+      const int xi = static_cast<int>(x), yi = static_cast<int>(y);
+      const float z = frame.depth[i];
+      const float slope = depthSlope(z, depthAt(xi - 1, yi), depthAt(xi + 1, yi)) +
+                          depthSlope(z, depthAt(xi, yi - 1), depthAt(xi, yi + 1));
+      const float expectedDepth = g.previousDepth[i];
+      const float depthTolerance = config_.depthTolerance * expectedDepth + 2.0f * slope;
+      const glm::vec3 expectedNormal = g.previousNormal[i];
+      // Bilinear taps around the previous position of the pixel's centre.
+      const float fx = static_cast<float>(x) + motion.x, fy = static_cast<float>(y) + motion.y;
+      const float bx = std::floor(fx), by = std::floor(fy);
+      if (!(bx > -2.0f && by > -2.0f && bx < static_cast<float>(width) + 1.0f &&
+            by < static_cast<float>(height) + 1.0f)) {
+        continue;
+      }
+      const int x0 = static_cast<int>(bx), ty0 = static_cast<int>(by);
+      const float tx = fx - bx, ty = fy - by;
+      float weight = 0.0f;
+      // Adds history pixel (px, py) with weight w when it shows the same surface as this pixel.
+      const auto addTap = [&](int px, int py, float w) {
+        if (px < 0 || py < 0 || px >= width || py >= height || !(w > 0.0f)) return;
+        const size_t j = size_t(py) * frame.width + size_t(px);
+        const State& h = history_[j];
+        if (!(h.length > 0.0f) || h.instance != g.instance[i] || h.material != g.material[i]) return;
+        if (!(std::abs(h.depth - expectedDepth) <= depthTolerance)) return;
+        if (!(glm::dot(h.normal, expectedNormal) >= config_.normalCosine)) return;
+        out.color += w * historyColor_[j];
+        out.moment1 += w * h.moment1;
+        out.moment2 += w * h.moment2;
+        out.length += w * h.length;
+        weight += w;
+      };
+      for (int dy = 0; dy <= 1; ++dy)
+        for (int dx = 0; dx <= 1; ++dx)
+          addTap(x0 + dx, ty0 + dy, (dx != 0 ? tx : 1.0f - tx) * (dy != 0 ? ty : 1.0f - ty));
+      if (weight < kMinTapWeight) {
+        // No bilinear tap shows this surface (at an edge the jittered sample may hit the other
+        // side of it than last frame's did): as SVGF, any pixel of the 3 x 3 around the previous
+        // position that does, equally weighted.
+        out = Reprojected{};
+        weight = 0.0f;
+        const int cx = static_cast<int>(std::floor(fx + 0.5f)), cy = static_cast<int>(std::floor(fy + 0.5f));
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) addTap(cx + dx, cy + dy, 1.0f);
+      }
+      if (weight < kMinTapWeight) {
+        out = Reprojected{};
+        continue;
+      }
+      const float inverse = 1.0f / weight;
+      out.color *= inverse;
+      out.moment1 *= inverse;
+      out.moment2 *= inverse;
+      out.length *= inverse;
+      out.variance = std::max(0.0f, out.moment2 - out.moment1 * out.moment1);
+      out.changeBound = kChangeClampSigmas * std::sqrt(out.variance) + kChangeClampRelative * std::abs(out.moment1) + 1e-6f;
+    }
+  }
+}
+
+void TemporalFilter::blendRows(const FrameInputs& frame, std::span<glm::vec3> radiance, uint32_t y0, uint32_t y1) {
+  const GBuffer& g = *frame.gbuffer;
+  const int width = static_cast<int>(frame.width), height = static_cast<int>(frame.height);
+  for (uint32_t y = y0; y < y1; ++y) {
+    for (uint32_t x = 0; x < frame.width; ++x) {
+      const size_t i = size_t{y} * frame.width + x;
+      State& out = state_[i];
+      const float l = signalLuminance_[i];
+      if (!std::isfinite(l)) {   // sky, black or broken: passes through with no history
+        out = State{};
+        color_[i] = glm::vec3(0.0f);
+        variance_[i] = 0.0f;
+        length_[i] = 0.0f;
+        continue;
+      }
+      Reprojected history = reprojected_[i];
+      if (history.length >= static_cast<float>(config_.minLengthForVariance)) {
+        // Rejection: this frame's luminance minus the history's mean, over the neighbours that
+        // have a history, is noise around 0 while the lighting holds. Each neighbour's change is
+        // first clamped to 3 of its own standard deviations plus 20% of its history (a Huber-like
+        // mean): a few fireflies in the neighbourhood must not drop 25 histories, while a change
+        // the whole neighbourhood shares still shows.
+        float change = 0.0f, historySum = 0.0f, varianceSum = 0.0f, count = 0.0f;
+        for (int dy = -kRejectRadius; dy <= kRejectRadius; ++dy) {
+          const int py = static_cast<int>(y) + dy;
+          if (py < 0 || py >= height) continue;
+          for (int dx = -kRejectRadius; dx <= kRejectRadius; ++dx) {
+            const int px = static_cast<int>(x) + dx;
+            if (px < 0 || px >= width) continue;
+            const size_t j = size_t(py) * frame.width + size_t(px);
+            const Reprojected& r = reprojected_[j];
+            if (!(r.length > 0.0f)) continue;
+            change += std::clamp(signalLuminance_[j] - r.moment1, -r.changeBound, r.changeBound);
+            historySum += r.moment1;
+            varianceSum += r.variance;
+            count += 1.0f;
+          }
+        }
+        const float meanChange = change / count;   // count >= 1: the pixel itself
+        const float tolerance = config_.rejectSigmas * std::sqrt(varianceSum / count / count) +
+                                config_.rejectRelative * std::abs(historySum / count) + 1e-6f;
+        if (std::abs(meanChange) > tolerance) history = Reprojected{};
+      }
+      glm::vec3 color = signal_[i];
+      float moment1 = l, moment2 = l * l, length = 1.0f;
+      float meanShare = 1.0f;   // variance of the blended colour per unit of one sample's variance
+      if (history.length > 0.0f) {
+        length = std::min(history.length + 1.0f, config_.maxHistory);
+        const float alpha = std::max(1.0f / length, config_.alphaMin);
+        meanShare = std::max(alpha / (2.0f - alpha), 1.0f / length);
+        const float alphaMoments = std::max(1.0f / length, config_.momentsAlphaMin);
+        color = glm::mix(history.color, color, alpha);
+        moment1 = glm::mix(history.moment1, moment1, alphaMoments);
+        moment2 = glm::mix(history.moment2, moment2, alphaMoments);
+      }
+      const glm::vec3 factor = demodulationFactor(frame.albedo[i]);
+      const glm::vec3 emission = finite(frame.emission[i]) ? frame.emission[i] : glm::vec3(0.0f);
+      radiance[i] = color * factor + emission;
+      const float scale = luminance(factor);
+      variance_[i] = length >= static_cast<float>(config_.minLengthForVariance)
+                         ? std::max(0.0f, moment2 - moment1 * moment1) * meanShare * scale * scale
+                         : 0.0f;
+      length_[i] = length;
+      color_[i] = color;
+      const glm::vec3 normal = frame.normal[i];
+      out = State{moment1, moment2, length, frame.depth[i], normal / glm::length(normal), g.instance[i],
+                  g.material[i]};
+    }
+  }
+}
+
+}  // namespace pa::temporal
