@@ -20,6 +20,7 @@ DEFAULTS = {
     "options": {},        # pa-render: --NAME VALUE (bounces, clamp, tonemap, exposure, ...)
     "compare": {"mode": "perceptual"},
     "timeout": 600,
+    "capture_only": False,  # captured for other cases' 'against', compared with nothing itself
 }
 COMPARE_DEFAULTS = {"alpha": 0.01, "min_pass": 0.9975, "flip_threshold": 0.1, "fail_fraction": 0.01}
 NAME_RE = re.compile(r"^[A-Za-z0-9_.-]+$")
