@@ -48,6 +48,9 @@ def _figures(frame):
         n = fig["noise"]
         parts.append(f"noise: {n['failed_pixels']}/{n['pixels']} pixels beyond |z| {n['z_threshold']:.2f} "
                      f"(pass {100 * n['pass_fraction']:.2f} %, need {100 * n['min_pass_fraction']:.2f} %), mean |z| {n['mean_abs_z']:.2f}")
+        for s in n.get("tile_scales", []):
+            parts.append(f"{s['failed_tiles']}/{s['tiles']} {str(s['tile']) + 'x' + str(s['tile']) + ' tiles' if s['tile'] else 'whole image'}"
+                         f" beyond |z| {s['z_threshold']:.2f} (max {s['max_abs_z']:.1f})")
     if "flip_mean" in fig:
         parts.append(f"FLIP mean {fig['flip_mean']:.4f}, max {fig['flip_max']:.3f}, "
                      f"{100 * fig['flip_fail_fraction']:.2f} % above {fig['flip_threshold']}")
