@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 namespace pa::regress {
 namespace {
@@ -55,80 +56,89 @@ double hyab(const Vec3& a, const Vec3& b) {
   return std::abs(a[0] - b[0]) + std::hypot(a[1] - b[1], a[2] - b[2]);
 }
 
+// A separable kernel: a sum of terms, each weights x[dx] * y[dy] for dx, dy in [-radius, radius].
+struct SeparableTerm {
+  std::vector<double> x, y;
+};
 struct Kernel {
   int radius = 0;
-  std::vector<double> weights;  // (2 radius + 1)^2, row-major, weights[(dy + r) * side + dx + r]
-  double at(int dx, int dy) const { return weights[static_cast<size_t>(dy + radius) * (2 * radius + 1) + dx + radius]; }
+  std::vector<SeparableTerm> terms;
 };
 
-// Correlates one plane with a kernel, replicating the border pixels.
+// Correlates one plane with a kernel, replicating the border pixels (rows, then columns).
 std::vector<double> filter(const std::vector<double>& plane, int width, int height, const Kernel& k) {
-  std::vector<double> out(plane.size());
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      double sum = 0;
-      for (int dy = -k.radius; dy <= k.radius; ++dy) {
-        const int sy = std::clamp(y + dy, 0, height - 1);
-        for (int dx = -k.radius; dx <= k.radius; ++dx) {
-          const int sx = std::clamp(x + dx, 0, width - 1);
-          sum += k.at(dx, dy) * plane[static_cast<size_t>(sy) * width + sx];
-        }
+  std::vector<double> out(plane.size(), 0.0), rows(plane.size());
+  for (const SeparableTerm& term : k.terms) {
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        double sum = 0;
+        for (int d = -k.radius; d <= k.radius; ++d)
+          sum += term.x[d + k.radius] * plane[static_cast<size_t>(y) * width + std::clamp(x + d, 0, width - 1)];
+        rows[static_cast<size_t>(y) * width + x] = sum;
       }
-      out[static_cast<size_t>(y) * width + x] = sum;
-    }
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        double sum = 0;
+        for (int d = -k.radius; d <= k.radius; ++d)
+          sum += term.y[d + k.radius] * rows[static_cast<size_t>(std::clamp(y + d, 0, height - 1)) * width + x];
+        out[static_cast<size_t>(y) * width + x] += sum;
+      }
+  }
   return out;
 }
 
 // Contrast sensitivity of one opponent channel as a sum of two Gaussians in visual degrees
-// (the paper's Table 1), sampled at the pixel pitch and normalised to sum 1. The radius covers
-// three standard deviations of the widest Gaussian of all three channels.
+// (the paper's Table 1), sampled at the pixel pitch and normalised to sum 1 over the square
+// (2 radius + 1)^2. The radius covers three standard deviations of the widest Gaussian of all
+// three channels. Each Gaussian exp(-pi^2 (dx^2 + dy^2) / b) is the product of two 1D ones.
 Kernel csfKernel(double a1, double b1, double a2, double b2, double ppd) {
   constexpr double kWidestB = 0.04;
   const double pi = std::numbers::pi;
   Kernel k;
   k.radius = static_cast<int>(std::ceil(3.0 * std::sqrt(kWidestB / (2.0 * pi * pi)) * ppd));
-  const int side = 2 * k.radius + 1;
-  k.weights.resize(static_cast<size_t>(side) * side);
-  double sum = 0;
-  for (int dy = -k.radius; dy <= k.radius; ++dy)
-    for (int dx = -k.radius; dx <= k.radius; ++dx) {
-      const double d2 = (dx * dx + dy * dy) / (ppd * ppd);
-      const double s = a1 * std::sqrt(pi / b1) * std::exp(-pi * pi * d2 / b1) +
-                       a2 * std::sqrt(pi / b2) * std::exp(-pi * pi * d2 / b2);
-      k.weights[static_cast<size_t>(dy + k.radius) * side + dx + k.radius] = s;
-      sum += s;
+  double total = 0;
+  for (auto [a, b] : {std::pair{a1, b1}, std::pair{a2, b2}}) {
+    if (a == 0) continue;
+    SeparableTerm t;
+    double sum1d = 0;
+    for (int d = -k.radius; d <= k.radius; ++d) {
+      t.x.push_back(std::exp(-pi * pi * (d * d) / (ppd * ppd) / b));
+      sum1d += t.x.back();
     }
-  for (double& w : k.weights) w /= sum;
+    for (double& w : t.x) w *= a * std::sqrt(pi / b);
+    t.y.assign(t.x.size(), 0.0);
+    for (size_t i = 0; i < t.x.size(); ++i) t.y[i] = t.x[i] / (a * std::sqrt(pi / b));
+    total += a * std::sqrt(pi / b) * sum1d * sum1d;
+    k.terms.push_back(std::move(t));
+  }
+  for (SeparableTerm& t : k.terms)
+    for (double& w : t.x) w /= total;
   return k;
 }
 
 // Edge (first derivative of a Gaussian along x) or point (second derivative) detector with
-// standard deviation half the human edge detector's peak-to-trough width 0.082 degrees; positive
-// weights normalised to sum 1, negative ones to -1.
-Kernel featureKernel(bool secondDerivative, double ppd) {
+// standard deviation half the human edge detector's peak-to-trough width 0.082 degrees; over the
+// square, positive weights normalised to sum 1 and negative ones to -1. The 2D weight is
+// f(dx) g(dy) with g > 0, so those sums factor into the x part's positive (negative) sum times
+// the sum of g. `alongY` gives the transposed kernel.
+Kernel featureKernel(bool secondDerivative, double ppd, bool alongY) {
   const double sd = 0.5 * 0.082 * ppd;
   Kernel k;
   k.radius = static_cast<int>(std::ceil(3.0 * sd));
-  const int side = 2 * k.radius + 1;
-  k.weights.resize(static_cast<size_t>(side) * side);
-  double positive = 0, negative = 0;
-  for (int dy = -k.radius; dy <= k.radius; ++dy)
-    for (int dx = -k.radius; dx <= k.radius; ++dx) {
-      const double g = std::exp(-(dx * dx + dy * dy) / (2 * sd * sd));
-      const double w = secondDerivative ? (dx * dx / (sd * sd) - 1.0) * g : -dx * g;
-      k.weights[static_cast<size_t>(dy + k.radius) * side + dx + k.radius] = w;
-      (w > 0 ? positive : negative) += w;
-    }
-  for (double& w : k.weights) w = w > 0 ? w / positive : (w < 0 ? w / -negative : 0.0);
+  SeparableTerm t;
+  double positive = 0, negative = 0, gaussSum = 0;
+  for (int d = -k.radius; d <= k.radius; ++d) {
+    const double g = std::exp(-(d * d) / (2 * sd * sd));
+    const double f = secondDerivative ? (d * d / (sd * sd) - 1.0) * g : -d * g;
+    t.x.push_back(f);
+    t.y.push_back(g);
+    (f > 0 ? positive : negative) += f;
+    gaussSum += g;
+  }
+  for (double& f : t.x) f = f > 0 ? f / (positive * gaussSum) : (f < 0 ? f / (-negative * gaussSum) : 0.0);
+  if (alongY) std::swap(t.x, t.y);
+  k.terms.push_back(std::move(t));
   return k;
-}
-
-Kernel transposed(const Kernel& k) {
-  Kernel t = k;
-  const int side = 2 * k.radius + 1;
-  for (int y = 0; y < side; ++y)
-    for (int x = 0; x < side; ++x) t.weights[static_cast<size_t>(y) * side + x] = k.weights[static_cast<size_t>(x) * side + y];
-  return t;
 }
 
 struct Prepared {
@@ -160,9 +170,10 @@ Prepared prepare(const std::vector<std::uint8_t>& srgb, int width, int height, d
     for (double& c : rgb) c = std::clamp(c, 0.0, 1.0);
     p.hunt[i] = huntLab(rgb);
   }
-  const Kernel edgeX = featureKernel(false, ppd), pointX = featureKernel(true, ppd);
-  const auto ex = filter(achromatic, width, height, edgeX), ey = filter(achromatic, width, height, transposed(edgeX));
-  const auto px = filter(achromatic, width, height, pointX), py = filter(achromatic, width, height, transposed(pointX));
+  const auto ex = filter(achromatic, width, height, featureKernel(false, ppd, false));
+  const auto ey = filter(achromatic, width, height, featureKernel(false, ppd, true));
+  const auto px = filter(achromatic, width, height, featureKernel(true, ppd, false));
+  const auto py = filter(achromatic, width, height, featureKernel(true, ppd, true));
   p.edge.resize(n);
   p.point.resize(n);
   for (size_t i = 0; i < n; ++i) {
