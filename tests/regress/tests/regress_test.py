@@ -118,13 +118,21 @@ def strip(data):
 
 
 def test_shards(build, compare, tmp):
-    """Four shards run one after another, merged, equal the unsharded run."""
+    """Four shards run one after another, merged, equal the unsharded run, passing or failing."""
     whole, parts = os.path.join(tmp, "whole"), os.path.join(tmp, "parts")
     run(["check", SUITE, "--out", whole], build, compare, expect=0)
     for k in range(1, 5):
         run(["check", SUITE, "--out", parts, "--shard", f"{k}/4"], build, compare, expect=0)
     run(["merge", parts], build, compare, expect=0)
     assert strip(summary(whole)) == strip(summary(parts)), "merged shards differ from the unsharded run"
+    # A regression in one shard: the merge reports it (exit 1) exactly as the unsharded run does.
+    whole, parts = os.path.join(tmp, "whole-clamp"), os.path.join(tmp, "parts-clamp")
+    clamp = ["--set", "options.clamp=1"]
+    run(["check", SUITE, "--out", whole] + clamp, build, compare, expect=1)
+    for k in range(1, 5):
+        run(["check", SUITE, "--out", parts, "--shard", f"{k}/4"] + clamp, build, compare)
+    run(["merge", parts], build, compare, expect=1)
+    assert strip(summary(whole)) == strip(summary(parts)), "merged failing shards differ from the unsharded run"
 
 
 def main():
