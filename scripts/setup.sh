@@ -8,6 +8,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev npm
   xvfb xauth libgl1-mesa-dri mesa-utils imagemagick
   ioquake3 openarena openarena-data openarena-oacmp1
+  slurm-wlm munge
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
