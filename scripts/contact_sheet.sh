@@ -71,7 +71,7 @@ if not spawns:
     sys.exit("%s: no spawn point" % name)
 picks = [spawns[0]] + [spawns[(i * len(spawns)) // count] for i in range(1, count)]
 for _, x, y, z, yaw in picks[:count]:
-    print("%g %g %g %g" % (x, y, z, yaw))
+    print("%.1f %.1f %.1f %.1f" % (x, y, z, yaw))
 PY
 }
 
