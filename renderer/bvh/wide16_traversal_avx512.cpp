@@ -223,30 +223,11 @@ template <class Pack>
 PA_AVX512_INLINE unsigned triangleOverRays(const Pack& pack, int lane, const int axes[3], const vfloat16 origin[3],
                                            const PacketShear& shear, unsigned rays, vfloat16& t, vfloat16& u,
                                            vfloat16& v) {
-  const int kx = axes[0], ky = axes[1], kz = axes[2];
-  const vfloat16 az = vfloat16(pack.v[0][kz][lane]) - origin[kz];
-  const vfloat16 bz = vfloat16(pack.v[1][kz][lane]) - origin[kz];
-  const vfloat16 cz = vfloat16(pack.v[2][kz][lane]) - origin[kz];
-  const vfloat16 ax = (vfloat16(pack.v[0][kx][lane]) - origin[kx]) - shear.sx * az;
-  const vfloat16 ay = (vfloat16(pack.v[0][ky][lane]) - origin[ky]) - shear.sy * az;
-  const vfloat16 bx = (vfloat16(pack.v[1][kx][lane]) - origin[kx]) - shear.sx * bz;
-  const vfloat16 by = (vfloat16(pack.v[1][ky][lane]) - origin[ky]) - shear.sy * bz;
-  const vfloat16 cx = (vfloat16(pack.v[2][kx][lane]) - origin[kx]) - shear.sx * cz;
-  const vfloat16 cy = (vfloat16(pack.v[2][ky][lane]) - origin[ky]) - shear.sy * cz;
-  vfloat16 eu = cx * by - cy * bx;
-  vfloat16 ev = ax * cy - ay * cx;
-  vfloat16 ew = bx * ay - by * ax;
-  const vfloat16 zero(0.0f);
-  if (const unsigned onEdge = static_cast<unsigned>(((eu == zero) | (ev == zero) | (ew == zero)).mask()) & rays)
-    Avx512Lanes16::redoEdgesInDouble(onEdge, ax, ay, bx, by, cx, cy, eu, ev, ew);
-  const unsigned negative = static_cast<unsigned>(((eu < zero) | (ev < zero) | (ew < zero)).mask());
-  const unsigned positive = static_cast<unsigned>(((eu > zero) | (ev > zero) | (ew > zero)).mask());
-  unsigned hits = rays & ~(negative & positive);
+  PackEdges<vfloat16> e;
+  const unsigned hits =
+      testTriangleAgainstRays<Avx512Lanes16>(pack, lane, axes, origin, shear.sx, shear.sy, shear.sz, rays, e);
   if (!hits) return 0;
-  const vfloat16 det = eu + ev + ew;
-  hits &= static_cast<unsigned>((det != zero).mask());
-  if (!hits) return 0;
-  const vfloat16 tScaled = (eu * (shear.sz * az) + ev * (shear.sz * bz)) + ew * (shear.sz * cz);
+  const vfloat16 det = e.det, tScaled = e.tScaled;
   const vfloat16 rcp = vfloat16(1.0f) / det;
   // planeHitDistance in double: the triangle's normal once, then each ray's distance.
   const double v0x = pack.v[0][0][lane], v0y = pack.v[0][1][lane], v0z = pack.v[0][2][lane];
@@ -270,8 +251,8 @@ PA_AVX512_INLINE unsigned triangleOverRays(const Pack& pack, int lane, const int
     half[h] = _mm256_mask_mov_ps(_mm512_cvtpd_ps(_mm512_div_pd(num, denom)), parallel, half[h]);
   }
   t = joinHalves(half[0], half[1]);
-  u = ev * rcp;
-  v = ew * rcp;
+  u = e.u * rcp;
+  v = e.v * rcp;
   return hits;
 }
 

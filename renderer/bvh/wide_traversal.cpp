@@ -237,37 +237,16 @@ struct PacketEntry8 {
 /// tmax] per ray; returns the rays that took the hit.
 inline unsigned triangleOverRays8(const TrianglePack& pack, int lane, const int axes[3], Packet8& p, unsigned rays,
                                   Ray* raysIn, Hit* hits, const HitFilter* filters, uint32_t instanceId) {
-  const int kx = axes[0], ky = axes[1], kz = axes[2];
   const vfloat8 origin[3] = {vfloat8::load(p.ox), vfloat8::load(p.oy), vfloat8::load(p.oz)};
-  const vfloat8 shx = vfloat8::load(p.sx), shy = vfloat8::load(p.sy), shz = vfloat8::load(p.sz);
-  const vfloat8 az = vfloat8(pack.v[0][kz][lane]) - origin[kz];
-  const vfloat8 bz = vfloat8(pack.v[1][kz][lane]) - origin[kz];
-  const vfloat8 cz = vfloat8(pack.v[2][kz][lane]) - origin[kz];
-  const vfloat8 ax = (vfloat8(pack.v[0][kx][lane]) - origin[kx]) - shx * az;
-  const vfloat8 ay = (vfloat8(pack.v[0][ky][lane]) - origin[ky]) - shy * az;
-  const vfloat8 bx = (vfloat8(pack.v[1][kx][lane]) - origin[kx]) - shx * bz;
-  const vfloat8 by = (vfloat8(pack.v[1][ky][lane]) - origin[ky]) - shy * bz;
-  const vfloat8 cx = (vfloat8(pack.v[2][kx][lane]) - origin[kx]) - shx * cz;
-  const vfloat8 cy = (vfloat8(pack.v[2][ky][lane]) - origin[ky]) - shy * cz;
-  vfloat8 eu = cx * by - cy * bx;
-  vfloat8 ev = ax * cy - ay * cx;
-  vfloat8 ew = bx * ay - by * ax;
-  const vfloat8 zero(0.0f);
-  if (const unsigned onEdge = static_cast<unsigned>(((eu == zero) | (ev == zero) | (ew == zero)).mask()) & rays)
-    BaselineLanes::redoEdgesInDouble(onEdge, ax, ay, bx, by, cx, cy, eu, ev, ew);
-  const unsigned negative = static_cast<unsigned>(((eu < zero) | (ev < zero) | (ew < zero)).mask());
-  const unsigned positive = static_cast<unsigned>(((eu > zero) | (ev > zero) | (ew > zero)).mask());
-  unsigned crossed = rays & ~(negative & positive);
+  PackEdges<vfloat8> e;
+  unsigned crossed = testTriangleAgainstRays<BaselineLanes>(pack, lane, axes, origin, vfloat8::load(p.sx),
+                                                            vfloat8::load(p.sy), vfloat8::load(p.sz), rays, e);
   if (!crossed) return 0;
-  const vfloat8 det = eu + ev + ew;
-  crossed &= static_cast<unsigned>((det != zero).mask());
-  if (!crossed) return 0;
-  const vfloat8 tScaled = (eu * (shz * az) + ev * (shz * bz)) + ew * (shz * cz);
   alignas(32) float ts[8], ds[8], us[8], vs[8];
-  tScaled.store(ts);
-  det.store(ds);
-  ev.store(us);
-  ew.store(vs);
+  e.tScaled.store(ts);
+  e.det.store(ds);
+  e.u.store(us);
+  e.v.store(vs);
   const glm::vec3 v0(pack.v[0][0][lane], pack.v[0][1][lane], pack.v[0][2][lane]);
   const glm::vec3 v1(pack.v[1][0][lane], pack.v[1][1][lane], pack.v[1][2][lane]);
   const glm::vec3 v2(pack.v[2][0][lane], pack.v[2][1][lane], pack.v[2][2][lane]);

@@ -140,6 +140,47 @@ PA_BVH_INLINE unsigned testPackEdges(const Pack& pack, const TriangleRay<L>& r, 
   return hits;
 }
 
+/// The packet kernels' triangle test: triangle `lane` of a pack against up to kWidth rays of one
+/// shear class (kx, ky, kz = axes), one ray per lane, from their origins and shear constants per
+/// lane. testPackEdges' operations with triangles and rays swapped, so each ray's values are
+/// those of its own single-ray test. Returns the rays in `rays` whose line crosses the triangle,
+/// with what their distances and barycentrics are computed from in out.
+template <class L, class Pack>
+PA_BVH_INLINE unsigned testTriangleAgainstRays(const Pack& pack, int lane, const int axes[3],
+                                               const typename L::Float origin[3], typename L::Float sx,
+                                               typename L::Float sy, typename L::Float sz, unsigned rays,
+                                               PackEdges<typename L::Float>& out) {
+  using Float = typename L::Float;
+  const int kx = axes[0], ky = axes[1], kz = axes[2];
+  const Float az = Float(pack.v[0][kz][lane]) - origin[kz];
+  const Float bz = Float(pack.v[1][kz][lane]) - origin[kz];
+  const Float cz = Float(pack.v[2][kz][lane]) - origin[kz];
+  const Float ax = (Float(pack.v[0][kx][lane]) - origin[kx]) - sx * az;
+  const Float ay = (Float(pack.v[0][ky][lane]) - origin[ky]) - sy * az;
+  const Float bx = (Float(pack.v[1][kx][lane]) - origin[kx]) - sx * bz;
+  const Float by = (Float(pack.v[1][ky][lane]) - origin[ky]) - sy * bz;
+  const Float cx = (Float(pack.v[2][kx][lane]) - origin[kx]) - sx * cz;
+  const Float cy = (Float(pack.v[2][ky][lane]) - origin[ky]) - sy * cz;
+  Float u = cx * by - cy * bx;
+  Float v = ax * cy - ay * cx;
+  Float w = bx * ay - by * ax;
+  const Float zero(0.0f);
+  if (const unsigned onEdge = static_cast<unsigned>(((u == zero) | (v == zero) | (w == zero)).mask()) & rays)
+    L::redoEdgesInDouble(onEdge, ax, ay, bx, by, cx, cy, u, v, w);
+  const unsigned negative = static_cast<unsigned>(((u < zero) | (v < zero) | (w < zero)).mask());
+  const unsigned positive = static_cast<unsigned>(((u > zero) | (v > zero) | (w > zero)).mask());
+  unsigned crossed = rays & ~(negative & positive);
+  if (!crossed) return 0;
+  const Float det = u + v + w;
+  crossed &= static_cast<unsigned>((det != zero).mask());
+  if (!crossed) return 0;
+  out.tScaled = (u * (sz * az) + v * (sz * bz)) + w * (sz * cz);
+  out.det = det;
+  out.u = v;
+  out.v = w;
+  return crossed;
+}
+
 /// Tests one pack's triangles against [ray.tmin, tmax] and accepts its hits in lane order (as
 /// acceptPackHits): the accurate distances of all candidate lanes in SIMD, or lane by lane where
 /// L::kLaneByLaneHits (L::acceptLaneByLane).
