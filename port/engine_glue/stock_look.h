@@ -32,6 +32,15 @@ bool isAlphaBlend(const BlendFunc& blend);
 /// RGBA with the colour multiplied by alpha (alpha kept).
 std::shared_ptr<const Image> premultipliedImage(const std::shared_ptr<const Image>& image);
 
+/// How a multiplicative blend darkens: by the source colour, or by its inverse.
+enum class Darkening : uint8_t { None, BySourceColor, ByInverseSourceColor };
+
+/// The darkening a stage's blend function makes (None for any other blend).
+Darkening filterAsDarkening(const BlendFunc& blend);
+
+/// Black RGBA whose alpha is how much `image` darkens what is behind it.
+std::shared_ptr<const Image> darkeningImage(const std::shared_ptr<const Image>& image, Darkening mode);
+
 /// Vertex colours of alpha-blended effect triangles premultiplied by their alpha, linearised
 /// (the lightmap preset composes such effects as premultiplied-over layers in display values:
 /// encode(lin(c) * lin(a)) ~ c * a).

@@ -99,32 +99,6 @@ bool sameInstance(const pa::InstanceDesc& a, const pa::InstanceDesc& b) {
          a.tint == b.tint;
 }
 
-/// How a multiplicative blend darkens: by the source colour, or by its inverse.
-enum class Darkening : uint8_t { None, BySourceColor, ByInverseSourceColor };
-
-Darkening filterAsDarkening(const BlendFunc& blend) {
-  constexpr unsigned kZero = 0, kSrcColor = 0x0300, kOneMinusSrcColor = 0x0301, kDstColor = 0x0306;
-  // dst * src: (DST_COLOR, ZERO) or (ZERO, SRC_COLOR); dst * (1 - src): (ZERO, ONE_MINUS_SRC_COLOR).
-  if ((blend.src == kDstColor && blend.dst == kZero) || (blend.src == kZero && blend.dst == kSrcColor))
-    return Darkening::BySourceColor;
-  if (blend.src == kZero && blend.dst == kOneMinusSrcColor) return Darkening::ByInverseSourceColor;
-  return Darkening::None;
-}
-
-/// Black RGBA whose alpha is how much `image` darkens what is behind it.
-std::shared_ptr<const Image> darkeningImage(const std::shared_ptr<const Image>& image, Darkening mode) {
-  if (!image) return nullptr;
-  auto out = std::make_shared<Image>();
-  out->width = image->width;
-  out->height = image->height;
-  out->rgba.assign(image->rgba.size(), 0);
-  for (size_t i = 0; i + 3 < image->rgba.size(); i += 4) {
-    const int luminance = (image->rgba[i] * 54 + image->rgba[i + 1] * 183 + image->rgba[i + 2] * 19) >> 8;
-    out->rgba[i + 3] = static_cast<uint8_t>(mode == Darkening::BySourceColor ? 255 - luminance : luminance);
-  }
-  return out;
-}
-
 /// The engine dlclose()s the module on vid_restart and at exit. The tracer's thread pool (oneTBB)
 /// keeps worker threads alive for the whole process; if libtbb were unloaded with the module,
 /// those threads would run unmapped code. Mark the already loaded libtbb "never unload".
