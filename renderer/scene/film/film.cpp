@@ -128,6 +128,12 @@ SrgbByteEncoder::SrgbByteEncoder() {
     }
     steps_[k] = std::bit_cast<float>(hi);
   }
+  for (uint32_t i = 0; i < kBuckets; ++i) {
+    const float x = float(i) / float(kBuckets);
+    uint32_t byte = 0;
+    while (byte < 255 && steps_[byte] <= x) ++byte;
+    bucketStart_[i] = static_cast<uint8_t>(byte);
+  }
 }
 
 void encodeDisplay(std::span<const glm::vec3> linear, float exposure, Tonemap op, std::span<uint8_t> rgba8) {

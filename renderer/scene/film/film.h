@@ -78,22 +78,24 @@ glm::vec3 tonemap(const glm::vec3& linear, Tonemap op);
 /// The 8-bit sRGB byte of a display value in [0, 1] (lround(clamp(linearToSrgb(x)) x 255), NaN
 /// -> 0) without a power function: the byte is the number of the 255 values where it steps up
 /// that lie at or below x, those found once by bisection over floats with the exact curve, so
-/// every float encodes as with it.
+/// every float encodes as with it. A table of the byte at each 1/4096 of [0, 1] starts the count
+/// (then 0-2 steps: the curve never climbs more than two bytes in 1/4096).
 class SrgbByteEncoder {
  public:
   SrgbByteEncoder();
   /// The byte of display value x.
   uint8_t operator()(float x) const {
-    uint32_t lo = 0, hi = 255;   // the byte lies in [lo, hi]
-    while (lo < hi) {
-      const uint32_t mid = (lo + hi + 1) / 2;
-      if (steps_[mid - 1] <= x) lo = mid; else hi = mid - 1;
-    }
-    return static_cast<uint8_t>(lo);
+    if (!(x > 0.0f)) return 0;   // NaN too
+    if (x >= 1.0f) return 255;
+    uint32_t byte = bucketStart_[static_cast<uint32_t>(x * float(kBuckets))];   // exact: a power of two
+    while (byte < 255 && steps_[byte] <= x) ++byte;
+    return static_cast<uint8_t>(byte);
   }
 
  private:
-  std::array<float, 255> steps_;   ///< steps_[k]: the smallest float whose byte is k + 1.
+  static constexpr uint32_t kBuckets = 4096;
+  std::array<float, 255> steps_;                ///< steps_[k]: the smallest float whose byte is k + 1.
+  std::array<uint8_t, kBuckets> bucketStart_;   ///< The byte of k / kBuckets.
 };
 
 /// Encodes linear radiance as display RGBA8: x exposure, tonemap, sRGB, alpha 255 (what the
