@@ -166,8 +166,7 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
     requests[i].randomBits = r.randomBits;
     requests[i].additive = &r.additive;
   }
-  const uint32_t all = count == 32 ? ~0u : (1u << count) - 1;
-  uint32_t remaining = all;
+  uint32_t remaining = (1u << count) - 1;   // count <= kMaxPacketRays < 32
   // drawOnTop instances first; the rays that miss them go on into the world.
   for (const bool overlayPass : {true, false}) {
     const auto& instances = instancesFor(*this, overlayPass);
