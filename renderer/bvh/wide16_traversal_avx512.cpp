@@ -148,37 +148,14 @@ struct PacketRays {
   alignas(64) float tmax[kWide16Width];
 };
 
-/// Interval bounds of a packet whose rays share one octant (all inverse directions finite):
-/// origins and inverse directions per axis over the packet's rays.
-struct PacketBounds {
-  float oLo[3], oHi[3], iLo[3], iHi[3], tminLo;
-};
-
-/// Lower bound over every origin in [oLo, oHi] and inverse direction in [iLo, iHi] of
-/// (bound - origin) * inverse, as the per-ray test rounds it (both roundings are monotonic).
-PA_AVX512_INLINE vfloat16 lowestDistance(vfloat16 bound, float oLo, float oHi, float iLo, float iHi) {
-  const vfloat16 a = bound - vfloat16(oHi), b = bound - vfloat16(oLo);
-  return minKeep(minKeep(a * vfloat16(iLo), a * vfloat16(iHi)), minKeep(b * vfloat16(iLo), b * vfloat16(iHi)));
-}
-
-/// Upper bound of the same.
-PA_AVX512_INLINE vfloat16 highestDistance(vfloat16 bound, float oLo, float oHi, float iLo, float iHi) {
-  const vfloat16 a = bound - vfloat16(oHi), b = bound - vfloat16(oLo);
-  return maxKeep(maxKeep(a * vfloat16(iLo), a * vfloat16(iHi)), maxKeep(b * vfloat16(iLo), b * vfloat16(iHi)));
-}
-
-/// Children of node that some ray of the packet may enter before tmaxHi: a conservative
-/// superset of the union of the rays' own slab tests (interval arithmetic over the packet).
+/// Children of node that some ray of the packet may enter before tmaxHi (packetMayEnterBoxes).
 PA_AVX512_INLINE unsigned packetChildren(const Wide16Node& node, const PacketBounds& b, const int nearSide[3],
                                          float tmaxHi) {
-  vfloat16 tNear(b.tminLo), tFar(tmaxHi);
-  for (int axis = 0; axis < 3; ++axis) {
-    const vfloat16 nearBound = vfloat16::load(node.bounds[nearSide[axis]][axis]);
-    const vfloat16 farBound = vfloat16::load(node.bounds[1 - nearSide[axis]][axis]);
-    tNear = maxKeep(tNear, lowestDistance(nearBound, b.oLo[axis], b.oHi[axis], b.iLo[axis], b.iHi[axis]));
-    tFar = minKeep(tFar, highestDistance(farBound, b.oLo[axis], b.oHi[axis], b.iLo[axis], b.iHi[axis]));
-  }
-  return static_cast<unsigned>((tNear <= tFar * vfloat16(kRobustFarScale)).mask());
+  const vfloat16 lo[3] = {vfloat16::load(node.bounds[0][0]), vfloat16::load(node.bounds[0][1]),
+                          vfloat16::load(node.bounds[0][2])};
+  const vfloat16 hi[3] = {vfloat16::load(node.bounds[1][0]), vfloat16::load(node.bounds[1][1]),
+                          vfloat16::load(node.bounds[1][2])};
+  return packetMayEnterBoxes(lo, hi, b, nearSide, tmaxHi);
 }
 
 /// The rays (lanes) of the packet that enter child slot s of node, with their entry distances:
@@ -257,21 +234,19 @@ PA_AVX512_INLINE unsigned triangleOverRays(const Pack& pack, int lane, const int
 }
 
 /// The triangles of a pack whose bounding boxes some ray of the packet may enter before tmaxHi
-/// (packetChildren's interval test on boxes made from the vertices): a triangle a ray hits within
+/// (packetMayEnterBoxes on boxes made from the vertices): a triangle a ray hits within
 /// [tmin, tmax] lies in a box the ray enters, so the others are skipped for the whole packet.
 template <class Pack>
 PA_AVX512_INLINE unsigned trianglesPacketMayHit(const Pack& pack, const PacketBounds& b, const int nearSide[3],
                                                 float tmaxHi) {
-  vfloat16 tNear(b.tminLo), tFar(tmaxHi);
+  vfloat16 lo[3], hi[3];
   for (int axis = 0; axis < 3; ++axis) {
     const vfloat16 v0 = Avx512Lanes16::loadVertex(pack, 0, axis), v1 = Avx512Lanes16::loadVertex(pack, 1, axis),
                    v2 = Avx512Lanes16::loadVertex(pack, 2, axis);
-    const vfloat16 lo = minKeep(v0, minKeep(v1, v2)), hi = maxKeep(v0, maxKeep(v1, v2));
-    const vfloat16 nearBound = nearSide[axis] ? hi : lo, farBound = nearSide[axis] ? lo : hi;
-    tNear = maxKeep(tNear, lowestDistance(nearBound, b.oLo[axis], b.oHi[axis], b.iLo[axis], b.iHi[axis]));
-    tFar = minKeep(tFar, highestDistance(farBound, b.oLo[axis], b.oHi[axis], b.iLo[axis], b.iHi[axis]));
+    lo[axis] = minKeep(v0, minKeep(v1, v2));
+    hi[axis] = maxKeep(v0, maxKeep(v1, v2));
   }
-  return static_cast<unsigned>((tNear <= tFar * vfloat16(kRobustFarScale)).mask());
+  return packetMayEnterBoxes(lo, hi, b, nearSide, tmaxHi);
 }
 
 /// A leaf's triangles against the rays in `rays` (one shear class), triangle by triangle in

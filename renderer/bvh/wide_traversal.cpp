@@ -195,35 +195,13 @@ inline vfloat8 selectLanes(vfloat8 mask, vfloat8 a, vfloat8 b) {
 struct Packet8 {
   alignas(32) float ox[8], oy[8], oz[8], idx[8], idy[8], idz[8], tmin[8], tmax[8];
   alignas(32) float sx[8], sy[8], sz[8];
-  float oLo[3], oHi[3], iLo[3], iHi[3], tminLo;
+  PacketBounds box;
   int nearSide[3];
   unsigned classRays[6] = {};
   int axes[6][3] = {};
   uint32_t ray[8];   ///< Lane -> index into the caller's rays.
   unsigned lanes = 0;
 };
-
-/// Lower and upper bounds of (bound - origin) * inverse over the packet's intervals.
-inline vfloat8 lowest8(vfloat8 bound, float oLo, float oHi, float iLo, float iHi) {
-  const vfloat8 a = bound - vfloat8(oHi), b = bound - vfloat8(oLo);
-  return minKeep(minKeep(a * vfloat8(iLo), a * vfloat8(iHi)), minKeep(b * vfloat8(iLo), b * vfloat8(iHi)));
-}
-inline vfloat8 highest8(vfloat8 bound, float oLo, float oHi, float iLo, float iHi) {
-  const vfloat8 a = bound - vfloat8(oHi), b = bound - vfloat8(oLo);
-  return maxKeep(maxKeep(a * vfloat8(iLo), a * vfloat8(iHi)), maxKeep(b * vfloat8(iLo), b * vfloat8(iHi)));
-}
-
-/// The boxes (lo/hi per axis, eight lanes) that some ray of the packet may enter before tmaxHi.
-inline unsigned packetMayEnter8(const vfloat8 lo[3], const vfloat8 hi[3], const Packet8& p, float tmaxHi) {
-  vfloat8 tNear(p.tminLo), tFar(tmaxHi);
-  for (int axis = 0; axis < 3; ++axis) {
-    const vfloat8 nearBound = p.nearSide[axis] ? hi[axis] : lo[axis];
-    const vfloat8 farBound = p.nearSide[axis] ? lo[axis] : hi[axis];
-    tNear = maxKeep(tNear, lowest8(nearBound, p.oLo[axis], p.oHi[axis], p.iLo[axis], p.iHi[axis]));
-    tFar = minKeep(tFar, highest8(farBound, p.oLo[axis], p.oHi[axis], p.iLo[axis], p.iHi[axis]));
-  }
-  return static_cast<unsigned>((tNear <= tFar * vfloat8(kRobustFarScale)).mask());
-}
 
 /// One deferred child of an 8-wide packet traversal: its rays and each ray's entry distance.
 struct PacketEntry8 {
@@ -294,7 +272,7 @@ unsigned traversePacket8(const WideBvh& bvh, Packet8& p, Ray* rays, Hit* hits, c
         hi[axis] = vfloat8::load(node.bounds[1][axis]);
       }
       const vfloat8 tmax = vfloat8::load(p.tmax);
-      unsigned candidates = packetMayEnter8(lo, hi, p, tmaxHi(currentRays));
+      unsigned candidates = packetMayEnterBoxes(lo, hi, p.box, p.nearSide, tmaxHi(currentRays));
       // Each candidate against every ray (slabEntry's operations, lane = ray), nearest first.
       struct Entered {
         float key;
@@ -364,7 +342,7 @@ unsigned traversePacket8(const WideBvh& bvh, Packet8& p, Ray* rays, Hit* hits, c
             lo[axis] = minKeep(a, minKeep(b, d));
             hi[axis] = maxKeep(a, maxKeep(b, d));
           }
-          unsigned triangles = pack.validBits & packetMayEnter8(lo, hi, p, tmaxHi(classRays));
+          unsigned triangles = pack.validBits & packetMayEnterBoxes(lo, hi, p.box, p.nearSide, tmaxHi(classRays));
           for (; triangles; triangles &= triangles - 1)
             found |= triangleOverRays8(pack, std::countr_zero(triangles), p.axes[c], p, classRays, rays, hits,
                                        filters, instanceId);
@@ -391,11 +369,11 @@ unsigned traversePacket8(const WideBvh& bvh, Packet8& p, Ray* rays, Hit* hits, c
 void makePacket8(const Ray* rays, unsigned rays16, Packet8& p) {
   const int first = std::countr_zero(rays16);
   for (int axis = 0; axis < 3; ++axis) {
-    p.oLo[axis] = p.iLo[axis] = std::numeric_limits<float>::infinity();
-    p.oHi[axis] = p.iHi[axis] = -std::numeric_limits<float>::infinity();
+    p.box.oLo[axis] = p.box.iLo[axis] = std::numeric_limits<float>::infinity();
+    p.box.oHi[axis] = p.box.iHi[axis] = -std::numeric_limits<float>::infinity();
     p.nearSide[axis] = std::signbit(rays[first].dir[axis]);
   }
-  p.tminLo = std::numeric_limits<float>::infinity();
+  p.box.tminLo = std::numeric_limits<float>::infinity();
   int lane = 0;
   for (unsigned r = rays16; r; r &= r - 1, ++lane) {
     const int index = std::countr_zero(r);
@@ -407,10 +385,10 @@ void makePacket8(const Ray* rays, unsigned rays16, Packet8& p) {
     p.tmin[lane] = ray.tmin, p.tmax[lane] = ray.tmax;
     const float o[3] = {p.ox[lane], p.oy[lane], p.oz[lane]}, id[3] = {p.idx[lane], p.idy[lane], p.idz[lane]};
     for (int axis = 0; axis < 3; ++axis) {
-      p.oLo[axis] = std::min(p.oLo[axis], o[axis]), p.oHi[axis] = std::max(p.oHi[axis], o[axis]);
-      p.iLo[axis] = std::min(p.iLo[axis], id[axis]), p.iHi[axis] = std::max(p.iHi[axis], id[axis]);
+      p.box.oLo[axis] = std::min(p.box.oLo[axis], o[axis]), p.box.oHi[axis] = std::max(p.box.oHi[axis], o[axis]);
+      p.box.iLo[axis] = std::min(p.box.iLo[axis], id[axis]), p.box.iHi[axis] = std::max(p.box.iHi[axis], id[axis]);
     }
-    p.tminLo = std::min(p.tminLo, ray.tmin);
+    p.box.tminLo = std::min(p.box.tminLo, ray.tmin);
     const RayShear shear(ray.dir);
     const int c = 2 * shear.kz + (shear.kx != (shear.kz + 1) % 3);
     p.classRays[c] |= 1u << lane;

@@ -140,6 +140,32 @@ PA_BVH_INLINE unsigned testPackEdges(const Pack& pack, const TriangleRay<L>& r, 
   return hits;
 }
 
+/// Interval bounds of a packet whose rays share one octant (all inverse directions finite):
+/// origins and inverse directions per axis over the packet's rays, and their smallest tmin.
+struct PacketBounds {
+  float oLo[3], oHi[3], iLo[3], iHi[3], tminLo;
+};
+
+/// The boxes (lower and upper bounds per axis, one box per lane) that some ray of the packet may
+/// enter before tmaxHi: each ray's slab distances (bound - origin) * inverse bounded over the
+/// intervals' corners. Rounding is monotonic, so the bounds hold for the rounded per-ray values
+/// and the test is a superset of the union of the rays' own slab tests.
+template <class Float>
+PA_BVH_INLINE unsigned packetMayEnterBoxes(const Float lo[3], const Float hi[3], const PacketBounds& b,
+                                           const int nearSide[3], float tmaxHi) {
+  Float tNear(b.tminLo), tFar(tmaxHi);
+  for (int axis = 0; axis < 3; ++axis) {
+    const Float iLo(b.iLo[axis]), iHi(b.iHi[axis]);
+    const Float nearBound = nearSide[axis] ? hi[axis] : lo[axis];
+    const Float farBound = nearSide[axis] ? lo[axis] : hi[axis];
+    const Float n0 = nearBound - Float(b.oHi[axis]), n1 = nearBound - Float(b.oLo[axis]);
+    const Float f0 = farBound - Float(b.oHi[axis]), f1 = farBound - Float(b.oLo[axis]);
+    tNear = maxKeep(tNear, minKeep(minKeep(n0 * iLo, n0 * iHi), minKeep(n1 * iLo, n1 * iHi)));
+    tFar = minKeep(tFar, maxKeep(maxKeep(f0 * iLo, f0 * iHi), maxKeep(f1 * iLo, f1 * iHi)));
+  }
+  return static_cast<unsigned>((tNear <= tFar * Float(kRobustFarScale)).mask());
+}
+
 /// The packet kernels' triangle test: triangle `lane` of a pack against up to kWidth rays of one
 /// shear class (kx, ky, kz = axes), one ray per lane, from their origins and shear constants per
 /// lane. testPackEdges' operations with triangles and rays swapped, so each ray's values are
