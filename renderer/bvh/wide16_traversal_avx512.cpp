@@ -125,14 +125,6 @@ struct Avx512Lanes16 {
 };
 
 
-/// One deferred child of a packet traversal: its reference, the rays that entered it and each
-/// ray's entry distance (culled per ray when popped, as popEntryWithin culls one ray's entries).
-struct alignas(64) PacketEntry {
-  float tNear[kWide16Width];
-  uint32_t ref;
-  uint32_t rays;
-};
-
 /// Leaves reached by at most this many rays of a shear class are tested ray by ray (sixteen
 /// triangles per instruction); more rays test the leaf triangle by triangle (sixteen rays per
 /// instruction).
@@ -359,7 +351,7 @@ PA_AVX512 unsigned traversePacket(const Wide16Bvh& bvh, Ray* rays, Hit* hits, un
     }
   }
 
-  PacketEntry stack[kPacketStackSize];
+  PacketEntry<kWide16Width> stack[kPacketStackSize];
   int top = 0;
   uint32_t current = 0;
   unsigned currentRays = rays16;
@@ -385,7 +377,7 @@ PA_AVX512 unsigned traversePacket(const Wide16Bvh& bvh, Ray* rays, Hit* hits, un
           const unsigned entered = raysEnteringChild(node, slot, packet, tmax, nearSide, tNear) & currentRays;
           if (!entered) continue;
           if (haveNext) {   // the previous one is farther: deferred
-            PacketEntry& e = stack[top++];
+            PacketEntry<kWide16Width>& e = stack[top++];
             nextNear.store(e.tNear);
             e.ref = nextRef;
             e.rays = nextRays;
@@ -430,20 +422,9 @@ PA_AVX512 unsigned traversePacket(const Wide16Bvh& bvh, Ray* rays, Hit* hits, un
       }
       tmax.store(packet.tmax);
     }
-    // The next deferred child that some of its rays may still find a nearer hit in.
-    const vfloat16 cull = tmax * vfloat16(kRobustFarScale);
-    for (;;) {
-      if (top == 0) {
-        for (unsigned r = found; r; r &= r - 1) rays[std::countr_zero(r)].tmax = packet.tmax[std::countr_zero(r)];
-        return found;
-      }
-      const PacketEntry& e = stack[--top];
-      const unsigned live = e.rays & static_cast<unsigned>((vfloat16::load(e.tNear) <= cull).mask());
-      if (live) {
-        current = e.ref;
-        currentRays = live;
-        break;
-      }
+    if (!popLivePacketEntry(stack, top, tmax, current, currentRays)) {
+      for (unsigned r = found; r; r &= r - 1) rays[std::countr_zero(r)].tmax = packet.tmax[std::countr_zero(r)];
+      return found;
     }
   }
 }

@@ -203,13 +203,6 @@ struct Packet8 {
   unsigned lanes = 0;
 };
 
-/// One deferred child of an 8-wide packet traversal: its rays and each ray's entry distance.
-struct PacketEntry8 {
-  alignas(32) float tNear[8];
-  uint32_t ref;
-  unsigned rays;
-};
-
 /// One triangle of a pack against the rays in `rays` (one shear class), one ray per lane, with
 /// the single-ray watertight arithmetic (testPackEdges, acceptLaneByLane): accepts in [tmin,
 /// tmax] per ray; returns the rays that took the hit.
@@ -258,7 +251,7 @@ unsigned traversePacket8(const WideBvh& bvh, Packet8& p, Ray* rays, Hit* hits, c
     for (; rays8; rays8 &= rays8 - 1) hi = std::max(hi, p.tmax[std::countr_zero(rays8)]);
     return hi;
   };
-  std::array<PacketEntry8, kStackSizeFor<kWideWidth>> stack;
+  std::array<PacketEntry<8>, kStackSizeFor<kWideWidth>> stack;
   int top = 0;
   uint32_t current = 0;
   unsigned currentRays = p.lanes;
@@ -308,7 +301,7 @@ unsigned traversePacket8(const WideBvh& bvh, Packet8& p, Ray* rays, Hit* hits, c
       }
       if (count > 0) {
         for (int k = 0; k + 1 < count; ++k) {
-          PacketEntry8& e = stack[top++];
+          PacketEntry<8>& e = stack[top++];
           entered[k].tNear.store(e.tNear);
           e.ref = entered[k].ref;
           e.rays = entered[k].rays;
@@ -349,18 +342,7 @@ unsigned traversePacket8(const WideBvh& bvh, Packet8& p, Ray* rays, Hit* hits, c
         }
       }
     }
-    // The next deferred child that some of its rays may still find a nearer hit in.
-    const vfloat8 cull = vfloat8::load(p.tmax) * vfloat8(kRobustFarScale);
-    for (;;) {
-      if (top == 0) return found;
-      const PacketEntry8& e = stack[--top];
-      const unsigned live = e.rays & static_cast<unsigned>((vfloat8::load(e.tNear) <= cull).mask());
-      if (live) {
-        current = e.ref;
-        currentRays = live;
-        break;
-      }
-    }
+    if (!popLivePacketEntry(stack.data(), top, vfloat8::load(p.tmax), current, currentRays)) return found;
   }
 }
 

@@ -166,6 +166,35 @@ PA_BVH_INLINE unsigned packetMayEnterBoxes(const Float lo[3], const Float hi[3],
   return static_cast<unsigned>((tNear <= tFar * Float(kRobustFarScale)).mask());
 }
 
+/// One deferred child of a packet traversal over kRays lanes: its reference, the rays that entered
+/// it and each ray's entry distance (culled per ray when popped, as popEntryWithin culls one
+/// ray's entries).
+template <uint32_t kRays>
+struct alignas(4 * kRays) PacketEntry {
+  float tNear[kRays];
+  uint32_t ref;
+  unsigned rays;
+};
+
+/// Packet traversals: pops the next deferred child that some of its rays may still find a nearer
+/// hit in (entry distance within the ray's tmax x kRobustFarScale) into current / currentRays;
+/// false when the stack runs empty.
+template <class Float, uint32_t kRays>
+PA_BVH_INLINE bool popLivePacketEntry(const PacketEntry<kRays>* stack, int& top, Float tmax, uint32_t& current,
+                                      unsigned& currentRays) {
+  const Float cull = tmax * Float(kRobustFarScale);
+  while (top > 0) {
+    const PacketEntry<kRays>& e = stack[--top];
+    const unsigned live = e.rays & static_cast<unsigned>((Float::load(e.tNear) <= cull).mask());
+    if (live) {
+      current = e.ref;
+      currentRays = live;
+      return true;
+    }
+  }
+  return false;
+}
+
 /// The packet kernels' triangle test: triangle `lane` of a pack against up to kWidth rays of one
 /// shear class (kx, ky, kz = axes), one ray per lane, from their origins and shear constants per
 /// lane. testPackEdges' operations with triangles and rays swapped, so each ray's values are
