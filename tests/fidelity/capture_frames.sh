@@ -22,15 +22,7 @@ pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not inst
 work="$(mktemp -d /tmp/pa-capture.XXXXXX)"
 trap 'rm -rf "$work"' EXIT
 if [[ "$renderer" == pathtracer ]]; then pa_engine_prepare "$work" "$module"; else pa_engine_prepare "$work"; fi
-cfg="$(pa_engine_cfg "$work" capture)"
-previous=0
-: >"$cfg"
-for frame in $frames; do
-  [[ "$frame" =~ ^[0-9]+$ && "$frame" -gt "$previous" ]] || { echo "frames must increase: $frames"; exit 2; }
-  printf 'wait %d\nscreenshot frame_%04d\n' $((frame - previous)) "$frame" >>"$cfg"
-  previous="$frame"
-done
-printf 'wait 5\nquit\n' >>"$cfg"
+pa_tick_screenshots_cfg "$(pa_engine_cfg "$work" capture)" frame "$frames" || exit 2
 
 mkdir -p "$out"
 set +e

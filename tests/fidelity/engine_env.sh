@@ -4,6 +4,7 @@
 #   pa_engine_available              -> 0 when the engine, the game data and xvfb-run exist
 #   pa_engine_prepare WORK [MODULE]  -> WORK/basepath (module + baseoa link) and WORK/home
 #   pa_engine_cfg WORK NAME          -> prints the path of WORK's NAME.cfg (the engine execs it)
+#   pa_tick_screenshots_cfg CFG PREFIX TICKS -> CFG takes screenshot PREFIX_NNNN at each tick, then quits
 #   pa_engine_run WORK LOG SECONDS WIDTH HEIGHT RENDERER [engine args...]
 #        RENDERER is "pathtracer" (our module) or a stock name such as "opengl1".
 #        Returns the engine's exit status (124 on timeout). The X screen is WIDTHxHEIGHT unless
@@ -37,6 +38,21 @@ pa_engine_run() {
     +set r_mode -1 +set r_customwidth "$width" +set r_customheight "$height" +set r_fullscreen 0 \
     +set s_initsound 0 +set bot_enable 0 +set com_introplayed 1 +set cl_allowDownload 0 \
     "$@" >"$log" 2>&1
+}
+
+# pa_tick_screenshots_cfg CFG PREFIX "T1 T2 ...": writes the engine script CFG that takes
+# screenshot PREFIX_NNNN at each command-buffer tick T (increasing), then quits; returns 2 (with a
+# message) when the ticks do not increase. With `timedemo 1`, tick N is the same game moment in
+# every run (tests/fidelity/README.md).
+pa_tick_screenshots_cfg() {
+  local cfg="$1" prefix="$2" ticks="$3" previous=0 tick
+  : >"$cfg"
+  for tick in $ticks; do
+    [[ "$tick" =~ ^[0-9]+$ && "$tick" -gt "$previous" ]] || { echo "ticks must increase: $ticks"; return 2; }
+    printf 'wait %d\nscreenshot %s_%04d\n' $((tick - previous)) "$prefix" "$tick" >>"$cfg"
+    previous="$tick"
+  done
+  printf 'wait 5\nquit\n' >>"$cfg"
 }
 
 # True when LOG shows the engine ran RENDERER (ours prints its banner; a stock one must not

@@ -23,15 +23,7 @@ if [[ "$demo" == *.dm_71 ]]; then
   demo=pa_regress
 fi
 [[ "$demo" =~ ^[A-Za-z0-9_.-]+$ ]] || { echo "bad demo name: $demo"; exit 2; }
-cfg="$(pa_engine_cfg "$work" capture)"
-previous=0
-: >"$cfg"
-for tick in $ticks; do
-  [[ "$tick" =~ ^[0-9]+$ && "$tick" -gt "$previous" ]] || { echo "ticks must increase: $ticks"; exit 2; }
-  printf 'wait %d\nscreenshot tick_%04d\n' $((tick - previous)) "$tick" >>"$cfg"
-  previous="$tick"
-done
-printf 'wait 5\nquit\n' >>"$cfg"
+pa_tick_screenshots_cfg "$(pa_engine_cfg "$work" capture)" tick "$ticks" || exit 2
 
 mkdir -p "$out"
 set +e
