@@ -225,21 +225,22 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                 pixels[count++] = {x, y, sampling::hashCombine(seedHash, y * settings.width + x), false,
                                    restartOverlayPixels && film.overlayAt(x, y), false};
             std::array<TracedCameraRay, kBlockSide * kBlockSide> traced;
+            std::array<glm::vec2, kBlockSide * kBlockSide> jitters;   // this sample's, per pixel
             for (uint32_t s = 0; s < settings.samplesPerPixel; ++s) {
+              for (uint32_t i = 0; i < count; ++i)
+                jitters[i] = glm::vec2(sampling::PixelSampler(pixels[i].seed, firstSample + s).get4(0));
               if (settings.cameraPackets) {
                 for (uint32_t i = 0; i < count; ++i) {
-                  const sampling::PixelSampler sampler(pixels[i].seed, firstSample + s);
-                  const glm::vec4 jitter = sampler.get4(0);
-                  traced[i].ray = rays.generate(static_cast<float>(pixels[i].x) + jitter.x,
-                                                static_cast<float>(pixels[i].y) + jitter.y);
-                  traced[i].randomBits = cameraRayBits(sampler);
+                  traced[i].ray = rays.generate(static_cast<float>(pixels[i].x) + jitters[i].x,
+                                                static_cast<float>(pixels[i].y) + jitters[i].y);
+                  traced[i].randomBits = cameraRayBits(sampling::PixelSampler(pixels[i].seed, firstSample + s));
                 }
                 scene.intersectCameraPacket(std::span(traced.data(), count));
               }
               for (uint32_t i = 0; i < count; ++i) {
                 PixelState& p = pixels[i];
                 const sampling::PixelSampler sampler(p.seed, firstSample + s);
-                const glm::vec4 jitter = sampler.get4(0);
+                const glm::vec2 jitter = jitters[i];
                 const PixelSample sample =
                     traceSample(scene, rays, settings, static_cast<float>(p.x) + jitter.x,
                                 static_cast<float>(p.y) + jitter.y, sampler, settings.cameraPackets ? &traced[i] : nullptr);
