@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "port/engine_glue/allocation_counter.h"
 #include "port/engine_glue/module.h"
 
 namespace glue {
@@ -64,6 +65,9 @@ void Module::addCommands() {
   ri.Cmd_AddCommand("screenshotPNG", [] {
     runCommand("screenshotPNG", [](Module& m) { m.screenshotCommand("png"); });
   });
+  ri.Cmd_AddCommand("pt_allocations", [] {
+    runCommand("pt_allocations", [](Module& m) { m.allocationsCommand(); });
+  });
   commandsAdded_ = true;
 }
 
@@ -73,7 +77,21 @@ void Module::removeCommands() {
   ri.Cmd_RemoveCommand("screenshot");
   ri.Cmd_RemoveCommand("screenshotJPEG");
   ri.Cmd_RemoveCommand("screenshotPNG");
+  ri.Cmd_RemoveCommand("pt_allocations");
   commandsAdded_ = false;
+}
+
+void Module::allocationsCommand() {
+  const uint64_t count = allocationCount();
+  // One line that tests/engine/engine_allocations.sh parses.
+  engine_.print(q3abi::PRINT_ALL, "pathtracer: allocations=%llu frames=%llu\n",
+                static_cast<unsigned long long>(count - allocationsMark_),
+                static_cast<unsigned long long>(framesEnded_ - framesMark_));
+  if (engine_.argc() >= 3 && engine_.argv(1) == "trace")
+    traceNextAllocations(static_cast<uint32_t>(std::clamp(std::atoi(engine_.argv(2).c_str()), 0, 100000)));
+  // The next window starts after this command's own allocations (the print, the arguments).
+  allocationsMark_ = allocationCount();
+  framesMark_ = framesEnded_;
 }
 
 void Module::screenshotCommand(const char* extension) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 
+#include "port/engine_glue/allocation_counter.h"
 #include "port/engine_glue/module.h"
 #include "port/engine_glue/views.h"
 
@@ -83,11 +84,13 @@ void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
   if (frontEndMsec != nullptr) *frontEndMsec = traceMsThisFrame_;
   if (backEndMsec != nullptr) *backEndMsec = now - frameStartMs_ - traceMsThisFrame_;
   stats_.frames += 1;
+  framesEnded_ += 1;
   traceMsThisFrame_ = 0;
   if (now - stats_.sinceMs >= 2000) {
     if (settings_.tracer(engine_).printStats && stats_.frames > 0) printFrameStats(now);
     stats_ = FrameStats{};
     stats_.sinceMs = now;
+    stats_.allocationsAtStart = allocationCount();
   }
 }
 
@@ -100,12 +103,14 @@ void Module::printFrameStats(int nowMs) const {
   engine_.print(q3abi::PRINT_ALL,
                 "pathtracer: stats %s fps=%.1f frame_ms=%.2f world_views=%.2f scene_ms=%.2f commit_ms=%.2f "
                 "trace_ms=%.2f temporal_ms=%.2f denoise_ms=%.2f resolve_ms=%.2f upload_ms=%.2f model_views=%.2f model_view_ms=%.2f "
-                "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u anim_ms=%.3f anim_updates=%.2f\n",
+                "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u anim_ms=%.3f anim_updates=%.2f "
+                "allocations=%.2f\n",
                 presetName(settings_.tracer(engine_).preset), 1000.0 * n / std::max(1, nowMs - s.sinceMs),
                 s.frameMs / n, s.views / n, s.world.sceneMs / n, s.world.commitMs / n, s.world.traceMs / n,
                 s.world.temporalMs / n, s.world.denoiseMs / n, s.world.resolveMs / n, s.uploadMs / n, s.modelViews / n, s.modelViewMs / n,
                 s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n, s.accumulated,
-                s.world.animationMs / n, s.world.animationUpdates / n);
+                s.world.animationMs / n, s.world.animationUpdates / n,
+                static_cast<double>(allocationCount() - s.allocationsAtStart) / n);
 }
 
 void Module::clearScene() { scene_.clear(); }

@@ -55,6 +55,7 @@ struct FrameStats {
   double presentMs = 0.0;      ///< Screenshots, video frames and the buffer swap.
   double frameMs = 0.0;        ///< BeginFrame to BeginFrame of the next frame (engine and game included).
   uint32_t accumulated = 0;    ///< Frames in the last world view's picture.
+  uint64_t allocationsAtStart = 0;   ///< allocationCount() when the period began.
 };
 
 /// All of the renderer's state.
@@ -108,6 +109,9 @@ class Module {
   // ---- console commands ----
   /// screenshot / screenshotJPEG / screenshotPNG [silent | levelshot | NAME].
   void screenshotCommand(const char* extension);
+  /// pt_allocations [trace N]: prints the module's heap allocations and frames since the last
+  /// call; `trace N` also prints a backtrace of each of the next N allocations.
+  void allocationsCommand();
 
   /// The engine services (for the entry points' error reporting).
   const Engine& engine() const { return engine_; }
@@ -155,6 +159,9 @@ class Module {
   int traceMsThisFrame_ = 0;
   int modelViewsThisFrame_ = 0;    ///< Views without the world drawn since BeginFrame.
   FrameStats stats_;
+  uint64_t framesEnded_ = 0;                ///< EndFrames since the module was loaded.
+  uint64_t allocationsMark_ = 0;            ///< allocationCount() at the last pt_allocations.
+  uint64_t framesMark_ = 0;                 ///< framesEnded_ at the last pt_allocations.
   int frameStartMs_ = 0;
   std::chrono::steady_clock::time_point frameBegan_{};   ///< Last BeginFrame (r_pt_stats).
 };

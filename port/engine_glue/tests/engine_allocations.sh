@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Steady state allocates nothing: Debian's ioquake3 under xvfb-run plays a recorded demo with our
+# module (timedemo 1, 640x360), warms up for WARMUP frames, then the module's pt_allocations
+# command counts its heap allocations (operator new and the malloc family of the module's code,
+# allocation_counter.h) over the next FRAMES frames. The count must be 0, for each preset given.
+#   engine_allocations.sh MODULE [PRESETS] [DEMO] [WARMUP] [FRAMES]
+# Defaults: "lightmap direct path", tests/demos/dm1_ffa, 150, 100. On failure the log shows a
+# backtrace of the first allocations of the window (pt_allocations trace; PA_ALLOCATION_TRACES=N for more) to find them with
+# addr2line -e MODULE. Exit 77 when the engine, the game data or xvfb-run are missing.
+set -euo pipefail
+module="$1"
+presets="${2:-lightmap direct path}"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../../.." && pwd)"
+demo="${3:-$root/tests/demos/dm1_ffa.dm_71}"
+warmup="${4:-150}"
+frames="${5:-100}"
+source "$root/tests/fidelity/engine_env.sh"
+pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not installed"; exit 77; }
+
+work="$(mktemp -d /tmp/pa-allocations.XXXXXX)"
+trap '[[ -n "${PA_KEEP:-}" ]] || rm -rf "$work"' EXIT
+pa_engine_prepare "$work" "$module"
+mkdir -p "$work/home/baseoa/demos"
+# The demo is cut well past the window so that it is still playing when the count ends.
+pa_demo_truncate "$work/home/baseoa/demos/allocations.dm_71" $((warmup + frames + 200)) "$demo" >/dev/null
+cat >"$(pa_engine_cfg "$work" allocations)" <<CFG
+wait $warmup
+pt_allocations trace ${PA_ALLOCATION_TRACES:-20}
+wait $((2 * frames))
+pt_allocations
+wait 2
+quit
+CFG
+
+status=0
+for preset in $presets; do
+  log="$work/$preset.log"
+  pa_engine_run "$work" "$log" 300 640 360 pathtracer +set r_pt_preset "$preset" +set timedemo 1 \
+    +set r_pt_threads 2 +demo allocations +exec allocations || true
+  if ! pa_engine_used_renderer "$log" pathtracer; then
+    echo "FAIL $preset: the engine did not run our module"; tail -20 "$log"; status=1; continue
+  fi
+  result="$(grep -o 'pathtracer: allocations=[0-9]* frames=[0-9]*' "$log" | tail -1 || true)"
+  [[ -n "$result" ]] || { echo "FAIL $preset: no pt_allocations result"; tail -20 "$log"; status=1; continue; }
+  count="$(sed 's/.*allocations=\([0-9]*\).*/\1/' <<<"$result")"
+  counted_frames="$(sed 's/.*frames=\([0-9]*\).*/\1/' <<<"$result")"
+  if [[ "$counted_frames" -lt "$frames" ]]; then
+    echo "FAIL $preset: counted only $counted_frames frames (the demo ended early?)"; status=1
+  elif [[ "$count" -ne 0 ]]; then
+    echo "FAIL $preset: $count allocations in $counted_frames steady-state frames"
+    grep -A14 "pathtracer: allocation at" "$log" | head -120 || true
+    status=1
+  else
+    echo "ok $preset: 0 allocations in $counted_frames steady-state frames"
+  fi
+done
+exit $status
