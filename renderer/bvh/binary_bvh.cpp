@@ -171,7 +171,8 @@ class Builder {
   template <typename BoundsOf>
   Builder(size_t count, const BoundsOf& boundsOf, const BvhBuildConfig& config, BinaryBuildScratch& scratch,
           BinaryBvh& out, bool repeatsPrims = false)
-      : config_(config), out_(out), primCount_(static_cast<uint32_t>(count)), repeatsPrims_(repeatsPrims) {
+      : config_(config), out_(out), renumberStack_(scratch.renumberStack), primCount_(static_cast<uint32_t>(count)),
+        repeatsPrims_(repeatsPrims) {
     // One block: refs | partitioned | nodes (room for the worst case, 2n - 1 nodes).
     static_assert(alignof(PrimRef) <= 64 && alignof(BinaryNode) <= 64 && std::is_trivially_copyable_v<PrimRef>);
     const size_t refBytes = (count * sizeof(PrimRef) + 63) / 64 * 64;
@@ -423,7 +424,8 @@ class Builder {
     out_.nodes.reserve(nextNode_.load());
     const bool pack = repeatsDropped_.load() > 0;
     uint32_t leaves = 0, written = 0, packedPrims = 0;
-    std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, kInvalidId}};   // (source, parent to patch)
+    std::vector<std::pair<uint32_t, uint32_t>>& stack = renumberStack_;   // (source, parent to patch)
+    stack.assign(1, {0u, kInvalidId});
     while (!stack.empty()) {
       const auto [source, parent] = stack.back();
       stack.pop_back();
@@ -451,6 +453,7 @@ class Builder {
 
   const BvhBuildConfig& config_;
   BinaryBvh& out_;
+  std::vector<std::pair<uint32_t, uint32_t>>& renumberStack_;
   PrimRef* refs_;          // the primitives, partitioned back and forth with partitioned_
   PrimRef* partitioned_;   // second buffer: disjoint ranges per task
   BinaryNode* nodes_;      // build-time nodes, indexed by allocation order (room for 2n)
@@ -479,17 +482,27 @@ void validateBuildConfig(const BvhBuildConfig& config) {
 }
 
 BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfig& config) {
-  validateBuildConfig(config);
   BinaryBvh bvh;
-  if (primBounds.empty()) return bvh;
+  BinaryBuildScratch scratch;
+  buildBinaryBvh(primBounds, config, scratch, bvh);
+  return bvh;
+}
+
+void buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfig& config, BinaryBuildScratch& scratch,
+                    BinaryBvh& out) {
+  validateBuildConfig(config);
+  if (primBounds.empty()) {
+    out.nodes.clear();
+    out.primIndices.clear();
+    out.nodeCount = out.leafCount = 0;
+    return;
+  }
   const auto boundsOf = [&](size_t i, __m128& lo, __m128& hi) {
     lo = load3(primBounds[i].min);
     hi = load3(primBounds[i].max);
     return static_cast<uint32_t>(i);
   };
-  BinaryBuildScratch scratch;
-  Builder(primBounds.size(), boundsOf, config, scratch, bvh).run();
-  return bvh;
+  Builder(primBounds.size(), boundsOf, config, scratch, out).run();
 }
 
 void buildBinaryBvh(const TriangleMesh& mesh, const BvhBuildConfig& config, BinaryBuildScratch& scratch,

@@ -3,6 +3,7 @@
 // Every faster layout (the 8-wide SIMD BVH) is converted from it and validated against it.
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "renderer/bvh/bvh.h"
@@ -40,10 +41,13 @@ struct BinaryBvh {
 struct BinaryBuildScratch {
   ScratchBuffer memory;
   PresplitScratch presplit;   ///< Pre-split references (BvhBuildConfig::splitBudget > 0).
-  /// Frees the block and the pre-split arrays.
+  /// The depth-first renumbering's stack of (node, parent to patch).
+  std::vector<std::pair<uint32_t, uint32_t>> renumberStack;
+  /// Frees the block, the pre-split arrays and the stack.
   void release() {
     memory.release();
     presplit.release();
+    renumberStack = {};
   }
 };
 
@@ -51,6 +55,11 @@ struct BinaryBuildScratch {
 /// not depend on the number of threads. Runs in the caller's TBB arena. Pre-splitting needs the
 /// triangles, so this overload ignores config.splitBudget.
 BinaryBvh buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfig& config);
+
+/// Same, into out (whose vectors are reused) with the given scratch memory: a rebuild over as
+/// many boxes as the last allocates nothing.
+void buildBinaryBvh(std::span<const Bounds> primBounds, const BvhBuildConfig& config, BinaryBuildScratch& scratch,
+                    BinaryBvh& out);
 
 /// Builds over the triangles of mesh, with their bounds taken straight from the vertices (no
 /// separate bounds array). With config.splitBudget == 0 the same tree as

@@ -9,6 +9,7 @@
 #include "renderer/bvh/bvh.h"
 #include "renderer/bvh/cpu_features.h"
 #include "renderer/bvh/triangle_mesh.h"
+#include "renderer/bvh/wide_collapse.h"
 #include "renderer/bvh/wide16_bvh.h"
 #include "renderer/bvh/wide_bvh.h"
 
@@ -23,6 +24,8 @@ struct Blas::Impl {
   bool allowAvx512 = true;        // the build's BvhBuildConfig::allowAvx512 (a refit keeps it)
   Bounds bounds;
   bvh_detail::BinaryBuildScratch scratch;   // kept between builds once the Blas is rebuilt
+  bvh_detail::CollapseWorkspace collapseWorkspace;   // likewise, for the conversion to the wide layout
+  std::vector<Bounds> triangleBoxes;        // a refit's triangle boxes (kept: refits repeat)
   uint32_t builds = 0;
 
   /// Converts binary into the layout of nodeWidth (the other layout is emptied); allowAvx512
@@ -30,11 +33,11 @@ struct Blas::Impl {
   void collapse() {
     if (nodeWidth == 16) {
       wide = bvh_detail::WideBvh{};
-      bvh_detail::collapseToWide16(binary, mesh, wide16);
+      bvh_detail::collapseToWide16(binary, mesh, wide16, &collapseWorkspace);
       return;
     }
     wide16 = bvh_detail::Wide16Bvh{};
-    bvh_detail::collapseToWide(binary, mesh, wide);   // reuses the previous layout's memory
+    bvh_detail::collapseToWide(binary, mesh, wide, &collapseWorkspace);   // reuses the previous layout's memory
     if (!allowAvx512) wide.kernel = bvh_detail::WideKernel::Baseline;
   }
 };
@@ -81,13 +84,17 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
   }
   // A Blas built once (static geometry) does not hold on to the scratch arrays; one that is
   // rebuilt is likely to be rebuilt again (dynamic geometry) and keeps them.
-  if (++impl.builds == 1) impl.scratch.release();
+  if (++impl.builds == 1) {
+    impl.scratch.release();
+    impl.collapseWorkspace = bvh_detail::CollapseWorkspace{};
+  }
 }
 
 void Blas::refit(std::span<const glm::vec3> positions) {
   if (!impl_) impl_ = std::make_unique<Impl>();
   bvh_detail::updatePositions(impl_->mesh, positions);
-  const std::vector<Bounds> triBounds = bvh_detail::triangleBounds(impl_->mesh);
+  std::vector<Bounds>& triBounds = impl_->triangleBoxes;
+  bvh_detail::triangleBounds(impl_->mesh, triBounds);
   bvh_detail::refitBinaryBvh(impl_->binary, triBounds);
   impl_->collapse();   // the build's layout and kernel
   impl_->bounds = Bounds{};

@@ -179,7 +179,8 @@ struct Tlas::Impl {
   std::vector<PlacedInstance> instances;   // only instances with geometry, in BVH leaf order source
   bvh_detail::BinaryBvh bvh;               // built when there are more than kFlatInstances
   std::vector<BoxGroup> groups;            // the instances' boxes, 8 to a group, when at most kFlatInstances
-  std::vector<Bounds> worldBounds;         // the instances' boxes, when at most kFlatInstances
+  std::vector<Bounds> worldBounds;         // the instances' boxes (the BVH's input beyond kFlatInstances)
+  bvh_detail::BinaryBuildScratch scratch;  // the BVH builder's memory, kept between builds
   Bounds bounds;
 
   /// Visits the instances whose boxes the ray enters, nearest box first, while their entry is
@@ -220,46 +221,60 @@ Tlas::Tlas(Tlas&&) noexcept = default;
 Tlas& Tlas::operator=(Tlas&&) noexcept = default;
 
 void Tlas::build(std::span<const TlasInstance> instances) {
-  auto next = std::make_unique<Impl>();
-  std::vector<Bounds> worldBounds;
+  // Every input is checked before anything changes: a throw leaves the Tlas as it was.
+  const auto fail = [](size_t i, const char* what) {
+    throw std::invalid_argument("TlasInstance[" + std::to_string(i) + "]" + what);
+  };
   for (size_t i = 0; i < instances.size(); ++i) {
     const TlasInstance& in = instances[i];
-    const std::string where = "TlasInstance[" + std::to_string(i) + "]";
-    if (in.blas == nullptr) throw std::invalid_argument(where + ".blas is null");
-    if (!finiteMatrix(in.objectToWorld)) throw std::invalid_argument(where + ".objectToWorld is not finite");
+    if (in.blas == nullptr) fail(i, ".blas is null");
+    if (!finiteMatrix(in.objectToWorld)) fail(i, ".objectToWorld is not finite");
     const glm::mat3 linear(in.objectToWorld);
     const float det = glm::determinant(linear);
-    if (!(std::fabs(det) > 0.0f) || !std::isfinite(det))
-      throw std::invalid_argument(where + ".objectToWorld is singular");
+    if (!(std::fabs(det) > 0.0f) || !std::isfinite(det)) fail(i, ".objectToWorld is singular");
     const glm::mat3 inverse = glm::inverse(linear);
     const glm::vec3 offset = -(inverse * in.objectToWorld[3]);
     if (!std::isfinite(inverse[0][0] + inverse[1][1] + inverse[2][2] + offset.x + offset.y + offset.z))
-      throw std::invalid_argument(where + ".objectToWorld has a non-finite inverse");
+      fail(i, ".objectToWorld has a non-finite inverse");
+  }
+  // Refilled in place: a rebuild over as many instances as the last allocates nothing.
+  if (!impl_) impl_ = std::make_unique<Impl>();
+  Impl& next = *impl_;
+  next.instances.clear();
+  next.worldBounds.clear();
+  next.groups.clear();
+  next.bounds = Bounds{};
+  for (size_t i = 0; i < instances.size(); ++i) {
+    const TlasInstance& in = instances[i];
     const Bounds objectBounds = in.blas->bounds();
     if (objectBounds.empty()) continue;   // no geometry: never hit
-    next->instances.push_back({in.blas, inverse, offset, in.mask, static_cast<uint32_t>(i)});
-    worldBounds.push_back(transformBounds(in.objectToWorld, objectBounds));
-    next->bounds.extend(worldBounds.back());
+    const glm::mat3 inverse = glm::inverse(glm::mat3(in.objectToWorld));
+    const glm::vec3 offset = -(inverse * in.objectToWorld[3]);
+    next.instances.push_back({in.blas, inverse, offset, in.mask, static_cast<uint32_t>(i)});
+    next.worldBounds.push_back(transformBounds(in.objectToWorld, objectBounds));
+    next.bounds.extend(next.worldBounds.back());
   }
+  const std::vector<Bounds>& worldBounds = next.worldBounds;
   if (worldBounds.size() <= kFlatInstances) {
-    next->worldBounds = worldBounds;
-    next->groups.resize((worldBounds.size() + kLanes - 1) / kLanes);
-    for (BoxGroup& group : next->groups) group = BoxGroup{};   // unused lanes: mask 0
+    next.bvh.nodes.clear();
+    next.bvh.primIndices.clear();
+    next.bvh.nodeCount = next.bvh.leafCount = 0;
+    next.groups.resize((worldBounds.size() + kLanes - 1) / kLanes);
+    for (BoxGroup& group : next.groups) group = BoxGroup{};   // unused lanes: mask 0
     for (size_t i = 0; i < worldBounds.size(); ++i) {
-      BoxGroup& group = next->groups[i / kLanes];
+      BoxGroup& group = next.groups[i / kLanes];
       const size_t lane = i % kLanes;
       for (int axis = 0; axis < 3; ++axis) {
         group.min[axis][lane] = worldBounds[i].min[axis];
         group.max[axis][lane] = worldBounds[i].max[axis];
       }
-      group.mask[lane] = static_cast<int32_t>(next->instances[i].mask);
+      group.mask[lane] = static_cast<int32_t>(next.instances[i].mask);
     }
   } else {
     BvhBuildConfig config;
     config.maxLeafTriangles = 1;
-    next->bvh = bvh_detail::buildBinaryBvh(worldBounds, config);
+    bvh_detail::buildBinaryBvh(worldBounds, config, next.scratch, next.bvh);
   }
-  impl_ = std::move(next);
 }
 
 bool Tlas::intersect(Ray& ray, Hit& hit, uint32_t rayMask, const HitFilter& filter) const {

@@ -72,7 +72,13 @@ void updatePositions(TriangleMesh& mesh, std::span<const glm::vec3> positions) {
 }
 
 std::vector<Bounds> triangleBounds(const TriangleMesh& mesh) {
-  std::vector<Bounds> out(mesh.triangleCount());
+  std::vector<Bounds> out;
+  triangleBounds(mesh, out);
+  return out;
+}
+
+void triangleBounds(const TriangleMesh& mesh, std::vector<Bounds>& out) {
+  out.assign(mesh.triangleCount(), Bounds{});
   tbb::parallel_for(tbb::blocked_range<size_t>(0, out.size(), 1 << 14), [&](const auto& r) {
     for (size_t t = r.begin(); t < r.end(); ++t) {
       const auto tri = static_cast<uint32_t>(t);
@@ -81,7 +87,6 @@ std::vector<Bounds> triangleBounds(const TriangleMesh& mesh) {
       out[t].extend(mesh.vertex(tri, 2));
     }
   });
-  return out;
 }
 
 bool isTraceableRay(const Ray& ray) {

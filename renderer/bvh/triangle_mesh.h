@@ -39,6 +39,8 @@ void updatePositions(TriangleMesh& mesh, std::span<const glm::vec3> positions);
 
 /// Bounds of every triangle.
 std::vector<Bounds> triangleBounds(const TriangleMesh& mesh);
+/// Same, into out (its memory reused).
+void triangleBounds(const TriangleMesh& mesh, std::vector<Bounds>& out);
 
 /// True when the ray can be traced: finite origin and direction, non-zero direction,
 /// tmin <= tmax and neither NaN. Invalid rays report no hit.

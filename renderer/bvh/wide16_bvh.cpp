@@ -79,14 +79,16 @@ TrianglePack16 makeTrianglePack16(const TriangleMesh& mesh, std::span<const uint
   return makePack<TrianglePack16, kWide16Width>(mesh, tris);
 }
 
-void collapseToWide16(const BinaryBvh& binary, const TriangleMesh& mesh, Wide16Bvh& out) {
+void collapseToWide16(const BinaryBvh& binary, const TriangleMesh& mesh, Wide16Bvh& out,
+                      CollapseWorkspace* workspace) {
   if (binary.empty()) {
     out = Wide16Bvh{};
     return;
   }
   // The defaults are the 16-wide layout's (docs/performance.md, "Rays per map and per layout").
   CollapseCosts costs;
-  WideCollapser<Layout16>(binary, mesh, costs, out).run();
+  CollapseWorkspace local;
+  WideCollapser<Layout16>(binary, mesh, costs, out, workspace != nullptr ? *workspace : local).run();
 }
 
 }  // namespace pa::bvh_detail

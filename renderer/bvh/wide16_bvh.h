@@ -16,6 +16,8 @@
 
 namespace pa::bvh_detail {
 
+struct CollapseWorkspace;
+
 inline constexpr uint32_t kWide16Width = 16;
 
 /// Sixteen child boxes as structure of arrays (bounds[0] = lower, bounds[1] = upper, then axis),
@@ -58,8 +60,10 @@ TrianglePack16 makeTrianglePack16(const TriangleMesh& mesh, std::span<const uint
 
 /// Converts the binary BVH into the 16-wide layout along the SAH-optimal plan of
 /// wide_collapse.h (leaves may merge binary leaves up to 16 triangles) into `out`, reusing its
-/// vectors' memory.
-void collapseToWide16(const BinaryBvh& binary, const TriangleMesh& mesh, Wide16Bvh& out);
+/// vectors' memory, and the workspace's when one is given (nothing allocated for a tree of the
+/// same size as the workspace's last).
+void collapseToWide16(const BinaryBvh& binary, const TriangleMesh& mesh, Wide16Bvh& out,
+                      CollapseWorkspace* workspace = nullptr);
 
 /// Closest hit, same contract as Blas::intersect (the ray must be traceable). Needs
 /// wide16Available().

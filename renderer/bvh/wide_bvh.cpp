@@ -50,7 +50,8 @@ WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh) {
   return out;
 }
 
-void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& out) {
+void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& out,
+                    CollapseWorkspace* workspace) {
   if (binary.empty()) {
     out = WideBvh{};
     return;
@@ -60,7 +61,8 @@ void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& 
   costs.packWidth = kPackWidth;
   // Leaves of two packs where they pay (docs/performance.md, "Rays per map and per layout").
   costs.maxLeaf = 2 * kPackWidth;
-  WideCollapser<Layout8>(binary, mesh, costs, out).run();
+  CollapseWorkspace local;
+  WideCollapser<Layout8>(binary, mesh, costs, out, workspace != nullptr ? *workspace : local).run();
   out.kernel = bestWideKernel();
 }
 

@@ -14,6 +14,8 @@
 
 namespace pa::bvh_detail {
 
+struct CollapseWorkspace;
+
 inline constexpr uint32_t kWideWidth = 8;
 inline constexpr uint32_t kPackWidth = 8;
 
@@ -116,8 +118,10 @@ TrianglePack makeTrianglePack(const TriangleMesh& mesh, std::span<const uint32_t
 /// Converts the binary BVH into the 8-wide layout along the SAH-optimal plan of wide_collapse.h
 /// (leaves may merge binary leaves up to two packs) and packs the leaf triangles of mesh.
 WideBvh collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh);
-/// Same, into `out`, reusing its vectors' memory (rebuilds of a Blas).
-void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& out);
+/// Same, into `out`, reusing its vectors' memory (rebuilds of a Blas), and the workspace's when
+/// one is given.
+void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& out,
+                    CollapseWorkspace* workspace = nullptr);
 
 /// Closest hit, same contract as Blas::intersect (the ray must be traceable).
 bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);

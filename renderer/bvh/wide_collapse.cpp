@@ -7,24 +7,24 @@
 
 namespace pa::bvh_detail {
 
-OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& costs)
-    : binary_(binary), width_(costs.width) {
-  if (width_ < 2 || width_ > 64) throw std::invalid_argument("collapse width must be in [2, 64]");
+void OptimalCollapse::plan(const BinaryBvh& binary, const CollapseCosts& costs) {
+  if (costs.width < 2 || costs.width > 64) throw std::invalid_argument("collapse width must be in [2, 64]");
+  binary_ = &binary;
+  width_ = costs.width;
   const size_t n = binary.nodes.size();
   const uint32_t w = width_;
   // Every entry the sweep below writes before it is read (no zero fill: these are the largest
   // arrays of the collapse); the slot arrays are read for inner nodes only.
-  // subtreeCost[i * w + j - 1]: the best cost of node i's subtree in <= j slots (planning only).
-  const std::unique_ptr<float[]> subtreeCost(new float[n * w]);
-  std::vector<uint32_t> leaves(n, 0);   // binary leaves below each node
-  leftSlots_.reset(new uint8_t[n * w]);
-  usedSlots_.reset(new uint8_t[n * w]);
-  leaf_.assign(n, 0);
-  count_.assign(n, 0);
-  distributedLeftW_.assign(n, 1);
+  float* const subtreeCost = subtreeCost_.ensure(n * w);
+  uint32_t* const leaves = leavesBelow_.ensure(n);
+  leftSlots_.ensure(n * w);
+  usedSlots_.ensure(n * w);
+  leaf_.ensure(n);
+  count_.ensure(n);
+  distributedLeftW_.ensure(n);
   constexpr float inf = std::numeric_limits<float>::infinity();
-  std::vector<float> distributed(w + 1);
-  std::vector<uint8_t> distributedLeft(w + 1);
+  float distributed[65];
+  uint8_t distributedLeft[65];
   // Children come after their parents (depth-first order): a reverse sweep sees them first.
   for (size_t i = n; i-- > 0;) {
     const BinaryNode& node = binary.nodes[i];
@@ -43,6 +43,7 @@ OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& c
       leafCost = tris <= costs.smallLeafMax ? area * costs.smallLeaf
                                             : area * costs.largePack * float((tris + costs.packWidth - 1) / costs.packWidth);
     }
+    distributedLeftW_[i] = 1;
     if (node.isLeaf()) {
       leaves[i] = 1;
       leaf_[i] = 1;
@@ -99,18 +100,18 @@ OptimalCollapse::OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& c
 
 void OptimalCollapse::collect(uint32_t n, uint32_t slots, uint32_t* out, uint32_t& count) const {
   const size_t e = size_t(n) * width_ + slots - 1;
-  if (binary_.nodes[n].isLeaf() || leftSlots_[e] == 0) {
+  if (binary_->nodes[n].isLeaf() || leftSlots_[e] == 0) {
     out[count++] = n;
     return;
   }
   const uint32_t k = leftSlots_[e];
-  collect(binary_.nodes[n].left, k, out, count);
-  collect(binary_.nodes[n].right, usedSlots_[e] - k, out, count);
+  collect(binary_->nodes[n].left, k, out, count);
+  collect(binary_->nodes[n].right, usedSlots_[e] - k, out, count);
 }
 
 uint32_t OptimalCollapse::children(uint32_t n, uint32_t* out) const {
   uint32_t count = 0;
-  const BinaryNode& node = binary_.nodes[n];
+  const BinaryNode& node = binary_->nodes[n];
   if (node.isLeaf()) {
     out[count++] = n;
   } else {
@@ -118,20 +119,44 @@ uint32_t OptimalCollapse::children(uint32_t n, uint32_t* out) const {
     collect(node.left, k, out, count);
     collect(node.right, width_ - k, out, count);
   }
-  std::stable_sort(out, out + count, [&](uint32_t a, uint32_t b) {
-    return binary_.nodes[a].bounds.halfArea() > binary_.nodes[b].bounds.halfArea();
-  });
+  // Decreasing box area, ties in collection order: a stable insertion sort (at most 64 entries,
+  // and std::stable_sort would allocate a buffer on every call).
+  float area[64];
+  for (uint32_t i = 0; i < count; ++i) area[i] = binary_->nodes[out[i]].bounds.halfArea();
+  for (uint32_t i = 1; i < count; ++i) {
+    const uint32_t node = out[i];
+    const float key = area[i];
+    uint32_t at = i;
+    for (; at > 0 && area[at - 1] < key; --at) {
+      out[at] = out[at - 1];
+      area[at] = area[at - 1];
+    }
+    out[at] = node;
+    area[at] = key;
+  }
   return count;
 }
 
 void OptimalCollapse::trianglesBelow(uint32_t n, std::vector<uint32_t>& out) const {
-  const BinaryNode& node = binary_.nodes[n];
+  const BinaryNode& node = binary_->nodes[n];
   if (node.isLeaf()) {
-    out.insert(out.end(), binary_.primIndices.begin() + node.first, binary_.primIndices.begin() + node.first + node.count);
+    out.insert(out.end(), binary_->primIndices.begin() + node.first, binary_->primIndices.begin() + node.first + node.count);
     return;
   }
   trianglesBelow(node.left, out);   // a leaf slot holds <= maxLeaf triangles: shallow
   trianglesBelow(node.right, out);
+}
+
+void OptimalCollapse::trianglesBelow(uint32_t n, std::span<uint32_t> out, uint32_t& count) const {
+  const BinaryNode& node = binary_->nodes[n];
+  if (node.isLeaf()) {
+    if (count + node.count > out.size()) throw std::invalid_argument("BVH leaf too large for the wide layout");
+    std::copy_n(binary_->primIndices.begin() + node.first, node.count, out.begin() + count);
+    count += node.count;
+    return;
+  }
+  trianglesBelow(node.left, out, count);
+  trianglesBelow(node.right, out, count);
 }
 
 }  // namespace pa::bvh_detail

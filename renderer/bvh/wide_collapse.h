@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -36,8 +37,11 @@ struct CollapseCosts {
 /// wide node's children, and which become leaves (a leaf may merge several binary leaves).
 class OptimalCollapse {
  public:
-  OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& costs);
-
+  OptimalCollapse() = default;
+  OptimalCollapse(const BinaryBvh& binary, const CollapseCosts& costs) { plan(binary, costs); }
+  /// Plans the collapse of binary (which must outlive the queries below), reusing the arrays of
+  /// the previous plan: replanning a tree of the same size allocates nothing.
+  void plan(const BinaryBvh& binary, const CollapseCosts& costs);
   /// Whether binary node n, taken as a child slot, is a leaf holding all triangles below it.
   bool isLeaf(uint32_t n) const { return leaf_[n] != 0; }
   /// Writes the binary nodes that become the children of the wide node made from binary node n
@@ -45,19 +49,53 @@ class OptimalCollapse {
   uint32_t children(uint32_t n, uint32_t* out) const;
   /// Triangles below binary node n, in leaf order, appended to out.
   void trianglesBelow(uint32_t n, std::vector<uint32_t>& out) const;
+  /// Triangles below binary node n, in leaf order, written to out from index `count` on
+  /// (count advances); throws if out is too short.
+  void trianglesBelow(uint32_t n, std::span<uint32_t> out, uint32_t& count) const;
   /// Triangle count below binary node n.
   uint32_t triangleCount(uint32_t n) const { return count_[n]; }
 
  private:
+  /// An array that only grows (default-initialised, no zero fill): the largest arrays of the plan.
+  template <class T>
+  struct GrowOnly {
+    std::unique_ptr<T[]> data;
+    size_t capacity = 0;
+    T* ensure(size_t n) {
+      if (n > capacity) {
+        data.reset(new T[n]);
+        capacity = n;
+      }
+      return data.get();
+    }
+    T& operator[](size_t i) const { return data[i]; }
+  };
+
   void collect(uint32_t n, uint32_t slots, uint32_t* out, uint32_t& count) const;
 
-  const BinaryBvh& binary_;
-  uint32_t width_;
-  std::unique_ptr<uint8_t[]> leftSlots_;   // [n * width + j - 1]: left child's slots, 0 = n is one slot
-  std::unique_ptr<uint8_t[]> usedSlots_;   // [n * width + j - 1]: slots that best cost uses (<= j)
-  std::vector<uint8_t> leaf_;        // n as one slot is a leaf
-  std::vector<uint32_t> count_;      // triangles below n
-  std::vector<uint8_t> distributedLeftW_;   // [n]: left child's slots in n's own wide node
+  const BinaryBvh* binary_ = nullptr;
+  uint32_t width_ = 0;
+  GrowOnly<float> subtreeCost_;     // [n * width + j - 1]: best cost of n's subtree in <= j slots
+  GrowOnly<uint32_t> leavesBelow_;  // [n]: binary leaves below n
+  GrowOnly<uint8_t> leftSlots_;     // [n * width + j - 1]: left child's slots, 0 = n is one slot
+  GrowOnly<uint8_t> usedSlots_;     // [n * width + j - 1]: slots that best cost uses (<= j)
+  GrowOnly<uint8_t> leaf_;          // [n]: n as one slot is a leaf
+  GrowOnly<uint32_t> count_;        // [n]: triangles below n
+  GrowOnly<uint8_t> distributedLeftW_;   // [n]: left child's slots in n's own wide node
+};
+
+/// A leaf slot of a wide tree being written: the binary node whose triangles it holds, and
+/// where its reference goes.
+struct CollapseLeafSlot {
+  uint32_t binary, node, slot;
+};
+
+/// What a collapse needs besides its output; kept by a BVH that is collapsed again and again
+/// (dynamic meshes), so that a collapse of a same-sized tree allocates nothing.
+struct CollapseWorkspace {
+  OptimalCollapse plan;
+  std::vector<CollapseLeafSlot> leaves;
+  std::vector<uint32_t> firstPack;   ///< Per leaf slot: its first pack in its pool.
 };
 
 }  // namespace pa::bvh_detail
@@ -75,8 +113,12 @@ class WideCollapser {
   using Node = typename Layout::Node;
   using Bvh = typename Layout::Bvh;
 
-  WideCollapser(const BinaryBvh& binary, const TriangleMesh& mesh, const CollapseCosts& costs, Bvh& out)
-      : binary_(binary), mesh_(mesh), plan_(binary, costs), out_(out) {}
+  WideCollapser(const BinaryBvh& binary, const TriangleMesh& mesh, const CollapseCosts& costs, Bvh& out,
+                CollapseWorkspace& workspace)
+      : binary_(binary), mesh_(mesh), plan_(workspace.plan), out_(out), leaves_(workspace.leaves),
+        first_(workspace.firstPack) {
+    workspace.plan.plan(binary, costs);
+  }
 
   void run() {
     out_.nodes.clear();
@@ -88,10 +130,8 @@ class WideCollapser {
   }
 
  private:
-  /// A leaf slot: the binary node whose triangles it holds, and where its reference goes.
-  struct LeafSlot {
-    uint32_t binary, node, slot;
-  };
+  /// Most triangles in one leaf: kMaxPacks packs of at most 16.
+  static constexpr uint32_t kMaxLeafTriangles = Layout::kMaxPacks * 16;
 
   /// Fills wide node `wide` with the children the plan gives binary node `root` (depth first);
   /// leaf slots are listed in leaves_ and referenced by packLeaves().
@@ -118,7 +158,8 @@ class WideCollapser {
   /// Packs every leaf's triangles (in parallel; packs in depth-first order) and writes the leaf
   /// references.
   void packLeaves() {
-    std::vector<uint32_t> first(leaves_.size());
+    std::vector<uint32_t>& first = first_;
+    first.resize(leaves_.size());
     uint32_t sizes[2] = {0, 0};
     for (size_t i = 0; i < leaves_.size(); ++i) {
       const uint32_t count = plan_.triangleCount(leaves_[i].binary);
@@ -130,20 +171,22 @@ class WideCollapser {
     if (std::max(sizes[0], sizes[1]) > kFirstPackMask) throw std::invalid_argument("too many triangles for the wide layout");
     Layout::resizePools(out_, sizes);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves_.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-      std::vector<uint32_t> tris;
+      uint32_t tris[kMaxLeafTriangles];
       for (size_t i = r.begin(); i < r.end(); ++i) {
-        tris.clear();
-        plan_.trianglesBelow(leaves_[i].binary, tris);
-        out_.nodes[leaves_[i].node].child[leaves_[i].slot] = Layout::writeLeaf(out_, mesh_, tris, first[i]);
+        uint32_t count = 0;
+        plan_.trianglesBelow(leaves_[i].binary, tris, count);
+        out_.nodes[leaves_[i].node].child[leaves_[i].slot] =
+            Layout::writeLeaf(out_, mesh_, std::span<const uint32_t>(tris, count), first[i]);
       }
     });
   }
 
   const BinaryBvh& binary_;
   const TriangleMesh& mesh_;
-  const OptimalCollapse plan_;
+  const OptimalCollapse& plan_;
   Bvh& out_;
-  std::vector<LeafSlot> leaves_;
+  std::vector<CollapseLeafSlot>& leaves_;
+  std::vector<uint32_t>& first_;
 };
 
 }  // namespace pa::bvh_detail

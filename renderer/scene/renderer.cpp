@@ -133,7 +133,7 @@ void Renderer::commit() {
   if (!im.store.dirty()) return;
   const auto start = Clock::now();
   try {
-    im.arena.execute([&] { im.scene = im.store.commit(); });
+    im.arena.execute([&] { im.store.commit(im.scene); });   // refilled in place: no allocation in steady state
     im.environmentAttached = false;
     im.worldChanged = im.worldChanged || !im.store.lastCommitOnlyCameraOverlays();
   } catch (const SceneError&) {

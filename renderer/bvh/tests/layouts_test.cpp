@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstddef>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -20,7 +21,9 @@
 #include "renderer/bvh/tests/same_tree.h"
 #include "renderer/bvh/testing/scene_generators.h"
 #include "renderer/bvh/triangle_mesh.h"
+#include "renderer/bvh/wide16_bvh.h"
 #include "renderer/bvh/wide_bvh.h"
+#include "renderer/bvh/wide_collapse.h"
 
 namespace pa::testing {
 namespace {
@@ -163,6 +166,44 @@ TEST(Build, DeterministicForAnyThreadCount) {
   });
   for (const BinaryBvh* other : std::initializer_list<const BinaryBvh*>{&two, &four, &fromMesh, &reused})
     expectSameTree(one, *other);
+}
+
+/// Bytes of a vector of trivially copyable values, for bit-for-bit layout comparisons.
+template <class T>
+std::vector<std::byte> bytesOf(const std::vector<T>& v) {
+  std::vector<std::byte> out(v.size() * sizeof(T));
+  if (!v.empty()) std::memcpy(out.data(), v.data(), out.size());
+  return out;
+}
+
+TEST(Collapse, ReusedWorkspaceGivesTheSameLayoutBitForBit) {
+  // A workspace that planned larger and smaller trees before gives the layout a fresh collapse
+  // gives (the plan's arrays are not zeroed between plans: every entry read must be rewritten).
+  const TriangleMesh mesh = makeTriangleMesh(makeTriangleSoup(3000, 21).input());
+  const TriangleMesh larger = makeTriangleMesh(makeTriangleSoup(9000, 22).input());
+  const TriangleMesh smaller = makeTriangleMesh(makeTriangleSoup(700, 23).input());
+  const BinaryBvh binary = buildBinaryBvh(mesh, {});
+  WideBvh fresh8, reused8;
+  collapseToWide(binary, mesh, fresh8);
+  CollapseWorkspace workspace;
+  for (const TriangleMesh* m : {&larger, &smaller}) {
+    const BinaryBvh other = buildBinaryBvh(*m, {});
+    collapseToWide(other, *m, reused8, &workspace);
+  }
+  collapseToWide(binary, mesh, reused8, &workspace);
+  EXPECT_EQ(bytesOf(fresh8.nodes), bytesOf(reused8.nodes));
+  EXPECT_EQ(bytesOf(fresh8.packs), bytesOf(reused8.packs));
+  if (!wide16Available()) return;   // the 16-wide layout needs AVX-512
+  Wide16Bvh fresh16, reused16;
+  collapseToWide16(binary, mesh, fresh16);
+  for (const TriangleMesh* m : {&larger, &smaller}) {
+    const BinaryBvh other = buildBinaryBvh(*m, {});
+    collapseToWide16(other, *m, reused16, &workspace);
+  }
+  collapseToWide16(binary, mesh, reused16, &workspace);
+  EXPECT_EQ(bytesOf(fresh16.nodes), bytesOf(reused16.nodes));
+  EXPECT_EQ(bytesOf(fresh16.packs), bytesOf(reused16.packs));
+  EXPECT_EQ(bytesOf(fresh16.smallPacks), bytesOf(reused16.smallPacks));
 }
 
 TEST(Build, ScratchBufferGrowsOnlyAndAlignsHugeBlocks) {

@@ -301,7 +301,7 @@ Denoiser::RowScratch& Denoiser::RowScratch::sized(uint32_t width) {
 template <typename Body>
 void Denoiser::forEachRow(uint32_t y0, uint32_t y1, Body&& body) {
   const int width = static_cast<int>(width_);
-  RowScratch scratch;
+  RowScratch& scratch = rowScratch_.local();
   for (uint32_t y = y0; y < y1; ++y) {
     const int row = static_cast<int>(y);
     scratch.sized(width_);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <tbb/enumerable_thread_specific.h>
 
 namespace pa::denoise {
 
@@ -94,6 +95,8 @@ class Denoiser {
   // `ownVariance` = 1 where the pixel's variance comes from the guides, not the spatial estimate.
   Plane normalX_, normalY_, normalZ_, depth_, depthDx_, depthDy_, gives_, takes_, ownVariance_;
   Signal current_, next_;
+  /// Each worker thread's row scratch, kept between frames (no allocation in steady state).
+  tbb::enumerable_thread_specific<RowScratch> rowScratch_;
 };
 
 }  // namespace pa::denoise

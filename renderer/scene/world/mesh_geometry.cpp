@@ -1,5 +1,6 @@
 #include "renderer/scene/world/mesh_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pa {
@@ -15,9 +16,9 @@ bool finite(const Vec& v) {
 }
 
 template <typename Vec>
-std::vector<Vec> copyOptional(std::span<const Vec> src, size_t expected, const std::string& what, const char* field,
-                              const char* perWhat) {
-  if (src.empty()) return {};
+void checkOptional(std::span<const Vec> src, size_t expected, const CallContext& what, const char* field,
+                   const char* perWhat) {
+  if (src.empty()) return;
   if (src.size() != expected) {
     throw SceneError(what + ": " + field + " has " + std::to_string(src.size()) + " entries, expected 0 or " +
                      std::to_string(expected) + " (one per " + perWhat + ")");
@@ -27,12 +28,29 @@ std::vector<Vec> copyOptional(std::span<const Vec> src, size_t expected, const s
       throw SceneError(what + ": " + field + "[" + std::to_string(i) + "] is not finite");
     }
   }
-  return {src.begin(), src.end()};
+}
+
+template <typename T>
+bool sameElements(const std::vector<T>& held, std::span<const T> given) {
+  return std::equal(held.begin(), held.end(), given.begin(), given.end());
 }
 
 }  // namespace
 
-MeshGeometry MeshGeometry::fromDesc(const MeshDesc& desc, const std::string& what) {
+std::string CallContext::str() const {
+  std::string text = call;
+  if (kind != nullptr) text += std::string(": ") + kind + " " + std::to_string(id);
+  return text;
+}
+
+MeshGeometry MeshGeometry::fromDesc(const MeshDesc& desc, const CallContext& what) {
+  validate(desc, what);
+  MeshGeometry g;
+  g.assign(desc);
+  return g;
+}
+
+void MeshGeometry::validate(const MeshDesc& desc, const CallContext& what) {
   if (desc.positions.size() > kMaxMeshElements || desc.indices.size() / 3 > kMaxMeshElements) {
     throw SceneError(what + ": mesh too large (" + std::to_string(desc.positions.size()) + " vertices, " +
                      std::to_string(desc.indices.size()) + " indices)");
@@ -41,8 +59,6 @@ MeshGeometry MeshGeometry::fromDesc(const MeshDesc& desc, const std::string& wha
     throw SceneError(what + ": indices has " + std::to_string(desc.indices.size()) +
                      " entries, not a multiple of 3");
   }
-  MeshGeometry g;
-  g.dynamic = desc.dynamic;
   const size_t vertexCount = desc.positions.size();
   const size_t triangleCount = desc.indices.size() / 3;
   for (size_t i = 0; i < vertexCount; ++i) {
@@ -56,18 +72,32 @@ MeshGeometry MeshGeometry::fromDesc(const MeshDesc& desc, const std::string& wha
                        " out of range (" + std::to_string(vertexCount) + " vertices)");
     }
   }
-  g.positions.assign(desc.positions.begin(), desc.positions.end());
-  g.indices.assign(desc.indices.begin(), desc.indices.end());
-  g.normals = copyOptional(desc.normals, vertexCount, what, "normals", "vertex");
-  g.uvs = copyOptional(desc.uvs, vertexCount, what, "uvs", "vertex");
-  g.lightmapUvs = copyOptional(desc.lightmapUvs, vertexCount, what, "lightmapUvs", "vertex");
-  g.colors = copyOptional(desc.colors, vertexCount, what, "colors", "vertex");
+  checkOptional(desc.normals, vertexCount, what, "normals", "vertex");
+  checkOptional(desc.uvs, vertexCount, what, "uvs", "vertex");
+  checkOptional(desc.lightmapUvs, vertexCount, what, "lightmapUvs", "vertex");
+  checkOptional(desc.colors, vertexCount, what, "colors", "vertex");
   if (!desc.materials.empty() && desc.materials.size() != triangleCount) {
     throw SceneError(what + ": materials has " + std::to_string(desc.materials.size()) +
                      " entries, expected 0 or " + std::to_string(triangleCount) + " (one per triangle)");
   }
-  g.materials.assign(desc.materials.begin(), desc.materials.end());
-  return g;
+}
+
+void MeshGeometry::assign(const MeshDesc& desc) {
+  dynamic = desc.dynamic;
+  positions.assign(desc.positions.begin(), desc.positions.end());
+  indices.assign(desc.indices.begin(), desc.indices.end());
+  normals.assign(desc.normals.begin(), desc.normals.end());
+  uvs.assign(desc.uvs.begin(), desc.uvs.end());
+  lightmapUvs.assign(desc.lightmapUvs.begin(), desc.lightmapUvs.end());
+  colors.assign(desc.colors.begin(), desc.colors.end());
+  materials.assign(desc.materials.begin(), desc.materials.end());
+}
+
+bool MeshGeometry::holds(const MeshDesc& desc) const {
+  return dynamic == desc.dynamic && sameElements(positions, desc.positions) && sameElements(indices, desc.indices) &&
+         sameElements(normals, desc.normals) && sameElements(uvs, desc.uvs) &&
+         sameElements(lightmapUvs, desc.lightmapUvs) && sameElements(colors, desc.colors) &&
+         sameElements(materials, desc.materials);
 }
 
 }  // namespace pa

@@ -16,6 +16,19 @@ namespace pa {
 /// Largest accepted vertex or triangle count per mesh (hostile-input guard).
 inline constexpr uint32_t kMaxMeshElements = 1u << 26;
 
+/// The call and object an error message names ("setInstance: instance 12"), made into text only
+/// when an error is thrown, so that validating valid input allocates nothing.
+struct CallContext {
+  const char* call;              ///< The setter, e.g. "setInstance".
+  const char* kind = nullptr;    ///< The object's kind, e.g. "instance"; nullptr: none.
+  uint32_t id = 0;               ///< The object's id.
+  /// "call: kind id".
+  std::string str() const;
+};
+
+/// The context's text followed by `tail` (for SceneError messages).
+inline std::string operator+(const CallContext& context, const char* tail) { return context.str() + tail; }
+
 /// Validated mesh arrays (optional arrays are empty or full length).
 struct MeshGeometry {
   std::vector<glm::vec3> positions;
@@ -30,7 +43,13 @@ struct MeshGeometry {
   bool operator==(const MeshGeometry&) const = default;
   /// Copies and validates; throws SceneError naming `what` and the offending field/element.
   /// Material ids are range-checked later, at commit (materials may be added after meshes).
-  static MeshGeometry fromDesc(const MeshDesc& desc, const std::string& what);
+  static MeshGeometry fromDesc(const MeshDesc& desc, const CallContext& what);
+  /// Throws SceneError naming `what` and the offending field/element when desc is invalid.
+  static void validate(const MeshDesc& desc, const CallContext& what);
+  /// Copies a validated desc into these arrays, reusing their memory.
+  void assign(const MeshDesc& desc);
+  /// Whether these arrays hold exactly desc's data.
+  bool holds(const MeshDesc& desc) const;
   /// Triangles in the mesh.
   uint32_t triangleCount() const { return static_cast<uint32_t>(indices.size() / 3); }
   /// Material id of triangle `prim` (kNoId when the mesh has no per-triangle materials).

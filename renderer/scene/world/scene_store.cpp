@@ -17,8 +17,6 @@ namespace pa {
 
 namespace {
 
-std::string idName(const char* kind, uint32_t id) { return std::string(kind) + " " + std::to_string(id); }
-
 bool finite(float x) { return std::isfinite(x); }
 template <int N>
 bool finite(const glm::vec<N, float>& v) {
@@ -28,11 +26,11 @@ bool finite(const glm::vec<N, float>& v) {
   return true;
 }
 
-void requireFinite(bool ok, const std::string& what, const char* field) {
+void requireFinite(bool ok, const CallContext& what, const char* field) {
   if (!ok) throw SceneError(what + ": " + field + " is not finite");
 }
 
-void requireNonNegative(const glm::vec3& v, const std::string& what, const char* field) {
+void requireNonNegative(const glm::vec3& v, const CallContext& what, const char* field) {
   requireFinite(finite(v), what, field);
   if (v.x < 0.0f || v.y < 0.0f || v.z < 0.0f) throw SceneError(what + ": " + field + " is negative");
 }
@@ -43,7 +41,7 @@ glm::mat3 linearPart(const glm::mat4x3& m) { return glm::mat3(m[0], m[1], m[2]);
 
 // ---------------------------------------------------------------- validation helpers
 
-void SceneStore::validateMaterial(const MaterialDesc& m, const std::string& what) const {
+void SceneStore::validateMaterial(const MaterialDesc& m, const CallContext& what) const {
   auto checkTexture = [&](TextureId id, const char* field) {
     if (id != kNoId && id >= textures_.size()) {
       throw SceneError(what + ": " + field + " = " + std::to_string(id) + " is not a texture (" +
@@ -76,7 +74,7 @@ void SceneStore::validateMaterial(const MaterialDesc& m, const std::string& what
     throw SceneError(what + ": baseTexCoords = " + std::to_string(unsigned(m.baseTexCoords)) + " is not a TexCoordSource");
 }
 
-LightDesc SceneStore::validateLight(const LightDesc& in, const std::string& what) const {
+LightDesc SceneStore::validateLight(const LightDesc& in, const CallContext& what) const {
   LightDesc l = in;
   requireFinite(finite(l.position), what, "position");
   requireFinite(finite(l.direction), what, "direction");
@@ -105,7 +103,7 @@ LightDesc SceneStore::validateLight(const LightDesc& in, const std::string& what
   return l;
 }
 
-void SceneStore::validateInstance(const InstanceDesc& d, const std::string& what) const {
+void SceneStore::validateInstance(const InstanceDesc& d, const CallContext& what) const {
   if (d.mesh >= meshes_.size() || meshes_[d.mesh].removed) {
     throw SceneError(what + ": mesh " + std::to_string(d.mesh) + " does not exist");
   }
@@ -127,7 +125,8 @@ SceneStore::MeshSlot& SceneStore::liveMesh(MeshId id, const char* call) {
 MeshId SceneStore::addMesh(const MeshDesc& mesh) {
   const auto id = static_cast<MeshId>(meshes_.size());
   MeshSlot slot;
-  slot.pending = MeshGeometry::fromDesc(mesh, "addMesh: " + idName("mesh", id));
+  slot.pending = MeshGeometry::fromDesc(mesh, {"addMesh", "mesh", id});
+  slot.hasPending = true;
   meshes_.push_back(std::move(slot));
   dirty_ = worldDirty_ = true;
   return id;
@@ -135,10 +134,11 @@ MeshId SceneStore::addMesh(const MeshDesc& mesh) {
 
 void SceneStore::updateMesh(MeshId id, const MeshDesc& mesh) {
   MeshSlot& slot = liveMesh(id, "updateMesh");
-  MeshGeometry next = MeshGeometry::fromDesc(mesh, "updateMesh: " + idName("mesh", id));
-  const MeshGeometry* current = slot.pending ? &*slot.pending : slot.record ? &slot.record->geometry : nullptr;
-  if (current != nullptr && *current == next) return;   // the same data: nothing changes
-  slot.pending = std::move(next);
+  MeshGeometry::validate(mesh, {"updateMesh", "mesh", id});
+  const MeshGeometry* current = slot.hasPending ? &slot.pending : slot.record ? &slot.record->geometry : nullptr;
+  if (current != nullptr && current->holds(mesh)) return;   // the same data: nothing changes
+  slot.pending.assign(mesh);   // into the memory the last commit swapped out
+  slot.hasPending = true;
   touchedMeshes_.push_back(id);   // whether it changes the world is decided at commit
   dirty_ = true;
 }
@@ -146,13 +146,13 @@ void SceneStore::updateMesh(MeshId id, const MeshDesc& mesh) {
 void SceneStore::removeMesh(MeshId id) {
   MeshSlot& slot = liveMesh(id, "removeMesh");
   slot.removed = true;
-  slot.pending.reset();
+  slot.hasPending = false;
   dirty_ = worldDirty_ = true;
 }
 
 InstanceId SceneStore::addInstance(const InstanceDesc& instance) {
   const auto id = static_cast<InstanceId>(instances_.size());
-  validateInstance(instance, "addInstance: " + idName("instance", id));
+  validateInstance(instance, {"addInstance", "instance", id});
   instances_.emplace_back(instance);
   dirty_ = worldDirty_ = true;
   return id;
@@ -162,7 +162,7 @@ void SceneStore::setInstance(InstanceId id, const InstanceDesc& instance) {
   if (id >= instances_.size() || !instances_[id]) {
     throw SceneError("setInstance: instance " + std::to_string(id) + " does not exist");
   }
-  validateInstance(instance, "setInstance: " + idName("instance", id));
+  validateInstance(instance, {"setInstance", "instance", id});
   if (*instances_[id] == instance) return;
   if (!cameraOnlyOverlay(*instances_[id]) || !cameraOnlyOverlay(instance)) worldDirty_ = true;
   instances_[id] = instance;
@@ -179,7 +179,7 @@ void SceneStore::removeInstance(InstanceId id) {
 
 TextureId SceneStore::addTexture(const TextureDesc& texture) {
   const auto id = static_cast<TextureId>(textures_.size());
-  const std::string what = "addTexture: " + idName("texture", id);
+  const std::string what = CallContext{"addTexture", "texture", id}.str();
   textures_.push_back(std::make_shared<const Texture>(Texture::fromDesc(texture, what.c_str())));
   dirty_ = worldDirty_ = true;
   return id;
@@ -189,14 +189,14 @@ void SceneStore::updateTexture(TextureId id, const TextureDesc& texture) {
   if (id >= textures_.size()) {
     throw SceneError("updateTexture: texture " + std::to_string(id) + " does not exist");
   }
-  const std::string what = "updateTexture: " + idName("texture", id);
+  const std::string what = CallContext{"updateTexture", "texture", id}.str();
   textures_[id] = std::make_shared<const Texture>(Texture::fromDesc(texture, what.c_str()));
   dirty_ = worldDirty_ = true;
 }
 
 MaterialId SceneStore::addMaterial(const MaterialDesc& material) {
   const auto id = static_cast<MaterialId>(materials_.size());
-  validateMaterial(material, "addMaterial: " + idName("material", id));
+  validateMaterial(material, {"addMaterial", "material", id});
   materials_.push_back(material);
   dirty_ = worldDirty_ = true;
   return id;
@@ -206,14 +206,14 @@ void SceneStore::setMaterial(MaterialId id, const MaterialDesc& material) {
   if (id >= materials_.size()) {
     throw SceneError("setMaterial: material " + std::to_string(id) + " does not exist");
   }
-  validateMaterial(material, "setMaterial: " + idName("material", id));
+  validateMaterial(material, {"setMaterial", "material", id});
   materials_[id] = material;
   dirty_ = worldDirty_ = true;
 }
 
 LightId SceneStore::addLight(const LightDesc& light) {
   const auto id = static_cast<LightId>(lights_.size());
-  lights_.emplace_back(validateLight(light, "addLight: " + idName("light", id)));
+  lights_.emplace_back(validateLight(light, {"addLight", "light", id}));
   dirty_ = worldDirty_ = true;
   return id;
 }
@@ -222,7 +222,7 @@ void SceneStore::setLight(LightId id, const LightDesc& light) {
   if (id >= lights_.size() || !lights_[id]) {
     throw SceneError("setLight: light " + std::to_string(id) + " does not exist");
   }
-  lights_[id] = validateLight(light, "setLight: " + idName("light", id));
+  lights_[id] = validateLight(light, {"setLight", "light", id});
   dirty_ = worldDirty_ = true;
 }
 
@@ -241,15 +241,15 @@ void SceneStore::setSky(const SkyDesc& sky) {
                        " is not a texture");
     }
   }
-  requireNonNegative(sky.color, "setSky", "color");
+  requireNonNegative(sky.color, CallContext{"setSky"}, "color");
   if (!std::isfinite(sky.intensity) || sky.intensity < 0.0f) {
     throw SceneError("setSky: intensity must be finite and >= 0");
   }
   if (!std::isfinite(sky.lightingScale) || sky.lightingScale < 0.0f) {
     throw SceneError("setSky: lightingScale must be finite and >= 0");
   }
-  requireNonNegative(sky.ambientRadiance, "setSky", "ambientRadiance");
-  requireNonNegative(sky.minimumRadiance, "setSky", "minimumRadiance");
+  requireNonNegative(sky.ambientRadiance, CallContext{"setSky"}, "ambientRadiance");
+  requireNonNegative(sky.minimumRadiance, CallContext{"setSky"}, "minimumRadiance");
   sky_ = sky;
   dirty_ = worldDirty_ = true;
 }
@@ -257,7 +257,7 @@ void SceneStore::setSky(const SkyDesc& sky) {
 void SceneStore::setPortals(std::span<const PortalDesc> portals) {
   std::vector<PortalDesc> valid;
   for (size_t i = 0; i < portals.size(); ++i) {
-    const std::string what = "setPortals: portal " + std::to_string(i);
+    const CallContext what{"setPortals", "portal", static_cast<uint32_t>(i)};
     PortalDesc p = portals[i];
     requireFinite(finite(p.normal) && std::isfinite(p.distance), what, "plane");
     for (int c = 0; c < 4; ++c) requireFinite(finite(p.transform[c]), what, "transform");
@@ -305,7 +305,7 @@ void SceneStore::validateReferences() const {
   for (size_t id = 0; id < meshes_.size(); ++id) {
     const MeshSlot& slot = meshes_[id];
     if (slot.removed) continue;
-    const MeshGeometry* g = slot.pending ? &*slot.pending : (slot.record ? &slot.record->geometry : nullptr);
+    const MeshGeometry* g = slot.hasPending ? &slot.pending : (slot.record ? &slot.record->geometry : nullptr);
     if (g == nullptr) continue;
     for (size_t t = 0; t < g->materials.size(); ++t) {
       const MaterialId m = g->materials[t];
@@ -319,17 +319,15 @@ void SceneStore::validateReferences() const {
 
 void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
   // Meshes used by an instance whose override material needs the filter: filter every triangle.
-  std::vector<uint8_t> overrideFiltered(meshes_.size(), 0);
+  std::vector<uint8_t>& overrideFiltered = overrideFilteredScratch_;
+  overrideFiltered.assign(meshes_.size(), 0);
   for (const auto& inst : instances_) {
     if (inst && inst->materialOverride != kNoId && materials[inst->materialOverride].filtered) {
       overrideFiltered[inst->mesh] = 1;
     }
   }
-  struct Job {
-    MeshRecord* record;
-    bool refit;
-  };
-  std::vector<Job> jobs;
+  std::vector<MeshJob>& jobs = meshJobs_;
+  jobs.clear();
   for (size_t id = 0; id < meshes_.size(); ++id) {
     MeshSlot& slot = meshes_[id];
     if (slot.removed) {
@@ -340,22 +338,25 @@ void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
     MeshRecord& rec = *slot.record;
     bool geometryChanged = false;
     bool canRefit = false;
-    if (slot.pending) {
-      MeshGeometry& next = *slot.pending;
+    if (slot.hasPending) {
+      MeshGeometry& next = slot.pending;
       canRefit = rec.built && next.dynamic && next.positions.size() == rec.geometry.positions.size() &&
                  next.indices == rec.geometry.indices;
-      rec.geometry = std::move(next);
-      slot.pending.reset();
+      std::swap(rec.geometry, next);   // the old arrays take the next update (no allocation)
+      slot.hasPending = false;
       geometryChanged = true;
     }
     const MeshGeometry& g = rec.geometry;
-    std::vector<uint8_t> filtered(g.triangleCount());
-    for (uint32_t t = 0; t < g.triangleCount(); ++t) {
+    auto filteredFlag = [&](uint32_t t) -> uint8_t {
       const MaterialId m = g.materialOf(t);
-      filtered[t] = overrideFiltered[id] || (m != kNoId && materials[m].filtered) ? 1 : 0;
+      return overrideFiltered[id] || (m != kNoId && materials[m].filtered) ? 1 : 0;
+    };
+    bool flagsChanged = rec.filtered.size() != g.triangleCount();
+    for (uint32_t t = 0; t < g.triangleCount() && !flagsChanged; ++t) flagsChanged = rec.filtered[t] != filteredFlag(t);
+    if (flagsChanged) {
+      rec.filtered.resize(g.triangleCount());
+      for (uint32_t t = 0; t < g.triangleCount(); ++t) rec.filtered[t] = filteredFlag(t);
     }
-    const bool flagsChanged = filtered != rec.filtered;
-    rec.filtered = std::move(filtered);
     if (!rec.built || flagsChanged || (geometryChanged && !canRefit)) {
       jobs.push_back({&rec, false});
     } else if (geometryChanged) {
@@ -383,10 +384,20 @@ bool SceneStore::changesOnlyCameraOverlays() const {
 }
 
 RenderScene SceneStore::commit() {
+  RenderScene scene;
+  commit(scene);
+  return scene;
+}
+
+void SceneStore::commit(RenderScene& scene) {
   validateReferences();
   lastCommitOnlyCameraOverlays_ = changesOnlyCameraOverlays();
-  RenderScene scene;
+  // The vectors are refilled, keeping their memory.
   scene.textures = textures_;
+  scene.materials.clear();
+  scene.world.clear();
+  scene.overlay.clear();
+  scene.emissiveLookup.clear();
   auto texturePtr = [&](TextureId id) { return id == kNoId ? nullptr : scene.textures[id].get(); };
   auto makeRecord = [&](const MaterialDesc& d) {
     MaterialRecord r;
@@ -410,7 +421,10 @@ RenderScene SceneStore::commit() {
 
   buildMeshes(scene.materials);
 
-  std::vector<TlasInstance> worldInputs, overlayInputs;
+  std::vector<TlasInstance>& worldInputs = worldTlasInputs_;
+  std::vector<TlasInstance>& overlayInputs = overlayTlasInputs_;
+  worldInputs.clear();
+  overlayInputs.clear();
   for (size_t id = 0; id < instances_.size(); ++id) {
     if (!instances_[id]) continue;
     const InstanceDesc& d = *instances_[id];
@@ -427,14 +441,15 @@ RenderScene SceneStore::commit() {
     (d.drawOnTop ? scene.overlay : scene.world).push_back(ri);
     (d.drawOnTop ? overlayInputs : worldInputs).push_back({&mesh->blas, d.objectToWorld, d.mask});
   }
-  if (!worldInputs.empty()) scene.worldTlas.build(worldInputs);
-  if (!overlayInputs.empty()) scene.overlayTlas.build(overlayInputs);
-  if (!worldInputs.empty()) scene.bounds = scene.worldTlas.bounds();
+  scene.worldTlas.build(worldInputs);
+  scene.overlayTlas.build(overlayInputs);
+  scene.bounds = worldInputs.empty() ? Bounds{} : scene.worldTlas.bounds();
 
   // Emissive triangles of world instances become area lights; sky windows bound how much sun
   // and sky light enters (their area-weighted normals go to the light sampler).
   std::vector<EmissiveTriangle> emissive;
-  std::vector<glm::vec3> skyWindows;
+  std::vector<glm::vec3>& skyWindows = skyWindows_;
+  skyWindows.clear();
   for (RenderInstance& inst : scene.world) {
     const MeshGeometry& g = inst.mesh->geometry;
     const uint32_t offset = static_cast<uint32_t>(scene.emissiveLookup.size());
@@ -495,7 +510,8 @@ RenderScene SceneStore::commit() {
     }
   }
 
-  std::vector<LightDesc> lights;
+  std::vector<LightDesc>& lights = lightScratch_;
+  lights.clear();
   for (const auto& l : lights_) {
     if (l) lights.push_back(*l);
   }
@@ -503,10 +519,8 @@ RenderScene SceneStore::commit() {
   scene.fogs = fogs_;
   scene.sky = Sky(sky_, scene.textures);
   scene.lights = LightSampler(lights, std::move(emissive), scene.sky, scene.bounds, skyWindows);
-  skyWindows_ = std::move(skyWindows);
   dirty_ = worldDirty_ = false;
   touchedMeshes_.clear();
-  return scene;
 }
 
 void SceneStore::attachEnvironmentVisibility(RenderScene& scene) {

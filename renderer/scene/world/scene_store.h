@@ -61,6 +61,8 @@ class SceneStore {
   /// RenderScene. Run inside the renderer's task arena. Throws SceneError (leaving the
   /// store unchanged) when an instance uses a removed mesh or an id is out of range.
   RenderScene commit();
+  /// The same, into scene (this store's previous commit, or empty), reusing its memory.
+  void commit(RenderScene& scene);
   /// Gives scene (this store's last commit) the map of where sun and sky reach, which Direct and
   /// Path use to share light samples: traced from ~256k surface points (cached while the scene
   /// bounds, suns, sky and sky windows stay), so only renders that need it pay for it.
@@ -69,14 +71,15 @@ class SceneStore {
  private:
   struct MeshSlot {
     std::unique_ptr<MeshRecord> record;        ///< Committed data (null before the first commit).
-    std::optional<MeshGeometry> pending;       ///< Data for the next commit.
+    MeshGeometry pending;                      ///< Data for the next commit when hasPending (memory kept).
+    bool hasPending = false;
     bool removed = false;                      ///< removeMesh() was called.
   };
 
   void validateReferences() const;
-  void validateMaterial(const MaterialDesc& m, const std::string& what) const;
-  LightDesc validateLight(const LightDesc& l, const std::string& what) const;
-  void validateInstance(const InstanceDesc& d, const std::string& what) const;
+  void validateMaterial(const MaterialDesc& m, const CallContext& what) const;
+  LightDesc validateLight(const LightDesc& l, const CallContext& what) const;
+  void validateInstance(const InstanceDesc& d, const CallContext& what) const;
   MeshSlot& liveMesh(MeshId id, const char* call);
   void buildMeshes(const std::vector<MaterialRecord>& materials);
   bool changesOnlyCameraOverlays() const;
@@ -94,6 +97,16 @@ class SceneStore {
   bool dirty_ = true;
   bool worldDirty_ = true;                   ///< A change since the last commit beyond camera-only overlays.
   std::vector<MeshId> touchedMeshes_;        ///< Meshes updated since the last commit.
+  /// A mesh's BVH work at commit: a build, or a refit of the same topology.
+  struct MeshJob {
+    MeshRecord* record;
+    bool refit;
+  };
+  std::vector<MeshJob> meshJobs_;                ///< buildMeshes' list (memory kept between commits).
+  std::vector<uint8_t> overrideFilteredScratch_;   ///< buildMeshes' per-mesh override flags.
+  std::vector<TlasInstance> worldTlasInputs_;      ///< commit()'s TLAS inputs (memory kept).
+  std::vector<TlasInstance> overlayTlasInputs_;
+  std::vector<LightDesc> lightScratch_;            ///< commit()'s live lights (memory kept).
   bool lastCommitOnlyCameraOverlays_ = false;
 };
 
