@@ -156,7 +156,8 @@ SpriteAxes spriteAxesFor(const q3abi::refEntity_t& entity, const Viewer& viewer)
 void appendMd3(const q3::Md3Model& model, const q3abi::refEntity_t& entity,
                const std::vector<q3abi::qhandle_t>& surfaceShaders, GeometryBatch& out,
                const std::vector<bool>& autosprite, const SpriteAxes& axes) {
-  std::vector<q3::Md3Vec3> positions, normals;
+  std::vector<q3::Md3Vec3>& positions = out.scratch.md3Positions;
+  std::vector<q3::Md3Vec3>& normals = out.scratch.md3Normals;
   const glm::vec4 white(1.0f);
   for (size_t s = 0; s < model.surfaces.size(); ++s) {
     const q3::Md3Surface& surface = model.surfaces[s];

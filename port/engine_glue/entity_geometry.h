@@ -3,6 +3,7 @@
 // cores and rings, lightning bolts and polygons become camera-facing triangles in world space;
 // an MD3 entity becomes its interpolated frame in model space. Triangles carry the shader
 // handle that draws them (resolved to renderer materials by the caller).
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +33,23 @@ struct GeometryBatch {
   /// Per triangle: the entity's shaderTime (seconds the shader clock is behind the view's); may
   /// be shorter than the triangle count (the rest: 0).
   std::vector<float> triangleShaderTimes;
+
+  /// Working memory of the passes over a batch (appendMd3, deformBatch, the stock-look colour
+  /// passes): kept with the batch so that a frame's passes allocate nothing once it has grown.
+  struct Scratch {
+    std::vector<uint8_t> vertexDone;                     ///< Per vertex: already handled.
+    std::vector<uint32_t> vertices;                      ///< Gathered vertex indices.
+    std::vector<uint32_t> shaders;                       ///< Shader handles already handled.
+    std::vector<glm::vec3> positions, normals;           ///< Gathered (or lerped MD3) vertices.
+    std::vector<glm::vec2> uvs;
+    std::vector<std::array<float, 3>> md3Positions, md3Normals;   ///< An MD3 surface at the entity's frame.
+    /// Zeroed per-vertex flags for `count` vertices.
+    std::vector<uint8_t>& doneFlags(size_t count) {
+      vertexDone.assign(count, 0);
+      return vertexDone;
+    }
+  };
+  Scratch scratch;   ///< Not part of the batch's content: clear() leaves it.
 
   /// Forgets everything (keeps capacity).
   void clear();

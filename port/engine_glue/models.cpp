@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "port/engine_glue/engine.h"
+#include "port/engine_glue/shaders.h"
 #include "port/q3formats/common/byte_reader.h"
 #include "port/q3formats/common/format_error.h"
 
@@ -121,6 +122,25 @@ bool ModelRegistry::md3Bounds(q3abi::qhandle_t handle, glm::vec3& mins, glm::vec
   mins = {frame.mins[0], frame.mins[1], frame.mins[2]};
   maxs = {frame.maxs[0], frame.maxs[1], frame.maxs[2]};
   return true;
+}
+
+void md3SurfaceShaders(const q3::Md3Model& md3, const q3abi::refEntity_t& entity, const SkinEntry* skin,
+                       const ShaderRegistry& shaders, std::vector<q3abi::qhandle_t>& out) {
+  out.clear();
+  for (const q3::Md3Surface& surface : md3.surfaces) {
+    q3abi::qhandle_t shader = entity.customShader;
+    if (shader == 0 && skin != nullptr) {
+      for (const auto& [name, handle] : skin->surfaces)
+        if (name == "*" || name == normalizeName(surface.name)) {
+          shader = handle;
+          break;
+        }
+    } else if (shader == 0 && !surface.shaders.empty()) {
+      const size_t pick = static_cast<size_t>(std::max(entity.skinNum, 0)) % surface.shaders.size();
+      shader = shaders.find(surface.shaders[pick].name);
+    }
+    out.push_back(shader);
+  }
 }
 
 }  // namespace glue

@@ -97,4 +97,12 @@ q3abi::qhandle_t ModelRegistry::registerSkin(const Engine& engine, const std::st
   return addSkin(std::move(skin));
 }
 
+class ShaderRegistry;
+
+/// The shader of each surface of an MD3 entity, as the stock renderer picks it: the entity's
+/// customShader, else its skin's match by surface name ("*" matches all), else the file's shader
+/// number skinNum; written to `out` (one per surface, 0 = default).
+void md3SurfaceShaders(const q3::Md3Model& md3, const q3abi::refEntity_t& entity, const SkinEntry* skin,
+                       const ShaderRegistry& shaders, std::vector<q3abi::qhandle_t>& out);
+
 }  // namespace glue

@@ -56,8 +56,22 @@ ShaderEntry makeDefaultEntry() {
 
 ShaderRegistry::ShaderRegistry() { entries_.push_back(makeDefaultEntry()); }
 
-q3abi::qhandle_t ShaderRegistry::find(const std::string& name) const {
-  const auto found = byName_.find(normalizeName(stripExtension(name)));
+ShaderRegistry::LookupKey::LookupKey(std::string_view name) {
+  // normalizeName(stripExtension(name)), on the stack: registered names are shorter than kMaxQPath.
+  if (name.size() >= sizeof(text)) return;   // never registered: an empty key finds nothing
+  const size_t dot = name.find_last_of('.');
+  const size_t slash = name.find_last_of('/');
+  length = dot != std::string_view::npos && (slash == std::string_view::npos || dot > slash) ? dot : name.size();
+  for (size_t i = 0; i < length; ++i) {
+    const char c = name[i];
+    text[i] = c == '\\' ? '/' : (c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c);
+  }
+}
+
+q3abi::qhandle_t ShaderRegistry::find(std::string_view name) const {
+  if (name.empty()) return 0;
+  const LookupKey key(name);
+  const auto found = byName_.find(key.view());
   return found == byName_.end() ? 0 : found->second;
 }
 
@@ -68,8 +82,9 @@ q3abi::qhandle_t ShaderRegistry::registerShader(const Engine& engine, const Shad
     engine.warn("RegisterShader: bad name '" + name + "'");
     return 0;
   }
+  // Games register some shaders every frame: a known name is found without making strings.
+  if (const auto known = byName_.find(LookupKey(name).view()); known != byName_.end()) return known->second;
   const std::string key = normalizeName(stripExtension(name));
-  if (const auto found = byName_.find(key); found != byName_.end()) return found->second;
   if (entries_.size() >= kMaxShaders) {
     engine.warn("RegisterShader: too many shaders, '" + name + "' uses the default");
     return 0;

@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -68,7 +69,7 @@ class ShaderRegistry {
   /// Number of handles, including the default one.
   int count() const { return static_cast<int>(entries_.size()); }
   /// Finds a registered handle by name (0 when absent).
-  q3abi::qhandle_t find(const std::string& name) const;
+  q3abi::qhandle_t find(std::string_view name) const;
   /// Deletes GL textures (the context must be current) and every entry but the default one.
   void clear();
 
@@ -76,7 +77,19 @@ class ShaderRegistry {
   size_t resolveIndex(q3abi::qhandle_t handle) const;
 
   std::vector<ShaderEntry> entries_;
-  std::unordered_map<std::string, q3abi::qhandle_t> byName_;   ///< Includes failures -> 0.
+  /// A name as byName_ keys it (normalizeName(stripExtension(name))), made on the stack.
+  struct LookupKey {
+    explicit LookupKey(std::string_view name);
+    char text[q3abi::kMaxQPath];
+    size_t length = 0;
+    std::string_view view() const { return {text, length}; }
+  };
+  /// Hashes names and their views alike, so that find() looks up without making a string.
+  struct NameHash {
+    using is_transparent = void;
+    size_t operator()(std::string_view name) const { return std::hash<std::string_view>{}(name); }
+  };
+  std::unordered_map<std::string, q3abi::qhandle_t, NameHash, std::equal_to<>> byName_;   ///< Includes failures -> 0.
 };
 
 }  // namespace glue

@@ -72,14 +72,14 @@ std::shared_ptr<const Image> premultipliedImage(const std::shared_ptr<const Imag
 /// alpha (linearised, as the layer is composed in display values), to go with
 /// MaterialUse::StockEffect.
 void premultiplyBlendedEffects(ShaderRegistry& shaders, GeometryBatch& batch) {
-  std::vector<bool> done(batch.colors.size(), false);
+  std::vector<uint8_t>& done = batch.scratch.doneFlags(batch.colors.size());
   for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
     const ShaderLook& look = shaders.resolve(batch.triangleShaders[t]).look;
     if (!look.fromScript || !isAlphaBlend(look.blend)) continue;
     for (size_t corner = 0; corner < 3; ++corner) {
       const uint32_t v = batch.indices[t * 3 + corner];
       if (v >= batch.colors.size() || done[v]) continue;
-      done[v] = true;
+      done[v] = 1;
       // The layer is encoded before it is added (display values): encode(lin(c) * lin(a)) ~ c * a.
       glm::vec4& c = batch.colors[v];
       c = glm::vec4(glm::vec3(c) * byteToLinear(c.a * 255.0f), c.a);
@@ -98,13 +98,13 @@ float byteToLinear(float byte) {
 void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld,
                          const EntityLight& light, ShaderRegistry& shaders, GeometryBatch& batch) {
   const glm::mat3 axes(toWorld);
-  std::vector<bool> done(batch.positions.size(), false);
+  std::vector<uint8_t>& done = batch.scratch.doneFlags(batch.positions.size());
   for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
     const ModelColorSource source = modelColorSource(shaders.resolve(batch.triangleShaders[t]));
     for (size_t corner = 0; corner < 3; ++corner) {
       const uint32_t v = batch.indices[t * 3 + corner];
       if (v >= batch.positions.size() || done[v]) continue;
-      done[v] = true;
+      done[v] = 1;
       glm::vec3 bytes(255.0f);
       switch (source) {
         case ModelColorSource::EntityLight: {

@@ -16,6 +16,7 @@
 #include <cstring>
 #include <map>
 #include <optional>
+#include <string_view>
 #include <tuple>
 #include <unordered_map>
 
@@ -122,9 +123,16 @@ struct ViewRenderer::Impl {
   std::vector<pa::InstanceDesc> brushInstances;       ///< Current description per world model.
   /// (shader name, use, layer, animation frame) -> renderer material.
   using MaterialKey = std::tuple<std::string, MaterialUse, uint32_t, uint32_t>;
-  std::map<MaterialKey, pa::MaterialId> materials;
+  /// A MaterialKey to look up with (transparent comparison: no string is made per lookup).
+  using MaterialKeyView = std::tuple<std::string_view, MaterialUse, uint32_t, uint32_t>;
+  std::map<MaterialKey, pa::MaterialId, std::less<>> materials;
   /// Animated shaders (shader_animation.h): their still look and their materials per shader time.
-  std::map<MaterialKey, std::pair<pa::MaterialDesc, MovingMaterialPool>> moving;
+  struct MovingMaterial {
+    pa::MaterialDesc still;
+    MovingMaterialPool pool;
+    StageMotion motion;
+  };
+  std::map<MaterialKey, MovingMaterial, std::less<>> moving;
   uint64_t viewCount = 0;
   size_t animationUpdates = 0;     ///< Entity materials replaced for animation in this view.
   WorldAnimation worldAnimation;   ///< World and brush-model materials at refdef time.
@@ -142,6 +150,11 @@ struct ViewRenderer::Impl {
   pa::MeshId emptyMesh = pa::kNoId;
   GeometryBatch batch;
   std::vector<pa::MaterialId> triangleMaterials;
+  using SlotMaterialKey = std::tuple<q3abi::qhandle_t, uint32_t, float>;
+  std::vector<std::pair<SlotMaterialKey, pa::MaterialId>> slotMaterials;   ///< fillSlot's working list.
+  std::vector<q3abi::qhandle_t> surfaceShaders;   ///< An MD3 entity's shader per surface (working memory).
+  std::vector<bool> surfaceAutosprite;            ///< ... and whether it is an autosprite.
+  std::vector<bool> brushPlaced;                  ///< Per brush model: placed by an entity this view.
   std::vector<uint8_t> picture;
   uint32_t frameCounter = 0;
   PortalViews portals;   ///< Mirrors and portal cameras (portals.h).
@@ -390,18 +403,21 @@ struct ViewRenderer::Impl {
     if (frames.size() > 1 && look.animFrequency > 0.0f && std::isfinite(seconds))
       frameIndex = static_cast<uint32_t>(q3::animMapFrame(frames.size(), look.animFrequency, seconds));
     const std::shared_ptr<const Image> image = frames.empty() ? nullptr : frames[frameIndex];
-    const auto key = std::make_tuple(entry.name, use, layer, frameIndex);
-    const StageMotion motion = motionOf(look);
-    if (!motion.timeDependent()) {
-      if (const auto found = materials.find(key); found != materials.end()) return found->second;
-      const pa::MaterialId id = renderer->addMaterial(materialAt(motion, 0.0, describe(entry, look, image, use, layer)));
-      materials.emplace(key, id);
-      return id;
-    }
+    const MaterialKeyView key{entry.name, use, layer, frameIndex};
+    if (const auto found = materials.find(key); found != materials.end()) return found->second;
     auto found = moving.find(key);
-    if (found == moving.end())
-      found = moving.emplace(key, std::make_pair(describe(entry, look, image, use, layer), MovingMaterialPool{})).first;
-    return found->second.second.get(motion, found->second.first, seconds, scroll, viewCount, *renderer, animationUpdates);
+    if (found == moving.end()) {   // first use: still or moving
+      StageMotion motion = motionOf(look);
+      if (!motion.timeDependent()) {
+        const pa::MaterialId id = renderer->addMaterial(materialAt(motion, 0.0, describe(entry, look, image, use, layer)));
+        materials.emplace(MaterialKey(entry.name, use, layer, frameIndex), id);
+        return id;
+      }
+      found = moving.emplace(MaterialKey(entry.name, use, layer, frameIndex),
+                             MovingMaterial{describe(entry, look, image, use, layer), {}, std::move(motion)}).first;
+    }
+    MovingMaterial& m = found->second;
+    return m.pool.get(m.motion, m.still, seconds, scroll, viewCount, *renderer, animationUpdates);
   }
 
   /// The still look (no animation) of a shader stage drawn as `use` with `image`.
@@ -470,13 +486,17 @@ struct ViewRenderer::Impl {
     DynamicSlot& slot = slots[index];
     addShaderLayers(shaders, batch);
     triangleMaterials.resize(batch.triangles());
-    std::map<std::tuple<q3abi::qhandle_t, uint32_t, float>, pa::MaterialId> local;
+    // (shader, layer, shader time behind) -> material: a batch has few, mostly in runs.
+    slotMaterials.clear();
     for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {
       const float behind = t < batch.triangleShaderTimes.size() ? batch.triangleShaderTimes[t] : 0.0f;
-      const auto key = std::make_tuple(batch.triangleShaders[t], t < batch.triangleLayers.size() ? batch.triangleLayers[t] : 0u, behind);
-      auto found = local.find(key);
-      if (found == local.end())
-        found = local.emplace(key, material(shaders, std::get<0>(key), use, std::get<1>(key), seconds - behind, scroll)).first;
+      const SlotMaterialKey key{batch.triangleShaders[t], t < batch.triangleLayers.size() ? batch.triangleLayers[t] : 0u, behind};
+      auto found = std::find_if(slotMaterials.rbegin(), slotMaterials.rend(),
+                                [&](const auto& entry) { return entry.first == key; });
+      if (found == slotMaterials.rend()) {
+        slotMaterials.emplace_back(key, material(shaders, std::get<0>(key), use, std::get<1>(key), seconds - behind, scroll));
+        found = slotMaterials.rbegin();
+      }
       triangleMaterials[t] = found->second;
     }
     pa::InstanceDesc instance;
@@ -626,7 +646,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   double animationMs = 0.0;
 
   // The world and its brush models: hidden in model-only views, placed by their entities.
-  std::vector<bool> brushPlaced(d.world.modelInstances.size(), false);
+  std::vector<bool>& brushPlaced = d.brushPlaced;
+  brushPlaced.assign(d.world.modelInstances.size(), false);
   d.entitySlots.beginFrame();
   for (const q3abi::refEntity_t& e : scene.entities()) {
     uint32_t mask = pa::kMaskAll;
@@ -648,22 +669,11 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     }
     const q3::Md3Model* md3 = d.md3(*model);
     if (md3 == nullptr) continue;
-    // Shader per surface: customShader, else the skin's match, else the file's (skinNum).
-    std::vector<q3abi::qhandle_t> surfaceShaders;
-    const SkinEntry* skin = models.skin(e.customSkin);
-    for (const q3::Md3Surface& surface : md3->surfaces) {
-      q3abi::qhandle_t shader = e.customShader;
-      if (shader == 0 && skin != nullptr) {
-        for (const auto& [name, handle] : skin->surfaces)
-          if (name == "*" || name == normalizeName(surface.name)) { shader = handle; break; }
-      } else if (shader == 0 && !surface.shaders.empty()) {
-        const size_t pick = static_cast<size_t>(std::max(e.skinNum, 0)) % surface.shaders.size();
-        shader = shaders.find(surface.shaders[pick].name);
-      }
-      surfaceShaders.push_back(shader);
-    }
+    md3SurfaceShaders(*md3, e, models.skin(e.customSkin), shaders, d.surfaceShaders);
+    const std::vector<q3abi::qhandle_t>& surfaceShaders = d.surfaceShaders;
     d.batch.clear();
-    std::vector<bool> autosprite(surfaceShaders.size());
+    std::vector<bool>& autosprite = d.surfaceAutosprite;
+    autosprite.assign(surfaceShaders.size(), false);
     for (size_t s = 0; s < surfaceShaders.size(); ++s) autosprite[s] = shaders.resolve(surfaceShaders[s]).look.autosprite;
     appendMd3(*md3, e, surfaceShaders, d.batch, autosprite, spriteAxesFor(e, viewer));
     if (d.batch.indices.empty()) continue;
@@ -694,14 +704,19 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
     }
     d.setBrushInstance(m, desc);
   }
-  const glm::mat4x3 worldPlace(1.0f);
-  d.worldDeforms.update(
-      seconds,
-      [&](uint32_t model) -> const glm::mat4x3* {
-        if (model == 0) return withWorld ? &worldPlace : nullptr;
-        return model < brushPlaced.size() && brushPlaced[model] ? &d.brushInstances[model].objectToWorld : nullptr;
-      },
-      *d.renderer);
+  // Where each world model is this view (null: not drawn); one reference captured, so the
+  // std::function it becomes holds it without a heap block.
+  const struct {
+    const Impl& d;
+    bool withWorld;
+    glm::mat4x3 identity{1.0f};
+  } placing{d, withWorld};
+  const auto placeOf = [&placing](uint32_t model) -> const glm::mat4x3* {
+    if (model == 0) return placing.withWorld ? &placing.identity : nullptr;
+    const Impl& v = placing.d;
+    return model < v.brushPlaced.size() && v.brushPlaced[model] ? &v.brushInstances[model].objectToWorld : nullptr;
+  };
+  d.worldDeforms.update(seconds, placeOf, *d.renderer);
 
   // Effects and polygons: one world-space mesh.
   d.batch.clear();

@@ -68,15 +68,24 @@ class World {
 
  private:
   /// BSP surfaces the box [mins, maxs] reaches through the tree, in the engine's order, that
-  /// may take a decal projected along `dir` (at most 64, as the engine's list).
-  std::vector<uint32_t> surfacesInBox(const glm::vec3& mins, const glm::vec3& maxs,
-                                      const glm::vec3& dir) const;
+  /// may take a decal projected along `dir` (at most 64, as the engine's list). The list lives
+  /// in this World's scratch until the next call.
+  const std::vector<uint32_t>& surfacesInBox(const glm::vec3& mins, const glm::vec3& maxs,
+                                             const glm::vec3& dir) const;
 
   q3::BspFile bsp_;
   q3::Tokenizer entityTokens_;
   q3::BspLightGrid shiftedGrid_;          ///< colours brightened as the engine does at load
   std::vector<MarkSurface> markSurfaces_;  ///< per BSP surface
   std::vector<glm::vec3> markCorners_;
+  /// surfacesInBox's working memory, kept between the engine's (main-thread) mark queries so
+  /// that they allocate nothing.
+  struct MarkScratch {
+    std::vector<uint32_t> listed;
+    std::vector<bool> seen;
+    std::vector<int32_t> pending;
+  };
+  mutable MarkScratch markScratch_;
 };
 
 }  // namespace glue

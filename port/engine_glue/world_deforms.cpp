@@ -101,16 +101,19 @@ void deformBatch(GeometryBatch& batch, double seconds,
                  const std::function<const std::vector<q3::Deform>*(q3abi::qhandle_t)>& deformsOf) {
   const size_t vertices = batch.positions.size();
   if (batch.normals.size() != vertices || batch.uvs.size() != vertices) return;
-  std::vector<uint8_t> done(vertices, 0);
-  std::vector<uint32_t> chosen;
-  std::unordered_map<q3abi::qhandle_t, const std::vector<q3::Deform>*> known;   // one lookup per shader
+  GeometryBatch::Scratch& scratch = batch.scratch;
+  std::vector<uint8_t>& done = scratch.doneFlags(vertices);
+  std::vector<uint32_t>& chosen = scratch.vertices;
+  // Shaders handled so far (a batch has few): each is looked up once, its vertices all gathered
+  // at its first triangle.
+  std::vector<uint32_t>& handled = scratch.shaders;
+  handled.clear();
   for (size_t t = 0; t < batch.triangleShaders.size() && 3 * t + 2 < batch.indices.size(); ++t) {
     const q3abi::qhandle_t shader = batch.triangleShaders[t];
-    auto found = known.find(shader);
-    if (found == known.end()) found = known.emplace(shader, deformsOf(shader)).first;
-    const std::vector<q3::Deform>* deforms = found->second;
+    if (std::find(handled.begin(), handled.end(), static_cast<uint32_t>(shader)) != handled.end()) continue;
+    handled.push_back(static_cast<uint32_t>(shader));
+    const std::vector<q3::Deform>* deforms = deformsOf(shader);
     if (deforms == nullptr || deforms->empty()) continue;
-    found->second = nullptr;   // its vertices are all gathered below
     // Gather this shader's untouched vertices from here on, then deform them in one go.
     chosen.clear();
     for (size_t u = t; u < batch.triangleShaders.size() && 3 * u + 2 < batch.indices.size(); ++u) {
@@ -123,8 +126,12 @@ void deformBatch(GeometryBatch& batch, double seconds,
         }
       }
     }
-    std::vector<glm::vec3> p(chosen.size()), nrm(chosen.size());
-    std::vector<glm::vec2> uv(chosen.size());
+    std::vector<glm::vec3>& p = scratch.positions;
+    std::vector<glm::vec3>& nrm = scratch.normals;
+    std::vector<glm::vec2>& uv = scratch.uvs;
+    p.resize(chosen.size());
+    nrm.resize(chosen.size());
+    uv.resize(chosen.size());
     for (size_t i = 0; i < chosen.size(); ++i) {
       p[i] = batch.positions[chosen[i]];
       nrm[i] = batch.normals[chosen[i]];

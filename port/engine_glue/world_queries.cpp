@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -33,7 +34,28 @@ struct ClipPlane {
   glm::vec3 normal;
   float dist;
 };
-using Polygon = std::vector<glm::vec3>;
+/// A convex polygon of at most kMaxPolygonPoints corners, on the stack.
+class Polygon {
+ public:
+  Polygon() = default;
+  Polygon(const glm::vec3* first, const glm::vec3* last) {
+    for (; first != last; ++first) push_back(*first);
+  }
+  /// Appends a corner; corners beyond the capacity are dropped (the chop refuses such polygons).
+  void push_back(const glm::vec3& p) {
+    if (count_ < points_.size()) points_[count_++] = p;
+  }
+  size_t size() const { return count_; }
+  bool empty() const { return count_ == 0; }
+  void clear() { count_ = 0; }
+  const glm::vec3& operator[](size_t i) const { return points_[i]; }
+  const glm::vec3* begin() const { return points_.data(); }
+  const glm::vec3* end() const { return points_.data() + count_; }
+
+ private:
+  std::array<glm::vec3, kMaxPolygonPoints> points_;
+  size_t count_ = 0;
+};
 
 /// The engine's BoxOnPlaneSide: 1 = box in front (or touching), 2 = behind, 3 = crossing.
 int boxOnPlaneSide(const glm::vec3& mins, const glm::vec3& maxs, const glm::vec3& normal, float dist) {
@@ -122,12 +144,14 @@ bool World::lightForPoint(const float* point, float* ambient, float* directed,
   return true;
 }
 
-std::vector<uint32_t> World::surfacesInBox(const glm::vec3& mins, const glm::vec3& maxs,
-                                           const glm::vec3& dir) const {
-  std::vector<uint32_t> listed;
-  std::vector<bool> seen(bsp_.surfaces.size(), false);
-  std::vector<int32_t> pending;   // nodes (>= 0) and leaves (-1 - leaf), front child first
-  pending.push_back(bsp_.nodes.empty() ? -1 : 0);
+const std::vector<uint32_t>& World::surfacesInBox(const glm::vec3& mins, const glm::vec3& maxs,
+                                                  const glm::vec3& dir) const {
+  std::vector<uint32_t>& listed = markScratch_.listed;
+  std::vector<bool>& seen = markScratch_.seen;
+  std::vector<int32_t>& pending = markScratch_.pending;   // nodes (>= 0) and leaves (-1 - leaf), front child first
+  listed.clear();
+  seen.assign(bsp_.surfaces.size(), false);
+  pending.assign(1, bsp_.nodes.empty() ? -1 : 0);
   while (!pending.empty() && listed.size() < kMaxMarkSurfaces) {
     const int32_t at = pending.back();
     pending.pop_back();
@@ -184,15 +208,18 @@ int World::markFragments(int numPoints, const float (*points)[3], const float* p
 
   // The volume swept by the decal: one plane per edge (the decal's winding, clockwise seen along
   // the projection, puts the inside in front), then near and far caps at the first point.
-  std::vector<ClipPlane> planes;
+  std::array<ClipPlane, kMaxPolygonPoints + 2> planeStore;
+  size_t planeCount = 0;
+  const auto addPlane = [&](const ClipPlane& plane) { planeStore[planeCount++] = plane; };
   for (int i = 0; i < numPoints; ++i) {
     glm::vec3 normal = glm::cross(decal[(i + 1) % numPoints] - decal[i], -project);
     const float length = glm::length(normal);
     normal = length > 0.0f ? normal / length : glm::vec3(0.0f);   // degenerate edge: clips all
-    planes.push_back({normal, glm::dot(normal, decal[i])});
+    addPlane({normal, glm::dot(normal, decal[i])});
   }
-  planes.push_back({dir, glm::dot(dir, decal[0]) - kMarkNear});
-  planes.push_back({-dir, -glm::dot(dir, decal[0]) - kMarkFar});
+  addPlane({dir, glm::dot(dir, decal[0]) - kMarkNear});
+  addPlane({-dir, -glm::dot(dir, decal[0]) - kMarkFar});
+  const std::span<const ClipPlane> planes(planeStore.data(), planeCount);
 
   // Triangles wholly outside the volume's box (padded for on-plane slack) cannot give a fragment.
   glm::vec3 volumeMins(3e38f), volumeMaxs(-3e38f);

@@ -26,6 +26,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
+#include "renderer/core/reuse.h"
 
 namespace pa::bvh_detail {
 namespace {
@@ -195,7 +196,7 @@ class Builder {
     nextNode_ = 1;   // nodes_ holds the worst case, 2n - 1 nodes; only built ones are touched
     Box all, centroids;
     rangeBoxes(refs_, 0, n, all, centroids);
-    out_.primIndices.resize(n);   // written by the leaves
+    resizeReusing(out_.primIndices, n);   // written by the leaves
     buildNode({0, 0, n, 0}, all, centroids, refs_, partitioned_);
     renumberDepthFirst();
   }
@@ -421,7 +422,7 @@ class Builder {
     // Slots reserved for serial subtrees but never used are not reachable: only the tree's own
     // nodes are appended (the reservation touches no memory).
     out_.nodes.clear();
-    out_.nodes.reserve(nextNode_.load());
+    reserveGeometric(out_.nodes, nextNode_.load());
     const bool pack = repeatsDropped_.load() > 0;
     uint32_t leaves = 0, written = 0, packedPrims = 0;
     std::vector<std::pair<uint32_t, uint32_t>>& stack = renumberStack_;   // (source, parent to patch)

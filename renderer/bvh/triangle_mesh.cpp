@@ -8,6 +8,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include "renderer/core/reuse.h"
 
 namespace pa::bvh_detail {
 namespace {
@@ -22,7 +23,7 @@ void validatePositions(std::span<const glm::vec3> positions) {
 
 void computeDegenerate(TriangleMesh& mesh) {
   const uint32_t n = mesh.triangleCount();
-  mesh.degenerate.resize(n);   // every flag is written below
+  resizeReusing(mesh.degenerate, n);   // every flag is written below
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 1 << 14), [&](const auto& r) {
     for (uint32_t t = r.begin(); t < r.end(); ++t)
       mesh.degenerate[t] = isDegenerateTriangle(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2));
@@ -56,9 +57,9 @@ TriangleMesh makeTriangleMesh(const BlasInput& input) {
 }
 
 void assignTriangleMesh(const BlasInput& input, TriangleMesh& mesh) {
-  mesh.positions.assign(input.positions.begin(), input.positions.end());
-  mesh.indices.assign(input.indices.begin(), input.indices.end());
-  mesh.masked.assign(input.masked.begin(), input.masked.end());
+  assignReusing(mesh.positions, input.positions.begin(), input.positions.end());
+  assignReusing(mesh.indices, input.indices.begin(), input.indices.end());
+  assignReusing(mesh.masked, input.masked.begin(), input.masked.end());
   computeDegenerate(mesh);
 }
 
@@ -78,7 +79,7 @@ std::vector<Bounds> triangleBounds(const TriangleMesh& mesh) {
 }
 
 void triangleBounds(const TriangleMesh& mesh, std::vector<Bounds>& out) {
-  out.assign(mesh.triangleCount(), Bounds{});
+  resizeReusing(out, mesh.triangleCount());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, out.size(), 1 << 14), [&](const auto& r) {
     for (size_t t = r.begin(); t < r.end(); ++t) {
       const auto tri = static_cast<uint32_t>(t);

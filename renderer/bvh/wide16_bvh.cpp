@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "renderer/bvh/wide_collapse.h"
+#include "renderer/core/reuse.h"
 
 namespace pa::bvh_detail {
 namespace {
@@ -57,8 +58,8 @@ struct Layout16 {
   static uint32_t pool(uint32_t count) { return count <= kPackWidth ? 0 : 1; }
   static uint32_t packs(uint32_t count) { return count <= kPackWidth ? 1 : (count + kWidth - 1) / kWidth; }
   static void resizePools(Bvh& bvh, const uint32_t (&sizes)[2]) {
-    bvh.smallPacks.resize(sizes[0]);
-    bvh.packs.resize(sizes[1]);
+    resizeReusing(bvh.smallPacks, sizes[0]);
+    resizeReusing(bvh.packs, sizes[1]);
   }
   static uint32_t writeLeaf(Bvh& bvh, const TriangleMesh& mesh, std::span<const uint32_t> tris, uint32_t first) {
     const auto count = static_cast<uint32_t>(tris.size());

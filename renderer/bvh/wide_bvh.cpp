@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "renderer/bvh/wide_collapse.h"
+#include "renderer/core/reuse.h"
 
 namespace pa::bvh_detail {
 namespace {
@@ -26,7 +27,7 @@ struct Layout8 {
   static void finishNode(Node&, uint32_t) {}
   static uint32_t pool(uint32_t) { return 0; }
   static uint32_t packs(uint32_t count) { return (count + kPackWidth - 1) / kPackWidth; }
-  static void resizePools(Bvh& bvh, const uint32_t (&sizes)[2]) { bvh.packs.resize(sizes[0]); }
+  static void resizePools(Bvh& bvh, const uint32_t (&sizes)[2]) { resizeReusing(bvh.packs, sizes[0]); }
   static uint32_t writeLeaf(Bvh& bvh, const TriangleMesh& mesh, std::span<const uint32_t> tris, uint32_t first) {
     const auto count = static_cast<uint32_t>(tris.size());
     const uint32_t n = packs(count);

@@ -15,6 +15,7 @@
 #include "renderer/bvh/binary_bvh.h"
 #include "renderer/bvh/triangle_mesh.h"
 #include "renderer/bvh/wide_bvh.h"
+#include "renderer/core/reuse.h"
 
 namespace pa::bvh_detail {
 
@@ -63,8 +64,8 @@ class OptimalCollapse {
     size_t capacity = 0;
     T* ensure(size_t n) {
       if (n > capacity) {
-        data.reset(new T[n]);
-        capacity = n;
+        capacity = std::max(n, 2 * capacity);   // geometric: varying sizes stop reallocating
+        data.reset(new T[capacity]);
       }
       return data.get();
     }
@@ -122,7 +123,7 @@ class WideCollapser {
 
   void run() {
     out_.nodes.clear();
-    out_.nodes.reserve(binary_.nodeCount / Layout::kWidth + 1);
+    reserveGeometric(out_.nodes, binary_.nodeCount / Layout::kWidth + 1);
     out_.nodes.emplace_back();
     leaves_.clear();
     fillNode(0, 0);
@@ -159,7 +160,7 @@ class WideCollapser {
   /// references.
   void packLeaves() {
     std::vector<uint32_t>& first = first_;
-    first.resize(leaves_.size());
+    resizeReusing(first, leaves_.size());
     uint32_t sizes[2] = {0, 0};
     for (size_t i = 0; i < leaves_.size(); ++i) {
       const uint32_t count = plan_.triangleCount(leaves_[i].binary);

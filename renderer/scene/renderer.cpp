@@ -165,7 +165,10 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   };
 
   if (settings.integrator != Integrator::Lightmap && !im.environmentAttached) {
-    im.arena.execute([&] { im.store.attachEnvironmentVisibility(im.scene); });   // Lightmap never samples lights
+    im.arena.execute([&] {   // Lightmap never samples lights
+      im.store.attachLights(im.scene);
+      im.store.attachEnvironmentVisibility(im.scene);
+    });
     im.environmentAttached = true;
   }
   double attachMs = 0.0;

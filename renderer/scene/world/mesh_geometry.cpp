@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include "renderer/core/reuse.h"
 
 namespace pa {
 
@@ -84,13 +85,13 @@ void MeshGeometry::validate(const MeshDesc& desc, const CallContext& what) {
 
 void MeshGeometry::assign(const MeshDesc& desc) {
   dynamic = desc.dynamic;
-  positions.assign(desc.positions.begin(), desc.positions.end());
-  indices.assign(desc.indices.begin(), desc.indices.end());
-  normals.assign(desc.normals.begin(), desc.normals.end());
-  uvs.assign(desc.uvs.begin(), desc.uvs.end());
-  lightmapUvs.assign(desc.lightmapUvs.begin(), desc.lightmapUvs.end());
-  colors.assign(desc.colors.begin(), desc.colors.end());
-  materials.assign(desc.materials.begin(), desc.materials.end());
+  assignReusing(positions, desc.positions.begin(), desc.positions.end());
+  assignReusing(indices, desc.indices.begin(), desc.indices.end());
+  assignReusing(normals, desc.normals.begin(), desc.normals.end());
+  assignReusing(uvs, desc.uvs.begin(), desc.uvs.end());
+  assignReusing(lightmapUvs, desc.lightmapUvs.begin(), desc.lightmapUvs.end());
+  assignReusing(colors, desc.colors.begin(), desc.colors.end());
+  assignReusing(materials, desc.materials.begin(), desc.materials.end());
 }
 
 bool MeshGeometry::holds(const MeshDesc& desc) const {

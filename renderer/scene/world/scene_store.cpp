@@ -386,6 +386,7 @@ bool SceneStore::changesOnlyCameraOverlays() const {
 RenderScene SceneStore::commit() {
   RenderScene scene;
   commit(scene);
+  attachLights(scene);
   return scene;
 }
 
@@ -445,6 +446,21 @@ void SceneStore::commit(RenderScene& scene) {
   scene.overlayTlas.build(overlayInputs);
   scene.bounds = worldInputs.empty() ? Bounds{} : scene.worldTlas.bounds();
 
+  scene.portals = portals_;
+  scene.fogs = fogs_;
+  scene.sky = Sky(sky_, scene.textures);
+  // The lights are gathered when a render needs them (attachLights): the Lightmap integrator
+  // never samples lights, and its frames skip the pass over every world triangle.
+  scene.lights = LightSampler{};
+  scene.emissiveLookup.clear();
+  lightsAttached_ = false;
+  dirty_ = worldDirty_ = false;
+  touchedMeshes_.clear();
+}
+
+void SceneStore::attachLights(RenderScene& scene) {
+  if (lightsAttached_) return;
+  scene.emissiveLookup.clear();
   // Emissive triangles of world instances become area lights; sky windows bound how much sun
   // and sky light enters (their area-weighted normals go to the light sampler).
   std::vector<EmissiveTriangle> emissive;
@@ -515,12 +531,8 @@ void SceneStore::commit(RenderScene& scene) {
   for (const auto& l : lights_) {
     if (l) lights.push_back(*l);
   }
-  scene.portals = portals_;
-  scene.fogs = fogs_;
-  scene.sky = Sky(sky_, scene.textures);
   scene.lights = LightSampler(lights, std::move(emissive), scene.sky, scene.bounds, skyWindows);
-  dirty_ = worldDirty_ = false;
-  touchedMeshes_.clear();
+  lightsAttached_ = true;
 }
 
 void SceneStore::attachEnvironmentVisibility(RenderScene& scene) {

@@ -61,8 +61,12 @@ class SceneStore {
   /// RenderScene. Run inside the renderer's task arena. Throws SceneError (leaving the
   /// store unchanged) when an instance uses a removed mesh or an id is out of range.
   RenderScene commit();
-  /// The same, into scene (this store's previous commit, or empty), reusing its memory.
+  /// The same, into scene (this store's previous commit, or empty), reusing its memory, but
+  /// without the lights (scene.lights empty, no emissive lookup) until attachLights().
   void commit(RenderScene& scene);
+  /// Gives scene (this store's last commit) its light sampler: lights, emissive triangles of
+  /// the world instances and sky windows. Once per commit; integrators that sample lights need it.
+  void attachLights(RenderScene& scene);
   /// Gives scene (this store's last commit) the map of where sun and sky reach, which Direct and
   /// Path use to share light samples: traced from ~256k surface points (cached while the scene
   /// bounds, suns, sky and sky windows stay), so only renders that need it pay for it.
@@ -106,7 +110,8 @@ class SceneStore {
   std::vector<uint8_t> overrideFilteredScratch_;   ///< buildMeshes' per-mesh override flags.
   std::vector<TlasInstance> worldTlasInputs_;      ///< commit()'s TLAS inputs (memory kept).
   std::vector<TlasInstance> overlayTlasInputs_;
-  std::vector<LightDesc> lightScratch_;            ///< commit()'s live lights (memory kept).
+  std::vector<LightDesc> lightScratch_;            ///< attachLights()' live lights (memory kept).
+  bool lightsAttached_ = false;                    ///< The last commit has its lights.
   bool lastCommitOnlyCameraOverlays_ = false;
 };
 
