@@ -31,7 +31,7 @@ struct TracerSettings {
   bool printStats = false;   ///< r_pt_stats
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
   bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
-  bool restir = true;        ///< r_pt_restir: reservoir resampling of direct light on the direct and path presets
+  bool restir = false;       ///< r_pt_restir: reservoir resampling of direct light on the direct and path presets
 };
 
 /// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,

@@ -440,7 +440,11 @@ bool LightSampler::evaluate(const LightPoint& light, const glm::vec3& p, const g
       break;
     }
     case LightPoint::Kind::Triangle: {
-      if (light.index >= triangles_.size() || !(emissiveSelection(light.index, p, n) > 0.0f)) return false;
+      // emissiveSelection() > 0 without the lamps' sum: the local entry and the tree's branch
+      // probabilities are all that can be 0 (the tree's pmf is 0 where its root's importance is).
+      if (light.index >= triangles_.size() || localEntry_ == UINT32_MAX ||
+          !(emissiveTree_.pmf(light.index, p, n) > 0.0f))
+        return false;
       if (!connectTriangle(triangles_[light.index], p, glm::vec2(light.where), out)) return false;
       break;
     }
