@@ -44,6 +44,7 @@ void addTimings(ViewTimings& sum, const ViewTimings& t) {
   sum.resolveMs += t.resolveMs;
   sum.animationMs += t.animationMs;
   sum.animationUpdates += t.animationUpdates;
+  sum.resampleMs += t.resampleMs;
 }
 
 }  // namespace
@@ -97,19 +98,19 @@ void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
 void Module::printFrameStats(int nowMs) const {
   const FrameStats& s = stats_;
   const double n = s.frames;
-  const double accounted = s.world.sceneMs + s.world.commitMs + s.world.traceMs + s.world.temporalMs + s.world.denoiseMs +
+  const double accounted = s.world.sceneMs + s.world.commitMs + s.world.resampleMs + s.world.traceMs + s.world.temporalMs + s.world.denoiseMs +
                            s.world.resolveMs + s.uploadMs + s.modelViewMs + s.overlay2dMs + s.presentMs;
   // One line of name=value pairs (per-frame means) that scripts/engine_bench.sh parses.
   engine_.print(q3abi::PRINT_ALL,
                 "pathtracer: stats %s fps=%.1f frame_ms=%.2f world_views=%.2f scene_ms=%.2f commit_ms=%.2f "
                 "trace_ms=%.2f temporal_ms=%.2f denoise_ms=%.2f resolve_ms=%.2f upload_ms=%.2f model_views=%.2f model_view_ms=%.2f "
-                "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u anim_ms=%.3f anim_updates=%.2f "
+                "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u anim_ms=%.3f anim_updates=%.2f resample_ms=%.2f "
                 "allocations=%.2f\n",
                 presetName(settings_.tracer(engine_).preset), 1000.0 * n / std::max(1, nowMs - s.sinceMs),
                 s.frameMs / n, s.views / n, s.world.sceneMs / n, s.world.commitMs / n, s.world.traceMs / n,
                 s.world.temporalMs / n, s.world.denoiseMs / n, s.world.resolveMs / n, s.uploadMs / n, s.modelViews / n, s.modelViewMs / n,
                 s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n, s.accumulated,
-                s.world.animationMs / n, s.world.animationUpdates / n,
+                s.world.animationMs / n, s.world.animationUpdates / n, s.world.resampleMs / n,
                 static_cast<double>(allocationCount() - s.allocationsAtStart) / n);
 }
 

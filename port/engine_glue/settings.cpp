@@ -72,6 +72,9 @@ void Settings::registerCvars(const Engine& engine) {
   temporal_ = engine.cvar("r_pt_temporal", "1", CVAR_ARCHIVE,
                           "Temporal accumulation (reprojected history) on the direct and path presets (0 = off)");
   if (temporal_ != nullptr) ri.Cvar_CheckRange(temporal_, 0, 1, 1);
+  restir_ = engine.cvar("r_pt_restir", "0", CVAR_ARCHIVE,
+                        "Direct light by spatiotemporal reservoir resampling (ReSTIR) on the direct and path presets (0 = off)");
+  if (restir_ != nullptr) ri.Cvar_CheckRange(restir_, 0, 1, 1);
 }
 
 VideoModeRequest Settings::videoMode() const {
@@ -178,6 +181,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.printStats = stats_ != nullptr && stats_->integer != 0;
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
   out.temporal = temporal_ == nullptr || temporal_->integer != 0;
+  out.restir = restir_ != nullptr && restir_->integer != 0;
   return out;
 }
 

@@ -31,6 +31,7 @@ struct TracerSettings {
   bool printStats = false;   ///< r_pt_stats
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
   bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
+  bool restir = false;       ///< r_pt_restir: reservoir resampling of direct light on the direct and path presets
 };
 
 /// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,
@@ -100,6 +101,7 @@ class Settings {
   q3abi::cvar_t* intensity_ = nullptr;
   q3abi::cvar_t* flares_ = nullptr;
   q3abi::cvar_t* temporal_ = nullptr;
+  q3abi::cvar_t* restir_ = nullptr;
 };
 
 }  // namespace glue

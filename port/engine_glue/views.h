@@ -29,6 +29,7 @@ struct ViewTimings {
   double resolveMs = 0.0;   ///< Film resolve and display encode.
   double animationMs = 0.0;       ///< Part of sceneMs: world materials moved to the shader time.
   double animationUpdates = 0.0;  ///< Materials replaced for shader animation (world and entities).
+  double resampleMs = 0.0;  ///< Reservoir resampling of direct light (ReSTIR), before tracing.
 };
 
 /// A traced view: RGBA8, top row first; alpha 0 where nothing was hit (HUD model views).

@@ -795,6 +795,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   rs.denoise = settings.denoise && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
   // Views of the world only: HUD model views share one renderer between differing views.
   rs.temporal = settings.temporal && withWorld && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
+  rs.restir = settings.restir && withWorld && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
   // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does.
   if (lightmapLook) rs.tonemap = pa::Tonemap::Clamp;
   const pa::FrameView frame = d.renderer->render(camera, rs);
@@ -806,7 +807,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   }
   const ViewTimings timings{sceneMs, frame.timings.commitMs, frame.timings.traceMs, frame.timings.temporalMs,
                             frame.timings.denoiseMs, frame.timings.resolveMs, animationMs,
-                            double(d.animationUpdates + (withWorld ? d.worldAnimation.lastUpdates() : 0))};
+                            double(d.animationUpdates + (withWorld ? d.worldAnimation.lastUpdates() : 0)),
+                            frame.timings.resampleMs};
   return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), d.picture.data(), timings,
                        frame.accumulatedFrames};
 }

@@ -88,13 +88,15 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
       inlineValue = arg.substr(eq + 1);
     }
     if (name == "--progress" || name == "--quiet" || name == "-q" || name == "--denoise" ||
-        name == "--no-camera-packets") {
+        name == "--no-camera-packets" || name == "--restir") {
       if (inlineValue) {
         message = std::string(name) + " takes no value";
         return result;
       }
       if (name == "--no-camera-packets") {
         o.cameraPackets = false;
+      } else if (name == "--restir") {
+        o.restir = true;
       } else {
         (name == "--progress" ? o.progress : name == "--denoise" ? o.denoise : o.quiet) = true;
       }
@@ -237,6 +239,10 @@ Image and sampling:
                          meant for 1..few spp): the PNG and the EXR's R,G,B are filtered
   --no-camera-packets    Trace camera rays one by one instead of in 4x4 packets (same image;
                          for speed comparisons)
+  --restir               Direct light at each pixel's first hit by spatiotemporal reservoir
+                         resampling (ReSTIR DI, renderer/scene/restir) instead of one light
+                         sample; direct and path only. --stats gets resample_seconds and
+                         trace_seconds (summed over the frames)
   --play MODE            How the F frames combine: accumulate (default: one mean of F x N spp);
                          independent (as the game's direct/path: seed + frame, no accumulation,
                          the last frame is written); temporal (the same with temporal

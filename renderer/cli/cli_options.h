@@ -35,6 +35,7 @@ struct CliOptions {
   bool quiet = false;                           ///< No progress bar and no warnings; summary only.
   bool denoise = false;                         ///< Filter the image with the à-trous denoiser (--denoise).
   bool cameraPackets = true;                    ///< Camera rays in 4x4 packets (off: --no-camera-packets).
+  bool restir = false;                          ///< Reservoir resampling of direct light (--restir).
   /// How the frames combine (--play): accumulate into one mean; or play them as the game does
   /// (a new seed each, no accumulation), on their own or with temporal accumulation.
   enum class Play : uint8_t { Accumulate, Independent, Temporal } play = Play::Accumulate;

@@ -139,6 +139,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.tonemap = options.tonemap;
     settings.denoise = options.denoise;
     settings.cameraPackets = options.cameraPackets;
+    settings.restir = options.restir;
     const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);
 
     const bool showProgress = !options.quiet && (options.progress || ::isatty(::fileno(log)));
@@ -150,9 +151,12 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     std::vector<uint8_t> previousRgba8;
     double changeSum = 0.0;
     uint64_t changeCount = 0;
+    double resampleMs = 0.0, traceMs = 0.0;
     for (uint32_t f = 0; f < options.frames; ++f) {
       if (!settings.accumulate) settings.seed = options.seed + f;
       frame = renderer.render(view, settings);
+      resampleMs += frame.timings.resampleMs;
+      traceMs += frame.timings.traceMs;
       if (!settings.accumulate && f + kChangePairs >= options.frames) {
         if (!previousRgba8.empty()) {
           for (size_t i = 0; i + 3 < frame.rgba8.size(); i += 4) {
@@ -197,6 +201,9 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
           {"integrator", integratorName(options.integrator)},
           {"tonemap", tonemapName(options.tonemap)},
           {"denoise", options.denoise},
+          {"restir", options.restir},
+          {"resample_seconds", resampleMs / 1000.0},
+          {"trace_seconds", traceMs / 1000.0},
           {"exposure", exposure},
           {"auto_exposure", metered ? autoExposureJson(*metered) : nlohmann::json(nullptr)},
           {"spp", options.samplesPerPixel},

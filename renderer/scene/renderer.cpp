@@ -20,6 +20,7 @@
 #include "renderer/scene/film/film.h"
 #include "renderer/scene/integrator/camera_rays.h"
 #include "renderer/scene/integrator/integrator.h"
+#include "renderer/scene/restir/restir.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
 #include "renderer/scene/temporal/motion.h"
 #include "renderer/scene/temporal/temporal.h"
@@ -98,6 +99,8 @@ struct Renderer::Impl {
   temporal::GBuffer gbuffer;
   temporal::TemporalFilter temporal;
   bool temporalLast = false;            // the last render ran the temporal stage
+  restir::Resampler resampler;          // ReSTIR's reservoirs and their history
+  bool restirLast = false;              // the last render resampled
   bool sceneChanged = true;   // a commit happened since the last render
   bool worldChanged = true;   // ... that changed more than camera-only overlays
   bool environmentAttached = false;   // the committed scene has its sun/sky visibility map
@@ -185,6 +188,9 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   const bool temporalOn = settings.temporal && !settings.accumulate && settings.integrator != Integrator::Lightmap;
   if (!temporalOn || !im.temporalLast || !sameTemporalEstimate(settings, im.lastSettings)) im.temporal.reset();
   im.temporalLast = temporalOn;
+  const bool restirOn = settings.restir && settings.integrator != Integrator::Lightmap;
+  if (!restirOn || !im.restirLast) im.resampler.reset();
+  im.restirLast = restirOn;
   const bool keep = settings.accumulate && im.haveLast && !im.worldChanged && sameCamera(camera, im.lastCamera) &&
                     sameEstimate(settings, im.lastSettings);
   if (!keep) im.film.reset();
@@ -207,7 +213,12 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   const temporal::InstanceMotion& motions = im.motions;
   const CameraRays* previousCamera = previousRays ? &*previousRays : nullptr;
 
+  const restir::Resampler& resampler = im.resampler;
   im.arena.execute([&] {
+    if (restirOn) {
+      im.resampler.run(scene, rays, settings.width, settings.height, seedHash, firstSample, motions, previousCamera);
+      endPhase(timings.resampleMs);
+    }
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<uint32_t>& r) {
       for (uint32_t tile = r.begin(); tile != r.end(); ++tile) {
         const uint32_t x0 = (tile % tilesX) * kTileSize;
@@ -244,9 +255,13 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                 PixelState& p = pixels[i];
                 const sampling::PixelSampler sampler(p.seed, firstSample + s);
                 const glm::vec2 jitter = jitters[i];
+                ResampledLight resampled;
+                const bool useResampled = restirOn && s == 0 && resampler.covers(p.x, p.y);
+                if (useResampled) resampled = {resampler.at(p.x, p.y).light, resampler.at(p.x, p.y).weight};
                 const PixelSample sample =
                     traceSample(scene, rays, settings, static_cast<float>(p.x) + jitter.x,
-                                static_cast<float>(p.y) + jitter.y, sampler, settings.cameraPackets ? &traced[i] : nullptr);
+                                static_cast<float>(p.y) + jitter.y, sampler, settings.cameraPackets ? &traced[i] : nullptr,
+                                useResampled ? &resampled : nullptr);
                 if (s == 0) {
                   gbuffer.write(size_t{p.y} * settings.width + p.x, sample, static_cast<float>(p.x) + jitter.x,
                                 static_cast<float>(p.y) + jitter.y, motions, previousCamera);

@@ -365,6 +365,11 @@ struct RenderSettings {
   /// the camera's and the instances' motion, before the denoiser. Ignored by Lightmap and while
   /// accumulating. Its history starts again when size, integrator, spp, bounces or clamp change.
   bool temporal = false;
+  /// Direct light at each pixel's first diffuse or glossy hit by spatiotemporal reservoir
+  /// resampling (renderer/scene/restir, ReSTIR DI) instead of one light sample: many light
+  /// samples weighed per pixel, last frame's and neighbours' reused. Direct and Path only; its
+  /// history starts again when the image size changes. Unbiased for a still scene (README there).
+  bool restir = false;
 };
 
 }  // namespace pa

@@ -18,6 +18,7 @@ TEST(CliOptions, MinimalCommandUsesDefaults) {
   EXPECT_FALSE(r.options.exrOut.has_value());
   EXPECT_FALSE(r.options.statsOut.has_value());
   EXPECT_FALSE(r.options.denoise);
+  EXPECT_FALSE(r.options.restir);
   EXPECT_EQ(r.options.play, CliOptions::Play::Accumulate);
   EXPECT_EQ(r.options.width, 0u);
   EXPECT_EQ(r.options.samplesPerPixel, 16u);
@@ -33,7 +34,7 @@ TEST(CliOptions, ParsesEveryOption) {
                                "--threads", "3", "--integrator", "direct", "--camera", "1", "--clamp", "10.5",
                                "--exposure=2", "--frames", "5", "--exr", "o.exr", "--light-scale", "0.001",
                                "--stats", "s.json", "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png",
-                               "--denoise", "--play", "temporal"});
+                               "--denoise", "--play", "temporal", "--restir"});
   ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
   const CliOptions& o = r.options;
   EXPECT_EQ(o.play, CliOptions::Play::Temporal);
@@ -56,6 +57,7 @@ TEST(CliOptions, ParsesEveryOption) {
   EXPECT_TRUE(o.progress);
   EXPECT_EQ(o.tonemap, Tonemap::Clamp);
   EXPECT_TRUE(o.denoise);
+  EXPECT_TRUE(o.restir);
 }
 
 TEST(CliOptions, ExposureAutoMetersTheImage) {

@@ -11,6 +11,7 @@
 #include "renderer/scene/integrator/display_composite.h"
 #include "renderer/scene/materials/bsdf.h"
 #include "renderer/scene/media/fog_volumes.h"
+#include "renderer/scene/restir/restir.h"
 #include "renderer/scene/sampling/warp.h"
 
 namespace pa {
@@ -43,6 +44,7 @@ struct PreviousVertex {
   float bsdfPdf = 0.0f;
   glm::vec3 position{0.0f};
   glm::vec3 normal{0.0f};
+  bool resampled = false;     // its direct light came from reservoir resampling (no MIS: see traceSample)
 };
 
 /// Closest hit for the vertex at `depth`: the drawOnTop overlay first for camera rays.
@@ -103,12 +105,28 @@ glm::vec3 sampleDirectLight(const RenderScene& scene, const SurfaceHit& s, const
   return f * ls.radiance * (weight * throughFog / ls.pdf);
 }
 
+/// The direct light a reservoir's sample brings to a surface point (its visibility is known).
+glm::vec3 resampledDirectLight(const RenderScene& scene, const SurfaceHit& s, const Bsdf& bsdf, const glm::vec3& wo,
+                               const glm::vec3& ng, const glm::vec3& ns, const ResampledLight& resampled) {
+  LightSample ls;
+  if (!(resampled.weight > 0.0f) || !scene.lights.evaluate(resampled.light, s.position, ns, ls)) return glm::vec3(0.0f);
+  const glm::vec3 f = bsdf.evalCos(wo, ls.wi);
+  if (f == glm::vec3(0.0f)) return glm::vec3(0.0f);
+  float throughFog = 1.0f;
+  if (!scene.fogs.empty()) {
+    const Ray shadow = restir::shadowRayTo(s.position, ng, ls);
+    throughFog = FogSegment(scene.fogs, shadow.origin, shadow.dir, shadow.tmax, glm::length(shadow.dir)).transmittance();
+  }
+  return f * ls.radiance * (ls.jacobian * resampled.weight * throughFog);
+}
+
 /// Radiance arriving from the environment along dir, MIS-weighted against sky sampling. Seen
 /// (camera and mirror chains) until the path has scattered, lighting radiance after that.
 glm::vec3 environmentRadiance(const RenderScene& scene, const glm::vec3& dir, const PreviousVertex& prev,
                               bool scattered) {
   const glm::vec3 le = scattered ? scene.sky.lightingRadiance(dir) : scene.sky.radiance(dir);
   if (prev.delta) return le;
+  if (prev.resampled) return scene.lights.skyPdf(prev.position, prev.normal, dir) > 0.0f ? glm::vec3(0.0f) : le;
   return le * sampling::powerHeuristic(prev.bsdfPdf, scene.lights.skyPdf(prev.position, prev.normal, dir));
 }
 
@@ -126,7 +144,8 @@ glm::vec3 additiveThroughFog(const AdditiveHits& additive, float tHit, const Fog
 }  // namespace
 
 PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
-                        float px, float py, const sampling::PixelSampler& sampler, const TracedCameraRay* traced) {
+                        float px, float py, const sampling::PixelSampler& sampler, const TracedCameraRay* traced,
+                        const ResampledLight* resampled) {
   PixelSample out;
   Ray ray = traced ? traced->ray : camera.generate(px, py);
   glm::vec3 radiance(0.0f);
@@ -252,7 +271,8 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
         const uint32_t index = scene.emissiveIndex(s);
         const float lightPdf =
             index == kNoId ? 0.0f : scene.lights.emissivePdf(index, prev.position, prev.normal, s.position);
-        weight = sampling::powerHeuristic(prev.bsdfPdf, lightPdf);
+        // After a resampled vertex the reservoir carries every light the sampler can pick there.
+        weight = prev.resampled ? (lightPdf > 0.0f ? 0.0f : 1.0f) : sampling::powerHeuristic(prev.bsdfPdf, lightPdf);
       }
       gather(clampContribution(beta * le * weight, viewDepth, settings.radianceClamp));
     }
@@ -278,9 +298,11 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
 
     const Bsdf bsdf(albedo, m.desc.specular, m.desc.roughness, m.desc.mirror, ns, ng);
     const glm::vec4 uLight = sampler.get4(group + kGroupLight);
+    const bool useResampled = resampled != nullptr && depth == 0 && !bsdf.isDelta();
     if (!bsdf.isDelta()) {
-      glm::vec3 direct =
-          sampleDirectLight(scene, s, bsdf, wo, ng, ns, uLight, sampler.bits(group + kGroupRays + 1000));
+      glm::vec3 direct = useResampled ? resampledDirectLight(scene, s, bsdf, wo, ng, ns, *resampled)
+                                      : sampleDirectLight(scene, s, bsdf, wo, ng, ns, uLight,
+                                                          sampler.bits(group + kGroupRays + 1000));
       const AmbientLight& ambient = scene.sky.ambient();   // the author's unshadowed ambient and floor
       if (ambient.active()) direct = ambient.apply(direct, albedo * (1.0f - std::clamp(m.desc.specular, 0.0f, 1.0f)));
       radiance += clampContribution(beta * direct, depth + 1, settings.radianceClamp);   // never exempt
@@ -290,7 +312,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
     BsdfSample bs;
     if (!bsdf.sample(wo, glm::vec3(uBsdf.x, uBsdf.y, uBsdf.z), bs)) break;
     beta *= bs.weight;
-    prev = {bs.delta, bs.pdf, s.position, ns};
+    prev = {bs.delta, bs.pdf, s.position, ns, useResampled};
     if (!bs.delta) {
       ++scatterCount;
       coneSpread = std::max(coneSpread, bs.glossy ? 0.1f : 0.5f);

@@ -12,13 +12,22 @@
 
 namespace pa {
 
+/// The light sample reservoir resampling kept for a pixel's first hit (renderer/scene/restir):
+/// the integrator shades that hit with it instead of drawing its own light sample.
+struct ResampledLight {
+  LightPoint light;       ///< The sample, on its light.
+  float weight = 0.0f;    ///< Its unbiased contribution weight (0: none, or occluded).
+};
+
 /// Traces one camera sample through film position (px, py) and returns radiance and AOVs.
 /// A pure function of its arguments (the sampler carries pixel, seed and sample index).
 /// `traced`, when given, is this sample's camera ray already traced (cameraRayBits, packets of
 /// RenderScene::intersectCameraPacket): the sample starts from its hit instead of tracing it.
+/// `resampled`, when given, is the direct light of the first hit when that is diffuse or glossy:
+/// BSDF-sampled rays from there then count only lights the light sampler cannot pick.
 PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                         float px, float py, const sampling::PixelSampler& sampler,
-                        const TracedCameraRay* traced = nullptr);
+                        const TracedCameraRay* traced = nullptr, const ResampledLight* resampled = nullptr);
 
 /// Dimension groups of the sampler used per path vertex (group = kGroupsPerVertex * depth + k).
 inline constexpr uint32_t kGroupsPerVertex = 4;

@@ -255,6 +255,7 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
       if (!emissiveTree_.sample(p, n, uw / split.emissive, triangle, withinTree)) return false;
       selection *= split.emissive * withinTree;
       ok = sampleTriangle(triangles_[triangle], p, uv, out);
+      out.light.index = triangle;
     } else {
       uint32_t light = 0;
       float withinLamps = 0.0f;
@@ -262,9 +263,11 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
       if (!pickLocalLight(p, n, uw, split.lampWeight, light, withinLamps)) return false;
       selection *= (1.0f - split.emissive) * withinLamps;
       ok = sampleAnalytic(analytic_[light], p, uv, out);
+      out.light = {LightPoint::Kind::Lamp, light, glm::vec3(uv, 0.0f)};
     }
   } else if (entry < analytic_.size()) {
     ok = sampleAnalytic(analytic_[entry], p, uv, out);
+    out.light = {LightPoint::Kind::Sun, entry, glm::vec3(uv, 0.0f)};
   } else if (entry == skyEntry_) {
     glm::vec3 wi;
     float pdf;
@@ -281,6 +284,8 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
     out.radiance = sky_.lightingRadiance(wi);
     out.pdf = pdf;
     out.environment = true;
+    out.light = {LightPoint::Kind::Sky, 0, wi};
+    out.jacobian = 4.0f * kPi;
     ok = true;
   } else {
     return false;
@@ -388,7 +393,11 @@ bool LightSampler::sampleAnalytic(const LightDesc& l, const glm::vec3& p, const 
 
 bool LightSampler::sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u,
                                   LightSample& out) const {
-  const glm::vec2 bary = sampling::uniformTriangle(u);
+  return connectTriangle(tri, p, sampling::uniformTriangle(u), out);
+}
+
+bool LightSampler::connectTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& bary,
+                                   LightSample& out) const {
   const glm::vec3 q = tri.p0 + bary.x * tri.e1 + bary.y * tri.e2;
   const glm::vec3 d = q - p;
   const float dist2 = glm::dot(d, d);
@@ -407,7 +416,53 @@ bool LightSampler::sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& 
   out.delta = !tri.hittable;
   out.lightPoint = q;
   out.lightNormal = cosLight > 0.0f ? tri.normal : -tri.normal;
-  return std::isfinite(out.pdf);
+  out.light = {LightPoint::Kind::Triangle, 0, glm::vec3(bary, 0.0f)};
+  out.jacobian = 1.0f / out.pdf;
+  return std::isfinite(out.pdf) && out.pdf > 0.0f;
+}
+
+bool LightSampler::evaluate(const LightPoint& light, const glm::vec3& p, const glm::vec3& n, LightSample& out) const {
+  switch (light.kind) {
+    case LightPoint::Kind::Lamp: {
+      // sample() picks a lamp only through the local entry, in proportion to its weight at p, n.
+      if (localEntry_ == UINT32_MAX || light.index >= analytic_.size()) return false;
+      const LightDesc& l = analytic_[light.index];
+      if (l.type == LightType::Directional) return false;
+      if (!(localLightWeight(l, p) > 0.0f)) return false;
+      if (n != glm::vec3(0.0f) && glm::dot(l.position - p, n) + l.radius <= 0.0f) return false;
+      if (!sampleAnalytic(l, p, glm::vec2(light.where), out)) return false;
+      break;
+    }
+    case LightPoint::Kind::Sun: {
+      if (light.index >= analytic_.size() || analytic_[light.index].type != LightType::Directional) return false;
+      if (!(entryProbability(light.index, p, n) > 0.0f)) return false;
+      if (!sampleAnalytic(analytic_[light.index], p, glm::vec2(light.where), out)) return false;
+      break;
+    }
+    case LightPoint::Kind::Triangle: {
+      // emissiveSelection() > 0 without the lamps' sum: the local entry and the tree's branch
+      // probabilities are all that can be 0 (the tree's pmf is 0 where its root's importance is).
+      if (light.index >= triangles_.size() || localEntry_ == UINT32_MAX ||
+          !(emissiveTree_.pmf(light.index, p, n) > 0.0f))
+        return false;
+      if (!connectTriangle(triangles_[light.index], p, glm::vec2(light.where), out)) return false;
+      break;
+    }
+    case LightPoint::Kind::Sky: {
+      if (!(skyPdf(p, n, light.where) > 0.0f)) return false;
+      out = {};
+      out.wi = light.where;
+      out.distance = kInfinity;
+      out.radiance = sky_.lightingRadiance(light.where);
+      out.environment = true;
+      out.jacobian = 4.0f * kPi;
+      break;
+    }
+    default:
+      return false;
+  }
+  out.light = light;
+  return out.radiance != glm::vec3(0.0f);
 }
 
 float LightSampler::emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n) const {

@@ -47,6 +47,18 @@ struct EmissiveTriangle {
   bool hittable = true;                    ///< Bounce rays can hit it (else NEE gets full weight).
 };
 
+/// Which light a sample lies on and where, independent of the shading point, so that another
+/// point can evaluate the same sample (reservoir reuse, renderer/scene/restir). Each light's
+/// points carry a probability measure of their own: the sphere or cone parameter of a lamp or sun,
+/// barycentrics by area on a triangle, directions by solid angle / 4 pi for the sky.
+struct LightPoint {
+  /// The kind of light.
+  enum class Kind : uint8_t { None, Lamp, Sun, Triangle, Sky };
+  Kind kind = Kind::None;
+  uint32_t index = 0;        ///< Analytic light (lamp, sun) or emissive triangle index.
+  glm::vec3 where{0.0f};     ///< Lamp, sun: sample parameter (xy); triangle: barycentrics (xy); sky: unit direction.
+};
+
 /// A sampled light connection from a shading point.
 struct LightSample {
   glm::vec3 wi{0.0f};         ///< Unit direction toward the light.
@@ -57,6 +69,10 @@ struct LightSample {
   bool environment = false;   ///< Sun or sky: shadow rays pass sky surfaces.
   glm::vec3 lightPoint{0.0f};   ///< Sampled point on an area light (shadow ray end).
   glm::vec3 lightNormal{0.0f};  ///< Its geometric normal.
+  LightPoint light;             ///< The sample as a point on its light (sample() and evaluate()).
+  /// pdf x jacobian is the pdf over the light's own measure (LightPoint): |cos| area / d^2 for a
+  /// triangle, 4 pi for the sky, 1 for lamps and suns (their pdf is already a selection).
+  float jacobian = 1.0f;
 };
 
 /// Radiance emitted by an emissive triangle at barycentrics (b1, b2) toward a side.
@@ -77,6 +93,11 @@ class LightSampler {
   /// Picks a light (u.x) and a point on it (u.y, u.z; u.w for the sky's cell choice) for
   /// shading point p with normal n (facing the viewer).
   bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const;
+  /// The connection from shading point p with normal n to a point on a light that sample() could
+  /// have produced there (wi, distance, radiance, lightPoint, lightNormal, environment, delta,
+  /// jacobian; pdf is left unset). False when sample() at p, n gives that light probability 0
+  /// (or the light no longer exists): reservoir reuse counts on the sampler's support.
+  bool evaluate(const LightPoint& light, const glm::vec3& p, const glm::vec3& n, LightSample& out) const;
   /// Solid-angle pdf with which sample() picks the emissive triangle `index` at point q from
   /// point p with normal n (the arguments sample() was called with).
   float emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const;
@@ -111,6 +132,8 @@ class LightSampler {
   bool pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total, uint32_t& index,
                       float& probability) const;
   bool sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
+  /// The connection from p to the point of `tri` at barycentrics `bary`.
+  bool connectTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& bary, LightSample& out) const;
   /// Probability that sample() picks table entry `entry` at p, n (the table's own where the
   /// environment keeps its full share).
   float entryProbability(uint32_t entry, const glm::vec3& p, const glm::vec3& n) const;
