@@ -138,11 +138,29 @@ glm::vec3 emittedRadiance(const EmissiveTriangle& tri, glm::vec2 bary, bool fron
 LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<EmissiveTriangle> triangles,
                            const Sky& sky, const Bounds& sceneBounds, std::span<const glm::vec3> skyWindows)
     : analytic_(lights.begin(), lights.end()), triangles_(std::move(triangles)) {
+  buildTables(sky, sceneBounds, skyWindows);
+}
+
+void LightSampler::rebuild(std::span<const LightDesc> lights, std::span<const EmissiveTriangle> triangles,
+                           const Sky& sky, const Bounds& sceneBounds, std::span<const glm::vec3> skyWindows) {
+  analytic_.assign(lights.begin(), lights.end());
+  triangles_.assign(triangles.begin(), triangles.end());
+  buildTables(sky, sceneBounds, skyWindows);
+}
+
+void LightSampler::buildTables(const Sky& sky, const Bounds& sceneBounds, std::span<const glm::vec3> skyWindows) {
+  skyEntry_ = localEntry_ = UINT32_MAX;
+  localLights_.clear();
+  environmentEntries_.clear();
+  environmentShare_ = 0.0;
+  visibility_.reset();
   const double radius =
       sceneBounds.empty() ? 1.0 : std::max(1e-3, 0.5 * double{glm::length(sceneBounds.max - sceneBounds.min)});
-  std::vector<double> power;
+  std::vector<double>& power = power_;
+  power.clear();
   power.reserve(analytic_.size() + 2);
-  std::vector<LightBounds> emitters;
+  std::vector<LightBounds>& emitters = emitters_;
+  emitters.clear();
   emitters.reserve(triangles_.size());
   double localPower = 0.0;
   for (const EmissiveTriangle& t : triangles_) emitters.push_back(triangleBounds(t, localPower));
@@ -177,21 +195,22 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
     g.dx[lane] = l.direction.x, g.dy[lane] = l.direction.y, g.dz[lane] = l.direction.z;
     g.cosOuter[lane] = l.cosOuterAngle, g.cosInner[lane] = l.cosInnerAngle;
   }
-  emissiveTree_ = LightTree(emitters);
+  emissiveTree_.rebuild(emitters);
   if ((!emissiveTree_.empty() || !localLights_.empty()) && localPower > 0.0) {
     localEntry_ = static_cast<uint32_t>(power.size());
     power.push_back(localPower);
   }
+  sky_ = sky.black() ? Sky{} : sky;
   if (!sky.black()) {
-    sky_ = sky;
     skyEntry_ = static_cast<uint32_t>(power.size());
     // Radiance L over a hemisphere through area A carries pi L A.
     const double disc = kPi * radius * radius;
     const double area = skyWindows.empty() ? disc : std::max(1e-6 * disc, windowArea(skyWindows));
     power.push_back(kPi * meanComponent(sky.average()) * area);
   }
-  table_ = sampling::AliasTable(power);
-  std::vector<double> environmentPower;
+  table_.rebuild(power);
+  std::vector<double>& environmentPower = environmentPower_;
+  environmentPower.clear();
   for (uint32_t entry = 0; entry < table_.size(); ++entry) {
     const bool sun = entry < analytic_.size() && analytic_[entry].type == LightType::Directional;
     if ((!sun && entry != skyEntry_) || !(table_.pdf(entry) > 0.0f)) continue;
@@ -199,7 +218,7 @@ LightSampler::LightSampler(std::span<const LightDesc> lights, std::vector<Emissi
     environmentPower.push_back(table_.pdf(entry));
     environmentShare_ += table_.pdf(entry);
   }
-  environmentTable_ = sampling::AliasTable(environmentPower);
+  environmentTable_.rebuild(environmentPower);
   if (environmentTable_.empty()) environmentShare_ = 0.0;
 }
 

@@ -87,6 +87,10 @@ class LightSampler {
   /// what passes through them, else what falls on the scene's bounding disc.
   LightSampler(std::span<const LightDesc> lights, std::vector<EmissiveTriangle> triangles, const Sky& sky,
                const Bounds& sceneBounds, std::span<const glm::vec3> skyWindows = {});
+  /// The same, in place (the environment visibility is dropped): rebuilding over as many lights
+  /// as before allocates nothing.
+  void rebuild(std::span<const LightDesc> lights, std::span<const EmissiveTriangle> triangles, const Sky& sky,
+               const Bounds& sceneBounds, std::span<const glm::vec3> skyWindows = {});
 
   /// True when there is no light at all.
   bool empty() const { return table_.empty(); }
@@ -142,8 +146,14 @@ class LightSampler {
     return visibility_ != nullptr && mixesEnvironmentAndLocal() ? visibility_->share(p, n) : 1.0f;
   }
 
+  /// Builds everything from analytic_ and triangles_.
+  void buildTables(const Sky& sky, const Bounds& sceneBounds, std::span<const glm::vec3> skyWindows);
+
   std::vector<LightDesc> analytic_;
   std::vector<EmissiveTriangle> triangles_;
+  // buildTables' working arrays, kept for rebuilds.
+  std::vector<double> power_, environmentPower_;
+  std::vector<LightBounds> emitters_;
   Sky sky_;
   uint32_t skyEntry_ = UINT32_MAX;
   uint32_t localEntry_ = UINT32_MAX;   ///< The table entry of all local emitters.

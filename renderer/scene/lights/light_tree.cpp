@@ -135,9 +135,13 @@ float lightImportance(const LightBounds& b, const glm::vec3& p, const glm::vec3&
   return std::isfinite(importance) ? std::max(importance, 0.0f) : 0.0f;
 }
 
-LightTree::LightTree(std::span<const LightBounds> lights) {
+LightTree::LightTree(std::span<const LightBounds> lights) { rebuild(lights); }
+
+void LightTree::rebuild(std::span<const LightBounds> lights) {
+  nodes_.clear();
   leafOfLight_.assign(lights.size(), UINT32_MAX);
-  std::vector<uint32_t> ids;
+  std::vector<uint32_t>& ids = ids_;
+  ids.clear();
   for (uint32_t i = 0; i < lights.size(); ++i) {
     if (lights[i].power > 0.0f && std::isfinite(lights[i].power) && finiteBounds(lights[i])) ids.push_back(i);
   }

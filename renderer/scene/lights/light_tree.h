@@ -56,6 +56,8 @@ class LightTree {
   /// Builds the tree over the emitters (index = position in the span). Emitters with zero,
   /// negative or non-finite power or bounds are left out (their pmf is 0).
   explicit LightTree(std::span<const LightBounds> lights);
+  /// The same, in place: a tree rebuilt over as many emitters as before allocates nothing.
+  void rebuild(std::span<const LightBounds> lights);
 
   /// True when no emitter can be chosen.
   bool empty() const { return nodes_.empty(); }
@@ -84,6 +86,7 @@ class LightTree {
 
   std::vector<Node> nodes_;
   std::vector<uint32_t> leafOfLight_;   ///< Emitter index -> its leaf (UINT32_MAX when left out).
+  std::vector<uint32_t> ids_;           ///< The build's emitter list, kept for rebuilds.
 };
 
 }  // namespace pa

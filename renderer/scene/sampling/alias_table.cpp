@@ -5,9 +5,16 @@
 
 namespace pa::sampling {
 
-AliasTable::AliasTable(std::span<const double> weights) {
+AliasTable::AliasTable(std::span<const double> weights) { rebuild(weights); }
+
+void AliasTable::rebuild(std::span<const double> weights) {
   const size_t n = weights.size();
-  std::vector<double> w(n);
+  total_ = 0.0;
+  threshold_.clear();
+  alias_.clear();
+  pdf_.clear();
+  std::vector<double>& w = weights_;
+  w.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const double x = weights[i];
     w[i] = (std::isfinite(x) && x > 0.0) ? x : 0.0;
@@ -20,8 +27,12 @@ AliasTable::AliasTable(std::span<const double> weights) {
   pdf_.resize(n);
   threshold_.assign(n, 1.0f);
   alias_.resize(n);
-  std::vector<double> scaled(n);
-  std::vector<uint32_t> small, large;
+  std::vector<double>& scaled = scaled_;
+  scaled.resize(n);
+  std::vector<uint32_t>& small = small_;
+  std::vector<uint32_t>& large = large_;
+  small.clear();
+  large.clear();
   for (size_t i = 0; i < n; ++i) {
     pdf_[i] = static_cast<float>(w[i] / total_);
     scaled[i] = w[i] / total_ * static_cast<double>(n);

@@ -12,6 +12,8 @@ class AliasTable {
   AliasTable() = default;
   /// Builds from weights; negative or non-finite weights count as 0. All-zero -> empty table.
   explicit AliasTable(std::span<const double> weights);
+  /// The same, in place: a table rebuilt over as many weights as before allocates nothing.
+  void rebuild(std::span<const double> weights);
 
   /// True when there is nothing to sample (no weight > 0).
   bool empty() const { return total_ <= 0.0; }
@@ -29,6 +31,9 @@ class AliasTable {
   std::vector<uint32_t> alias_;
   std::vector<float> pdf_;
   double total_ = 0.0;
+  // The build's working arrays, kept for rebuilds.
+  std::vector<double> weights_, scaled_;
+  std::vector<uint32_t> small_, large_;
 };
 
 }  // namespace pa::sampling

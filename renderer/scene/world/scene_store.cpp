@@ -451,8 +451,7 @@ void SceneStore::commit(RenderScene& scene) {
   scene.sky = Sky(sky_, scene.textures);
   // The lights are gathered when a render needs them (attachLights): the Lightmap integrator
   // never samples lights, and its frames skip the pass over every world triangle.
-  scene.lights = LightSampler{};
-  scene.emissiveLookup.clear();
+  scene.emissiveLookup.clear();   // scene.lights keeps its memory for the next attachLights
   lightsAttached_ = false;
   dirty_ = worldDirty_ = false;
   touchedMeshes_.clear();
@@ -463,7 +462,8 @@ void SceneStore::attachLights(RenderScene& scene) {
   scene.emissiveLookup.clear();
   // Emissive triangles of world instances become area lights; sky windows bound how much sun
   // and sky light enters (their area-weighted normals go to the light sampler).
-  std::vector<EmissiveTriangle> emissive;
+  std::vector<EmissiveTriangle>& emissive = emissiveScratch_;
+  emissive.clear();
   std::vector<glm::vec3>& skyWindows = skyWindows_;
   skyWindows.clear();
   for (RenderInstance& inst : scene.world) {
@@ -531,7 +531,7 @@ void SceneStore::attachLights(RenderScene& scene) {
   for (const auto& l : lights_) {
     if (l) lights.push_back(*l);
   }
-  scene.lights = LightSampler(lights, std::move(emissive), scene.sky, scene.bounds, skyWindows);
+  scene.lights.rebuild(lights, emissive, scene.sky, scene.bounds, skyWindows);
   lightsAttached_ = true;
 }
 

@@ -112,6 +112,7 @@ class SceneStore {
   std::vector<TlasInstance> overlayTlasInputs_;
   std::vector<LightDesc> lightScratch_;            ///< attachLights()' live lights (memory kept).
   bool lightsAttached_ = false;                    ///< The last commit has its lights.
+  std::vector<EmissiveTriangle> emissiveScratch_;  ///< attachLights()' emissive triangles (memory kept).
   bool lastCommitOnlyCameraOverlays_ = false;
 };
 
