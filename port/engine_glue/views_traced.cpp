@@ -271,14 +271,7 @@ struct ViewRenderer::Impl {
   template <typename Geometry>
   void showInSlot(DynamicSlot& slot, const Geometry& geometry, const std::vector<pa::MaterialId>& materials,
                   pa::InstanceDesc instance) {
-    pa::MeshDesc mesh;
-    mesh.positions = geometry.positions;
-    mesh.indices = geometry.indices;
-    mesh.normals = geometry.normals;
-    mesh.uvs = geometry.uvs;
-    mesh.colors = geometry.colors;
-    mesh.materials = materials;
-    mesh.dynamic = true;
+    const pa::MeshDesc mesh = pa::meshDescOf(geometry, materials, true);
     if (slot.mesh == pa::kNoId) slot.mesh = renderer->addMesh(mesh);
     else renderer->updateMesh(slot.mesh, mesh);
     instance.mesh = slot.mesh;
