@@ -256,13 +256,14 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
     }
   }
 
-  if (options.sky) renderer.setSky(skyDesc(scene, handles, options));
-  if (options.fog) {
-    const FogVolumes fog = fogVolumes(scene, options.lightScale);
-    renderer.setFogVolumes(fog.volumes);
-    handles.fogVolumes = fog.volumes.size();
-  }
+  handles.sky = skyDesc(scene, handles, options);
+  handles.fog = fogVolumes(scene, options.lightScale);
   return handles;
+}
+
+void showSkyAndFog(const WorldHandles& handles, Renderer& renderer) {
+  renderer.setSky(handles.sky);
+  renderer.setFogVolumes(handles.fog.volumes);
 }
 
 FogVolumes fogVolumes(const q3::WorldScene& scene, float lightScale) {
