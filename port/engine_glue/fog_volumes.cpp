@@ -1,9 +1,11 @@
 #include "port/engine_glue/fog_volumes.h"
 
+#include <utility>
+
 namespace glue {
 
-void ViewFog::load(const q3::WorldScene& scene, pa::Renderer& renderer) {
-  volumes_ = pa::bridge::fogVolumes(scene);
+void ViewFog::load(pa::bridge::FogVolumes volumes, pa::Renderer& renderer) {
+  volumes_ = std::move(volumes);
   renderer.setFogVolumes(volumes_.volumes);
   shown_ = true;
 }

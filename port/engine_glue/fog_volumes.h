@@ -3,7 +3,6 @@
 // views without the world (RDF_NOWORLDMODEL: HUD heads, menus) and put back after them.
 #include <cstddef>
 
-#include "port/q3formats/world/world_scene.h"
 #include "port/scene_bridge/scene_bridge.h"
 #include "renderer/scene/renderer.h"
 
@@ -12,8 +11,8 @@ namespace glue {
 /// Which fog volumes the tracer holds.
 class ViewFog {
  public:
-  /// Hands the map's fog volumes to the renderer (shown).
-  void load(const q3::WorldScene& scene, pa::Renderer& renderer);
+  /// Keeps the map's fog volumes (WorldHandles::fog) and hands them to the renderer (shown).
+  void load(pa::bridge::FogVolumes volumes, pa::Renderer& renderer);
   /// Shows the volumes for a view with the world, none for a view without it (no-op when unchanged).
   void show(bool withWorld, pa::Renderer& renderer);
   /// Number of volumes of the map.

@@ -117,7 +117,7 @@ void Module::loadWorld(const char* name) {
   auto bytes = engine_.readFile(name);
   if (!bytes) throw DropError(std::string("LoadWorld: ") + name + " not found");
   try {
-    world_ = std::make_unique<World>(*bytes, name);
+    world_ = std::make_unique<World>(*bytes, name, scripts_.shared());
   } catch (const q3::FormatError& error) {
     throw DropError(std::string("LoadWorld: ") + error.what());
   }

@@ -2,6 +2,8 @@
 
 #include <GL/gl.h>
 
+#include <utility>
+
 #include "port/engine_glue/engine.h"
 
 namespace glue {
@@ -135,12 +137,12 @@ ShaderLook lookOfShader(const q3::ShaderDef& shader) {
 }
 
 bool ShaderScripts::addScript(std::string_view text, const std::string& file) {
-  return library_.addScript(text, file);
+  return library_->addScript(text, file);
 }
 
 void ShaderScripts::load(const Engine& engine) {
-  library_ = q3::ShaderLibrary();
-  library_.addScriptsInEngineOrder(
+  auto library = std::make_shared<q3::ShaderLibrary>();
+  library->addScriptsInEngineOrder(
       engine.listFiles("scripts", ".shader"),
       [&engine](const std::string& file) -> std::optional<std::vector<std::byte>> {
         const auto bytes = engine.readFile("scripts/" + file);
@@ -148,11 +150,12 @@ void ShaderScripts::load(const Engine& engine) {
         const auto* first = reinterpret_cast<const std::byte*>(bytes->data());
         return std::vector<std::byte>(first, first + bytes->size());
       });
-  for (const std::string& error : library_.errors()) engine.warn("shader script ignored: " + error);
+  for (const std::string& error : library->errors()) engine.warn("shader script ignored: " + error);
+  library_ = std::move(library);
 }
 
 std::optional<ShaderLook> ShaderScripts::find(std::string_view name) const {
-  const q3::ShaderDef* shader = library_.find(name);
+  const q3::ShaderDef* shader = library_->find(name);
   if (!shader) return std::nullopt;
   return lookOfShader(*shader);
 }

@@ -5,6 +5,7 @@
 // q3::ShaderDef into the module's drawable summary.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -84,11 +85,12 @@ unsigned glBlendFactor(q3::BlendFactor factor);
 /// later additive stages of an additive shader, as layers, or the shine stage of an opaque one).
 ShaderLook lookOfShader(const q3::ShaderDef& shader);
 
-/// The index of every shader script in the game file system.
+/// The index of every shader script in the game file system, read once per registration.
 class ShaderScripts {
  public:
-  /// Reads scripts/*.shader through the engine in the engine's priority order (replaces any
-  /// earlier index); a malformed script is skipped with a warning, as the engine does.
+  /// Reads scripts/*.shader through the engine in the engine's priority order into a new
+  /// index (a World loaded earlier keeps the old one); a malformed script is skipped with a
+  /// warning, as the engine does.
   void load(const Engine& engine);
   /// Parses one script's text into the index (first definition of a name wins). False (and
   /// nothing added) when the script is malformed.
@@ -97,10 +99,12 @@ class ShaderScripts {
   /// script defines it.
   std::optional<ShaderLook> find(std::string_view name) const;
   /// Number of shader definitions indexed.
-  size_t size() const { return library_.size(); }
+  size_t size() const { return library_->size(); }
+  /// The parsed scripts, shared with the World loaded in this registration.
+  std::shared_ptr<const q3::ShaderLibrary> shared() const { return library_; }
 
  private:
-  q3::ShaderLibrary library_;
+  std::shared_ptr<q3::ShaderLibrary> library_ = std::make_shared<q3::ShaderLibrary>();
 };
 
 }  // namespace glue

@@ -1,5 +1,6 @@
-// ViewRenderer over pa::Renderer. The map is parsed once per LoadWorld (glue::World's q3::BspFile
-// -> q3::WorldScene -> pa_scene_bridge; portal surfaces -> PortalViews, portals.h); per view,
+// ViewRenderer over pa::Renderer. The map is read once per LoadWorld (glue::World's q3::BspFile,
+// tessellation and shader library -> q3::WorldScene -> pa_scene_bridge, whose sky and fog it
+// shows; portal surfaces -> PortalViews, portals.h); per view,
 // brush sub-models get their entity transforms, every MD3 entity becomes a dynamic mesh
 // instance, effects and polygons one world-space dynamic mesh, dynamic lights reuse a pool of
 // renderer lights, portals follow the frame's RT_PORTALSURFACE entities, and the frame is traced
@@ -284,14 +285,7 @@ struct ViewRenderer::Impl {
   template <typename Geometry>
   void showInSlot(DynamicSlot& slot, const Geometry& geometry, const std::vector<pa::MaterialId>& materials,
                   pa::InstanceDesc instance) {
-    pa::MeshDesc mesh;
-    mesh.positions = geometry.positions;
-    mesh.indices = geometry.indices;
-    mesh.normals = geometry.normals;
-    mesh.uvs = geometry.uvs;
-    mesh.colors = geometry.colors;
-    mesh.materials = materials;
-    mesh.dynamic = true;
+    const pa::MeshDesc mesh = pa::meshDescOf(geometry, materials, true);
     if (slot.mesh == pa::kNoId) slot.mesh = renderer->addMesh(mesh);
     else renderer->updateMesh(slot.mesh, mesh);
     instance.mesh = slot.mesh;
@@ -573,21 +567,14 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   const Engine& engine = d.engine;
   const int start = engine.milliseconds();
   const q3::BspFile& bsp = world.bsp();
-  q3::ShaderLibrary library;
-  std::vector<std::string> scripts;
-  for (const std::string& name : engine.listFiles("scripts", ".shader")) scripts.push_back("scripts/" + name);
-  for (const std::string& path : q3::scriptsInPriorityOrder(scripts)) {
-    const auto bytes = engine.readFile(path);
-    if (!bytes) continue;
-    library.addScript(std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()), path);
-  }
+  const q3::ShaderLibrary& library = world.shaders();
   const q3::FileLoader loader = [&](std::string_view path) -> std::optional<std::vector<std::byte>> {
     auto bytes = engine.readFile(std::string(path));
     if (!bytes) return std::nullopt;
     const auto* p = reinterpret_cast<const std::byte*>(bytes->data());
     return std::vector<std::byte>(p, p + bytes->size());
   };
-  d.worldScene = q3::buildWorldScene(bsp, library, loader);
+  d.worldScene = q3::buildWorldScene(bsp, world.surfaces(), library, loader);
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
   stockWorldLook(*d.worldScene, library, d.glowColors, d.pictureSettings.lightShift());
@@ -596,13 +583,14 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   pa::bridge::UploadOptions upload;
   upload.lightmapShift = d.pictureSettings.lightShift();
   d.world = pa::bridge::uploadWorld(*d.worldScene, *d.renderer, upload);
+  d.bridgeSky = d.world.sky;
+  d.renderer->setSky(d.bridgeSky);
+  d.fog.load(std::move(d.world.fog), *d.renderer);
   d.worldDeforms.bind(*d.worldScene, d.world);
   d.worldAnimation.prepare(*d.worldScene, library, d.world, *d.renderer, [&](const std::string& path, bool clamp) {
     return d.texture(images.load(engine, path), clamp);
   });
-  d.fog.load(*d.worldScene, *d.renderer);
   d.portals.load(bsp, *d.worldScene);
-  d.bridgeSky = pa::bridge::skyDesc(*d.worldScene, d.world);
   d.prepareStockSky(library, images);
   d.dlightBuilder.prepare(*d.worldScene);
   d.scripts = &moduleScripts;
@@ -613,7 +601,7 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
     d.brushInstances[m].mesh = m < d.world.modelMeshes.size() ? d.world.modelMeshes[m] : pa::kNoId;
     d.brushInstances[m].mask = pa::kMaskAll;
   }
-  d.modelDeforms.reset(std::make_shared<const q3::ShaderLibrary>(std::move(library)));
+  d.modelDeforms.reset(world.sharedShaders());
   d.renderer->commit();
   engine.print(q3abi::PRINT_ALL,
                "pathtracer: %s traced scene: %zu materials, %zu textures, %zu lights, %llu "

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cstring>
 #include <span>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
 #include "port/q3formats/bsp/light_grid.h"
 #include "port/q3formats/bsp/tessellate.h"
+#include "port/q3formats/world/world_scene.h"
 
 namespace glue {
 namespace {
@@ -28,14 +30,17 @@ q3::Tokenizer entityTokenizer(const q3::BspFile& bsp) {
 
 }  // namespace
 
-World::World(const std::vector<uint8_t>& bytes, const std::string& name)
+World::World(const std::vector<uint8_t>& bytes, const std::string& name,
+             std::shared_ptr<const q3::ShaderLibrary> shaders)
     : bsp_(q3::parseBsp(std::as_bytes(std::span(bytes)), name)),
+      surfaces_(q3::tessellateSurfaces(bsp_, q3::worldTessellation())),
+      shaders_(std::move(shaders)),
       entityTokens_(entityTokenizer(bsp_)),
       shiftedGrid_(q3::shiftLightGridColors(bsp_.lightGrid, kMapOverbrightShift)) {
-  // Decals land on the triangles the tracer draws: the same tessellation (default options, as
-  // q3::buildWorldScene uses), turned back to Quake's clockwise winding.
+  // Decals land on the triangles the tracer draws (the scene is built from surfaces_), turned
+  // back to Quake's clockwise winding.
   markSurfaces_.resize(bsp_.surfaces.size());
-  for (const q3::SurfaceMesh& mesh : q3::tessellateSurfaces(bsp_)) {
+  for (const q3::SurfaceMesh& mesh : surfaces_) {
     if (mesh.model != 0 || mesh.surfaceIndex >= bsp_.surfaces.size()) continue;   // movers take no marks
     const q3::BspSurface& surface = bsp_.surfaces[mesh.surfaceIndex];
     const q3::BspShader& shader = bsp_.shaders[static_cast<size_t>(surface.shader)];

@@ -1,11 +1,15 @@
 #pragma once
-// The loaded map as the module's game-side queries need it, on top of the one formats library
-// (port/q3formats/bsp): GetEntityToken over the entity lump, brush sub-model bounds
-// (ModelBounds of "*N"), LightForPoint (light grid), inPVS (BSP tree + visibility rows) and
-// MarkFragments (decals clipped against the same tessellated triangles the tracer draws).
+// The loaded map, read once per LoadWorld: the parsed BSP, its surfaces tessellated once and
+// the shader library of the registration it was loaded in. The traced views build their scene
+// from it (views_traced.cpp: q3::buildWorldScene over these surfaces and shaders), and it
+// answers the module's game-side queries on top of the formats library (port/q3formats/bsp):
+// GetEntityToken over the entity lump, brush sub-model bounds (ModelBounds of "*N"),
+// LightForPoint (light grid), inPVS (BSP tree + visibility rows) and MarkFragments (decals
+// clipped against the same tessellated triangles the tracer draws).
 // Every query follows the stock opengl1 renderer of ioquake3 (see the comments in
 // world_queries.cpp for the engine behaviour each one keeps).
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,7 +17,9 @@
 
 #include "port/engine_glue/ioq3_abi.h"
 #include "port/q3formats/bsp/bsp_file.h"
+#include "port/q3formats/bsp/surface_mesh.h"
 #include "port/q3formats/common/tokenizer.h"
+#include "port/q3formats/shader/shader_library.h"
 
 namespace glue {
 
@@ -34,11 +40,13 @@ struct MarkSurface {
   uint32_t numCorners = 0;
 };
 
-/// One BSP file, parsed and validated by q3::parseBsp.
+/// One BSP file, parsed and validated by q3::parseBsp, with its tessellation and shaders.
 class World {
  public:
-  /// Parses and tessellates the map (throws q3::FormatError naming the file and field).
-  World(const std::vector<uint8_t>& bytes, const std::string& name);
+  /// Parses and tessellates the map (throws q3::FormatError naming the file and field);
+  /// `shaders` are the scripts it is drawn with (the module's, ShaderScripts::shared()).
+  World(const std::vector<uint8_t>& bytes, const std::string& name,
+        std::shared_ptr<const q3::ShaderLibrary> shaders = std::make_shared<const q3::ShaderLibrary>());
   World(const World&) = delete;             // the entity tokenizer views bsp_.entities
   World& operator=(const World&) = delete;
 
@@ -46,6 +54,13 @@ class World {
   const std::string& name() const { return bsp_.fileName; }
   /// The parsed map.
   const q3::BspFile& bsp() const { return bsp_; }
+  /// Its drawable surfaces, tessellated as q3::buildWorldScene does by default
+  /// (q3::worldTessellation()), counter-clockwise.
+  const std::vector<q3::SurfaceMesh>& surfaces() const { return surfaces_; }
+  /// The shader scripts the map is drawn with.
+  const q3::ShaderLibrary& shaders() const { return *shaders_; }
+  /// The same, shared (for what keeps the library beyond this map's load).
+  const std::shared_ptr<const q3::ShaderLibrary>& sharedShaders() const { return shaders_; }
   /// Sub-models, index 0 = the world ("*N" is index N).
   const std::vector<q3::BspModel>& brushModels() const { return bsp_.models; }
   /// GetEntityToken: copies the next token of the entity string (COM_Parse rules, truncated to
@@ -74,6 +89,8 @@ class World {
                                              const glm::vec3& dir) const;
 
   q3::BspFile bsp_;
+  std::vector<q3::SurfaceMesh> surfaces_;
+  std::shared_ptr<const q3::ShaderLibrary> shaders_;
   q3::Tokenizer entityTokens_;
   q3::BspLightGrid shiftedGrid_;          ///< colours brightened as the engine does at load
   std::vector<MarkSurface> markSurfaces_;  ///< per BSP surface

@@ -243,15 +243,7 @@ void WorldDeforms::update(double seconds, const Placement& placement, pa::Render
         std::copy(piece.mesh.normals.begin(), piece.mesh.normals.end(), normals.begin());
         deformVertices(piece.deforms, seconds, positions, normals, piece.mesh.uvs);
       }
-      pa::MeshDesc mesh;
-      mesh.positions = group.positions;
-      mesh.indices = group.indices;
-      mesh.normals = group.normals;
-      mesh.uvs = group.uvs;
-      mesh.lightmapUvs = group.lightmapUvs;
-      mesh.colors = group.colors;
-      mesh.materials = group.materials;
-      mesh.dynamic = true;
+      const pa::MeshDesc mesh = pa::meshDescOf(group, group.materials, true);
       if (group.mesh == pa::kNoId) group.mesh = renderer.addMesh(mesh);
       else renderer.updateMesh(group.mesh, mesh);
     }

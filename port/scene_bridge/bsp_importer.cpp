@@ -69,7 +69,8 @@ cli::ImportedScene BspImporter::load(const std::filesystem::path& path, Renderer
                                                  : game.build(readLooseFile(where.looseFile), where.looseFile.string());
   UploadOptions upload;
   upload.lightScale = options.lightScale;
-  WorldHandles handles = uploadWorld(scene, renderer, upload);
+  const WorldHandles handles = uploadWorld(scene, renderer, upload);
+  showSkyAndFog(handles, renderer);
 
   cli::ImportedScene out;
   out.worldUp = glm::vec3(0.0f, 0.0f, 1.0f);

@@ -58,6 +58,14 @@ void setSurfaceLightEmission(const q3::WorldScene& scene, const WorldHandles& ha
   desc.emission = radiance;
 }
 
+/// One model's vertex and index arrays, gathered from its meshes.
+struct ModelArrays {
+  std::vector<glm::vec3> positions, normals;
+  std::vector<glm::vec2> uvs, lightmapUvs;
+  std::vector<glm::vec4> colors;
+  std::vector<uint32_t> indices;
+};
+
 }  // namespace
 
 std::vector<uint8_t> colorShiftLightmap(const std::vector<uint8_t>& rgba8, int shift) {
@@ -163,10 +171,8 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
 
   for (size_t modelIndex = 0; modelIndex < scene.models.size(); ++modelIndex) {
     const q3::WorldModel& model = scene.models[modelIndex];
-    std::vector<glm::vec3> positions, normals;
-    std::vector<glm::vec2> uvs, lightmapUvs;
-    std::vector<glm::vec4> colors;
-    std::vector<uint32_t> indices;
+    ModelArrays arrays;
+    auto& [positions, normals, uvs, lightmapUvs, colors, indices] = arrays;
     std::vector<MaterialId> triangleMaterials;
     for (const q3::WorldMesh& mesh : model.meshes) {
       const size_t n = mesh.positions.size();
@@ -213,15 +219,7 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
       handles.modelInstances.push_back(kNoId);
       continue;
     }
-    MeshDesc mesh;
-    mesh.positions = positions;
-    mesh.indices = indices;
-    mesh.normals = normals;
-    mesh.uvs = uvs;
-    mesh.lightmapUvs = lightmapUvs;
-    mesh.colors = colors;
-    mesh.materials = triangleMaterials;
-    MeshId id = renderer.addMesh(mesh);
+    MeshId id = renderer.addMesh(meshDescOf(arrays, triangleMaterials));
     handles.modelMeshes.push_back(id);
     InstanceDesc instance;
     instance.mesh = id;
@@ -258,13 +256,14 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
     }
   }
 
-  if (options.sky) renderer.setSky(skyDesc(scene, handles, options));
-  if (options.fog) {
-    const FogVolumes fog = fogVolumes(scene, options.lightScale);
-    renderer.setFogVolumes(fog.volumes);
-    handles.fogVolumes = fog.volumes.size();
-  }
+  handles.sky = skyDesc(scene, handles, options);
+  handles.fog = fogVolumes(scene, options.lightScale);
   return handles;
+}
+
+void showSkyAndFog(const WorldHandles& handles, Renderer& renderer) {
+  renderer.setSky(handles.sky);
+  renderer.setFogVolumes(handles.fog.volumes);
 }
 
 FogVolumes fogVolumes(const q3::WorldScene& scene, float lightScale) {

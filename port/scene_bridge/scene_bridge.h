@@ -24,30 +24,15 @@ namespace pa::bridge {
 /// Knobs of uploadWorld.
 struct UploadOptions {
   bool lights = true;        ///< Add the map's analytic lights (light entities, q3map_sun).
-  bool sky = true;           ///< Set the sky (box faces or colour).
   float lightScale = 1.0f;   ///< Multiplies every light intensity and emission (artistic exposure).
   float skyIntensity = 1.0f; ///< Radiance multiplier of the sky.
   /// Refit the light-grid estimated lights against the lightmaps (light_calibration.h);
   /// WorldHandles::lights then follows the calibrated list, not scene.lights.
   bool calibrateEstimatedLights = true;
   q3::LightCalibrationOptions calibration;   ///< Knobs of that calibration.
-  bool fog = true;           ///< Set the map's fog volumes (fogVolumes()).
   /// Lightmaps are brightened by 2^lightmapShift with hue-keeping saturation (Quake's
   /// r_mapOverBrightBits minus the display's overbright bits; 2 by default).
   int lightmapShift = 2;
-};
-
-/// Renderer ids of everything uploaded, indexed like the WorldScene arrays.
-struct WorldHandles {
-  std::vector<TextureId> textures;          ///< Per WorldScene::textures (kNoId when empty).
-  std::vector<TextureId> lightmaps;         ///< Per WorldScene::lightmaps.
-  std::map<std::pair<uint32_t, int32_t>, MaterialId> materials;   ///< (material, lightmap) -> id.
-  std::map<uint32_t, MaterialId> lightProxies;   ///< Material -> invisible emitter (additive surface lights).
-  std::vector<MeshId> modelMeshes;          ///< Per WorldScene::models: one mesh (kNoId when empty).
-  std::vector<InstanceId> modelInstances;   ///< Per model: identity instance (kNoId when empty).
-  std::vector<LightId> lights;              ///< Per light added (scene.lights, or the calibrated list).
-  uint64_t triangles = 0;
-  size_t fogVolumes = 0;                    ///< Fog volumes handed to the renderer.
 };
 
 /// A map's fog volumes in the renderer's terms, owning the plane arrays the descriptions view.
@@ -60,14 +45,35 @@ struct FogVolumes {
   std::vector<FogVolumeDesc> volumes;           ///< planes[i] viewed by volumes[i].
 };
 
+/// Renderer ids of everything uploaded, indexed like the WorldScene arrays.
+struct WorldHandles {
+  std::vector<TextureId> textures;          ///< Per WorldScene::textures (kNoId when empty).
+  std::vector<TextureId> lightmaps;         ///< Per WorldScene::lightmaps.
+  std::map<std::pair<uint32_t, int32_t>, MaterialId> materials;   ///< (material, lightmap) -> id.
+  std::map<uint32_t, MaterialId> lightProxies;   ///< Material -> invisible emitter (additive surface lights).
+  std::vector<MeshId> modelMeshes;          ///< Per WorldScene::models: one mesh (kNoId when empty).
+  std::vector<InstanceId> modelInstances;   ///< Per model: identity instance (kNoId when empty).
+  std::vector<LightId> lights;              ///< Per light added (scene.lights, or the calibrated list).
+  uint64_t triangles = 0;
+  /// The map's sky (skyDesc()) and fog volumes (fogVolumes()) with the upload's options: the
+  /// caller shows them (showSkyAndFog) or replaces them with its own.
+  SkyDesc sky;
+  FogVolumes fog;
+};
+
 /// The fog brushes of a map: the brush planes, the fogParms colour (a display colour, made
 /// linear, times lightScale) and depthForOpaque raised to at least 1 unit as the stock renderer
 /// does. Fogs whose brush has no usable plane are left out.
 FogVolumes fogVolumes(const q3::WorldScene& scene, float lightScale = 1.0f);
 
-/// Uploads textures, lightmaps, materials, one mesh + instance per model, lights and sky.
-/// Does not commit(). Brush sub-model instances start at identity; movers set their transform.
+/// Uploads textures, lightmaps, materials, one mesh + instance per model and lights, and
+/// returns their ids with the sky and fog volumes it made (WorldHandles::sky, fog; not set on
+/// the renderer). Does not commit(). Brush sub-model instances start at identity; movers set
+/// their transform.
 WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const UploadOptions& options = {});
+
+/// Sets the sky and fog volumes of an upload on the renderer (which copies them).
+void showSkyAndFog(const WorldHandles& handles, Renderer& renderer);
 
 /// The sky: the box faces (or the average colour) as they look, lighting the map as q3map2
 /// did: SkyDesc::lightingScale brings the box's mean to the radiance of the sky shader's

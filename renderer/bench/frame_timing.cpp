@@ -27,11 +27,8 @@ void uploadScene(const BenchScene& scene, Renderer& renderer) {
     gltf::uploadToRenderer(gltf::loadScene(scene.gltfPath), renderer);
     return;
   }
-  MeshDesc mesh;
-  mesh.positions = scene.mesh.positions;
-  mesh.indices = scene.mesh.indices;
   InstanceDesc instance;
-  instance.mesh = renderer.addMesh(mesh);
+  instance.mesh = renderer.addMesh(meshDescOf(scene.mesh));
   renderer.addInstance(instance);
   const Bounds b = scene.mesh.bounds();
   LightDesc light;

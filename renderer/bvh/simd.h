@@ -1,10 +1,13 @@
 #pragma once
-// Minimal SIMD wrapper for the BVH kernels' baseline lanes: 4- and 8-wide floats (the AVX-512
-// lanes are in simd_avx512.h).
+// Minimal SIMD wrapper for the BVH kernels' baseline lanes: 8-wide floats (the AVX-512 lanes
+// are in simd_avx512.h).
 // With AVX2 (the x86-64-v3 build target) vfloat8 is one __m256. Without it (the x86-64-v2
 // fallback, SSE4.2) vfloat8 is emulated with two __m128 halves, so the same kernels compile
 // and give bit-identical results, only slower. Only what the kernels need is provided.
+#include <algorithm>
+#include <bit>
 #include <cstdint>
+#include <limits>
 
 #include <immintrin.h>
 
@@ -13,34 +16,6 @@
 #endif
 
 namespace pa::simd {
-
-/// 4 floats (SSE).
-struct vfloat4 {
-  __m128 v;
-  vfloat4() = default;
-  vfloat4(__m128 x) : v(x) {}
-  explicit vfloat4(float x) : v(_mm_set1_ps(x)) {}
-  static vfloat4 load(const float* p) { return _mm_load_ps(p); }
-  friend vfloat4 operator+(vfloat4 a, vfloat4 b) { return _mm_add_ps(a.v, b.v); }
-  friend vfloat4 operator-(vfloat4 a, vfloat4 b) { return _mm_sub_ps(a.v, b.v); }
-  friend vfloat4 operator*(vfloat4 a, vfloat4 b) { return _mm_mul_ps(a.v, b.v); }
-  friend vfloat4 operator/(vfloat4 a, vfloat4 b) { return _mm_div_ps(a.v, b.v); }
-  friend vfloat4 operator^(vfloat4 a, vfloat4 b) { return _mm_xor_ps(a.v, b.v); }
-  friend vfloat4 operator&(vfloat4 a, vfloat4 b) { return _mm_and_ps(a.v, b.v); }
-  friend vfloat4 operator|(vfloat4 a, vfloat4 b) { return _mm_or_ps(a.v, b.v); }
-  friend vfloat4 operator<(vfloat4 a, vfloat4 b) { return _mm_cmplt_ps(a.v, b.v); }
-  friend vfloat4 operator<=(vfloat4 a, vfloat4 b) { return _mm_cmple_ps(a.v, b.v); }
-  friend vfloat4 operator>(vfloat4 a, vfloat4 b) { return _mm_cmpgt_ps(a.v, b.v); }
-  friend vfloat4 operator>=(vfloat4 a, vfloat4 b) { return _mm_cmpge_ps(a.v, b.v); }
-  friend vfloat4 operator==(vfloat4 a, vfloat4 b) { return _mm_cmpeq_ps(a.v, b.v); }
-  friend vfloat4 operator!=(vfloat4 a, vfloat4 b) { return _mm_cmpneq_ps(a.v, b.v); }
-  /// One bit per lane from the lanes' sign bits (comparison results).
-  int mask() const { return _mm_movemask_ps(v); }
-  void store(float* p) const { _mm_store_ps(p, v); }
-};
-
-/// The sign bit of each lane of a, as a float mask.
-inline vfloat4 signBits(vfloat4 a) { return a & vfloat4(_mm_castsi128_ps(_mm_set1_epi32(INT32_MIN))); }
 
 #if defined(__AVX2__)
 /// 8 floats (AVX2).
@@ -99,5 +74,49 @@ inline vfloat8 maxKeep(vfloat8 a, vfloat8 b) { return {_mm_max_ps(a.lo, b.lo), _
 /// min(a, b) per lane; where a is NaN the result is b.
 inline vfloat8 minKeep(vfloat8 a, vfloat8 b) { return {_mm_min_ps(a.lo, b.lo), _mm_min_ps(a.hi, b.hi)}; }
 #endif
+
+/// The lanes of a lane-bit mask as a float mask (all bits set where the lane's bit is).
+inline vfloat8 laneMask(unsigned mask) {
+#if defined(__AVX2__)
+  const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  return _mm256_castsi256_ps(
+      _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(mask)), bit), bit));
+#else
+  const __m128i bitLo = _mm_setr_epi32(1, 2, 4, 8), bitHi = _mm_setr_epi32(16, 32, 64, 128);
+  const __m128i m = _mm_set1_epi32(static_cast<int>(mask));
+  return {_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(m, bitLo), bitLo)),
+          _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(m, bitHi), bitHi))};
+#endif
+}
+/// b where mask has the lane's bit, else a.
+inline vfloat8 select(unsigned mask, vfloat8 a, vfloat8 b) {
+  const vfloat8 m = laneMask(mask);
+#if defined(__AVX2__)
+  return _mm256_blendv_ps(a.v, b.v, m.v);
+#else
+  return {_mm_blendv_ps(a.lo, b.lo, m.lo), _mm_blendv_ps(a.hi, b.hi, m.hi)};
+#endif
+}
+/// |a| per lane.
+inline vfloat8 abs(vfloat8 a) {
+  const vfloat8 magnitude(std::bit_cast<float>(0x7fffffffu));
+  return a & magnitude;
+}
+/// The smallest of the lanes in mask (+inf when none).
+inline float minOverLanes(vfloat8 a, unsigned mask) {
+  alignas(32) float t[8];
+  a.store(t);
+  float lo = std::numeric_limits<float>::infinity();
+  for (; mask; mask &= mask - 1) lo = std::min(lo, t[std::countr_zero(mask)]);
+  return lo;
+}
+/// The largest of the lanes in mask (-inf when none).
+inline float maxOverLanes(vfloat8 a, unsigned mask) {
+  alignas(32) float t[8];
+  a.store(t);
+  float hi = -std::numeric_limits<float>::infinity();
+  for (; mask; mask &= mask - 1) hi = std::max(hi, t[std::countr_zero(mask)]);
+  return hi;
+}
 
 }  // namespace pa::simd

@@ -21,6 +21,7 @@
 
 #define PA_BVH_KERNEL
 #include "renderer/bvh/wide_traversal_loop.h"
+#include "renderer/bvh/wide_packet_loop.h"
 
 namespace pa::bvh_detail {
 namespace {
@@ -101,10 +102,7 @@ struct BaselineLanes {
   [[gnu::always_inline]] static int nearestLane(unsigned mask, vfloat8 tNear) {
 #if defined(__AVX2__)
     const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
-    const __m256 laneMask = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-        _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(mask)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
-        _mm256_setzero_si256()));
-    const __m256 d = _mm256_blendv_ps(inf, tNear.v, laneMask);
+    const __m256 d = _mm256_blendv_ps(inf, tNear.v, simd::laneMask(mask).v);
     __m256 m = _mm256_min_ps(d, _mm256_permute2f128_ps(d, d, 0x01));
     m = _mm256_min_ps(m, _mm256_shuffle_ps(m, m, 0x4e));
     m = _mm256_min_ps(m, _mm256_shuffle_ps(m, m, 0xb1));
@@ -177,213 +175,40 @@ struct BaselineLanes {
     }
     return found;
   }
-};
 
-
-/// b where the lanes of mask are set, else a.
-inline vfloat8 selectLanes(vfloat8 mask, vfloat8 a, vfloat8 b) {
-#if defined(__AVX2__)
-  return _mm256_blendv_ps(a.v, b.v, mask.v);
-#else
-  return {_mm_blendv_ps(a.lo, b.lo, mask.lo), _mm_blendv_ps(a.hi, b.hi, mask.hi)};
-#endif
-}
-
-/// Up to eight rays of one octant as structure of arrays (lane = ray), their interval bounds
-/// for culling a node's children or a pack's triangles for all of them at once, and the shear
-/// classes of their watertight tests (as in the 16-wide packet kernel).
-struct Packet8 {
-  alignas(32) float ox[8], oy[8], oz[8], idx[8], idy[8], idz[8], tmin[8], tmax[8];
-  alignas(32) float sx[8], sy[8], sz[8];
-  PacketBounds box;
-  int nearSide[3];
-  unsigned classRays[6] = {};
-  int axes[6][3] = {};
-  uint32_t ray[8];   ///< Lane -> index into the caller's rays.
-  unsigned lanes = 0;
-};
-
-/// One triangle of a pack against the rays in `rays` (one shear class), one ray per lane, with
-/// the single-ray watertight arithmetic (testPackEdges, acceptLaneByLane): accepts in [tmin,
-/// tmax] per ray; returns the rays that took the hit.
-inline unsigned triangleOverRays8(const TrianglePack& pack, int lane, const int axes[3], Packet8& p, unsigned rays,
-                                  Ray* raysIn, Hit* hits, const HitFilter* filters, uint32_t instanceId) {
-  const vfloat8 origin[3] = {vfloat8::load(p.ox), vfloat8::load(p.oy), vfloat8::load(p.oz)};
-  PackEdges<vfloat8> e;
-  unsigned crossed = testTriangleAgainstRays<BaselineLanes>(pack, lane, axes, origin, vfloat8::load(p.sx),
-                                                            vfloat8::load(p.sy), vfloat8::load(p.sz), rays, e);
-  if (!crossed) return 0;
-  alignas(32) float ts[8], ds[8], us[8], vs[8];
-  e.tScaled.store(ts);
-  e.det.store(ds);
-  e.u.store(us);
-  e.v.store(vs);
-  const glm::vec3 v0(pack.v[0][0][lane], pack.v[0][1][lane], pack.v[0][2][lane]);
-  const glm::vec3 v1(pack.v[1][0][lane], pack.v[1][1][lane], pack.v[1][2][lane]);
-  const glm::vec3 v2(pack.v[2][0][lane], pack.v[2][1][lane], pack.v[2][2][lane]);
-  unsigned accepted = 0;
-  for (; crossed; crossed &= crossed - 1) {
-    const int r = std::countr_zero(crossed);
-    const Ray& ray = raysIn[p.ray[r]];
-    const float rcp = 1.0f / ds[r];
-    const float t = planeHitDistance(ray.origin, ray.dir, v0, v1, v2, ts[r] * rcp);
-    if (!(t >= p.tmin[r] && t <= p.tmax[r])) continue;
-    const float u = us[r] * rcp, v = vs[r] * rcp;
-    if ((pack.maskedBits >> lane & 1) && !filters[p.ray[r]](instanceId, pack.prim[lane], u, v)) continue;
-    p.tmax[r] = t;
-    hits[p.ray[r]] = {t, u, v, pack.prim[lane], instanceId};
-    accepted |= 1u << r;
-  }
-  return accepted;
-}
-
-/// Closest hits of up to eight rays of one octant with finite inverse directions over the 8-wide
-/// layout: the 16-wide packet traversal's scheme (interval cull of a node's children, then each
-/// child against every ray, children entered nearest first with their rays, triangles culled by
-/// their boxes and tested eight rays per instruction), with the single-ray arithmetic per ray.
-unsigned traversePacket8(const WideBvh& bvh, Packet8& p, Ray* rays, Hit* hits, const HitFilter* filters,
-                         uint32_t instanceId) {
-  const vfloat8 ox = vfloat8::load(p.ox), oy = vfloat8::load(p.oy), oz = vfloat8::load(p.oz);
-  const vfloat8 idx = vfloat8::load(p.idx), idy = vfloat8::load(p.idy), idz = vfloat8::load(p.idz);
-  const vfloat8 tmin = vfloat8::load(p.tmin);
-  const auto tmaxHi = [&](unsigned rays8) {
-    float hi = -std::numeric_limits<float>::infinity();
-    for (; rays8; rays8 &= rays8 - 1) hi = std::max(hi, p.tmax[std::countr_zero(rays8)]);
-    return hi;
-  };
-  std::array<PacketEntry<8>, kStackSizeFor<kWideWidth>> stack;
-  int top = 0;
-  uint32_t current = 0;
-  unsigned currentRays = p.lanes;
-  unsigned found = 0;
-  for (;;) {
-    if (!(current & kLeafBit)) {
-      const WideNode& node = bvh.nodes[current];
-      vfloat8 lo[3], hi[3];
+  /// Packets: each ray's origin and direction.
+  struct PacketPlane {
+    glm::vec3 origin[kWideWidth], dir[kWideWidth];
+    PacketPlane() = default;
+    PacketPlane(const vfloat8 (&o)[3], const vfloat8 (&d)[3]) {
+      alignas(32) float f[6][kWideWidth];
       for (int axis = 0; axis < 3; ++axis) {
-        lo[axis] = vfloat8::load(node.bounds[0][axis]);
-        hi[axis] = vfloat8::load(node.bounds[1][axis]);
+        o[axis].store(f[axis]);
+        d[axis].store(f[3 + axis]);
       }
-      const vfloat8 tmax = vfloat8::load(p.tmax);
-      unsigned candidates = packetMayEnterBoxes(lo, hi, p.box, p.nearSide, tmaxHi(currentRays));
-      // Each candidate against every ray (slabEntry's operations, lane = ray), nearest first.
-      struct Entered {
-        float key;
-        uint32_t ref;
-        unsigned rays;
-        vfloat8 tNear;
-      };
-      std::array<Entered, 8> entered;
-      int count = 0;
-      for (; candidates; candidates &= candidates - 1) {
-        const int c = std::countr_zero(candidates);
-        const int* n = p.nearSide;
-        const vfloat8 nx = (vfloat8(node.bounds[n[0]][0][c]) - ox) * idx;
-        const vfloat8 ny = (vfloat8(node.bounds[n[1]][1][c]) - oy) * idy;
-        const vfloat8 nz = (vfloat8(node.bounds[n[2]][2][c]) - oz) * idz;
-        const vfloat8 fx = (vfloat8(node.bounds[1 - n[0]][0][c]) - ox) * idx;
-        const vfloat8 fy = (vfloat8(node.bounds[1 - n[1]][1][c]) - oy) * idy;
-        const vfloat8 fz = (vfloat8(node.bounds[1 - n[2]][2][c]) - oz) * idz;
-        const vfloat8 tNear = maxKeep(nx, maxKeep(ny, maxKeep(nz, tmin)));
-        const vfloat8 tFar = minKeep(fx, minKeep(fy, minKeep(fz, tmax))) * vfloat8(kRobustFarScale);
-        const unsigned rays8 = static_cast<unsigned>((tNear <= tFar).mask()) & currentRays;
-        if (!rays8) continue;
-        alignas(32) float t[8];
-        tNear.store(t);
-        float key = std::numeric_limits<float>::infinity();
-        for (unsigned r = rays8; r; r &= r - 1) key = std::min(key, t[std::countr_zero(r)]);
-        int k = count++;   // insertion, farthest first
-        while (k > 0 && entered[k - 1].key < key) {
-          entered[k] = entered[k - 1];
-          --k;
-        }
-        entered[k] = {key, node.child[c], rays8, tNear};
-      }
-      if (count > 0) {
-        for (int k = 0; k + 1 < count; ++k) {
-          PacketEntry<8>& e = stack[top++];
-          entered[k].tNear.store(e.tNear);
-          e.ref = entered[k].ref;
-          e.rays = entered[k].rays;
-        }
-        current = entered[count - 1].ref;
-        currentRays = entered[count - 1].rays;
-        continue;
-      }
-    } else {
-      uint32_t first, packs;
-      leafPacks(current, first, packs);
-      for (int c = 0; c < 6; ++c) {
-        const unsigned classRays = currentRays & p.classRays[c];
-        if (!classRays) continue;
-        if (std::popcount(classRays) <= 2) {   // few rays: each tests eight triangles at once
-          for (unsigned r = classRays; r; r &= r - 1) {
-            const int lane = std::countr_zero(r);
-            Ray& ray = rays[p.ray[lane]];
-            if (testLeaf<BaselineLanes, false>(bvh, current, TriangleRay<BaselineLanes>(ray), ray, p.tmax[lane],
-                                               hits[p.ray[lane]], filters[p.ray[lane]], instanceId))
-              found |= 1u << lane;
-          }
-          continue;
-        }
-        for (uint32_t k = first; k < first + packs; ++k) {
-          const TrianglePack& pack = bvh.packs[k];
-          vfloat8 lo[3], hi[3];
-          for (int axis = 0; axis < 3; ++axis) {
-            const vfloat8 a = vfloat8::load(pack.v[0][axis]), b = vfloat8::load(pack.v[1][axis]),
-                          d = vfloat8::load(pack.v[2][axis]);
-            lo[axis] = minKeep(a, minKeep(b, d));
-            hi[axis] = maxKeep(a, maxKeep(b, d));
-          }
-          unsigned triangles = pack.validBits & packetMayEnterBoxes(lo, hi, p.box, p.nearSide, tmaxHi(classRays));
-          for (; triangles; triangles &= triangles - 1)
-            found |= triangleOverRays8(pack, std::countr_zero(triangles), p.axes[c], p, classRays, rays, hits,
-                                       filters, instanceId);
-        }
+      for (uint32_t lane = 0; lane < kWideWidth; ++lane) {
+        origin[lane] = {f[0][lane], f[1][lane], f[2][lane]};
+        dir[lane] = {f[3][lane], f[4][lane], f[5][lane]};
       }
     }
-    if (!popLivePacketEntry(stack.data(), top, vfloat8::load(p.tmax), current, currentRays)) return found;
-  }
-}
+  };
 
-/// Fills a Packet8 with the rays in `rays16` (at most eight, one octant, finite inverse
-/// directions): structure of arrays, interval bounds and shear classes.
-void makePacket8(const Ray* rays, unsigned rays16, Packet8& p) {
-  const int first = std::countr_zero(rays16);
-  for (int axis = 0; axis < 3; ++axis) {
-    p.box.oLo[axis] = p.box.iLo[axis] = std::numeric_limits<float>::infinity();
-    p.box.oHi[axis] = p.box.iHi[axis] = -std::numeric_limits<float>::infinity();
-    p.nearSide[axis] = std::signbit(rays[first].dir[axis]);
-  }
-  p.box.tminLo = std::numeric_limits<float>::infinity();
-  int lane = 0;
-  for (unsigned r = rays16; r; r &= r - 1, ++lane) {
-    const int index = std::countr_zero(r);
-    const Ray& ray = rays[index];
-    p.ray[lane] = static_cast<uint32_t>(index);
-    p.lanes |= 1u << lane;
-    p.ox[lane] = ray.origin.x, p.oy[lane] = ray.origin.y, p.oz[lane] = ray.origin.z;
-    p.idx[lane] = 1.0f / ray.dir.x, p.idy[lane] = 1.0f / ray.dir.y, p.idz[lane] = 1.0f / ray.dir.z;
-    p.tmin[lane] = ray.tmin, p.tmax[lane] = ray.tmax;
-    const float o[3] = {p.ox[lane], p.oy[lane], p.oz[lane]}, id[3] = {p.idx[lane], p.idy[lane], p.idz[lane]};
-    for (int axis = 0; axis < 3; ++axis) {
-      p.box.oLo[axis] = std::min(p.box.oLo[axis], o[axis]), p.box.oHi[axis] = std::max(p.box.oHi[axis], o[axis]);
-      p.box.iLo[axis] = std::min(p.box.iLo[axis], id[axis]), p.box.iHi[axis] = std::max(p.box.iHi[axis], id[axis]);
+  /// Packets: planeHitDistance of triangle `lane` of the pack for each ray (lane) in rays,
+  /// fallback elsewhere.
+  static vfloat8 planeDistancesOverRays(const TrianglePack& pack, int lane, const PacketPlane& r, unsigned rays,
+                                        vfloat8 fallback) {
+    const auto vertex = [&](int k) { return glm::vec3(pack.v[k][0][lane], pack.v[k][1][lane], pack.v[k][2][lane]); };
+    const glm::vec3 v0 = vertex(0), v1 = vertex(1), v2 = vertex(2);
+    alignas(32) float t[kWideWidth];
+    fallback.store(t);
+    for (; rays; rays &= rays - 1) {
+      const int ray = std::countr_zero(rays);
+      t[ray] = planeHitDistance(r.origin[ray], r.dir[ray], v0, v1, v2, t[ray]);
     }
-    p.box.tminLo = std::min(p.box.tminLo, ray.tmin);
-    const RayShear shear(ray.dir);
-    const int c = 2 * shear.kz + (shear.kx != (shear.kz + 1) % 3);
-    p.classRays[c] |= 1u << lane;
-    p.axes[c][0] = shear.kx, p.axes[c][1] = shear.ky, p.axes[c][2] = shear.kz;
-    p.sx[lane] = shear.sx, p.sy[lane] = shear.sy, p.sz[lane] = shear.sz;
+    return vfloat8::load(t);
   }
-  for (; lane < 8; ++lane) {   // idle lanes: a real ray's values, never active
-    p.ox[lane] = p.ox[0], p.oy[lane] = p.oy[0], p.oz[lane] = p.oz[0];
-    p.idx[lane] = p.idx[0], p.idy[lane] = p.idy[0], p.idz[lane] = p.idz[0];
-    p.tmin[lane] = p.tmin[0], p.tmax[lane] = -std::numeric_limits<float>::infinity();
-    p.sx[lane] = p.sx[0], p.sy[lane] = p.sy[0], p.sz[lane] = p.sz[0];
-  }
-}
+};
+
 
 }  // namespace
 
@@ -402,44 +227,7 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
 
 unsigned intersectWidePacket(const WideBvh& bvh, Ray* rays, Hit* hits, unsigned active, const HitFilter* filters,
                              uint32_t instanceId) {
-  if (bvh.empty()) return 0;
-  unsigned found = 0;
-  unsigned byOctant[8] = {};
-  for (unsigned r = active; r; r &= r - 1) {
-    const int lane = std::countr_zero(r);
-    const Ray& ray = rays[lane];
-    const bool finite = ray.dir.x != 0.0f && ray.dir.y != 0.0f && ray.dir.z != 0.0f &&
-                        std::isfinite(1.0f / ray.dir.x) && std::isfinite(1.0f / ray.dir.y) &&
-                        std::isfinite(1.0f / ray.dir.z);
-    if (!finite) {
-      if (intersectWide(bvh, rays[lane], hits[lane], filters[lane], instanceId)) found |= 1u << lane;
-      continue;
-    }
-    byOctant[std::signbit(ray.dir.x) | std::signbit(ray.dir.y) << 1 | std::signbit(ray.dir.z) << 2] |= 1u << lane;
-  }
-  for (unsigned octantRays : byOctant) {
-    while (octantRays) {
-      unsigned chunk = 0;   // the next (up to) eight rays of the octant
-      for (int k = 0; k < 8 && octantRays; ++k) {
-        chunk |= octantRays & (~octantRays + 1);
-        octantRays &= octantRays - 1;
-      }
-      if (std::popcount(chunk) == 1) {
-        const int lane = std::countr_zero(chunk);
-        if (intersectWide(bvh, rays[lane], hits[lane], filters[lane], instanceId)) found |= 1u << lane;
-        continue;
-      }
-      Packet8 packet;
-      makePacket8(rays, chunk, packet);
-      const unsigned hit8 = traversePacket8(bvh, packet, rays, hits, filters, instanceId);
-      for (unsigned r = hit8; r; r &= r - 1) {
-        const int lane = std::countr_zero(r);
-        rays[packet.ray[lane]].tmax = packet.tmax[lane];
-        found |= 1u << packet.ray[lane];
-      }
-    }
-  }
-  return found;
+  return intersectPacket<BaselineLanes, intersectWide>(bvh, rays, hits, active, filters, instanceId);
 }
 
 bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId) {

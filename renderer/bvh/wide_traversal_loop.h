@@ -19,6 +19,7 @@
 //                                    (acceptLaneByLane); false: distances of all lanes in SIMD
 //                                    (planeDistances), then acceptPackHits
 //   kSmallLeaves                     leaves may be one 8-wide pack in bvh.smallPacks
+// The packet traversal (wide_packet_loop.h) runs over the same traits.
 //
 // Include this header once per kernel file, after the other headers, with PA_BVH_KERNEL
 // defined as the file's target attribute (empty for the build's ISA): the templates below take
@@ -101,139 +102,60 @@ struct PackEdges {
   Float u, v;      ///< Barycentrics of vertices 1 and 2, times det.
 };
 
-/// Watertight test of a pack's triangles (intersectTriangleWatertight, lane for lane) up to the
-/// distance: returns the valid lanes whose triangle the ray's line passes through (any t), with
-/// what their distances and barycentrics are computed from in out.
-template <class L, class Pack>
-PA_BVH_INLINE unsigned testPackEdges(const Pack& pack, const TriangleRay<L>& r, PackEdges<typename L::Float>& out) {
+/// The watertight edge test (intersectTriangleWatertight's float operations, lane for lane) up
+/// to the distance. x, y, z: the three vertices' coordinates on the ray's shear axes kx, ky, kz;
+/// origin: the ray origin on the same axes; sx, sy, sz: the shear. Returns the lanes of `lanes`
+/// whose triangle the ray's line passes through (any t), with what their distances and
+/// barycentrics are computed from in out. Used with a pack's triangles against one ray
+/// (testPackEdges) and with one triangle against a packet's rays (testTriangleAgainstRays).
+template <class L>
+PA_BVH_INLINE unsigned crossedEdges(const typename L::Float (&x)[3], const typename L::Float (&y)[3],
+                                    const typename L::Float (&z)[3], const typename L::Float (&origin)[3],
+                                    typename L::Float sx, typename L::Float sy, typename L::Float sz,
+                                    unsigned lanes, PackEdges<typename L::Float>& out) {
   using Float = typename L::Float;
-  const int kx = r.shear.kx, ky = r.shear.ky, kz = r.shear.kz;
-  const Float az = L::loadVertex(pack, 0, kz) - r.oz;
-  const Float bz = L::loadVertex(pack, 1, kz) - r.oz;
-  const Float cz = L::loadVertex(pack, 2, kz) - r.oz;
-  const Float ax = (L::loadVertex(pack, 0, kx) - r.ox) - r.sx * az;
-  const Float ay = (L::loadVertex(pack, 0, ky) - r.oy) - r.sy * az;
-  const Float bx = (L::loadVertex(pack, 1, kx) - r.ox) - r.sx * bz;
-  const Float by = (L::loadVertex(pack, 1, ky) - r.oy) - r.sy * bz;
-  const Float cx = (L::loadVertex(pack, 2, kx) - r.ox) - r.sx * cz;
-  const Float cy = (L::loadVertex(pack, 2, ky) - r.oy) - r.sy * cz;
+  const Float az = z[0] - origin[2];
+  const Float bz = z[1] - origin[2];
+  const Float cz = z[2] - origin[2];
+  const Float ax = (x[0] - origin[0]) - sx * az;
+  const Float ay = (y[0] - origin[1]) - sy * az;
+  const Float bx = (x[1] - origin[0]) - sx * bz;
+  const Float by = (y[1] - origin[1]) - sy * bz;
+  const Float cx = (x[2] - origin[0]) - sx * cz;
+  const Float cy = (y[2] - origin[1]) - sy * cz;
   Float u = cx * by - cy * bx;
   Float v = ax * cy - ay * cx;
   Float w = bx * ay - by * ax;
   const Float zero(0.0f);
-  const unsigned valid = pack.validBits;
   // Exact zero in float: these lanes are decided with the edge functions in double.
-  if (const unsigned onEdge = static_cast<unsigned>(((u == zero) | (v == zero) | (w == zero)).mask()) & valid)
+  if (const unsigned onEdge = static_cast<unsigned>(((u == zero) | (v == zero) | (w == zero)).mask()) & lanes)
     L::redoEdgesInDouble(onEdge, ax, ay, bx, by, cx, cy, u, v, w);
   const unsigned negative = static_cast<unsigned>(((u < zero) | (v < zero) | (w < zero)).mask());
   const unsigned positive = static_cast<unsigned>(((u > zero) | (v > zero) | (w > zero)).mask());
-  unsigned hits = valid & ~(negative & positive);
+  unsigned hits = lanes & ~(negative & positive);
   if (!hits) return 0;
   const Float det = u + v + w;
   hits &= static_cast<unsigned>((det != zero).mask());
   if (!hits) return 0;
   // No range test on the sheared distance (inaccurate on slivers): only on the plane distance.
-  out.tScaled = (u * (r.sz * az) + v * (r.sz * bz)) + w * (r.sz * cz);
+  out.tScaled = (u * (sz * az) + v * (sz * bz)) + w * (sz * cz);
   out.det = det;
   out.u = v;
   out.v = w;
   return hits;
 }
 
-/// Interval bounds of a packet whose rays share one octant (all inverse directions finite):
-/// origins and inverse directions per axis over the packet's rays, and their smallest tmin.
-struct PacketBounds {
-  float oLo[3], oHi[3], iLo[3], iHi[3], tminLo;
-};
-
-/// The boxes (lower and upper bounds per axis, one box per lane) that some ray of the packet may
-/// enter before tmaxHi: each ray's slab distances (bound - origin) * inverse bounded over the
-/// intervals' corners. Rounding is monotonic, so the bounds hold for the rounded per-ray values
-/// and the test is a superset of the union of the rays' own slab tests.
-template <class Float>
-PA_BVH_INLINE unsigned packetMayEnterBoxes(const Float lo[3], const Float hi[3], const PacketBounds& b,
-                                           const int nearSide[3], float tmaxHi) {
-  Float tNear(b.tminLo), tFar(tmaxHi);
-  for (int axis = 0; axis < 3; ++axis) {
-    const Float iLo(b.iLo[axis]), iHi(b.iHi[axis]);
-    const Float nearBound = nearSide[axis] ? hi[axis] : lo[axis];
-    const Float farBound = nearSide[axis] ? lo[axis] : hi[axis];
-    const Float n0 = nearBound - Float(b.oHi[axis]), n1 = nearBound - Float(b.oLo[axis]);
-    const Float f0 = farBound - Float(b.oHi[axis]), f1 = farBound - Float(b.oLo[axis]);
-    tNear = maxKeep(tNear, minKeep(minKeep(n0 * iLo, n0 * iHi), minKeep(n1 * iLo, n1 * iHi)));
-    tFar = minKeep(tFar, maxKeep(maxKeep(f0 * iLo, f0 * iHi), maxKeep(f1 * iLo, f1 * iHi)));
-  }
-  return static_cast<unsigned>((tNear <= tFar * Float(kRobustFarScale)).mask());
-}
-
-/// One deferred child of a packet traversal over kRays lanes: its reference, the rays that entered
-/// it and each ray's entry distance (culled per ray when popped, as popEntryWithin culls one
-/// ray's entries).
-template <uint32_t kRays>
-struct alignas(4 * kRays) PacketEntry {
-  float tNear[kRays];
-  uint32_t ref;
-  unsigned rays;
-};
-
-/// Packet traversals: pops the next deferred child that some of its rays may still find a nearer
-/// hit in (entry distance within the ray's tmax x kRobustFarScale) into current / currentRays;
-/// false when the stack runs empty.
-template <class Float, uint32_t kRays>
-PA_BVH_INLINE bool popLivePacketEntry(const PacketEntry<kRays>* stack, int& top, Float tmax, uint32_t& current,
-                                      unsigned& currentRays) {
-  const Float cull = tmax * Float(kRobustFarScale);
-  while (top > 0) {
-    const PacketEntry<kRays>& e = stack[--top];
-    const unsigned live = e.rays & static_cast<unsigned>((Float::load(e.tNear) <= cull).mask());
-    if (live) {
-      current = e.ref;
-      currentRays = live;
-      return true;
-    }
-  }
-  return false;
-}
-
-/// The packet kernels' triangle test: triangle `lane` of a pack against up to kWidth rays of one
-/// shear class (kx, ky, kz = axes), one ray per lane, from their origins and shear constants per
-/// lane. testPackEdges' operations with triangles and rays swapped, so each ray's values are
-/// those of its own single-ray test. Returns the rays in `rays` whose line crosses the triangle,
-/// with what their distances and barycentrics are computed from in out.
+/// Watertight test of a pack's triangles against one ray (crossedEdges, lane = triangle): the
+/// valid lanes whose triangle the ray's line passes through.
 template <class L, class Pack>
-PA_BVH_INLINE unsigned testTriangleAgainstRays(const Pack& pack, int lane, const int axes[3],
-                                               const typename L::Float origin[3], typename L::Float sx,
-                                               typename L::Float sy, typename L::Float sz, unsigned rays,
-                                               PackEdges<typename L::Float>& out) {
+PA_BVH_INLINE unsigned testPackEdges(const Pack& pack, const TriangleRay<L>& r, PackEdges<typename L::Float>& out) {
   using Float = typename L::Float;
-  const int kx = axes[0], ky = axes[1], kz = axes[2];
-  const Float az = Float(pack.v[0][kz][lane]) - origin[kz];
-  const Float bz = Float(pack.v[1][kz][lane]) - origin[kz];
-  const Float cz = Float(pack.v[2][kz][lane]) - origin[kz];
-  const Float ax = (Float(pack.v[0][kx][lane]) - origin[kx]) - sx * az;
-  const Float ay = (Float(pack.v[0][ky][lane]) - origin[ky]) - sy * az;
-  const Float bx = (Float(pack.v[1][kx][lane]) - origin[kx]) - sx * bz;
-  const Float by = (Float(pack.v[1][ky][lane]) - origin[ky]) - sy * bz;
-  const Float cx = (Float(pack.v[2][kx][lane]) - origin[kx]) - sx * cz;
-  const Float cy = (Float(pack.v[2][ky][lane]) - origin[ky]) - sy * cz;
-  Float u = cx * by - cy * bx;
-  Float v = ax * cy - ay * cx;
-  Float w = bx * ay - by * ax;
-  const Float zero(0.0f);
-  if (const unsigned onEdge = static_cast<unsigned>(((u == zero) | (v == zero) | (w == zero)).mask()) & rays)
-    L::redoEdgesInDouble(onEdge, ax, ay, bx, by, cx, cy, u, v, w);
-  const unsigned negative = static_cast<unsigned>(((u < zero) | (v < zero) | (w < zero)).mask());
-  const unsigned positive = static_cast<unsigned>(((u > zero) | (v > zero) | (w > zero)).mask());
-  unsigned crossed = rays & ~(negative & positive);
-  if (!crossed) return 0;
-  const Float det = u + v + w;
-  crossed &= static_cast<unsigned>((det != zero).mask());
-  if (!crossed) return 0;
-  out.tScaled = (u * (sz * az) + v * (sz * bz)) + w * (sz * cz);
-  out.det = det;
-  out.u = v;
-  out.v = w;
-  return crossed;
+  const int kx = r.shear.kx, ky = r.shear.ky, kz = r.shear.kz;
+  const Float x[3] = {L::loadVertex(pack, 0, kx), L::loadVertex(pack, 1, kx), L::loadVertex(pack, 2, kx)};
+  const Float y[3] = {L::loadVertex(pack, 0, ky), L::loadVertex(pack, 1, ky), L::loadVertex(pack, 2, ky)};
+  const Float z[3] = {L::loadVertex(pack, 0, kz), L::loadVertex(pack, 1, kz), L::loadVertex(pack, 2, kz)};
+  const Float origin[3] = {r.ox, r.oy, r.oz};
+  return crossedEdges<L>(x, y, z, origin, r.sx, r.sy, r.sz, pack.validBits, out);
 }
 
 /// Tests one pack's triangles against [ray.tmin, tmax] and accepts its hits in lane order (as

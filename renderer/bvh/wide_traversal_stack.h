@@ -1,6 +1,6 @@
 #pragma once
-// Pieces shared by the wide traversal kernels (wide_traversal.cpp for AVX2 / SSE,
-// wide_traversal_avx512.cpp, and the 16-wide wide16_traversal_avx512.cpp): the traversal stack
+// Pieces shared by the wide traversal kernels (wide_traversal.cpp for AVX2 / SSE and
+// wide_traversal_avx512.cpp for the 8- and 16-wide AVX-512 lanes): the traversal stack
 // and its culled pop, the acceptance of one pack's candidate hits, and the leaf reference
 // decoding.
 #include <bit>

@@ -65,15 +65,7 @@ UploadedScene uploadToRenderer(const GltfScene& scene, Renderer& renderer) {
     const bool lightmapped = mesh.triangleLightmaps.size() == mesh.triangleMaterials.size();
     for (size_t t = 0; t < mesh.triangleMaterials.size(); ++t)
       triangleMaterials[t] = materialFor(mesh.triangleMaterials[t], lightmapped ? mesh.triangleLightmaps[t] : kNone);
-    MeshDesc desc;
-    desc.positions = mesh.positions;
-    desc.indices = mesh.indices;
-    desc.normals = mesh.normals;
-    desc.uvs = mesh.uvs;
-    desc.lightmapUvs = mesh.lightmapUvs;
-    desc.colors = mesh.colors;
-    desc.materials = triangleMaterials;
-    uploaded.meshes.push_back(mesh.indices.empty() ? kNoId : renderer.addMesh(desc));
+    uploaded.meshes.push_back(mesh.indices.empty() ? kNoId : renderer.addMesh(meshDescOf(mesh, triangleMaterials)));
   }
   for (const GltfInstance& instance : scene.instances) {
     if (instance.mesh >= uploaded.meshes.size() || uploaded.meshes[instance.mesh] == kNoId) {

@@ -99,6 +99,24 @@ struct MeshDesc {
   bool dynamic = false;                       ///< Expect per-frame vertex updates (refit instead of rebuild).
 };
 
+/// A MeshDesc viewing the arrays of `geometry`: its positions and indices and, where it has
+/// members of these names, its normals, uvs, lightmapUvs and colors; `materials` one per
+/// triangle. The description views geometry's arrays: use it while they live (addMesh and
+/// updateMesh copy them).
+template <class Geometry>
+MeshDesc meshDescOf(const Geometry& geometry, std::span<const MaterialId> materials = {}, bool dynamic = false) {
+  MeshDesc mesh;
+  mesh.positions = geometry.positions;
+  mesh.indices = geometry.indices;
+  if constexpr (requires { geometry.normals; }) mesh.normals = geometry.normals;
+  if constexpr (requires { geometry.uvs; }) mesh.uvs = geometry.uvs;
+  if constexpr (requires { geometry.lightmapUvs; }) mesh.lightmapUvs = geometry.lightmapUvs;
+  if constexpr (requires { geometry.colors; }) mesh.colors = geometry.colors;
+  mesh.materials = materials;
+  mesh.dynamic = dynamic;
+  return mesh;
+}
+
 /// Texture addressing outside [0,1].
 enum class TextureWrap : uint8_t { Repeat, Clamp };
 

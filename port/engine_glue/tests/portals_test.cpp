@@ -210,7 +210,7 @@ TEST(PortalsRealMap, TheWindowShowsWhatTheRemoteCameraSees) {
   EXPECT_EQ(views.planes().size(), 4u);   // two back-to-back windows, each a pair of faces
 
   pa::Renderer renderer({2});
-  pa::bridge::uploadWorld(scene, renderer);
+  pa::bridge::showSkyAndFog(pa::bridge::uploadWorld(scene, renderer), renderer);
   const glm::vec3 cameraAt(1312, -944, 248);
   const q3abi::refEntity_t portal = cgamePortal({1096, 200, 256}, cameraAt, {-1, 0, 0}, 180.0f);
   views.update(std::span(&portal, 1), 0, renderer);

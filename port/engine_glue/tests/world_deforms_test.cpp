@@ -171,6 +171,7 @@ TEST(WorldDeforms, WorldMeshesLeaveTheStaticMeshAndAreUploadedDeformed) {
 
   pa::Renderer renderer(pa::RendererConfig{1});
   const pa::bridge::WorldHandles handles = pa::bridge::uploadWorld(scene, renderer);
+  pa::bridge::showSkyAndFog(handles, renderer);
   EXPECT_EQ(handles.triangles, 1u);   // only the wall in the static mesh
   deforms.bind(scene, handles);
   const glm::mat4x3 identity(1.0f);

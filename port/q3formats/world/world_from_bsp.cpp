@@ -1,4 +1,4 @@
-// buildWorldScene: BspFile -> SourceWorld (tessellated, plain) -> assembleWorldScene.
+// buildWorldScene: BspFile (and its tessellation) -> SourceWorld (plain) -> assembleWorldScene.
 #include <cmath>
 
 #include "port/q3formats/bsp/bsp_file.h"
@@ -56,6 +56,11 @@ std::vector<glm::vec4> fogBrushPlanes(const BspFile& bsp, int32_t brushIndex) {
 
 WorldScene buildWorldScene(const BspFile& bsp, const ShaderLibrary& shaders, const FileLoader& loadFile,
                            const WorldBuildOptions& options) {
+  return buildWorldScene(bsp, tessellateSurfaces(bsp, worldTessellation(options)), shaders, loadFile, options);
+}
+
+WorldScene buildWorldScene(const BspFile& bsp, std::span<const SurfaceMesh> surfaces, const ShaderLibrary& shaders,
+                           const FileLoader& loadFile, const WorldBuildOptions& options) {
   SourceWorld source;
   source.mapName = bsp.fileName;
   for (const BspShader& s : bsp.shaders) source.shaders.push_back({s.name, s.surfaceFlags, s.contentFlags});
@@ -67,9 +72,7 @@ WorldScene buildWorldScene(const BspFile& bsp, const ShaderLibrary& shaders, con
   }
 
   // Planar faces, soups and crack-free patches, counter-clockwise (port/q3formats/bsp/tessellate.h).
-  TessellationOptions tessellation;
-  tessellation.maxError = float(options.patchSubdivisions);
-  for (SurfaceMesh& mesh : tessellateSurfaces(bsp, tessellation)) {
+  for (const SurfaceMesh& mesh : surfaces) {
     if (mesh.model < 0) continue;   // listed by no model: never drawn by the engine
     SourceSurface out;
     out.shader = uint32_t(mesh.shader);
@@ -84,7 +87,7 @@ WorldScene buildWorldScene(const BspFile& bsp, const ShaderLibrary& shaders, con
       out.lightmapUvs.push_back(v.lightmapUv);
       out.colors.push_back(glm::vec4(v.color[0], v.color[1], v.color[2], v.color[3]) / 255.0f);
     }
-    out.indices = std::move(mesh.indices);
+    out.indices = mesh.indices;
     source.surfaces.push_back(std::move(out));
   }
 

@@ -10,6 +10,7 @@
 #include <functional>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,6 +19,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "port/q3formats/bsp/tessellate.h"
 #include "port/q3formats/shader/shader_types.h"
 
 namespace q3 {
@@ -229,9 +231,22 @@ struct WorldBuildOptions {
   bool estimateLights = true;
 };
 
+/// How buildWorldScene tessellates the map's surfaces for `options` (patchSubdivisions).
+inline TessellationOptions worldTessellation(const WorldBuildOptions& options = {}) {
+  TessellationOptions tessellation;
+  tessellation.maxError = float(options.patchSubdivisions);
+  return tessellation;
+}
+
 /// Builds the scene of a parsed map. Throws FormatError only for a malformed BSP; content
 /// problems (missing shader -> implicit shader, missing texture -> fallback) become warnings.
 WorldScene buildWorldScene(const BspFile& bsp, const ShaderLibrary& shaders, const FileLoader& loadFile,
                            const WorldBuildOptions& options = {});
+
+/// The same from the map's surfaces as tessellateSurfaces(bsp, worldTessellation(options))
+/// made them, for a caller that keeps the tessellation for itself too (the engine module's
+/// decals): the map is tessellated once.
+WorldScene buildWorldScene(const BspFile& bsp, std::span<const SurfaceMesh> surfaces, const ShaderLibrary& shaders,
+                           const FileLoader& loadFile, const WorldBuildOptions& options = {});
 
 }  // namespace q3

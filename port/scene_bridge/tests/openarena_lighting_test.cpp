@@ -42,7 +42,7 @@ TEST_P(OpenArenaLighting, DirectIsWithinAFactorFourOfTheLightmap) {
   q3::WorldScene scene = game.load(GetParam());
   ASSERT_FALSE(scene.cameras.empty());
   Renderer renderer;
-  uploadWorld(scene, renderer);
+  showSkyAndFog(uploadWorld(scene, renderer), renderer);
   renderer.commit();
   const Camera camera = cameraFromSpawn(scene.cameras.front(), 16.0f / 9.0f);
   const double baked = meanLuminance(renderer, camera, Integrator::Lightmap);

@@ -2,6 +2,7 @@
 // the direct-light look agree where Quake shows a texture unmodified.
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -89,7 +90,7 @@ TEST(SceneBridge, UploadsOneMeshAndInstancePerNonEmptyModel) {
 TEST(SceneBridge, FullBrightLightmapShowsTheTextureUnmodified) {
   for (uint8_t value : {uint8_t(64), uint8_t(32)}) {
     Renderer renderer;
-    uploadWorld(wallScene(value, false), renderer);
+    showSkyAndFog(uploadWorld(wallScene(value, false), renderer), renderer);
     renderer.commit();
     // Quake: white * min(1, value * 4 / 255); ours decodes the shifted byte as sRGB.
     float expected = srgbToLinear(std::min(255, value * 4) / 255.0f);
@@ -125,11 +126,27 @@ TEST(SceneBridge, FogBetweenCameraAndWallBlendsTheLightmappedLook) {
   scene.fogs.push_back(fog);
   Renderer renderer;
   const WorldHandles handles = uploadWorld(scene, renderer);
-  EXPECT_EQ(handles.fogVolumes, 1u);
+  showSkyAndFog(handles, renderer);
+  EXPECT_EQ(handles.fog.volumes.size(), 1u);
   renderer.commit();
   const float opacity = std::sqrt(100.0f / 400.0f - 1.0f / 64.0f);
   // Display-space blend toward black: the encoded white drops to 1 - opacity.
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(1.0f - opacity), 0.01f);
+}
+
+TEST(SceneBridge, UploadReturnsTheSkyWithoutSettingIt) {
+  // The worldspawn ambient lights the wall through the sky (SkyDesc::ambientRadiance): dark
+  // until the caller sets the sky uploadWorld returned.
+  q3::WorldScene scene = wallScene(64, false);
+  scene.ambientLight = glm::vec3(64.0f);
+  Renderer renderer;
+  const WorldHandles handles = uploadWorld(scene, renderer);
+  renderer.commit();
+  EXPECT_EQ(centreRadiance(renderer, Integrator::Direct, 4), 0.0f);
+  EXPECT_EQ(handles.sky.ambientRadiance, skyDesc(scene, handles).ambientRadiance);
+  showSkyAndFog(handles, renderer);
+  renderer.commit();
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 4), 1.0f, 1e-5f);
 }
 
 TEST(SceneBridge, EnvironmentBaseReadsTheReflectionSphere) {
@@ -145,7 +162,7 @@ TEST(SceneBridge, EnvironmentBaseReadsTheReflectionSphere) {
 
 TEST(SceneBridge, VertexLitSurfacesUseVertexColoursAsBakedLight) {
   Renderer renderer;
-  uploadWorld(wallScene(128, true), renderer);
+  showSkyAndFog(uploadWorld(wallScene(128, true), renderer), renderer);
   renderer.commit();
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(128 / 255.0f), 0.01f);
 }
@@ -165,9 +182,7 @@ TEST(SceneBridge, PointLightAtFullBrightDistanceGivesRadianceOne) {
   q3::WorldScene scene = wallScene(64, false);
   scene.lights.push_back(fullBrightPointLight());
   Renderer renderer;
-  UploadOptions options;
-  options.sky = false;
-  uploadWorld(scene, renderer, options);
+  uploadWorld(scene, renderer);   // the sky stays unset
   renderer.commit();
   // The 20-degree view covers +-35 units of the wall: cos and distance vary by < 3 %.
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 4), 1.0f, 0.05f);
@@ -180,7 +195,7 @@ TEST(SceneBridge, WorldspawnAmbientAndMinlightLightTheWallAsTheyLitItsTexels) {
     q3::WorldScene scene = wallScene(64, false);
     (floor ? scene.minimumLight : scene.ambientLight) = glm::vec3(64.0f);
     Renderer renderer;
-    uploadWorld(scene, renderer);
+    showSkyAndFog(uploadWorld(scene, renderer), renderer);
     renderer.commit();
     EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 4), 1.0f, 1e-5f) << floor;
     EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), 1.0f, 0.01f) << floor;
@@ -190,12 +205,12 @@ TEST(SceneBridge, WorldspawnAmbientAndMinlightLightTheWallAsTheyLitItsTexels) {
   scene.lights.push_back(fullBrightPointLight());
   scene.minimumLight = glm::vec3(32.0f);
   Renderer floored;
-  uploadWorld(scene, floored);
+  showSkyAndFog(uploadWorld(scene, floored), floored);
   floored.commit();
   EXPECT_NEAR(centreRadiance(floored, Integrator::Direct, 4), 1.0f, 0.05f);
   scene.ambientLight = glm::vec3(32.0f);
   Renderer ambient;
-  uploadWorld(scene, ambient);
+  showSkyAndFog(uploadWorld(scene, ambient), ambient);
   ambient.commit();
   EXPECT_NEAR(centreRadiance(ambient, Integrator::Direct, 4) - centreRadiance(floored, Integrator::Direct, 4), 0.5f,
               1e-4f);
@@ -206,9 +221,7 @@ TEST(SceneBridge, SurfaceLightEmitsItsQ3map2Radiance) {
   scene.materials[0].surfaceLight = 1000.0f;
   scene.materials[0].emission = glm::vec3(1.0f);
   Renderer renderer;
-  UploadOptions options;
-  options.sky = false;
-  uploadWorld(scene, renderer, options);
+  uploadWorld(scene, renderer);   // the sky stays unset
   renderer.commit();
   // Seen directly (no bounces): emission only, = 1000 * 3 * 0.25 / 64 for a white texture.
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 1), q3::surfaceLightRadiance(1000.0f), 0.05f);
@@ -253,9 +266,7 @@ TEST(SceneBridge, AdditiveSurfaceLightLightsTheMapWithoutGlaringItself) {
   scene.models[0].meshes.push_back(quad);
 
   Renderer renderer;
-  UploadOptions options;
-  options.sky = false;
-  WorldHandles handles = uploadWorld(scene, renderer, options);
+  WorldHandles handles = uploadWorld(scene, renderer);   // the sky stays unset
   renderer.commit();
   EXPECT_EQ(handles.lightProxies.size(), 1u);
   EXPECT_EQ(handles.triangles, 4u);
@@ -292,7 +303,7 @@ std::pair<q3::WorldScene, WorldHandles> skyBoxScene(uint8_t value) {
     scene.sky.faces[f] = int32_t(f);
     handles.textures.push_back(f);
   }
-  return {scene, handles};
+  return {std::move(scene), std::move(handles)};
 }
 
 TEST(SceneBridgeSky, SkyLightOfQ3map2IsItsDomeOfSunsOnAnUpwardSurface) {

@@ -23,7 +23,7 @@ namespace {
 
 double meanLuminance(const q3::WorldScene& scene, pa::Integrator integrator) {
   pa::Renderer renderer;
-  pa::bridge::uploadWorld(scene, renderer);
+  pa::bridge::showSkyAndFog(pa::bridge::uploadWorld(scene, renderer), renderer);
   renderer.commit();
   const pa::Camera camera = pa::bridge::cameraFromSpawn(scene.cameras.front(), 16.0f / 9.0f);
   pa::RenderSettings settings;

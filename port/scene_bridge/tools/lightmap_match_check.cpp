@@ -48,13 +48,14 @@ Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrato
   pa::Renderer renderer;
   pa::bridge::UploadOptions upload;
   upload.calibrateEstimatedLights = calibrate;
-  upload.sky = std::getenv("PA_NO_SKY") == nullptr;
   upload.calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
   upload.calibration.lightsFromLightmaps = std::getenv("PA_NO_LIGHTMAP_LIGHTS") == nullptr;
   if (const char* most = std::getenv("PA_LIGHTMAP_CANDIDATES")) upload.calibration.maxLightmapCandidates = size_t(std::atoi(most));
   upload.calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
   if (const char* sky = std::getenv("PA_CAL_SKY")) upload.calibration.skyLightValue = float(std::atof(sky));
-  pa::bridge::uploadWorld(scene, renderer, upload);
+  const pa::bridge::WorldHandles handles = pa::bridge::uploadWorld(scene, renderer, upload);
+  if (std::getenv("PA_NO_SKY") == nullptr) renderer.setSky(handles.sky);
+  renderer.setFogVolumes(handles.fog.volumes);
   renderer.commit();
   const pa::Camera camera = pa::bridge::cameraFromSpawn(scene.cameras[spawn], 16.0f / 9.0f);
   pa::RenderSettings settings;

@@ -20,15 +20,7 @@ struct MeshArrays {
   std::vector<glm::vec4> colors;
   std::vector<MaterialId> materials;
 
-  MeshDesc desc() const {
-    MeshDesc d;
-    d.positions = positions;
-    d.indices = indices;
-    d.uvs = uvs;
-    d.colors = colors;
-    d.materials = materials;
-    return d;
-  }
+  MeshDesc desc() const { return meshDescOf(*this, materials); }
   /// Sets every triangle's material.
   void setMaterial(MaterialId id) { materials.assign(indices.size() / 3, id); }
 };

@@ -1,0 +1,450 @@
+#pragma once
+// The packet traversal of coherent rays (camera rays of a pixel block), written once over the
+// lane traits of wide_traversal_loop.h: one packet of up to L::kWidth rays of one octant, one
+// ray per lane, traverses the tree together. A node's children are culled for the whole packet
+// by interval arithmetic, then each remaining child is tested against every ray at once (the
+// single-ray slab test, lane per ray) and entered with the rays that entered it; a leaf's
+// triangles are culled by their boxes for the packet, then each triangle is tested against all
+// of its rays at once with the single-ray watertight arithmetic. Per ray, hit distances are
+// therefore the single-ray kernel's; only the order in which leaves are visited differs (which
+// of two hits at exactly the same distance is kept).
+//
+// L supplies, beyond what the single-ray loop needs:
+//   Float ops                        abs, select(bits, a, b), minOverLanes, maxOverLanes
+//   PacketPlane, planeDistancesOverRays   the accurate plane distance of one triangle for all
+//                                    rays of a packet
+//   kOctantOrder: octantOrder, octantSlot   children in the node's per-octant order (else the
+//                                    nearest first, by the nearest ray's entry distance)
+//
+// Include after wide_traversal_loop.h, in a kernel file (PA_BVH_KERNEL defined).
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#if !defined(PA_BVH_INLINE)
+#error "include wide_traversal_loop.h before wide_packet_loop.h"
+#endif
+
+namespace pa::bvh_detail {
+
+/// Interval bounds of a packet whose rays share one octant (all inverse directions finite):
+/// origins and inverse directions per axis over the packet's rays, and their smallest tmin.
+struct PacketBounds {
+  float oLo[3], oHi[3], iLo[3], iHi[3], tminLo;
+};
+
+/// The boxes (lower and upper bounds per axis, one box per lane) that some ray of the packet may
+/// enter before tmaxHi: each ray's slab distances (bound - origin) * inverse bounded over the
+/// intervals' corners. Rounding is monotonic, so the bounds hold for the rounded per-ray values
+/// and the test is a superset of the union of the rays' own slab tests.
+template <class Float>
+PA_BVH_INLINE unsigned packetMayEnterBoxes(const Float lo[3], const Float hi[3], const PacketBounds& b,
+                                           const int nearSide[3], float tmaxHi) {
+  Float tNear(b.tminLo), tFar(tmaxHi);
+  for (int axis = 0; axis < 3; ++axis) {
+    const Float iLo(b.iLo[axis]), iHi(b.iHi[axis]);
+    const Float nearBound = nearSide[axis] ? hi[axis] : lo[axis];
+    const Float farBound = nearSide[axis] ? lo[axis] : hi[axis];
+    const Float n0 = nearBound - Float(b.oHi[axis]), n1 = nearBound - Float(b.oLo[axis]);
+    const Float f0 = farBound - Float(b.oHi[axis]), f1 = farBound - Float(b.oLo[axis]);
+    tNear = maxKeep(tNear, minKeep(minKeep(n0 * iLo, n0 * iHi), minKeep(n1 * iLo, n1 * iHi)));
+    tFar = minKeep(tFar, maxKeep(maxKeep(f0 * iLo, f0 * iHi), maxKeep(f1 * iLo, f1 * iHi)));
+  }
+  return static_cast<unsigned>((tNear <= tFar * Float(kRobustFarScale)).mask());
+}
+
+/// One deferred child of a packet traversal over kRays lanes: its reference, the rays that entered
+/// it and each ray's entry distance (culled per ray when popped, as popEntryWithin culls one
+/// ray's entries).
+template <uint32_t kRays>
+struct alignas(4 * kRays) PacketEntry {
+  float tNear[kRays];
+  uint32_t ref;
+  unsigned rays;
+};
+
+/// Packet traversals: pops the next deferred child that some of its rays may still find a nearer
+/// hit in (entry distance within the ray's tmax x kRobustFarScale) into current / currentRays;
+/// false when the stack runs empty.
+template <class Float, uint32_t kRays>
+PA_BVH_INLINE bool popLivePacketEntry(const PacketEntry<kRays>* stack, int& top, Float tmax, uint32_t& current,
+                                      unsigned& currentRays) {
+  const Float cull = tmax * Float(kRobustFarScale);
+  while (top > 0) {
+    const PacketEntry<kRays>& e = stack[--top];
+    const unsigned live = e.rays & static_cast<unsigned>((Float::load(e.tNear) <= cull).mask());
+    if (live) {
+      current = e.ref;
+      currentRays = live;
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Whether the ray's inverse direction is finite in every component (packets need that for
+/// their interval bounds; other rays take the single-ray kernel).
+inline bool finiteInverseDirection(const Ray& ray) {
+  return ray.dir.x != 0.0f && ray.dir.y != 0.0f && ray.dir.z != 0.0f && std::isfinite(1.0f / ray.dir.x) &&
+         std::isfinite(1.0f / ray.dir.y) && std::isfinite(1.0f / ray.dir.z);
+}
+
+/// Leaves reached by at most this many rays of a shear class are tested ray by ray (a pack's
+/// triangles per instruction); more rays test the leaf triangle by triangle (rays per
+/// instruction).
+inline constexpr int kRayByRayLeaf = 2;
+
+/// Up to L::kWidth rays of one octant with finite inverse directions, one per lane: the per-ray
+/// constants of the slab test (BoxRay's) and of the watertight test (RayShear's), their
+/// interval bounds, and their shear classes. Idle lanes repeat the first ray, with tmax -inf.
+template <class L>
+struct Packet {
+  using Float = typename L::Float;
+  Float ox, oy, oz, idx, idy, idz, tmin;
+  Float sx, sy, sz;                        ///< RayShear::sx, sy, sz per ray.
+  typename L::PacketPlane plane;           ///< What L::planeDistancesOverRays needs of the rays.
+  PacketBounds box;
+  int nearSide[3];                         ///< The octant's near box side per axis.
+  int orderShift;                          ///< 4 x the octant (Wide16Node::order).
+  unsigned lanes = 0;                      ///< The live lanes.
+  unsigned classRays[6] = {};              ///< Lanes of each shear class (kz, kx/ky swapped).
+  int axes[6][3] = {};                     ///< kx, ky, kz of each shear class.
+  uint32_t ray[L::kWidth];                 ///< Lane -> index into the caller's rays.
+  alignas(4 * L::kWidth) float tmax[L::kWidth];
+};
+
+/// Fills p with the rays of `chosen` (bit i: rays[i]; at most L::kWidth of one octant, finite
+/// inverse directions), lane by lane in index order: the divisions and comparisons of BoxRay and
+/// RayShear, all lanes at once.
+template <class L>
+PA_BVH_INLINE void makePacket(const Ray* rays, unsigned chosen, Packet<L>& p) {
+  using Float = typename L::Float;
+  constexpr uint32_t kRays = L::kWidth;
+  const int first = std::countr_zero(chosen);
+  alignas(4 * kRays) float soa[7][kRays];
+  uint32_t lane = 0;
+  for (unsigned r = chosen; r; r &= r - 1, ++lane) {
+    const Ray& ray = rays[std::countr_zero(r)];
+    p.ray[lane] = static_cast<uint32_t>(std::countr_zero(r));
+    soa[0][lane] = ray.origin.x, soa[1][lane] = ray.origin.y, soa[2][lane] = ray.origin.z;
+    soa[3][lane] = ray.dir.x, soa[4][lane] = ray.dir.y, soa[5][lane] = ray.dir.z;
+    soa[6][lane] = ray.tmin;
+    p.tmax[lane] = ray.tmax;
+  }
+  p.lanes = (1u << lane) - 1;
+  for (; lane < kRays; ++lane) {
+    const Ray& ray = rays[first];
+    p.ray[lane] = static_cast<uint32_t>(first);
+    soa[0][lane] = ray.origin.x, soa[1][lane] = ray.origin.y, soa[2][lane] = ray.origin.z;
+    soa[3][lane] = ray.dir.x, soa[4][lane] = ray.dir.y, soa[5][lane] = ray.dir.z;
+    soa[6][lane] = ray.tmin;
+    p.tmax[lane] = -std::numeric_limits<float>::infinity();
+  }
+  for (int axis = 0; axis < 3; ++axis) p.nearSide[axis] = std::signbit(rays[first].dir[axis]);
+  p.orderShift = 4 * (p.nearSide[0] | p.nearSide[1] << 1 | p.nearSide[2] << 2);
+  p.ox = Float::load(soa[0]), p.oy = Float::load(soa[1]), p.oz = Float::load(soa[2]);
+  const Float dx = Float::load(soa[3]), dy = Float::load(soa[4]), dz = Float::load(soa[5]);
+  p.idx = Float(1.0f) / dx, p.idy = Float(1.0f) / dy, p.idz = Float(1.0f) / dz;
+  p.tmin = Float::load(soa[6]);
+  const Float origins[3] = {p.ox, p.oy, p.oz}, inverses[3] = {p.idx, p.idy, p.idz}, directions[3] = {dx, dy, dz};
+  for (int axis = 0; axis < 3; ++axis) {
+    p.box.oLo[axis] = minOverLanes(origins[axis], p.lanes);
+    p.box.oHi[axis] = maxOverLanes(origins[axis], p.lanes);
+    p.box.iLo[axis] = minOverLanes(inverses[axis], p.lanes);
+    p.box.iHi[axis] = maxOverLanes(inverses[axis], p.lanes);
+  }
+  p.box.tminLo = minOverLanes(p.tmin, p.lanes);
+  // RayShear of every ray: the dominant axis kz, kx and ky swapped where dir[kz] < 0.
+  const Float ax = abs(dx), ay = abs(dy), az = abs(dz);
+  const auto bits = [](auto laneMask) { return static_cast<unsigned>(laneMask.mask()); };
+  const unsigned xy = bits(ax > ay), xz = bits(ax > az), yz = bits(ay > az);
+  const unsigned kz0 = xy & xz, kz1 = ~xy & yz, kz2 = ~(kz0 | kz1);
+  const Float dkz = select(kz1, select(kz0, dz, dx), dy);
+  const Float kxPlain = select(kz1, select(kz0, dx, dy), dz);   // (kz + 1) % 3
+  const Float kyPlain = select(kz1, select(kz0, dy, dz), dx);   // (kz + 2) % 3
+  const unsigned swapped = bits(dkz < Float(0.0f));
+  p.sx = select(swapped, kxPlain, kyPlain) / dkz;
+  p.sy = select(swapped, kyPlain, kxPlain) / dkz;
+  p.sz = Float(1.0f) / dkz;
+  const unsigned byAxis[3] = {kz0, kz1, kz2};
+  for (int kz = 0; kz < 3; ++kz) {
+    p.classRays[2 * kz] = p.lanes & byAxis[kz] & ~swapped;
+    p.classRays[2 * kz + 1] = p.lanes & byAxis[kz] & swapped;
+    p.axes[2 * kz][0] = (kz + 1) % 3, p.axes[2 * kz][1] = (kz + 2) % 3, p.axes[2 * kz][2] = kz;
+    p.axes[2 * kz + 1][0] = (kz + 2) % 3, p.axes[2 * kz + 1][1] = (kz + 1) % 3, p.axes[2 * kz + 1][2] = kz;
+  }
+  p.plane = typename L::PacketPlane(origins, directions);
+}
+
+/// The rays (lanes) of the packet that enter child slot s of node before their tmax, with their
+/// entry distances: testChildren's operations for that slot, one ray per lane.
+template <class L>
+PA_BVH_INLINE unsigned raysEnteringChild(const typename L::Node& node, int s, const Packet<L>& p,
+                                         typename L::Float tmax, typename L::Float& tNear) {
+  using Float = typename L::Float;
+  const int* n = p.nearSide;
+  const Float nx = (Float(node.bounds[n[0]][0][s]) - p.ox) * p.idx;
+  const Float ny = (Float(node.bounds[n[1]][1][s]) - p.oy) * p.idy;
+  const Float nz = (Float(node.bounds[n[2]][2][s]) - p.oz) * p.idz;
+  const Float fx = (Float(node.bounds[1 - n[0]][0][s]) - p.ox) * p.idx;
+  const Float fy = (Float(node.bounds[1 - n[1]][1][s]) - p.oy) * p.idy;
+  const Float fz = (Float(node.bounds[1 - n[2]][2][s]) - p.oz) * p.idz;
+  tNear = maxKeep(nx, maxKeep(ny, maxKeep(nz, p.tmin)));
+  const Float tFar = minKeep(fx, minKeep(fy, minKeep(fz, tmax))) * Float(kRobustFarScale);
+  return static_cast<unsigned>((tNear <= tFar).mask());
+}
+
+/// At an inner node: culls the children for the packet, tests the rest against the rays of
+/// currentRays, and goes on with one entered child (current, currentRays), deferring the others
+/// farthest first: in the node's order for the octant (L::kOctantOrder), else nearest first by
+/// the nearest ray's entry distance. False when no ray enters any child.
+template <class L>
+PA_BVH_INLINE bool enterPacketChildren(const typename L::Node& node, const Packet<L>& p, typename L::Float tmax,
+                                       PacketEntry<L::kWidth>* stack, int& top, uint32_t& current,
+                                       unsigned& currentRays) {
+  using Float = typename L::Float;
+  const Float lo[3] = {Float::load(node.bounds[0][0]), Float::load(node.bounds[0][1]), Float::load(node.bounds[0][2])};
+  const Float hi[3] = {Float::load(node.bounds[1][0]), Float::load(node.bounds[1][1]), Float::load(node.bounds[1][2])};
+  unsigned candidates = packetMayEnterBoxes(lo, hi, p.box, p.nearSide, maxOverLanes(tmax, currentRays));
+  if (!candidates) return false;
+  if constexpr (L::kOctantOrder) {
+    bool haveNext = false;
+    uint32_t nextRef = 0;
+    unsigned nextRays = 0;
+    Float nextNear;
+    for (unsigned ordered = L::octantOrder(node, candidates, p.orderShift); ordered; ordered &= ordered - 1) {
+      const int slot = L::octantSlot(node, std::countr_zero(ordered), p.orderShift);
+      Float tNear;
+      const unsigned entered = raysEnteringChild(node, slot, p, tmax, tNear) & currentRays;
+      if (!entered) continue;
+      if (haveNext) {   // the previous one is farther: deferred
+        PacketEntry<L::kWidth>& e = stack[top++];
+        nextNear.store(e.tNear);
+        e.ref = nextRef;
+        e.rays = nextRays;
+      }
+      haveNext = true;
+      nextRef = node.child[slot];
+      nextRays = entered;
+      nextNear = tNear;
+    }
+    if (!haveNext) return false;
+    current = nextRef;
+    currentRays = nextRays;
+    return true;
+  } else {
+    struct Entered {
+      float key;   ///< The nearest entered ray's entry distance.
+      uint32_t ref;
+      unsigned rays;
+      Float tNear;
+    };
+    std::array<Entered, L::kWidth> entered;   // farthest first
+    int count = 0;
+    for (; candidates; candidates &= candidates - 1) {
+      const int slot = std::countr_zero(candidates);
+      Float tNear;
+      const unsigned rays = raysEnteringChild(node, slot, p, tmax, tNear) & currentRays;
+      if (!rays) continue;
+      const float key = minOverLanes(tNear, rays);
+      int k = count++;
+      while (k > 0 && entered[k - 1].key < key) {
+        entered[k] = entered[k - 1];
+        --k;
+      }
+      entered[k] = {key, node.child[slot], rays, tNear};
+    }
+    if (count == 0) return false;
+    for (int k = 0; k + 1 < count; ++k) {
+      PacketEntry<L::kWidth>& e = stack[top++];
+      entered[k].tNear.store(e.tNear);
+      e.ref = entered[k].ref;
+      e.rays = entered[k].rays;
+    }
+    current = entered[count - 1].ref;
+    currentRays = entered[count - 1].rays;
+    return true;
+  }
+}
+
+/// One triangle of a pack against the rays in `rays` (one shear class, axes = its kx, ky, kz),
+/// one ray per lane: crossedEdges with triangles and rays swapped, so each ray's values are
+/// those of its own single-ray test.
+template <class L, class Pack>
+PA_BVH_INLINE unsigned testTriangleAgainstRays(const Pack& pack, int lane, const int axes[3], const Packet<L>& p,
+                                               unsigned rays, PackEdges<typename L::Float>& out) {
+  using Float = typename L::Float;
+  const Float origins[3] = {p.ox, p.oy, p.oz};
+  Float coordinate[3][3];   // [axis kx, ky, kz][vertex]
+  for (int k = 0; k < 3; ++k)
+    for (int vertex = 0; vertex < 3; ++vertex) coordinate[k][vertex] = Float(pack.v[vertex][axes[k]][lane]);
+  const Float origin[3] = {origins[axes[0]], origins[axes[1]], origins[axes[2]]};
+  return crossedEdges<L>(coordinate[0], coordinate[1], coordinate[2], origin, p.sx, p.sy, p.sz, rays, out);
+}
+
+/// The triangles of a pack whose bounding boxes some ray of the packet may enter before tmaxHi
+/// (packetMayEnterBoxes on boxes made from the vertices): a triangle a ray hits within
+/// [tmin, tmax] lies in a box the ray enters, so the others are skipped for the whole packet.
+template <class L, class Pack>
+PA_BVH_INLINE unsigned trianglesPacketMayHit(const Pack& pack, const PacketBounds& b, const int nearSide[3],
+                                             float tmaxHi) {
+  using Float = typename L::Float;
+  Float lo[3], hi[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    const Float v0 = L::loadVertex(pack, 0, axis), v1 = L::loadVertex(pack, 1, axis), v2 = L::loadVertex(pack, 2, axis);
+    lo[axis] = minKeep(v0, minKeep(v1, v2));
+    hi[axis] = maxKeep(v0, maxKeep(v1, v2));
+  }
+  return packetMayEnterBoxes(lo, hi, b, nearSide, tmaxHi);
+}
+
+/// A pack's triangles against the rays in `rays` (shear class c), triangle by triangle in the
+/// order the single-ray kernel accepts them (lane order): a ray takes a hit within [tmin, its
+/// current tmax] that its filter accepts (alpha-masked triangles only). Returns the rays that
+/// took a hit; their tmax (lanes of tmax) and hits are updated.
+template <class L, class Pack>
+PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c, unsigned rays,
+                                    typename L::Float& tmax, Hit* hits, const HitFilter* filters,
+                                    uint32_t instanceId) {
+  using Float = typename L::Float;
+  unsigned found = 0;
+  const unsigned candidates = pack.validBits & trianglesPacketMayHit<L>(pack, p.box, p.nearSide,
+                                                                       maxOverLanes(tmax, rays));
+  for (unsigned triangles = candidates; triangles; triangles &= triangles - 1) {
+    const int lane = std::countr_zero(triangles);
+    PackEdges<Float> e;
+    unsigned accepted = testTriangleAgainstRays<L>(pack, lane, p.axes[c], p, rays, e);
+    if (!accepted) continue;
+    const Float rcp = Float(1.0f) / e.det;
+    const Float t = L::planeDistancesOverRays(pack, lane, p.plane, accepted, e.tScaled * rcp);
+    accepted &= static_cast<unsigned>(((t >= p.tmin) & (t <= tmax)).mask());
+    if (!accepted) continue;
+    alignas(4 * L::kWidth) float ts[L::kWidth], us[L::kWidth], vs[L::kWidth];
+    t.store(ts);
+    (e.u * rcp).store(us);
+    (e.v * rcp).store(vs);
+    if (pack.maskedBits >> lane & 1) {
+      for (unsigned r = accepted; r; r &= r - 1) {
+        const int ray = std::countr_zero(r);
+        if (!filters[p.ray[ray]](instanceId, pack.prim[lane], us[ray], vs[ray])) accepted &= ~(1u << ray);
+      }
+    }
+    for (unsigned r = accepted; r; r &= r - 1) {
+      const int ray = std::countr_zero(r);
+      hits[p.ray[ray]] = {ts[ray], us[ray], vs[ray], pack.prim[lane], instanceId};
+    }
+    tmax = select(accepted, tmax, t);
+    found |= accepted;
+  }
+  return found;
+}
+
+/// A leaf against the packet's rays in currentRays, shear class by shear class: a class of at
+/// most kRayByRayLeaf rays ray by ray (testLeaf), a larger one triangle by triangle
+/// (packOverRays). Returns the rays (lanes) that took a hit; tmax and hits are updated.
+template <class L>
+PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, Packet<L>& p, unsigned currentRays,
+                                      typename L::Float& tmax, const Ray* rays, Hit* hits,
+                                      const HitFilter* filters, uint32_t instanceId) {
+  using Float = typename L::Float;
+  unsigned found = 0;
+  for (int c = 0; c < 6; ++c) {
+    const unsigned classRays = currentRays & p.classRays[c];
+    if (!classRays) continue;
+    if (std::popcount(classRays) <= kRayByRayLeaf) {
+      tmax.store(p.tmax);
+      for (unsigned r = classRays; r; r &= r - 1) {
+        const int lane = std::countr_zero(r);
+        const Ray& ray = rays[p.ray[lane]];
+        if (testLeaf<L, false>(bvh, ref, TriangleRay<L>(ray), ray, p.tmax[lane], hits[p.ray[lane]],
+                               filters[p.ray[lane]], instanceId))
+          found |= 1u << lane;
+      }
+      tmax = Float::load(p.tmax);
+      continue;
+    }
+    if constexpr (L::kSmallLeaves) {
+      if (ref & kSmallLeafBit) {
+        found |= packOverRays(bvh.smallPacks[ref & kFirstPackMask], p, c, classRays, tmax, hits, filters, instanceId);
+        continue;
+      }
+    }
+    uint32_t firstPack, packCount;
+    leafPacks(ref, firstPack, packCount);
+    for (uint32_t k = firstPack; k < firstPack + packCount; ++k)
+      found |= packOverRays(bvh.packs[k], p, c, classRays, tmax, hits, filters, instanceId);
+  }
+  return found;
+}
+
+/// Closest hits of the packet's rays: one traversal for all of them. Returns the lanes that hit;
+/// p.tmax holds their distances and hits (by caller index) their hits.
+template <class L>
+PA_BVH_KERNEL unsigned traversePacket(const typename L::Bvh& bvh, Packet<L>& p, const Ray* rays, Hit* hits,
+                                      const HitFilter* filters, uint32_t instanceId) {
+  using Float = typename L::Float;
+  PacketEntry<L::kWidth> stack[kStackSizeFor<L::kWidth>];
+  int top = 0;
+  uint32_t current = 0;
+  unsigned currentRays = p.lanes;
+  unsigned found = 0;
+  Float tmax = Float::load(p.tmax);
+  for (;;) {
+    if (!(current & kLeafBit)) {
+      if (enterPacketChildren<L>(bvh.nodes[current], p, tmax, stack, top, current, currentRays)) continue;
+    } else {
+      found |= testPacketLeaf<L>(bvh, current, p, currentRays, tmax, rays, hits, filters, instanceId);
+    }
+    if (!popLivePacketEntry(stack, top, tmax, current, currentRays)) {
+      tmax.store(p.tmax);
+      return found;
+    }
+  }
+}
+
+/// Closest hits of the rays in `active` (bit i: rays[i], hits[i], filters[i]; at most 16): rays
+/// of one octant in packets of up to L::kWidth, the others (and packets of one ray) by
+/// kSingleRay. Per ray the single-ray contract (its tmax shrinks to its hit); returns the rays
+/// that hit.
+template <class L, bool (*kSingleRay)(const typename L::Bvh&, Ray&, Hit&, const HitFilter&, uint32_t)>
+PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* rays, Hit* hits, unsigned active,
+                                       const HitFilter* filters, uint32_t instanceId) {
+  if (bvh.empty()) return 0;
+  unsigned found = 0;
+  unsigned byOctant[8] = {};
+  for (unsigned r = active; r; r &= r - 1) {
+    const int index = std::countr_zero(r);
+    const Ray& ray = rays[index];
+    if (!finiteInverseDirection(ray)) {
+      if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << index;
+      continue;
+    }
+    byOctant[std::signbit(ray.dir.x) | std::signbit(ray.dir.y) << 1 | std::signbit(ray.dir.z) << 2] |= 1u << index;
+  }
+  for (unsigned octantRays : byOctant) {
+    while (octantRays) {
+      unsigned chunk = 0;   // the next (up to) L::kWidth rays of the octant
+      for (uint32_t k = 0; k < L::kWidth && octantRays; ++k) {
+        chunk |= octantRays & (~octantRays + 1);
+        octantRays &= octantRays - 1;
+      }
+      if (std::popcount(chunk) == 1) {
+        const int index = std::countr_zero(chunk);
+        if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << index;
+        continue;
+      }
+      Packet<L> packet;
+      makePacket(rays, chunk, packet);
+      for (unsigned r = traversePacket(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
+        const int lane = std::countr_zero(r);
+        rays[packet.ray[lane]].tmax = packet.tmax[lane];
+        found |= 1u << packet.ray[lane];
+      }
+    }
+  }
+  return found;
+}
+
+}  // namespace pa::bvh_detail
