@@ -31,6 +31,9 @@ struct TracerSettings {
   bool printStats = false;   ///< r_pt_stats
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
   bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
+  /// r_pt_look: the traced presets show light as the lightmap does (texture x light in display
+  /// values, light clamped to 1, no tone curve); false: physical radiance through the ACES curve
+  bool stockLook = true;
 };
 
 /// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,
@@ -100,6 +103,7 @@ class Settings {
   q3abi::cvar_t* intensity_ = nullptr;
   q3abi::cvar_t* flares_ = nullptr;
   q3abi::cvar_t* temporal_ = nullptr;
+  q3abi::cvar_t* look_ = nullptr;
 };
 
 }  // namespace glue

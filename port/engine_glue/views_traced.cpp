@@ -780,8 +780,10 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   rs.denoise = settings.denoise && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
   // Views of the world only: HUD model views share one renderer between differing views.
   rs.temporal = settings.temporal && withWorld && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
-  // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does.
-  if (lightmapLook) rs.tonemap = pa::Tonemap::Clamp;
+  // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does. The
+  // traced presets show the light they find as the lightmap shows its texels (r_pt_look stock).
+  if (lightmapLook || settings.stockLook) rs.tonemap = pa::Tonemap::Clamp;
+  if (!lightmapLook && settings.stockLook) rs.lightingLook = pa::LightingLook::DisplaySpace;
   const pa::FrameView frame = d.renderer->render(camera, rs);
 
   d.picture.assign(frame.rgba8.begin(), frame.rgba8.end());

@@ -162,6 +162,13 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
         ok = false;
         message = "--play: expected accumulate, independent or temporal, got \"" + std::string(value) + "\"";
       }
+    } else if (name == "--lighting") {
+      if (value == "physical") o.lighting = LightingLook::Physical;
+      else if (value == "display") o.lighting = LightingLook::DisplaySpace;
+      else {
+        ok = false;
+        message = "--lighting: expected physical or display, got \"" + std::string(value) + "\"";
+      }
     } else if (name == "--tonemap") {
       if (value == "aces") o.tonemap = Tonemap::AcesFitted;
       else if (value == "reinhard") o.tonemap = Tonemap::Reinhard;
@@ -256,6 +263,9 @@ View:
   --tonemap NAME         PNG display transform: aces (filmic, default) | reinhard (luminance,
                          hue kept) | clamp (no curve: the stock renderer's look, best with
                          --integrator lightmap)
+  --lighting NAME        PNG look of reflected light: physical (default) | display (texture x
+                         light multiplied in 8-bit display values, light clamped to 1, as a
+                         light-mapped engine shows it; best with --tonemap clamp)
   --light-scale X        glTF photometric units -> renderer units: multiplies light intensities
                          (candela, lux) and emissive strengths alike (default 1)
 

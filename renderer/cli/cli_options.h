@@ -26,6 +26,7 @@ struct CliOptions {
   uint32_t threads = 0;                         ///< 0 = all cores.
   Integrator integrator = Integrator::Path;
   Tonemap tonemap = Tonemap::AcesFitted;        ///< Display transform of the PNG.
+  LightingLook lighting = LightingLook::Physical;   ///< How the PNG shows reflected light.
   uint32_t camera = 0;                          ///< Index into the scene's cameras.
   float clamp = 0.0f;                           ///< Radiance clamp per path, 0 = off.
   float exposure = 1.0f;                        ///< Fixed gain; ignored with autoExposure.

@@ -269,7 +269,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                         [&](const tbb::blocked_range<uint32_t>& r) { body(r.begin(), r.end()); });
     };
     if (!settings.denoise && !temporalOn) {
-      forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap); });
+      forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
       endPhase(timings.resolveMs);
       return;
     }
@@ -296,7 +296,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       endPhase(timings.denoiseMs);
     }
     if (temporalOn) im.temporal.endFrame();
-    forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap); });
+    forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
     endPhase(timings.resolveMs);
     timings.resolveMs += meanMs;
   });
