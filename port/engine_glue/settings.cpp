@@ -72,6 +72,10 @@ void Settings::registerCvars(const Engine& engine) {
   temporal_ = engine.cvar("r_pt_temporal", "1", CVAR_ARCHIVE,
                           "Temporal accumulation (reprojected history) on the direct and path presets (0 = off)");
   if (temporal_ != nullptr) ri.Cvar_CheckRange(temporal_, 0, 1, 1);
+  fireflies_ = engine.cvar("r_pt_fireflies", "1", CVAR_ARCHIVE,
+                           "Spread fireflies (pixels far above their neighbourhood) over their neighbours before "
+                           "the denoiser, keeping the frame's energy (0 = off)");
+  if (fireflies_ != nullptr) ri.Cvar_CheckRange(fireflies_, 0, 1, 1);
   look_ = engine.cvar("r_pt_look", "stock", CVAR_ARCHIVE,
                       "How direct, path and reference show light: stock (as the lightmap: texture x light "
                       "in display values, light clamped to 1) | filmic (physical radiance, ACES curve)");
@@ -181,6 +185,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.printStats = stats_ != nullptr && stats_->integer != 0;
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
   out.temporal = temporal_ == nullptr || temporal_->integer != 0;
+  out.fireflies = fireflies_ == nullptr || fireflies_->integer != 0;
   out.stockLook = look_ == nullptr || look_->string == nullptr || normalizeName(look_->string) != "filmic";
   return out;
 }

@@ -34,6 +34,7 @@ struct TracerSettings {
   /// r_pt_look: the traced presets show light as the lightmap does (texture x light in display
   /// values, light clamped to 1, no tone curve); false: physical radiance through the ACES curve
   bool stockLook = true;
+  bool fireflies = true;     ///< r_pt_fireflies: spread fireflies before the denoiser (denoise/fireflies.h)
 };
 
 /// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,
@@ -104,6 +105,7 @@ class Settings {
   q3abi::cvar_t* flares_ = nullptr;
   q3abi::cvar_t* temporal_ = nullptr;
   q3abi::cvar_t* look_ = nullptr;
+  q3abi::cvar_t* fireflies_ = nullptr;
 };
 
 }  // namespace glue

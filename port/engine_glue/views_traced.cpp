@@ -785,6 +785,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   rs.denoise = settings.denoise && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
   // Views of the world only: HUD model views share one renderer between differing views.
   rs.temporal = settings.temporal && withWorld && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
+  rs.spreadFireflies = settings.fireflies;   // with the denoiser or temporal accumulation only
   // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does. The
   // traced presets show the light they find as the lightmap shows its texels (r_pt_look stock).
   if (lightmapLook || settings.stockLook) rs.tonemap = pa::Tonemap::Clamp;

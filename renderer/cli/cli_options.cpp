@@ -88,13 +88,15 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
       inlineValue = arg.substr(eq + 1);
     }
     if (name == "--progress" || name == "--quiet" || name == "-q" || name == "--denoise" ||
-        name == "--no-camera-packets") {
+        name == "--no-camera-packets" || name == "--spread-fireflies") {
       if (inlineValue) {
         message = std::string(name) + " takes no value";
         return result;
       }
       if (name == "--no-camera-packets") {
         o.cameraPackets = false;
+      } else if (name == "--spread-fireflies") {
+        o.spreadFireflies = true;
       } else {
         (name == "--progress" ? o.progress : name == "--denoise" ? o.denoise : o.quiet) = true;
       }
@@ -242,6 +244,9 @@ Image and sampling:
   --threads T            Worker threads (default 0 = all cores)
   --denoise              Edge-aware a-trous filter of the image (albedo/normal/depth guided;
                          meant for 1..few spp): the PNG and the EXR's R,G,B are filtered
+  --spread-fireflies     With --denoise or --play temporal: before the denoiser, cut pixels far
+                         brighter than their neighbourhood and share the excess among their
+                         neighbours on the same surface (keeps the image's energy)
   --no-camera-packets    Trace camera rays one by one instead of in 4x4 packets (same image;
                          for speed comparisons)
   --play MODE            How the F frames combine: accumulate (default: one mean of F x N spp);

@@ -35,6 +35,7 @@ struct CliOptions {
   bool progress = false;                        ///< Force the progress bar even when stderr is not a TTY.
   bool quiet = false;                           ///< No progress bar and no warnings; summary only.
   bool denoise = false;                         ///< Filter the image with the à-trous denoiser (--denoise).
+  bool spreadFireflies = false;                 ///< --spread-fireflies (denoise/fireflies.h).
   bool cameraPackets = true;                    ///< Camera rays in 4x4 packets (off: --no-camera-packets).
   /// How the frames combine (--play): accumulate into one mean; or play them as the game does
   /// (a new seed each, no accumulation), on their own or with temporal accumulation.

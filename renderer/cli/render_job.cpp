@@ -139,6 +139,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.tonemap = options.tonemap;
     settings.lightingLook = options.lighting;
     settings.denoise = options.denoise;
+    settings.spreadFireflies = options.spreadFireflies;
     settings.cameraPackets = options.cameraPackets;
     const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);
 

@@ -17,6 +17,7 @@
 #include <tbb/task_arena.h>
 
 #include "renderer/scene/denoise/denoiser.h"
+#include "renderer/scene/denoise/fireflies.h"
 #include "renderer/scene/film/film.h"
 #include "renderer/scene/integrator/camera_rays.h"
 #include "renderer/scene/integrator/integrator.h"
@@ -281,6 +282,10 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                                          film.normal(), film.depth(), &gbuffer};
       im.temporal.accumulate(inputs, film.resolvedRadiance());
       endPhase(timings.temporalMs);
+    }
+    if (settings.spreadFireflies) {   // after the history's robust blend, before the denoiser
+      const denoise::FireflyInputs fireflies{film.width(), film.height(), film.emission(), film.normal(), film.depth()};
+      denoise::spreadFireflies(fireflies, film.resolvedRadiance());
     }
     if (settings.denoise) {
       denoise::Guides guides{film.width(), film.height(), film.albedo(), film.normal(), film.depth(),

@@ -368,6 +368,11 @@ struct RenderSettings {
   /// Edge-aware à-trous filter of the mean (renderer/scene/denoise) before exposure and tonemap:
   /// the returned radiance and rgba8 are filtered, the accumulation is not (does not reset it).
   bool denoise = false;
+  /// With denoise or temporal: after temporal accumulation and before the denoiser, cut each
+  /// pixel whose lit radiance is far above its neighbourhood's and share the excess among its
+  /// neighbours on the same surface (renderer/scene/denoise/fireflies.h): the frame keeps its
+  /// energy. Does not reset accumulation.
+  bool spreadFireflies = false;
   /// Trace camera rays 4x4 pixels at a time (BVH packet queries): the same image, faster; false
   /// traces them one by one (for A/B measurements). Does not reset accumulation.
   bool cameraPackets = true;

@@ -34,7 +34,7 @@ TEST(CliOptions, ParsesEveryOption) {
                                "--threads", "3", "--integrator", "direct", "--camera", "1", "--clamp", "10.5",
                                "--exposure=2", "--frames", "5", "--exr", "o.exr", "--light-scale", "0.001",
                                "--stats", "s.json", "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png",
-                               "--denoise", "--play", "temporal", "--lighting", "display"});
+                               "--denoise", "--play", "temporal", "--lighting", "display", "--spread-fireflies"});
   ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
   const CliOptions& o = r.options;
   EXPECT_EQ(o.play, CliOptions::Play::Temporal);
@@ -57,6 +57,7 @@ TEST(CliOptions, ParsesEveryOption) {
   EXPECT_TRUE(o.progress);
   EXPECT_EQ(o.tonemap, Tonemap::Clamp);
   EXPECT_EQ(o.lighting, LightingLook::DisplaySpace);
+  EXPECT_TRUE(o.spreadFireflies);
   EXPECT_TRUE(o.denoise);
 }
 
@@ -120,7 +121,7 @@ TEST(CliOptions, UsageDocumentsEveryOption) {
   const std::string usage = usageText("pa-render");
   for (const char* option : {"-o", "--exr", "--stats", "--width", "--height", "--spp", "--bounces", "--seed", "--threads",
                              "--integrator", "--camera", "--clamp", "--exposure", "--tonemap", "--lighting", "--frames", "--light-scale",
-                             "--progress", "--quiet", "--denoise", "--play", "--help", "Exit status"})
+                             "--progress", "--quiet", "--denoise", "--spread-fireflies", "--play", "--help", "Exit status"})
     EXPECT_NE(usage.find(option), std::string::npos) << option;
 }
 
