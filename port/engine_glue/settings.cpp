@@ -75,6 +75,13 @@ void Settings::registerCvars(const Engine& engine) {
   restir_ = engine.cvar("r_pt_restir", "0", CVAR_ARCHIVE,
                         "Direct light by spatiotemporal reservoir resampling (ReSTIR) on the direct and path presets (0 = off)");
   if (restir_ != nullptr) ri.Cvar_CheckRange(restir_, 0, 1, 1);
+  fireflies_ = engine.cvar("r_pt_fireflies", "1", CVAR_ARCHIVE,
+                           "Spread fireflies (pixels far above their neighbourhood) over their neighbours before "
+                           "the denoiser, keeping the frame's energy (0 = off)");
+  if (fireflies_ != nullptr) ri.Cvar_CheckRange(fireflies_, 0, 1, 1);
+  look_ = engine.cvar("r_pt_look", "stock", CVAR_ARCHIVE,
+                      "How direct, path and reference show light: stock (as the lightmap: texture x light "
+                      "in display values, light clamped to 1) | filmic (physical radiance, ACES curve)");
 }
 
 VideoModeRequest Settings::videoMode() const {
@@ -182,6 +189,8 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
   out.temporal = temporal_ == nullptr || temporal_->integer != 0;
   out.restir = restir_ != nullptr && restir_->integer != 0;
+  out.fireflies = fireflies_ == nullptr || fireflies_->integer != 0;
+  out.stockLook = look_ == nullptr || look_->string == nullptr || normalizeName(look_->string) != "filmic";
   return out;
 }
 

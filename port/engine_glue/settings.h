@@ -32,6 +32,10 @@ struct TracerSettings {
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
   bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
   bool restir = false;       ///< r_pt_restir: reservoir resampling of direct light on the direct and path presets
+  /// r_pt_look: the traced presets show light as the lightmap does (texture x light in display
+  /// values, light clamped to 1, no tone curve); false: physical radiance through the ACES curve
+  bool stockLook = true;
+  bool fireflies = true;     ///< r_pt_fireflies: spread fireflies before the denoiser (denoise/fireflies.h)
 };
 
 /// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,
@@ -102,6 +106,8 @@ class Settings {
   q3abi::cvar_t* flares_ = nullptr;
   q3abi::cvar_t* temporal_ = nullptr;
   q3abi::cvar_t* restir_ = nullptr;
+  q3abi::cvar_t* look_ = nullptr;
+  q3abi::cvar_t* fireflies_ = nullptr;
 };
 
 }  // namespace glue

@@ -235,4 +235,30 @@ std::shared_ptr<const pa::SkyPicture> stockSkyPictureAt(std::shared_ptr<const Sk
   return std::make_shared<StockSkyPicture>(std::move(baker), seconds);
 }
 
+glm::vec3 skyCubeMeanLinear(const SkyCube& cube) {
+  glm::vec3 mean(0.0f);
+  for (const std::vector<uint8_t>& face : cube.faces) {
+    const size_t texels = face.size() / 4;
+    if (texels == 0) continue;
+    glm::dvec3 sum(0.0);
+    for (size_t i = 0; i < texels; ++i)
+      for (int c = 0; c < 3; ++c) sum[c] += pa::srgbToLinear(float(face[i * 4 + size_t(c)]) / 255.0f);
+    mean += glm::vec3(sum / double(texels)) / 6.0f;
+  }
+  return mean;
+}
+
+pa::SkyDesc litStockSky(const pa::SkyDesc& stock, const glm::vec3& stockMean, const pa::SkyDesc& bridge,
+                        const glm::vec3& lighting) {
+  const auto luminance = [](const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; };
+  const float shown = luminance(stockMean) * luminance(stock.color) * stock.intensity;
+  const float lit = luminance(lighting);
+  if (!(shown > 1e-6f) && lit > 0.0f) return bridge;   // a black stock look cannot carry the light
+  pa::SkyDesc sky = stock;
+  sky.lightingScale = lit > 0.0f ? lit / shown : 0.0f;
+  sky.ambientRadiance = bridge.ambientRadiance;
+  sky.minimumRadiance = bridge.minimumRadiance;
+  return sky;
+}
+
 }  // namespace glue

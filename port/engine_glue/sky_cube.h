@@ -41,6 +41,18 @@ struct SkyCube {
   std::array<std::vector<uint8_t>, 6> faces;
 };
 
+/// Mean linear colour of a cube's six sRGB faces (each face weighted alike, as the bridge
+/// weighs a far box's faces).
+glm::vec3 skyCubeMeanLinear(const SkyCube& cube);
+
+/// The traced presets' sky: what rays see is `stock` (the stock look), what lights surfaces is
+/// the bridge's: lightingScale brings the luminance of `stockMean` (skyCubeMeanLinear of the
+/// stock faces) to that of `lighting` (pa::bridge::skyLightingRadiance: what the compiler lit the
+/// map with through the sky; 0 lights nothing), and the ambient light and floor are `bridge`'s.
+/// A black stock look that should light gives `bridge` itself.
+pa::SkyDesc litStockSky(const pa::SkyDesc& stock, const glm::vec3& stockMean, const pa::SkyDesc& bridge,
+                        const glm::vec3& lighting);
+
 /// Bakes a sky shader's stock look.
 class SkyBaker {
  public:

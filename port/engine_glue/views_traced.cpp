@@ -159,8 +159,9 @@ struct ViewRenderer::Impl {
   std::vector<uint8_t> picture;
   uint32_t frameCounter = 0;
   PortalViews portals;   ///< Mirrors and portal cameras (portals.h).
-  pa::SkyDesc bridgeSky;               ///< The world's sky for the traced presets.
+  pa::SkyDesc bridgeSky;               ///< The world's sky as the bridge makes it (how it lights).
   pa::SkyDesc stockSky;                ///< The stock look (far box + clouds) for the lightmap preset.
+  pa::SkyDesc tracedSky;               ///< The traced presets': the stock look lighting as bridgeSky.
   bool skyHidden = false;              ///< A view without the world set a black sky.
   bool stockSkyReady = false;
   bool stockSkyShown = false;
@@ -203,7 +204,7 @@ struct ViewRenderer::Impl {
     portals.clear();
     defaultMaterial = renderer->addMaterial(pa::MaterialDesc{});
     emptyMesh = renderer->addMesh(pa::MeshDesc{});
-    bridgeSky = stockSky = pa::SkyDesc{};
+    bridgeSky = stockSky = tracedSky = pa::SkyDesc{};
     skyBaker.reset();
     stockSkySeconds = -1.0;
     dlightBuilder = DlightOverlayBuilder{};
@@ -320,6 +321,7 @@ struct ViewRenderer::Impl {
   /// into six renderer textures; the lightmap preset shows it instead of the bridge's sky.
   void prepareStockSky(const q3::ShaderLibrary& library, ImageCache& images) {
     stockSkyReady = false;
+    tracedSky = bridgeSky;
     if (!worldScene || worldScene->sky.shaderName.empty()) return;
     const q3::ShaderDef* shader = library.find(worldScene->sky.shaderName);
     if (shader == nullptr) return;
@@ -341,9 +343,12 @@ struct ViewRenderer::Impl {
     stockSky.picture = stockSkyPictureAt(skyBaker, 0.0);
     stockSkySeconds = 0.0;
     stockSkyReady = true;
+    // Still clouds (shader time 0): a sky that changed per frame would restart reference's mean.
+    tracedSky = litStockSky(stockSky, skyCubeMeanLinear(cube), bridgeSky, pa::bridge::skyLightingRadiance(*worldScene));
+    if (!stockSkyShown && !skyHidden) renderer->setSky(tracedSky);   // in place of the upload's bridge sky
   }
 
-  /// Shows the stock sky (its clouds moved to shader time `seconds`) or the bridge's one.
+  /// Shows the stock sky (its clouds moved to shader time `seconds`) or the traced presets' one.
   void selectSky(bool stockLook, double seconds) {
     const bool stock = stockLook && stockSkyReady;
     const bool moved = stock && skyBaker->animated() && seconds != stockSkySeconds;
@@ -352,7 +357,7 @@ struct ViewRenderer::Impl {
       stockSkySeconds = seconds;
     }
     if (!moved && stock == stockSkyShown && !skyHidden) return;
-    renderer->setSky(stock ? stockSky : bridgeSky);
+    renderer->setSky(stock ? stockSky : tracedSky);
     stockSkyShown = stock;
     skyHidden = false;
   }
@@ -784,8 +789,11 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   // Views of the world only: HUD model views share one renderer between differing views.
   rs.temporal = settings.temporal && withWorld && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
   rs.restir = settings.restir && withWorld && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
-  // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does.
-  if (lightmapLook) rs.tonemap = pa::Tonemap::Clamp;
+  rs.spreadFireflies = settings.fireflies;   // with the denoiser or temporal accumulation only
+  // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does. The
+  // traced presets show the light they find as the lightmap shows its texels (r_pt_look stock).
+  if (lightmapLook || settings.stockLook) rs.tonemap = pa::Tonemap::Clamp;
+  if (!lightmapLook && settings.stockLook) rs.lightingLook = pa::LightingLook::DisplaySpace;
   const pa::FrameView frame = d.renderer->render(camera, rs);
 
   d.picture.assign(frame.rgba8.begin(), frame.rgba8.end());

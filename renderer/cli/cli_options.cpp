@@ -88,7 +88,7 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
       inlineValue = arg.substr(eq + 1);
     }
     if (name == "--progress" || name == "--quiet" || name == "-q" || name == "--denoise" ||
-        name == "--no-camera-packets" || name == "--restir") {
+        name == "--no-camera-packets" || name == "--restir" || name == "--spread-fireflies") {
       if (inlineValue) {
         message = std::string(name) + " takes no value";
         return result;
@@ -97,6 +97,8 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
         o.cameraPackets = false;
       } else if (name == "--restir") {
         o.restir = true;
+      } else if (name == "--spread-fireflies") {
+        o.spreadFireflies = true;
       } else {
         (name == "--progress" ? o.progress : name == "--denoise" ? o.denoise : o.quiet) = true;
       }
@@ -163,6 +165,13 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
       else {
         ok = false;
         message = "--play: expected accumulate, independent or temporal, got \"" + std::string(value) + "\"";
+      }
+    } else if (name == "--lighting") {
+      if (value == "physical") o.lighting = LightingLook::Physical;
+      else if (value == "display") o.lighting = LightingLook::DisplaySpace;
+      else {
+        ok = false;
+        message = "--lighting: expected physical or display, got \"" + std::string(value) + "\"";
       }
     } else if (name == "--tonemap") {
       if (value == "aces") o.tonemap = Tonemap::AcesFitted;
@@ -237,6 +246,9 @@ Image and sampling:
   --threads T            Worker threads (default 0 = all cores)
   --denoise              Edge-aware a-trous filter of the image (albedo/normal/depth guided;
                          meant for 1..few spp): the PNG and the EXR's R,G,B are filtered
+  --spread-fireflies     With --denoise or --play temporal: before the denoiser, cut pixels far
+                         brighter than their neighbourhood and share the excess among their
+                         neighbours on the same surface (keeps the image's energy)
   --no-camera-packets    Trace camera rays one by one instead of in 4x4 packets (same image;
                          for speed comparisons)
   --restir               Direct light at each pixel's first hit by spatiotemporal reservoir
@@ -262,6 +274,9 @@ View:
   --tonemap NAME         PNG display transform: aces (filmic, default) | reinhard (luminance,
                          hue kept) | clamp (no curve: the stock renderer's look, best with
                          --integrator lightmap)
+  --lighting NAME        PNG look of reflected light: physical (default) | display (texture x
+                         light multiplied in 8-bit display values, light clamped to 1, as a
+                         light-mapped engine shows it; best with --tonemap clamp)
   --light-scale X        glTF photometric units -> renderer units: multiplies light intensities
                          (candela, lux) and emissive strengths alike (default 1)
 

@@ -26,6 +26,7 @@ struct CliOptions {
   uint32_t threads = 0;                         ///< 0 = all cores.
   Integrator integrator = Integrator::Path;
   Tonemap tonemap = Tonemap::AcesFitted;        ///< Display transform of the PNG.
+  LightingLook lighting = LightingLook::Physical;   ///< How the PNG shows reflected light.
   uint32_t camera = 0;                          ///< Index into the scene's cameras.
   float clamp = 0.0f;                           ///< Radiance clamp per path, 0 = off.
   float exposure = 1.0f;                        ///< Fixed gain; ignored with autoExposure.
@@ -34,6 +35,7 @@ struct CliOptions {
   bool progress = false;                        ///< Force the progress bar even when stderr is not a TTY.
   bool quiet = false;                           ///< No progress bar and no warnings; summary only.
   bool denoise = false;                         ///< Filter the image with the à-trous denoiser (--denoise).
+  bool spreadFireflies = false;                 ///< --spread-fireflies (denoise/fireflies.h).
   bool cameraPackets = true;                    ///< Camera rays in 4x4 packets (off: --no-camera-packets).
   bool restir = false;                          ///< Reservoir resampling of direct light (--restir).
   /// How the frames combine (--play): accumulate into one mean; or play them as the game does

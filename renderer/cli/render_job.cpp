@@ -137,7 +137,9 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.temporal = options.play == CliOptions::Play::Temporal;
     settings.exposure = options.autoExposure ? 1.0f : options.exposure;
     settings.tonemap = options.tonemap;
+    settings.lightingLook = options.lighting;
     settings.denoise = options.denoise;
+    settings.spreadFireflies = options.spreadFireflies;
     settings.cameraPackets = options.cameraPackets;
     settings.restir = options.restir;
     const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);

@@ -17,6 +17,7 @@
 #include <tbb/task_arena.h>
 
 #include "renderer/scene/denoise/denoiser.h"
+#include "renderer/scene/denoise/fireflies.h"
 #include "renderer/scene/film/film.h"
 #include "renderer/scene/integrator/camera_rays.h"
 #include "renderer/scene/integrator/integrator.h"
@@ -287,7 +288,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                         [&](const tbb::blocked_range<uint32_t>& r) { body(r.begin(), r.end()); });
     };
     if (!settings.denoise && !temporalOn) {
-      forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap); });
+      forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
       endPhase(timings.resolveMs);
       return;
     }
@@ -299,6 +300,10 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                                          film.normal(), film.depth(), &gbuffer};
       im.temporal.accumulate(inputs, film.resolvedRadiance());
       endPhase(timings.temporalMs);
+    }
+    if (settings.spreadFireflies) {   // after the history's robust blend, before the denoiser
+      const denoise::FireflyInputs fireflies{film.width(), film.height(), film.emission(), film.normal(), film.depth()};
+      denoise::spreadFireflies(fireflies, film.resolvedRadiance());
     }
     if (settings.denoise) {
       denoise::Guides guides{film.width(), film.height(), film.albedo(), film.normal(), film.depth(),
@@ -314,7 +319,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       endPhase(timings.denoiseMs);
     }
     if (temporalOn) im.temporal.endFrame();
-    forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap); });
+    forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
     endPhase(timings.resolveMs);
     timings.resolveMs += meanMs;
   });

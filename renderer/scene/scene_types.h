@@ -359,6 +359,16 @@ enum class Tonemap : uint8_t {
   Clamp,        ///< No curve, clamp to [0, 1] (the stock renderer's look).
 };
 
+/// How the reflected (lit) part of each pixel is shown, before exposure and tonemap.
+enum class LightingLook : uint8_t {
+  Physical,      ///< Radiance as traced.
+  /// The look of engines that multiply a texture by a light map in 8-bit display values, the
+  /// light clamped to 1 (scaled down as a whole, hue kept): with E = (radiance - emission) /
+  /// albedo per channel, the pixel shows emission + linear(sRGB(albedo) x min(E, 1)). A white
+  /// Lambertian surface at radiance 1 is unchanged; dimmer light darkens as a light map does.
+  DisplaySpace,
+};
+
 /// Per-render knobs. The image is a pure function of (scene, camera, seed, frameIndex, spp),
 /// independent of the thread count.
 struct RenderSettings {
@@ -372,9 +382,15 @@ struct RenderSettings {
   bool accumulate = true;         ///< Average with earlier frames while camera and scene are unchanged.
   float exposure = 1.0f;          ///< Linear multiplier before tonemapping.
   Tonemap tonemap = Tonemap::AcesFitted;   ///< Display transform (does not reset accumulation).
+  LightingLook lightingLook = LightingLook::Physical;   ///< Display only (does not reset accumulation).
   /// Edge-aware à-trous filter of the mean (renderer/scene/denoise) before exposure and tonemap:
   /// the returned radiance and rgba8 are filtered, the accumulation is not (does not reset it).
   bool denoise = false;
+  /// With denoise or temporal: after temporal accumulation and before the denoiser, cut each
+  /// pixel whose lit radiance is far above its neighbourhood's and share the excess among its
+  /// neighbours on the same surface (renderer/scene/denoise/fireflies.h): the frame keeps its
+  /// energy. Does not reset accumulation.
+  bool spreadFireflies = false;
   /// Trace camera rays 4x4 pixels at a time (BVH packet queries): the same image, faster; false
   /// traces them one by one (for A/B measurements). Does not reset accumulation.
   bool cameraPackets = true;

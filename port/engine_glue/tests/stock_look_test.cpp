@@ -99,6 +99,34 @@ TEST(EntityLighting, VertexLightIsAmbientPlusLambertClampedPerChannel) {
   EXPECT_NEAR(glm::length(none.direction), 1.0f, 1e-6f);
 }
 
+TEST(SkyCube, TracedSkyLooksStockAndLightsAsCompiled) {
+  // Faces of sRGB byte 128 (linear 0.2158605) on three sides and black on three: mean 0.1079.
+  SkyCube cube;
+  cube.size = 2;
+  for (size_t f = 0; f < 6; ++f) cube.faces[f].assign(16, f < 3 ? 128 : 0);
+  const glm::vec3 mean = skyCubeMeanLinear(cube);
+  EXPECT_NEAR(mean.g, 0.5f * pa::srgbToLinear(128.0f / 255.0f), 1e-5f);
+  pa::SkyDesc stock;
+  stock.color = glm::vec3(1.0f);
+  stock.faces[0] = 7;
+  pa::SkyDesc bridge;
+  bridge.ambientRadiance = glm::vec3(0.1f);
+  bridge.minimumRadiance = glm::vec3(0.2f);
+  // The compiler lit the map with a uniform sky of radiance 0.234 (q3map_surfacelight 20): the
+  // stock look, seen as drawn, lights with its mean brought to 0.234.
+  const pa::SkyDesc sky = litStockSky(stock, mean, bridge, glm::vec3(0.234f));
+  EXPECT_EQ(sky.faces[0], 7);
+  EXPECT_EQ(sky.color, glm::vec3(1.0f));
+  EXPECT_NEAR(mean.g * sky.lightingScale, 0.234f, 1e-5f);
+  EXPECT_EQ(sky.ambientRadiance, glm::vec3(0.1f));
+  EXPECT_EQ(sky.minimumRadiance, glm::vec3(0.2f));
+  // A map lit by its sun alone: the sky lights nothing; a black stock sky leaves the bridge's.
+  EXPECT_EQ(litStockSky(stock, mean, bridge, glm::vec3(0.0f)).lightingScale, 0.0f);
+  bridge.lightingScale = 3.0f;
+  EXPECT_EQ(litStockSky(stock, glm::vec3(0.0f), bridge, glm::vec3(0.234f)).lightingScale, 3.0f);
+  EXPECT_EQ(litStockSky(stock, glm::vec3(0.0f), bridge, glm::vec3(0.234f)).faces[0], pa::kNoId);
+}
+
 TEST(SkyCube, CloudCoordinatesOfTheZenithAndTheHorizon) {
   const glm::vec2 up = cloudTexCoords({0, 0, 1}, 1024);
   EXPECT_NEAR(up.x, kPi / 2, 1e-5f);

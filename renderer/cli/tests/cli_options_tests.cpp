@@ -26,6 +26,7 @@ TEST(CliOptions, MinimalCommandUsesDefaults) {
   EXPECT_EQ(r.options.bounces, 4u);
   EXPECT_EQ(r.options.integrator, Integrator::Path);
   EXPECT_EQ(r.options.tonemap, Tonemap::AcesFitted);
+  EXPECT_EQ(r.options.lighting, LightingLook::Physical);
   EXPECT_FLOAT_EQ(r.options.exposure, 1.0f);
 }
 
@@ -34,7 +35,8 @@ TEST(CliOptions, ParsesEveryOption) {
                                "--threads", "3", "--integrator", "direct", "--camera", "1", "--clamp", "10.5",
                                "--exposure=2", "--frames", "5", "--exr", "o.exr", "--light-scale", "0.001",
                                "--stats", "s.json", "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png",
-                               "--denoise", "--play", "temporal", "--restir"});
+                               "--denoise", "--play", "temporal", "--restir", "--lighting", "display",
+                               "--spread-fireflies"});
   ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
   const CliOptions& o = r.options;
   EXPECT_EQ(o.play, CliOptions::Play::Temporal);
@@ -56,6 +58,8 @@ TEST(CliOptions, ParsesEveryOption) {
   EXPECT_FLOAT_EQ(o.lightScale, 0.001f);
   EXPECT_TRUE(o.progress);
   EXPECT_EQ(o.tonemap, Tonemap::Clamp);
+  EXPECT_EQ(o.lighting, LightingLook::DisplaySpace);
+  EXPECT_TRUE(o.spreadFireflies);
   EXPECT_TRUE(o.denoise);
   EXPECT_TRUE(o.restir);
 }
@@ -96,6 +100,7 @@ TEST(CliOptions, RejectsBadInputWithAMessageNamingTheOption) {
       {{"a.gltf", "-o", "x.png", "--clamp", "-1"}, "--clamp"},
       {{"a.gltf", "-o", "x.png", "--integrator", "whitted"}, "--integrator: expected lightmap, direct or path"},
       {{"a.gltf", "-o", "x.png", "--tonemap", "filmic"}, "--tonemap: expected aces, reinhard or clamp"},
+      {{"a.gltf", "-o", "x.png", "--lighting", "gamma"}, "--lighting: expected physical or display"},
       {{"a.gltf", "-o", "x.png", "--frobnicate", "1"}, "unknown option --frobnicate"},
       {{"a.gltf", "-o", "x.png", "--progress=1"}, "--progress takes no value"},
       {{"a.gltf", "-o", "x.png", "--denoise=1"}, "--denoise takes no value"},
@@ -118,8 +123,8 @@ TEST(CliOptions, DoubleDashEndsOptions) {
 TEST(CliOptions, UsageDocumentsEveryOption) {
   const std::string usage = usageText("pa-render");
   for (const char* option : {"-o", "--exr", "--stats", "--width", "--height", "--spp", "--bounces", "--seed", "--threads",
-                             "--integrator", "--camera", "--clamp", "--exposure", "--tonemap", "--frames", "--light-scale",
-                             "--progress", "--quiet", "--denoise", "--play", "--help", "Exit status"})
+                             "--integrator", "--camera", "--clamp", "--exposure", "--tonemap", "--lighting", "--frames", "--light-scale",
+                             "--progress", "--quiet", "--denoise", "--spread-fireflies", "--play", "--help", "Exit status"})
     EXPECT_NE(usage.find(option), std::string::npos) << option;
 }
 

@@ -70,9 +70,29 @@ void Film::reset() {
   frames_ = 0;
 }
 
-void Film::resolveRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op) {
+void Film::resolveRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op, LightingLook look) {
   resolveMeanRows(rowBegin, rowEnd);
-  encodeRows(rowBegin, rowEnd, exposure, op);
+  encodeRows(rowBegin, rowEnd, exposure, op, look);
+}
+
+glm::vec3 lightingLook(const glm::vec3& radiance, const glm::vec3& emission, const glm::vec3& albedo,
+                       LightingLook look) {
+  if (look == LightingLook::Physical) return radiance;
+  constexpr float kMinAlbedo = 1.0f / 255.0f;
+  glm::vec3 light(0.0f);   // the light the albedo reflected, per channel: a light-map texel
+  float peak = 0.0f;
+  for (int c = 0; c < 3; ++c) {
+    if (!(albedo[c] >= kMinAlbedo)) continue;
+    light[c] = std::max(0.0f, radiance[c] - emission[c]) / albedo[c];
+    peak = std::max(peak, light[c]);
+  }
+  if (peak > 1.0f) light /= peak;   // an over-bright texel is scaled down as a whole
+  glm::vec3 out = radiance;
+  for (int c = 0; c < 3; ++c) {
+    if (!(albedo[c] >= kMinAlbedo)) continue;
+    out[c] = emission[c] + srgbToLinear(linearToSrgb(albedo[c]) * light[c]);
+  }
+  return out;
 }
 
 void Film::resolveMeanRows(uint32_t rowBegin, uint32_t rowEnd) {
@@ -140,10 +160,17 @@ void encodeDisplay(std::span<const glm::vec3> linear, float exposure, Tonemap op
   encodeWith(SrgbByteEncoder(), linear, exposure, op, rgba8);
 }
 
-void Film::encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op) {
+void Film::encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op, LightingLook look) {
   const size_t begin = size_t{rowBegin} * width_, count = size_t{rowEnd - rowBegin} * width_;
-  encodeWith(encoder_, std::span<const glm::vec3>(radiance_).subspan(begin, count), exposure, op,
-             std::span<uint8_t>(rgba8_).subspan(begin * 4, count * 4));
+  if (look == LightingLook::Physical) {
+    encodeWith(encoder_, std::span<const glm::vec3>(radiance_).subspan(begin, count), exposure, op,
+               std::span<uint8_t>(rgba8_).subspan(begin * 4, count * 4));
+    return;
+  }
+  std::vector<glm::vec3> shown(count);
+  for (size_t i = 0; i < count; ++i)
+    shown[i] = lightingLook(radiance_[begin + i], emission_[begin + i], albedo_[begin + i], look);
+  encodeWith(encoder_, shown, exposure, op, std::span<uint8_t>(rgba8_).subspan(begin * 4, count * 4));
 }
 
 }  // namespace pa

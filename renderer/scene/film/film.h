@@ -98,6 +98,12 @@ class SrgbByteEncoder {
   std::array<uint8_t, kBuckets> bucketStart_;   ///< The byte of k / kBuckets.
 };
 
+/// The radiance `look` shows for a pixel of radiance, emission and albedo (first-hit AOVs):
+/// unchanged when Physical; LightingLook::DisplaySpace's product otherwise (channels whose albedo
+/// is under 1/255 keep their radiance).
+glm::vec3 lightingLook(const glm::vec3& radiance, const glm::vec3& emission, const glm::vec3& albedo,
+                       LightingLook look);
+
 /// Encodes linear radiance as display RGBA8: x exposure, tonemap, sRGB, alpha 255 (what the
 /// film's rgba8 holds). `rgba8` has 4 bytes per radiance pixel; throws std::invalid_argument otherwise.
 void encodeDisplay(std::span<const glm::vec3> linear, float exposure, Tonemap op, std::span<uint8_t> rgba8);
@@ -120,11 +126,14 @@ class Film {
   /// Frames in the mean.
   uint32_t frames() const { return frames_; }
   /// Resolves rows [rowBegin, rowEnd) into the float and RGBA8 buffers (resolveMeanRows + encodeRows).
-  void resolveRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op);
+  void resolveRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op,
+                   LightingLook look = LightingLook::Physical);
   /// Resolves rows [rowBegin, rowEnd) into the float buffers (means, AOVs, variance) only.
   void resolveMeanRows(uint32_t rowBegin, uint32_t rowEnd);
-  /// Encodes rows [rowBegin, rowEnd) of the float radiance into RGBA8 (exposure, tonemap, sRGB).
-  void encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op);
+  /// Encodes rows [rowBegin, rowEnd) of the float radiance into RGBA8 (lighting look with the
+  /// emission and albedo AOVs, exposure, tonemap, sRGB); the float radiance stays as traced.
+  void encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op,
+                  LightingLook look = LightingLook::Physical);
   /// The resolved radiance, writable between resolveMeanRows and encodeRows (denoising).
   std::span<glm::vec3> resolvedRadiance() { return radiance_; }
   /// Width in pixels.

@@ -97,6 +97,44 @@ TEST(Film, TonemapCurvesAndSrgbEncoding) {
   EXPECT_EQ(film.rgba8()[4], 188);                // sRGB(0.5) = 0.7354 -> 188
 }
 
+TEST(Film, DisplaySpaceLightingShowsLightAsALightMapTexel) {
+  // Texture byte 128 (albedo 0.2158605) under light 0.5 (half of full bright), as a light map
+  // shows it: byte 128 x 0.5 = 64 -> linear srgbToLinear(64/255); physical radiance would be
+  // 0.108 (byte 92).
+  const float albedo = 0.2158605f;
+  const glm::vec3 lit = lightingLook(glm::vec3(albedo * 0.5f), glm::vec3(0.0f), glm::vec3(albedo),
+                                     LightingLook::DisplaySpace);
+  EXPECT_NEAR(lit.r, srgbToLinear(64.0f / 255.0f), 2e-4f);
+  EXPECT_EQ(lightingLook(glm::vec3(albedo * 0.5f), glm::vec3(0.0f), glm::vec3(albedo), LightingLook::Physical),
+            glm::vec3(albedo * 0.5f));
+  // Full bright (light 1) shows the texture unmodified; brighter light is clamped to it, and an
+  // over-bright coloured light is scaled down as a whole (hue kept), as the engine's shift does.
+  EXPECT_NEAR(lightingLook(glm::vec3(albedo), glm::vec3(0.0f), glm::vec3(albedo), LightingLook::DisplaySpace).g,
+              albedo, 1e-5f);
+  const glm::vec3 over = lightingLook(glm::vec3(4.0f, 2.0f, 0.0f) * 0.5f, glm::vec3(0.0f), glm::vec3(0.5f),
+                                      LightingLook::DisplaySpace);
+  EXPECT_NEAR(over.r, 0.5f, 1e-5f);
+  EXPECT_NEAR(over.g, srgbToLinear(0.5f * linearToSrgb(0.5f)), 1e-5f);
+  EXPECT_EQ(over.b, 0.0f);
+  // Emission passes through unchanged; a channel without albedo (sky) keeps its radiance.
+  const glm::vec3 glow = lightingLook(glm::vec3(0.3f + albedo * 0.25f, 2.0f, 0.0f), glm::vec3(0.3f, 2.0f, 0.0f),
+                                      glm::vec3(albedo, 0.0f, albedo), LightingLook::DisplaySpace);
+  EXPECT_NEAR(glow.r, 0.3f + srgbToLinear(32.0f / 255.0f), 2e-4f);
+  EXPECT_EQ(glow.g, 2.0f);
+  // Through the film: encodeRows applies the look with the emission and albedo AOVs.
+  Film film;
+  film.resize(1, 1);
+  PixelSample s;
+  s.radiance = glm::vec3(albedo * 0.5f);
+  s.albedo = glm::vec3(albedo);
+  film.pixel(0, 0).add(s);
+  film.resolveRows(0, 1, 1.0f, Tonemap::Clamp, LightingLook::DisplaySpace);
+  EXPECT_EQ(film.rgba8()[0], 64);
+  EXPECT_NEAR(film.radiance()[0].r, albedo * 0.5f, 1e-6f);   // the float radiance stays as traced
+  film.resolveRows(0, 1, 1.0f, Tonemap::Clamp);
+  EXPECT_EQ(film.rgba8()[0], 92);
+}
+
 }  // namespace
 }  // namespace pa
 
