@@ -117,13 +117,17 @@ ShaderLook lookOfShader(const q3::ShaderDef& shader) {
     return look;
   }
   takeStage(shader.stages[first], look);
-  // Later additive image stages (a second glow over the first): drawn as extra layers.
-  if (look.blend.dst == GL_ONE) {
+  // Later additive image stages (a second glow over the first): drawn as extra layers. Over a
+  // first stage that scales what is behind by its alpha without being the plain alpha blend
+  // (gl_one gl_src_alpha explosions), every later blended image stage is a layer too.
+  const bool plainAlphaBlend = look.blend.src == GL_SRC_ALPHA && look.blend.dst == GL_ONE_MINUS_SRC_ALPHA;
+  const bool firstIsLayer = look.blend.dst == GL_ONE || (!plainAlphaBlend && (look.blend.dst == GL_SRC_ALPHA ||
+                                                                              look.blend.dst == GL_ONE_MINUS_SRC_ALPHA));
+  if (firstIsLayer) {
     for (size_t s = first + 1; s < shader.stages.size(); ++s) {
       const q3::ShaderStage& stage = shader.stages[s];
-      if (stage.source != q3::TextureSource::Image || stage.textures.empty() || !stage.blends() ||
-          stage.dstBlend != q3::BlendFactor::One)
-        continue;
+      if (stage.source != q3::TextureSource::Image || stage.textures.empty() || !stage.blends()) continue;
+      if (look.blend.dst == GL_ONE && stage.dstBlend != q3::BlendFactor::One) continue;
       ShaderLook layer;
       layer.fromScript = look.fromScript;
       takeStage(stage, layer);

@@ -36,6 +36,23 @@ bool isAlphaBlend(const BlendFunc& blend) {
   return blend.src == 0x0302 /*GL_SRC_ALPHA*/ && blend.dst == 0x0303 /*GL_ONE_MINUS_SRC_ALPHA*/;
 }
 
+std::optional<std::pair<pa::BlendFactor, pa::BlendFactor>> layerFactors(const BlendFunc& blend) {
+  const auto factor = [](unsigned gl) -> std::optional<pa::BlendFactor> {
+    switch (gl) {
+      case 0: return pa::BlendFactor::Zero;
+      case 1: return pa::BlendFactor::One;
+      case 0x0300: return pa::BlendFactor::SrcColor;
+      case 0x0301: return pa::BlendFactor::OneMinusSrcColor;
+      case 0x0302: return pa::BlendFactor::SrcAlpha;
+      case 0x0303: return pa::BlendFactor::OneMinusSrcAlpha;
+      default: return std::nullopt;
+    }
+  };
+  const auto src = factor(blend.src), dst = factor(blend.dst);
+  if (!src || !dst) return std::nullopt;
+  return std::make_pair(*src, *dst);
+}
+
 /// RGBA with the colour multiplied by alpha (alpha kept).
 Darkening filterAsDarkening(const BlendFunc& blend) {
   constexpr unsigned kZero = 0, kSrcColor = 0x0300, kOneMinusSrcColor = 0x0301, kDstColor = 0x0306;

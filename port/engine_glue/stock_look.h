@@ -4,6 +4,7 @@
 // surfaces (used by views_traced.cpp; each function says which stock behaviour it follows).
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 
 #include <glm/mat4x3.hpp>
@@ -16,6 +17,7 @@
 #include "port/engine_glue/settings.h"
 #include "port/engine_glue/shaders.h"
 #include "port/q3formats/world/world_scene.h"
+#include "renderer/scene/scene_types.h"
 
 namespace q3 {
 class ShaderLibrary;
@@ -31,6 +33,11 @@ bool isAlphaBlend(const BlendFunc& blend);
 
 /// RGBA with the colour multiplied by alpha (alpha kept).
 std::shared_ptr<const Image> premultipliedImage(const std::shared_ptr<const Image>& image);
+
+/// The renderer's blend factors of a stage's blend when both read only the stage's own colour and
+/// alpha (ZERO, ONE, SRC_COLOR, ONE_MINUS_SRC_COLOR, SRC_ALPHA, ONE_MINUS_SRC_ALPHA); nullopt
+/// for blends that read the framebuffer in their source factor (DST_COLOR ...).
+std::optional<std::pair<pa::BlendFactor, pa::BlendFactor>> layerFactors(const BlendFunc& blend);
 
 /// How a multiplicative blend darkens: by the source colour, or by its inverse.
 enum class Darkening : uint8_t { None, BySourceColor, ByInverseSourceColor };

@@ -428,7 +428,23 @@ struct ViewRenderer::Impl {
     if (look.nodraw) desc.visible = false;
     if (look.fromScript) {
       const unsigned dst = look.blend.dst;
-      if (dst == 1 /*GL_ONE*/) {
+      const auto factors = layerFactors(look.blend);
+      const bool plainAdd = look.blend.src == 1 && dst == 1;
+      if (use == MaterialUse::StockEffect && factors && look.blend.blends() && !plainAdd && !isAlphaBlend(look.blend) &&
+          filterAsDarkening(look.blend) == Darkening::None) {
+        // Any other blend of the layer's own colour and alpha (gl_one gl_src_alpha explosions,
+        // gl_src_alpha gl_one glows), composed in display values as the framebuffer does.
+        desc.alphaMode = pa::AlphaMode::Additive;
+        desc.layerBlend = pa::LayerBlend::Factors;
+        desc.layerSrcFactor = factors->first;
+        desc.layerDstFactor = factors->second;
+        desc.castsShadows = false;
+        // The entity's colour reaches the stage only through rgbGen / alphaGen entity or vertex
+        // (stock: a wave or identity colour comes with alpha 1).
+        const bool entityRgb = look.vertexColor || look.rgbGen == q3::RgbGen::Entity;
+        desc.vertexColorTints = entityRgb;
+        desc.vertexAlphaTints = entityRgb || look.vertexAlpha || look.alphaGen == q3::AlphaGen::Entity;
+      } else if (dst == 1 /*GL_ONE*/) {
         desc.alphaMode = pa::AlphaMode::Additive;
         desc.castsShadows = false;
       } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {

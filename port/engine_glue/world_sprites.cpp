@@ -6,9 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "port/q3formats/shader/material.h"   // uvTransformAt
 #include "port/q3formats/shader/shader_library.h"
-#include "renderer/core/srgb.h"
 
 namespace glue {
 namespace {
@@ -37,7 +35,6 @@ std::vector<uint32_t> WorldSprites::prepare(const q3::WorldScene& scene, const q
         kind.shaderName = m.shaderName;
         for (const q3::Deform& d : shader->deforms)
           if (d.kind == q3::DeformKind::Move) kind.moves.push_back(d);
-        kind.stage = shader->stages.front();
         found = kindOfMaterial.emplace(mesh.material, uint32_t(kinds_.size())).first;
         kinds_.push_back(std::move(kind));
         materials.push_back(mesh.material);
@@ -59,11 +56,11 @@ std::vector<uint32_t> WorldSprites::prepare(const q3::WorldScene& scene, const q
 void WorldSprites::append(double seconds, const Viewer& viewer,
                           const std::function<q3abi::qhandle_t(const std::string&)>& handleOf,
                           const Placement& placement, GeometryBatch& out) const {
+  // The stage's colour waves and tcMods are the material's (shader_animation.h moves it to the
+  // shader time): the quads carry white and the stamp's 0..1 uvs.
   struct KindNow {
     q3abi::qhandle_t handle = 0;
     glm::vec3 offset{0.0f};
-    glm::vec4 color{1.0f};
-    q3::UvAffine uv;
   };
   std::vector<KindNow> now(kinds_.size());
   for (size_t k = 0; k < kinds_.size(); ++k) {
@@ -72,11 +69,6 @@ void WorldSprites::append(double seconds, const Viewer& viewer,
     n.handle = handleOf(kind.shaderName);
     for (const q3::Deform& move : kind.moves)
       n.offset += glm::vec3(move.params[0], move.params[1], move.params[2]) * move.wave.evaluate(seconds);
-    const q3::ShaderStage& stage = kind.stage;
-    if (stage.rgbGen == q3::RgbGen::Wave) n.color = glm::vec4(glm::vec3(pa::srgbToLinearClamped(stage.rgbWave.evaluate(seconds))), 1.0f);
-    if (stage.alphaGen == q3::AlphaGen::Wave) n.color.a = std::clamp(stage.alphaWave.evaluate(seconds), 0.0f, 1.0f);
-    else if (stage.alphaGen == q3::AlphaGen::Const) n.color.a = std::clamp(stage.constAlpha, 0.0f, 1.0f);
-    n.uv = q3::uvTransformAt(stage.tcMods, seconds);
   }
   for (const Quad& quad : quads_) {
     const KindNow& n = now[quad.kind];
@@ -89,12 +81,7 @@ void WorldSprites::append(double seconds, const Viewer& viewer,
     }
     const glm::vec3 mid = centre + n.offset;
     const glm::vec3 left = viewer.left * quad.radius, up = viewer.up * quad.radius;
-    const auto base = static_cast<uint32_t>(out.positions.size());
-    out.addQuad(mid + left + up, mid - left + up, mid - left - up, mid + left - up, n.color, n.handle);
-    for (size_t i = base; i < out.uvs.size(); ++i) {
-      const auto st = n.uv.apply(out.uvs[i].x, out.uvs[i].y);
-      out.uvs[i] = {st[0], st[1]};
-    }
+    out.addQuad(mid + left + up, mid - left + up, mid - left - up, mid + left - up, glm::vec4(1.0f), n.handle);
   }
 }
 

@@ -1,9 +1,10 @@
 #pragma once
 // World surfaces whose shader has deformVertexes autosprite (particle-studio smoke and flames,
 // fireballs): the stock renderer re-stamps every four vertices as a quad facing the viewer each
-// frame, moved by deformVertexes move and coloured by the stage's rgbGen / alphaGen waves, with
-// its tcMods (stretch, rotate, scroll) on the stamp's 0..1 texture coordinates (tr_shade_calc.c
-// AutospriteDeform, RB_CalcMoveVertexes; tr_surface.c RB_AddQuadStampExt). The static copy in
+// frame, moved by deformVertexes move (tr_shade_calc.c AutospriteDeform, RB_CalcMoveVertexes;
+// tr_surface.c RB_AddQuadStampExt), white, with the stamp's 0..1 texture coordinates: the
+// stage's rgbGen / alphaGen waves and tcMods are its material's, moved to the shader time like
+// every effect's (shader_animation.h), so the quads must not carry them too. The static copy in
 // the traced world mesh would be a flat card in a fixed direction, so the glue hides it and
 // draws these quads with the view's effects instead.
 #include <cstdint>
@@ -46,7 +47,6 @@ class WorldSprites {
   struct Kind {
     std::string shaderName;
     std::vector<q3::Deform> moves;   ///< deformVertexes move lines.
-    q3::ShaderStage stage;           ///< The first stage (colour waves, tcMods).
   };
   struct Quad {
     glm::vec3 centre{0.0f};

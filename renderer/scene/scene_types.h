@@ -147,6 +147,19 @@ enum class LayerBlend : uint8_t {
   MultiplyInverse,  ///< dst * (1 - src): blob shadows; adds nothing.
   MultiplyAdd,   ///< dst * (1 + src): the stock dynamic-light pass; adds nothing by itself.
   Modulate2x,    ///< dst * 2 src: a filter that darkens below 0.5 and brightens above (gl_dst_color gl_src_color).
+  /// src * layerSrcFactor + dst * layerDstFactor (MaterialDesc): any framebuffer blend whose
+  /// factors read only the layer's own colour and alpha. Layers only (not a shineBlend).
+  Factors,
+};
+
+/// A blend factor that reads only the layer's own colour (src, display value) and alpha (a).
+enum class BlendFactor : uint8_t {
+  Zero,              ///< 0
+  One,               ///< 1
+  SrcColor,          ///< src, per channel
+  OneMinusSrcColor,  ///< 1 - src, per channel
+  SrcAlpha,          ///< a
+  OneMinusSrcAlpha,  ///< 1 - a
 };
 
 /// Where a material's base texture coordinates come from (uvTransform applies after either).
@@ -191,10 +204,14 @@ struct MaterialDesc {
   /// Additive only: how the Lightmap integrator composes the layer over what is behind it, in
   /// display values as framebuffer blending does (the other integrators add the colour).
   LayerBlend layerBlend = LayerBlend::Add;
+  BlendFactor layerSrcFactor = BlendFactor::One;    ///< LayerBlend::Factors: multiplier of the layer's colour.
+  BlendFactor layerDstFactor = BlendFactor::One;    ///< LayerBlend::Factors: multiplier of what is behind.
   TextureId emissiveTexture = kNoId;    ///< Emission map (RGB, sRGB); kNoId = constant emission.
   glm::vec3 emission{0.0f};             ///< Linear radiance multiplier (W/sr/m^2 in scene units).
   TextureId lightmapTexture = kNoId;    ///< Baked light for the lightmap preset (uses lightmapUvs).
   bool useVertexLight = false;          ///< Lightmap preset: baked light is the vertex colour.
+  bool vertexColorTints = true;         ///< The vertex colour's RGB multiplies the base (unless useVertexLight).
+  bool vertexAlphaTints = true;         ///< The vertex colour's alpha multiplies the base's alpha.
   bool mirror = false;                  ///< Perfect specular reflection (mirrors, portals seen as mirrors).
   float specular = 0.0f;                ///< Weight of a glossy lobe on top of diffuse (shiny env-mapped stages).
   float roughness = 0.3f;               ///< Roughness of that glossy lobe (GGX alpha = roughness^2).

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # capture_frames.sh OUT_DIR RENDERER MODULE FRAMES [engine args...]
-# Plays OpenArena's demo088-test1 as a timedemo in Debian's ioquake3 under xvfb-run and writes
+# Plays a demo (CAPTURE_DEMO: OpenArena's demo088-test1 by default, or a .dm_71 file such as
+# tests/demos/dm3_rockets.dm_71) as a timedemo in Debian's ioquake3 under xvfb-run and writes
 # OUT_DIR/frame_NNNN.tga (uncompressed TGA: stock opengl1 of this engine has no screenshotPNG) at each engine frame number in FRAMES (e.g. "60 120 180"), plus
 # OUT_DIR/engine.log.  RENDERER: "pathtracer" (MODULE is our .so) or "opengl1" (MODULE ignored).
 # Size: CAPTURE_WIDTH x CAPTURE_HEIGHT (640x360 by default).
@@ -23,11 +24,18 @@ work="$(mktemp -d /tmp/pa-capture.XXXXXX)"
 trap 'rm -rf "$work"' EXIT
 if [[ "$renderer" == pathtracer ]]; then pa_engine_prepare "$work" "$module"; else pa_engine_prepare "$work"; fi
 pa_tick_screenshots_cfg "$(pa_engine_cfg "$work" capture)" frame "$frames" || exit 2
+demo="${CAPTURE_DEMO:-demo088-test1}"
+if [[ "$demo" == *.dm_71 ]]; then
+  [[ -f "$demo" ]] || { echo "no demo file $demo"; exit 2; }
+  mkdir -p "$work/home/baseoa/demos"
+  cp "$demo" "$work/home/baseoa/demos/pa_capture.dm_71"
+  demo=pa_capture
+fi
 
 mkdir -p "$out"
 set +e
 pa_engine_run "$work" "$out/engine.log" "${CAPTURE_TIMEOUT:-400}" "$width" "$height" "$renderer" \
-  +set timedemo 1 +set com_maxfps 0 +set cg_drawFPS 0 "$@" +demo demo088-test1 +exec capture.cfg
+  +set timedemo 1 +set com_maxfps 0 +set cg_drawFPS 0 "$@" +demo "$demo" +exec capture.cfg
 status=$?
 set -e
 cp "$work"/home/baseoa/screenshots/frame_*.tga "$out/" 2>/dev/null || true

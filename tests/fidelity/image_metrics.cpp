@@ -143,6 +143,27 @@ Comparison compare(const RgbImage& a, const RgbImage& b) {
   return result;
 }
 
+WorstTile worstTile(const RgbImage& a, const RgbImage& b, int size) {
+  if (a.width != b.width || a.height != b.height) throw std::invalid_argument("worstTile: sizes differ");
+  if (size < 1) throw std::invalid_argument("worstTile: tile size must be positive");
+  WorstTile worst{0, 0, size, -1, 0};
+  for (int ty = 0; ty < a.height; ty += size)
+    for (int tx = 0; tx < a.width; tx += size) {
+      const int endX = std::min(a.width, tx + size), endY = std::min(a.height, ty + size);
+      double squared = 0;
+      for (int y = ty; y < endY; ++y)
+        for (int i = (y * a.width + tx) * 3; i < (y * a.width + endX) * 3; ++i) {
+          const double d = static_cast<double>(a.pixels[i]) - b.pixels[i];
+          squared += d * d;
+        }
+      const double mse = squared / (3.0 * (endX - tx) * (endY - ty));
+      if (mse > worst.mse) worst = WorstTile{tx, ty, size, mse, 0};
+    }
+  worst.mse = std::max(worst.mse, 0.0);
+  worst.psnr = worst.mse == 0 ? std::numeric_limits<double>::infinity() : 10 * std::log10(kRange * kRange / worst.mse);
+  return worst;
+}
+
 RgbImage differenceImage(const RgbImage& a, const RgbImage& b, double gain) {
   if (a.width != b.width || a.height != b.height) throw std::invalid_argument("difference: sizes differ");
   RgbImage out{a.width, a.height, std::vector<std::uint8_t>(a.pixels.size())};

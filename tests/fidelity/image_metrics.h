@@ -41,6 +41,20 @@ double ssimLuma(std::span<const double> a, std::span<const double> b, int width,
 /// Compares two images of the same size; throws std::invalid_argument when the sizes differ.
 Comparison compare(const RgbImage& a, const RgbImage& b);
 
+/// The square tile of a tiling where two images differ most (largest mean squared error).
+struct WorstTile {
+  int x = 0;          ///< left column of the tile
+  int y = 0;          ///< top row of the tile
+  int size = 0;       ///< tile edge in pixels (edge tiles are cut to the image)
+  double mse = 0;     ///< mean squared error over the tile's R, G, B samples
+  double psnr = 0;    ///< the tile's PSNR in dB; +infinity when the tile is identical
+};
+
+/// Cuts both images into size x size tiles from the top-left corner (the last row and column
+/// cut to the image) and returns the tile with the largest MSE (the first such tile in row order).
+/// Throws std::invalid_argument when the sizes differ or size < 1.
+WorstTile worstTile(const RgbImage& a, const RgbImage& b, int size);
+
 /// Mean linear luminance of the image in [0, 1]: each 8-bit channel sRGB-decoded, then
 /// Y = 0.2126 R + 0.7152 G + 0.0722 B (ITU-R BT.709). What "as bright as" compares.
 double meanLinearLuminance(const RgbImage& image);

@@ -33,6 +33,27 @@ TEST(ImageMetrics, MeanLinearLuminanceKnownAnswers) {
   EXPECT_NEAR(meanLinearLuminance(green), 0.7152, 1e-12);
 }
 
+TEST(ImageMetrics, WorstTileFindsTheTileThatDiffers) {
+  const RgbImage a = filled(100, 70, 50);
+  RgbImage b = a;
+  // One pixel of the edge tile (96, 32) differs by 30 in one channel, one of tile (0, 0) by 3.
+  b.pixels[(static_cast<size_t>(40) * 100 + 98) * 3 + 1] = 80;
+  b.pixels[0] = 53;
+  const WorstTile worst = worstTile(a, b, 32);
+  EXPECT_EQ(worst.x, 96);
+  EXPECT_EQ(worst.y, 32);
+  EXPECT_EQ(worst.size, 32);
+  // The tile is cut to the image: 4 x 32 pixels, 3 samples each.
+  EXPECT_DOUBLE_EQ(worst.mse, 900.0 / (4 * 32 * 3));
+  EXPECT_NEAR(worst.psnr, 10 * std::log10(255.0 * 255.0 / worst.mse), 1e-9);
+  const WorstTile same = worstTile(a, a, 32);
+  EXPECT_EQ(same.x, 0);
+  EXPECT_EQ(same.y, 0);
+  EXPECT_TRUE(std::isinf(same.psnr));
+  EXPECT_THROW(worstTile(a, filled(10, 10, 0), 32), std::invalid_argument);
+  EXPECT_THROW(worstTile(a, b, 0), std::invalid_argument);
+}
+
 TEST(ImageMetrics, IdenticalImagesHaveInfinitePsnrAndUnitSsim) {
   const auto image = checkerboard(32, 24, 10, 200);
   const auto result = compare(image, image);

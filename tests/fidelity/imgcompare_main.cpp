@@ -1,8 +1,9 @@
 // pa-imgcompare A B [--diff OUT.png] [--gain G] [--min-psnr DB] [--min-ssim S] [--json]
 // Compares two images of the same size (PNG, TGA, JPEG): PSNR over the R, G, B samples and
 // SSIM on BT.601 luma with an 11x11 Gaussian window (sigma 1.5), see image_metrics.h.
-// Prints "psnr_db=P ssim=S mse=M max_abs_diff=D luma_a=LA luma_b=LB luma_ratio=LB/LA" (or one JSON
-// object with --json); luma: mean linear luminance (meanLinearLuminance).
+// Prints "psnr_db=P ssim=S mse=M max_abs_diff=D luma_a=LA luma_b=LB luma_ratio=LB/LA
+// worst_tile=X,Y worst_tile_psnr_db=T" (or one JSON object with --json); luma: mean linear
+// luminance (meanLinearLuminance); worst tile: the 32x32 tile with the largest MSE (worstTile).
 // Exit 0: compared and above the thresholds; 1: below a threshold; 2: usage or file error.
 #include "tests/fidelity/image_metrics.h"
 
@@ -63,13 +64,18 @@ int main(int argc, char** argv) {
     const double psnr = std::isinf(result.psnr) ? 999.0 : result.psnr;
     const double lumaA = pa::fidelity::meanLinearLuminance(a), lumaB = pa::fidelity::meanLinearLuminance(b);
     const double lumaRatio = lumaA > 0.0 ? lumaB / lumaA : 0.0;   // B as bright as A: 1
+    const auto tile = pa::fidelity::worstTile(a, b, 32);
+    const double tilePsnr = std::isinf(tile.psnr) ? 999.0 : tile.psnr;
     if (json)
       std::printf("{\"psnr_db\": %.3f, \"ssim\": %.5f, \"mse\": %.4f, \"max_abs_diff\": %.0f, \"width\": %d, \"height\": %d, "
-                  "\"luma_a\": %.5f, \"luma_b\": %.5f, \"luma_ratio\": %.4f}\n",
-                  psnr, result.ssim, result.mse, result.maxAbsDiff, a.width, a.height, lumaA, lumaB, lumaRatio);
+                  "\"luma_a\": %.5f, \"luma_b\": %.5f, \"luma_ratio\": %.4f, \"worst_tile_x\": %d, \"worst_tile_y\": %d, "
+                  "\"worst_tile_psnr_db\": %.3f}\n",
+                  psnr, result.ssim, result.mse, result.maxAbsDiff, a.width, a.height, lumaA, lumaB, lumaRatio, tile.x,
+                  tile.y, tilePsnr);
     else
-      std::printf("psnr_db=%.3f ssim=%.5f mse=%.4f max_abs_diff=%.0f luma_a=%.5f luma_b=%.5f luma_ratio=%.4f\n", psnr,
-                  result.ssim, result.mse, result.maxAbsDiff, lumaA, lumaB, lumaRatio);
+      std::printf("psnr_db=%.3f ssim=%.5f mse=%.4f max_abs_diff=%.0f luma_a=%.5f luma_b=%.5f luma_ratio=%.4f "
+                  "worst_tile=%d,%d worst_tile_psnr_db=%.3f\n",
+                  psnr, result.ssim, result.mse, result.maxAbsDiff, lumaA, lumaB, lumaRatio, tile.x, tile.y, tilePsnr);
     if (result.psnr < minPsnr || result.ssim < minSsim) {
       std::fprintf(stderr, "pa-imgcompare: below threshold (psnr %.3f < %.3f or ssim %.5f < %.5f)\n", psnr,
                    minPsnr, result.ssim, minSsim);

@@ -77,7 +77,9 @@ TEST(ShaderAnimation, AlphaWaveSetsCoverageAndPremultipliedColour) {
   pa::MaterialDesc premultiplied;
   premultiplied.alphaMode = pa::AlphaMode::Additive;
   premultiplied.layerBlend = pa::LayerBlend::Over;
-  EXPECT_NEAR(materialAt(motion, 0.5, premultiplied).baseColor.r, level, 1e-6);
+  // The layer is composed in display values: the colour takes the linearised alpha, so that its
+  // display value is about c x alpha; the coverage takes the alpha itself.
+  EXPECT_NEAR(materialAt(motion, 0.5, premultiplied).baseColor.r, byteToLinear(level * 255.0f), 1e-6);
   EXPECT_NEAR(materialAt(motion, 0.5, premultiplied).baseColor.a, level, 1e-6);
 }
 

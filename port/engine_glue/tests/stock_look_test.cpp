@@ -15,6 +15,7 @@
 #include "port/engine_glue/stock_look.h"
 #include "port/engine_glue/world_sprites.h"
 #include "port/q3formats/shader/shader_library.h"
+#include "port/q3formats/shader/shader_parser.h"
 #include "renderer/core/srgb.h"
 
 namespace glue {
@@ -353,6 +354,40 @@ TEST(DlightOverlay, LitTrianglesAreCopiedAboveTheSurfaceWithWhatTheBlendAdds) {
   EXPECT_TRUE(overlay.indices.empty());
 }
 
+TEST(StageLayers, BlendFactorsOfTheLayersOwnColourAndAlpha) {
+  const auto explosion = layerFactors({1, 0x0302});   // gl_one gl_src_alpha
+  ASSERT_TRUE(explosion.has_value());
+  EXPECT_EQ(explosion->first, pa::BlendFactor::One);
+  EXPECT_EQ(explosion->second, pa::BlendFactor::SrcAlpha);
+  const auto inverse = layerFactors({0x0303, 0x0301});
+  ASSERT_TRUE(inverse.has_value());
+  EXPECT_EQ(inverse->first, pa::BlendFactor::OneMinusSrcAlpha);
+  EXPECT_EQ(inverse->second, pa::BlendFactor::OneMinusSrcColor);
+  EXPECT_FALSE(layerFactors({0x0306, 0}).has_value());       // gl_dst_color: reads the framebuffer
+  EXPECT_FALSE(layerFactors({1, 0x0304}).has_value());       // gl_dst_alpha
+}
+
+TEST(StageLayers, ExplosionStagesAreAllLayers) {
+  // OpenArena's rocketExplosion: two gl_one gl_src_alpha animMaps, then two additive flames.
+  const q3::ShaderScript script = q3::parseShaderScript(
+      "boom\n{\n { animmap 8 a1.tga a2.tga\n blendfunc gl_one gl_src_alpha\n rgbGen wave inversesawtooth 0 1 0 8 }\n"
+      " { animmap 8 a2.tga a3.tga\n blendfunc gl_one gl_src_alpha }\n"
+      " { clampmap f.tga\n blendfunc add }\n { map g.tga\n blendfunc gl_dst_color gl_zero }\n}\n",
+      "fx.shader");
+  ASSERT_EQ(script.shaders.size(), 1u);
+  const ShaderLook look = lookOfShader(script.shaders[0]);
+  EXPECT_EQ(look.blend.src, 1u);
+  EXPECT_EQ(look.blend.dst, 0x0302u);
+  ASSERT_EQ(look.layers.size(), 3u);   // every later blended image stage, in stage order
+  EXPECT_EQ(look.layers[0].images[0], "a2.tga");
+  EXPECT_EQ(look.layers[1].blend.dst, 1u);
+  EXPECT_EQ(look.layers[2].blend.src, 0x0306u);
+  // An alpha-blended first stage keeps its later stages out (its vertex colours are premultiplied).
+  const q3::ShaderScript smoke = q3::parseShaderScript(
+      "puff\n{\n { map s.tga\n blendfunc blend }\n { map t.tga\n blendfunc add }\n}\n", "fx.shader");
+  EXPECT_TRUE(lookOfShader(smoke.shaders.at(0)).layers.empty());
+}
+
 TEST(WorldSprites, AutospriteQuadsFaceTheViewerAndMoveWithTheirWaves) {
   q3::ShaderLibrary library;
   ASSERT_TRUE(library.addScript(
@@ -368,7 +403,7 @@ TEST(WorldSprites, AutospriteQuadsFaceTheViewerAndMoveWithTheirWaves) {
   ASSERT_EQ(sprites.size(), 1u);
   const Viewer viewer{{-500, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   GeometryBatch batch;
-  // t = 1 s: sawtooth at phase 0.5 -> moved up 50 units; alpha 1 - 0.5.
+  // t = 1 s: sawtooth at phase 0.5 -> moved up 50 units; the alpha wave is the material's.
   sprites.append(1.0, viewer, [](const std::string& name) { return name == "textures/fx/puff" ? 5 : 0; }, {}, batch);
   ASSERT_EQ(batch.positions.size(), 4u);
   EXPECT_EQ(batch.triangleShaders[0], 5);
@@ -376,7 +411,7 @@ TEST(WorldSprites, AutospriteQuadsFaceTheViewerAndMoveWithTheirWaves) {
   EXPECT_NEAR(batch.positions[0].x, 0.0f, 1e-4f);
   EXPECT_NEAR(batch.positions[0].y, radius, 1e-3f);
   EXPECT_NEAR(batch.positions[0].z, 50.0f + radius, 1e-3f);
-  EXPECT_NEAR(batch.colors[0].a, 0.5f, 1e-5f);
+  for (const glm::vec4& c : batch.colors) EXPECT_EQ(c, glm::vec4(1.0f));
   GeometryBatch none;
   sprites.append(1.0, viewer, [](const std::string&) { return 0; }, {}, none);
   EXPECT_TRUE(none.positions.empty());   // no shader handle: nothing drawn

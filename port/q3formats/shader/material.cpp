@@ -41,6 +41,8 @@ namespace q3 {
 // |   later $lightmap (src DST_COLOR)                  |                                               |
 // | later image stage after the base, same tcGen and   | baseModulations (scale 1; 2 for DST_COLOR     |
 // |   tcMods, filter / DST_COLOR SRC_COLOR             |   SRC_COLOR): multiplies the base texture     |
+// | the same on uvs of its own (tcGen base, other      | baseModulations, meanOnly: the base times the |
+// |   tcMods), not the lightmap image                  |   image's mean colour                         |
 // | surfaceparm sky or skyParms                        | sky, skyBox faces in cube order +X..-Z:       |
 // |                                                    |   _rt _lf _bk _ft _up(turned 180) _dn         |
 // | portal, sort portal                                | portal (mirror vs camera decided by entities) |
@@ -256,12 +258,17 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   // Later stages that multiply the base texel for texel (self-multiplied metal, stains).
   if (base) {
     for (const auto* s = base + 1; s < stages.data() + stages.size(); ++s) {
-      if (!isImageStage(*s) || s->tcGen != base->tcGen || !sameTcMods(s->tcMods, base->tcMods) || !s->blends()) continue;
+      if (!isImageStage(*s) || !s->blends()) continue;
+      const bool texelForTexel = s->tcGen == base->tcGen && sameTcMods(s->tcMods, base->tcMods);
+      // On uvs of its own: only plain image stages (not the lightmap image, not a reflection).
+      if (!texelForTexel && (s->tcGen != TcGen::Base || base->tcGen != TcGen::Base ||
+                             s->textures.front() == m.lightmapImage))
+        continue;
       const bool byDst = s->srcBlend == BlendFactor::DstColor, bySrc = s->dstBlend == BlendFactor::SrcColor;
       if ((byDst && s->dstBlend == BlendFactor::Zero) || (s->srcBlend == BlendFactor::Zero && bySrc))
-        m.baseModulations.push_back({s->textures.front(), 1.0f});
+        m.baseModulations.push_back({s->textures.front(), 1.0f, !texelForTexel});
       else if (byDst && bySrc)
-        m.baseModulations.push_back({s->textures.front(), 2.0f});
+        m.baseModulations.push_back({s->textures.front(), 2.0f, !texelForTexel});
     }
   }
   for (const auto& s : stages) {

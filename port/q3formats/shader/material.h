@@ -58,12 +58,15 @@ struct SkyFaceImage {
 };
 SkyFaceImage skyFaceImage(int face);
 
-/// A later stage that multiplies the base colour by an image laid on the base stage's texture
-/// coordinates (same tcGen and tcMods, so texel for texel): `blendFunc filter`, (GL_DST_COLOR,
-/// GL_ZERO) or (GL_ZERO, GL_SRC_COLOR) scale 1; (GL_DST_COLOR, GL_SRC_COLOR) scale 2.
+/// A later stage that multiplies the base colour by an image: `blendFunc filter`, (GL_DST_COLOR,
+/// GL_ZERO) or (GL_ZERO, GL_SRC_COLOR) scale 1; (GL_DST_COLOR, GL_SRC_COLOR) scale 2. Laid on
+/// the base stage's texture coordinates (same tcGen and tcMods) it multiplies texel for texel;
+/// on uvs of its own (other tcMods: scrolling cloud shadows on terrain, detail textures) the
+/// base is multiplied by the image's mean colour (`meanOnly`), its pattern left out.
 struct BaseModulation {
   std::string texture;
   float scale = 1;
+  bool meanOnly = false;
 };
 
 /// Multiplies RGBA8 `base` (width x height) by RGBA8 `modulator` (its own size, sampled at the

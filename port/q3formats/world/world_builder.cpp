@@ -1,5 +1,6 @@
 // assembleWorldScene: materials, textures, meshes, sky, sun, fogs from a SourceWorld.
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <map>
@@ -28,6 +29,17 @@ constexpr int32_t kSurfSky = 0x4;
 constexpr int32_t kSurfHint = 0x100;
 constexpr int32_t kSurfSkip = 0x200;
 constexpr int32_t kSurfNolightmap = 0x400;
+
+/// One RGBA8 texel holding the mean of each channel of RGBA8 `texels` (empty when there are none).
+std::vector<uint8_t> meanTexel(const std::vector<uint8_t>& texels) {
+  const size_t count = texels.size() / 4;
+  if (count == 0) return {};
+  std::array<double, 4> sum{};
+  for (size_t i = 0; i < count * 4; ++i) sum[i % 4] += texels[i];
+  std::vector<uint8_t> mean(4);
+  for (size_t c = 0; c < 4; ++c) mean[c] = static_cast<uint8_t>(std::lround(sum[c] / double(count)));
+  return mean;
+}
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -207,7 +219,8 @@ class SceneAssembler {
   /// baseModulations), as a texture of its own shared by equal requests; `base` when none applies.
   int32_t modulatedBase(const std::string& shader, int32_t base, const std::vector<BaseModulation>& modulations) {
     std::string key = std::to_string(base);
-    for (const BaseModulation& mod : modulations) key += " x" + std::to_string(mod.scale) + " " + mod.texture;
+    for (const BaseModulation& mod : modulations)
+      key += " x" + std::to_string(mod.scale) + (mod.meanOnly ? " mean " : " ") + mod.texture;
     if (const auto found = modulatedTextures_.find(key); found != modulatedTextures_.end()) return found->second;
     WorldTexture out = scene_.textures.at(size_t(base));
     bool applied = false;
@@ -218,7 +231,16 @@ class SceneAssembler {
         continue;
       }
       const WorldImage& by = scene_.textures.at(size_t(textures_.get(mod.texture, false))).image;
-      if (modulateBase(out.image.rgba8, out.image.width, out.image.height, by.rgba8, by.width, by.height, mod.scale)) {
+      if (mod.meanOnly) {
+        // One texel of the image's mean colour (its own uvs: the pattern does not line up).
+        const std::vector<uint8_t> mean = meanTexel(by.rgba8);
+        if (mean.empty()) continue;
+        if (modulateBase(out.image.rgba8, out.image.width, out.image.height, mean, 1, 1, mod.scale)) {
+          out.requestedPath += " x mean of " + mod.texture;
+          applied = true;
+        }
+      } else if (modulateBase(out.image.rgba8, out.image.width, out.image.height, by.rgba8, by.width, by.height,
+                              mod.scale)) {
         out.requestedPath += " x " + mod.texture;
         applied = true;
       }

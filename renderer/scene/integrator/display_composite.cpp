@@ -103,6 +103,7 @@ glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend
     case LayerBlend::MultiplyInverse: out = dst * (1.0f - src); break;
     case LayerBlend::MultiplyAdd: out = dst * (1.0f + src); break;
     case LayerBlend::Modulate2x: out = 2.0f * dst * src; break;
+    case LayerBlend::Factors: out = dst; break;   // not a shine blend: the scene store refuses it
   }
   out = glm::clamp(out, 0.0f, 1.0f);
   return decode(glm::mix(out, dst, std::clamp(baseRedrawn, 0.0f, 1.0f)));
@@ -113,8 +114,15 @@ void DisplayComposite::appendBefore(const AdditiveHits& hits, float t) {
   uint32_t n = 0;
   for (uint32_t i = 0; i < std::min(hits.count, AdditiveHits::kCapacity); ++i)
     if (hits.entries[i].t < t) order[n++] = i;
-  std::sort(order.begin(), order.begin() + n,
-            [&](uint32_t a, uint32_t b) { return hits.entries[a].t < hits.entries[b].t; });
+  // Coincident layers (a shader's stages drawn as copies of one triangle, later stages on later
+  // primitives) are drawn in stage order: the later stage is the nearer layer.
+  std::sort(order.begin(), order.begin() + n, [&](uint32_t a, uint32_t b) {
+    const AdditiveHits::Entry& x = hits.entries[a];
+    const AdditiveHits::Entry& y = hits.entries[b];
+    if (x.t != y.t) return x.t < y.t;
+    if (x.instance != y.instance) return x.instance < y.instance;
+    return x.prim > y.prim;
+  });
   for (uint32_t k = 0; k < n; ++k) {
     const AdditiveHits::Entry& e = hits.entries[order[k]];
     append({e.color, e.transmit});

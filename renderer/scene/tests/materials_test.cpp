@@ -119,6 +119,60 @@ TEST(Materials, LayerBlendsComposeInDisplayValuesInTheLightmapPreset) {
   }
 }
 
+TEST(Materials, FactorBlendsComposeInDisplayValues) {
+  // Behind: display e; the layer: display s, alpha 0.25. dst' = s x F_src + e x F_dst.
+  const float e = linearToSrgb(0.2f), s = linearToSrgb(0.5f), a = 0.25f;
+  struct Case {
+    BlendFactor src, dst;
+    float display;
+  };
+  const Case cases[] = {
+      {BlendFactor::One, BlendFactor::SrcAlpha, s + e * a},             // gl_one gl_src_alpha (explosions)
+      {BlendFactor::SrcAlpha, BlendFactor::One, s * a + e},             // gl_src_alpha gl_one
+      {BlendFactor::One, BlendFactor::OneMinusSrcColor, s + e * (1 - s)},   // gl_one gl_one_minus_src_color
+      {BlendFactor::Zero, BlendFactor::OneMinusSrcAlpha, e * (1 - a)},
+      {BlendFactor::SrcColor, BlendFactor::Zero, s * s},
+  };
+  for (const Case& c : cases) {
+    MaterialDesc layer = coloured(0.5f, 0.5f, 0.5f);
+    layer.baseColor.a = a;
+    layer.alphaMode = AlphaMode::Additive;
+    layer.layerBlend = LayerBlend::Factors;
+    layer.layerSrcFactor = c.src;
+    layer.layerDstFactor = c.dst;
+    Layers layers(coloured(0.2f, 0.2f, 0.2f), layer);
+    EXPECT_NEAR(linearToSrgb(layers.centre().g), std::min(c.display, 1.0f), 1e-4f)
+        << int(c.src) << " " << int(c.dst);
+  }
+}
+
+TEST(Materials, CoincidentLayersComposeInPrimitiveOrder) {
+  // Two copies of one quad in one mesh (a shader's stages): the first pair of triangles filters
+  // to black (dst x 0), the other adds 0.5: later primitives are later stages.
+  MaterialDesc black = coloured(0.0f, 0.0f, 0.0f);
+  black.alphaMode = AlphaMode::Additive;
+  black.layerBlend = LayerBlend::Factors;
+  black.layerSrcFactor = BlendFactor::Zero;
+  black.layerDstFactor = BlendFactor::Zero;
+  MaterialDesc add = coloured(0.5f, 0.5f, 0.5f);
+  add.alphaMode = AlphaMode::Additive;
+  for (const bool blackFirst : {true, false}) {
+    Renderer r({2});
+    test::MeshArrays back = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+    back.setMaterial(r.addMaterial(coloured(0.2f, 0.2f, 0.2f)));
+    test::MeshArrays stages = test::quad({-5, -5, 1}, {10, 0, 0}, {0, 10, 0});
+    stages.indices.insert(stages.indices.end(), {0, 1, 2, 0, 2, 3});
+    const MaterialId first = r.addMaterial(blackFirst ? black : add), second = r.addMaterial(blackFirst ? add : black);
+    stages.materials = {first, first, second, second};
+    r.addInstance({r.addMesh(back.desc())});
+    r.addInstance({r.addMesh(stages.desc())});
+    r.setSky(SkyDesc{});
+    r.commit();
+    const FrameView f = r.render(lookAt({0, 0, 3}, {0, 0, 0}, 20.0f), settingsFor(Integrator::Lightmap, 4, 1, 2));
+    EXPECT_NEAR(f.radiance[5].g, blackFirst ? 0.5f : 0.0f, 1e-5f) << blackFirst;
+  }
+}
+
 TEST(Materials, BlendIsStochasticCoverage) {
   MaterialDesc glass = coloured(1.0f, 0.0f, 0.0f);
   glass.alphaMode = AlphaMode::Blend;

@@ -49,6 +49,19 @@ glm::vec3 displayValue(const glm::vec3& linear) {
   return {linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)};
 }
 
+/// A blend factor's value for a layer of display colour `src` and alpha `a`.
+glm::vec3 blendFactor(BlendFactor factor, const glm::vec3& src, float a) {
+  switch (factor) {
+    case BlendFactor::Zero: return glm::vec3(0.0f);
+    case BlendFactor::One: return glm::vec3(1.0f);
+    case BlendFactor::SrcColor: return src;
+    case BlendFactor::OneMinusSrcColor: return glm::vec3(1.0f) - src;
+    case BlendFactor::SrcAlpha: return glm::vec3(a);
+    case BlendFactor::OneMinusSrcAlpha: return glm::vec3(1.0f - a);
+  }
+  return glm::vec3(1.0f);
+}
+
 bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, float u, float v) {
   const auto& ctx = *static_cast<const FilterContext*>(opaque);
   const auto& instances = instancesFor(*ctx.scene, ctx.overlay);
@@ -101,6 +114,15 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
             break;
           case LayerBlend::MultiplyAdd: transmit = 1.0f + displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
           case LayerBlend::Modulate2x: transmit = 2.0f * displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+          case LayerBlend::Factors: {
+            // The layer adds encode(added) x srcFactor in display values: back to linear.
+            const glm::vec3 src = glm::min(displayValue(added), glm::vec3(1.0f));
+            const float a = std::clamp(base.a, 0.0f, 1.0f);
+            const glm::vec3 shown = src * blendFactor(m.layerSrcFactor, src, a);
+            added = {srgbToLinear(shown.x), srgbToLinear(shown.y), srgbToLinear(shown.z)};
+            transmit = blendFactor(m.layerDstFactor, src, a);
+            break;
+          }
         }
         recordAdditive(*ctx.request->additive, t, instanceIndex, prim, added, transmit);
       }
@@ -293,7 +315,9 @@ float RenderScene::coverageAt(const RenderInstance& inst, uint32_t prim, glm::ve
 glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint) const {
   const MaterialRecord& m = *s.material;
   // With useVertexLight the vertex colour is baked light (Lightmap integrator), not albedo.
-  const glm::vec4 vertex = m.desc.useVertexLight ? glm::vec4(1.0f, 1.0f, 1.0f, s.vertexColor.a) : s.vertexColor;
+  glm::vec4 vertex = m.desc.useVertexLight || !m.desc.vertexColorTints ? glm::vec4(1.0f, 1.0f, 1.0f, s.vertexColor.a)
+                                                                        : s.vertexColor;
+  if (!m.desc.vertexAlphaTints) vertex.a = 1.0f;
   glm::vec4 c = m.desc.baseColor * vertex * s.instance->tint;
   if (m.base != nullptr) {
     float lod = 0.0f;

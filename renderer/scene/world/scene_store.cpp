@@ -58,6 +58,11 @@ void SceneStore::validateMaterial(const MaterialDesc& m, const CallContext& what
     throw SceneError(what + ": shineTexCoords = " + std::to_string(unsigned(m.shineTexCoords)) + " is not a TexCoordSource");
   if (unsigned(m.shineBlend) > unsigned(LayerBlend::Modulate2x))
     throw SceneError(what + ": shineBlend = " + std::to_string(unsigned(m.shineBlend)) + " is not a LayerBlend");
+  if (unsigned(m.layerBlend) > unsigned(LayerBlend::Factors))
+    throw SceneError(what + ": layerBlend = " + std::to_string(unsigned(m.layerBlend)) + " is not a LayerBlend");
+  if (unsigned(m.layerSrcFactor) > unsigned(BlendFactor::OneMinusSrcAlpha) ||
+      unsigned(m.layerDstFactor) > unsigned(BlendFactor::OneMinusSrcAlpha))
+    throw SceneError(what + ": a layer blend factor is not a BlendFactor");
   requireFinite(finite(m.baseColor), what, "baseColor");
   requireNonNegative(m.emission, what, "emission");
   requireFinite(finite(m.alphaCutoff), what, "alphaCutoff");

@@ -112,10 +112,25 @@ TEST(Material, LaterStagesMultiplyingTheBaseOnItsUvs) {
   EXPECT_FLOAT_EQ(doubled.baseModulations[0].scale, 2.0f);
   EXPECT_EQ(doubled.baseModulations[1].texture, "c.tga");
   EXPECT_FLOAT_EQ(doubled.baseModulations[1].scale, 1.0f);
-  // A detail texture on other uvs (tcMod scale) and the lightmap itself are not texel-for-texel.
+  // A detail texture on other uvs (tcMod scale) multiplies by its mean; the lightmap is none.
   auto detail = material("d { { map a.tga } { map $lightmap blendFunc filter } "
                          "{ map detail.tga blendFunc GL_DST_COLOR GL_SRC_COLOR tcMod scale 8 8 } }");
-  EXPECT_TRUE(detail.baseModulations.empty());
+  ASSERT_EQ(detail.baseModulations.size(), 1u);
+  EXPECT_EQ(detail.baseModulations[0].texture, "detail.tga");
+  EXPECT_FLOAT_EQ(detail.baseModulations[0].scale, 2.0f);
+  EXPECT_TRUE(detail.baseModulations[0].meanOnly);
+  EXPECT_FALSE(shine.baseModulations[0].meanOnly);
+  // OpenArena's terrain: rock, vegetation blended by vertex alpha, scrolling cloud shadows as a
+  // filter on their own uvs, the lightmap.
+  auto terrain = material(R"(t { { map rock.jpg rgbGen identity }
+    { map veg.tga blendFunc GL_SRC_ALPHA GL_ONE_MINUS_SRC_ALPHA alphaFunc GE128 alphaGen vertex }
+    { map clouds.tga blendfunc filter tcmod scale .2 .2 tcMod scroll -0.15 0.15 }
+    { map $lightmap rgbGen identity blendFunc GL_DST_COLOR GL_ZERO } })");
+  ASSERT_EQ(terrain.baseModulations.size(), 1u);
+  EXPECT_EQ(terrain.baseModulations[0].texture, "clouds.tga");
+  EXPECT_TRUE(terrain.baseModulations[0].meanOnly);
+  // An environment-mapped filter is not on mesh uvs at all: left out.
+  EXPECT_TRUE(material("e { { map a.tga } { map env.tga blendFunc filter tcGen environment } }").baseModulations.empty());
   // The ordinary lightmapped wall has none.
   EXPECT_TRUE(material("w { { map $lightmap } { map w.tga blendFunc filter } }").baseModulations.empty());
 }

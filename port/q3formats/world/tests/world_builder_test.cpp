@@ -78,6 +78,12 @@ textures/test/shine
   { map textures/test/wall.tga blendfunc filter }
   { map $lightmap blendfunc filter }
 }
+textures/test/terrain
+{
+  { map textures/test/wall.tga rgbGen identity }
+  { map textures/test/shadow.tga blendfunc filter tcMod scale .2 .2 tcMod scroll -0.15 0.15 }
+  { map $lightmap blendfunc filter }
+}
 textures/common/nodraw
 {
   surfaceparm nodraw
@@ -105,6 +111,7 @@ class WorldBuilderTest : public ::testing::Test {
     library_.addScript(kScript, "scripts/test.shader");
     files_["textures/test/wall.jpg"] = pngOf(4, 4, 200, 100, 50, 255);   // stb sniffs the content
     files_["textures/test/implicit.png"] = pngOf(2, 2, 10, 20, 30, 255);
+    files_["textures/test/shadow.png"] = pngOf(2, 2, 100, 100, 100, 255);
     for (const char* face : {"rt", "bk", "lf", "ft", "up", "dn"})
       files_[std::string("env/test_") + face + ".tga"] = pngOf(2, 2, 0, 0, 255, 255);
     loader_ = [this](std::string_view path) -> std::optional<std::vector<std::byte>> {
@@ -116,7 +123,8 @@ class WorldBuilderTest : public ::testing::Test {
     source_.shaders = {{"textures/test/wall", 0, 1}, {"textures/test/missing", 0, 1}, {"textures/test/glass", 0, 1},
                        {"textures/test/lamp", 0, 1}, {"textures/skies/test", 4, 1}, {"textures/common/nodraw", 0x80, 0},
                        {"textures/test/implicit", 0, 1}, {"textures/test/lampimage", 0, 1},
-                       {"textures/test/lampmissing", 0, 1}, {"textures/test/shine", 0, 1}};
+                       {"textures/test/lampmissing", 0, 1}, {"textures/test/shine", 0, 1},
+                       {"textures/test/terrain", 0, 1}};
     source_.modelBounds = {{{0, 0, 0}, {64, 64, 64}}, {{0, 0, 100}, {64, 64, 101}}};
     source_.lightmaps.resize(2);
     source_.lightmaps[0].fill(64);
@@ -226,6 +234,19 @@ TEST_F(WorldBuilderTest, FilterStageOfTheSameImageSquaresTheBaseTexture) {
   // (200, 100, 50)^2 / 255 in 8-bit display values; the wall's own texture is untouched.
   EXPECT_EQ(std::vector<uint8_t>(squared.rgba8.begin(), squared.rgba8.begin() + 4), (std::vector<uint8_t>{157, 39, 10, 255}));
   EXPECT_EQ(scene.textures.at(size_t(wall->baseTexture)).image.rgba8[0], 200);
+}
+
+TEST_F(WorldBuilderTest, FilterStageOnItsOwnUvsDarkensTheBaseByItsMean) {
+  source_.surfaces = {quad(10, 0, 0, 0)};
+  WorldScene scene = build();
+  const WorldMaterial* terrain = materialNamed(scene, "textures/test/terrain");
+  ASSERT_NE(terrain, nullptr);
+  const WorldImage& darkened = scene.textures.at(size_t(terrain->baseTexture)).image;
+  ASSERT_EQ(darkened.rgba8.size(), 4u * 4u * 4u);
+  // (200, 100, 50) x 100 / 255 for every texel, in 8-bit display values.
+  for (size_t i = 0; i < darkened.rgba8.size(); i += 4)
+    EXPECT_EQ(std::vector<uint8_t>(darkened.rgba8.begin() + i, darkened.rgba8.begin() + i + 4),
+              (std::vector<uint8_t>{78, 39, 20, 255}));
 }
 
 TEST_F(WorldBuilderTest, SkyShaderGivesSkyBoxAndSun) {
