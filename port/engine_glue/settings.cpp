@@ -72,6 +72,13 @@ void Settings::registerCvars(const Engine& engine) {
   temporal_ = engine.cvar("r_pt_temporal", "1", CVAR_ARCHIVE,
                           "Temporal accumulation (reprojected history) on the direct and path presets (0 = off)");
   if (temporal_ != nullptr) ri.Cvar_CheckRange(temporal_, 0, 1, 1);
+  captureExr_ = engine.cvar("r_pt_captureExr", "0", 0,
+                            "screenshot NAME also writes NAME.exr: the world view's linear radiance (R, G, B) "
+                            "and the variance of each pixel's mean luminance (variance.Y)");
+  if (captureExr_ != nullptr) ri.Cvar_CheckRange(captureExr_, 0, 1, 1);
+  clamp_ = engine.cvar("r_pt_clamp", "-1", 0,
+                       "Clamp of each sample's radiance (0 = none, an unbiased mean); -1 = the preset's "
+                       "(reference none, the others 10)");
 }
 
 VideoModeRequest Settings::videoMode() const {
@@ -178,6 +185,8 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.printStats = stats_ != nullptr && stats_->integer != 0;
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
   out.temporal = temporal_ == nullptr || temporal_->integer != 0;
+  out.captureExr = captureExr_ != nullptr && captureExr_->integer != 0;
+  if (clamp_ != nullptr && std::isfinite(clamp_->value)) out.radianceClamp = clamp_->value < 0.0f ? -1.0f : clamp_->value;
   return out;
 }
 

@@ -31,6 +31,8 @@ struct TracerSettings {
   bool printStats = false;   ///< r_pt_stats
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
   bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
+  bool captureExr = false;   ///< r_pt_captureExr: screenshots also write the world view's film as EXR
+  float radianceClamp = -1.0f;   ///< r_pt_clamp: per-sample radiance clamp (0 = none); < 0 = the preset's
 };
 
 /// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,
@@ -100,6 +102,8 @@ class Settings {
   q3abi::cvar_t* intensity_ = nullptr;
   q3abi::cvar_t* flares_ = nullptr;
   q3abi::cvar_t* temporal_ = nullptr;
+  q3abi::cvar_t* captureExr_ = nullptr;
+  q3abi::cvar_t* clamp_ = nullptr;
 };
 
 }  // namespace glue
