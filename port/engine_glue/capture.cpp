@@ -164,6 +164,12 @@ void Module::takeScreenshot(const ScreenshotRequest& request) {
   }
   engine_.writeFile(name, file.data(), file.size());
   if (!request.silent) engine_.print(q3abi::PRINT_ALL, "Wrote %s\n", name.c_str());
+  // r_pt_captureExr: the world view's film beside the picture (NAME.exr), for noise-aware checks.
+  if (!request.levelshot && !filmCapture_.empty() && settings_.tracer(engine_).captureExr) {
+    const std::vector<uint8_t> exr = encodeFilmExr(filmCapture_);
+    if (exr.empty()) engine_.warn("screenshot: encoding the film of " + name + " as EXR failed");
+    else engine_.writeFile(stripExtension(name) + ".exr", exr.data(), exr.size());
+  }
 }
 
 void Module::takeVideoFrame(int width, int height, q3abi::byte* captureBuffer,

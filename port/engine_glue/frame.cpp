@@ -59,6 +59,7 @@ void Module::beginFrame(int /*stereoFrame*/) {
   if (settings_.gammaChanged()) updateDisplayRamp();
   overlay_.beginFrame(window_.width(), window_.height());
   frameOpen_ = true;
+  filmCapture_.clear();
 }
 
 void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
@@ -163,6 +164,7 @@ void Module::renderScene(const q3abi::refdef_t* view) {
       if (picture) {
         addTimings(stats_.world, picture->timings);
         stats_.accumulated = picture->accumulatedFrames;
+        if (settings_.tracer(engine_).captureExr) filmCapture_.assign(*picture);
       }
     }
     if (picture) {

@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "port/engine_glue/capture_exr.h"
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/images.h"
 #include "port/engine_glue/ioq3_abi.h"
@@ -147,6 +148,7 @@ class Module {
   /// film of their own, so that they never rebuild, resize or reset the world view's.
   std::unique_ptr<ViewRenderer> modelViews_;
   std::vector<ScreenshotRequest> pendingShots_;
+  FilmCapture filmCapture_;   ///< r_pt_captureExr: the last world view of the last frame, for screenshots.
   /// The display's gamma ramp (r_gamma; stock sets it on the display, we map the finished frame).
   std::array<uint8_t, 256> displayRamp_{};
   bool rampIsIdentity_ = true;

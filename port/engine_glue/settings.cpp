@@ -82,6 +82,13 @@ void Settings::registerCvars(const Engine& engine) {
   look_ = engine.cvar("r_pt_look", "stock", CVAR_ARCHIVE,
                       "How direct, path and reference show light: stock (as the lightmap: texture x light "
                       "in display values, light clamped to 1) | filmic (physical radiance, ACES curve)");
+  captureExr_ = engine.cvar("r_pt_captureExr", "0", 0,
+                            "screenshot NAME also writes NAME.exr: the world view's linear radiance (R, G, B) "
+                            "and the variance of each pixel's mean luminance (variance.Y)");
+  if (captureExr_ != nullptr) ri.Cvar_CheckRange(captureExr_, 0, 1, 1);
+  clamp_ = engine.cvar("r_pt_clamp", "-1", 0,
+                       "Clamp of each sample's radiance (0 = none, an unbiased mean); -1 = the preset's "
+                       "(reference none, the others 10)");
 }
 
 VideoModeRequest Settings::videoMode() const {
@@ -191,6 +198,8 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.restir = restir_ != nullptr && restir_->integer != 0;
   out.fireflies = fireflies_ == nullptr || fireflies_->integer != 0;
   out.stockLook = look_ == nullptr || look_->string == nullptr || normalizeName(look_->string) != "filmic";
+  out.captureExr = captureExr_ != nullptr && captureExr_->integer != 0;
+  if (clamp_ != nullptr && std::isfinite(clamp_->value)) out.radianceClamp = clamp_->value < 0.0f ? -1.0f : clamp_->value;
   return out;
 }
 

@@ -36,6 +36,8 @@ struct TracerSettings {
   /// values, light clamped to 1, no tone curve); false: physical radiance through the ACES curve
   bool stockLook = true;
   bool fireflies = true;     ///< r_pt_fireflies: spread fireflies before the denoiser (denoise/fireflies.h)
+  bool captureExr = false;   ///< r_pt_captureExr: screenshots also write the world view's film as EXR
+  float radianceClamp = -1.0f;   ///< r_pt_clamp: per-sample radiance clamp (0 = none); < 0 = the preset's
 };
 
 /// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,
@@ -108,6 +110,8 @@ class Settings {
   q3abi::cvar_t* restir_ = nullptr;
   q3abi::cvar_t* look_ = nullptr;
   q3abi::cvar_t* fireflies_ = nullptr;
+  q3abi::cvar_t* captureExr_ = nullptr;
+  q3abi::cvar_t* clamp_ = nullptr;
 };
 
 }  // namespace glue

@@ -4,7 +4,10 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
+
+#include <glm/vec3.hpp>
 
 #include "port/engine_glue/ioq3_abi.h"
 #include "port/engine_glue/settings.h"
@@ -39,6 +42,11 @@ struct TracedPicture {
   const uint8_t* rgba = nullptr;
   ViewTimings timings;
   uint32_t accumulatedFrames = 1;   ///< Frames averaged in this picture (the reference preset's history).
+  /// The film behind the picture, width x height, valid until this ViewRenderer renders again:
+  /// linear radiance (after denoising and temporal accumulation when those are on) and the
+  /// variance of each pixel's mean luminance over this frame's samples (empty when unknown).
+  std::span<const glm::vec3> radiance;
+  std::span<const float> variance;
 };
 
 /// Owns the path tracer and what it knows of the world.

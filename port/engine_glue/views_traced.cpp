@@ -799,7 +799,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   rs.samplesPerPixel = static_cast<uint32_t>(settings.samplesPerPixel);
   rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
   rs.accumulate = settings.preset == Preset::Reference;
-  rs.radianceClamp = settings.preset == Preset::Reference ? 0.0f : 10.0f;
+  rs.radianceClamp = settings.radianceClamp >= 0.0f ? settings.radianceClamp
+                     : settings.preset == Preset::Reference ? 0.0f : 10.0f;
   rs.seed = settings.seed + (rs.accumulate ? 0u : d.frameCounter++);
   rs.denoise = settings.denoise && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
   // Views of the world only: HUD model views share one renderer between differing views.
@@ -822,7 +823,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
                             double(d.animationUpdates + (withWorld ? d.worldAnimation.lastUpdates() : 0)),
                             frame.timings.resampleMs};
   return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), d.picture.data(), timings,
-                       frame.accumulatedFrames};
+                       frame.accumulatedFrames, frame.radiance, frame.variance};
 }
 
 }  // namespace glue

@@ -36,6 +36,7 @@ pa_engine_run "$work" "$out/engine.log" "${CAPTURE_TIMEOUT:-300}" "$width" "$hei
 status=$?
 set -e
 cp "$work"/home/baseoa/screenshots/view_*.tga "$out/" 2>/dev/null || true
+cp "$work"/home/baseoa/screenshots/view_*.exr "$out/" 2>/dev/null || true   # our module with r_pt_captureExr 1
 if [[ $status -ne 0 ]]; then echo "engine exited with status $status (log: $out/engine.log)"; exit 1; fi
 pa_engine_used_renderer "$out/engine.log" "$renderer" || { echo "renderer $renderer was not used (log: $out/engine.log)"; exit 1; }
 for ((i = 1; i <= n; ++i)); do

@@ -8,7 +8,8 @@
 #   pa_engine_run WORK LOG SECONDS WIDTH HEIGHT RENDERER [engine args...]
 #        RENDERER is "pathtracer" (our module) or a stock name such as "opengl1".
 #        Returns the engine's exit status (124 on timeout). The X screen is WIDTHxHEIGHT unless
-#        PA_XVFB_SCREEN (e.g. 1024x768x24) says otherwise.
+#        PA_XVFB_SCREEN (e.g. 1024x768x24) says otherwise. PA_ENGINE_PRELOAD (a library path)
+#        is preloaded into the engine alone (tests/regress's pa_fixed_rand.so).
 PA_ENGINE="${PA_ENGINE:-/usr/lib/ioquake3/ioquake3}"
 PA_GAME_DIR="${PA_GAME_DIR:-/usr/lib/openarena/baseoa}"
 
@@ -31,8 +32,10 @@ pa_engine_cfg() { echo "$1/home/baseoa/$2.cfg"; }
 pa_engine_run() {
   local work="$1" log="$2" seconds="$3" width="$4" height="$5" renderer="$6"
   shift 6
+  local preload=()
+  [[ -n "${PA_ENGINE_PRELOAD:-}" ]] && preload=(env "LD_PRELOAD=$PA_ENGINE_PRELOAD${LD_PRELOAD:+:$LD_PRELOAD}")
   # fs_homepath is given explicitly: screenshots land in WORK/home/baseoa/screenshots.
-  HOME="$work/home" timeout "$seconds" xvfb-run -a -s "-screen 0 ${PA_XVFB_SCREEN:-${width}x${height}x24}" "$PA_ENGINE" \
+  HOME="$work/home" timeout "$seconds" xvfb-run -a -s "-screen 0 ${PA_XVFB_SCREEN:-${width}x${height}x24}" "${preload[@]}" "$PA_ENGINE" \
     +set com_basegame baseoa +set fs_basepath "$work/basepath" +set fs_homepath "$work/home" \
     +set com_legacyprotocol 71 +set com_protocol 71 +set cl_renderer "$renderer" \
     +set r_mode -1 +set r_customwidth "$width" +set r_customheight "$height" +set r_fullscreen 0 \

@@ -2,7 +2,7 @@
 # capture_demo.sh OUT_DIR RENDERER MODULE DEMO "T1 T2 ..." [engine args...]
 # Plays DEMO (a name in the game's demos/, e.g. demo088-test1, or a path to a .dm_71 file) as a
 # timedemo in Debian's ioquake3 under xvfb-run and writes OUT_DIR/tick_NNNN.tga at each command
-# tick T (increasing), plus OUT_DIR/engine.log. Same-tick mechanism and RENDERER/MODULE as in
+# tick T (increasing; with our module and r_pt_captureExr 1 also tick_NNNN.exr), plus OUT_DIR/engine.log. Same-tick mechanism and RENDERER/MODULE as in
 # tests/fidelity/capture_frames.sh (tests/fidelity/README.md, "How frames are made the same
 # moment"). Size: CAPTURE_WIDTH x CAPTURE_HEIGHT. Exit 77 when the engine, the game data or
 # xvfb-run are missing.
@@ -32,6 +32,7 @@ pa_engine_run "$work" "$out/engine.log" "${CAPTURE_TIMEOUT:-600}" "$width" "$hei
 status=$?
 set -e
 cp "$work"/home/baseoa/screenshots/tick_*.tga "$out/" 2>/dev/null || true
+cp "$work"/home/baseoa/screenshots/tick_*.exr "$out/" 2>/dev/null || true   # r_pt_captureExr 1
 if [[ $status -ne 0 ]]; then echo "engine exited with status $status (log: $out/engine.log)"; exit 1; fi
 pa_engine_used_renderer "$out/engine.log" "$renderer" || { echo "renderer $renderer was not used (log: $out/engine.log)"; exit 1; }
 for tick in $ticks; do

@@ -75,12 +75,15 @@ int runImages(const Options& o) {
   std::vector<std::string> reasons;
   std::vector<float> heat = flip;
   float heatScale = 1.0f;
+  int heatWidth = ref.width, heatHeight = ref.height;   // the EXR's size in noise mode (a game's world film)
   if (o.mode == "exact") {
     if (!identical) reasons.push_back("pixels differ (exact); max |diff| " + std::to_string(static_cast<int>(metrics.maxAbsDiff)));
   } else if (o.mode == "noise") {
     if (!o.newExr || !o.refExr) throw std::invalid_argument("--mode noise needs --new-exr and --ref-exr");
-    const auto result = pa::regress::noiseTest(pa::regress::loadExr(*o.newExr), pa::regress::loadExr(*o.refExr),
-                                               {o.alpha, o.minPass});
+    const pa::regress::HdrImage refHdr = pa::regress::loadExr(*o.refExr);
+    const auto result = pa::regress::noiseTest(pa::regress::loadExr(*o.newExr), refHdr, {o.alpha, o.minPass});
+    heatWidth = refHdr.width;
+    heatHeight = refHdr.height;
     out["noise"] = {{"pixels", result.pixels},           {"failed_pixels", result.failedPixels},
                     {"pass_fraction", result.passFraction}, {"min_pass_fraction", o.minPass},
                     {"alpha", o.alpha},                  {"pixel_alpha", result.pixelAlpha},
@@ -112,7 +115,7 @@ int runImages(const Options& o) {
   out["pass"] = reasons.empty();
   out["reasons"] = reasons;
   if (o.diffOut) pa::fidelity::savePng(*o.diffOut, pa::fidelity::differenceImage(fresh, ref, 16.0));
-  if (o.heatOut) pa::fidelity::savePng(*o.heatOut, pa::regress::heatMap(heat, ref.width, ref.height, heatScale));
+  if (o.heatOut) pa::fidelity::savePng(*o.heatOut, pa::regress::heatMap(heat, heatWidth, heatHeight, heatScale));
   std::cout << out.dump() << "\n";
   return reasons.empty() ? 0 : 1;
 }

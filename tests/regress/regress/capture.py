@@ -27,6 +27,10 @@ class Tools:
         # The comparison tool need not come from the build under test (record --build OLD).
         self.compare = compare or os.environ.get("PA_REGRESS_COMPARE") or os.path.join(
             REPO, "build/tests/regress/pa-regress-compare")
+        # Preloaded into the engine for a fixed rand() seed; like the comparison tool, from this
+        # checkout's build (beside pa-regress-compare) unless PA_REGRESS_FIXED_RAND names it.
+        self.fixed_rand = os.environ.get("PA_REGRESS_FIXED_RAND") or os.path.join(
+            os.path.dirname(self.compare), "pa_fixed_rand.so")
 
 
 def sha256(path):
@@ -66,7 +70,7 @@ def engine_args(case):
     args = []
     if case["renderer"] not in STOCK_RENDERERS:
         args += ["+set", "r_pt_preset", case["renderer"], "+set", "r_pt_seed", str(case["seed"]),
-                 "+set", "r_pt_threads", str(case["threads"])]
+                 "+set", "r_pt_threads", str(case["threads"]), "+set", "r_pt_captureExr", "1"]
         if case["spp"] is not None:
             args += ["+set", "r_pt_spp", str(case["spp"])]
     for key, value in sorted(case["cvars"].items()):
@@ -93,6 +97,10 @@ def capture(case, tools, out_dir):
             raise CaptureError(f"no renderer module at {tools.module}")
         env = dict(os.environ, CAPTURE_WIDTH=str(case["size"][0]), CAPTURE_HEIGHT=str(case["size"][1]),
                    CAPTURE_TIMEOUT=str(case["timeout"]))
+        if case["game_seed"] is not None:  # the game's effects draw from rand(): fix its seed
+            if not os.path.isfile(tools.fixed_rand):
+                raise CaptureError(f"no {tools.fixed_rand} (build target pa_fixed_rand) for game_seed")
+            env.update(PA_ENGINE_PRELOAD=tools.fixed_rand, PA_FIXED_RAND_SEED=str(case["game_seed"]))
         raw = os.path.join(out_dir, "raw")
         if case["kind"] == "demo":
             cmd = [os.path.join(HERE, "capture_demo.sh"), raw, renderer, tools.module, case["demo"],
@@ -109,6 +117,8 @@ def capture(case, tools, out_dir):
             if _run([tools.compare, "convert", os.path.join(raw, name + ".tga"), os.path.join(out_dir, name + ".png")],
                     log, 60) != 0:
                 raise CaptureError(f"cannot convert {name}.tga to PNG (log: {log})")
+            if os.path.isfile(os.path.join(raw, name + ".exr")):  # our module's film (r_pt_captureExr)
+                os.replace(os.path.join(raw, name + ".exr"), os.path.join(out_dir, name + ".exr"))
         for tga in glob.glob(os.path.join(raw, "*.tga")):
             os.remove(tga)
     record = {"case": case["name"], "seconds": round(time.monotonic() - started, 3), "frames": {}}
@@ -123,6 +133,8 @@ def capture(case, tools, out_dir):
         record["frames"][name] = entry
     settings = {k: case[k] for k in ("kind", "renderer", "size", "spp", "seed", "threads", "frames", "cvars", "options")}
     settings.update({k: case[k] for k in ("scene", "camera", "demo", "ticks", "map", "views") if k in case})
+    if case["kind"] != "scene":
+        settings["game_seed"] = case["game_seed"]
     for key in ("scene", "demo"):  # paths inside the repository are kept relative to its root
         if isinstance(settings.get(key), str) and settings[key].startswith(REPO + os.sep):
             settings[key] = os.path.relpath(settings[key], REPO)

@@ -21,6 +21,7 @@ DEFAULTS = {
     "compare": {"mode": "perceptual"},
     "timeout": 600,
     "capture_only": False,  # captured for other cases' 'against', compared with nothing itself
+    "game_seed": 1,       # engine: the C library's rand() seed (pa_fixed_rand.so); None = the engine's own
 }
 COMPARE_DEFAULTS = {"alpha": 0.01, "min_pass": 0.9975, "flip_threshold": 0.1, "fail_fraction": 0.01}
 NAME_RE = re.compile(r"^[A-Za-z0-9_.-]+$")
@@ -124,14 +125,16 @@ def _validate(case, where, base_dir):
             if not views or not all(re.match(r"^-?[0-9.]+ -?[0-9.]+ -?[0-9.]+ -?[0-9.]+$", v) for v in views):
                 raise SuiteError(f"{where}: views must be 'X Y Z YAW' strings")
             case["frame_names"] = [f"view_{i + 1}" for i in range(len(views))]
+    if case["game_seed"] is not None and not (isinstance(case["game_seed"], int) and case["game_seed"] >= 0):
+        raise SuiteError(f"{where}: game_seed must be a non-negative integer or null")
     size = case["size"]
     if not (isinstance(size, list) and len(size) == 2 and all(isinstance(s, int) and s > 0 for s in size)):
         raise SuiteError(f"{where}: size must be [WIDTH, HEIGHT]")
     mode = case["compare"].get("mode")
     if mode not in COMPARE_MODES:
         raise SuiteError(f"{where}: compare.mode must be one of {sorted(COMPARE_MODES)}")
-    if mode == "noise" and case["kind"] != "scene":
-        raise SuiteError(f"{where}: compare.mode noise needs the EXR of a scene case (pa-render)")
+    if mode == "noise" and case["renderer"] in STOCK_RENDERERS:
+        raise SuiteError(f"{where}: compare.mode noise needs the film's EXR (pa-render or a preset of our module)")
     return case
 
 

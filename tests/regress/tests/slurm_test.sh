@@ -3,7 +3,8 @@
 # the end) runs the CI suite as 4 shards through sbatch plus the dependent merge job; the merged
 # summary must equal an unsharded run's (timings aside). Then the same sharding renders the
 # suite's references (pa-regress record, 4 array tasks of pa-render): byte-identical to an
-# unsharded record. Usage: slurm_test.sh BUILD_DIR COMPARE_TOOL. Exit 77 without slurm-wlm/munge.
+# unsharded record; and batch map conversion (assets_converter, submit.sh convert, 2 array tasks).
+# Usage: slurm_test.sh BUILD_DIR COMPARE_TOOL. Exit 77 without slurm-wlm/munge.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 regress="$(dirname "$here")"
@@ -56,4 +57,25 @@ for f in "$tmp"/refs-whole/*/frame.*; do
   cmp "$f" "$tmp/refs-sharded/${f#"$tmp"/refs-whole/}" || { echo "FAIL: $f differs when recorded through Slurm"; exit 1; }
 done
 echo "references recorded by 4 Slurm array tasks are byte-identical to an unsharded record"
+
+# Batch map conversion through the same sharding: 4 maps in 2 array tasks plus the merge job that
+# checks every .glb, byte-identical to converting them in one process.
+game="${PA_GAME_DIR:-/usr/share/games/openarena/baseoa}"
+converter="$build/assets_converter/assets_converter"
+if [[ -x "$converter" && -d "$game" ]]; then
+  maps=(oa_ctf2 aggressor q3dm6ish oa_bases5)
+  read -r array merge < <(PA_CONVERTER="$converter" "$regress/slurm/submit.sh" convert "$game" "$tmp/glb-sharded" 2 \
+                          $(printf -- '--map %s ' "${maps[@]}"))
+  wait_jobs "$array" "$merge"
+  cat "$tmp"/glb-sharded/slurm/*.out
+  python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); assert s["converted"] == s["maps"] == 4, s' \
+    "$tmp/glb-sharded/convert-summary.json"
+  "$converter" --game "$game" $(printf -- '--map %s ' "${maps[@]}") -o "$tmp/glb-whole" >/dev/null
+  for m in "${maps[@]}"; do
+    cmp "$tmp/glb-whole/$m.glb" "$tmp/glb-sharded/$m.glb" || { echo "FAIL: $m.glb differs when converted through Slurm"; exit 1; }
+  done
+  echo "4 maps converted by 2 Slurm array tasks are byte-identical to one unsharded conversion"
+else
+  echo "map conversion not checked: no $converter or no game data in $game"
+fi
 echo PASS

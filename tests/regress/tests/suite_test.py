@@ -50,13 +50,22 @@ class SuiteTest(unittest.TestCase):
             [{"name": "c", "demo": "x", "ticks": [80, 40], "renderer": "lightmap"}],  # ticks not increasing
             [{"name": "c", "demo": "x", "ticks": [40], "renderer": "nope"}],  # unknown renderer
             [{"name": "c", "map": "m", "views": ["1 2 3"], "renderer": "opengl1"}],  # view without yaw
-            [{"name": "c", "demo": "x", "ticks": [40], "renderer": "path", "compare": {"mode": "noise"}}],
+            [{"name": "c", "demo": "x", "ticks": [40], "renderer": "opengl1", "compare": {"mode": "noise"}}],  # no film
+            [{"name": "c", "demo": "x", "ticks": [40], "renderer": "path", "game_seed": -1}],
             [{"name": "c", **SCENE, "against": "missing"}],
             [{"name": "c", **SCENE, "preset": "missing"}],
         ]
         for cases in bad:
             with self.subTest(cases=cases), self.assertRaises(SuiteError):
                 load_suite(write_suite({"cases": cases}))
+
+    def test_game_cases_fix_the_rand_seed_and_presets_may_be_noise_aware(self):
+        path = write_suite({"cases": [{"name": "a", "demo": "x", "ticks": [40], "renderer": "path",
+                                       "compare": {"mode": "noise"}},
+                                      {"name": "b", "demo": "x", "ticks": [40], "renderer": "opengl1", "game_seed": None}]})
+        a, b = load_suite(path)["cases"]
+        self.assertEqual((a["game_seed"], a["compare"]["mode"]), (1, "noise"))
+        self.assertIsNone(b["game_seed"])
 
     def test_shards_partition_and_keep_against_groups_together(self):
         cases = [{"name": f"c{i}", **SCENE} for i in range(7)]
