@@ -29,6 +29,7 @@
 #include "port/engine_glue/dlight_overlay.h"
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/entity_geometry.h"
+#include "port/engine_glue/entity_materials.h"
 #include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/entity_slots.h"
 #include "port/engine_glue/models.h"
@@ -67,12 +68,6 @@ struct DynamicSlot {
   bool visible = false;
 };
 
-/// Kinds of materials made from one shader. StockEffect: an effect in the lightmap preset, where
-/// alpha-blended effects (smoke puffs) are premultiplied-over layers (src * a + dst * (1 - a)) and
-/// filters (marks, blob shadows) multiply layers (dst * src, dst * (1 - src)), composed in display
-/// values like the stock blend stages (the tracer's stochastic blend would speckle at one sample
-/// per pixel).
-enum class MaterialUse : uint8_t { Model, Effect, StockEffect };
 
 glm::mat4x3 entityTransform(const q3abi::refEntity_t& e) {
   glm::mat4x3 m(1.0f);
@@ -419,73 +414,13 @@ struct ViewRenderer::Impl {
     return m.pool.get(m.motion, m.still, seconds, scroll, viewCount, *renderer, animationUpdates);
   }
 
-  /// The still look (no animation) of a shader stage drawn as `use` with `image`.
+  /// The still look (no animation) of a shader stage drawn as `use` with `image` (entity_materials.h).
   pa::MaterialDesc describe(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,
                             MaterialUse use, uint32_t layer) {
-    pa::MaterialDesc desc;
-    desc.baseTexture = texture(image, look.clamp, look.noPicmip);
-    desc.useVertexLight = use == MaterialUse::Model;
-    if (look.nodraw) desc.visible = false;
-    if (look.fromScript) {
-      const unsigned dst = look.blend.dst;
-      const auto factors = layerFactors(look.blend);
-      const bool plainAdd = look.blend.src == 1 && dst == 1;
-      if (use == MaterialUse::StockEffect && factors && look.blend.blends() && !plainAdd && !isAlphaBlend(look.blend) &&
-          filterAsDarkening(look.blend) == Darkening::None) {
-        // Any other blend of the layer's own colour and alpha (gl_one gl_src_alpha explosions,
-        // gl_src_alpha gl_one glows), composed in display values as the framebuffer does.
-        desc.alphaMode = pa::AlphaMode::Additive;
-        desc.layerBlend = pa::LayerBlend::Factors;
-        desc.layerSrcFactor = factors->first;
-        desc.layerDstFactor = factors->second;
-        desc.castsShadows = false;
-        // The entity's colour reaches the stage only through rgbGen / alphaGen entity or vertex
-        // (stock: a wave or identity colour comes with alpha 1).
-        const bool entityRgb = look.vertexColor || look.rgbGen == q3::RgbGen::Entity;
-        desc.vertexColorTints = entityRgb;
-        desc.vertexAlphaTints = entityRgb || look.vertexAlpha || look.alphaGen == q3::AlphaGen::Entity;
-      } else if (dst == 1 /*GL_ONE*/) {
-        desc.alphaMode = pa::AlphaMode::Additive;
-        desc.castsShadows = false;
-      } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
-        desc.baseTexture = texture(premultipliedImage(image), look.clamp, look.noPicmip);
-        desc.alphaMode = pa::AlphaMode::Additive;
-        desc.layerBlend = pa::LayerBlend::Over;
-        desc.castsShadows = false;
-      } else if (const auto darken = filterAsDarkening(look.blend);
-                 darken != Darkening::None && use == MaterialUse::StockEffect) {
-        // dst * src (or dst * (1 - src): blob shadows) in display values, per channel.
-        desc.alphaMode = pa::AlphaMode::Additive;
-        desc.layerBlend = darken == Darkening::BySourceColor ? pa::LayerBlend::Multiply : pa::LayerBlend::MultiplyInverse;
-        desc.castsShadows = false;
-      } else if (isAlphaBlend(look.blend)) {
-        desc.alphaMode = pa::AlphaMode::Blend;
-        desc.castsShadows = false;
-      } else if (const auto darken = filterAsDarkening(look.blend); darken != Darkening::None) {
-        // Multiplicative filters (bullet marks, blob shadows) darken what is behind. The tracer
-        // has no multiply mode: draw them as black with an alpha of how much they darken.
-        desc.baseTexture = texture(darkeningImage(image, darken), look.clamp, look.noPicmip);
-        desc.alphaMode = pa::AlphaMode::Blend;
-        desc.castsShadows = false;
-      } else if (look.blend.blends()) {
-        desc.visible = false;   // other exotic blends: not drawn
-        desc.castsShadows = false;
-      }
-      if (look.alphaTest != AlphaTest::None && desc.alphaMode == pa::AlphaMode::Opaque) {
-        desc.alphaMode = pa::AlphaMode::Mask;
-        desc.alphaCutoff = look.alphaTest == AlphaTest::Gt0 ? 1.0f / 255.0f : 0.5f;
-        desc.alphaInvert = look.alphaTest == AlphaTest::Lt128;
-      }
-    }
-    if (look.rgbGen == q3::RgbGen::Const) {
-      // rgbGen const: the stage's colour, whatever the blend (orange muzzle flashes).
-      desc.baseColor = glm::vec4(byteToLinear(look.constColor[0] * 255.0f), byteToLinear(look.constColor[1] * 255.0f),
-                                 byteToLinear(look.constColor[2] * 255.0f), 1.0f);
-    }
-    if (entry.isDefault) desc.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
-    applyReflectionLook(look, desc);
-    if (layer == 0 && entry.shineImage) applyShineLook(look, texture(entry.shineImage, look.shine->clamp), desc);
-    return desc;
+    const ImageTextures textures = [this](const std::shared_ptr<const Image>& i, bool clamp, bool noPicmip) {
+      return texture(i, clamp, noPicmip);
+    };
+    return describeStage(entry, look, image, use, layer, textures);
   }
 
   /// The parsed geometry of an MD3 model (LOD 0), parsed once at registration.

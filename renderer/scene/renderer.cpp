@@ -99,6 +99,7 @@ struct Renderer::Impl {
   temporal::InstanceMotion motions;     // where each instance was last frame
   temporal::GBuffer gbuffer;
   temporal::TemporalFilter temporal;
+  denoise::FireflyScratch fireflyScratch;   // spreadFireflies' arrays, kept between frames
   bool temporalLast = false;            // the last render ran the temporal stage
   restir::Resampler resampler;          // ReSTIR's reservoirs and their history
   bool restirLast = false;              // the last render resampled
@@ -303,7 +304,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
     }
     if (settings.spreadFireflies) {   // after the history's robust blend, before the denoiser
       const denoise::FireflyInputs fireflies{film.width(), film.height(), film.emission(), film.normal(), film.depth()};
-      denoise::spreadFireflies(fireflies, film.resolvedRadiance());
+      denoise::spreadFireflies(fireflies, film.resolvedRadiance(), im.fireflyScratch);
     }
     if (settings.denoise) {
       denoise::Guides guides{film.width(), film.height(), film.albedo(), film.normal(), film.depth(),

@@ -30,7 +30,7 @@ pa_engine_prepare() {
 pa_engine_cfg() { echo "$1/home/baseoa/$2.cfg"; }
 
 pa_engine_run() {
-  local work="$1" log="$2" seconds="$3" width="$4" height="$5" renderer="$6"
+  local work="$1" log="$2" seconds="$3" width="$4" height="$5" renderer="$6" status=0
   shift 6
   local preload=()
   [[ -n "${PA_ENGINE_PRELOAD:-}" ]] && preload=(env "LD_PRELOAD=$PA_ENGINE_PRELOAD${LD_PRELOAD:+:$LD_PRELOAD}")
@@ -40,7 +40,13 @@ pa_engine_run() {
     +set com_legacyprotocol 71 +set com_protocol 71 +set cl_renderer "$renderer" \
     +set r_mode -1 +set r_customwidth "$width" +set r_customheight "$height" +set r_fullscreen 0 \
     +set s_initsound 0 +set bot_enable 0 +set com_introplayed 1 +set cl_allowDownload 0 \
-    "$@" >"$log" 2>&1
+    "$@" >"$log" 2>&1 || status=$?
+  # timeout stops xvfb-run, not the engine under it: end this run's engine too (its home path
+  # names it), so that a timed-out run leaves no process behind.
+  if [[ "$status" -eq 124 || "$status" -eq 137 ]]; then
+    pkill -KILL -f -- "fs_homepath $work/home" 2>/dev/null || true
+  fi
+  return "$status"
 }
 
 # pa_tick_screenshots_cfg CFG PREFIX "T1 T2 ...": writes the engine script CFG that takes

@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
-# fullscreen_test.sh MODULE IMGCOMPARE: r_fullscreen 1 with a size the display lacks, as stock.
+# fullscreen_test.sh MODULE IMGCOMPARE [FIXED_RAND]: r_fullscreen 1 with a size the display lacks, as stock.
 # Under a 1024x768 Xvfb screen, r_mode -1 640x360 r_fullscreen 1: stock opengl1's screenshot is the
 # 640x360 picture (drawn from the bottom-left of the 1024x768 surface). Ours must give the same
 # size and the picture it gives in a 640x360 window, and resemble opengl1's at the same view.
 # Stock runs fullscreen with a hardware gamma ramp and 1 overbright bit there (its log says
 # "GAMMA: hardware w/ 1 overbright bits"); ours presents without overbright (engine_glue README,
 # "Settings"), so the content check against opengl1 fullscreen is looser than against its window.
+# FIXED_RAND (optional, tests/regress pa_fixed_rand.so) is preloaded into the engine so that the
+# game's random effects repeat from run to run (tests/regress/README.md).
 # Exit 77 when the engine, the game data or xvfb-run are missing.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$here/engine_env.sh"
 module="$1"; imgcompare="$2"
+[[ -n "${3:-}" ]] && export PA_ENGINE_PRELOAD="$3"
 pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not installed"; exit 77; }
 out="$(mktemp -d /tmp/pa-fullscreen.XXXXXX)"
 trap 'rm -rf "$out"' EXIT

@@ -27,6 +27,12 @@ bool sameSurface(const FireflyInputs& in, const FireflyConfig& config, size_t a,
 }  // namespace
 
 uint32_t spreadFireflies(const FireflyInputs& in, std::span<glm::vec3> radiance, const FireflyConfig& config) {
+  FireflyScratch scratch;
+  return spreadFireflies(in, radiance, scratch, config);
+}
+
+uint32_t spreadFireflies(const FireflyInputs& in, std::span<glm::vec3> radiance, FireflyScratch& scratch,
+                         const FireflyConfig& config) {
   const size_t n = size_t{in.width} * in.height;
   if (radiance.size() != n || in.emission.size() != n || in.normal.size() != n || in.depth.size() != n)
     throw std::invalid_argument("spreadFireflies: buffers of " + std::to_string(radiance.size()) + ", " +
@@ -34,7 +40,8 @@ uint32_t spreadFireflies(const FireflyInputs& in, std::span<glm::vec3> radiance,
                                 std::to_string(in.depth.size()) + " pixels for " + std::to_string(n));
   if (n == 0) return 0;
   const int w = int(in.width), h = int(in.height), r = int(std::min<uint32_t>(config.radius, 16));
-  std::vector<float> lum(n);
+  std::vector<float>& lum = scratch.luminance;
+  lum.resize(n);
   for (size_t i = 0; i < n; ++i)
     lum[i] = std::isfinite(in.depth[i]) ? std::max(0.0f, luminance(radiance[i] - in.emission[i])) : 0.0f;
   const auto forRows = [&](auto&& body) {
@@ -44,8 +51,10 @@ uint32_t spreadFireflies(const FireflyInputs& in, std::span<glm::vec3> radiance,
   };
   // Summed-area tables of the luminance and of the geometry pixels: any window's sum in O(1).
   const size_t stride = size_t(w) + 1;
-  std::vector<double> lumSum(stride * (size_t(h) + 1), 0.0);
-  std::vector<uint32_t> geometrySum(stride * (size_t(h) + 1), 0);
+  std::vector<double>& lumSum = scratch.luminanceSums;
+  std::vector<uint32_t>& geometrySum = scratch.geometrySums;
+  lumSum.assign(stride * (size_t(h) + 1), 0.0);
+  geometrySum.assign(stride * (size_t(h) + 1), 0);
   for (int y = 0; y < h; ++y) {
     double rowLum = 0.0;
     uint32_t rowGeometry = 0;
@@ -63,9 +72,12 @@ uint32_t spreadFireflies(const FireflyInputs& in, std::span<glm::vec3> radiance,
     return table[y1 * stride + x1] - table[y0 * stride + x1] - table[y1 * stride + x0] + table[y0 * stride + x0];
   };
   // Pass 1: each firefly's excess (lit radiance above the cut) and the share each receiver gets.
-  std::vector<glm::vec3> excess(n, glm::vec3(0.0f));
-  std::vector<float> share(n, 0.0f);
-  std::vector<uint8_t> rowCuts(size_t(h), 0);   // rows with a firefly (each written by its own row)
+  std::vector<glm::vec3>& excess = scratch.excess;
+  std::vector<float>& share = scratch.share;
+  std::vector<uint8_t>& rowCuts = scratch.rowCuts;
+  excess.assign(n, glm::vec3(0.0f));
+  share.assign(n, 0.0f);
+  rowCuts.assign(size_t(h), 0);   // rows with a firefly (each written by its own row)
   std::atomic<uint32_t> cut{0};
   forRows([&](int y) {
     uint32_t rowCut = 0;
@@ -94,7 +106,8 @@ uint32_t spreadFireflies(const FireflyInputs& in, std::span<glm::vec3> radiance,
   if (cut == 0) return 0;
   // Pass 2, per row (rows are independent): cut this row's fireflies and add the shares it
   // receives from the fireflies of the rows around it, always in the same order.
-  std::vector<glm::vec3> out(radiance.begin(), radiance.end());
+  std::vector<glm::vec3>& out = scratch.out;
+  out.assign(radiance.begin(), radiance.end());
   forRows([&](int y) {
     const size_t row = size_t(y) * size_t(w);
     for (int x = 0; x < w; ++x) out[row + size_t(x)] -= excess[row + size_t(x)];

@@ -11,6 +11,7 @@
 // Emission (what the camera sees of emitters) and sky pixels (depth inf) are never touched.
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -34,9 +35,22 @@ struct FireflyInputs {
   std::span<const float> depth;          ///< Mean first-hit distance (inf = sky).
 };
 
+/// spreadFireflies' working arrays; one kept from frame to frame makes the pass allocate nothing
+/// once the frame size is stable.
+struct FireflyScratch {
+  std::vector<float> luminance, share;
+  std::vector<double> luminanceSums;
+  std::vector<uint32_t> geometrySums;
+  std::vector<glm::vec3> excess, out;
+  std::vector<uint8_t> rowCuts;
+};
+
 /// Cuts and spreads the fireflies of `radiance` in place; returns how many pixels were cut. Parallel
 /// over rows in the calling task arena; the result does not depend on the thread count. Throws
 /// std::invalid_argument when a span's size is not width * height.
 uint32_t spreadFireflies(const FireflyInputs& in, std::span<glm::vec3> radiance, const FireflyConfig& config = {});
+/// The same with the caller's working arrays.
+uint32_t spreadFireflies(const FireflyInputs& in, std::span<glm::vec3> radiance, FireflyScratch& scratch,
+                         const FireflyConfig& config = {});
 
 }  // namespace pa::denoise

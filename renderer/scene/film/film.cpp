@@ -167,10 +167,18 @@ void Film::encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonema
                std::span<uint8_t>(rgba8_).subspan(begin * 4, count * 4));
     return;
   }
-  std::vector<glm::vec3> shown(count);
-  for (size_t i = 0; i < count; ++i)
-    shown[i] = lightingLook(radiance_[begin + i], emission_[begin + i], albedo_[begin + i], look);
-  encodeWith(encoder_, shown, exposure, op, std::span<uint8_t>(rgba8_).subspan(begin * 4, count * 4));
+  // The shown values a chunk at a time, on the stack (no allocation per frame).
+  constexpr size_t kChunk = 256;
+  glm::vec3 shown[kChunk];
+  for (size_t at = 0; at < count; at += kChunk) {
+    const size_t m = std::min(kChunk, count - at);
+    for (size_t i = 0; i < m; ++i) {
+      const size_t p = begin + at + i;
+      shown[i] = lightingLook(radiance_[p], emission_[p], albedo_[p], look);
+    }
+    encodeWith(encoder_, std::span<const glm::vec3>(shown, m), exposure, op,
+               std::span<uint8_t>(rgba8_).subspan((begin + at) * 4, m * 4));
+  }
 }
 
 }  // namespace pa

@@ -1,0 +1,77 @@
+// The still look of entity and effect shader stages as renderer materials (entity_materials.h).
+#include "port/engine_glue/entity_materials.h"
+
+#include "port/engine_glue/reflection_look.h"
+#include "port/engine_glue/stock_look.h"
+
+namespace glue {
+
+pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,
+                               MaterialUse use, uint32_t layer, const ImageTextures& texture) {
+  pa::MaterialDesc desc;
+  desc.baseTexture = texture(image, look.clamp, look.noPicmip);
+  desc.useVertexLight = use == MaterialUse::Model;
+  if (look.nodraw) desc.visible = false;
+  if (look.fromScript) {
+    const unsigned dst = look.blend.dst;
+    const auto factors = layerFactors(look.blend);
+    const bool plainAdd = look.blend.src == 1 && dst == 1;
+    if (use == MaterialUse::StockEffect && factors && look.blend.blends() && !plainAdd && !isAlphaBlend(look.blend) &&
+        filterAsDarkening(look.blend) == Darkening::None) {
+      // Any other blend of the layer's own colour and alpha (gl_one gl_src_alpha explosions,
+      // gl_src_alpha gl_one glows), composed in display values as the framebuffer does.
+      desc.alphaMode = pa::AlphaMode::Additive;
+      desc.layerBlend = pa::LayerBlend::Factors;
+      desc.layerSrcFactor = factors->first;
+      desc.layerDstFactor = factors->second;
+      desc.castsShadows = false;
+      // The entity's colour reaches the stage only through rgbGen / alphaGen entity or vertex
+      // (stock: a wave or identity colour comes with alpha 1).
+      const bool entityRgb = look.vertexColor || look.rgbGen == q3::RgbGen::Entity;
+      desc.vertexColorTints = entityRgb;
+      desc.vertexAlphaTints = entityRgb || look.vertexAlpha || look.alphaGen == q3::AlphaGen::Entity;
+    } else if (dst == 1 /*GL_ONE*/) {
+      desc.alphaMode = pa::AlphaMode::Additive;
+      desc.castsShadows = false;
+    } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
+      desc.baseTexture = texture(premultipliedImage(image), look.clamp, look.noPicmip);
+      desc.alphaMode = pa::AlphaMode::Additive;
+      desc.layerBlend = pa::LayerBlend::Over;
+      desc.castsShadows = false;
+    } else if (const auto darken = filterAsDarkening(look.blend);
+               darken != Darkening::None && use == MaterialUse::StockEffect) {
+      // dst * src (or dst * (1 - src): blob shadows) in display values, per channel.
+      desc.alphaMode = pa::AlphaMode::Additive;
+      desc.layerBlend = darken == Darkening::BySourceColor ? pa::LayerBlend::Multiply : pa::LayerBlend::MultiplyInverse;
+      desc.castsShadows = false;
+    } else if (isAlphaBlend(look.blend)) {
+      desc.alphaMode = pa::AlphaMode::Blend;
+      desc.castsShadows = false;
+    } else if (const auto darken = filterAsDarkening(look.blend); darken != Darkening::None) {
+      // Multiplicative filters (bullet marks, blob shadows) darken what is behind. The tracer
+      // has no multiply mode: draw them as black with an alpha of how much they darken.
+      desc.baseTexture = texture(darkeningImage(image, darken), look.clamp, look.noPicmip);
+      desc.alphaMode = pa::AlphaMode::Blend;
+      desc.castsShadows = false;
+    } else if (look.blend.blends()) {
+      desc.visible = false;   // other exotic blends: not drawn
+      desc.castsShadows = false;
+    }
+    if (look.alphaTest != AlphaTest::None && desc.alphaMode == pa::AlphaMode::Opaque) {
+      desc.alphaMode = pa::AlphaMode::Mask;
+      desc.alphaCutoff = look.alphaTest == AlphaTest::Gt0 ? 1.0f / 255.0f : 0.5f;
+      desc.alphaInvert = look.alphaTest == AlphaTest::Lt128;
+    }
+  }
+  if (look.rgbGen == q3::RgbGen::Const) {
+    // rgbGen const: the stage's colour, whatever the blend (orange muzzle flashes).
+    desc.baseColor = glm::vec4(byteToLinear(look.constColor[0] * 255.0f), byteToLinear(look.constColor[1] * 255.0f),
+                               byteToLinear(look.constColor[2] * 255.0f), 1.0f);
+  }
+  if (entry.isDefault) desc.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+  applyReflectionLook(look, desc);
+  if (layer == 0 && entry.shineImage) applyShineLook(look, texture(entry.shineImage, look.shine->clamp, false), desc);
+  return desc;
+}
+
+}  // namespace glue

@@ -1,0 +1,30 @@
+#pragma once
+// Renderer materials of entity and effect shader stages: how each stage's blend, alpha test and
+// colour generator maps onto a pa::MaterialDesc (the still look; shader_animation.h moves it).
+#include <cstdint>
+#include <functional>
+#include <memory>
+
+#include "port/engine_glue/images.h"
+#include "port/engine_glue/shaders.h"
+#include "renderer/scene/scene_types.h"
+
+namespace glue {
+
+/// Kinds of materials made from one shader. StockEffect: an effect in the lightmap preset, where
+/// alpha-blended effects (smoke puffs) are premultiplied-over layers (src * a + dst * (1 - a)) and
+/// filters (marks, blob shadows) multiply layers (dst * src, dst * (1 - src)), composed in display
+/// values like the stock blend stages (the tracer's stochastic blend would speckle at one sample
+/// per pixel).
+enum class MaterialUse : uint8_t { Model, Effect, StockEffect };
+
+/// The renderer texture of an image (repeating or clamped to its edges, picmip applied unless
+/// noPicmip), made on first use.
+using ImageTextures = std::function<pa::TextureId(const std::shared_ptr<const Image>& image, bool clamp, bool noPicmip)>;
+
+/// The still look (no animation) of stage `layer` (0 = the shader's first) of a shader drawn as
+/// `use` with `image`.
+pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,
+                               MaterialUse use, uint32_t layer, const ImageTextures& texture);
+
+}  // namespace glue
