@@ -1,6 +1,6 @@
 // Counts the module's heap allocations (operator new and malloc family called from its code), so
 // that the steady state of play can be shown to allocate nothing (the `pt_allocations` command,
-// the `allocations` field of r_pt_stats, tests/engine/engine_allocations.sh).
+// the `allocations` field of r_pt_stats, port/engine_glue/tests/engine_allocations.sh).
 #pragma once
 
 #include <cstdint>

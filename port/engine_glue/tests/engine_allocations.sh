@@ -6,8 +6,9 @@
 #   engine_allocations.sh MODULE [PRESETS] [DEMO] [WARMUP] [FRAMES]
 # PRESETS: "preset[:budget] ..." where budget is the most allocations per frame accepted (default
 # 0). Defaults: "lightmap direct path", tests/demos/dm1_ffa, 150, 100. On failure the log shows a
-# backtrace of the first allocations of the window (pt_allocations trace; PA_ALLOCATION_TRACES=N for more) to find them with
-# addr2line -e MODULE. Exit 77 when the engine, the game data or xvfb-run are missing.
+# backtrace of the first allocations of the window (pt_allocations trace; PA_ALLOCATION_TRACES=N
+# traces more, PA_KEEP=1 keeps the engine logs) to find them with addr2line -f -C -e MODULE.
+# Exit 77 when the engine, the game data or xvfb-run are missing.
 set -euo pipefail
 module="$1"
 presets="${2:-lightmap direct path}"
@@ -24,6 +25,8 @@ pa_engine_prepare "$work" "$module"
 mkdir -p "$work/home/baseoa/demos"
 # The demo is cut well past the window so that it is still playing when the count ends.
 pa_demo_truncate "$work/home/baseoa/demos/allocations.dm_71" $((warmup + frames + 200)) "$demo" >/dev/null
+# In a timedemo the engine runs its command buffer about twice per rendered frame: the window
+# waits 2 x FRAMES ticks, and the module reports the frames it actually drew (checked below).
 cat >"$(pa_engine_cfg "$work" allocations)" <<CFG
 wait $warmup
 pt_allocations trace ${PA_ALLOCATION_TRACES:-20}
