@@ -81,14 +81,11 @@ void Module::beginRegistration(q3abi::glconfig_t* config) {
 
 q3abi::qhandle_t Module::registerShader(const char* name) {
   if (name == nullptr) return 0;
-  // The game registers some shaders every frame: a known one is found without a string copy.
-  if (const q3abi::qhandle_t known = shaders_.find(name); known != 0) return known;
   return shaders_.registerShader(engine_, scripts_, images_, name, true);
 }
 
 q3abi::qhandle_t Module::registerShaderNoMip(const char* name) {
   if (name == nullptr) return 0;
-  if (const q3abi::qhandle_t known = shaders_.find(name); known != 0) return known;
   return shaders_.registerShader(engine_, scripts_, images_, name, false);
 }
 

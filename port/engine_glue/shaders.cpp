@@ -76,15 +76,17 @@ q3abi::qhandle_t ShaderRegistry::find(std::string_view name) const {
 }
 
 q3abi::qhandle_t ShaderRegistry::registerShader(const Engine& engine, const ShaderScripts& scripts,
-                                                ImageCache& images, const std::string& name,
+                                                ImageCache& images, std::string_view requested,
                                                 bool mipmaps) {
-  if (name.empty() || name.size() >= q3abi::kMaxQPath) {
-    engine.warn("RegisterShader: bad name '" + name + "'");
+  if (requested.empty() || requested.size() >= q3abi::kMaxQPath) {
+    engine.warn("RegisterShader: bad name '" + std::string(requested) + "'");
     return 0;
   }
   // Games register some shaders every frame: a known name is found without making strings.
-  if (const auto known = byName_.find(LookupKey(name).view()); known != byName_.end()) return known->second;
-  const std::string key = normalizeName(stripExtension(name));
+  const LookupKey lookup(requested);
+  if (const auto known = byName_.find(lookup.view()); known != byName_.end()) return known->second;
+  const std::string name(requested);
+  const std::string key(lookup.view());
   if (entries_.size() >= kMaxShaders) {
     engine.warn("RegisterShader: too many shaders, '" + name + "' uses the default");
     return 0;

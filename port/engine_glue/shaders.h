@@ -50,7 +50,7 @@ class ShaderRegistry {
 
   /// Registers (or finds) a shader for 2D or model use. 0 when it cannot be made.
   q3abi::qhandle_t registerShader(const Engine& engine, const ShaderScripts& scripts,
-                                  ImageCache& images, const std::string& name, bool mipmaps);
+                                  ImageCache& images, std::string_view name, bool mipmaps);
   /// The entry for a handle, following RemapShader; the default entry for bad handles.
   const ShaderEntry& resolve(q3abi::qhandle_t handle) const;
   /// Entry by handle without remapping (nullptr when out of range).
