@@ -455,8 +455,8 @@ void SceneStore::commit(RenderScene& scene) {
   scene.fogs = fogs_;
   scene.sky = Sky(sky_, scene.textures);
   // The lights are gathered when a render needs them (attachLights): the Lightmap integrator
-  // never samples lights, and its frames skip the pass over every world triangle.
-  scene.emissiveLookup.clear();   // scene.lights keeps its memory for the next attachLights
+  // never samples lights, and its frames skip the pass over every world triangle. Until then
+  // the emissive lookup is empty (cleared above) and scene.lights keeps its memory.
   lightsAttached_ = false;
   dirty_ = worldDirty_ = false;
   touchedMeshes_.clear();
