@@ -734,6 +734,9 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view,
   rs.samplesPerPixel = static_cast<uint32_t>(settings.samplesPerPixel);
   rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
   rs.accumulate = settings.preset == Preset::Reference;
+  // In play the world never stands still (items bob, the player's own body breathes, shaders
+  // animate): a still view keeps accumulating, restarting only the pixels that show a change.
+  rs.accumulateThroughEdits = rs.accumulate && withWorld;
   rs.radianceClamp = settings.radianceClamp >= 0.0f ? settings.radianceClamp
                      : settings.preset == Preset::Reference ? 0.0f : 10.0f;
   rs.seed = settings.seed + (rs.accumulate ? 0u : d.frameCounter++);

@@ -57,7 +57,8 @@ bool sameCamera(const Camera& a, const Camera& b) {
 bool sameEstimate(const RenderSettings& a, const RenderSettings& b) {
   return a.width == b.width && a.height == b.height && a.integrator == b.integrator &&
          a.samplesPerPixel == b.samplesPerPixel && a.maxBounces == b.maxBounces &&
-         a.radianceClamp == b.radianceClamp && a.seed == b.seed;
+         a.radianceClamp == b.radianceClamp && a.seed == b.seed &&
+         a.accumulateThroughEdits == b.accumulateThroughEdits;
 }
 
 /// Settings whose change starts the temporal history again (the seed changes every frame).
@@ -105,6 +106,7 @@ struct Renderer::Impl {
   bool restirLast = false;              // the last render resampled
   bool sceneChanged = true;   // a commit happened since the last render
   bool worldChanged = true;   // ... that changed more than camera-only overlays
+  SeenChanges seenSinceRender;   // what the commits since the last render changed that the camera sees
   bool environmentAttached = false;   // the committed scene has its sun/sky visibility map
   bool haveLast = false;
   double commitMsSinceRender = 0.0;   // commit() time to report with the next render
@@ -141,6 +143,7 @@ void Renderer::commit() {
     im.arena.execute([&] { im.store.commit(im.scene); });   // refilled in place: no allocation in steady state
     im.environmentAttached = false;
     im.worldChanged = im.worldChanged || !im.store.lastCommitOnlyCameraOverlays();
+    im.seenSinceRender.merge(im.store.lastCommitSeenChanges());
   } catch (const SceneError&) {
     throw;   // validation failed before anything changed
   } catch (...) {
@@ -193,12 +196,19 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   const bool restirOn = settings.restir && settings.integrator != Integrator::Lightmap;
   if (!restirOn || !im.restirLast) im.resampler.reset();
   im.restirLast = restirOn;
-  const bool keep = settings.accumulate && im.haveLast && !im.worldChanged && sameCamera(camera, im.lastCamera) &&
+  // accumulateThroughEdits: a still view keeps its accumulation through world edits; the pixels
+  // that show an edited instance, material or sky (this frame or the last) start again, lighting
+  // edits are averaged over time as in a long exposure (seen_changes.h).
+  const bool unchangedOrSeenOnly =
+      !im.worldChanged || (settings.accumulateThroughEdits && !im.seenSinceRender.everything);
+  const bool keep = settings.accumulate && im.haveLast && unchangedOrSeenOnly && sameCamera(camera, im.lastCamera) &&
                     sameEstimate(settings, im.lastSettings);
   if (!keep) im.film.reset();
-  // Only camera-only overlays changed (the first-person weapon moved): the pixels they covered
-  // last frame or cover now start again, every other pixel keeps its history.
+  // Camera-only overlays changed (the first-person weapon moved): the pixels they covered last
+  // frame or cover now start again.
   const bool restartOverlayPixels = keep && im.sceneChanged;
+  const bool restartSeenPixels = keep && im.worldChanged && !im.seenSinceRender.empty();
+  const bool scenePortals = !im.scene.portals.empty();
   im.haveLast = true;
   im.sceneChanged = false;
   im.worldChanged = false;
@@ -213,6 +223,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   Film& film = im.film;
   temporal::GBuffer& gbuffer = im.gbuffer;
   const temporal::InstanceMotion& motions = im.motions;
+  const SeenChanges& seen = im.seenSinceRender;
   const CameraRays* previousCamera = previousRays ? &*previousRays : nullptr;
 
   const restir::Resampler& resampler = im.resampler;
@@ -237,9 +248,14 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
             std::array<PixelState, kBlockSide * kBlockSide> pixels;
             uint32_t count = 0;
             for (uint32_t y = by; y < std::min(by + kBlockSide, y1); ++y)
-              for (uint32_t x = bx; x < std::min(bx + kBlockSide, x1); ++x)
+              for (uint32_t x = bx; x < std::min(bx + kBlockSide, x1); ++x) {
+                // Last frame's first hit (the G-buffer is written by this frame's first sample below).
+                const size_t i = size_t{y} * settings.width + x;
+                const bool showedEdit =
+                    restartSeenPixels && seen.seenAt(gbuffer.instance[i], gbuffer.material[i], scenePortals);
                 pixels[count++] = {x, y, sampling::hashCombine(seedHash, y * settings.width + x), false,
-                                   restartOverlayPixels && film.overlayAt(x, y), false};
+                                   (restartOverlayPixels && film.overlayAt(x, y)) || showedEdit, false};
+              }
             std::array<TracedCameraRay, kBlockSide * kBlockSide> traced;
             std::array<glm::vec2, kBlockSide * kBlockSide> jitters;   // this sample's, per pixel
             for (uint32_t s = 0; s < settings.samplesPerPixel; ++s) {
@@ -270,8 +286,9 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                 }
                 PixelAccumulator& acc = film.pixel(p.x, p.y);
                 p.overlaySeen = p.overlaySeen || sample.overlay;
-                if (restartOverlayPixels && !p.restarted && (p.coveredBefore || sample.overlay)) {
-                  acc = PixelAccumulator{};   // the overlay's old picture, or the world now under it, goes
+                const bool showsEdit = sample.overlay || (restartSeenPixels && seen.seenAt(sample.instance, sample.material, scenePortals));
+                if ((restartOverlayPixels || restartSeenPixels) && !p.restarted && (p.coveredBefore || showsEdit)) {
+                  acc = PixelAccumulator{};   // the old picture of what changed, or what it now shows, goes
                   p.restarted = true;
                 }
                 acc.add(sample);
@@ -324,6 +341,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
     endPhase(timings.resolveMs);
     timings.resolveMs += meanMs;
   });
+  im.seenSinceRender.clear();
 
   FrameView view;
   view.width = film.width();

@@ -239,6 +239,8 @@ struct MaterialDesc {
   TexCoordSource shineTexCoords = TexCoordSource::ReflectionSphere;   ///< uv of shineTexture.
   glm::mat3x2 shineUvTransform{1.0f};        ///< Affine uv' = M * (u, v, 1) of the shine.
   LayerBlend shineBlend = LayerBlend::Add;   ///< How the shine meets the base (Over uses the shine's alpha).
+
+  bool operator==(const MaterialDesc&) const = default;
 };
 
 /// Instance visibility masks (bitwise OR).
@@ -292,6 +294,8 @@ struct LightDesc {
   float cosInnerAngle = 1.0f;               ///< Spot: full intensity inside.
   float cosOuterAngle = 0.0f;               ///< Spot: zero outside.
   float angularRadius = 0.0f;               ///< Directional: half-angle of the sun disc, radians.
+
+  bool operator==(const LightDesc&) const = default;
 };
 
 /// A sky picture computed per direction (e.g. cloud layers scrolled to one frame's time),
@@ -336,6 +340,8 @@ struct PortalDesc {
   glm::vec3 normal{0.0f, 0.0f, 1.0f};   ///< Unit plane normal, pointing to the side it is seen from.
   float distance = 0.0f;               ///< Plane: dot(normal, p) = distance.
   glm::mat4x3 transform{1.0f};         ///< Affine map from this side to the far side (invertible).
+
+  bool operator==(const PortalDesc&) const = default;
 };
 
 /// A fog volume: a convex region (inside where dot(plane.xyz, p) <= plane.w for every plane,
@@ -397,6 +403,11 @@ struct RenderSettings {
   float radianceClamp = 0.0f;     ///< Clamp on each path's contribution; 0 = off (reference).
   uint32_t seed = 0;
   bool accumulate = true;         ///< Average with earlier frames while camera and scene are unchanged.
+  /// With accumulate, for a still view of a world that keeps moving (play): a scene edit restarts
+  /// only the pixels that show it (an instance, material or the sky, this frame or the last), and
+  /// lighting edits are averaged over the frames as in a long exposure; a texture, fog or
+  /// removed-mesh edit still restarts every pixel. False: any edit restarts every pixel.
+  bool accumulateThroughEdits = false;
   float exposure = 1.0f;          ///< Linear multiplier before tonemapping.
   Tonemap tonemap = Tonemap::AcesFitted;   ///< Display transform (does not reset accumulation).
   LightingLook lightingLook = LightingLook::Physical;   ///< Display only (does not reset accumulation).

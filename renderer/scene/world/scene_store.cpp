@@ -152,6 +152,7 @@ void SceneStore::removeMesh(MeshId id) {
   MeshSlot& slot = liveMesh(id, "removeMesh");
   slot.removed = true;
   slot.hasPending = false;
+  pendingSeen_.everything = true;
   dirty_ = worldDirty_ = true;
 }
 
@@ -159,6 +160,7 @@ InstanceId SceneStore::addInstance(const InstanceDesc& instance) {
   const auto id = static_cast<InstanceId>(instances_.size());
   validateInstance(instance, {"addInstance", "instance", id});
   instances_.emplace_back(instance);
+  pendingSeen_.markInstance(id);
   dirty_ = worldDirty_ = true;
   return id;
 }
@@ -170,6 +172,7 @@ void SceneStore::setInstance(InstanceId id, const InstanceDesc& instance) {
   validateInstance(instance, {"setInstance", "instance", id});
   if (*instances_[id] == instance) return;
   if (!cameraOnlyOverlay(*instances_[id]) || !cameraOnlyOverlay(instance)) worldDirty_ = true;
+  pendingSeen_.markInstance(id);
   instances_[id] = instance;
   dirty_ = true;
 }
@@ -179,6 +182,7 @@ void SceneStore::removeInstance(InstanceId id) {
     throw SceneError("removeInstance: instance " + std::to_string(id) + " does not exist");
   }
   instances_[id].reset();
+  pendingSeen_.markInstance(id);
   dirty_ = worldDirty_ = true;
 }
 
@@ -196,6 +200,7 @@ void SceneStore::updateTexture(TextureId id, const TextureDesc& texture) {
   }
   const std::string what = CallContext{"updateTexture", "texture", id}.str();
   textures_[id] = std::make_shared<const Texture>(Texture::fromDesc(texture, what.c_str()));
+  pendingSeen_.everything = true;
   dirty_ = worldDirty_ = true;
 }
 
@@ -212,7 +217,9 @@ void SceneStore::setMaterial(MaterialId id, const MaterialDesc& material) {
     throw SceneError("setMaterial: material " + std::to_string(id) + " does not exist");
   }
   validateMaterial(material, {"setMaterial", "material", id});
+  if (materials_[id] == material) return;   // the same material: nothing changes
   materials_[id] = material;
+  pendingSeen_.markMaterial(id);
   dirty_ = worldDirty_ = true;
 }
 
@@ -227,7 +234,9 @@ void SceneStore::setLight(LightId id, const LightDesc& light) {
   if (id >= lights_.size() || !lights_[id]) {
     throw SceneError("setLight: light " + std::to_string(id) + " does not exist");
   }
-  lights_[id] = validateLight(light, {"setLight", "light", id});
+  const LightDesc valid = validateLight(light, {"setLight", "light", id});
+  if (*lights_[id] == valid) return;   // the same light: nothing changes
+  lights_[id] = valid;
   dirty_ = worldDirty_ = true;
 }
 
@@ -256,11 +265,13 @@ void SceneStore::setSky(const SkyDesc& sky) {
   requireNonNegative(sky.ambientRadiance, CallContext{"setSky"}, "ambientRadiance");
   requireNonNegative(sky.minimumRadiance, CallContext{"setSky"}, "minimumRadiance");
   sky_ = sky;
+  pendingSeen_.sky = true;
   dirty_ = worldDirty_ = true;
 }
 
 void SceneStore::setPortals(std::span<const PortalDesc> portals) {
-  std::vector<PortalDesc> valid;
+  std::vector<PortalDesc>& valid = portalScratch_;   // memory kept: the glue sets them every frame
+  valid.clear();
   for (size_t i = 0; i < portals.size(); ++i) {
     const CallContext what{"setPortals", "portal", static_cast<uint32_t>(i)};
     PortalDesc p = portals[i];
@@ -274,7 +285,9 @@ void SceneStore::setPortals(std::span<const PortalDesc> portals) {
     if (!(std::fabs(det) > 1e-6f)) throw SceneError(what + ": transform is not invertible");
     valid.push_back(p);
   }
-  portals_ = std::move(valid);
+  if (valid == portals_) return;   // the same portals: nothing changes
+  portals_.swap(valid);
+  pendingSeen_.portals = true;
   dirty_ = worldDirty_ = true;
 }
 
@@ -287,6 +300,7 @@ void SceneStore::setFogVolumes(std::span<const FogVolumeDesc> volumes) {
   for (size_t i = 0; i < volumes.size(); ++i)
     valid.push_back(makeFogVolume(volumes[i], "setFogVolumes: volume " + std::to_string(i)));
   fogs_ = std::move(valid);
+  pendingSeen_.everything = true;
   dirty_ = worldDirty_ = true;
 }
 
@@ -458,6 +472,13 @@ void SceneStore::commit(RenderScene& scene) {
   // never samples lights, and its frames skip the pass over every world triangle. Until then
   // the emissive lookup is empty (cleared above) and scene.lights keeps its memory.
   lightsAttached_ = false;
+  if (!touchedMeshes_.empty()) {   // instances of an updated mesh show the change
+    for (size_t i = 0; i < instances_.size(); ++i)
+      if (instances_[i] && std::find(touchedMeshes_.begin(), touchedMeshes_.end(), instances_[i]->mesh) != touchedMeshes_.end())
+        pendingSeen_.markInstance(static_cast<InstanceId>(i));
+  }
+  std::swap(lastSeen_, pendingSeen_);
+  pendingSeen_.clear();
   dirty_ = worldDirty_ = false;
   touchedMeshes_.clear();
 }

@@ -13,6 +13,7 @@
 #include "renderer/scene/textures/texture.h"
 #include "renderer/scene/world/mesh_geometry.h"
 #include "renderer/scene/world/render_scene.h"
+#include "renderer/scene/world/seen_changes.h"
 
 namespace pa {
 
@@ -57,6 +58,8 @@ class SceneStore {
   /// True when the last commit changed only camera-only overlays (cameraOnlyOverlay instances and
   /// meshes no other instance uses): what every other ray sees, and every pixel they cover, stayed.
   bool lastCommitOnlyCameraOverlays() const { return lastCommitOnlyCameraOverlays_; }
+  /// What the last commit changed that camera rays see (seen_changes.h).
+  const SeenChanges& lastCommitSeenChanges() const { return lastSeen_; }
   /// Validates cross references, builds acceleration structures and light tables into a new
   /// RenderScene. Run inside the renderer's task arena. Throws SceneError (leaving the
   /// store unchanged) when an instance uses a removed mesh or an id is out of range.
@@ -95,6 +98,7 @@ class SceneStore {
   std::vector<std::optional<LightDesc>> lights_;
   SkyDesc sky_;
   std::vector<PortalDesc> portals_;
+  std::vector<PortalDesc> portalScratch_;          ///< setPortals()' validated copy (memory kept).
   std::vector<FogVolume> fogs_;
   EnvironmentVisibilityCache environmentVisibility_;   ///< Where sun and sky reach (lights/).
   std::vector<glm::vec3> skyWindows_;                  ///< The last commit's sky windows (area x normal).
@@ -114,6 +118,8 @@ class SceneStore {
   bool lightsAttached_ = false;                    ///< The last commit has its lights.
   std::vector<EmissiveTriangle> emissiveScratch_;  ///< attachLights()' emissive triangles (memory kept).
   bool lastCommitOnlyCameraOverlays_ = false;
+  SeenChanges pendingSeen_;                        ///< Seen edits since the last commit.
+  SeenChanges lastSeen_;                           ///< The last commit's seen edits.
 };
 
 }  // namespace pa
