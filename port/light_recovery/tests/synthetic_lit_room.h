@@ -13,7 +13,15 @@
 #include "port/q3formats/world/world_lights.h"
 #include "port/q3formats/world/world_scene.h"
 
-namespace q3::testing {
+namespace pa::recovery::testing {
+
+using q3::kQ3mapPointScale;
+using q3::pointLightIntensity;
+using q3::WorldImage;
+using q3::WorldLight;
+using q3::WorldMaterial;
+using q3::WorldMesh;
+using q3::WorldScene;
 
 /// Builds the room [-256, 256] x [-256, 256] x [0, 256] lit by the (position, value) lights.
 inline WorldScene syntheticLitRoom(const std::vector<std::pair<glm::vec3, float>>& lights, float bounce) {
@@ -108,4 +116,4 @@ inline WorldLight estimatedLight(const glm::vec3& position, float value) {
   return l;
 }
 
-}  // namespace q3::testing
+}  // namespace pa::recovery::testing
