@@ -1,9 +1,12 @@
-// The converter exports the lights the game renders: on a map whose light entities were stripped
-// (a lit room written by code, port/light_recovery/tests/lit_room_map.h), the .glb's
-// KHR_lights_punctual lights are the lights pa-render's importer uploads (recovered by
-// port/light_recovery, turned into renderer lights by pa::bridge::lightDesc), one for one.
+// The converter exports the lights the game renders: on maps whose light entities were stripped
+// (a lit room written by code, port/light_recovery/tests/lit_room_map.h, and oa_dm1 when the game
+// data is installed), the .glb's KHR_lights_punctual lights are the lights pa-render's importer
+// uploads (recovered by port/light_recovery, made renderer lights by pa::bridge::lightDesc), one
+// for one: type, position, colour, intensity.
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -12,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -19,6 +23,7 @@
 #include "assets_converter/gltf_axes.h"
 #include "assets_converter/map_conversion.h"
 #include "port/light_recovery/tests/lit_room_map.h"
+#include "port/q3formats/world/world_game.h"
 #include "port/scene_bridge/bsp_importer.h"
 #include "port/scene_bridge/scene_bridge.h"
 
@@ -68,6 +73,43 @@ std::vector<GlbLight> glbLights(const nlohmann::json& gltf, float metresPerUnit)
   return out;
 }
 
+/// Converts `map` of `gameDir` into `outDir` and checks its .glb lights against the lights
+/// pa-render's importer uploads for the same map, one for one; returns how many there are.
+size_t expectTheSameLights(const fs::path& gameDir, const std::string& map, const fs::path& outDir) {
+  // What pa-render's .bsp importer (and, by the same calls, the engine module) lights the map with.
+  bridge::MapLocation where;
+  where.gameDir = gameDir;
+  where.mapPath = q3::mapGamePath(map);
+  const q3::WorldScene scene = bridge::loadMapScene(where);
+  std::vector<LightDesc> rendered;
+  for (const q3::WorldLight& l : scene.lights)
+    if (l.intensity > 0.0f && std::isfinite(l.intensity)) rendered.push_back(bridge::lightDesc(l));
+
+  // What the converter exports.
+  const q3::GameWorlds game(gameDir);
+  ExportOptions options;
+  const MapResult result = convertMap(game, map, outDir, options);
+  EXPECT_TRUE(result.error.empty()) << result.error;
+  if (!result.error.empty()) return 0;
+  const std::vector<GlbLight> exported = glbLights(glbJson(result.output), options.metresPerUnit);
+
+  EXPECT_EQ(exported.size(), rendered.size());
+  EXPECT_EQ(result.stats.lights, rendered.size());
+  for (size_t i = 0; i < std::min(rendered.size(), exported.size()); ++i) {
+    const LightDesc& r = rendered[i];
+    const GlbLight& e = exported[i];
+    if (r.type == LightType::Directional) {
+      EXPECT_EQ(e.type, "directional") << i;
+    } else {
+      EXPECT_EQ(e.type, r.type == LightType::Spot ? "spot" : "point") << i;
+      EXPECT_LT(glm::length(e.position - r.position), 1e-3f * std::max(1.0f, glm::length(r.position))) << i;
+    }
+    EXPECT_LT(glm::length(e.color - glm::clamp(r.color, 0.0f, 1.0f)), 1e-6f) << i;
+    EXPECT_NEAR(e.intensity, r.intensity, 1e-5f * r.intensity) << i;
+  }
+  return rendered.size();
+}
+
 TEST(ConverterLights, TheGlbCarriesTheLightsPaRenderUploads) {
   const fs::path dir = fs::temp_directory_path() / ("pa_converter_lights_" + std::to_string(::getpid()));
   const fs::path game = dir / "game";
@@ -78,35 +120,15 @@ TEST(ConverterLights, TheGlbCarriesTheLightsPaRenderUploads) {
     std::ofstream out(game / "maps/lit_room.bsp", std::ios::binary);
     out.write(reinterpret_cast<const char*>(bsp.data()), std::streamsize(bsp.size()));
   }
+  EXPECT_GE(expectTheSameLights(game, "lit_room", dir / "out"), 2u);   // both baked lights recovered
+  fs::remove_all(dir);
+}
 
-  // What pa-render's .bsp importer (and, by the same calls, the engine module) lights the map with.
-  bridge::MapLocation where;
-  where.gameDir = game;
-  where.mapPath = "maps/lit_room.bsp";
-  const q3::WorldScene scene = bridge::loadMapScene(where);
-  std::vector<LightDesc> rendered;
-  for (const q3::WorldLight& l : scene.lights)
-    if (l.intensity > 0.0f && std::isfinite(l.intensity)) rendered.push_back(bridge::lightDesc(l));
-  ASSERT_GE(rendered.size(), 2u);   // both baked lights recovered
-
-  // What the converter exports.
-  const q3::GameWorlds worlds(game);
-  ExportOptions options;
-  const MapResult result = convertMap(worlds, "lit_room", dir / "out", options);
-  ASSERT_TRUE(result.error.empty()) << result.error;
-  const std::vector<GlbLight> exported = glbLights(glbJson(result.output), options.metresPerUnit);
-
-  ASSERT_EQ(exported.size(), rendered.size());
-  EXPECT_EQ(result.stats.lights, rendered.size());
-  for (size_t i = 0; i < rendered.size(); ++i) {
-    const LightDesc& r = rendered[i];
-    const GlbLight& e = exported[i];
-    ASSERT_EQ(r.type, LightType::Point);
-    EXPECT_EQ(e.type, "point");
-    EXPECT_LT(glm::length(e.position - r.position), 1e-3f) << i;
-    EXPECT_LT(glm::length(e.color - r.color), 1e-6f) << i;
-    EXPECT_NEAR(e.intensity, r.intensity, 1e-5f * r.intensity) << i;
-  }
+TEST(ConverterLights, Oa_dm1GlbCarriesTheLightsPaRenderUploads) {
+  const fs::path game = "/usr/share/games/openarena/baseoa";
+  if (!fs::exists(game / "pak1-maps.pk3")) GTEST_SKIP() << "OpenArena data not installed at " << game;
+  const fs::path dir = fs::temp_directory_path() / ("pa_converter_lights_dm1_" + std::to_string(::getpid()));
+  EXPECT_GE(expectTheSameLights(game, "oa_dm1", dir), 40u);   // all recovered (it kept no light entity)
   fs::remove_all(dir);
 }
 
