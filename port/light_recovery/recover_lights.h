@@ -41,7 +41,7 @@ struct RecoveryStats {
 /// A map's lights: its authored ones, then the recovered ones (WorldLight::estimated).
 struct RecoveredLights {
   std::vector<q3::WorldLight> lights;   ///< The list to light (or export) the map with.
-  RecoveryStats stats;
+  RecoveryStats stats;                  ///< What the recovery did.
 };
 
 /// The scene's lights with the stripped ones recovered: the authored lights as they are, then
