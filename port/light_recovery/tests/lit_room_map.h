@@ -14,8 +14,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "port/light_recovery/tests/synthetic_lit_room.h"
 #include "port/q3formats/bsp/tests/bsp_writer.h"
-#include "port/q3formats/world/world_lights.h"
 
 namespace pa::recovery::testing {
 
@@ -25,15 +25,6 @@ struct BakedLight {
   float value;
 };
 
-/// Light value one light gives a surface point (q3map2's point light, no shadows: the room is empty).
-inline float bakedValue(const BakedLight& l, const glm::vec3& p, const glm::vec3& normal) {
-  const glm::vec3 toLight = l.position - p;
-  const float d = glm::length(toLight);
-  const float cosine = normal == glm::vec3(0.0f) ? 1.0f : std::max(0.0f, glm::dot(normal, toLight) / d);
-  const float clamped = std::max(d, 16.0f);
-  return l.value * q3::kQ3mapPointScale * cosine / (clamped * clamped);
-}
-
 /// The room as a map (see the header comment), with one spawn point and no light entity.
 inline q3::testing::BspWriter litRoomMap(const std::vector<BakedLight>& lights) {
   q3::testing::BspWriter w;
@@ -41,19 +32,11 @@ inline q3::testing::BspWriter litRoomMap(const std::vector<BakedLight>& lights) 
       "{\n\"classname\" \"worldspawn\"\n}\n"
       "{\n\"classname\" \"info_player_deathmatch\"\n\"origin\" \"-160 0 24\"\n\"angle\" \"0\"\n}\n";
   w.shaders = {{"textures/test/wall", 0, 1}};
-  const glm::vec3 lo(-256.0f, -256.0f, 0.0f), hi(256.0f, 256.0f, 256.0f);
-  struct Wall { glm::vec3 origin, u, v, normal; };   // corner, edges, inward normal
-  const std::array<Wall, 6> walls{{
-      {{lo.x, lo.y, lo.z}, {hi.x - lo.x, 0, 0}, {0, hi.y - lo.y, 0}, {0, 0, 1}},    // floor
-      {{lo.x, lo.y, hi.z}, {hi.x - lo.x, 0, 0}, {0, hi.y - lo.y, 0}, {0, 0, -1}},   // ceiling
-      {{lo.x, lo.y, lo.z}, {hi.x - lo.x, 0, 0}, {0, 0, hi.z - lo.z}, {0, 1, 0}},
-      {{lo.x, hi.y, lo.z}, {hi.x - lo.x, 0, 0}, {0, 0, hi.z - lo.z}, {0, -1, 0}},
-      {{lo.x, lo.y, lo.z}, {0, hi.y - lo.y, 0}, {0, 0, hi.z - lo.z}, {1, 0, 0}},
-      {{hi.x, lo.y, lo.z}, {0, hi.y - lo.y, 0}, {0, 0, hi.z - lo.z}, {-1, 0, 0}},
-  }};
+  const glm::vec3 lo(-kRoomHalfWidth, -kRoomHalfWidth, 0.0f), hi(kRoomHalfWidth, kRoomHalfWidth, kRoomHeight);
+  const std::array<RoomWall, 6> walls = roomWalls();
   constexpr int kSize = q3::kLightmapSize;
   for (size_t page = 0; page < walls.size(); ++page) {
-    Wall wall = walls[page];
+    RoomWall wall = walls[page];
     if (glm::dot(glm::cross(wall.u, wall.v), wall.normal) < 0.0f) std::swap(wall.u, wall.v);   // Quake winding
     const glm::vec3& o = wall.origin;
     const int surface = w.addQuad({o, o + wall.u, o + wall.v, o + wall.u + wall.v}, wall.normal);
@@ -66,7 +49,7 @@ inline q3::testing::BspWriter litRoomMap(const std::vector<BakedLight>& lights) 
       for (int x = 0; x < kSize; ++x) {
         const glm::vec3 p = o + wall.u * ((float(x) + 0.5f) / kSize) + wall.v * ((float(y) + 0.5f) / kSize);
         float lit = 0.0f;
-        for (const BakedLight& l : lights) lit += bakedValue(l, p, wall.normal);
+        for (const BakedLight& l : lights) lit += q3mapPointLight(l.position, l.value, p, wall.normal);
         const uint8_t byte = uint8_t(std::clamp(std::lround(lit), 0l, 255l));
         w.lightmaps.insert(w.lightmaps.end(), {byte, byte, byte});
       }
@@ -82,7 +65,7 @@ inline q3::testing::BspWriter litRoomMap(const std::vector<BakedLight>& lights) 
         glm::vec3 towards(0.0f, 0.0f, 1.0f);
         float strongest = 0.0f, directed = 0.0f;
         for (const BakedLight& l : lights) {
-          const float value = bakedValue(l, p, glm::vec3(0.0f));
+          const float value = q3mapPointLight(l.position, l.value, p, glm::vec3(0.0f));
           directed += value;
           if (value > strongest) strongest = value, towards = glm::normalize(l.position - p);
         }
