@@ -14,7 +14,7 @@ namespace pa::converter {
 struct ExportOptions {
   float metresPerUnit = kDefaultMetresPerUnit;   ///< Length scale (Quake unit -> metre).
   bool lightmaps = true;      ///< Lightmaps as images + TEXCOORD_1 (referenced from primitive extras).
-  bool lights = true;         ///< KHR_lights_punctual from light entities and q3map_sun.
+  bool lights = true;         ///< KHR_lights_punctual from scene.lights (entities, q3map_sun, recovered lights).
   bool cameras = true;        ///< Cameras at spawn points.
   bool skySurfaces = false;   ///< Keep the sky box brushes (hidden by default: they box the map in).
   std::string generator = "PathArena assets_converter";

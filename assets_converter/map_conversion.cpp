@@ -1,9 +1,11 @@
-// Single-map conversion: game folder -> WorldScene -> .glb file.
+// Single-map conversion: game folder -> WorldScene with its recovered lights -> .glb file.
 #include "assets_converter/map_conversion.h"
 
 #include <chrono>
 #include <ctime>
 #include <fstream>
+
+#include "port/light_recovery/recover_lights.h"
 
 namespace pa::converter {
 
@@ -15,6 +17,7 @@ MapResult convertMap(const q3::GameWorlds& game, const std::string& map, const s
   const std::clock_t cpuStart = std::clock();
   try {
     q3::WorldScene scene = game.load(result.map);
+    if (options.lights) scene.lights = pa::recovery::recoverLights(scene).lights;   // the lights the game renders
     result.warnings = scene.warnings;
     std::vector<std::byte> glb = exportGlb(scene, options, &result.stats);
 

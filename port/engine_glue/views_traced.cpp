@@ -45,6 +45,7 @@
 #include "port/engine_glue/world_deforms.h"
 #include "port/engine_glue/fog_volumes.h"
 #include "port/engine_glue/world.h"
+#include "port/light_recovery/recover_lights.h"
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/common/format_error.h"
 #include "port/q3formats/model/md3.h"
@@ -531,6 +532,8 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
     return std::vector<std::byte>(p, p + bytes->size());
   };
   d.worldScene = q3::buildWorldScene(bsp, world.surfaces(), library, loader);
+  const pa::recovery::RecoveredLights recovered = pa::recovery::recoverLights(*d.worldScene);
+  d.worldScene->lights = recovered.lights;
   for (const std::string& warning : d.worldScene->warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
   stockWorldLook(*d.worldScene, library, d.glowColors, d.pictureSettings.lightShift());
@@ -560,10 +563,11 @@ void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScri
   d.modelDeforms.reset(world.sharedShaders());
   d.renderer->commit();
   engine.print(q3abi::PRINT_ALL,
-               "pathtracer: %s traced scene: %zu materials, %zu textures, %zu lights, %llu "
+               "pathtracer: %s traced scene: %zu materials, %zu textures, %zu lights (%zu recovered in %.0f ms), %llu "
                "triangles + %zu deformed, %zu fog volumes, %zu animated materials (%d ms)\n",
                world.name().c_str(), d.worldScene->materials.size(), d.worldScene->textures.size(),
-               d.worldScene->lights.size(), static_cast<unsigned long long>(d.world.triangles),
+               d.world.lights.size(), recovered.lights.size() - recovered.stats.authored, recovered.stats.milliseconds,
+               static_cast<unsigned long long>(d.world.triangles),
                d.worldDeforms.triangles(), d.fog.size(), d.worldAnimation.animatedCount(), engine.milliseconds() - start);
 }
 

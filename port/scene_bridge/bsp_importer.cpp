@@ -1,4 +1,4 @@
-// BspImporter: map location, scene build and upload, cameras at spawn points.
+// BspImporter: map location, scene build, light recovery and upload, cameras at spawn points.
 #include "port/scene_bridge/bsp_importer.h"
 
 #include <array>
@@ -11,6 +11,7 @@
 
 #include <glm/trigonometric.hpp>
 
+#include "port/light_recovery/recover_lights.h"
 #include "port/q3formats/world/world_game.h"
 #include "port/scene_bridge/scene_bridge.h"
 
@@ -55,6 +56,15 @@ MapLocation locateMap(const std::filesystem::path& path, const char* envGameDir)
   return where;
 }
 
+q3::WorldScene loadMapScene(const MapLocation& where, std::vector<std::string>* problems) {
+  q3::GameWorlds game(where.gameDir);
+  q3::WorldScene scene = where.looseFile.empty() ? game.load(where.mapPath)
+                                                 : game.build(readLooseFile(where.looseFile), where.looseFile.string());
+  scene.lights = recovery::recoverLights(scene).lights;
+  if (problems) *problems = game.problems();
+  return scene;
+}
+
 std::span<const std::string_view> BspImporter::extensions() const {
   static constexpr std::array<std::string_view, 1> kExtensions = {".bsp"};
   return kExtensions;
@@ -64,9 +74,8 @@ cli::ImportedScene BspImporter::load(const std::filesystem::path& path, Renderer
                                      const cli::ImportOptions& options) const {
   (void)kRegistered;
   const MapLocation where = locateMap(path, std::getenv("PA_GAME_DIR"));
-  q3::GameWorlds game(where.gameDir);
-  q3::WorldScene scene = where.looseFile.empty() ? game.load(where.mapPath)
-                                                 : game.build(readLooseFile(where.looseFile), where.looseFile.string());
+  std::vector<std::string> problems;
+  const q3::WorldScene scene = loadMapScene(where, &problems);
   UploadOptions upload;
   upload.lightScale = options.lightScale;
   const WorldHandles handles = uploadWorld(scene, renderer, upload);
@@ -76,7 +85,7 @@ cli::ImportedScene BspImporter::load(const std::filesystem::path& path, Renderer
   out.worldUp = glm::vec3(0.0f, 0.0f, 1.0f);
   out.triangles = handles.triangles;
   out.lights = handles.lights.size();
-  out.warnings = game.problems();
+  out.warnings = std::move(problems);
   out.warnings.insert(out.warnings.end(), scene.warnings.begin(), scene.warnings.end());
   if (!scene.models.empty() && !scene.models[0].bounds.empty()) {
     out.boundsMin = scene.models[0].bounds.mins;

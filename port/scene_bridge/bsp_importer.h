@@ -8,7 +8,9 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "port/q3formats/world/world_scene.h"
 #include "renderer/cli/scene_importer.h"
 
 namespace pa::bridge {
@@ -27,7 +29,11 @@ struct MapLocation {
 /// `envGameDir` is $PA_GAME_DIR (nullptr when unset).
 MapLocation locateMap(const std::filesystem::path& path, const char* envGameDir);
 
-/// Quake III .bsp -> pa::Renderer through q3::WorldScene and uploadWorld.
+/// The map at `where` built, with its lights recovered (port/light_recovery): the scene
+/// BspImporter::load uploads. `problems`, when given, receives the game folder's problems.
+q3::WorldScene loadMapScene(const MapLocation& where, std::vector<std::string>* problems = nullptr);
+
+/// Quake III .bsp -> pa::Renderer through loadMapScene and uploadWorld.
 class BspImporter : public cli::SceneImporter {
  public:
   std::string_view formatName() const override { return "Quake III map (IBSP 46)"; }

@@ -10,7 +10,6 @@
 
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/world/world_lights.h"
-#include "port/scene_bridge/light_calibration.h"
 #include "renderer/core/srgb.h"
 
 namespace pa::bridge {
@@ -139,6 +138,31 @@ std::optional<MaterialDesc> surfaceLightProxy(const q3::WorldScene& scene, const
   return desc;
 }
 
+LightDesc lightDesc(const q3::WorldLight& light, float lightScale) {
+  LightDesc desc;
+  desc.position = light.position;
+  desc.direction = light.direction;
+  desc.color = light.color;
+  desc.intensity = light.intensity * lightScale;
+  switch (light.type) {
+    case q3::WorldLightType::Point: desc.type = LightType::Point; break;
+    case q3::WorldLightType::Spot:
+      desc.type = LightType::Spot;
+      desc.cosInnerAngle = light.cosInnerAngle;
+      desc.cosOuterAngle = light.cosOuterAngle;
+      break;
+    case q3::WorldLightType::Sun:
+      desc.type = LightType::Directional;
+      desc.angularRadius = light.angularRadius;
+      break;
+  }
+  if (light.linearFalloff) {
+    desc.falloff = Falloff::Linear;
+    desc.range = light.range;
+  }
+  return desc;
+}
+
 WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const UploadOptions& options) {
   WorldHandles handles;
   for (const q3::WorldTexture& t : scene.textures) {
@@ -226,35 +250,10 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
     handles.modelInstances.push_back(renderer.addInstance(instance));
   }
 
-  if (options.lights) {
-    const std::vector<q3::WorldLight> lights =
-        options.calibrateEstimatedLights ? calibratedLights(scene, options.calibration) : scene.lights;
-    for (const q3::WorldLight& light : lights) {
-      if (!(light.intensity > 0.0f) || !std::isfinite(light.intensity)) continue;
-      LightDesc desc;
-      desc.position = light.position;
-      desc.direction = light.direction;
-      desc.color = light.color;
-      desc.intensity = light.intensity * options.lightScale;
-      switch (light.type) {
-        case q3::WorldLightType::Point: desc.type = LightType::Point; break;
-        case q3::WorldLightType::Spot:
-          desc.type = LightType::Spot;
-          desc.cosInnerAngle = light.cosInnerAngle;
-          desc.cosOuterAngle = light.cosOuterAngle;
-          break;
-        case q3::WorldLightType::Sun:
-          desc.type = LightType::Directional;
-          desc.angularRadius = light.angularRadius;
-          break;
-      }
-      if (light.linearFalloff) {
-        desc.falloff = Falloff::Linear;
-        desc.range = light.range;
-      }
-      handles.lights.push_back(renderer.addLight(desc));
-    }
-  }
+  if (options.lights)
+    for (const q3::WorldLight& light : scene.lights)
+      if (light.intensity > 0.0f && std::isfinite(light.intensity))
+        handles.lights.push_back(renderer.addLight(lightDesc(light, options.lightScale)));
 
   handles.sky = skyDesc(scene, handles, options);
   handles.fog = fogVolumes(scene, options.lightScale);

@@ -15,7 +15,6 @@
 #include <utility>
 #include <vector>
 
-#include "port/q3formats/world/world_light_calibrate.h"
 #include "port/q3formats/world/world_scene.h"
 #include "renderer/scene/renderer.h"
 
@@ -23,13 +22,11 @@ namespace pa::bridge {
 
 /// Knobs of uploadWorld.
 struct UploadOptions {
-  bool lights = true;        ///< Add the map's analytic lights (light entities, q3map_sun).
+  /// Add the map's analytic lights (scene.lights: light entities, q3map_sun, and the lights
+  /// port/light_recovery recovered when the caller put them there).
+  bool lights = true;
   float lightScale = 1.0f;   ///< Multiplies every light intensity and emission (artistic exposure).
   float skyIntensity = 1.0f; ///< Radiance multiplier of the sky.
-  /// Refit the light-grid estimated lights against the lightmaps (light_calibration.h);
-  /// WorldHandles::lights then follows the calibrated list, not scene.lights.
-  bool calibrateEstimatedLights = true;
-  q3::LightCalibrationOptions calibration;   ///< Knobs of that calibration.
   /// Lightmaps are brightened by 2^lightmapShift with hue-keeping saturation (Quake's
   /// r_mapOverBrightBits minus the display's overbright bits; 2 by default).
   int lightmapShift = 2;
@@ -53,7 +50,7 @@ struct WorldHandles {
   std::map<uint32_t, MaterialId> lightProxies;   ///< Material -> invisible emitter (additive surface lights).
   std::vector<MeshId> modelMeshes;          ///< Per WorldScene::models: one mesh (kNoId when empty).
   std::vector<InstanceId> modelInstances;   ///< Per model: identity instance (kNoId when empty).
-  std::vector<LightId> lights;              ///< Per light added (scene.lights, or the calibrated list).
+  std::vector<LightId> lights;              ///< Per light added (scene.lights with a positive, finite intensity).
   uint64_t triangles = 0;
   /// The map's sky (skyDesc()) and fog volumes (fogVolumes()) with the upload's options: the
   /// caller shows them (showSkyAndFog) or replaces them with its own.
@@ -65,6 +62,9 @@ struct WorldHandles {
 /// linear, times lightScale) and depthForOpaque raised to at least 1 unit as the stock renderer
 /// does. Fogs whose brush has no usable plane are left out.
 FogVolumes fogVolumes(const q3::WorldScene& scene, float lightScale = 1.0f);
+
+/// The renderer light of a scene light, its intensity times lightScale.
+LightDesc lightDesc(const q3::WorldLight& light, float lightScale = 1.0f);
 
 /// Uploads textures, lightmaps, materials, one mesh + instance per model and lights, and
 /// returns their ids with the sky and fog volumes it made (WorldHandles::sky, fog; not set on

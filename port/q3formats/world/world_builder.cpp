@@ -15,7 +15,6 @@
 #include "port/q3formats/shader/material.h"
 #include "port/q3formats/shader/shader_library.h"
 #include "port/q3formats/world/world_external_lightmaps.h"
-#include "port/q3formats/world/world_light_estimate.h"
 #include "port/q3formats/world/world_lights.h"
 #include "port/q3formats/world/world_source.h"
 #include "port/q3formats/world/world_textures.h"
@@ -97,7 +96,6 @@ class SceneAssembler {
     addEntityLightsAndCameras(source_.entities, scene_);
     addFogs();
     if (skyMaterial_) addSky(*skyMaterial_);
-    if (options_.estimateLights) addEstimatedLights();
     return std::move(scene_);
   }
 
@@ -310,16 +308,6 @@ class SceneAssembler {
       scene_.sky.skyLight = value;
       scene_.sky.skyLightIterations = std::clamp(iterations, 0, 1024);
     }
-  }
-
-  /// Lights the compiler baked but stripped from the entities, recovered from the light grid.
-  void addEstimatedLights() {
-    // Maps that kept their light entities need none (estimating would cost seconds on the
-    // largest ones, measured 4 s on oacmpdm4, for 5% precision next to its 86 lights).
-    if (!lightsStripped(scene_)) return;
-    std::vector<WorldLight> estimated =
-        estimateLightsFromGrid(scene_.lightGrid, knownLightingOf(scene_), {}, nullptr, &scene_.lightCandidates);
-    scene_.lights.insert(scene_.lights.end(), estimated.begin(), estimated.end());
   }
 
   void addFogs() {

@@ -139,8 +139,7 @@ struct WorldLight {
   float cosInnerAngle = 1.0f;    ///< Spot: full intensity inside.
   float angularRadius = 0.0f;    ///< Sun: half-angle of the disc (radians).
   std::string source;            ///< "entity 12 (light)", "q3map_sun in textures/skies/x".
-  /// Recovered from the light grid (not authored): its value may be refitted against the
-  /// lightmaps (port/q3formats/world/world_light_calibrate.h).
+  /// Recovered from the light grid or the lightmaps (not authored), by port/light_recovery.
   bool estimated = false;
   /// Estimated lights: the largest value the lightmaps allow (a lightmap candidate must not give
   /// the texel it was read from more light than the texel shows); the calibration fits below it.
@@ -202,9 +201,6 @@ struct WorldScene {
   /// 64 is "full bright". kLightmapOverbrightScale carries that factor.
   std::vector<WorldImage> lightmaps;
   std::vector<WorldLight> lights;
-  /// Light-grid candidates the estimator's falloff checks rejected (estimated = true, not in
-  /// `lights`): the lightmap calibration admits those the lightmaps confirm.
-  std::vector<WorldLight> lightCandidates;
   WorldSky sky;
   std::vector<WorldCamera> cameras;
   std::vector<WorldFog> fogs;
@@ -225,10 +221,6 @@ struct WorldBuildOptions {
   bool loadTextures = true;        ///< False: keep paths only (images left empty).
   bool keepInvisible = false;      ///< Keep nodraw/hint/skip surfaces that do not emit.
   int patchSubdivisions = 4;       ///< Patch error tolerance in Quake units (r_subdivisions).
-  /// Add point lights estimated from the light grid where no light entity, sun or surface
-  /// light explains it, on maps with fewer than 16 light entities (maps whose compiler
-  /// stripped their `light` entities).
-  bool estimateLights = true;
 };
 
 /// How buildWorldScene tessellates the map's surfaces for `options` (patchSubdivisions).

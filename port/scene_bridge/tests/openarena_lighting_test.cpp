@@ -7,6 +7,7 @@
 #include <glm/common.hpp>
 #include <gtest/gtest.h>
 
+#include "port/light_recovery/recover_lights.h"
 #include "port/q3formats/world/world_game.h"
 #include "port/scene_bridge/scene_bridge.h"
 
@@ -40,6 +41,7 @@ TEST_P(OpenArenaLighting, DirectIsWithinAFactorFourOfTheLightmap) {
   if (!std::filesystem::exists(std::string(kGameDir) + "/pak1-maps.pk3")) GTEST_SKIP() << "OpenArena data not installed";
   q3::GameWorlds game(kGameDir);
   q3::WorldScene scene = game.load(GetParam());
+  scene.lights = recovery::recoverLights(scene).lights;
   ASSERT_FALSE(scene.cameras.empty());
   Renderer renderer;
   showSkyAndFog(uploadWorld(scene, renderer), renderer);

@@ -34,9 +34,7 @@ class ExternalLightmapsTest : public ::testing::Test {
       if (it == files_.end()) return std::nullopt;
       return it->second;
     };
-    WorldBuildOptions options;
-    options.estimateLights = false;
-    return buildWorldScene(bsp, library_, loader, options);
+    return buildWorldScene(bsp, library_, loader);
   }
   static size_t countWarnings(const WorldScene& scene, const std::string& text) {
     size_t n = 0;

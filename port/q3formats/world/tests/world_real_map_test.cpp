@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include "port/q3formats/world/world_game.h"
-#include "port/q3formats/world/world_light_estimate.h"
 
 namespace q3 {
 namespace {
@@ -115,40 +114,6 @@ TEST_F(RealMapTest, SampleOfTheGamesMapsBuildsWithoutThrowing) {
     ++built;
   }
   EXPECT_GE(built, 8u);
-}
-
-TEST_F(RealMapTest, GridEstimateFindsTheHiddenLightsOfAMapThatKeptThem) {
-  // q3dm6ish kept its 30 light entities: hide them, estimate from the grid, compare.
-  WorldBuildOptions options;
-  options.loadTextures = false;
-  options.estimateLights = false;
-  WorldScene scene = game_->load("q3dm6ish", options);
-  std::vector<WorldLight> real;
-  std::erase_if(scene.lights, [&](const WorldLight& l) {
-    if (l.type == WorldLightType::Sun) return false;
-    real.push_back(l);
-    return true;
-  });
-  ASSERT_GE(real.size(), 20u);
-  const std::vector<WorldLight> estimated = estimateLightsFromGrid(scene.lightGrid, knownLightingOf(scene));
-  ASSERT_FALSE(estimated.empty());
-  // Most of the light value is found within 64 units, at about the right value.
-  double total = 0.0, found = 0.0;
-  for (const WorldLight& r : real) {
-    total += r.quakeIntensity;
-    for (const WorldLight& e : estimated)
-      if (glm::length(e.position - r.position) < 64.0f && e.quakeIntensity > r.quakeIntensity / 1.5f &&
-          e.quakeIntensity < r.quakeIntensity * 1.5f) {
-        found += r.quakeIntensity;
-        break;
-      }
-  }
-  EXPECT_GT(found / total, 0.5);   // measured 71% (docs/performance.md)
-  size_t near = 0;
-  for (const WorldLight& e : estimated)
-    near += std::any_of(real.begin(), real.end(),
-                        [&](const WorldLight& r) { return glm::length(e.position - r.position) < 64.0f; });
-  EXPECT_GT(double(near) / double(estimated.size()), 0.6);   // measured 82%
 }
 
 }  // namespace

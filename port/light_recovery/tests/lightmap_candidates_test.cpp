@@ -7,11 +7,13 @@
 #include <limits>
 #include <string>
 
-#include "port/q3formats/world/tests/synthetic_lit_room.h"
-#include "port/q3formats/world/world_lightmap_lights.h"
+#include "port/light_recovery/tests/synthetic_lit_room.h"
+#include "port/light_recovery/lightmap_candidates.h"
 
-namespace q3 {
+namespace pa::recovery {
 namespace {
+
+using namespace q3;
 
 const SegmentBlocked kNothingBlocks = [](const glm::vec3&, const glm::vec3&) { return false; };
 const KnownLightAt kNothingKnown = [](const glm::vec3&, const glm::vec3&) { return 0.0f; };
@@ -19,7 +21,7 @@ const KnownLightAt kNothingKnown = [](const glm::vec3&, const glm::vec3&) { retu
 /// Candidates from the lightmaps, then the calibration's values: the admitted lights.
 std::vector<WorldLight> lightsRecoveredFrom(const WorldScene& scene, LightCalibrationStats* stats = nullptr) {
   const std::vector<WorldLight> candidates = lightsFromLightmaps(scene, kNothingKnown, {}, kNothingBlocks, {});
-  return calibrateEstimatedLights(scene, kNothingBlocks, {}, stats, {}, {}, candidates);
+  return calibrateEstimatedLights(scene, scene.lights, {}, kNothingBlocks, {}, stats, {}, {}, candidates);
 }
 
 /// Sum of the values of the lights within `radius` of `at`.
@@ -161,4 +163,4 @@ TEST(LightmapLights, PixelTestsAreBounded) {
 }
 
 }  // namespace
-}  // namespace q3
+}  // namespace pa::recovery

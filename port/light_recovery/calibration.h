@@ -9,9 +9,9 @@
 // (value * pointScale * cos / max(d, 16)^2, shadowed through a caller-supplied visibility
 // test), and fits the light values by non-negative least squares, with a non-negative
 // constant for what no point light explains (bounced light, ambient, surface lights) and a
-// weak prior towards the grid's values. Rejected grid candidates (WorldScene::lightCandidates)
+// weak prior towards the grid's values. Rejected grid candidates (the estimator's `rejected`)
 // join the fit and are admitted when the lightmaps need them. Authored lights stay as they are
-// and their light is subtracted first. Lightmap candidates (world_lightmap_lights.h) are fitted
+// and their light is subtracted first. Lightmap candidates (lightmap_candidates.h) are fitted
 // in a second solve, on what the grid's lights leave, with the grid's values kept: they add
 // light where the grid's lights miss it, each below its WorldLight::maxQuakeIntensity.
 #include <cstddef>
@@ -23,7 +23,7 @@
 
 #include "port/q3formats/world/world_scene.h"
 
-namespace q3 {
+namespace pa::recovery {
 
 /// True when a point lies inside solid geometry (a light there lights nothing the lightmaps
 /// saw, but leaks through cracks between brushes in a renderer).
@@ -57,11 +57,11 @@ struct LightCalibrationOptions {
   bool relativeErrors = true;      ///< Weight texels by 1 / (value + 32) (else plain least squares).
   size_t maxCandidates = 256;      ///< Candidates examined (the estimator lists the strongest peaks first).
   size_t maxLightSamplePairs = 2000000;  ///< Budget: samples x fitted grid lights (fewer samples on crowded maps).
-  bool admitCandidates = true;     ///< Fit WorldScene::lightCandidates too (false: refit the estimated lights only).
+  bool admitCandidates = true;     ///< Fit the candidates too (false: refit the estimated lights only).
   int skyRays = 16;                ///< Cosine-distributed rays per sample measuring its open sky.
   size_t maxLightmapCandidates = 64;   ///< Lightmap candidates examined (besides maxCandidates grid candidates).
-  /// Callers with a shadow-ray tracer (pa::bridge::calibratedLights) propose lightmap candidates
-  /// (world_lightmap_lights.h) on maps whose lights were stripped.
+  /// Propose lightmap candidates (lightmap_candidates.h) on maps whose lights were stripped
+  /// (calibrateWithShadowRays, recover_lights.h).
   bool lightsFromLightmaps = true;
 };
 
@@ -72,35 +72,36 @@ struct LightCalibrationStats {
   size_t refitted = 0;           ///< Estimated lights whose value was refitted.
   size_t dropped = 0;            ///< Estimated lights fitted below minLightValue.
   size_t admitted = 0;           ///< Rejected candidates admitted (grid and lightmap candidates).
-  size_t admittedFromLightmaps = 0;  ///< Of those, lightmap candidates (world_lightmap_lights.h).
+  size_t admittedFromLightmaps = 0;  ///< Of those, lightmap candidates (lightmap_candidates.h).
   size_t inSolid = 0;            ///< Estimated lights and candidates dropped for lying inside solid geometry.
   float unexplained = 0.0f;      ///< Fitted constant (light value, summed over RGB).
   float meanTexel = 0.0f;        ///< Mean texel (light value, summed over RGB).
   float meanBefore = 0.0f;       ///< Mean predicted direct light with the grid values.
   float meanAfter = 0.0f;        ///< Mean predicted direct light with the fitted values.
-  size_t lightmapPeaks = 0;      ///< Lightmap peaks examined by the caller (world_lightmap_lights.h).
+  size_t lightmapPeaks = 0;      ///< Lightmap peaks examined by the caller (lightmap_candidates.h).
   size_t lightmapUnexplained = 0;  ///< Of those, peaks the known light leaves unexplained.
   size_t lightmapCandidates = 0;   ///< Lightmap candidates handed to the calibration.
   double lightmapMs = 0.0;         ///< Time the lightmap candidates took (milliseconds).
 };
 
-/// The scene's lights with every estimated light's value refitted against the lightmaps and
-/// the candidates the lightmaps confirm added (WorldScene::lightCandidates, then
-/// `lightmapCandidates`, e.g. from lightsFromLightmaps). Lights not estimated are returned
-/// unchanged. Returns scene.lights as they are when there is nothing to fit (no estimated light
-/// or candidate, no lightmapped surface).
-std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const SegmentBlocked& blocked,
-                                                 const LightCalibrationOptions& options = {},
-                                                 LightCalibrationStats* stats = nullptr,
-                                                 const std::vector<CalibrationEmitter>& emitters = {},
-                                                 const PointInSolid& inSolid = {},
-                                                 const std::vector<WorldLight>& lightmapCandidates = {});
+/// `lights` with every estimated light's value refitted against the scene's lightmaps and the
+/// candidates the lightmaps confirm added (`gridCandidates`, then `lightmapCandidates`, e.g. from
+/// lightsFromLightmaps). Lights not estimated are returned unchanged. Returns `lights` as they
+/// are when there is nothing to fit (no estimated light or candidate, no lightmapped surface).
+std::vector<q3::WorldLight> calibrateEstimatedLights(const q3::WorldScene& scene, const std::vector<q3::WorldLight>& lights,
+                                                     const std::vector<q3::WorldLight>& gridCandidates,
+                                                     const SegmentBlocked& blocked,
+                                                     const LightCalibrationOptions& options = {},
+                                                     LightCalibrationStats* stats = nullptr,
+                                                     const std::vector<CalibrationEmitter>& emitters = {},
+                                                     const PointInSolid& inSolid = {},
+                                                     const std::vector<q3::WorldLight>& lightmapCandidates = {});
 
 /// Light value (summed over RGB) that the scene's authored (not estimated) lights, `emitters` and
 /// the sky (options.skyLightValue, options.skyRays rays) give a surface point, shadows traced as
 /// the calibration traces them: the light no estimated light is needed for.
-float knownLightAt(const WorldScene& scene, const glm::vec3& position, const glm::vec3& normal,
+float knownLightAt(const q3::WorldScene& scene, const glm::vec3& position, const glm::vec3& normal,
                    const SegmentBlocked& blocked, const std::vector<CalibrationEmitter>& emitters = {},
                    const LightCalibrationOptions& options = {});
 
-}  // namespace q3
+}  // namespace pa::recovery

@@ -1,5 +1,5 @@
 // lightmap-match-check: how well the Direct integrator matches the baked lighting on maps
-// whose lights were estimated from the light grid. Prints the lightmap calibration's figures
+// whose lights were recovered (port/light_recovery). Prints the lightmap calibration's figures
 // (samples, fitted lights, time) and, per spawn point, the mean linear luminance of a Lightmap
 // render (4 spp) and of Direct renders (16 spp) with the grid's values and the calibrated ones
 // (320x180, the same figures pa-render's EXR gives).
@@ -8,7 +8,7 @@
 //   lightmap-match-check --recover MAP...   (maps that kept their lights: doubled values refitted)
 // Diagnosis switches (environment): PA_LIST_LIGHTS=1 lists the calibrated lights,
 // PA_NO_CANDIDATES=1 refits the estimated lights only, PA_NO_LIGHTMAP_LIGHTS=1 proposes no
-// lightmap candidates (world_lightmap_lights.h), PA_LIGHTMAP_CANDIDATES=N at most N of them, PA_ABSOLUTE=1 fits absolute errors,
+// lightmap candidates (lightmap_candidates.h), PA_LIGHTMAP_CANDIDATES=N at most N of them, PA_ABSOLUTE=1 fits absolute errors,
 // PA_CAL_SKY=V calibrates with sky light value V (summed over RGB, open surface) instead of the
 // sky shader's; what is rendered: PA_NO_SKY=1 without the sky, PA_NO_SUN=1 without q3map_sun
 // lights, PA_NO_EMITTERS=1 without surface lights and glow stages, PA_PATH=1 the calibrated
@@ -29,7 +29,7 @@
 #include <stb_image_write.h>
 
 #include "port/q3formats/world/world_game.h"
-#include "port/scene_bridge/light_calibration.h"
+#include "port/light_recovery/recover_lights.h"
 #include "port/scene_bridge/scene_bridge.h"
 #include "renderer/core/srgb.h"
 
@@ -43,17 +43,22 @@ struct Luminance {
   double black = 0.0;   ///< Share of pixels whose display luma is below 10/255.
 };
 
+/// The calibration's knobs as the diagnosis switches set them.
+pa::recovery::LightCalibrationOptions calibrationFromEnvironment() {
+  pa::recovery::LightCalibrationOptions calibration;
+  calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
+  calibration.lightsFromLightmaps = std::getenv("PA_NO_LIGHTMAP_LIGHTS") == nullptr;
+  if (const char* most = std::getenv("PA_LIGHTMAP_CANDIDATES")) calibration.maxLightmapCandidates = size_t(std::atoi(most));
+  calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
+  if (const char* sky = std::getenv("PA_CAL_SKY")) calibration.skyLightValue = float(std::atof(sky));
+  return calibration;
+}
+
+/// A render of `scene` lit by scene.lights (`calibrate` names what they are in PNG file names).
 Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrator integrator, bool calibrate,
                         uint32_t directSpp) {
   pa::Renderer renderer;
-  pa::bridge::UploadOptions upload;
-  upload.calibrateEstimatedLights = calibrate;
-  upload.calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
-  upload.calibration.lightsFromLightmaps = std::getenv("PA_NO_LIGHTMAP_LIGHTS") == nullptr;
-  if (const char* most = std::getenv("PA_LIGHTMAP_CANDIDATES")) upload.calibration.maxLightmapCandidates = size_t(std::atoi(most));
-  upload.calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
-  if (const char* sky = std::getenv("PA_CAL_SKY")) upload.calibration.skyLightValue = float(std::atof(sky));
-  const pa::bridge::WorldHandles handles = pa::bridge::uploadWorld(scene, renderer, upload);
+  const pa::bridge::WorldHandles handles = pa::bridge::uploadWorld(scene, renderer);
   if (std::getenv("PA_NO_SKY") == nullptr) renderer.setSky(handles.sky);
   renderer.setFogVolumes(handles.fog.volumes);
   renderer.commit();
@@ -100,9 +105,7 @@ Luminance meanLuminance(const q3::WorldScene& scene, size_t spawn, pa::Integrato
 /// value and prints how close the calibration brings them back (median and quartiles of
 /// fitted / authored).
 void recover(const q3::GameWorlds& game, const std::string& map) {
-  q3::WorldBuildOptions options;
-  options.estimateLights = false;
-  q3::WorldScene scene = game.load(map, options);
+  q3::WorldScene scene = game.load(map);
   std::vector<float> authored;
   for (q3::WorldLight& l : scene.lights)
     if (l.type == q3::WorldLightType::Point && !l.linearFalloff) {
@@ -110,8 +113,8 @@ void recover(const q3::GameWorlds& game, const std::string& map) {
       l.estimated = true;
       l.quakeIntensity *= 2.0f;
     }
-  q3::LightCalibrationStats stats;
-  const std::vector<q3::WorldLight> lights = pa::bridge::calibratedLights(scene, {}, &stats);
+  pa::recovery::LightCalibrationStats stats;
+  const std::vector<q3::WorldLight> lights = pa::recovery::calibrateWithShadowRays(scene, scene.lights, {}, {}, &stats);
   std::vector<float> ratios;
   size_t next = 0;
   for (const q3::WorldLight& l : scene.lights) {
@@ -135,23 +138,20 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns, ui
     std::erase_if(scene.lights, [](const q3::WorldLight& l) { return l.type == q3::WorldLightType::Sun; });
   if (std::getenv("PA_NO_EMITTERS"))
     for (q3::WorldMaterial& m : scene.materials) m.surfaceLight = 0.0f, m.emissiveTexture = -1;
-  size_t estimated = 0;
-  for (const q3::WorldLight& l : scene.lights) estimated += l.estimated ? 1 : 0;
-  q3::LightCalibrationOptions calibration;
-  calibration.admitCandidates = std::getenv("PA_NO_CANDIDATES") == nullptr;
-  calibration.lightsFromLightmaps = std::getenv("PA_NO_LIGHTMAP_LIGHTS") == nullptr;
-  if (const char* most = std::getenv("PA_LIGHTMAP_CANDIDATES")) calibration.maxLightmapCandidates = size_t(std::atoi(most));
-  calibration.relativeErrors = std::getenv("PA_ABSOLUTE") == nullptr;
-  if (const char* sky = std::getenv("PA_CAL_SKY")) calibration.skyLightValue = float(std::atof(sky));
-  const auto t0 = std::chrono::steady_clock::now();
-  q3::LightCalibrationStats stats;
-  const std::vector<q3::WorldLight> lights = pa::bridge::calibratedLights(scene, calibration, &stats);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  pa::recovery::RecoveryOptions gridOnly;
+  gridOnly.calibrate = false;
+  const std::vector<q3::WorldLight> grid = pa::recovery::recoverLights(scene, gridOnly).lights;
+  pa::recovery::RecoveryOptions options;
+  options.calibration = calibrationFromEnvironment();
+  const pa::recovery::RecoveredLights recovered = pa::recovery::recoverLights(scene, options);
+  const std::vector<q3::WorldLight>& lights = recovered.lights;
+  const pa::recovery::RecoveryStats& found = recovered.stats;
+  const pa::recovery::LightCalibrationStats& stats = found.calibration;
   std::printf("%s: %zu lights (%zu estimated, %zu candidates) -> %zu | samples %zu, rays %zu, refitted %zu, dropped %zu, "
               "admitted %zu, in solid %zu | mean texel %.1f, direct before %.1f after %.1f, constant %.1f | %.0f ms\n",
-              map.c_str(), scene.lights.size(), estimated, scene.lightCandidates.size(), lights.size(), stats.samples,
+              map.c_str(), found.authored + found.estimated, found.estimated, found.gridCandidates, lights.size(), stats.samples,
               stats.shadowRays, stats.refitted, stats.dropped, stats.admitted, stats.inSolid, stats.meanTexel, stats.meanBefore,
-              stats.meanAfter, stats.unexplained, ms);
+              stats.meanAfter, stats.unexplained, found.milliseconds);
   const glm::vec3 sky = pa::bridge::skyLightingRadiance(scene);
   std::printf("  sky lighting radiance %.3f %.3f %.3f | lightmap peaks %zu, unexplained %zu, candidates %zu, admitted %zu "
               "(%.0f ms of the calibration)\n",
@@ -159,13 +159,15 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns, ui
               stats.admittedFromLightmaps, stats.lightmapMs);
   if (std::getenv("PA_LIST_LIGHTS"))
     for (const q3::WorldLight& l : lights)
-      std::printf("    %-60s (%7.1f %7.1f %7.1f) value %.0f\n", l.source.c_str(), l.position.x, l.position.y, l.position.z,
-                  l.quakeIntensity);
+      std::printf("    %-60s (%.9g %.9g %.9g) value %.9g colour %.9g %.9g %.9g intensity %.9g\n", l.source.c_str(), l.position.x, l.position.y, l.position.z, l.quakeIntensity, l.color.r, l.color.g, l.color.b, l.intensity);
   for (size_t s = 0; s < std::min(spawns, scene.cameras.size()); ++s) {
+    scene.lights = lights;
     const Luminance lightmap = meanLuminance(scene, s, pa::Integrator::Lightmap, true, spp);
     const double baked = lightmap.plain;
+    scene.lights = grid;
     const Luminance before = std::getenv("PA_NO_GRID") ? Luminance{NAN, NAN, NAN}
                                                        : meanLuminance(scene, s, pa::Integrator::Direct, false, spp);
+    scene.lights = lights;
     const bool path = std::getenv("PA_PATH") != nullptr;
     const Luminance after = meanLuminance(scene, s, path ? pa::Integrator::Path : pa::Integrator::Direct, true, spp);
     std::printf("  spawn %zu (%s): lightmap %.4f (capped %.4f, black %.0f%%) | direct grid %.4f (x%.2f, capped x%.2f) | %s "

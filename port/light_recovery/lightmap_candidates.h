@@ -9,7 +9,7 @@
 // caller-supplied prediction) leaves mostly unexplained become candidates: a point light along
 // the peak's normal at the height whose q3map2 falloff (cos / max(d, 16)^2 plus a constant) best
 // fits the texels around the peak on its plane, not inside solid and seeing the peak. The
-// lightmap calibration (world_light_calibrate.h) then fits their values against the lightmaps,
+// lightmap calibration (calibration.h) then fits their values against the lightmaps,
 // shadowed, and admits those the lightmaps confirm.
 #include <cstddef>
 #include <cstdint>
@@ -18,10 +18,10 @@
 
 #include <glm/vec3.hpp>
 
-#include "port/q3formats/world/world_light_calibrate.h"
+#include "port/light_recovery/calibration.h"
 #include "port/q3formats/world/world_scene.h"
 
-namespace q3 {
+namespace pa::recovery {
 
 /// One lightmap texel placed on the world surface it lights.
 struct LightmapTexel {
@@ -34,7 +34,7 @@ struct LightmapTexel {
 struct LightmapTexels {
   /// One lightmap's pixels: index into texels, -1 where no world triangle covers the pixel.
   struct Page {
-    uint32_t lightmap = 0;   ///< Index into WorldScene::lightmaps.
+    uint32_t lightmap = 0;   ///< Index into q3::WorldScene::lightmaps.
     uint32_t width = 0, height = 0;
     std::vector<int32_t> texel;
   };
@@ -45,7 +45,7 @@ struct LightmapTexels {
 /// Places the texels of the world model's lightmapped, visible, opaque, non-emitting surfaces. A pixel belongs to the first triangle whose lightmap UVs contain its
 /// centre. Bounded: at most `maxPixelTests` pixel-in-triangle tests and `maxPagePixels` pixels of
 /// lightmap pages; malformed meshes and lightmaps are skipped.
-LightmapTexels placeLightmapTexels(const WorldScene& scene, size_t maxPixelTests = size_t(1) << 24,
+LightmapTexels placeLightmapTexels(const q3::WorldScene& scene, size_t maxPixelTests = size_t(1) << 24,
                                    size_t maxPagePixels = size_t(1) << 23);
 
 /// Light value (summed over RGB) the scene's known light gives a surface point (position, normal).
@@ -82,9 +82,9 @@ struct LightmapLightStats {
 /// in front of the lightmap peaks that `known` does not explain, brightest peak first. `avoid` lists lights
 /// already fitted or known (no candidate within mergeDistance of them). `blocked` and `inSolid`
 /// may be empty (then not tested). Never throws on hostile data; `stats` may be null.
-std::vector<WorldLight> lightsFromLightmaps(const WorldScene& scene, const KnownLightAt& known,
-                                            const std::vector<glm::vec3>& avoid, const SegmentBlocked& blocked,
-                                            const PointInSolid& inSolid, const LightmapLightOptions& options = {},
-                                            LightmapLightStats* stats = nullptr);
+std::vector<q3::WorldLight> lightsFromLightmaps(const q3::WorldScene& scene, const KnownLightAt& known,
+                                                const std::vector<glm::vec3>& avoid, const SegmentBlocked& blocked,
+                                                const PointInSolid& inSolid, const LightmapLightOptions& options = {},
+                                                LightmapLightStats* stats = nullptr);
 
-}  // namespace q3
+}  // namespace pa::recovery

@@ -1,6 +1,6 @@
 // estimateLightsFromGrid: light positions from the light grid's directions (line voting and
 // least squares), light values from its directed magnitudes (q3map2 inverse-square falloff).
-#include "port/q3formats/world/world_light_estimate.h"
+#include "port/light_recovery/grid_estimate.h"
 
 #include <algorithm>
 #include <array>
@@ -14,7 +14,9 @@
 #include "port/q3formats/bsp/light_grid.h"
 #include "port/q3formats/world/world_lights.h"
 
-namespace q3 {
+namespace pa::recovery {
+
+using namespace q3;
 namespace {
 
 constexpr float kMinLightDistance = 16.0f;   // q3map2 clamps the distance of point lights here
@@ -470,6 +472,7 @@ std::vector<WorldLight> estimateLightsFromGrid(const WorldLightGrid& grid, const
 KnownLighting knownLightingOf(const WorldScene& scene) {
   KnownLighting known;
   for (const WorldLight& l : scene.lights) {
+    if (l.estimated) continue;   // recovered earlier: not the scene's own light
     if (l.type == WorldLightType::Sun) {
       const float len = glm::length(l.direction);
       if (len > 1e-6f && std::isfinite(len)) known.towardSuns.push_back(-l.direction / len);
@@ -494,12 +497,12 @@ KnownLighting knownLightingOf(const WorldScene& scene) {
   return known;
 }
 
-bool lightsStripped(const WorldScene& scene) {
+bool lightsStripped(const std::vector<WorldLight>& lights) {
   constexpr size_t kEnoughEntityLights = 16;
-  const size_t entityLights = size_t(std::count_if(scene.lights.begin(), scene.lights.end(), [](const WorldLight& l) {
+  const size_t entityLights = size_t(std::count_if(lights.begin(), lights.end(), [](const WorldLight& l) {
     return l.type != WorldLightType::Sun && !l.estimated;
   }));
   return entityLights < kEnoughEntityLights;
 }
 
-}  // namespace q3
+}  // namespace pa::recovery

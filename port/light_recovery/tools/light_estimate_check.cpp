@@ -16,7 +16,7 @@
 #include <glm/geometric.hpp>
 
 #include "port/q3formats/world/world_game.h"
-#include "port/q3formats/world/world_light_estimate.h"
+#include "port/light_recovery/grid_estimate.h"
 #include "port/scene_bridge/scene_bridge.h"
 
 namespace {
@@ -45,16 +45,14 @@ double median(std::vector<double> v) {
 }
 
 void check(const q3::GameWorlds& game, const std::string& map, bool render) {
-  q3::WorldBuildOptions options;
-  options.estimateLights = false;
-  q3::WorldScene scene = game.load(map, options);
+  q3::WorldScene scene = game.load(map);
   std::vector<q3::WorldLight> real, others;
   for (const q3::WorldLight& l : scene.lights) (l.type == q3::WorldLightType::Sun ? others : real).push_back(l);
   q3::WorldScene hidden = scene;
   hidden.lights = others;
   const auto t0 = std::chrono::steady_clock::now();
-  q3::LightEstimateStats stats;
-  std::vector<q3::WorldLight> estimated = q3::estimateLightsFromGrid(hidden.lightGrid, q3::knownLightingOf(hidden), {}, &stats);
+  pa::recovery::LightEstimateStats stats;
+  std::vector<q3::WorldLight> estimated = pa::recovery::estimateLightsFromGrid(hidden.lightGrid, pa::recovery::knownLightingOf(hidden), {}, &stats);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
   // A real light is found when an estimate lies within 64 units; value ratio estimate / real

@@ -1,6 +1,6 @@
 // lightsFromLightmaps: lightmap texels placed on the world, their unexplained peaks, and a point
 // light fitted along each peak's normal from the q3map2 falloff of the texels around it.
-#include "port/q3formats/world/world_lightmap_lights.h"
+#include "port/light_recovery/lightmap_candidates.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,9 @@
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/world/world_lights.h"
 
-namespace q3 {
+namespace pa::recovery {
+
+using namespace q3;
 namespace {
 
 constexpr float kMinLightDistance = 16.0f;   // q3map2 clamps point-light distances here
@@ -312,4 +314,4 @@ std::vector<WorldLight> lightsFromLightmaps(const WorldScene& scene, const Known
   return lights;
 }
 
-}  // namespace q3
+}  // namespace pa::recovery

@@ -13,7 +13,46 @@
 #include "port/q3formats/world/world_lights.h"
 #include "port/q3formats/world/world_scene.h"
 
-namespace q3::testing {
+namespace pa::recovery::testing {
+
+using q3::kQ3mapPointScale;
+using q3::pointLightIntensity;
+using q3::WorldImage;
+using q3::WorldLight;
+using q3::WorldMaterial;
+using q3::WorldMesh;
+using q3::WorldScene;
+
+/// Half width and height of the test room (Quake units).
+inline constexpr float kRoomHalfWidth = 256.0f, kRoomHeight = 256.0f;
+
+/// One wall of the test room: corner, u edge, v edge, inward normal.
+struct RoomWall {
+  glm::vec3 origin, u, v, normal;
+};
+
+/// The six walls of the room [-256, 256] x [-256, 256] x [0, 256], floor first.
+inline std::array<RoomWall, 6> roomWalls() {
+  const glm::vec3 lo(-kRoomHalfWidth, -kRoomHalfWidth, 0.0f), hi(kRoomHalfWidth, kRoomHalfWidth, kRoomHeight);
+  return {{
+      {{lo.x, lo.y, lo.z}, {hi.x - lo.x, 0, 0}, {0, hi.y - lo.y, 0}, {0, 0, 1}},    // floor
+      {{lo.x, lo.y, hi.z}, {hi.x - lo.x, 0, 0}, {0, hi.y - lo.y, 0}, {0, 0, -1}},   // ceiling
+      {{lo.x, lo.y, lo.z}, {hi.x - lo.x, 0, 0}, {0, 0, hi.z - lo.z}, {0, 1, 0}},
+      {{lo.x, hi.y, lo.z}, {hi.x - lo.x, 0, 0}, {0, 0, hi.z - lo.z}, {0, -1, 0}},
+      {{lo.x, lo.y, lo.z}, {0, hi.y - lo.y, 0}, {0, 0, hi.z - lo.z}, {1, 0, 0}},
+      {{hi.x, lo.y, lo.z}, {0, hi.y - lo.y, 0}, {0, 0, hi.z - lo.z}, {-1, 0, 0}},
+  }};
+}
+
+/// Light value a q3map2 point light (value at `light`) gives point `p` facing `normal`, no
+/// shadows; a zero normal counts the light as facing (the light grid's directed light).
+inline float q3mapPointLight(const glm::vec3& light, float value, const glm::vec3& p, const glm::vec3& normal) {
+  const glm::vec3 toLight = light - p;
+  const float d = glm::length(toLight);
+  const float cosine = normal == glm::vec3(0.0f) ? 1.0f : std::max(0.0f, glm::dot(normal, toLight) / d);
+  const float clamped = std::max(d, 16.0f);
+  return value * kQ3mapPointScale * cosine / (clamped * clamped);
+}
 
 /// Builds the room [-256, 256] x [-256, 256] x [0, 256] lit by the (position, value) lights.
 inline WorldScene syntheticLitRoom(const std::vector<std::pair<glm::vec3, float>>& lights, float bounce) {
@@ -22,18 +61,7 @@ inline WorldScene syntheticLitRoom(const std::vector<std::pair<glm::vec3, float>
   scene.materials.push_back(WorldMaterial{});
   scene.materials[0].shaderName = "textures/test/wall";
   scene.models.emplace_back();
-  const glm::vec3 lo(-256.0f, -256.0f, 0.0f), hi(256.0f, 256.0f, 256.0f);
-  // Each wall: corner, u edge, v edge, inward normal.
-  struct Wall { glm::vec3 origin, u, v, normal; };
-  const std::array<Wall, 6> walls{{
-      {{lo.x, lo.y, lo.z}, {hi.x - lo.x, 0, 0}, {0, hi.y - lo.y, 0}, {0, 0, 1}},    // floor
-      {{lo.x, lo.y, hi.z}, {hi.x - lo.x, 0, 0}, {0, hi.y - lo.y, 0}, {0, 0, -1}},   // ceiling
-      {{lo.x, lo.y, lo.z}, {hi.x - lo.x, 0, 0}, {0, 0, hi.z - lo.z}, {0, 1, 0}},
-      {{lo.x, hi.y, lo.z}, {hi.x - lo.x, 0, 0}, {0, 0, hi.z - lo.z}, {0, -1, 0}},
-      {{lo.x, lo.y, lo.z}, {0, hi.y - lo.y, 0}, {0, 0, hi.z - lo.z}, {1, 0, 0}},
-      {{hi.x, lo.y, lo.z}, {0, hi.y - lo.y, 0}, {0, 0, hi.z - lo.z}, {-1, 0, 0}},
-  }};
-  for (const Wall& w : walls) {
+  for (const RoomWall& w : roomWalls()) {
     WorldImage image;
     image.width = image.height = kSize;
     image.rgba8.resize(size_t(kSize) * kSize * 4);
@@ -41,13 +69,7 @@ inline WorldScene syntheticLitRoom(const std::vector<std::pair<glm::vec3, float>
       for (uint32_t x = 0; x < kSize; ++x) {
         const glm::vec3 p = w.origin + w.u * ((float(x) + 0.5f) / kSize) + w.v * ((float(y) + 0.5f) / kSize);
         float lit = bounce;
-        for (const auto& [light, value] : lights) {
-          const glm::vec3 toLight = light - p;
-          const float d = glm::length(toLight);
-          const float cosine = std::max(0.0f, glm::dot(w.normal, toLight) / d);
-          const float clamped = std::max(d, 16.0f);
-          lit += value * kQ3mapPointScale * cosine / (clamped * clamped);
-        }
+        for (const auto& [light, value] : lights) lit += q3mapPointLight(light, value, p, w.normal);
         const uint8_t byte = uint8_t(std::clamp(std::lround(lit), 0l, 255l));
         uint8_t* texel = &image.rgba8[(size_t(y) * kSize + x) * 4];
         texel[0] = texel[1] = texel[2] = byte;
@@ -108,4 +130,4 @@ inline WorldLight estimatedLight(const glm::vec3& position, float value) {
   return l;
 }
 
-}  // namespace q3::testing
+}  // namespace pa::recovery::testing

@@ -1,5 +1,5 @@
 // calibrateEstimatedLights: lightmap texel sampling, q3map2 direct-light prediction, NNLS fit.
-#include "port/q3formats/world/world_light_calibrate.h"
+#include "port/light_recovery/calibration.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,9 @@
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/world/world_lights.h"
 
-namespace q3 {
+namespace pa::recovery {
+
+using namespace q3;
 namespace {
 
 constexpr float kMinLightDistance = 16.0f;   // q3map2 clamps point-light distances here
@@ -246,7 +248,8 @@ float knownLightAt(const WorldScene& scene, const glm::vec3& position, const glm
   return std::isfinite(value) ? value : 0.0f;
 }
 
-std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const SegmentBlocked& blocked,
+std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const std::vector<WorldLight>& lights,
+                                                 const std::vector<WorldLight>& gridCandidates, const SegmentBlocked& blocked,
                                                  const LightCalibrationOptions& o, LightCalibrationStats* statsOut,
                                                  const std::vector<CalibrationEmitter>& emitters,
                                                  const PointInSolid& inSolid,
@@ -255,13 +258,13 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   // The lights to fit: estimated ones, then the rejected candidates.
   std::vector<const WorldLight*> fitted;
   std::vector<const WorldLight*> solid;   // estimated lights inside solid: dropped
-  for (const WorldLight& l : scene.lights)
+  for (const WorldLight& l : lights)
     if (l.estimated && l.type == WorldLightType::Point && !l.linearFalloff) {
       if (inSolid && inSolid(l.position)) solid.push_back(&l);
       else fitted.push_back(&l);
     }
   const size_t estimatedCount = fitted.size();
-  for (const WorldLight& l : scene.lightCandidates)
+  for (const WorldLight& l : gridCandidates)
     if (o.admitCandidates && fitted.size() < estimatedCount + o.maxCandidates && l.estimated && l.type == WorldLightType::Point && !l.linearFalloff && finite3(l.position)) {
       if (inSolid && inSolid(l.position)) ++stats.inSolid;
       else fitted.push_back(&l);
@@ -276,7 +279,7 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   stats.inSolid += solid.size();
   if (fitted.empty() || !blocked) {
     if (statsOut) *statsOut = stats;
-    return scene.lights;
+    return lights;
   }
   LightCalibrationOptions budgeted = o;
   // The budget counts the grid's lights: lightmap candidates light small regions (few shadow
@@ -287,7 +290,7 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   stats.samples = samples.size();
   if (samples.empty()) {
     if (statsOut) *statsOut = stats;
-    return scene.lights;
+    return lights;
   }
 
   std::mt19937 rng(o.seed ^ 0x5bd1e995u);
@@ -384,7 +387,7 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     sumAfter += predicted;
   }
   size_t next = 0;
-  for (const WorldLight& l : scene.lights) {
+  for (const WorldLight& l : lights) {
     if (std::find(solid.begin(), solid.end(), &l) != solid.end()) continue;
     if (next < estimatedCount && &l == fitted[next]) {
       const size_t i = next++;
@@ -425,4 +428,4 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   return out;
 }
 
-}  // namespace q3
+}  // namespace pa::recovery

@@ -1,5 +1,5 @@
 #pragma once
-// Point lights recovered from a map's baked light grid (BSP lump 15).
+// Point lights estimated from a map's baked light grid (BSP lump 15).
 //
 // q3map2 strips `light` entities from most compiled maps, but every grid point still records
 // the light it received: an ambient colour, a "directed" colour and the direction towards the
@@ -21,7 +21,7 @@
 
 #include "port/q3formats/world/world_scene.h"
 
-namespace q3 {
+namespace pa::recovery {
 
 /// Light the scene already has; the estimator must not create it again.
 struct KnownLighting {
@@ -74,17 +74,18 @@ struct LightEstimateStats {
 /// inconsistent grid (never throws on hostile data); `stats` may be null. `rejected`, when
 /// given, receives the candidates that only the value-spread / falloff checks turned down
 /// (weak lights whose grid lines are blended with others), for a later lightmap calibration.
-std::vector<WorldLight> estimateLightsFromGrid(const WorldLightGrid& grid, const KnownLighting& known,
-                                               const LightEstimateOptions& options = {},
-                                               LightEstimateStats* stats = nullptr,
-                                               std::vector<WorldLight>* rejected = nullptr);
+std::vector<q3::WorldLight> estimateLightsFromGrid(const q3::WorldLightGrid& grid, const KnownLighting& known,
+                                                   const LightEstimateOptions& options = {},
+                                                   LightEstimateStats* stats = nullptr,
+                                                   std::vector<q3::WorldLight>* rejected = nullptr);
 
-/// The light the scene's own lights, suns and q3map_surfacelight surfaces already give.
-KnownLighting knownLightingOf(const WorldScene& scene);
+/// The light the scene's own (not estimated) lights, suns and q3map_surfacelight surfaces already give.
+KnownLighting knownLightingOf(const q3::WorldScene& scene);
 
-/// True when the compiler stripped the map's `light` entities: fewer than 16 authored point or
-/// spot lights remain (a map that kept that many was compiled with -keeplights or never
-/// stripped, and its own lights are the authority). Such maps get estimated lights.
-bool lightsStripped(const WorldScene& scene);
+/// True when the compiler stripped the map's `light` entities: `lights` (a scene's) hold fewer
+/// than 16 authored point or spot lights (a map that kept that many was compiled with
+/// -keeplights or never stripped, and its own lights are the authority). Such maps get
+/// estimated lights.
+bool lightsStripped(const std::vector<q3::WorldLight>& lights);
 
-}  // namespace q3
+}  // namespace pa::recovery

@@ -9,11 +9,13 @@
 #include <gtest/gtest.h>
 
 #include "port/q3formats/bsp/light_grid.h"
-#include "port/q3formats/world/world_light_estimate.h"
+#include "port/light_recovery/grid_estimate.h"
 #include "port/q3formats/world/world_lights.h"
 
-namespace q3 {
+namespace pa::recovery {
 namespace {
+
+using namespace q3;
 
 struct TestLight {
   glm::vec3 position;
@@ -157,4 +159,4 @@ TEST(LightEstimate, HostileGridsGiveNothing) {
 }
 
 }  // namespace
-}  // namespace q3
+}  // namespace pa::recovery

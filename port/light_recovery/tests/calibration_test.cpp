@@ -2,11 +2,13 @@
 // a known point light must give that light's value back, whatever the grid's guess.
 #include <gtest/gtest.h>
 
-#include "port/q3formats/world/tests/synthetic_lit_room.h"
-#include "port/q3formats/world/world_light_calibrate.h"
+#include "port/light_recovery/tests/synthetic_lit_room.h"
+#include "port/light_recovery/calibration.h"
 
-namespace q3 {
+namespace pa::recovery {
 namespace {
+
+using namespace q3;
 
 const SegmentBlocked kNothingBlocks = [](const glm::vec3&, const glm::vec3&) { return false; };
 
@@ -15,7 +17,7 @@ TEST(LightCalibration, RecoversTheValueOfTheLightThatBakedTheLightmaps) {
   WorldScene scene = testing::syntheticLitRoom(light, 300.0f, 0.0f);
   scene.lights.push_back(testing::estimatedLight(light, 900.0f));   // the grid overestimated it 3x
   LightCalibrationStats stats;
-  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, kNothingBlocks, {}, &stats);
+  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, scene.lights, {}, kNothingBlocks, {}, &stats);
   ASSERT_EQ(lights.size(), 1u);
   EXPECT_NEAR(lights[0].quakeIntensity, 300.0f, 300.0f * 0.05f);
   EXPECT_NEAR(lights[0].intensity, pointLightIntensity(lights[0].quakeIntensity), 1e-3f);
@@ -29,7 +31,7 @@ TEST(LightCalibration, BouncedLightGoesToTheConstantNotToTheLight) {
   WorldScene scene = testing::syntheticLitRoom(light, 250.0f, 12.0f);
   scene.lights.push_back(testing::estimatedLight(light, 100.0f));   // underestimated
   LightCalibrationStats stats;
-  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, kNothingBlocks, {}, &stats);
+  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, scene.lights, {}, kNothingBlocks, {}, &stats);
   ASSERT_EQ(lights.size(), 1u);
   EXPECT_NEAR(lights[0].quakeIntensity, 250.0f, 250.0f * 0.05f);
   EXPECT_NEAR(stats.unexplained, 3.0f * 12.0f, 3.0f);   // summed over RGB
@@ -40,9 +42,9 @@ TEST(LightCalibration, AdmitsAConfirmedCandidateAndLeavesASpuriousOneOut) {
   WorldScene scene = testing::syntheticLitRoom(light, 200.0f, 0.0f);
   WorldLight real = testing::estimatedLight(light, 80.0f);
   WorldLight spurious = testing::estimatedLight(glm::vec3(180.0f, 180.0f, 40.0f), 150.0f);
-  scene.lightCandidates = {real, spurious};
+  const std::vector<WorldLight> candidates = {real, spurious};
   LightCalibrationStats stats;
-  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, kNothingBlocks, {}, &stats);
+  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, scene.lights, candidates, kNothingBlocks, {}, &stats);
   ASSERT_EQ(lights.size(), 1u);
   EXPECT_EQ(stats.admitted, 1u);
   EXPECT_EQ(lights[0].position, light);
@@ -54,7 +56,7 @@ TEST(LightCalibration, AFittedValueStaysBelowItsCap) {
   WorldScene scene = testing::syntheticLitRoom(light, 300.0f, 0.0f);
   WorldLight candidate = testing::estimatedLight(light, 50.0f);
   candidate.maxQuakeIntensity = 120.0f;   // what its peak allows
-  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, kNothingBlocks, {}, nullptr, {}, {}, {candidate});
+  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, scene.lights, {}, kNothingBlocks, {}, nullptr, {}, {}, {candidate});
   ASSERT_EQ(lights.size(), 1u);
   EXPECT_FLOAT_EQ(lights[0].quakeIntensity, 120.0f);
 }
@@ -65,8 +67,8 @@ TEST(LightCalibration, AuthoredLightsStayAndTheirLightIsNotFittedTwice) {
   WorldLight authored = testing::estimatedLight(light, 300.0f);
   authored.estimated = false;
   scene.lights.push_back(authored);
-  scene.lightCandidates.push_back(testing::estimatedLight(light + glm::vec3(8.0f, 0.0f, 0.0f), 300.0f));
-  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, kNothingBlocks);
+  const std::vector<WorldLight> candidates = {testing::estimatedLight(light + glm::vec3(8.0f, 0.0f, 0.0f), 300.0f)};
+  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, scene.lights, candidates, kNothingBlocks);
   ASSERT_EQ(lights.size(), 1u);
   EXPECT_FALSE(lights[0].estimated);
   EXPECT_EQ(lights[0].quakeIntensity, 300.0f);
@@ -76,7 +78,7 @@ TEST(LightCalibration, NothingToFitLeavesTheLightsAlone) {
   WorldScene scene;   // no surfaces, no lightmaps
   scene.lights.push_back(testing::estimatedLight(glm::vec3(0.0f), 300.0f));
   LightCalibrationStats stats;
-  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, kNothingBlocks, {}, &stats);
+  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, scene.lights, {}, kNothingBlocks, {}, &stats);
   ASSERT_EQ(lights.size(), 1u);
   EXPECT_EQ(lights[0].quakeIntensity, 300.0f);
   EXPECT_EQ(stats.samples, 0u);
@@ -88,11 +90,11 @@ TEST(LightCalibration, HostileLightmapsAreSkippedNotRead) {
   scene.models[0].meshes[0].indices = {0, 1, 99};                     // out of range
   scene.lights.push_back(testing::estimatedLight(glm::vec3(0.0f, 0.0f, 128.0f), 300.0f));
   LightCalibrationStats stats;
-  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, kNothingBlocks, {}, &stats);
+  const std::vector<WorldLight> lights = calibrateEstimatedLights(scene, scene.lights, {}, kNothingBlocks, {}, &stats);
   ASSERT_EQ(lights.size(), 1u);
   EXPECT_EQ(lights[0].quakeIntensity, 300.0f);
   EXPECT_EQ(stats.samples, 0u);
 }
 
 }  // namespace
-}  // namespace q3
+}  // namespace pa::recovery
