@@ -242,11 +242,11 @@ struct ViewRenderer::Impl {
     if (const auto found = dlightMaterials.find(worldMaterial); found != dlightMaterials.end()) return found->second;
     pa::MaterialDesc desc = pa::bridge::materialDesc(*worldScene, world, worldMaterial, -1);
     desc.alphaMode = pa::AlphaMode::Additive;
-    desc.layerBlend = pa::LayerBlend::MultiplyAdd;
+    desc.stock.layerBlend = pa::LayerBlend::MultiplyAdd;
     desc.baseTexture = pa::kNoId;  // the vertex colour alone is the light the pass multiplies in
     desc.baseColor = glm::vec4(1.0f);
-    desc.useVertexLight = false;
-    desc.lightmapTexture = pa::kNoId;
+    desc.stock.useVertexLight = false;
+    desc.stock.lightmapTexture = pa::kNoId;
     desc.emissiveTexture = pa::kNoId;
     desc.emission = glm::vec3(0.0f);
     desc.mirror = false;

@@ -35,7 +35,7 @@ glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, const glm::v
                      float footprint) {
   const MaterialRecord& m = *s.material;
   glm::vec3 baked(1.0f);
-  if (m.desc.useVertexLight) {
+  if (m.desc.stock.useVertexLight) {
     baked = glm::vec3(s.vertexColor);
   } else if (m.lightmap != nullptr) {
     baked = glm::vec3(m.lightmap->sample(s.lightmapUv, 0.0f));
@@ -43,9 +43,9 @@ glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, const glm::v
   glm::vec3 lit = displayProduct(albedo, baked);   // texture x lightmap in 8-bit values, as stock
   if (m.shine != nullptr) {   // the shine stage over the lit base, in display values too
     glm::vec4 shine = scene.shineColor(s, footprint);
-    if (m.desc.shineVertexColor) shine = glm::vec4(displayProduct(glm::vec3(shine), glm::vec3(s.vertexColor)), shine.a);
-    const float redrawn = m.desc.shineMaskedByBaseAlpha ? std::clamp(baseRgba.a, 0.0f, 1.0f) : 0.0f;
-    lit = composeShine(lit, shine, m.desc.shineBlend, redrawn);
+    if (m.desc.stock.shineVertexColor) shine = glm::vec4(displayProduct(glm::vec3(shine), glm::vec3(s.vertexColor)), shine.a);
+    const float redrawn = m.desc.stock.shineMaskedByBaseAlpha ? std::clamp(baseRgba.a, 0.0f, 1.0f) : 0.0f;
+    lit = composeShine(lit, shine, m.desc.stock.shineBlend, redrawn);
   }
   return lit;
 }
