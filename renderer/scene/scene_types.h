@@ -15,7 +15,7 @@
 //   only when twoSided = false (front = counter-clockwise winding p0, p1, p2 seen from the
 //   front, i.e. the side cross(p1 - p0, p2 - p0) points to). One-sided surfaces are also culled
 //   from behind for camera and bounce rays (not for shadow rays).
-// - Vertex colours multiply the base colour, except with useVertexLight where they are baked
+// - Vertex colours multiply the base colour, except with stock.useVertexLight where they are baked
 //   light: used by the Lightmap integrator only, ignored by Direct/Path.
 // - Blend surfaces are stochastic coverage: a ray stops on them with probability
 //   alpha * opacity (hashed per ray and triangle), for camera, bounce and shadow rays alike.
@@ -23,8 +23,8 @@
 //   reflections only: they neither occlude, shadow nor light other surfaces.
 // - Sky surfaces (sky = true) show the sky; they are transparent to shadow rays aimed at the
 //   sun or sky and block the others.
-// - Integrators: Lightmap = emission + base colour x (lightmap texture at lightmapUvs, or the
-//   vertex colour with useVertexLight, or 1 when neither: fullbright). Direct = emission +
+// - Integrators: Lightmap = emission + base colour x (stock.lightmapTexture at lightmapUvs, or the
+//   vertex colour with stock.useVertexLight, or 1 when neither: fullbright). Direct = emission +
 //   one light sample per camera sample (lights picked by power) with MIS against one BSDF
 //   sample, plus the sky's ambient terms (SkyDesc::ambientRadiance, minimumRadiance). Path =
 //   the same at every vertex.
@@ -147,7 +147,7 @@ enum class LayerBlend : uint8_t {
   MultiplyInverse,  ///< dst * (1 - src): blob shadows; adds nothing.
   MultiplyAdd,   ///< dst * (1 + src): the stock dynamic-light pass; adds nothing by itself.
   Modulate2x,    ///< dst * 2 src: a filter that darkens below 0.5 and brightens above (gl_dst_color gl_src_color).
-  /// src * layerSrcFactor + dst * layerDstFactor (MaterialDesc): any framebuffer blend whose
+  /// src * layerSrcFactor + dst * layerDstFactor (StockLook): any framebuffer blend whose
   /// factors read only the layer's own colour and alpha. Layers only (not a shineBlend).
   Factors,
 };
