@@ -1,10 +1,9 @@
 #include "port/engine_glue/capture_exr.h"
 
 #include <array>
-#include <cstdlib>
-#include <cstring>
+#include <stdexcept>
 
-#include <tinyexr.h>
+#include "renderer/image_io/exr_writer.h"
 
 namespace glue {
 
@@ -30,45 +29,16 @@ void FilmCapture::clear() {
 std::vector<uint8_t> encodeFilmExr(const FilmCapture& film) {
   const size_t pixels = static_cast<size_t>(film.width) * static_cast<size_t>(film.height);
   if (pixels == 0 || film.rgb.size() != pixels * 3 || film.variance.size() != pixels) return {};
-  // Channels sorted by name, as EXR readers expect: B, G, R, variance.Y.
-  std::array<std::vector<float>, 4> planes;
-  for (auto& plane : planes) plane.resize(pixels);
-  for (size_t i = 0; i < pixels; ++i) {
-    planes[0][i] = film.rgb[i * 3 + 2];
-    planes[1][i] = film.rgb[i * 3 + 1];
-    planes[2][i] = film.rgb[i * 3 + 0];
-    planes[3][i] = film.variance[i];
+  std::array<std::vector<float>, 3> rgb;
+  for (auto& plane : rgb) plane.resize(pixels);
+  for (size_t i = 0; i < pixels; ++i)
+    for (size_t c = 0; c < 3; ++c) rgb[c][i] = film.rgb[i * 3 + c];
+  try {
+    return pa::image_io::encodeExr(static_cast<uint32_t>(film.width), static_cast<uint32_t>(film.height),
+                                   {{"R", rgb[0]}, {"G", rgb[1]}, {"B", rgb[2]}, {"variance.Y", film.variance}});
+  } catch (const std::runtime_error&) {
+    return {};
   }
-  const std::array<const char*, 4> names = {"B", "G", "R", "variance.Y"};
-  std::array<EXRChannelInfo, 4> infos{};
-  std::array<int, 4> types{};
-  std::array<unsigned char*, 4> images{};
-  for (size_t c = 0; c < 4; ++c) {
-    std::strncpy(infos[c].name, names[c], sizeof(infos[c].name) - 1);
-    types[c] = TINYEXR_PIXELTYPE_FLOAT;
-    images[c] = reinterpret_cast<unsigned char*>(planes[c].data());
-  }
-  EXRHeader header;
-  InitEXRHeader(&header);
-  header.num_channels = 4;
-  header.channels = infos.data();
-  header.pixel_types = types.data();
-  header.requested_pixel_types = types.data();
-  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
-  EXRImage image;
-  InitEXRImage(&image);
-  image.num_channels = 4;
-  image.images = images.data();
-  image.width = film.width;
-  image.height = film.height;
-  unsigned char* memory = nullptr;
-  const char* error = nullptr;
-  const size_t size = SaveEXRImageToMemory(&image, &header, &memory, &error);
-  if (error != nullptr) FreeEXRErrorMessage(error);
-  std::vector<uint8_t> out;
-  if (size > 0 && memory != nullptr) out.assign(memory, memory + size);
-  std::free(memory);
-  return out;
 }
 
 }  // namespace glue

@@ -10,7 +10,7 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
                                MaterialUse use, uint32_t layer, const ImageTextures& texture) {
   pa::MaterialDesc desc;
   desc.baseTexture = texture(image, look.clamp, look.noPicmip);
-  desc.useVertexLight = use == MaterialUse::Model;
+  desc.stock.useVertexLight = use == MaterialUse::Model;
   if (look.nodraw) desc.visible = false;
   if (look.fromScript) {
     const unsigned dst = look.blend.dst;
@@ -21,9 +21,9 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
       // Any other blend of the layer's own colour and alpha (gl_one gl_src_alpha explosions,
       // gl_src_alpha gl_one glows), composed in display values as the framebuffer does.
       desc.alphaMode = pa::AlphaMode::Additive;
-      desc.layerBlend = pa::LayerBlend::Factors;
-      desc.layerSrcFactor = factors->first;
-      desc.layerDstFactor = factors->second;
+      desc.stock.layerBlend = pa::LayerBlend::Factors;
+      desc.stock.layerSrcFactor = factors->first;
+      desc.stock.layerDstFactor = factors->second;
       desc.castsShadows = false;
       // The entity's colour reaches the stage only through rgbGen / alphaGen entity or vertex
       // (stock: a wave or identity colour comes with alpha 1).
@@ -36,13 +36,13 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
     } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
       desc.baseTexture = texture(premultipliedImage(image), look.clamp, look.noPicmip);
       desc.alphaMode = pa::AlphaMode::Additive;
-      desc.layerBlend = pa::LayerBlend::Over;
+      desc.stock.layerBlend = pa::LayerBlend::Over;
       desc.castsShadows = false;
     } else if (const auto darken = filterAsDarkening(look.blend);
                darken != Darkening::None && use == MaterialUse::StockEffect) {
       // dst * src (or dst * (1 - src): blob shadows) in display values, per channel.
       desc.alphaMode = pa::AlphaMode::Additive;
-      desc.layerBlend = darken == Darkening::BySourceColor ? pa::LayerBlend::Multiply : pa::LayerBlend::MultiplyInverse;
+      desc.stock.layerBlend = darken == Darkening::BySourceColor ? pa::LayerBlend::Multiply : pa::LayerBlend::MultiplyInverse;
       desc.castsShadows = false;
     } else if (isAlphaBlend(look.blend)) {
       desc.alphaMode = pa::AlphaMode::Blend;

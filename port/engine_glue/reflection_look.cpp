@@ -32,26 +32,26 @@ void applyShineLook(const ShaderLook& look, pa::TextureId shineTexture, pa::Mate
   if (!look.shine || shineTexture == pa::kNoId) return;
   if (desc.alphaMode != pa::AlphaMode::Opaque && desc.alphaMode != pa::AlphaMode::Mask) return;
   const ShineLook& shine = *look.shine;
-  desc.shineTexture = shineTexture;
-  desc.shineTexCoords = shine.reflectionUv ? pa::TexCoordSource::ReflectionSphere : pa::TexCoordSource::Mesh;
-  desc.shineUvTransform = uvTransformOf(shine.tcMods);
-  desc.shineMaskedByBaseAlpha = shine.baseRedrawn;
+  desc.stock.shineTexture = shineTexture;
+  desc.stock.shineTexCoords = shine.reflectionUv ? pa::TexCoordSource::ReflectionSphere : pa::TexCoordSource::Mesh;
+  desc.stock.shineUvTransform = uvTransformOf(shine.tcMods);
+  desc.stock.shineMaskedByBaseAlpha = shine.baseRedrawn;
   switch (shine.rgbGen) {
     case q3::RgbGen::LightingDiffuse:
     case q3::RgbGen::Vertex:
-    case q3::RgbGen::ExactVertex: desc.shineVertexColor = true; break;
+    case q3::RgbGen::ExactVertex: desc.stock.shineVertexColor = true; break;
     case q3::RgbGen::Const:
-      desc.shineColor = glm::vec3(byteToLinear(shine.constColor[0] * 255.0f), byteToLinear(shine.constColor[1] * 255.0f),
+      desc.stock.shineColor = glm::vec3(byteToLinear(shine.constColor[0] * 255.0f), byteToLinear(shine.constColor[1] * 255.0f),
                                   byteToLinear(shine.constColor[2] * 255.0f));
       break;
     default: break;   // identity / identityLighting (1 without overbright); others drawn white
   }
   if (shine.blend.src == GL_DST_COLOR && shine.blend.dst == GL_SRC_COLOR) {
-    desc.shineBlend = pa::LayerBlend::Modulate2x;
+    desc.stock.shineBlend = pa::LayerBlend::Modulate2x;
   } else if (shine.blend.src == GL_DST_COLOR && shine.blend.dst == GL_DST_ALPHA) {
-    desc.shineBlend = pa::LayerBlend::MultiplyAdd;   // dst src + dst x 1 (an opaque base's alpha)
+    desc.stock.shineBlend = pa::LayerBlend::MultiplyAdd;   // dst src + dst x 1 (an opaque base's alpha)
   } else {
-    desc.shineBlend = pa::LayerBlend::Add;
+    desc.stock.shineBlend = pa::LayerBlend::Add;
   }
   if (shine.reflectionUv) desc.specular = std::max(desc.specular, kReflectionSpecular);
 }

@@ -69,7 +69,7 @@ pa::MaterialDesc materialAt(const StageMotion& motion, double seconds, const pa:
   }
   if (motion.alphaGen == q3::AlphaGen::Wave) {
     const float alpha = q3::alphaWaveAt(motion.alphaWave, seconds);
-    if (desc.alphaMode == pa::AlphaMode::Additive && desc.layerBlend == pa::LayerBlend::Over)
+    if (desc.alphaMode == pa::AlphaMode::Additive && desc.stock.layerBlend == pa::LayerBlend::Over)
       // Premultiplied, in display values as the layer is composed: the colour by the linearised
       // alpha (lin(c) lin(a) ~ lin(c a)), the coverage by the alpha itself.
       desc.baseColor = glm::vec4(glm::vec3(desc.baseColor) * byteToLinear(alpha * 255.0f), desc.baseColor.a * alpha);

@@ -31,7 +31,7 @@ using AlphaTest = q3::AlphaTest;
 /// A shine stage over an opaque base: a later tcGen environment stage that adds to
 /// (blendfunc add) or filters (gl_dst_color gl_src_color / gl_dst_alpha) the base, e.g. the chrome
 /// of a weapon, or failing one a mesh-uv filter stage (paint brightened by itself). Drawn in the
-/// same renderer material as the base (MaterialDesc::shineTexture).
+/// same renderer material as the base (StockLook::shineTexture).
 struct ShineLook {
   std::string image;                          ///< The stage's map (its first animMap frame).
   bool clamp = false;                         ///< clampMap.

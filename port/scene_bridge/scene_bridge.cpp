@@ -98,9 +98,9 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   desc.alphaCutoff = m.alphaCutoff;
   desc.alphaInvert = m.alphaInvert;
   desc.opacity = m.opacity;
-  desc.lightmapTexture =
+  desc.stock.lightmapTexture =
       q3::lightmapPageOf(lightmap, handles.lightmaps.size()) >= 0 ? handles.lightmaps[size_t(lightmap)] : kNoId;
-  desc.useVertexLight = m.vertexLit || desc.lightmapTexture == kNoId;
+  desc.stock.useVertexLight = m.vertexLit || desc.stock.lightmapTexture == kNoId;
   desc.mirror = m.mirror;
   desc.specular = m.specular;
   desc.twoSided = m.twoSided;

@@ -181,6 +181,7 @@ struct Tlas::Impl {
   std::vector<BoxGroup> groups;            // the instances' boxes, 8 to a group, when at most kFlatInstances
   std::vector<Bounds> worldBounds;         // the instances' boxes (the BVH's input beyond kFlatInstances)
   bvh_detail::BinaryBuildScratch scratch;  // the BVH builder's memory, kept between builds
+  std::vector<PlacedInstance> validated;   // build()'s inputs with their inverses, one per input
   Bounds bounds;
 
   /// Visits the instances whose boxes the ray enters, nearest box first, while their entry is
@@ -221,10 +222,15 @@ Tlas::Tlas(Tlas&&) noexcept = default;
 Tlas& Tlas::operator=(Tlas&&) noexcept = default;
 
 void Tlas::build(std::span<const TlasInstance> instances) {
-  // Every input is checked before anything changes: a throw leaves the Tlas as it was.
+  // Every input is checked (its inverse kept for the fill) before anything else changes: a throw
+  // leaves the Tlas as it was but for that scratch.
   const auto fail = [](size_t i, const char* what) {
     throw std::invalid_argument("TlasInstance[" + std::to_string(i) + "]" + what);
   };
+  if (!impl_) impl_ = std::make_unique<Impl>();
+  Impl& next = *impl_;
+  std::vector<PlacedInstance>& placed = next.validated;   // each input with its inverse
+  placed.clear();
   for (size_t i = 0; i < instances.size(); ++i) {
     const TlasInstance& in = instances[i];
     if (in.blas == nullptr) fail(i, ".blas is null");
@@ -236,10 +242,9 @@ void Tlas::build(std::span<const TlasInstance> instances) {
     const glm::vec3 offset = -(inverse * in.objectToWorld[3]);
     if (!std::isfinite(inverse[0][0] + inverse[1][1] + inverse[2][2] + offset.x + offset.y + offset.z))
       fail(i, ".objectToWorld has a non-finite inverse");
+    placed.push_back({in.blas, inverse, offset, in.mask, static_cast<uint32_t>(i)});
   }
   // Refilled in place: a rebuild over as many instances as the last allocates nothing.
-  if (!impl_) impl_ = std::make_unique<Impl>();
-  Impl& next = *impl_;
   next.instances.clear();
   next.worldBounds.clear();
   next.groups.clear();
@@ -248,9 +253,7 @@ void Tlas::build(std::span<const TlasInstance> instances) {
     const TlasInstance& in = instances[i];
     const Bounds objectBounds = in.blas->bounds();
     if (objectBounds.empty()) continue;   // no geometry: never hit
-    const glm::mat3 inverse = glm::inverse(glm::mat3(in.objectToWorld));
-    const glm::vec3 offset = -(inverse * in.objectToWorld[3]);
-    next.instances.push_back({in.blas, inverse, offset, in.mask, static_cast<uint32_t>(i)});
+    next.instances.push_back(placed[i]);
     next.worldBounds.push_back(transformBounds(in.objectToWorld, objectBounds));
     next.bounds.extend(next.worldBounds.back());
   }

@@ -1,14 +1,14 @@
-// PNG via stb_image_write, multi-layer EXR via tinyexr's EXRHeader/EXRImage API.
+// PNG via stb_image_write, multi-layer EXR via pa::image_io::encodeExr.
 #include "renderer/cli/image_output.h"
 
-#include <algorithm>
-#include <cstring>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <stb_image_write.h>
-#include <tinyexr.h>
+
+#include "renderer/image_io/exr_writer.h"
 
 namespace pa::cli {
 namespace {
@@ -62,38 +62,18 @@ void writeExr(const std::filesystem::path& path, const ExrLayers& layers) {
   addVec3(layers.normal, "normal.", "XYZ");
   addScalar(layers.depth, "Z");
   addScalar(layers.variance, "variance.Y");
-  // EXR readers expect channels sorted by name.
-  std::sort(channels.begin(), channels.end(), [](const Channel& a, const Channel& b) { return a.name < b.name; });
-
-  std::vector<EXRChannelInfo> infos(channels.size());
-  std::vector<int> pixelTypes(channels.size(), TINYEXR_PIXELTYPE_FLOAT);
-  std::vector<unsigned char*> planes(channels.size());
-  for (size_t c = 0; c < channels.size(); ++c) {
-    std::memset(&infos[c], 0, sizeof(EXRChannelInfo));
-    std::strncpy(infos[c].name, channels[c].name.c_str(), sizeof(infos[c].name) - 1);
-    planes[c] = reinterpret_cast<unsigned char*>(channels[c].values.data());
+  std::vector<image_io::ExrChannel> planes;
+  for (const Channel& channel : channels) planes.push_back({channel.name, channel.values});
+  std::vector<uint8_t> bytes;
+  try {
+    bytes = image_io::encodeExr(layers.width, layers.height, std::move(planes));
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path.string() + ": cannot write EXR: " + e.what());
   }
-  EXRHeader header;
-  InitEXRHeader(&header);
-  header.num_channels = static_cast<int>(channels.size());
-  header.channels = infos.data();
-  header.pixel_types = pixelTypes.data();
-  header.requested_pixel_types = pixelTypes.data();
-  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
-  EXRImage image;
-  InitEXRImage(&image);
-  image.num_channels = static_cast<int>(channels.size());
-  image.images = planes.data();
-  image.width = static_cast<int>(layers.width);
-  image.height = static_cast<int>(layers.height);
-
   createParentFolder(path);
-  const char* error = nullptr;
-  if (SaveEXRImageToFile(&image, &header, path.string().c_str(), &error) != TINYEXR_SUCCESS) {
-    const std::string message = error ? error : "unknown error";
-    if (error) FreeEXRErrorMessage(error);
-    throw std::runtime_error(path.string() + ": cannot write EXR: " + message);
-  }
+  std::ofstream file(path, std::ios::binary);
+  file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  if (!file.flush()) throw std::runtime_error(path.string() + ": cannot write EXR");
 }
 
 }  // namespace pa::cli

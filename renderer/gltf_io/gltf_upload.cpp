@@ -53,8 +53,8 @@ UploadedScene uploadToRenderer(const GltfScene& scene, Renderer& renderer) {
     const auto key = std::make_pair(material, lightmap);
     if (const auto it = lightmappedMaterials.find(key); it != lightmappedMaterials.end()) return it->second;
     MaterialDesc desc = toMaterialDesc(scene.materials[material], uploaded.textures);
-    desc.lightmapTexture = lightmapTexture(lightmap);
-    const MaterialId id = desc.lightmapTexture == kNoId ? uploaded.materials[material] : renderer.addMaterial(desc);
+    desc.stock.lightmapTexture = lightmapTexture(lightmap);
+    const MaterialId id = desc.stock.lightmapTexture == kNoId ? uploaded.materials[material] : renderer.addMaterial(desc);
     lightmappedMaterials.emplace(key, id);
     return id;
   };

@@ -15,7 +15,7 @@
 //   only when twoSided = false (front = counter-clockwise winding p0, p1, p2 seen from the
 //   front, i.e. the side cross(p1 - p0, p2 - p0) points to). One-sided surfaces are also culled
 //   from behind for camera and bounce rays (not for shadow rays).
-// - Vertex colours multiply the base colour, except with useVertexLight where they are baked
+// - Vertex colours multiply the base colour, except with stock.useVertexLight where they are baked
 //   light: used by the Lightmap integrator only, ignored by Direct/Path.
 // - Blend surfaces are stochastic coverage: a ray stops on them with probability
 //   alpha * opacity (hashed per ray and triangle), for camera, bounce and shadow rays alike.
@@ -23,8 +23,8 @@
 //   reflections only: they neither occlude, shadow nor light other surfaces.
 // - Sky surfaces (sky = true) show the sky; they are transparent to shadow rays aimed at the
 //   sun or sky and block the others.
-// - Integrators: Lightmap = emission + base colour x (lightmap texture at lightmapUvs, or the
-//   vertex colour with useVertexLight, or 1 when neither: fullbright). Direct = emission +
+// - Integrators: Lightmap = emission + base colour x (stock.lightmapTexture at lightmapUvs, or the
+//   vertex colour with stock.useVertexLight, or 1 when neither: fullbright). Direct = emission +
 //   one light sample per camera sample (lights picked by power) with MIS against one BSDF
 //   sample, plus the sky's ambient terms (SkyDesc::ambientRadiance, minimumRadiance). Path =
 //   the same at every vertex.
@@ -147,7 +147,7 @@ enum class LayerBlend : uint8_t {
   MultiplyInverse,  ///< dst * (1 - src): blob shadows; adds nothing.
   MultiplyAdd,   ///< dst * (1 + src): the stock dynamic-light pass; adds nothing by itself.
   Modulate2x,    ///< dst * 2 src: a filter that darkens below 0.5 and brightens above (gl_dst_color gl_src_color).
-  /// src * layerSrcFactor + dst * layerDstFactor (MaterialDesc): any framebuffer blend whose
+  /// src * layerSrcFactor + dst * layerDstFactor (StockLook): any framebuffer blend whose
   /// factors read only the layer's own colour and alpha. Layers only (not a shineBlend).
   Factors,
 };
@@ -193,6 +193,34 @@ struct UvWobble {
   }
 };
 
+/// What only the Lightmap compositor reads (lightmap_compositor.h): the stock renderer's baked
+/// light, its blend of see-through layers and its shine stage. Direct and Path ignore it, but
+/// for useVertexLight, which also stops the vertex colour from tinting the base.
+struct StockLook {
+  TextureId lightmapTexture = kNoId;    ///< Baked light for the lightmap preset (uses lightmapUvs).
+  bool useVertexLight = false;          ///< Baked light is the vertex colour.
+  /// Additive materials: how the Lightmap compositor composes the layer over what is behind it, in
+  /// display values as framebuffer blending does (the other integrators add the colour).
+  LayerBlend layerBlend = LayerBlend::Add;
+  BlendFactor layerSrcFactor = BlendFactor::One;    ///< LayerBlend::Factors: multiplier of the layer's colour.
+  BlendFactor layerDstFactor = BlendFactor::One;    ///< LayerBlend::Factors: multiplier of what is behind.
+  /// A shine over the base (kNoId = none): a second image stage (Quake III's environment-mapped
+  /// chrome over a painted model) that the Lightmap compositor composes over the lit base in
+  /// display values, as framebuffer blending does: src = encode(shineTexture(shine uv) x
+  /// shineColor) (x encode(vertex colour) with shineVertexColor), x (1 - base alpha) with
+  /// shineMaskedByBaseAlpha, then dst = clamp(shineBlend(dst, src)). Direct/Path ignore it (give
+  /// the material a glossy lobe through `specular` instead).
+  TextureId shineTexture = kNoId;
+  glm::vec3 shineColor{1.0f};                ///< Linear multiplier of the shine texture.
+  bool shineVertexColor = false;             ///< The shine is tinted by the vertex colour too (rgbGen lightingDiffuse).
+  bool shineMaskedByBaseAlpha = false;       ///< A later stage redraws the base alpha-blended: shine x (1 - base alpha).
+  TexCoordSource shineTexCoords = TexCoordSource::ReflectionSphere;   ///< uv of shineTexture.
+  glm::mat3x2 shineUvTransform{1.0f};        ///< Affine uv' = M * (u, v, 1) of the shine.
+  LayerBlend shineBlend = LayerBlend::Add;   ///< How the shine meets the base (Over uses the shine's alpha).
+
+  bool operator==(const StockLook&) const = default;
+};
+
 /// Material model limited to what a Quake III scene needs.
 struct MaterialDesc {
   TextureId baseTexture = kNoId;        ///< Albedo (RGB) + alpha (A).
@@ -201,16 +229,9 @@ struct MaterialDesc {
   float alphaCutoff = 0.5f;             ///< Mask: alpha < cutoff is a miss (invert via alphaInvert).
   bool alphaInvert = false;             ///< Mask: alpha >= cutoff is a miss (Quake's LT128).
   float opacity = 1.0f;                 ///< Blend: overall opacity multiplier.
-  /// Additive only: how the Lightmap integrator composes the layer over what is behind it, in
-  /// display values as framebuffer blending does (the other integrators add the colour).
-  LayerBlend layerBlend = LayerBlend::Add;
-  BlendFactor layerSrcFactor = BlendFactor::One;    ///< LayerBlend::Factors: multiplier of the layer's colour.
-  BlendFactor layerDstFactor = BlendFactor::One;    ///< LayerBlend::Factors: multiplier of what is behind.
   TextureId emissiveTexture = kNoId;    ///< Emission map (RGB, sRGB); kNoId = constant emission.
   glm::vec3 emission{0.0f};             ///< Linear radiance multiplier (W/sr/m^2 in scene units).
-  TextureId lightmapTexture = kNoId;    ///< Baked light for the lightmap preset (uses lightmapUvs).
-  bool useVertexLight = false;          ///< Lightmap preset: baked light is the vertex colour.
-  bool vertexColorTints = true;         ///< The vertex colour's RGB multiplies the base (unless useVertexLight).
+  bool vertexColorTints = true;         ///< The vertex colour's RGB multiplies the base (unless stock.useVertexLight).
   bool vertexAlphaTints = true;         ///< The vertex colour's alpha multiplies the base's alpha.
   bool mirror = false;                  ///< Perfect specular reflection (mirrors, portals seen as mirrors).
   float specular = 0.0f;                ///< Weight of a glossy lobe on top of diffuse (shiny env-mapped stages).
@@ -226,19 +247,7 @@ struct MaterialDesc {
   bool emissiveOwnUv = false;
   glm::mat3x2 emissiveUvTransform{1.0f};  ///< Affine uv' = M * (u, v, 1) of emissiveTexture when emissiveOwnUv.
   TexCoordSource baseTexCoords = TexCoordSource::Mesh;   ///< uv of baseTexture (emissiveTexture keeps mesh uvs).
-  /// A shine over the base (kNoId = none): a second image stage (Quake III's environment-mapped
-  /// chrome over a painted model) that the Lightmap integrator composes over the lit base in
-  /// display values, as framebuffer blending does: src = encode(shineTexture(shine uv) x
-  /// shineColor) (x encode(vertex colour) with shineVertexColor), x (1 - base alpha) with
-  /// shineMaskedByBaseAlpha, then dst = clamp(shineBlend(dst, src)). Direct/Path ignore it (give
-  /// the material a glossy lobe through `specular` instead).
-  TextureId shineTexture = kNoId;
-  glm::vec3 shineColor{1.0f};                ///< Linear multiplier of the shine texture.
-  bool shineVertexColor = false;             ///< The shine is tinted by the vertex colour too (rgbGen lightingDiffuse).
-  bool shineMaskedByBaseAlpha = false;       ///< A later stage redraws the base alpha-blended: shine x (1 - base alpha).
-  TexCoordSource shineTexCoords = TexCoordSource::ReflectionSphere;   ///< uv of shineTexture.
-  glm::mat3x2 shineUvTransform{1.0f};        ///< Affine uv' = M * (u, v, 1) of the shine.
-  LayerBlend shineBlend = LayerBlend::Add;   ///< How the shine meets the base (Over uses the shine's alpha).
+  StockLook stock;                      ///< Baked light, layer blend and shine of the Lightmap preset.
 
   bool operator==(const MaterialDesc&) const = default;
 };

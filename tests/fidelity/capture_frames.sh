@@ -17,31 +17,6 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$here/engine_env.sh"
 out="$1"; renderer="$2"; module="$3"; frames="$4"; shift 4
-width="${CAPTURE_WIDTH:-640}"; height="${CAPTURE_HEIGHT:-360}"
-pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not installed"; exit 77; }
-
-work="$(mktemp -d /tmp/pa-capture.XXXXXX)"
-trap 'rm -rf "$work"' EXIT
-if [[ "$renderer" == pathtracer ]]; then pa_engine_prepare "$work" "$module"; else pa_engine_prepare "$work"; fi
-pa_tick_screenshots_cfg "$(pa_engine_cfg "$work" capture)" frame "$frames" || exit 2
-demo="${CAPTURE_DEMO:-demo088-test1}"
-if [[ "$demo" == *.dm_71 ]]; then
-  [[ -f "$demo" ]] || { echo "no demo file $demo"; exit 2; }
-  mkdir -p "$work/home/baseoa/demos"
-  cp "$demo" "$work/home/baseoa/demos/pa_capture.dm_71"
-  demo=pa_capture
-fi
-
-mkdir -p "$out"
-set +e
-pa_engine_run "$work" "$out/engine.log" "${CAPTURE_TIMEOUT:-400}" "$width" "$height" "$renderer" \
-  +set timedemo 1 +set com_maxfps 0 +set cg_drawFPS 0 "$@" +demo "$demo" +exec capture.cfg
-status=$?
-set -e
-cp "$work"/home/baseoa/screenshots/frame_*.tga "$out/" 2>/dev/null || true
-if [[ $status -ne 0 ]]; then echo "engine exited with status $status (log: $out/engine.log)"; exit 1; fi
-pa_engine_used_renderer "$out/engine.log" "$renderer" || { echo "renderer $renderer was not used (log: $out/engine.log)"; exit 1; }
-for frame in $frames; do
-  [[ -f "$out/$(printf 'frame_%04d.tga' "$frame")" ]] || { echo "frame $frame was not captured (log: $out/engine.log)"; exit 1; }
-done
+pa_capture_demo_ticks "$out" "$renderer" "$module" "${CAPTURE_DEMO:-demo088-test1}" frame "$frames" \
+  "${CAPTURE_TIMEOUT:-400}" "$@"
 echo "captured $(wc -w <<<"$frames") frames with $renderer into $out"

@@ -1,10 +1,12 @@
 # Shared shell helpers (source this file) to run Debian's unmodified ioquake3 with OpenArena
 # under xvfb-run, with either our module (cl_renderer pathtracer) or a stock renderer.
-# Used by tests/fidelity/capture_frames.sh and scripts/engine_bench.sh.
+# Used by tests/fidelity/capture_frames.sh, tests/regress/capture_demo.sh and scripts/engine_bench.sh.
 #   pa_engine_available              -> 0 when the engine, the game data and xvfb-run exist
 #   pa_engine_prepare WORK [MODULE]  -> WORK/basepath (module + baseoa link) and WORK/home
 #   pa_engine_cfg WORK NAME          -> prints the path of WORK's NAME.cfg (the engine execs it)
 #   pa_tick_screenshots_cfg CFG PREFIX TICKS -> CFG takes screenshot PREFIX_NNNN at each tick, then quits
+#   pa_capture_demo_ticks OUT RENDERER MODULE DEMO PREFIX TICKS SECONDS [engine args...]
+#        -> OUT/PREFIX_NNNN.tga (.exr) at each tick of a timedemo of DEMO, and OUT/engine.log
 #   pa_engine_run WORK LOG SECONDS WIDTH HEIGHT RENDERER [engine args...]
 #        RENDERER is "pathtracer" (our module) or a stock name such as "opengl1".
 #        Returns the engine's exit status (124 on timeout). The X screen is WIDTHxHEIGHT unless
@@ -63,6 +65,44 @@ pa_tick_screenshots_cfg() {
   done
   printf 'wait 5\nquit\n' >>"$cfg"
 }
+
+# pa_capture_demo_ticks OUT RENDERER MODULE DEMO PREFIX "T1 T2 ..." SECONDS [engine args...]:
+# plays DEMO (a name in the game's demos/, e.g. demo088-test1, or a path to a .dm_71 file) as a
+# timedemo under xvfb-run, at most SECONDS, with RENDERER ("pathtracer": MODULE is our .so; or a
+# stock one, MODULE ignored), and writes OUT/PREFIX_NNNN.tga at each command-buffer tick T (also
+# OUT/PREFIX_NNNN.exr where our module writes its film: r_pt_captureExr 1) and OUT/engine.log.
+# Size CAPTURE_WIDTH x CAPTURE_HEIGHT (640x360 by default). Returns 0, 1 (the engine failed or a
+# tick is missing), 2 (no such demo file, bad name or ticks) or 77 (engine, game data or
+# xvfb-run missing), with a message.
+pa_capture_demo_ticks() (
+  set -euo pipefail
+  local out="$1" renderer="$2" module="$3" demo="$4" prefix="$5" ticks="$6" seconds="$7"
+  shift 7
+  local width="${CAPTURE_WIDTH:-640}" height="${CAPTURE_HEIGHT:-360}" work status tick
+  pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not installed"; exit 77; }
+  work="$(mktemp -d /tmp/pa-capture.XXXXXX)"
+  trap 'rm -rf "$work"' EXIT
+  if [[ "$renderer" == pathtracer ]]; then pa_engine_prepare "$work" "$module"; else pa_engine_prepare "$work"; fi
+  if [[ "$demo" == *.dm_71 ]]; then
+    [[ -f "$demo" ]] || { echo "no demo file $demo"; exit 2; }
+    mkdir -p "$work/home/baseoa/demos"
+    cp "$demo" "$work/home/baseoa/demos/pa_capture.dm_71"
+    demo=pa_capture
+  fi
+  [[ "$demo" =~ ^[A-Za-z0-9_.-]+$ ]] || { echo "bad demo name: $demo"; exit 2; }
+  pa_tick_screenshots_cfg "$(pa_engine_cfg "$work" capture)" "$prefix" "$ticks" || exit 2
+  mkdir -p "$out"
+  status=0
+  pa_engine_run "$work" "$out/engine.log" "$seconds" "$width" "$height" "$renderer" \
+    +set timedemo 1 +set com_maxfps 0 +set cg_drawFPS 0 "$@" +demo "$demo" +exec capture.cfg || status=$?
+  cp "$work"/home/baseoa/screenshots/"$prefix"_*.tga "$out/" 2>/dev/null || true
+  cp "$work"/home/baseoa/screenshots/"$prefix"_*.exr "$out/" 2>/dev/null || true
+  if [[ $status -ne 0 ]]; then echo "engine exited with status $status (log: $out/engine.log)"; exit 1; fi
+  pa_engine_used_renderer "$out/engine.log" "$renderer" || { echo "renderer $renderer was not used (log: $out/engine.log)"; exit 1; }
+  for tick in $ticks; do
+    [[ -f "$out/$(printf '%s_%04d.tga' "$prefix" "$tick")" ]] || { echo "tick $tick was not captured (log: $out/engine.log)"; exit 1; }
+  done
+)
 
 # True when LOG shows the engine ran RENDERER (ours prints its banner; a stock one must not
 # have been replaced by a fallback).

@@ -93,11 +93,11 @@ TEST(ShineLook, OpaqueBaseKeepsItsEnvironmentMappedAddStage) {
 
   pa::MaterialDesc desc;
   applyShineLook(look, 7, desc);
-  EXPECT_EQ(desc.shineTexture, 7u);
-  EXPECT_EQ(desc.shineTexCoords, pa::TexCoordSource::ReflectionSphere);
-  EXPECT_EQ(desc.shineBlend, pa::LayerBlend::Add);
-  EXPECT_TRUE(desc.shineVertexColor);
-  EXPECT_TRUE(desc.shineMaskedByBaseAlpha);
+  EXPECT_EQ(desc.stock.shineTexture, 7u);
+  EXPECT_EQ(desc.stock.shineTexCoords, pa::TexCoordSource::ReflectionSphere);
+  EXPECT_EQ(desc.stock.shineBlend, pa::LayerBlend::Add);
+  EXPECT_TRUE(desc.stock.shineVertexColor);
+  EXPECT_TRUE(desc.stock.shineMaskedByBaseAlpha);
   EXPECT_EQ(desc.baseTexCoords, pa::TexCoordSource::Mesh);   // the paint keeps its mesh uvs
   EXPECT_FLOAT_EQ(desc.specular, kReflectionSpecular);      // Direct/Path: a glossy lobe
 }
@@ -109,10 +109,10 @@ TEST(ShineLook, FilterStageBecomesAModulate2xShine) {
   EXPECT_FALSE(look.shine->baseRedrawn);
   pa::MaterialDesc desc;
   applyShineLook(look, 3, desc);
-  EXPECT_EQ(desc.shineBlend, pa::LayerBlend::Modulate2x);
-  EXPECT_FALSE(desc.shineVertexColor);   // rgbGen identity: white
-  EXPECT_FALSE(desc.shineMaskedByBaseAlpha);
-  EXPECT_EQ(desc.shineColor, glm::vec3(1.0f));
+  EXPECT_EQ(desc.stock.shineBlend, pa::LayerBlend::Modulate2x);
+  EXPECT_FALSE(desc.stock.shineVertexColor);   // rgbGen identity: white
+  EXPECT_FALSE(desc.stock.shineMaskedByBaseAlpha);
+  EXPECT_EQ(desc.stock.shineColor, glm::vec3(1.0f));
 }
 
 TEST(ShineLook, DstAlphaFilterAndConstColourAndTcMods) {
@@ -121,10 +121,10 @@ TEST(ShineLook, DstAlphaFilterAndConstColourAndTcMods) {
   ASSERT_TRUE(look.shine.has_value());
   pa::MaterialDesc desc;
   applyShineLook(look, 1, desc);
-  EXPECT_EQ(desc.shineBlend, pa::LayerBlend::MultiplyAdd);
-  EXPECT_EQ(desc.shineColor, glm::vec3(1.0f, 0.0f, 0.0f));
-  EXPECT_FLOAT_EQ(desc.shineUvTransform[0][0], 2.0f);
-  EXPECT_FLOAT_EQ(desc.shineUvTransform[1][1], 2.0f);
+  EXPECT_EQ(desc.stock.shineBlend, pa::LayerBlend::MultiplyAdd);
+  EXPECT_EQ(desc.stock.shineColor, glm::vec3(1.0f, 0.0f, 0.0f));
+  EXPECT_FLOAT_EQ(desc.stock.shineUvTransform[0][0], 2.0f);
+  EXPECT_FLOAT_EQ(desc.stock.shineUvTransform[1][1], 2.0f);
 }
 
 TEST(ShineLook, MeshUvFilterIsTheShineWhenNoStageIsEnvironmentMapped) {
@@ -137,8 +137,8 @@ TEST(ShineLook, MeshUvFilterIsTheShineWhenNoStageIsEnvironmentMapped) {
   EXPECT_FALSE(look.shine->reflectionUv);
   pa::MaterialDesc desc;
   applyShineLook(look, 4, desc);
-  EXPECT_EQ(desc.shineTexCoords, pa::TexCoordSource::Mesh);
-  EXPECT_EQ(desc.shineBlend, pa::LayerBlend::MultiplyAdd);
+  EXPECT_EQ(desc.stock.shineTexCoords, pa::TexCoordSource::Mesh);
+  EXPECT_EQ(desc.stock.shineBlend, pa::LayerBlend::MultiplyAdd);
   EXPECT_FLOAT_EQ(desc.specular, 0.0f);   // paint, not chrome: no glossy lobe
   // An environment-mapped stage wins over an earlier mesh-uv filter (the shotgun's detail).
   const ShaderLook both = lookOf(R"(s { { map paint.tga } { map d_met.tga blendfunc gl_dst_color gl_src_color tcMod scale 8 8 }
@@ -158,10 +158,10 @@ TEST(ShineLook, OnlyOpaqueBasesWithEnvironmentMappedShineBlendsGetOne) {
   // No texture given: the material is left alone; a blended base gets no shine.
   pa::MaterialDesc desc;
   applyShineLook(lookOf(kRocket), pa::kNoId, desc);
-  EXPECT_EQ(desc.shineTexture, pa::kNoId);
+  EXPECT_EQ(desc.stock.shineTexture, pa::kNoId);
   desc.alphaMode = pa::AlphaMode::Blend;
   applyShineLook(lookOf(kRocket), 2, desc);
-  EXPECT_EQ(desc.shineTexture, pa::kNoId);
+  EXPECT_EQ(desc.stock.shineTexture, pa::kNoId);
   EXPECT_FLOAT_EQ(desc.specular, 0.0f);
 }
 

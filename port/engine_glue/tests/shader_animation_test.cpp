@@ -76,7 +76,7 @@ TEST(ShaderAnimation, AlphaWaveSetsCoverageAndPremultipliedColour) {
   EXPECT_NEAR(materialAt(motion, 0.5, blended).baseColor.r, 1.0f, 1e-6);
   pa::MaterialDesc premultiplied;
   premultiplied.alphaMode = pa::AlphaMode::Additive;
-  premultiplied.layerBlend = pa::LayerBlend::Over;
+  premultiplied.stock.layerBlend = pa::LayerBlend::Over;
   // The layer is composed in display values: the colour takes the linearised alpha, so that its
   // display value is about c x alpha; the coverage takes the alpha itself.
   EXPECT_NEAR(materialAt(motion, 0.5, premultiplied).baseColor.r, byteToLinear(level * 255.0f), 1e-6);

@@ -25,7 +25,7 @@ float fastSrgbToLinear(float c);
 /// linear product lin(a) lin(b) is up to 13x darker where the sRGB curve is linear, near black).
 glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b);
 
-/// A shine stage over a lit base, composed as framebuffer blending does (MaterialDesc::shineBlend):
+/// A shine stage over a lit base, composed as framebuffer blending does (StockLook::shineBlend):
 /// with dst = encode(base) and src = encode(shine.rgb), dst' = clamp(blend(dst, src)) (Add:
 /// dst + src, Over: dst (1 - a) + src a with a = shine.a, Multiply: dst src, MultiplyInverse:
 /// dst (1 - src), MultiplyAdd: dst (1 + src), Modulate2x: 2 dst src), then the base drawn

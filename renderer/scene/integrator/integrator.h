@@ -1,7 +1,8 @@
 #pragma once
-// Per-sample light transport for the three presets: Lightmap (primary rays, baked light),
-// Direct (next-event estimation with ray-traced shadows, MIS with BSDF-sampled emitters and
-// sky), Path (the same at every vertex, Russian roulette, maxBounces).
+// Per-sample light transport for the three presets: traceSample picks the Lightmap compositor
+// (lightmap_compositor.h: primary rays, baked light, display-value layers) or the Direct/Path
+// integrator (path_integrator.h: next-event estimation with ray-traced shadows and MIS, at the
+// first vertex or at every vertex up to maxBounces).
 #include <cstdint>
 
 #include "renderer/scene/film/film.h"
@@ -19,7 +20,8 @@ struct ResampledLight {
   float weight = 0.0f;    ///< Its unbiased contribution weight (0: none, or occluded).
 };
 
-/// Traces one camera sample through film position (px, py) and returns radiance and AOVs.
+/// Traces one camera sample through film position (px, py) with settings.integrator and returns
+/// radiance and AOVs.
 /// A pure function of its arguments (the sampler carries pixel, seed and sample index).
 /// `traced`, when given, is this sample's camera ray already traced (cameraRayBits, packets of
 /// RenderScene::intersectCameraPacket): the sample starts from its hit instead of tracing it.

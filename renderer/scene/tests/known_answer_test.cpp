@@ -236,7 +236,7 @@ TEST(KnownAnswer, LightmapPresetIsAlbedoTimesBakedLight) {
   const std::vector<uint8_t> lm = test::solidPixels(2, 2, 51, 102, 204, 255);
   TextureDesc lmDesc{2, 2, lm, false};
   MaterialDesc m = test::diffuse(0.5f);
-  m.lightmapTexture = r.addTexture(lmDesc);
+  m.stock.lightmapTexture = r.addTexture(lmDesc);
   m.emission = glm::vec3(0.25f);
   addLightmappedFloor(r, m);
   const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 30.0f), settingsFor(Integrator::Lightmap, 4, 1));
@@ -262,10 +262,10 @@ glm::vec3 shineOverLitBase(LayerBlend blend, float baseAlpha, bool masked, Integ
   const std::vector<uint8_t> shine = test::solidPixels(1, 1, 77, 191, 128, 255);   // ~ (0.3, 0.75, 0.5)
   MaterialDesc m = test::diffuse(1.0f);
   m.baseColor.a = baseAlpha;
-  m.lightmapTexture = r.addTexture(TextureDesc{1, 1, lm, false});
-  m.shineTexture = r.addTexture(TextureDesc{1, 1, shine, true});
-  m.shineBlend = blend;
-  m.shineMaskedByBaseAlpha = masked;
+  m.stock.lightmapTexture = r.addTexture(TextureDesc{1, 1, lm, false});
+  m.stock.shineTexture = r.addTexture(TextureDesc{1, 1, shine, true});
+  m.stock.shineBlend = blend;
+  m.stock.shineMaskedByBaseAlpha = masked;
   addLightmappedFloor(r, m);
   const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 30.0f), settingsFor(integrator, 4, 1));
   const glm::vec3 c = f.radiance[5];
@@ -297,8 +297,8 @@ TEST(KnownAnswer, MeshUvShineFollowsTheMeshUvs) {
   shineDesc.wrap = TextureWrap::Clamp;
   shineDesc.mipmaps = false;
   MaterialDesc m = test::diffuse(0.0f);
-  m.shineTexture = r.addTexture(shineDesc);
-  m.shineTexCoords = TexCoordSource::Mesh;
+  m.stock.shineTexture = r.addTexture(shineDesc);
+  m.stock.shineTexCoords = TexCoordSource::Mesh;
   test::MeshArrays q = test::quad({-0.5f, -0.5f, 0}, {1, 0, 0}, {0, 1, 0});
   q.setMaterial(r.addMaterial(m));
   r.addInstance({r.addMesh(q.desc())});

@@ -113,7 +113,7 @@ TEST(Materials, LayerBlendsComposeInDisplayValuesInTheLightmapPreset) {
     MaterialDesc layer = coloured(0.5f, 0.5f, 0.5f);
     layer.baseColor.a = 0.25f;
     layer.alphaMode = AlphaMode::Additive;
-    layer.layerBlend = blend;
+    layer.stock.layerBlend = blend;
     Layers layers(coloured(0.2f, 0.2f, 0.2f), layer);
     EXPECT_NEAR(linearToSrgb(layers.centre().g), std::min(display, 1.0f), 1e-4f) << int(blend);
   }
@@ -137,9 +137,9 @@ TEST(Materials, FactorBlendsComposeInDisplayValues) {
     MaterialDesc layer = coloured(0.5f, 0.5f, 0.5f);
     layer.baseColor.a = a;
     layer.alphaMode = AlphaMode::Additive;
-    layer.layerBlend = LayerBlend::Factors;
-    layer.layerSrcFactor = c.src;
-    layer.layerDstFactor = c.dst;
+    layer.stock.layerBlend = LayerBlend::Factors;
+    layer.stock.layerSrcFactor = c.src;
+    layer.stock.layerDstFactor = c.dst;
     Layers layers(coloured(0.2f, 0.2f, 0.2f), layer);
     EXPECT_NEAR(linearToSrgb(layers.centre().g), std::min(c.display, 1.0f), 1e-4f)
         << int(c.src) << " " << int(c.dst);
@@ -151,9 +151,9 @@ TEST(Materials, CoincidentLayersComposeInPrimitiveOrder) {
   // to black (dst x 0), the other adds 0.5: later primitives are later stages.
   MaterialDesc black = coloured(0.0f, 0.0f, 0.0f);
   black.alphaMode = AlphaMode::Additive;
-  black.layerBlend = LayerBlend::Factors;
-  black.layerSrcFactor = BlendFactor::Zero;
-  black.layerDstFactor = BlendFactor::Zero;
+  black.stock.layerBlend = LayerBlend::Factors;
+  black.stock.layerSrcFactor = BlendFactor::Zero;
+  black.stock.layerDstFactor = BlendFactor::Zero;
   MaterialDesc add = coloured(0.5f, 0.5f, 0.5f);
   add.alphaMode = AlphaMode::Additive;
   for (const bool blackFirst : {true, false}) {

@@ -135,16 +135,16 @@ TEST(ReflectionUv, RejectsAnUnknownSource) {
 TEST(ReflectionUv, RejectsABadShine) {
   Renderer renderer{RendererConfig{1}};
   MaterialDesc unknownTexture;
-  unknownTexture.shineTexture = 3;   // no textures added
+  unknownTexture.stock.shineTexture = 3;   // no textures added
   EXPECT_THROW(renderer.addMaterial(unknownTexture), SceneError);
   MaterialDesc unknownSource;
-  unknownSource.shineTexCoords = static_cast<TexCoordSource>(7);
+  unknownSource.stock.shineTexCoords = static_cast<TexCoordSource>(7);
   EXPECT_THROW(renderer.addMaterial(unknownSource), SceneError);
   MaterialDesc unknownBlend;
-  unknownBlend.shineBlend = static_cast<LayerBlend>(42);
+  unknownBlend.stock.shineBlend = static_cast<LayerBlend>(42);
   EXPECT_THROW(renderer.addMaterial(unknownBlend), SceneError);
   MaterialDesc negativeColour;
-  negativeColour.shineColor = glm::vec3(-1.0f);
+  negativeColour.stock.shineColor = glm::vec3(-1.0f);
   EXPECT_THROW(renderer.addMaterial(negativeColour), SceneError);
 }
 

@@ -16,7 +16,7 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, const Ray& ra
   if (s.material == nullptr || s.instance == nullptr) return s;
   const MaterialDesc& desc = s.material->desc;
   const bool baseReflects = desc.baseTexCoords == TexCoordSource::ReflectionSphere;
-  const bool shineReflects = s.material->shine != nullptr && desc.shineTexCoords == TexCoordSource::ReflectionSphere;
+  const bool shineReflects = s.material->shine != nullptr && desc.stock.shineTexCoords == TexCoordSource::ReflectionSphere;
   if (!baseReflects && !shineReflects) return s;
   const RenderInstance& inst = *s.instance;
   const MeshGeometry& g = inst.mesh->geometry;
@@ -48,7 +48,7 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, const Ray& ra
     areaOut = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
   };
   if (baseReflects) reflectionUv(desc.uvTransform, s.uv, s.uvArea);
-  if (shineReflects) reflectionUv(desc.shineUvTransform, s.shineUv, s.shineUvArea);
+  if (shineReflects) reflectionUv(desc.stock.shineUvTransform, s.shineUv, s.shineUvArea);
   return s;
 }
 

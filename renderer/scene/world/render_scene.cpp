@@ -104,7 +104,7 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
         const glm::vec4 base = ctx.scene->baseColor(s, 0.0f);
         glm::vec3 added = glm::vec3(base) + ctx.scene->emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
         glm::vec3 transmit(1.0f);
-        switch (m.layerBlend) {
+        switch (m.stock.layerBlend) {
           case LayerBlend::Add: break;
           case LayerBlend::Over: transmit = glm::vec3(1.0f - std::clamp(base.a, 0.0f, 1.0f)); break;
           case LayerBlend::Multiply: transmit = displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
@@ -118,9 +118,9 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
             // The layer adds encode(added) x srcFactor in display values: back to linear.
             const glm::vec3 src = glm::min(displayValue(added), glm::vec3(1.0f));
             const float a = std::clamp(base.a, 0.0f, 1.0f);
-            const glm::vec3 shown = src * blendFactor(m.layerSrcFactor, src, a);
+            const glm::vec3 shown = src * blendFactor(m.stock.layerSrcFactor, src, a);
             added = {srgbToLinear(shown.x), srgbToLinear(shown.y), srgbToLinear(shown.z)};
-            transmit = blendFactor(m.layerDstFactor, src, a);
+            transmit = blendFactor(m.stock.layerDstFactor, src, a);
             break;
           }
         }
@@ -269,8 +269,8 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
   if (desc.uvWobble.amplitude != 0.0f && desc.baseTexCoords == TexCoordSource::Mesh)
     s.uv += w0 * desc.uvWobble.offsetAt(g.positions[i0]) + hit.u * desc.uvWobble.offsetAt(g.positions[i1]) +
             hit.v * desc.uvWobble.offsetAt(g.positions[i2]);
-  if (s.material->shine != nullptr && desc.shineTexCoords == TexCoordSource::Mesh)
-    meshUv(desc.shineUvTransform, s.shineUv, s.shineUvArea);
+  if (s.material->shine != nullptr && desc.stock.shineTexCoords == TexCoordSource::Mesh)
+    meshUv(desc.stock.shineUvTransform, s.shineUv, s.shineUvArea);
   if (!g.lightmapUvs.empty()) {
     s.lightmapUv = w0 * g.lightmapUvs[i0] + hit.u * g.lightmapUvs[i1] + hit.v * g.lightmapUvs[i2];
   }
@@ -315,7 +315,7 @@ float RenderScene::coverageAt(const RenderInstance& inst, uint32_t prim, glm::ve
 glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint) const {
   const MaterialRecord& m = *s.material;
   // With useVertexLight the vertex colour is baked light (Lightmap integrator), not albedo.
-  glm::vec4 vertex = m.desc.useVertexLight || !m.desc.vertexColorTints ? glm::vec4(1.0f, 1.0f, 1.0f, s.vertexColor.a)
+  glm::vec4 vertex = m.desc.stock.useVertexLight || !m.desc.vertexColorTints ? glm::vec4(1.0f, 1.0f, 1.0f, s.vertexColor.a)
                                                                         : s.vertexColor;
   if (!m.desc.vertexAlphaTints) vertex.a = 1.0f;
   glm::vec4 c = m.desc.baseColor * vertex * s.instance->tint;
@@ -338,7 +338,7 @@ glm::vec4 RenderScene::shineColor(const SurfaceHit& s, float footprint) const {
     const float texels = static_cast<float>(m.shine->width()) * static_cast<float>(m.shine->height());
     lod = std::log2(footprint * std::sqrt(s.shineUvArea * texels / s.worldArea));
   }
-  return m.shine->sample(s.shineUv, lod) * glm::vec4(m.desc.shineColor, 1.0f);
+  return m.shine->sample(s.shineUv, lod) * glm::vec4(m.desc.stock.shineColor, 1.0f);
 }
 
 glm::vec3 RenderScene::emission(const SurfaceHit& s, bool frontSide) const {

@@ -29,7 +29,7 @@ struct MaterialRecord {
   const Texture* base = nullptr;
   const Texture* emissive = nullptr;
   const Texture* lightmap = nullptr;
-  const Texture* shine = nullptr;   ///< MaterialDesc::shineTexture.
+  const Texture* shine = nullptr;   ///< StockLook::shineTexture.
   bool filtered = false;   ///< Hits on it must go through the HitFilter.
   bool emits = false;      ///< Non-zero emission (collected as area light).
 };
@@ -61,7 +61,7 @@ struct AdditiveHits {
     uint32_t instance;
     uint32_t prim;
     glm::vec3 color;      ///< Linear colour added.
-    glm::vec3 transmit;   ///< Display-value multiplier of what is behind (MaterialDesc::layerBlend).
+    glm::vec3 transmit;   ///< Display-value multiplier of what is behind (StockLook::layerBlend).
   };
   uint32_t count = 0;
   std::array<Entry, kCapacity> entries;   ///< First `count` are valid.
@@ -101,7 +101,7 @@ struct SurfaceHit {
   glm::vec2 uv{0.0f};                   ///< Base uv after the material's uvTransform.
   glm::vec2 emissiveUv{0.0f};           ///< The emissive texture's uv (the base's, or emissiveUvTransform's).
   glm::vec2 lightmapUv{0.0f};
-  glm::vec2 shineUv{0.0f};              ///< Shine texture uv (MaterialDesc::shineTexCoords) after shineUvTransform.
+  glm::vec2 shineUv{0.0f};              ///< Shine texture uv (StockLook::shineTexCoords) after shineUvTransform.
   float shineUvArea = 0.0f;             ///< Triangle area in shine uv space (mip level).
   glm::vec4 vertexColor{1.0f};
   float worldArea = 0.0f;               ///< Triangle area in world space.

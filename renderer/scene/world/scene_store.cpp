@@ -50,18 +50,19 @@ void SceneStore::validateMaterial(const MaterialDesc& m, const CallContext& what
   };
   checkTexture(m.baseTexture, "baseTexture");
   checkTexture(m.emissiveTexture, "emissiveTexture");
-  checkTexture(m.lightmapTexture, "lightmapTexture");
-  checkTexture(m.shineTexture, "shineTexture");
-  requireNonNegative(m.shineColor, what, "shineColor");
-  for (int c = 0; c < 3; ++c) requireFinite(finite(m.shineUvTransform[c]), what, "shineUvTransform");
-  if (m.shineTexCoords != TexCoordSource::Mesh && m.shineTexCoords != TexCoordSource::ReflectionSphere)
-    throw SceneError(what + ": shineTexCoords = " + std::to_string(unsigned(m.shineTexCoords)) + " is not a TexCoordSource");
-  if (unsigned(m.shineBlend) > unsigned(LayerBlend::Modulate2x))
-    throw SceneError(what + ": shineBlend = " + std::to_string(unsigned(m.shineBlend)) + " is not a LayerBlend");
-  if (unsigned(m.layerBlend) > unsigned(LayerBlend::Factors))
-    throw SceneError(what + ": layerBlend = " + std::to_string(unsigned(m.layerBlend)) + " is not a LayerBlend");
-  if (unsigned(m.layerSrcFactor) > unsigned(BlendFactor::OneMinusSrcAlpha) ||
-      unsigned(m.layerDstFactor) > unsigned(BlendFactor::OneMinusSrcAlpha))
+  const StockLook& stock = m.stock;
+  checkTexture(stock.lightmapTexture, "stock.lightmapTexture");
+  checkTexture(stock.shineTexture, "stock.shineTexture");
+  requireNonNegative(stock.shineColor, what, "stock.shineColor");
+  for (int c = 0; c < 3; ++c) requireFinite(finite(stock.shineUvTransform[c]), what, "stock.shineUvTransform");
+  if (stock.shineTexCoords != TexCoordSource::Mesh && stock.shineTexCoords != TexCoordSource::ReflectionSphere)
+    throw SceneError(what + ": stock.shineTexCoords = " + std::to_string(unsigned(stock.shineTexCoords)) + " is not a TexCoordSource");
+  if (unsigned(stock.shineBlend) > unsigned(LayerBlend::Modulate2x))
+    throw SceneError(what + ": stock.shineBlend = " + std::to_string(unsigned(stock.shineBlend)) + " is not a LayerBlend");
+  if (unsigned(stock.layerBlend) > unsigned(LayerBlend::Factors))
+    throw SceneError(what + ": stock.layerBlend = " + std::to_string(unsigned(stock.layerBlend)) + " is not a LayerBlend");
+  if (unsigned(stock.layerSrcFactor) > unsigned(BlendFactor::OneMinusSrcAlpha) ||
+      unsigned(stock.layerDstFactor) > unsigned(BlendFactor::OneMinusSrcAlpha))
     throw SceneError(what + ": a layer blend factor is not a BlendFactor");
   requireFinite(finite(m.baseColor), what, "baseColor");
   requireNonNegative(m.emission, what, "emission");
@@ -427,8 +428,8 @@ void SceneStore::commit(RenderScene& scene) {
     r.desc.opacity = std::clamp(d.opacity, 0.0f, 1.0f);
     r.base = texturePtr(d.baseTexture);
     r.emissive = texturePtr(d.emissiveTexture);
-    r.lightmap = texturePtr(d.lightmapTexture);
-    r.shine = texturePtr(d.shineTexture);
+    r.lightmap = texturePtr(d.stock.lightmapTexture);
+    r.shine = texturePtr(d.stock.shineTexture);
     r.filtered = materialNeedsFilter(d);
     r.emits = d.emission.x > 0.0f || d.emission.y > 0.0f || d.emission.z > 0.0f;
     return r;

@@ -1,0 +1,20 @@
+#pragma once
+// The Lightmap preset: what a raster engine with baked light shows. Camera rays (and the rays
+// leaving portals) end on the first surface: base colour x baked light (lightmap texture or
+// vertex colour), its shine stage, glow stages, see-through layers and fog, all composed in
+// display values as an 8-bit framebuffer blends them (display_composite.h).
+#include "renderer/scene/film/film.h"
+#include "renderer/scene/integrator/camera_rays.h"
+#include "renderer/scene/sampling/sobol_sampler.h"
+#include "renderer/scene/scene_types.h"
+#include "renderer/scene/world/render_scene.h"
+
+namespace pa {
+
+/// One Lightmap-preset camera sample through film position (px, py) (see traceSample).
+/// Deterministic: no light is sampled; the sampler seeds only stochastic transparency.
+PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
+                                  float px, float py, const sampling::PixelSampler& sampler,
+                                  const TracedCameraRay* traced);
+
+}  // namespace pa
