@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "port/q3formats/common/format_error.h"
-#include "port/q3formats/image/jpeg_decode.h"
+#include "renderer/image_codecs/jpeg_decode.h"
 
 namespace q3 {
 namespace {
@@ -50,6 +50,14 @@ void checkTgaLength(std::span<const std::byte> bytes, int w, int h, const std::s
                           (rle ? "at least " : "") + std::to_string(need) + " needed");
 }
 
+/// A JPEG failure as a FormatError naming the file and the stage.
+[[noreturn]] void throwJpegError(const pa::JpegError& e, const std::string& name) {
+  const char* field = e.stage() == pa::JpegError::Stage::Header ? "JPEG header"
+                      : e.stage() == pa::JpegError::Stage::Size ? "image size"
+                                                                 : "JPEG data";
+  throw FormatError(name, field, e.what());
+}
+
 /// Only the formats the engine loads are decoded (stb also decodes GIF, PSD, PIC, PNM and HDR,
 /// which would widen what a hostile pk3 can reach). PNG, JPEG and BMP are known by their magic numbers;
 /// anything else must have a plausible TGA header (no other format's magic can pass that test).
@@ -71,7 +79,13 @@ void checkFormatIsAllowed(std::span<const std::byte> bytes, const std::string& n
 std::array<int, 2> imageSize(std::span<const std::byte> bytes, const std::string& name) {
   checkInputSize(bytes, name);
   checkFormatIsAllowed(bytes, name);
-  if (isJpeg(bytes)) return jpegSize(bytes, name);
+  if (pa::isJpeg(bytes)) {
+    try {
+      return pa::jpegSize(bytes);
+    } catch (const pa::JpegError& e) {
+      throwJpegError(e, name);
+    }
+  }
   int w = 0, h = 0, comp = 0;
   if (!stbi_info_from_memory(data(bytes), static_cast<int>(bytes.size()), &w, &h, &comp))
     throw FormatError(name, "image header", "unreadable: " + failureReason());
@@ -81,7 +95,14 @@ std::array<int, 2> imageSize(std::span<const std::byte> bytes, const std::string
 Image decodeImage(std::span<const std::byte> bytes, const std::string& name) {
   checkInputSize(bytes, name);
   checkFormatIsAllowed(bytes, name);
-  if (isJpeg(bytes)) return decodeJpeg(bytes, name);  // libjpeg-turbo, as the engine
+  if (pa::isJpeg(bytes)) {  // libjpeg-turbo, as the engine
+    try {
+      pa::JpegImage jpeg = pa::decodeJpeg(bytes, {.maxDimension = ImageLimits::maxDimension});
+      return Image{jpeg.width, jpeg.height, std::move(jpeg.rgba)};
+    } catch (const pa::JpegError& e) {
+      throwJpegError(e, name);
+    }
+  }
   const auto [w, h] = imageSize(bytes, name);
   if (w <= 0 || h <= 0 || w > ImageLimits::maxDimension || h > ImageLimits::maxDimension)
     throw FormatError(name, "image size",

@@ -32,7 +32,7 @@ struct ImageLimits {
 /// Decodes TGA (uncompressed and RLE; true-colour 16/24/32 bit, grey, colour-mapped; either
 /// origin), JPG, PNG or BMP (other formats stb knows are refused). The size is read first and
 /// refused beyond ImageLimits; failures throw FormatError naming `name` and the field. JPEGs
-/// are decoded by libjpeg-turbo (jpeg_decode.h), the rest by stb_image.
+/// are decoded by libjpeg-turbo (renderer/image_codecs/jpeg_decode.h), the rest by stb_image.
 /// The result is always RGBA8, top row first.
 Image decodeImage(std::span<const std::byte> bytes, const std::string& name);
 

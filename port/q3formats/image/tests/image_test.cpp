@@ -240,3 +240,30 @@ TEST(Image, RefusesFormatsTheEngineDoesNotLoad) {
   EXPECT_THROW(q3::decodeImage(tgaBadType, "x.tga"), q3::FormatError);
 }
 }  // namespace
+
+namespace {
+TEST(Image, JpegFailuresNameTheFileAndStage) {
+  // JPEGs go to libjpeg-turbo (renderer/image_codecs); its errors become FormatErrors.
+  std::vector<uint8_t> grey(9000 * 8, 100);
+  Bytes wide;
+  ASSERT_TRUE(stbi_write_jpg_to_func(appendToVector, &wide, 9000, 8, 1, grey.data(), 50));
+  EXPECT_EQ(q3::imageSize(wide, "wide.jpg"), (std::array<int, 2>{9000, 8}));
+  try {
+    q3::decodeImage(wide, "wide.jpg");
+    FAIL() << "accepted";
+  } catch (const q3::FormatError& e) {
+    EXPECT_EQ(e.field(), "image size");
+    EXPECT_EQ(e.file(), "wide.jpg");
+  }
+  Bytes small;
+  ASSERT_TRUE(stbi_write_jpg_to_func(appendToVector, &small, 16, 16, 1, grey.data(), 90));
+  const Bytes cut(small.begin(), small.begin() + 40);
+  try {
+    q3::decodeImage(cut, "cut.jpg");
+    FAIL() << "accepted";
+  } catch (const q3::FormatError& e) {
+    EXPECT_EQ(e.field(), "JPEG header");
+    EXPECT_EQ(e.file(), "cut.jpg");
+  }
+}
+}  // namespace

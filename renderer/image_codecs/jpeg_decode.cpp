@@ -1,4 +1,4 @@
-#include "port/q3formats/image/jpeg_decode.h"
+#include "renderer/image_codecs/jpeg_decode.h"
 
 // jpeglib.h needs FILE and size_t declared first.
 #include <cstdio>
@@ -7,12 +7,8 @@
 // clang-format on
 
 #include <csetjmp>
-#include <cstdint>
-#include <vector>
 
-#include "port/q3formats/common/format_error.h"
-
-namespace q3 {
+namespace pa {
 namespace {
 
 /// libjpeg's error manager extended with the jump target of the running session. libjpeg reports
@@ -34,12 +30,19 @@ void errorExit(j_common_ptr cinfo) {
 /// fatal: libjpeg goes on as it does for the engine.
 void ignoreMessage(j_common_ptr) {}
 
+/// libjpeg's progress monitor with the scan limit.
+struct ProgressMonitor {
+  jpeg_progress_mgr pub;
+  int maxScans;
+};
+
 /// Called by libjpeg while it consumes input: stops files with too many scans.
 void checkScanCount(j_common_ptr cinfo) {
   auto* d = reinterpret_cast<j_decompress_ptr>(cinfo);
-  if (d->input_scan_number > JpegLimits::maxScans) {
+  const int maxScans = reinterpret_cast<ProgressMonitor*>(cinfo->progress)->maxScans;
+  if (d->input_scan_number > maxScans) {
     auto* err = reinterpret_cast<ErrorManager*>(cinfo->err);
-    std::snprintf(err->message, sizeof err->message, "more than %d scans", JpegLimits::maxScans);
+    std::snprintf(err->message, sizeof err->message, "more than %d scans", maxScans);
     std::longjmp(err->jump, 1);
   }
 }
@@ -48,7 +51,8 @@ void checkScanCount(j_common_ptr cinfo) {
 struct Session {
   jpeg_decompress_struct cinfo;
   ErrorManager err;
-  jpeg_progress_mgr progress;
+  ProgressMonitor progress;
+  JpegLimits limits;
   int width = 0;
   int height = 0;
   bool headerRead = false;
@@ -73,8 +77,9 @@ bool runLibjpeg(Session& s, std::span<const std::byte> bytes, std::vector<uint8_
     return false;
   }
   jpeg_create_decompress(&s.cinfo);
-  s.progress.progress_monitor = checkScanCount;
-  s.cinfo.progress = &s.progress;
+  s.progress.pub.progress_monitor = checkScanCount;
+  s.progress.maxScans = s.limits.maxScans;
+  s.cinfo.progress = &s.progress.pub;
   jpeg_mem_src(&s.cinfo, reinterpret_cast<const unsigned char*>(bytes.data()),
                static_cast<unsigned long>(bytes.size()));
   jpeg_read_header(&s.cinfo, TRUE);
@@ -86,8 +91,8 @@ bool runLibjpeg(Session& s, std::span<const std::byte> bytes, std::vector<uint8_
     return true;
   }
   if (s.cinfo.image_width < 1 || s.cinfo.image_height < 1 ||
-      s.cinfo.image_width > static_cast<JDIMENSION>(ImageLimits::maxDimension) ||
-      s.cinfo.image_height > static_cast<JDIMENSION>(ImageLimits::maxDimension)) {
+      s.cinfo.image_width > static_cast<JDIMENSION>(s.limits.maxDimension) ||
+      s.cinfo.image_height > static_cast<JDIMENSION>(s.limits.maxDimension)) {
     s.tooLarge = true;
     jpeg_destroy_decompress(&s.cinfo);
     return false;
@@ -130,25 +135,25 @@ bool isJpeg(std::span<const std::byte> bytes) {
   return bytes.size() >= 3 && at(bytes, 0) == 0xFF && at(bytes, 1) == 0xD8 && at(bytes, 2) == 0xFF;
 }
 
-std::array<int, 2> jpegSize(std::span<const std::byte> bytes, const std::string& name) {
+std::array<int, 2> jpegSize(std::span<const std::byte> bytes) {
   Session s;
-  if (!runLibjpeg(s, bytes, nullptr)) throw FormatError(name, "JPEG header", s.err.message);
+  if (!runLibjpeg(s, bytes, nullptr)) throw JpegError(JpegError::Stage::Header, s.err.message);
   return {s.width, s.height};
 }
 
-Image decodeJpeg(std::span<const std::byte> bytes, const std::string& name) {
+JpegImage decodeJpeg(std::span<const std::byte> bytes, const JpegLimits& limits) {
   Session s;
-  Image image;
+  s.limits = limits;
+  JpegImage image;
   if (!runLibjpeg(s, bytes, &image.rgba)) {
     if (s.tooLarge)
-      throw FormatError(name, "image size",
-                        std::to_string(s.width) + "x" + std::to_string(s.height) + " outside 1.." +
-                            std::to_string(ImageLimits::maxDimension));
-    throw FormatError(name, s.headerRead ? "JPEG data" : "JPEG header", s.err.message);
+      throw JpegError(JpegError::Stage::Size, std::to_string(s.width) + "x" + std::to_string(s.height) +
+                                                  " outside 1.." + std::to_string(limits.maxDimension));
+    throw JpegError(s.headerRead ? JpegError::Stage::Data : JpegError::Stage::Header, s.err.message);
   }
   image.width = s.width;
   image.height = s.height;
   return image;
 }
 
-}  // namespace q3
+}  // namespace pa

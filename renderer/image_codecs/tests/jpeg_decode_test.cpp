@@ -9,15 +9,19 @@
 
 #include <cstdlib>
 #include <random>
+#include <vector>
 
-#include "port/q3formats/common/format_error.h"
-#include "port/q3formats/image/image.h"
-#include "port/q3formats/image/jpeg_decode.h"
+#include "renderer/image_codecs/jpeg_decode.h"
 
 namespace {
 
 using Bytes = std::vector<std::byte>;
 using Rgba = std::array<uint8_t, 4>;
+
+Rgba pixel(const pa::JpegImage& img, int x, int y) {
+  const size_t i = (static_cast<size_t>(y) * static_cast<size_t>(img.width) + static_cast<size_t>(x)) * 4;
+  return {img.rgba[i], img.rgba[i + 1], img.rgba[i + 2], img.rgba[i + 3]};
+}
 
 /// Encodes `pixels` (rows top first, `components` bytes a pixel) with libjpeg: baseline or
 /// progressive, no chroma subsampling.
@@ -68,30 +72,30 @@ TEST(JpegDecode, BaselineAndProgressiveKnownAnswer) {
   for (bool progressive : {false, true}) {
     SCOPED_TRACE(progressive ? "progressive" : "baseline");
     const Bytes jpg = encodeJpeg(quadrants(), 16, 16, JCS_RGB, 3, 100, progressive);
-    ASSERT_TRUE(q3::isJpeg(jpg));
-    EXPECT_EQ(q3::imageSize(jpg, "q.jpg"), (std::array<int, 2>{16, 16}));
-    const q3::Image img = q3::decodeImage(jpg, "q.jpg");
+    ASSERT_TRUE(pa::isJpeg(jpg));
+    EXPECT_EQ(pa::jpegSize(jpg), (std::array<int, 2>{16, 16}));
+    const pa::JpegImage img = pa::decodeJpeg(jpg);
     ASSERT_EQ(img.width, 16);
     ASSERT_EQ(img.height, 16);
     ASSERT_EQ(img.rgba.size(), 16u * 16u * 4u);
     // Colour conversion to YCbCr and back rounds: within 2 per channel at quality 100.
-    expectNear(img.pixel(3, 3), {200, 30, 40, 255}, 2);
-    expectNear(img.pixel(12, 4), {20, 180, 60, 255}, 2);
-    expectNear(img.pixel(4, 12), {30, 40, 220, 255}, 2);
-    expectNear(img.pixel(15, 15), {250, 250, 250, 255}, 2);
+    expectNear(pixel(img, 3, 3), {200, 30, 40, 255}, 2);
+    expectNear(pixel(img, 12, 4), {20, 180, 60, 255}, 2);
+    expectNear(pixel(img, 4, 12), {30, 40, 220, 255}, 2);
+    expectNear(pixel(img, 15, 15), {250, 250, 250, 255}, 2);
   }
 }
 
 TEST(JpegDecode, GreyscaleBecomesOpaqueGreyRgba) {
   std::vector<uint8_t> grey(8 * 8);
   for (int i = 0; i < 64; ++i) grey[i] = i < 32 ? 40 : 200;  // top half dark, bottom half light
-  const q3::Image img = q3::decodeImage(encodeJpeg(grey, 8, 8, JCS_GRAYSCALE, 1, 100), "g.jpg");
+  const pa::JpegImage img = pa::decodeJpeg(encodeJpeg(grey, 8, 8, JCS_GRAYSCALE, 1, 100));
   ASSERT_EQ(img.width, 8);
   // One 8x8 block with a sharp edge: ringing stays within a few levels away from the edge.
-  expectNear(img.pixel(2, 0), {40, 40, 40, 255}, 3);
-  expectNear(img.pixel(5, 7), {200, 200, 200, 255}, 3);
-  EXPECT_EQ(img.pixel(5, 7)[0], img.pixel(5, 7)[1]);
-  EXPECT_EQ(img.pixel(5, 7)[1], img.pixel(5, 7)[2]);
+  expectNear(pixel(img, 2, 0), {40, 40, 40, 255}, 3);
+  expectNear(pixel(img, 5, 7), {200, 200, 200, 255}, 3);
+  EXPECT_EQ(pixel(img, 5, 7)[0], pixel(img, 5, 7)[1]);
+  EXPECT_EQ(pixel(img, 5, 7)[1], pixel(img, 5, 7)[2]);
 }
 
 TEST(JpegDecode, AdobeCmykIsMultipliedByBlack) {
@@ -104,20 +108,21 @@ TEST(JpegDecode, AdobeCmykIsMultipliedByBlack) {
     cmyk[i * 4 + 2] = 50;
     cmyk[i * 4 + 3] = 128;
   }
-  const q3::Image img = q3::decodeImage(encodeJpeg(cmyk, 8, 8, JCS_CMYK, 4, 100), "k.jpg");
-  expectNear(img.pixel(4, 4), {100, 50, 25, 255}, 2);
+  const pa::JpegImage img = pa::decodeJpeg(encodeJpeg(cmyk, 8, 8, JCS_CMYK, 4, 100));
+  expectNear(pixel(img, 4, 4), {100, 50, 25, 255}, 2);
 }
 
 TEST(JpegDecode, RefusesOversizeBeforeDecoding) {
   // A real header for 9000x8 (the encoder writes it), refused on the size, not in libjpeg.
   const Bytes jpg = encodeJpeg(std::vector<uint8_t>(9000 * 8, 128), 9000, 8, JCS_GRAYSCALE, 1, 50);
-  EXPECT_EQ(q3::imageSize(jpg, "wide.jpg"), (std::array<int, 2>{9000, 8}));
+  EXPECT_EQ(pa::jpegSize(jpg), (std::array<int, 2>{9000, 8}));
   try {
-    q3::decodeImage(jpg, "wide.jpg");
+    pa::decodeJpeg(jpg);
     FAIL() << "accepted";
-  } catch (const q3::FormatError& e) {
-    EXPECT_EQ(e.field(), "image size");
+  } catch (const pa::JpegError& e) {
+    EXPECT_EQ(e.stage(), pa::JpegError::Stage::Size);
   }
+  EXPECT_EQ(pa::decodeJpeg(jpg, {.maxDimension = 9000}).width, 9000);
 }
 
 TEST(JpegDecode, TruncatedAndHeaderlessFilesGiveClearErrors) {
@@ -125,16 +130,15 @@ TEST(JpegDecode, TruncatedAndHeaderlessFilesGiveClearErrors) {
   // Cut inside the headers: libjpeg's message, no decode.
   const Bytes cut(jpg.begin(), jpg.begin() + 40);
   try {
-    q3::decodeImage(cut, "cut.jpg");
+    pa::decodeJpeg(cut);
     FAIL() << "accepted";
-  } catch (const q3::FormatError& e) {
-    EXPECT_EQ(e.field(), "JPEG header");
-    EXPECT_EQ(e.file(), "cut.jpg");
+  } catch (const pa::JpegError& e) {
+    EXPECT_EQ(e.stage(), pa::JpegError::Stage::Header);
   }
-  EXPECT_THROW(q3::imageSize(cut, "cut.jpg"), q3::FormatError);
+  EXPECT_THROW(pa::jpegSize(cut), pa::JpegError);
   // Cut inside the entropy-coded data: libjpeg fills the rest, as for the engine.
   const Bytes shortScan(jpg.begin(), jpg.end() - 20);
-  const q3::Image img = q3::decodeImage(shortScan, "short.jpg");
+  const pa::JpegImage img = pa::decodeJpeg(shortScan);
   EXPECT_EQ(img.rgba.size(), 16u * 16u * 4u);
 }
 
@@ -150,8 +154,8 @@ TEST(JpegDecode, CorruptHuffmanStreamsDecodeOrFailCleanly) {
   // stb_image 2.27 let its bit count go negative on corrupt baseline entropy-coded data: a shift
   // by 33 and a Huffman value-table read at index -99 (port/q3formats/FUZZING.md, finding 6).
   // Streams of codes that are not in the tables, of all-ones bits before a marker, and random
-  // bytes must give an image of the right size or a FormatError, never undefined behaviour (the
-  // sanitizer build and the image fuzzer check the latter).
+  // bytes must give an image of the right size or a JpegError, never undefined behaviour (the
+  // image and glTF fuzzers check the latter under ASan/UBSan).
   std::vector<uint8_t> noise(32 * 32 * 3);
   std::mt19937 rng(17);
   for (auto& v : noise) v = static_cast<uint8_t>(rng());
@@ -177,11 +181,11 @@ TEST(JpegDecode, CorruptHuffmanStreamsDecodeOrFailCleanly) {
   int decoded = 0, refused = 0;
   for (const Bytes& c : corrupt) {
     try {
-      const q3::Image img = q3::decodeImage(c, "corrupt.jpg");
+      const pa::JpegImage img = pa::decodeJpeg(c);
       EXPECT_EQ(img.rgba.size(), 32u * 32u * 4u);
       ++decoded;
-    } catch (const q3::FormatError& e) {
-      EXPECT_EQ(e.file(), "corrupt.jpg");
+    } catch (const pa::JpegError& e) {
+      EXPECT_NE(e.stage(), pa::JpegError::Stage::Size);
       ++refused;
     }
   }
@@ -202,14 +206,14 @@ TEST(JpegDecode, RefusesFilesWithTooManyScans) {
   // The last scan of jpeg_simple_progression refines AC bits of one component; a DC-first scan
   // of component 0 repeated is legal enough for libjpeg to keep counting scans.
   const Bytes firstScanBytes(jpg.begin() + static_cast<std::ptrdiff_t>(sos), jpg.begin() + static_cast<std::ptrdiff_t>(next));
-  for (int i = 0; i < q3::JpegLimits::maxScans + 10; ++i) many.insert(many.end(), firstScanBytes.begin(), firstScanBytes.end());
+  for (int i = 0; i < pa::JpegLimits{}.maxScans + 10; ++i) many.insert(many.end(), firstScanBytes.begin(), firstScanBytes.end());
   many.push_back(std::byte{0xFF});
   many.push_back(std::byte{0xD9});
   try {
-    q3::decodeImage(many, "scans.jpg");
+    pa::decodeJpeg(many);
     FAIL() << "accepted";
-  } catch (const q3::FormatError& e) {
-    EXPECT_EQ(e.field(), "JPEG data");
+  } catch (const pa::JpegError& e) {
+    EXPECT_EQ(e.stage(), pa::JpegError::Stage::Data);
     EXPECT_NE(std::string(e.what()).find("more than 256 scans"), std::string::npos) << e.what();
   }
 }
