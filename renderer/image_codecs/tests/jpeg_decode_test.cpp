@@ -151,11 +151,10 @@ size_t scanStart(const Bytes& jpg) {
 }
 
 TEST(JpegDecode, CorruptHuffmanStreamsDecodeOrFailCleanly) {
-  // stb_image 2.27 let its bit count go negative on corrupt baseline entropy-coded data: a shift
-  // by 33 and a Huffman value-table read at index -99 (port/q3formats/FUZZING.md, finding 6).
-  // Streams of codes that are not in the tables, of all-ones bits before a marker, and random
-  // bytes must give an image of the right size or a JpegError, never undefined behaviour (the
-  // image and glTF fuzzers check the latter under ASan/UBSan).
+  // Corrupt baseline entropy-coded data, the kind that drove stb_image 2.27's bit count negative
+  // (port/q3formats/FUZZING.md, finding 6; these particular streams do not trip stb). Streams of
+  // codes that are not in the tables, all-zero bits, an unexpected marker, and random bytes give
+  // an image of the right size or a JpegError (the image and glTF fuzzers run libjpeg under ASan).
   std::vector<uint8_t> noise(32 * 32 * 3);
   std::mt19937 rng(17);
   for (auto& v : noise) v = static_cast<uint8_t>(rng());
