@@ -4,7 +4,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev
   libembree-dev libtbb-dev libglm-dev libsdl2-dev libgl-dev libphysfs-dev
-  libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev
+  libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev libjpeg-dev
   libgtest-dev libgmock-dev npm
   xvfb xauth libgl1-mesa-dri mesa-utils imagemagick
   ioquake3 openarena openarena-data openarena-oacmp1

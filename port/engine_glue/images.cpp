@@ -1,37 +1,27 @@
 #include "port/engine_glue/images.h"
 
-#include <stb_image.h>
-
-#include <climits>
+#include <span>
 
 #include "port/engine_glue/engine.h"
+#include "port/q3formats/common/format_error.h"
+#include "port/q3formats/image/image.h"
 
 namespace glue {
 
 std::shared_ptr<const Image> decodeImage(const std::vector<uint8_t>& bytes, std::string& reason) {
-  if (bytes.empty() || bytes.size() > static_cast<size_t>(INT_MAX)) {
-    reason = "empty or oversized file";
+  // The same decoder and checks as the converter and pa-render (format allow-list, size limits,
+  // JPEGs through libjpeg-turbo): a hostile pk3 reaches this from a game server.
+  try {
+    q3::Image decoded = q3::decodeImage(std::as_bytes(std::span(bytes)), "image");
+    auto image = std::make_shared<Image>();
+    image->width = decoded.width;
+    image->height = decoded.height;
+    image->rgba = std::move(decoded.rgba);
+    return image;
+  } catch (const q3::FormatError& e) {
+    reason = std::string(e.what()).substr(e.file().size() + 2);  // "FIELD: DETAIL"
     return nullptr;
   }
-  int width = 0, height = 0, channels = 0;
-  stbi_uc* pixels = stbi_load_from_memory(bytes.data(), static_cast<int>(bytes.size()), &width,
-                                          &height, &channels, 4);
-  if (pixels == nullptr) {
-    const char* why = stbi_failure_reason();
-    reason = why != nullptr ? why : "undecodable";
-    return nullptr;
-  }
-  if (width <= 0 || height <= 0 || width > 8192 || height > 8192) {
-    stbi_image_free(pixels);
-    reason = "unreasonable size " + std::to_string(width) + "x" + std::to_string(height);
-    return nullptr;
-  }
-  auto image = std::make_shared<Image>();
-  image->width = width;
-  image->height = height;
-  image->rgba.assign(pixels, pixels + static_cast<size_t>(width) * height * 4);
-  stbi_image_free(pixels);
-  return image;
 }
 
 std::shared_ptr<const Image> ImageCache::load(const Engine& engine, const std::string& name) {

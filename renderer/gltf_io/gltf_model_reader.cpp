@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <span>
 #include <stdexcept>
 
 #include <stb_image.h>
+
+#include "renderer/image_codecs/jpeg_decode.h"
 
 namespace pa::gltf::detail {
 namespace {
@@ -76,6 +79,21 @@ bool decodeImage(tinygltf::Image* image, const int imageIndex, std::string*, std
   image->image.clear();
   if (!context->decode) return true;
   const std::string label = "images[" + std::to_string(imageIndex) + "] \"" + image->name + "\"";
+  const std::span<const std::byte> span(reinterpret_cast<const std::byte*>(bytes), size > 0 ? static_cast<size_t>(size) : 0);
+  if (pa::isJpeg(span)) {  // libjpeg-turbo: stb 2.27 has undefined behaviour on corrupt JPEGs
+    try {
+      const auto [w, h] = pa::jpegSize(span);
+      if (w < 1 || h < 1 || static_cast<uint64_t>(w) * static_cast<uint64_t>(h) > kMaxImagePixels)
+        throw pa::JpegError(pa::JpegError::Stage::Size, "bad size");
+      pa::JpegImage jpeg = pa::decodeJpeg(span, {.maxDimension = 65535});
+      image->width = jpeg.width;
+      image->height = jpeg.height;
+      image->image = std::move(jpeg.rgba);
+    } catch (const pa::JpegError& e) {
+      context->warnings->push_back(label + ": cannot decode image (" + e.what() + ")");
+    }
+    return true;
+  }
   int width = 0, height = 0, channels = 0;
   if (!stbi_info_from_memory(bytes, size, &width, &height, &channels) || width < 1 || height < 1 ||
       static_cast<uint64_t>(width) * static_cast<uint64_t>(height) > kMaxImagePixels) {

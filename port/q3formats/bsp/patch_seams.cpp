@@ -159,7 +159,7 @@ class PointGrid {
   }
 
   void add(int32_t model, const glm::vec3& p) {
-    cells_.add(p, model);
+    modelPoints_[model].push_back(cells_.add(p, model));
     lastQuery_.push_back(0);
   }
   /// Every point within `reach` of the segment (a, b), and some farther ones, each once.
@@ -184,6 +184,24 @@ class PointGrid {
     // segment is within reach + cell/2 of a sample).
     const float radius = reach + 0.5f * cell_;
     const int samples = static_cast<int>(std::min(std::ceil(glm::distance(a, b) / cell_), 1e6f));
+    // A walk of more than kMaxWalkCells cell reads (hostile patches with far-apart control points
+    // made edges of a million samples) tests the model's points directly when they are fewer, so
+    // a query costs at most max(kMaxWalkCells, model points). The 85 OpenArena maps need at most
+    // 18,684 reads a query, so they keep the walk and its results.
+    const double sampleCells = std::pow(std::ceil(2.0 * static_cast<double>(radius) / cell_) + 1.0, 3.0);
+    const double walkCells = static_cast<double>(samples + 1) * sampleCells;
+    const auto found = modelPoints_.find(model);
+    if (found == modelPoints_.end()) return;
+    if (walkCells > kMaxWalkCells && static_cast<double>(found->second.size()) < walkCells) {
+      const glm::vec3 d = b - a;
+      const float length2 = glm::dot(d, d);
+      for (uint32_t id : found->second) {
+        const glm::vec3& p = cells_.point(id);
+        const float along = length2 > 0 ? std::clamp(glm::dot(p - a, d) / length2, 0.0f, 1.0f) : 0.0f;
+        if (glm::distance(a + along * d, p) <= radius) out.push_back(p);
+      }
+      return;
+    }
     for (int k = 0; k <= samples; ++k) {
       const glm::vec3 s = a + (b - a) * (static_cast<float>(k) / static_cast<float>(samples));
       collect(cells_.cellOf(s - radius), cells_.cellOf(s + radius));
@@ -194,6 +212,8 @@ class PointGrid {
   PointCells cells_;
   float cell_;
   std::vector<uint64_t> lastQuery_;  ///< per point: the last query that reported it
+  std::unordered_map<int32_t, std::vector<uint32_t>> modelPoints_;  ///< point ids of each model
+  static constexpr double kMaxWalkCells = 65536;
   uint64_t query_ = 0;
 };
 

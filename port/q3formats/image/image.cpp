@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "port/q3formats/common/format_error.h"
+#include "renderer/image_codecs/jpeg_decode.h"
 
 namespace q3 {
 namespace {
@@ -49,42 +50,16 @@ void checkTgaLength(std::span<const std::byte> bytes, int w, int h, const std::s
                           (rle ? "at least " : "") + std::to_string(need) + " needed");
 }
 
-/// stb_image 2.27 (Debian bookworm) does not check that a JPEG Huffman table holds at most 256
-/// codes and writes past its tables when it does (found by q3_fuzz_image; fixed upstream in 2.28).
-/// Walk every marker segment, including those between progressive scans, and refuse such files.
-void checkJpegHuffmanTables(std::span<const std::byte> bytes, const std::string& name) {
-  if (bytes.size() < 4 || at(bytes, 0) != 0xFF || at(bytes, 1) != 0xD8) return;
-  size_t pos = 2;
-  while (pos + 4 <= bytes.size()) {
-    if (at(bytes, pos) != 0xFF) {  // entropy-coded data: skip to the next real marker
-      ++pos;
-      continue;
-    }
-    const uint8_t marker = at(bytes, pos + 1);
-    if (marker == 0x00 || marker == 0xFF || (marker >= 0xD0 && marker <= 0xD7)) {  // stuffing, fill, RSTn
-      ++pos;
-      continue;
-    }
-    if (marker == 0xD9) return;  // EOI
-    const size_t length = (static_cast<size_t>(at(bytes, pos + 2)) << 8) | at(bytes, pos + 3);
-    const size_t end = pos + 2 + length;
-    if (marker == 0xC4) {  // DHT: tables of (class/id, 16 counts, values)
-      size_t t = pos + 4;
-      while (t < end && t < bytes.size()) {
-        size_t codes = 0;  // stb reads zeros past the end: a cut-off header counts what is there
-        for (size_t i = 1; i <= 16 && t + i < bytes.size(); ++i) codes += at(bytes, t + i);
-        if (codes > 256)
-          throw FormatError(name, "JPEG huffman table", std::to_string(codes) + " codes, at most 256");
-        t += 17 + codes;
-      }
-    }
-    if (length < 2) return;  // stb rejects it
-    pos = end;
-  }
+/// A JPEG failure as a FormatError naming the file and the stage.
+[[noreturn]] void throwJpegError(const pa::JpegError& e, const std::string& name) {
+  const char* field = e.stage() == pa::JpegError::Stage::Header ? "JPEG header"
+                      : e.stage() == pa::JpegError::Stage::Size ? "image size"
+                                                                 : "JPEG data";
+  throw FormatError(name, field, e.what());
 }
 
-/// Only the formats the engine loads reach stb (it also decodes GIF, PSD, PIC, PNM and HDR, which
-/// would widen what a hostile pk3 can reach). PNG, JPEG and BMP are known by their magic numbers;
+/// Only the formats the engine loads are decoded (stb also decodes GIF, PSD, PIC, PNM and HDR,
+/// which would widen what a hostile pk3 can reach). PNG, JPEG and BMP are known by their magic numbers;
 /// anything else must have a plausible TGA header (no other format's magic can pass that test).
 void checkFormatIsAllowed(std::span<const std::byte> bytes, const std::string& name) {
   if (bytes.size() >= 8 && at(bytes, 0) == 0x89 && at(bytes, 1) == 'P' && at(bytes, 2) == 'N' && at(bytes, 3) == 'G') return;
@@ -104,7 +79,13 @@ void checkFormatIsAllowed(std::span<const std::byte> bytes, const std::string& n
 std::array<int, 2> imageSize(std::span<const std::byte> bytes, const std::string& name) {
   checkInputSize(bytes, name);
   checkFormatIsAllowed(bytes, name);
-  checkJpegHuffmanTables(bytes, name);  // before stbi_info: its header pass builds the tables too
+  if (pa::isJpeg(bytes)) {
+    try {
+      return pa::jpegSize(bytes);
+    } catch (const pa::JpegError& e) {
+      throwJpegError(e, name);
+    }
+  }
   int w = 0, h = 0, comp = 0;
   if (!stbi_info_from_memory(data(bytes), static_cast<int>(bytes.size()), &w, &h, &comp))
     throw FormatError(name, "image header", "unreadable: " + failureReason());
@@ -112,6 +93,16 @@ std::array<int, 2> imageSize(std::span<const std::byte> bytes, const std::string
 }
 
 Image decodeImage(std::span<const std::byte> bytes, const std::string& name) {
+  checkInputSize(bytes, name);
+  checkFormatIsAllowed(bytes, name);
+  if (pa::isJpeg(bytes)) {  // libjpeg-turbo, as the engine
+    try {
+      pa::JpegImage jpeg = pa::decodeJpeg(bytes, {.maxDimension = ImageLimits::maxDimension});
+      return Image{jpeg.width, jpeg.height, std::move(jpeg.rgba)};
+    } catch (const pa::JpegError& e) {
+      throwJpegError(e, name);
+    }
+  }
   const auto [w, h] = imageSize(bytes, name);
   if (w <= 0 || h <= 0 || w > ImageLimits::maxDimension || h > ImageLimits::maxDimension)
     throw FormatError(name, "image size",

@@ -1,5 +1,6 @@
 #pragma once
-// Image decoding for game textures (TGA, JPG, PNG, BMP) into RGBA8, via stb_image.
+// Image decoding for game textures into RGBA8: TGA, PNG and BMP via stb_image, JPEG via
+// libjpeg-turbo (as the engine).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -30,7 +31,8 @@ struct ImageLimits {
 
 /// Decodes TGA (uncompressed and RLE; true-colour 16/24/32 bit, grey, colour-mapped; either
 /// origin), JPG, PNG or BMP (other formats stb knows are refused). The size is read first and
-/// refused beyond ImageLimits; failures throw FormatError naming `name` and the field.
+/// refused beyond ImageLimits; failures throw FormatError naming `name` and the field. JPEGs
+/// are decoded by libjpeg-turbo (renderer/image_codecs/jpeg_decode.h), the rest by stb_image.
 /// The result is always RGBA8, top row first.
 Image decodeImage(std::span<const std::byte> bytes, const std::string& name);
 

@@ -3,6 +3,7 @@
 #include <physfs.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -131,6 +132,28 @@ PHYSFS_Io* createByteIo(const std::byte* data, uint64_t size) {
   return io;
 }
 
+/// physfs's allocations are refused beyond this size. physfs 3.0.2 allocates a zip symlink's
+/// target at the size its entry claims (up to 4 GiB) and inflates into it: a 316-byte pk3
+/// claiming a 4 GiB symlink made physfs allocate 4 GiB while listing it (q3_fuzz_pk3); a deflate
+/// bomb would also fill it. The target then fails to resolve and the entry is left out. Real
+/// archives need a few MiB at most (the entry table of a large pk3).
+constexpr PHYSFS_uint64 kMaxPhysfsAllocation = PHYSFS_uint64{64} << 20;
+
+/// The allocator handed to physfs: malloc and friends, with kMaxPhysfsAllocation.
+const PHYSFS_Allocator kCappedAllocator = {
+    nullptr, nullptr,
+    [](PHYSFS_uint64 size) -> void* { return size <= kMaxPhysfsAllocation ? std::malloc(static_cast<size_t>(size)) : nullptr; },
+    [](void* block, PHYSFS_uint64 size) -> void* {
+      return size <= kMaxPhysfsAllocation ? std::realloc(block, static_cast<size_t>(size)) : nullptr;
+    },
+    [](void* block) { std::free(block); }};
+
+/// Initialises physfs with the capped allocator; throws on failure.
+void initPhysfs() {
+  if (!PHYSFS_setAllocator(&kCappedAllocator) || !PHYSFS_init(nullptr))
+    throw std::runtime_error("physfs init failed: " + physfsError());
+}
+
 /// Process-wide physfs state: reference-counted init and one mount per archive file.
 class PhysfsRegistry {
  public:
@@ -142,8 +165,7 @@ class PhysfsRegistry {
   /// Mounts an archive (or reuses its mount); returns the mount point or throws.
   std::string acquire(const std::string& archive) {
     std::lock_guard lock(mutex_);
-    if (users_ == 0 && !PHYSFS_isInit() && !PHYSFS_init(nullptr))
-      throw std::runtime_error("physfs init failed: " + physfsError());
+    if (users_ == 0 && !PHYSFS_isInit()) initPhysfs();
     ++users_;
     auto it = mounts_.find(archive);
     if (it != mounts_.end()) {
@@ -168,8 +190,7 @@ class PhysfsRegistry {
   /// point and sets `key` (unique per call) or throws.
   std::string acquireMemory(const std::vector<std::byte>& bytes, const std::string& name, std::string& key) {
     std::lock_guard lock(mutex_);
-    if (users_ == 0 && !PHYSFS_isInit() && !PHYSFS_init(nullptr))
-      throw std::runtime_error("physfs init failed: " + physfsError());
+    if (users_ == 0 && !PHYSFS_isInit()) initPhysfs();
     ++users_;
     const uint64_t id = nextId_++;
     const std::string mountPoint = "patharena_vfs/" + std::to_string(id);

@@ -186,7 +186,8 @@ TEST(Image, FallbackIsAMagentaBlackChecker) {
 
 namespace {
 TEST(Image, RefusesJpegHuffmanTablesWithMoreThan256Codes) {
-  // stb_image 2.27 writes past its Huffman tables for these (found by q3_fuzz_image).
+  // stb_image 2.27 wrote past its Huffman tables for these (found by q3_fuzz_image); libjpeg
+  // refuses them.
   Bytes b;
   put(b, {0xFF, 0xD8});                                                  // SOI
   put(b, {0xFF, 0xC0, 0x00, 0x0B, 8, 0x00, 0x08, 0x00, 0x08, 1, 1, 0x11, 0});  // SOF0 8x8 grey
@@ -200,7 +201,8 @@ TEST(Image, RefusesJpegHuffmanTablesWithMoreThan256Codes) {
     q3::decodeImage(b, "evil.jpg");
     FAIL() << "accepted";
   } catch (const q3::FormatError& e) {
-    EXPECT_EQ(e.field(), "JPEG huffman table");
+    EXPECT_EQ(e.field(), "JPEG header");
+    EXPECT_NE(std::string(e.what()).find("Huffman"), std::string::npos) << e.what();
   }
   // The header-only size query parses the tables too (a DHT before SOF), so it checks as well.
   Bytes early;
@@ -209,8 +211,8 @@ TEST(Image, RefusesJpegHuffmanTablesWithMoreThan256Codes) {
   for (int i = 0; i < 16; ++i) put(early, {20});
   for (int i = 0; i < codes; ++i) put(early, {i & 0xFF});
   EXPECT_THROW(q3::imageSize(early, "early.jpg"), q3::FormatError);
-  // A table header cut off by the end of the file: stb reads the missing counts as zeros but
-  // still uses the ones present (third fuzz finding).
+  // A table header cut off by the end of the file (stb read the missing counts as zeros but
+  // still used the ones present: third fuzz finding).
   Bytes cut;
   put(cut, {0xFF, 0xD8, 0xFF, 0xC4, 0x01, 0x00, 0x00});
   for (int i = 0; i < 5; ++i) put(cut, {255});
@@ -236,5 +238,32 @@ TEST(Image, RefusesFormatsTheEngineDoesNotLoad) {
   Bytes tgaBadType = tgaHeader(7, 1, 1, 24, 0);
   put(tgaBadType, {1, 2, 3});
   EXPECT_THROW(q3::decodeImage(tgaBadType, "x.tga"), q3::FormatError);
+}
+}  // namespace
+
+namespace {
+TEST(Image, JpegFailuresNameTheFileAndStage) {
+  // JPEGs go to libjpeg-turbo (renderer/image_codecs); its errors become FormatErrors.
+  std::vector<uint8_t> grey(9000 * 8, 100);
+  Bytes wide;
+  ASSERT_TRUE(stbi_write_jpg_to_func(appendToVector, &wide, 9000, 8, 1, grey.data(), 50));
+  EXPECT_EQ(q3::imageSize(wide, "wide.jpg"), (std::array<int, 2>{9000, 8}));
+  try {
+    q3::decodeImage(wide, "wide.jpg");
+    FAIL() << "accepted";
+  } catch (const q3::FormatError& e) {
+    EXPECT_EQ(e.field(), "image size");
+    EXPECT_EQ(e.file(), "wide.jpg");
+  }
+  Bytes small;
+  ASSERT_TRUE(stbi_write_jpg_to_func(appendToVector, &small, 16, 16, 1, grey.data(), 90));
+  const Bytes cut(small.begin(), small.begin() + 40);
+  try {
+    q3::decodeImage(cut, "cut.jpg");
+    FAIL() << "accepted";
+  } catch (const q3::FormatError& e) {
+    EXPECT_EQ(e.field(), "JPEG header");
+    EXPECT_EQ(e.file(), "cut.jpg");
+  }
 }
 }  // namespace

@@ -177,6 +177,28 @@ TEST(GameFileSystem, DoubleSlashEntryDoesNotLoopForever) {
   EXPECT_EQ(text(fs.readFile("maps/x.bsp")), "m");
 }
 
+TEST(GameFileSystem, SymlinkEntryClaimingGigabytesIsLeftOut) {
+  // A Unix symlink entry whose central directory claims a 4 GiB target: physfs 3.0.2 allocated
+  // the claimed size while listing the archive (q3_fuzz_pk3, a 316-byte pk3). Its allocations are
+  // now capped: the link does not resolve, physfs then fails to list the link's folder (so its
+  // siblings are not indexed either), and the archive's other folders still work.
+  std::string zip = q3::test::storedZip({{"scripts/x.shader", "x"}, {"maps/link.bsp", "maps/x.bsp"}, {"maps/x.bsp", "IBSP"}});
+  const size_t central = zip.rfind("maps/link.bsp") - 46;  // its central directory header
+  ASSERT_EQ(zip.compare(central, 4, "PK\x01\x02"), 0);
+  auto put16 = [&zip](size_t at, uint16_t v) { zip[at] = char(v & 0xFF), zip[at + 1] = char(v >> 8); };
+  auto put32 = [&](size_t at, uint32_t v) { put16(at, uint16_t(v & 0xFFFF)), put16(at + 2, uint16_t(v >> 16)); };
+  put16(central + 4, 0x031e);        // made by Unix: physfs honours the file type bits
+  put32(central + 24, 0xFA16B031u);  // uncompressed size: about 4 GiB
+  put32(central + 38, 0xA1FF0000u);  // external attributes: S_IFLNK | 0777
+  std::vector<q3::GameFileSystem::MemoryArchive> archives;
+  archives.push_back({"links.pk3", bytesOf(zip)});
+  q3::GameFileSystem fs(std::move(archives));
+  EXPECT_TRUE(fs.mountErrors().empty());
+  EXPECT_EQ(fs.allFiles(), std::vector<std::string>{"scripts/x.shader"});
+  EXPECT_EQ(text(fs.readFile("scripts/x.shader")), "x");
+  EXPECT_FALSE(fs.readFile("maps/link.bsp").has_value());
+}
+
 TEST(GameFileSystem, MissingFolderThrows) {
   EXPECT_THROW(q3::GameFileSystem("/nonexistent/patharena/folder"), std::runtime_error);
 }

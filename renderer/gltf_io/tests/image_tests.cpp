@@ -1,0 +1,90 @@
+// glTF images: JPEGs are decoded by libjpeg-turbo (renderer/image_codecs), PNGs by stb_image.
+#include <cstdio>
+// clang-format off
+#include <jpeglib.h>
+// clang-format on
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "renderer/gltf_io/gltf_loader.h"
+
+namespace pa::gltf {
+namespace {
+
+/// An 8x8 flat-colour baseline JPEG from libjpeg's encoder (quality 100, no subsampling).
+std::vector<unsigned char> flatJpeg(uint8_t r, uint8_t g, uint8_t b) {
+  jpeg_compress_struct cinfo;
+  jpeg_error_mgr err;
+  cinfo.err = jpeg_std_error(&err);
+  jpeg_create_compress(&cinfo);
+  unsigned char* out = nullptr;
+  unsigned long size = 0;
+  jpeg_mem_dest(&cinfo, &out, &size);
+  cinfo.image_width = cinfo.image_height = 8;
+  cinfo.input_components = 3;
+  cinfo.in_color_space = JCS_RGB;
+  jpeg_set_defaults(&cinfo);
+  jpeg_set_quality(&cinfo, 100, TRUE);
+  for (int c = 0; c < cinfo.num_components; ++c) cinfo.comp_info[c].h_samp_factor = cinfo.comp_info[c].v_samp_factor = 1;
+  jpeg_start_compress(&cinfo, TRUE);
+  std::vector<unsigned char> row(8 * 3);
+  for (int x = 0; x < 8; ++x) row[x * 3] = r, row[x * 3 + 1] = g, row[x * 3 + 2] = b;
+  while (cinfo.next_scanline < 8) {
+    JSAMPROW p = row.data();
+    jpeg_write_scanlines(&cinfo, &p, 1);
+  }
+  jpeg_finish_compress(&cinfo);
+  jpeg_destroy_compress(&cinfo);
+  std::vector<unsigned char> bytes(out, out + size);
+  std::free(out);
+  return bytes;
+}
+
+std::string base64(const std::vector<unsigned char>& bytes) {
+  static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t n = (uint32_t{bytes[i]} << 16) | (i + 1 < bytes.size() ? uint32_t{bytes[i + 1]} << 8 : 0) |
+                       (i + 2 < bytes.size() ? uint32_t{bytes[i + 2]} : 0);
+    out += digits[(n >> 18) & 63];
+    out += digits[(n >> 12) & 63];
+    out += i + 1 < bytes.size() ? digits[(n >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? digits[n & 63] : '=';
+  }
+  return out;
+}
+
+GltfScene sceneWithImage(const std::vector<unsigned char>& jpeg) {
+  const std::string json = R"({"asset":{"version":"2.0"},"images":[{"uri":"data:image/jpeg;base64,)" +
+                           base64(jpeg) + R"("}],"textures":[{"source":0}]})";
+  return loadSceneFromMemory(std::as_bytes(std::span(json)), "jpeg.gltf");
+}
+
+TEST(GltfImages, JpegDecodesToRgba) {
+  const GltfScene scene = sceneWithImage(flatJpeg(200, 30, 40));
+  ASSERT_EQ(scene.images.size(), 1u);
+  ASSERT_EQ(scene.images[0].width, 8u);
+  ASSERT_EQ(scene.images[0].rgba8.size(), 8u * 8u * 4u);
+  EXPECT_NEAR(scene.images[0].rgba8[4 * 20 + 0], 200, 2);
+  EXPECT_NEAR(scene.images[0].rgba8[4 * 20 + 1], 30, 2);
+  EXPECT_NEAR(scene.images[0].rgba8[4 * 20 + 2], 40, 2);
+  EXPECT_EQ(scene.images[0].rgba8[4 * 20 + 3], 255);
+  EXPECT_TRUE(scene.warnings.empty());
+}
+
+TEST(GltfImages, CorruptJpegIsAWarningNotAFailure) {
+  std::vector<unsigned char> jpeg = flatJpeg(10, 20, 30);
+  jpeg.resize(30);  // cut inside the headers
+  const GltfScene scene = sceneWithImage(jpeg);
+  ASSERT_EQ(scene.images.size(), 1u);
+  EXPECT_TRUE(scene.images[0].rgba8.empty());
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_NE(scene.warnings[0].find("cannot decode image"), std::string::npos) << scene.warnings[0];
+}
+
+}  // namespace
+}  // namespace pa::gltf
