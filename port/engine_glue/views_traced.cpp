@@ -311,7 +311,7 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   rs.accumulate = settings.preset == Preset::Reference;
   // In play the world never stands still (items bob, the player's own body breathes, shaders
   // animate): a still view keeps accumulating, restarting only the pixels that show a change.
-  rs.accumulateThroughEdits = rs.accumulate && withWorld;
+  rs.accumulateThroughEdits = rs.accumulate && ctx.withWorld;
   rs.radianceClamp = settings.radianceClamp >= 0.0f ? settings.radianceClamp
                      : settings.preset == Preset::Reference ? 0.0f : 10.0f;
   rs.seed = settings.seed + (rs.accumulate ? 0u : frameCounter++);
