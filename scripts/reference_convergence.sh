@@ -29,14 +29,16 @@ work="$(mktemp -d /tmp/pa-reference-run.XXXXXX)"
 trap 'rm -rf "$work"' EXIT
 
 # Run 1: screenshots along the still period, and the stats that date them.
-run() {   # run NAME CFG_BODY: one engine run of the cfg, screenshots copied to OUT
-  pa_engine_prepare "$work/$1" "$module"
-  printf '%b' "$2" >"$(pa_engine_cfg "$work/$1" ref)"
-  pa_engine_run "$work/$1" "$out/$1.log" "${REFERENCE_TIMEOUT:-1800}" 640 360 pathtracer \
+run() {   # run NAME CFG_BODY [engine args]: one engine run of the cfg, screenshots copied to OUT
+  local name="$1" cfg_body="$2"
+  shift 2
+  pa_engine_prepare "$work/$name" "$module"
+  printf '%b' "$cfg_body" >"$(pa_engine_cfg "$work/$name" ref)"
+  pa_engine_run "$work/$name" "$out/$name.log" "${REFERENCE_TIMEOUT:-1800}" 640 360 pathtracer \
     +set sv_pure 0 +set cg_drawGun 1 +set cg_draw2D 1 +set cg_bobup 0 +set cg_bobpitch 0 \
     +set cg_bobroll 0 +set con_notifytime -1 +set r_pt_preset reference +set r_pt_stats 1 "$@" \
     +devmap "$map" +exec ref.cfg
-  cp "$work/$1"/home/baseoa/screenshots/*.tga "$out/" 2>/dev/null || true
+  cp "$work/$name"/home/baseoa/screenshots/*.tga "$out/" 2>/dev/null || true
 }
 # `wait 2` is one rendered frame (two command-buffer ticks per frame: tests/fidelity/capture_frames.sh).
 body="wait 60\nnoclip\nsetviewpos $view\n"

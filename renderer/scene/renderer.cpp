@@ -68,6 +68,16 @@ bool sameTemporalEstimate(const RenderSettings& a, const RenderSettings& b) {
          a.radianceClamp == b.radianceClamp;
 }
 
+/// True when a camera sample's first hit is the surface a pixel's history shows: the same instance
+/// and material as last frame's first hit, at a depth within 5% of the history's mean depth.
+bool sameFirstHit(const PixelAccumulator& history, const PixelSample& sample, InstanceId lastInstance,
+                  MaterialId lastMaterial) {
+  if (history.samples == 0 || sample.instance != lastInstance || sample.material != lastMaterial) return false;
+  if (history.depthCount == 0) return !std::isfinite(sample.depth);   // the sky then and now
+  const double mean = history.depthSum / static_cast<double>(history.depthCount);
+  return std::isfinite(sample.depth) && std::abs(sample.depth - mean) <= 0.05 * mean;
+}
+
 void validateSettings(const RenderSettings& s) {
   if (s.width > kMaxImageSide || s.height > kMaxImageSide) {
     throw SceneError("render: image size " + std::to_string(s.width) + "x" + std::to_string(s.height) +
@@ -244,6 +254,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
             struct PixelState {
               uint32_t x, y, seed;
               bool overlaySeen = false, coveredBefore = false, restarted = false;
+              InstanceId lastInstance = kNoId;   // last frame's first hit (accumulateThroughEdits)
+              MaterialId lastMaterial = kNoId;
             };
             std::array<PixelState, kBlockSide * kBlockSide> pixels;
             uint32_t count = 0;
@@ -254,7 +266,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                 const bool showedEdit =
                     restartSeenPixels && seen.seenAt(gbuffer.instance[i], gbuffer.material[i], scenePortals);
                 pixels[count++] = {x, y, sampling::hashCombine(seedHash, y * settings.width + x), false,
-                                   (restartOverlayPixels && film.overlayAt(x, y)) || showedEdit, false};
+                                   (restartOverlayPixels && film.overlayAt(x, y)) || showedEdit, false,
+                                   gbuffer.instance[i], gbuffer.material[i]};
               }
             std::array<TracedCameraRay, kBlockSide * kBlockSide> traced;
             std::array<glm::vec2, kBlockSide * kBlockSide> jitters;   // this sample's, per pixel
@@ -287,7 +300,12 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                 PixelAccumulator& acc = film.pixel(p.x, p.y);
                 p.overlaySeen = p.overlaySeen || sample.overlay;
                 const bool showsEdit = sample.overlay || (restartSeenPixels && seen.seenAt(sample.instance, sample.material, scenePortals));
-                if ((restartOverlayPixels || restartSeenPixels) && !p.restarted && (p.coveredBefore || showsEdit)) {
+                // Through edits, a pixel that shows one starts again only when its first hit is
+                // another surface now; the same surface moved a little (the view weapon's idle
+                // drift, an animated texture) keeps accumulating, as a long exposure would.
+                const bool sameSurface = settings.accumulateThroughEdits && sameFirstHit(acc, sample, p.lastInstance, p.lastMaterial);
+                if ((restartOverlayPixels || restartSeenPixels) && !p.restarted && (p.coveredBefore || showsEdit) &&
+                    !sameSurface) {
                   acc = PixelAccumulator{};   // the old picture of what changed, or what it now shows, goes
                   p.restarted = true;
                 }

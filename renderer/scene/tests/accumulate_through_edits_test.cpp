@@ -100,6 +100,7 @@ TEST(AccumulateThroughEdits, AMovedInstanceRestartsOnlyThePixelsThatShowIt) {
     } else if (showsItem(after, i) && !showedBefore[i] && !mixedBefore[i]) {
       ++nowShown;   // restarted: the item alone, no wall history
       EXPECT_EQ(after.albedo[i], glm::vec3(kItemAlbedo)) << "pixel " << i;
+      EXPECT_EQ(after.variance[i], 0.0f) << "pixel " << i;   // one sample
     } else if (showedBefore[i] && !shows) {
       ++uncovered;   // restarted: the wall alone, no item history
       EXPECT_EQ(after.albedo[i], glm::vec3(0.7f)) << "pixel " << i;
@@ -108,6 +109,31 @@ TEST(AccumulateThroughEdits, AMovedInstanceRestartsOnlyThePixelsThatShowIt) {
   EXPECT_GT(untouched, kSize * kSize / 2);
   EXPECT_GT(nowShown, 4u);
   EXPECT_GT(uncovered, 4u);
+}
+
+TEST(AccumulateThroughEdits, ASurfaceThatMovesALittleKeepsItsHistory) {
+  // The view weapon's idle drift, a bobbing item: the pixel still shows the same surface.
+  Renderer r({2});
+  buildRoom(r);
+  InstanceId itemId = kNoId;
+  InstanceDesc item = addItem(r, itemId);
+  const RenderSettings s = throughEdits();
+  r.render(camera(), s);
+  r.render(camera(), s);
+  const FrameView before = r.render(camera(), s);
+  const std::vector<glm::vec3> albedoBefore(before.albedo.begin(), before.albedo.end());
+  item.objectToWorld[3] = glm::vec3(0.001f, 0, 0.001f);
+  r.setInstance(itemId, item);
+  r.commit();
+  const FrameView after = r.render(camera(), s);
+  EXPECT_EQ(after.accumulatedFrames, 4u);
+  size_t kept = 0;
+  for (size_t i = 0; i < after.radiance.size(); ++i) {
+    if (albedoBefore[i] != glm::vec3(kItemAlbedo) || !showsItem(after, i)) continue;
+    ++kept;   // four samples of the item: a spread between them (one sample alone has none)
+    EXPECT_GT(after.variance[i], 0.0f) << "pixel " << i;
+  }
+  EXPECT_GT(kept, 8u);
 }
 
 TEST(AccumulateThroughEdits, ALightEditIsAveragedOverTheFrames) {
