@@ -206,9 +206,10 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   const bool restirOn = settings.restir && settings.integrator != Integrator::Lightmap;
   if (!restirOn || !im.restirLast) im.resampler.reset();
   im.restirLast = restirOn;
-  // accumulateThroughEdits: a still view keeps its accumulation through world edits; the pixels
-  // that show an edited instance, material or sky (this frame or the last) start again, lighting
-  // edits are averaged over time as in a long exposure (seen_changes.h).
+  // accumulateThroughEdits: a still view keeps its accumulation through world edits; a pixel that
+  // shows an edited instance, material or sky (this frame or the last) starts again when its first
+  // hit is now another surface; lighting edits are averaged over time as in a long exposure
+  // (seen_changes.h).
   const bool unchangedOrSeenOnly =
       !im.worldChanged || (settings.accumulateThroughEdits && !im.seenSinceRender.everything);
   const bool keep = settings.accumulate && im.haveLast && unchangedOrSeenOnly && sameCamera(camera, im.lastCamera) &&
@@ -299,13 +300,13 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                 }
                 PixelAccumulator& acc = film.pixel(p.x, p.y);
                 p.overlaySeen = p.overlaySeen || sample.overlay;
-                const bool showsEdit = sample.overlay || (restartSeenPixels && seen.seenAt(sample.instance, sample.material, scenePortals));
+                const bool showsEdit =
+                    sample.overlay || (restartSeenPixels && seen.seenAt(sample.instance, sample.material, scenePortals));
                 // Through edits, a pixel that shows one starts again only when its first hit is
                 // another surface now; the same surface moved a little (the view weapon's idle
                 // drift, an animated texture) keeps accumulating, as a long exposure would.
-                const bool sameSurface = settings.accumulateThroughEdits && sameFirstHit(acc, sample, p.lastInstance, p.lastMaterial);
                 if ((restartOverlayPixels || restartSeenPixels) && !p.restarted && (p.coveredBefore || showsEdit) &&
-                    !sameSurface) {
+                    !(settings.accumulateThroughEdits && sameFirstHit(acc, sample, p.lastInstance, p.lastMaterial))) {
                   acc = PixelAccumulator{};   // the old picture of what changed, or what it now shows, goes
                   p.restarted = true;
                 }

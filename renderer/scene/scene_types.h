@@ -413,7 +413,8 @@ struct RenderSettings {
   uint32_t seed = 0;
   bool accumulate = true;         ///< Average with earlier frames while camera and scene are unchanged.
   /// With accumulate, for a still view of a world that keeps moving (play): a scene edit restarts
-  /// only the pixels that show it (an instance, material or the sky, this frame or the last), and
+  /// only the pixels that show it (an instance, material or the sky, this frame or the last) and
+  /// whose first hit is now another surface (instance, material, or depth off by over 5%), and
   /// lighting edits are averaged over the frames as in a long exposure; a texture, fog or
   /// removed-mesh edit still restarts every pixel. False: any edit restarts every pixel.
   bool accumulateThroughEdits = false;
