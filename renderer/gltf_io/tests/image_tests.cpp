@@ -11,37 +11,18 @@
 #include <vector>
 
 #include "renderer/gltf_io/gltf_loader.h"
+#include "renderer/image_codecs/tests/jpeg_test_encoder.h"
 
 namespace pa::gltf {
 namespace {
 
 /// An 8x8 flat-colour baseline JPEG from libjpeg's encoder (quality 100, no subsampling).
 std::vector<unsigned char> flatJpeg(uint8_t r, uint8_t g, uint8_t b) {
-  jpeg_compress_struct cinfo;
-  jpeg_error_mgr err;
-  cinfo.err = jpeg_std_error(&err);
-  jpeg_create_compress(&cinfo);
-  unsigned char* out = nullptr;
-  unsigned long size = 0;
-  jpeg_mem_dest(&cinfo, &out, &size);
-  cinfo.image_width = cinfo.image_height = 8;
-  cinfo.input_components = 3;
-  cinfo.in_color_space = JCS_RGB;
-  jpeg_set_defaults(&cinfo);
-  jpeg_set_quality(&cinfo, 100, TRUE);
-  for (int c = 0; c < cinfo.num_components; ++c) cinfo.comp_info[c].h_samp_factor = cinfo.comp_info[c].v_samp_factor = 1;
-  jpeg_start_compress(&cinfo, TRUE);
-  std::vector<unsigned char> row(8 * 3);
-  for (int x = 0; x < 8; ++x) row[x * 3] = r, row[x * 3 + 1] = g, row[x * 3 + 2] = b;
-  while (cinfo.next_scanline < 8) {
-    JSAMPROW p = row.data();
-    jpeg_write_scanlines(&cinfo, &p, 1);
-  }
-  jpeg_finish_compress(&cinfo);
-  jpeg_destroy_compress(&cinfo);
-  std::vector<unsigned char> bytes(out, out + size);
-  std::free(out);
-  return bytes;
+  std::vector<uint8_t> pixels(8 * 8 * 3);
+  for (size_t i = 0; i < pixels.size(); i += 3) pixels[i] = r, pixels[i + 1] = g, pixels[i + 2] = b;
+  const std::vector<std::byte> jpeg = pa::test::encodeJpeg(pixels, 8, 8, JCS_RGB, 3, 100);
+  const auto* bytes = reinterpret_cast<const unsigned char*>(jpeg.data());
+  return {bytes, bytes + jpeg.size()};
 }
 
 std::string base64(const std::vector<unsigned char>& bytes) {

@@ -12,46 +12,17 @@
 #include <vector>
 
 #include "renderer/image_codecs/jpeg_decode.h"
+#include "renderer/image_codecs/tests/jpeg_test_encoder.h"
 
 namespace {
 
 using Bytes = std::vector<std::byte>;
 using Rgba = std::array<uint8_t, 4>;
+using pa::test::encodeJpeg;
 
 Rgba pixel(const pa::JpegImage& img, int x, int y) {
   const size_t i = (static_cast<size_t>(y) * static_cast<size_t>(img.width) + static_cast<size_t>(x)) * 4;
   return {img.rgba[i], img.rgba[i + 1], img.rgba[i + 2], img.rgba[i + 3]};
-}
-
-/// Encodes `pixels` (rows top first, `components` bytes a pixel) with libjpeg: baseline or
-/// progressive, no chroma subsampling.
-Bytes encodeJpeg(const std::vector<uint8_t>& pixels, int w, int h, J_COLOR_SPACE space, int components,
-                 int quality, bool progressive = false) {
-  jpeg_compress_struct cinfo;
-  jpeg_error_mgr err;
-  cinfo.err = jpeg_std_error(&err);
-  jpeg_create_compress(&cinfo);
-  unsigned char* out = nullptr;
-  unsigned long size = 0;
-  jpeg_mem_dest(&cinfo, &out, &size);
-  cinfo.image_width = static_cast<JDIMENSION>(w);
-  cinfo.image_height = static_cast<JDIMENSION>(h);
-  cinfo.input_components = components;
-  cinfo.in_color_space = space;
-  jpeg_set_defaults(&cinfo);
-  jpeg_set_quality(&cinfo, quality, TRUE);
-  for (int c = 0; c < cinfo.num_components; ++c) cinfo.comp_info[c].h_samp_factor = cinfo.comp_info[c].v_samp_factor = 1;
-  if (progressive) jpeg_simple_progression(&cinfo);
-  jpeg_start_compress(&cinfo, TRUE);
-  while (cinfo.next_scanline < cinfo.image_height) {
-    JSAMPROW row = const_cast<JSAMPROW>(&pixels[static_cast<size_t>(cinfo.next_scanline) * static_cast<size_t>(w * components)]);
-    jpeg_write_scanlines(&cinfo, &row, 1);
-  }
-  jpeg_finish_compress(&cinfo);
-  jpeg_destroy_compress(&cinfo);
-  Bytes bytes(reinterpret_cast<std::byte*>(out), reinterpret_cast<std::byte*>(out) + size);
-  std::free(out);
-  return bytes;
 }
 
 /// 16x16 RGB: four flat 8x8 quadrants (one JPEG block each, so they decode nearly exactly).
