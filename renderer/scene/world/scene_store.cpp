@@ -394,11 +394,15 @@ void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
   });
 }
 
+bool SceneStore::meshTouched(MeshId id) const {
+  return std::find(touchedMeshes_.begin(), touchedMeshes_.end(), id) != touchedMeshes_.end();
+}
+
 bool SceneStore::changesOnlyCameraOverlays() const {
   if (worldDirty_) return false;
   for (const auto& instance : instances_) {
     if (!instance || cameraOnlyOverlay(*instance)) continue;
-    if (std::find(touchedMeshes_.begin(), touchedMeshes_.end(), instance->mesh) != touchedMeshes_.end()) return false;
+    if (meshTouched(instance->mesh)) return false;
   }
   return true;
 }
@@ -475,8 +479,7 @@ void SceneStore::commit(RenderScene& scene) {
   lightsAttached_ = false;
   if (!touchedMeshes_.empty()) {   // instances of an updated mesh show the change
     for (size_t i = 0; i < instances_.size(); ++i)
-      if (instances_[i] && std::find(touchedMeshes_.begin(), touchedMeshes_.end(), instances_[i]->mesh) != touchedMeshes_.end())
-        pendingSeen_.markInstance(static_cast<InstanceId>(i));
+      if (instances_[i] && meshTouched(instances_[i]->mesh)) pendingSeen_.markInstance(static_cast<InstanceId>(i));
   }
   std::swap(lastSeen_, pendingSeen_);
   pendingSeen_.clear();

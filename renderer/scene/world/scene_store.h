@@ -90,6 +90,7 @@ class SceneStore {
   MeshSlot& liveMesh(MeshId id, const char* call);
   void buildMeshes(const std::vector<MaterialRecord>& materials);
   bool changesOnlyCameraOverlays() const;
+  bool meshTouched(MeshId id) const;   ///< updateMesh() changed mesh id since the last commit.
 
   std::vector<MeshSlot> meshes_;
   std::vector<std::optional<InstanceDesc>> instances_;
