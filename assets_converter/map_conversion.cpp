@@ -17,7 +17,7 @@ MapResult convertMap(const q3::GameWorlds& game, const std::string& map, const s
   const std::clock_t cpuStart = std::clock();
   try {
     q3::WorldScene scene = game.load(result.map);
-    if (options.lights) scene.lights = pa::recovery::recoverLights(scene).lights;   // the lights the game renders
+    if (options.lights) pa::recovery::applyRecoveredLights(scene, pa::recovery::recoverLights(scene));   // the lights the game renders
     result.warnings = scene.warnings;
     std::vector<std::byte> glb = exportGlb(scene, options, &result.stats);
 

@@ -41,7 +41,7 @@ void ViewRenderer::Impl::loadMap(const World& world, const ShaderScripts& module
   map.worldScene = q3::buildWorldScene(bsp, world.surfaces(), library, loader);
   q3::WorldScene& scene = *map.worldScene;
   const pa::recovery::RecoveredLights recovered = pa::recovery::recoverLights(scene);
-  scene.lights = recovered.lights;
+  pa::recovery::applyRecoveredLights(scene, recovered);
   for (const std::string& warning : scene.warnings)
     engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: %s\n", warning.c_str());
   stockWorldLook(scene, library, map.glowColors, pictureSettings.lightShift());

@@ -38,6 +38,7 @@ struct CalibrationEmitter {
   glm::vec3 a, b, c;            ///< Corners (Quake units).
   float radiance = 0.0f;        ///< Emitted radiance, summed over RGB (renderer units).
   bool twoSided = false;        ///< Emits from both faces (else towards its counter-clockwise front).
+  int32_t group = -1;           ///< Emitter group whose scale fitEmitterScales fits (its material); -1: known light.
 };
 
 /// Knobs of the calibration.
@@ -59,7 +60,7 @@ struct LightCalibrationOptions {
   size_t maxLightSamplePairs = 2000000;  ///< Budget: samples x fitted grid lights (fewer samples on crowded maps).
   bool admitCandidates = true;     ///< Fit the candidates too (false: refit the estimated lights only).
   int skyRays = 16;                ///< Cosine-distributed rays per sample measuring its open sky.
-  size_t maxLightmapCandidates = 64;   ///< Lightmap candidates examined (besides maxCandidates grid candidates).
+  size_t maxLightmapCandidates = 256;   ///< Lightmap candidates examined (besides maxCandidates grid candidates).
   /// Propose lightmap candidates (lightmap_candidates.h) on maps whose lights were stripped
   /// (calibrateWithShadowRays, recover_lights.h).
   bool lightsFromLightmaps = true;

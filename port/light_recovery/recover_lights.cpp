@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 
 #include <glm/geometric.hpp>
 
@@ -55,16 +56,27 @@ RecoveredLights recoverLights(const q3::WorldScene& scene, const RecoveryOptions
     out.stats.gridCandidates = gridCandidates.size();
     out.lights.insert(out.lights.end(), estimated.begin(), estimated.end());
     if (options.calibrate)
-      out.lights = calibrateWithShadowRays(scene, out.lights, gridCandidates, options.calibration, &out.stats.calibration);
+      out.lights = calibrateWithShadowRays(scene, out.lights, gridCandidates, options.calibration, &out.stats.calibration,
+                                           &out.surfaceLightScales, &out.stats.emitters);
   }
   out.stats.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
 
+void applyRecoveredLights(q3::WorldScene& scene, const RecoveredLights& recovered) {
+  scene.lights = recovered.lights;
+  for (size_t i = 0; i < scene.materials.size() && i < recovered.surfaceLightScales.size(); ++i) {
+    const float scale = recovered.surfaceLightScales[i];
+    if (std::isfinite(scale) && scale >= 0.0f && scale < 1.0f) scene.materials[i].surfaceLight *= scale;
+  }
+}
+
 std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene, const std::vector<q3::WorldLight>& lights,
                                                     const std::vector<q3::WorldLight>& gridCandidates,
                                                     const LightCalibrationOptions& options,
-                                                    LightCalibrationStats* stats) {
+                                                    LightCalibrationStats* stats, std::vector<float>* surfaceLightScales,
+                                                    EmitterFitStats* emitterStats) {
+  if (surfaceLightScales) surfaceLightScales->clear();
   const bool fromLightmaps = options.lightsFromLightmaps && options.admitCandidates && !scene.lightmaps.empty() &&
                             lightsStripped(lights);
   if ((!hasEstimatedLights(lights, gridCandidates) && !fromLightmaps) || scene.models.empty()) return lights;
@@ -86,7 +98,9 @@ std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene,
       indices.insert(indices.end(), {base + a, base + b, base + c});
     }
   }
-  // What the renderer's emitting surfaces give (surface lights, glow stages).
+  // What the renderer's emitting surfaces give (surface lights, glow stages). Surface lights
+  // are grouped by material for the emitter fit; glow stages are what the surface looks like
+  // and stay known light.
   std::vector<CalibrationEmitter> emitters;
   for (const q3::WorldModel& model : scene.models)
     for (const q3::WorldMesh& mesh : model.meshes) {
@@ -94,10 +108,11 @@ std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene,
       const q3::WorldMaterial& m = scene.materials[mesh.material];
       const float radiance = emittedRadiance(scene, m);
       if (!(radiance > 0.0f) || m.sky) continue;
+      const int32_t group = m.surfaceLight > 0.0f ? int32_t(mesh.material) : -1;
       for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
         const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
         if (a >= mesh.positions.size() || b >= mesh.positions.size() || c >= mesh.positions.size()) continue;
-        emitters.push_back({mesh.positions[a], mesh.positions[b], mesh.positions[c], radiance, m.twoSided});
+        emitters.push_back({mesh.positions[a], mesh.positions[b], mesh.positions[c], radiance, m.twoSided, group});
       }
     }
   Blas blas;
@@ -120,6 +135,7 @@ std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene,
     const glm::vec3 sky = bridge::skyLightingRadiance(scene);
     withSky.skyLightValue = q3::kQ3FullBright * (sky.r + sky.g + sky.b);
   }
+
   // Inside solid: most directions first meet a triangle from behind (brushes are closed and
   // face outwards). Open directions (sky, leaks) count as outside.
   const PointInSolid inSolid = [&](const glm::vec3& point) {
@@ -142,21 +158,41 @@ std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene,
     }
     return behind >= 10;
   };
+  std::vector<glm::vec3> avoid;   // lights the calibration fits anyway
+  for (const q3::WorldLight& l : lights)
+    if (l.type != q3::WorldLightType::Sun) avoid.push_back(l.position);
+  for (const q3::WorldLight& l : gridCandidates) avoid.push_back(l.position);
+  LightmapLightOptions lightmapOptions;
+  lightmapOptions.maxCandidates = options.maxLightmapCandidates;
+  const auto start = std::chrono::steady_clock::now();
+  // On maps whose lights were stripped, the emitting materials' light as the lightmaps show it,
+  // fitted beside the grid's lights and candidates from every unexplained lightmap peak as if no
+  // surface light were known (else a too bright emitter would leave no candidate to take its
+  // place). The steps below see the emitters at the fitted values.
+  const bool anyGroup = std::any_of(emitters.begin(), emitters.end(), [](const CalibrationEmitter& e) { return e.group >= 0; });
+  if (fromLightmaps && anyGroup) {
+    std::vector<CalibrationEmitter> ungrouped;
+    std::copy_if(emitters.begin(), emitters.end(), std::back_inserter(ungrouped),
+                 [](const CalibrationEmitter& e) { return e.group < 0; });
+    const KnownLightAt withoutSurfaceLights = [&](const glm::vec3& position, const glm::vec3& normal) {
+      return knownLightAt(scene, position, normal, blocked, ungrouped, withSky);
+    };
+    const std::vector<q3::WorldLight> peaks =
+        lightsFromLightmaps(scene, withoutSurfaceLights, avoid, blocked, inSolid, lightmapOptions, nullptr);
+    const std::vector<float> scales = fitEmitterScales(scene, lights, gridCandidates, peaks, emitters,
+                                                       scene.materials.size(), blocked, withSky, emitterStats);
+    for (CalibrationEmitter& e : emitters)
+      if (e.group >= 0 && size_t(e.group) < scales.size()) e.radiance *= scales[size_t(e.group)];
+    if (surfaceLightScales) *surfaceLightScales = scales;
+  }
   // Candidates where the lightmaps show light that neither the authored lights, the emitters nor
   // the sky explain (the light grid may be too coarse to show it, or its estimates blended).
   std::vector<q3::WorldLight> lightmapCandidates;
   LightmapLightStats lightmapStats;
-  const auto start = std::chrono::steady_clock::now();
   if (fromLightmaps) {
-    std::vector<glm::vec3> avoid;   // lights the calibration fits anyway
-    for (const q3::WorldLight& l : lights)
-      if (l.type != q3::WorldLightType::Sun) avoid.push_back(l.position);
-    for (const q3::WorldLight& l : gridCandidates) avoid.push_back(l.position);
     const KnownLightAt known = [&](const glm::vec3& position, const glm::vec3& normal) {
       return knownLightAt(scene, position, normal, blocked, emitters, withSky);
     };
-    LightmapLightOptions lightmapOptions;
-    lightmapOptions.maxCandidates = options.maxLightmapCandidates;
     lightmapCandidates = lightsFromLightmaps(scene, known, avoid, blocked, inSolid, lightmapOptions, &lightmapStats);
   }
   const double lightmapMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "port/light_recovery/calibration.h"
+#include "port/light_recovery/emitter_calibration.h"
 #include "port/light_recovery/grid_estimate.h"
 #include "port/q3formats/world/world_scene.h"
 
@@ -35,12 +36,16 @@ struct RecoveryStats {
   size_t gridCandidates = 0;    ///< Grid candidates its checks rejected (handed to the calibration).
   LightEstimateStats estimate;          ///< What the grid estimate did.
   LightCalibrationStats calibration;    ///< What the candidates and the calibration did.
+  EmitterFitStats emitters;             ///< What the emitter fit did.
   double milliseconds = 0.0;    ///< Wall time of the whole recovery.
 };
 
 /// A map's lights: its authored ones, then the recovered ones (WorldLight::estimated).
 struct RecoveredLights {
   std::vector<q3::WorldLight> lights;   ///< The list to light (or export) the map with.
+  /// Per scene material: the share (0..1) of its q3map_surfacelight the lightmaps confirm
+  /// (emitter_calibration.h); empty when nothing was fitted (every material keeps its value).
+  std::vector<float> surfaceLightScales;
   RecoveryStats stats;                  ///< What the recovery did.
 };
 
@@ -50,6 +55,10 @@ struct RecoveredLights {
 /// Deterministic; never throws on hostile data. Callers put the result in scene.lights.
 RecoveredLights recoverLights(const q3::WorldScene& scene, const RecoveryOptions& options = {});
 
+/// Puts a recovery's result into the scene it was run on: its lights, and every material's
+/// q3map_surfacelight times its fitted scale. What every program calls after recoverLights.
+void applyRecoveredLights(q3::WorldScene& scene, const RecoveredLights& recovered);
+
 /// True when `lights` hold estimated lights or there are grid candidates worth calibrating.
 bool hasEstimatedLights(const std::vector<q3::WorldLight>& lights, const std::vector<q3::WorldLight>& gridCandidates);
 
@@ -57,10 +66,14 @@ bool hasEstimatedLights(const std::vector<q3::WorldLight>& lights, const std::ve
 /// estimated ones refitted against the scene's lightmaps, and the grid candidates and (on maps
 /// whose lights were stripped) the lightmap candidates the lightmaps confirm added, shadows
 /// traced through a BVH over the scene's world model; `lights` unchanged when there is nothing
-/// to fit.
+/// to fit. On those maps the emitting materials' light is first fitted to the lightmaps
+/// (fitEmitterScales; per material in `surfaceLightScales` when given, else all 1) and the
+/// steps after it see the emitters at their fitted values.
 std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene, const std::vector<q3::WorldLight>& lights,
                                                     const std::vector<q3::WorldLight>& gridCandidates,
                                                     const LightCalibrationOptions& options = {},
-                                                    LightCalibrationStats* stats = nullptr);
+                                                    LightCalibrationStats* stats = nullptr,
+                                                    std::vector<float>* surfaceLightScales = nullptr,
+                                                    EmitterFitStats* emitterStats = nullptr);
 
 }  // namespace pa::recovery

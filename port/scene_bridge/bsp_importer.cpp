@@ -60,7 +60,7 @@ q3::WorldScene loadMapScene(const MapLocation& where, std::vector<std::string>* 
   q3::GameWorlds game(where.gameDir);
   q3::WorldScene scene = where.looseFile.empty() ? game.load(where.mapPath)
                                                  : game.build(readLooseFile(where.looseFile), where.looseFile.string());
-  scene.lights = recovery::recoverLights(scene).lights;
+  recovery::applyRecoveredLights(scene, recovery::recoverLights(scene));
   if (problems) *problems = game.problems();
   return scene;
 }

@@ -157,17 +157,29 @@ void check(const q3::GameWorlds& game, const std::string& map, size_t spawns, ui
               "(%.0f ms of the calibration)\n",
               sky.r, sky.g, sky.b, stats.lightmapPeaks, stats.lightmapUnexplained, stats.lightmapCandidates,
               stats.admittedFromLightmaps, stats.lightmapMs);
+  std::printf("  emitter fit: %zu materials fitted, %zu lowered below 0.9\n", found.emitters.groups, found.emitters.lowered);
+  for (size_t m = 0; m < recovered.surfaceLightScales.size() && m < scene.materials.size(); ++m)
+    if (scene.materials[m].surfaceLight > 0.0f && recovered.surfaceLightScales[m] < 1.0f)
+      std::printf("    %-60s q3map_surfacelight %g x %.3f\n", scene.materials[m].shaderName.c_str(), scene.materials[m].surfaceLight,
+                  recovered.surfaceLightScales[m]);
   if (std::getenv("PA_LIST_LIGHTS"))
     for (const q3::WorldLight& l : lights)
       std::printf("    %-60s (%.9g %.9g %.9g) value %.9g colour %.9g %.9g %.9g intensity %.9g\n", l.source.c_str(), l.position.x, l.position.y, l.position.z, l.quakeIntensity, l.color.r, l.color.g, l.color.b, l.intensity);
+  const std::vector<q3::WorldMaterial> asCompiled = scene.materials;
+  q3::WorldScene fitted = scene;
+  pa::recovery::applyRecoveredLights(fitted, recovered);
+  const std::vector<q3::WorldMaterial> asFitted = fitted.materials;   // emitters at their fitted scales
   for (size_t s = 0; s < std::min(spawns, scene.cameras.size()); ++s) {
     scene.lights = lights;
+    scene.materials = asFitted;
     const Luminance lightmap = meanLuminance(scene, s, pa::Integrator::Lightmap, true, spp);
     const double baked = lightmap.plain;
     scene.lights = grid;
+    scene.materials = asCompiled;
     const Luminance before = std::getenv("PA_NO_GRID") ? Luminance{NAN, NAN, NAN}
                                                        : meanLuminance(scene, s, pa::Integrator::Direct, false, spp);
     scene.lights = lights;
+    scene.materials = asFitted;
     const bool path = std::getenv("PA_PATH") != nullptr;
     const Luminance after = meanLuminance(scene, s, path ? pa::Integrator::Path : pa::Integrator::Direct, true, spp);
     std::printf("  spawn %zu (%s): lightmap %.4f (capped %.4f, black %.0f%%) | direct grid %.4f (x%.2f, capped x%.2f) | %s "

@@ -1,0 +1,77 @@
+#pragma once
+// The light model the calibrations share (calibration.cpp, emitter_calibration.cpp): lightmap
+// texels sampled on the world's surfaces, q3map2's light at a texel from point lights, suns,
+// emitting triangles and the open sky, and the bounded least-squares solver. Internal to
+// pa_light_recovery.
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "port/light_recovery/calibration.h"
+#include "port/q3formats/world/world_scene.h"
+
+namespace pa::recovery::model {
+
+inline constexpr float kMinLightDistance = 16.0f;   ///< q3map2 clamps point-light distances here.
+inline constexpr float kSunDistance = 65536.0f;     ///< Shadow rays towards a sun end this far away.
+
+/// One sampled lightmap texel.
+struct Sample {
+  glm::vec3 position;
+  glm::vec3 normal;
+  float value;   ///< Texel light value, summed over RGB.
+};
+
+/// One fitted unknown's gain on one sample.
+struct Entry {
+  uint32_t light;
+  float gain;
+};
+
+/// A uniform number in [0, 1) from the generator's top 24 bits.
+float uniform01(std::mt19937& rng);
+
+/// True when every component is finite.
+bool finite3(const glm::vec3& v);
+
+/// Area-weighted texel samples (options.maxSamples, options.seed) over the world model's
+/// lightmapped, visible, opaque surfaces.
+std::vector<Sample> sampleLightmaps(const q3::WorldScene& scene, const LightCalibrationOptions& options);
+
+/// A light's colour summed over RGB (negative components count 0).
+float colorSum(const q3::WorldLight& light);
+
+/// Unshadowed light value a unit-valued inverse-square point light gives the sample (q3map2's
+/// pointScale, cosine and 16-unit distance clamp), summed over RGB.
+float pointGain(const Sample& s, const q3::WorldLight& light);
+
+/// Light value (summed over RGB) an authored light gives the sample, shadows included; shadow
+/// rays are counted in `rays`.
+float authoredLight(const Sample& s, const q3::WorldLight& light, const glm::vec3& origin, const SegmentBlocked& blocked,
+                    size_t& rays);
+
+/// Cosine-weighted share of the hemisphere above the sample through which the sky is seen.
+float openSky(const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked, std::mt19937& rng, int rays);
+
+/// Light value (summed over RGB) an emitting triangle gives the sample: the renderer's
+/// irradiance L * A * cos * cos' / d^2 in light-value units, shadowed towards its centre.
+float emitterLight(const Sample& s, const CalibrationEmitter& e, const glm::vec3& origin, const SegmentBlocked& blocked,
+                   const LightCalibrationOptions& o, size_t& rays);
+
+/// Light value (summed over RGB) the scene's own light gives the sample: authored lights,
+/// emitting triangles and the open sky, shadows included.
+float knownLight(const q3::WorldScene& scene, const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked,
+                 const std::vector<CalibrationEmitter>& emitters, const LightCalibrationOptions& o, std::mt19937& rng,
+                 size_t& rays);
+
+/// Least-squares weight of a texel: 1 (absolute errors) or 1 / (texel + 32) (relative).
+double weightOf(float texel, const LightCalibrationOptions& o);
+
+/// min 1/2 x'(G + L)x - (b + L x0)'x subject to lower <= x <= upper, by coordinate descent
+/// (`gram` row-major n x n, the prior already folded into gram and rhs).
+std::vector<double> solveBounded(const std::vector<double>& gram, const std::vector<double>& rhs, std::vector<double> x,
+                                 const std::vector<double>& lower, const std::vector<double>& upper, int sweeps);
+
+}  // namespace pa::recovery::model
