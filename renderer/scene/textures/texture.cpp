@@ -60,30 +60,58 @@ const std::array<float, 512>& decodeTable(bool srgb) {
   return tables[srgb ? 1 : 0];
 }
 
-/// The colour (first) or alpha (second) half of a decode table.
-std::array<float, 256> half(const std::array<float, 512>& table, bool alpha) {
-  std::array<float, 256> h;
-  std::copy_n(table.begin() + (alpha ? 256 : 0), 256, h.begin());
-  return h;
+/// The byte whose entry in an increasing 256-entry decode table is nearest to v (the lower one
+/// on a tie), by binary search.
+uint8_t searchNearestByte(const float* table, float v) {
+  const float* above = std::lower_bound(table, table + 256, v);
+  if (above == table) return 0;
+  if (above == table + 256) return 255;
+  const float* below = above - 1;
+  return static_cast<uint8_t>((v - *below <= *above - v ? below : above) - table);
 }
 
-/// The byte whose entry in an increasing decode table is nearest to v.
-uint8_t nearestByte(const std::array<float, 256>& table, float v) {
-  const auto above = std::lower_bound(table.begin(), table.end(), v);
-  if (above == table.begin()) return 0;
-  if (above == table.end()) return 255;
-  const auto below = above - 1;
-  return static_cast<uint8_t>((v - *below <= *above - v ? below : above) - table.begin());
+/// searchNearestByte for one decode table without a search per value: the nearest byte at the
+/// start of each of kBuckets buckets of [0, 1], then steps up past the midpoints below v (at
+/// most a step or two: sRGB bytes lie at least 3e-4 apart in linear values, a bucket is 2.4e-4).
+class NearestByte {
+ public:
+  explicit NearestByte(const float* table) {
+    for (size_t b = 0; b < 255; ++b) mid_[b] = table[b] + 0.5f * (table[b + 1] - table[b]);
+    for (uint32_t k = 0; k < kBuckets; ++k)
+      start_[k] = searchNearestByte(table, static_cast<float>(k) / static_cast<float>(kBuckets));
+  }
+  uint8_t operator()(float v) const {
+    if (!(v > 0.0f)) return 0;   // NaN too
+    if (v >= 1.0f) return 255;
+    uint32_t b = start_[std::min(static_cast<uint32_t>(v * float(kBuckets)), kBuckets - 1)];
+    while (b < 255 && v > mid_[b]) ++b;
+    return static_cast<uint8_t>(b);
+  }
+
+ private:
+  static constexpr uint32_t kBuckets = 4096;
+  std::array<float, 255> mid_;
+  std::array<uint8_t, kBuckets> start_;
+};
+
+/// NearestByte of the colour half (sRGB or linear) and of the alpha half of decodeTable(srgb).
+const std::array<NearestByte, 2>& nearestBytes(bool srgb) {
+  static const std::array<std::array<NearestByte, 2>, 2> finders{
+      std::array<NearestByte, 2>{NearestByte(decodeTable(false).data()), NearestByte(decodeTable(false).data() + 256)},
+      std::array<NearestByte, 2>{NearestByte(decodeTable(true).data()), NearestByte(decodeTable(true).data() + 256)}};
+  return finders[srgb ? 1 : 0];
 }
 
-MipLevel quantize(const LinearLevel& linear, const std::array<float, 256>& rgb, const std::array<float, 256>& alpha) {
+MipLevel quantize(const LinearLevel& linear, const std::array<NearestByte, 2>& nearest) {
   MipLevel level;
   level.width = linear.width;
   level.height = linear.height;
   level.texels.resize(linear.texels.size());
+  const NearestByte& rgb = nearest[0];
+  const NearestByte& alpha = nearest[1];
   for (size_t i = 0; i < linear.texels.size(); ++i) {
     const glm::vec4& t = linear.texels[i];
-    level.texels[i] = {nearestByte(rgb, t.r), nearestByte(rgb, t.g), nearestByte(rgb, t.b), nearestByte(alpha, t.a)};
+    level.texels[i] = {rgb(t.r), rgb(t.g), rgb(t.b), alpha(t.a)};
   }
   return level;
 }
@@ -131,10 +159,10 @@ Texture Texture::fromDesc(const TextureDesc& desc, const char* what) {
     return tex;
   }
   // The chain goes down to 1x1; its last level, before rounding to bytes, is average().
-  const std::array<float, 256> rgb = half(decodeTable(desc.srgb), false), alpha = half(decodeTable(desc.srgb), true);
+  const std::array<NearestByte, 2>& nearest = nearestBytes(desc.srgb);
   while (linear.width > 1 || linear.height > 1) {
     linear = downsample(linear);
-    tex.levels_.push_back(quantize(linear, rgb, alpha));
+    tex.levels_.push_back(quantize(linear, nearest));
   }
   tex.average_ = linear.texels.front();
   return tex;
