@@ -65,6 +65,7 @@ TEST(DisplayComposite, TableDecodeMatchesTheExactCurve) {
   const auto [a, b] = decodeTwo(glm::vec3(0.2f, 0.5f, 0.9f), glm::vec3(1.0f, 0.0f, 0.04f));
   EXPECT_EQ(a, glm::vec3(tableSrgbToLinear(0.2f), tableSrgbToLinear(0.5f), tableSrgbToLinear(0.9f)));
   EXPECT_EQ(b, glm::vec3(tableSrgbToLinear(1.0f), 0.0f, tableSrgbToLinear(0.04f)));
+  EXPECT_EQ(decodeTwo(glm::vec3(std::nanf("")), glm::vec3(-1.0f)).first, glm::vec3(0.0f));   // NaN becomes 0
 }
 
 TEST(DisplayComposite, ProductOfDisplayValues) {
