@@ -29,22 +29,67 @@ struct DisplayFog {
 /// integrator's dot products, so that both measure a hit's texture footprint alike.
 float fusedDot(const glm::vec3& a, const glm::vec3& b) { return std::fma(a.z, b.z, std::fma(a.y, b.y, a.x * b.x)); }
 
-/// Base colour x baked light of the surface a camera ray ends on, with its shine stage, in
-/// display values as the stock renderer multiplies and blends its stages.
-glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, const glm::vec4& baseRgba, const glm::vec3& albedo,
-                     float footprint) {
+/// What the stock renderer's texture units read for a surface: the base texture and the baked
+/// light (lightmap texture or vertex colour), both in display values.
+struct StockTexels {
+  glm::vec3 base{1.0f};   ///< Display values in [0, 1].
+  float baseAlpha = 1.0f;
+  glm::vec3 baked{1.0f};  ///< Display values in [0, 1].
+  glm::vec3 albedo{1.0f}; ///< Linear base colour (AOV); filled when `albedoKnown`.
+  bool albedoKnown = false;
+};
+
+/// The base texture and baked light of a hit in display values. An sRGB texture with no other
+/// factor is read as stored (its bytes filtered, as a texture unit filters them); anything else
+/// (base colour, vertex or entity tint, linear data, vertex light) is computed in linear values
+/// and encoded, the two encodings in one pass.
+StockTexels stockTexels(const RenderScene& scene, const SurfaceHit& s, float footprint) {
   const MaterialRecord& m = *s.material;
-  glm::vec3 baked(1.0f);
-  if (m.desc.stock.useVertexLight) {
-    baked = glm::vec3(s.vertexColor);
-  } else if (m.lightmap != nullptr) {
-    baked = glm::vec3(m.lightmap->sample(s.lightmapUv, 0.0f));
+  StockTexels t;
+  const glm::vec4 factor = scene.baseFactor(s);
+  bool encodeBase = false, encodeBaked = false;
+  if (m.base != nullptr && m.base->srgb() && glm::vec3(factor) == glm::vec3(1.0f)) {
+    const glm::vec4 texel = m.base->sampleStored(s.uv, scene.baseLod(s, footprint));
+    t.base = glm::clamp(glm::vec3(texel), 0.0f, 1.0f);
+    t.baseAlpha = texel.a * factor.a;
+  } else {
+    glm::vec4 c = factor;
+    if (m.base != nullptr) c *= m.base->sample(s.uv, scene.baseLod(s, footprint));
+    t.albedo = glm::clamp(glm::vec3(c), 0.0f, 1.0f);
+    t.albedoKnown = true;
+    t.base = t.albedo;
+    t.baseAlpha = c.a;
+    encodeBase = true;
   }
-  glm::vec3 lit = displayProduct(albedo, baked);   // texture x lightmap in 8-bit values, as stock
+  if (m.desc.stock.useVertexLight) {
+    t.baked = glm::vec3(s.vertexColor);
+    encodeBaked = true;
+  } else if (m.lightmap != nullptr && m.lightmap->srgb()) {
+    t.baked = glm::clamp(glm::vec3(m.lightmap->sampleStored(s.lightmapUv, 0.0f)), 0.0f, 1.0f);
+  } else if (m.lightmap != nullptr) {
+    t.baked = glm::vec3(m.lightmap->sample(s.lightmapUv, 0.0f));
+    encodeBaked = true;
+  }
+  if (encodeBase || encodeBaked) {
+    const auto [base, baked] = encodeTwo(t.base, t.baked);
+    if (encodeBase) t.base = base;
+    if (encodeBaked) t.baked = baked;
+  }
+  return t;
+}
+
+/// Base colour x baked light of the surface a camera ray ends on (texture x lightmap in 8-bit
+/// values, as stock multiplies them), with its shine stage, in display values as the stock
+/// renderer multiplies and blends its stages; fills t.albedo.
+glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels& t, float footprint) {
+  const MaterialRecord& m = *s.material;
+  const auto [product, albedo] = decodeTwo(t.base * t.baked, t.base);
+  if (!t.albedoKnown) t.albedo = albedo;
+  glm::vec3 lit = product;
   if (m.shine != nullptr) {   // the shine stage over the lit base, in display values too
     glm::vec4 shine = scene.shineColor(s, footprint);
     if (m.desc.stock.shineVertexColor) shine = glm::vec4(displayProduct(glm::vec3(shine), glm::vec3(s.vertexColor)), shine.a);
-    const float redrawn = m.desc.stock.shineMaskedByBaseAlpha ? std::clamp(baseRgba.a, 0.0f, 1.0f) : 0.0f;
+    const float redrawn = m.desc.stock.shineMaskedByBaseAlpha ? std::clamp(t.baseAlpha, 0.0f, 1.0f) : 0.0f;
     lit = composeShine(lit, shine, m.desc.stock.shineBlend, redrawn);
   }
   return lit;
@@ -103,12 +148,12 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
     const glm::vec3 ns = front ? s.shadingNormal : -s.shadingNormal;
     coneWidth += coneSpread * hit.t;
     const float footprint = coneWidth / std::max(trace::kMinCosForFootprint, front ? facing : -facing);
-    const glm::vec4 baseRgba = scene.baseColor(s, footprint);
-    const glm::vec3 albedo = glm::clamp(glm::vec3(baseRgba), 0.0f, 1.0f);
-    trace::recordSurfaceAovs(scene, s, hit.t, albedo, ns, depth > 0, out);
+    StockTexels texels = stockTexels(scene, s, footprint);
+    const glm::vec3 lit = litSurface(scene, s, texels, footprint);
+    trace::recordSurfaceAovs(scene, s, hit.t, texels.albedo, ns, depth > 0, out);
     const glm::vec3 le = scene.emission(s, front);
     if (le != glm::vec3(0.0f)) layers.append({le, glm::vec3(1.0f)});   // a glow stage adds in display values
-    radiance += beta * litSurface(scene, s, baseRgba, albedo, footprint);
+    radiance += beta * lit;
     break;
   }
   for (uint32_t i = displayFogCount; i-- > 0;) {

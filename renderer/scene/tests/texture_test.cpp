@@ -20,7 +20,8 @@ TEST(Texture, SrgbDecodeAndLinearData) {
 }
 
 TEST(Texture, MipChainAveragesAndFinerLevelsKeepDetail) {
-  // 4x2 checker of black and white (linear data): every coarser level is 0.5 grey.
+  // 4x2 checker of black and white (linear data): every coarser level is 0.5 grey, stored as the
+  // nearest byte (127 or 128: within half a byte step).
   std::vector<uint8_t> px;
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 4; ++x) {
@@ -31,13 +32,40 @@ TEST(Texture, MipChainAveragesAndFinerLevelsKeepDetail) {
   ASSERT_EQ(t.levelCount(), 3u);   // 4x2, 2x1, 1x1
   EXPECT_EQ(t.level(1).width, 2u);
   EXPECT_EQ(t.level(1).height, 1u);
-  EXPECT_NEAR(t.level(1).texels[0].r, 0.5f, 1e-6f);
-  EXPECT_NEAR(t.average().r, 0.5f, 1e-6f);
+  constexpr float kHalfByte = 0.5f / 255.0f;
+  EXPECT_NEAR(t.texel(1, 0, 0).r, 0.5f, kHalfByte + 1e-6f);
+  EXPECT_NEAR(t.average().r, 0.5f, 1e-6f);   // average() is taken before rounding to bytes
   // Texel centre at level 0 is exact; lod 2 gives the average.
   EXPECT_NEAR(t.sample({0.125f, 0.25f}, 0.0f).r, 0.0f, 1e-6f);
   EXPECT_NEAR(t.sample({0.375f, 0.25f}, 0.0f).r, 1.0f, 1e-6f);
-  EXPECT_NEAR(t.sample({0.125f, 0.25f}, 2.0f).r, 0.5f, 1e-6f);
-  EXPECT_NEAR(t.sample({0.125f, 0.25f}, 0.5f).r, 0.25f, 1e-6f);   // halfway between 0 and 0.5
+  EXPECT_NEAR(t.sample({0.125f, 0.25f}, 2.0f).r, 0.5f, kHalfByte + 1e-6f);
+  EXPECT_NEAR(t.sample({0.125f, 0.25f}, 0.5f).r, 0.25f, kHalfByte + 1e-6f);   // halfway between 0 and 0.5
+}
+
+TEST(Texture, CoarserSrgbLevelsKeepTheByteNearestTheLinearMean) {
+  // 2x1 of sRGB 0 and 255: the linear mean 0.5 lies between the decoded bytes 187 (0.4969) and
+  // 188 (0.5029), nearer 188.
+  const std::vector<uint8_t> px{0, 0, 0, 255, 255, 255, 255, 255};
+  const Texture t = Texture::fromDesc({2, 1, px}, "t");
+  ASSERT_EQ(t.levelCount(), 2u);
+  EXPECT_EQ(t.level(1).texels[0][0], 188);
+  EXPECT_EQ(t.level(1).texels[0][3], 255);
+  EXPECT_NEAR(t.texel(1, 0, 0).r, srgbToLinear(188.0f / 255.0f), 1e-7f);
+  EXPECT_NEAR(t.average().r, 0.5f, 1e-6f);
+}
+
+TEST(Texture, StoredLookupsFilterTheBytesAsStored) {
+  // 2x1 sRGB, black and white, clamped: halfway between the texel centres the stored values
+  // blend to 0.5 (a raster texture unit's 8-bit blend), the linear ones to 0.5 linear.
+  const std::vector<uint8_t> px{0, 0, 0, 0, 255, 255, 255, 255};
+  const Texture t = Texture::fromDesc({2, 1, px, true, TextureWrap::Clamp, false}, "t");
+  EXPECT_TRUE(t.srgb());
+  EXPECT_NEAR(t.sampleStored({0.5f, 0.5f}, 0.0f).r, 0.5f, 1e-6f);
+  EXPECT_NEAR(t.sampleStored({0.5f, 0.5f}, 0.0f).a, 0.5f, 1e-6f);
+  EXPECT_NEAR(t.sample({0.5f, 0.5f}, 0.0f).r, 0.5f, 1e-6f);
+  EXPECT_NEAR(t.sampleStored({0.75f, 0.5f}, 0.0f).g, 1.0f, 1e-6f);   // texel centre: its byte / 255
+  const std::vector<uint8_t> grey{51, 102, 153, 204};
+  EXPECT_NEAR(Texture::fromDesc({1, 1, grey}, "g").sampleStored({0.3f, 0.9f}, 0.0f).b, 0.6f, 1e-6f);
 }
 
 TEST(Texture, BilinearRepeatWrapsAndClampHoldsTheEdge) {

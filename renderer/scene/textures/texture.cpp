@@ -3,16 +3,28 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include <glm/glm.hpp>
+
+#if defined(__SSE4_1__)
+#include <immintrin.h>
+#endif
 
 namespace pa {
 
 namespace {
 
-MipLevel downsample(const MipLevel& src) {
-  MipLevel dst;
+/// Linear RGBA texels of one level while the chain is built.
+struct LinearLevel {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  std::vector<glm::vec4> texels;
+};
+
+LinearLevel downsample(const LinearLevel& src) {
+  LinearLevel dst;
   dst.width = std::max(1u, src.width / 2);
   dst.height = std::max(1u, src.height / 2);
   dst.texels.resize(size_t{dst.width} * dst.height);
@@ -32,6 +44,78 @@ MipLevel downsample(const MipLevel& src) {
   return dst;
 }
 
+/// Texture::decode_'s table: 256 colour entries (srgbToLinear(byte / 255) for sRGB, byte / 255
+/// for linear data), then 256 alpha entries (byte / 255).
+const std::array<float, 512>& decodeTable(bool srgb) {
+  static const auto tables = [] {
+    std::array<std::array<float, 512>, 2> t{};
+    for (int i = 0; i < 256; ++i) {
+      const float c = static_cast<float>(i) / 255.0f;
+      for (auto& table : t) table[size_t(256 + i)] = c;
+      t[0][size_t(i)] = c;
+      t[1][size_t(i)] = srgbToLinear(c);
+    }
+    return t;
+  }();
+  return tables[srgb ? 1 : 0];
+}
+
+/// The byte whose entry in an increasing 256-entry decode table is nearest to v (the lower one
+/// on a tie), by binary search.
+uint8_t searchNearestByte(const float* table, float v) {
+  const float* above = std::lower_bound(table, table + 256, v);
+  if (above == table) return 0;
+  if (above == table + 256) return 255;
+  const float* below = above - 1;
+  return static_cast<uint8_t>((v - *below <= *above - v ? below : above) - table);
+}
+
+/// searchNearestByte for one decode table without a search per value: the nearest byte at the
+/// start of each of kBuckets buckets of [0, 1], then steps up past the midpoints below v (at
+/// most a step or two: sRGB bytes lie at least 3e-4 apart in linear values, a bucket is 2.4e-4).
+class NearestByte {
+ public:
+  explicit NearestByte(const float* table) {
+    for (size_t b = 0; b < 255; ++b) mid_[b] = table[b] + 0.5f * (table[b + 1] - table[b]);
+    for (uint32_t k = 0; k < kBuckets; ++k)
+      start_[k] = searchNearestByte(table, static_cast<float>(k) / static_cast<float>(kBuckets));
+  }
+  uint8_t operator()(float v) const {
+    if (!(v > 0.0f)) return 0;   // NaN too
+    if (v >= 1.0f) return 255;
+    uint32_t b = start_[std::min(static_cast<uint32_t>(v * float(kBuckets)), kBuckets - 1)];
+    while (b < 255 && v > mid_[b]) ++b;
+    return static_cast<uint8_t>(b);
+  }
+
+ private:
+  static constexpr uint32_t kBuckets = 4096;
+  std::array<float, 255> mid_;
+  std::array<uint8_t, kBuckets> start_;
+};
+
+/// NearestByte of the colour half (sRGB or linear) and of the alpha half of decodeTable(srgb).
+const std::array<NearestByte, 2>& nearestBytes(bool srgb) {
+  static const std::array<std::array<NearestByte, 2>, 2> finders{
+      std::array<NearestByte, 2>{NearestByte(decodeTable(false).data()), NearestByte(decodeTable(false).data() + 256)},
+      std::array<NearestByte, 2>{NearestByte(decodeTable(true).data()), NearestByte(decodeTable(true).data() + 256)}};
+  return finders[srgb ? 1 : 0];
+}
+
+MipLevel quantize(const LinearLevel& linear, const std::array<NearestByte, 2>& nearest) {
+  MipLevel level;
+  level.width = linear.width;
+  level.height = linear.height;
+  level.texels.resize(linear.texels.size());
+  const NearestByte& rgb = nearest[0];
+  const NearestByte& alpha = nearest[1];
+  for (size_t i = 0; i < linear.texels.size(); ++i) {
+    const glm::vec4& t = linear.texels[i];
+    level.texels[i] = {rgb(t.r), rgb(t.g), rgb(t.b), alpha(t.a)};
+  }
+  return level;
+}
+
 }  // namespace
 
 Texture Texture::fromDesc(const TextureDesc& desc, const char* what) {
@@ -49,50 +133,75 @@ Texture Texture::fromDesc(const TextureDesc& desc, const char* what) {
     throw SceneError(name + ": rgba8 has " + std::to_string(desc.rgba8.size()) + " bytes, expected " +
                      std::to_string(expected) + " (width*height*4)");
   }
-  std::array<float, 256> decode{};
-  for (int i = 0; i < 256; ++i) {
-    const float c = static_cast<float>(i) / 255.0f;
-    decode[static_cast<size_t>(i)] = desc.srgb ? srgbToLinear(c) : c;
-  }
   Texture tex;
   tex.wrap_ = desc.wrap;
+  tex.srgb_ = desc.srgb;
+  tex.decode_ = decodeTable(desc.srgb).data();
   MipLevel base;
   base.width = desc.width;
   base.height = desc.height;
   base.texels.resize(size_t{desc.width} * desc.height);
   for (size_t i = 0; i < base.texels.size(); ++i) {
     const uint8_t* p = &desc.rgba8[i * 4];
-    base.texels[i] = {decode[p[0]], decode[p[1]], decode[p[2]], static_cast<float>(p[3]) / 255.0f};
+    base.texels[i] = {p[0], p[1], p[2], p[3]};
   }
+  LinearLevel linear;
+  linear.width = desc.width;
+  linear.height = desc.height;
+  linear.texels.resize(base.texels.size());
+  for (size_t i = 0; i < base.texels.size(); ++i) linear.texels[i] = tex.decode(base.texels[i]);
   tex.levels_.push_back(std::move(base));
-  // The chain is always built to 1x1 for average(); sampling ignores it when mipmaps are off.
-  while (tex.levels_.back().width > 1 || tex.levels_.back().height > 1) {
-    tex.levels_.push_back(downsample(tex.levels_.back()));
-  }
-  tex.average_ = tex.levels_.back().texels.front();
-  if (!desc.mipmaps) tex.levels_.resize(1);
   if (!desc.mipmaps) {
-    // Exact mean for non-mipmapped textures (the box chain above is exact only for powers of two).
+    // Exact mean for non-mipmapped textures (the box chain is exact only for powers of two).
     glm::dvec4 sum(0.0);
-    for (const glm::vec4& t : tex.levels_.front().texels) sum += glm::dvec4(t);
-    tex.average_ = glm::vec4(sum / static_cast<double>(tex.levels_.front().texels.size()));
+    for (const glm::vec4& t : linear.texels) sum += glm::dvec4(t);
+    tex.average_ = glm::vec4(sum / static_cast<double>(linear.texels.size()));
+    return tex;
   }
+  // The chain goes down to 1x1; its last level, before rounding to bytes, is average().
+  const std::array<NearestByte, 2>& nearest = nearestBytes(desc.srgb);
+  while (linear.width > 1 || linear.height > 1) {
+    linear = downsample(linear);
+    tex.levels_.push_back(quantize(linear, nearest));
+  }
+  tex.average_ = linear.texels.front();
   return tex;
+}
+
+glm::vec4 Texture::decode(const std::array<uint8_t, 4>& t) const {
+#if defined(__AVX2__)
+  // The four bytes widened to indices (alpha into the table's second half), one gather.
+  uint32_t bytes;
+  std::memcpy(&bytes, t.data(), 4);
+  const __m128i index = _mm_add_epi32(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(static_cast<int>(bytes))),
+                                      _mm_setr_epi32(0, 0, 0, 256));
+  glm::vec4 out;
+  _mm_storeu_ps(&out.x, _mm_i32gather_ps(decode_, index, 4));
+  return out;
+#else
+  return {decode_[t[0]], decode_[t[1]], decode_[t[2]], decode_[256 + t[3]]};
+#endif
+}
+
+glm::vec4 Texture::texel(uint32_t levelIndex, uint32_t x, uint32_t y) const {
+  const MipLevel& level = levels_.at(levelIndex);
+  return decode(level.texels.at(size_t{std::min(y, level.height - 1)} * level.width + std::min(x, level.width - 1)));
 }
 
 namespace {
 
 /// The two texel indices along an axis of n texels that a bilinear lookup at integer i blends:
-/// i and i + 1, wrapped (one division at most) or clamped to [0, n - 1].
+/// i and i + 1, wrapped or clamped to [0, n - 1]. With repeat, i lies in [-1, n - 1] (the lookup
+/// wraps its coordinate into [0, 1] first), so wrapping needs no division.
 std::array<uint32_t, 2> texelPair(int i, int n, bool repeat) {
   if (!repeat) return {uint32_t(std::clamp(i, 0, n - 1)), uint32_t(std::clamp(i + 1, 0, n - 1))};
-  int first = i % n;
-  if (first < 0) first += n;
+  const int first = i < 0 ? i + n : (i >= n ? i - n : i);
   return {uint32_t(first), uint32_t(first + 1 == n ? 0 : first + 1)};
 }
 
 }  // namespace
 
+template <bool Stored>
 glm::vec4 Texture::sampleLevel(uint32_t levelIndex, glm::vec2 uv) const {
   const MipLevel& level = levels_[std::min<size_t>(levelIndex, levels_.size() - 1)];
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = {0.0f, 0.0f};
@@ -111,23 +220,47 @@ glm::vec4 Texture::sampleLevel(uint32_t levelIndex, glm::vec2 uv) const {
   const float fy = py - fy0;
   const auto [x0, x1] = texelPair(static_cast<int>(fx0), static_cast<int>(level.width), repeat);
   const auto [y0, y1] = texelPair(static_cast<int>(fy0), static_cast<int>(level.height), repeat);
-  const glm::vec4* row0 = &level.texels[size_t{y0} * level.width];
-  const glm::vec4* row1 = &level.texels[size_t{y1} * level.width];
-  const glm::vec4 a = row0[x0];
-  const glm::vec4 b = row0[x1];
-  const glm::vec4 c = row1[x0];
-  const glm::vec4 d = row1[x1];
+  const std::array<uint8_t, 4>* row0 = &level.texels[size_t{y0} * level.width];
+  const std::array<uint8_t, 4>* row1 = &level.texels[size_t{y1} * level.width];
+#if defined(__SSE4_1__)
+  if constexpr (Stored) {   // the four texels widened and blended in one register each, scaled once
+    const auto load = [](const std::array<uint8_t, 4>& t) {
+      uint32_t bytes;
+      std::memcpy(&bytes, t.data(), 4);
+      return _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(static_cast<int>(bytes))));
+    };
+    const __m128 wx = _mm_set1_ps(fx), wx0 = _mm_set1_ps(1.0f - fx);
+    const __m128 top = _mm_add_ps(_mm_mul_ps(load(row0[x0]), wx0), _mm_mul_ps(load(row0[x1]), wx));
+    const __m128 bottom = _mm_add_ps(_mm_mul_ps(load(row1[x0]), wx0), _mm_mul_ps(load(row1[x1]), wx));
+    const __m128 blend = _mm_add_ps(_mm_mul_ps(top, _mm_set1_ps(1.0f - fy)), _mm_mul_ps(bottom, _mm_set1_ps(fy)));
+    glm::vec4 out;
+    _mm_storeu_ps(&out.x, _mm_mul_ps(blend, _mm_set1_ps(1.0f / 255.0f)));
+    return out;
+  }
+#endif
+  const auto texel = [this](const std::array<uint8_t, 4>& t) { return Stored ? stored(t) : decode(t); };
+  const glm::vec4 a = texel(row0[x0]);
+  const glm::vec4 b = texel(row0[x1]);
+  const glm::vec4 c = texel(row1[x0]);
+  const glm::vec4 d = texel(row1[x1]);
   return (a * (1.0f - fx) + b * fx) * (1.0f - fy) + (c * (1.0f - fx) + d * fx) * fy;
 }
 
-glm::vec4 Texture::sample(glm::vec2 uv, float lod) const {
+template <bool Stored>
+glm::vec4 Texture::sampleAs(glm::vec2 uv, float lod) const {
   const float maxLevel = static_cast<float>(levels_.size() - 1);
-  if (!(lod > 0.0f)) return sampleLevel(0, uv);
-  if (lod >= maxLevel) return sampleLevel(static_cast<uint32_t>(maxLevel), uv);
+  if (!(lod > 0.0f)) return sampleLevel<Stored>(0, uv);
+  if (lod >= maxLevel) return sampleLevel<Stored>(static_cast<uint32_t>(maxLevel), uv);
   const float base = std::floor(lod);
   const float t = lod - base;
   const auto l = static_cast<uint32_t>(base);
-  return glm::mix(sampleLevel(l, uv), sampleLevel(l + 1, uv), t);
+  return glm::mix(sampleLevel<Stored>(l, uv), sampleLevel<Stored>(l + 1, uv), t);
 }
+
+glm::vec4 Texture::sample(glm::vec2 uv, float lod) const { return sampleAs<false>(uv, lod); }
+
+glm::vec4 Texture::sampleFull(glm::vec2 uv) const { return sampleLevel<false>(0, uv); }
+
+glm::vec4 Texture::sampleStored(glm::vec2 uv, float lod) const { return sampleAs<true>(uv, lod); }
 
 }  // namespace pa

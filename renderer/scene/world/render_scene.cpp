@@ -312,21 +312,25 @@ float RenderScene::coverageAt(const RenderInstance& inst, uint32_t prim, glm::ve
   return alpha;
 }
 
-glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint) const {
+glm::vec4 RenderScene::baseFactor(const SurfaceHit& s) const {
   const MaterialRecord& m = *s.material;
   // With useVertexLight the vertex colour is baked light (Lightmap integrator), not albedo.
   glm::vec4 vertex = m.desc.stock.useVertexLight || !m.desc.vertexColorTints ? glm::vec4(1.0f, 1.0f, 1.0f, s.vertexColor.a)
                                                                         : s.vertexColor;
   if (!m.desc.vertexAlphaTints) vertex.a = 1.0f;
-  glm::vec4 c = m.desc.baseColor * vertex * s.instance->tint;
-  if (m.base != nullptr) {
-    float lod = 0.0f;
-    if (footprint > 0.0f && s.uvArea > 0.0f && s.worldArea > 0.0f) {
-      const float texels = static_cast<float>(m.base->width()) * static_cast<float>(m.base->height());
-      lod = std::log2(footprint * std::sqrt(s.uvArea * texels / s.worldArea));
-    }
-    c *= m.base->sample(s.uv, lod);
-  }
+  return m.desc.baseColor * vertex * s.instance->tint;
+}
+
+float RenderScene::baseLod(const SurfaceHit& s, float footprint) const {
+  const Texture* base = s.material->base;
+  if (base == nullptr || !(footprint > 0.0f && s.uvArea > 0.0f && s.worldArea > 0.0f)) return 0.0f;
+  const float texels = static_cast<float>(base->width()) * static_cast<float>(base->height());
+  return std::log2(footprint * std::sqrt(s.uvArea * texels / s.worldArea));
+}
+
+glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint) const {
+  glm::vec4 c = baseFactor(s);
+  if (s.material->base != nullptr) c *= s.material->base->sample(s.uv, baseLod(s, footprint));
   return c;
 }
 

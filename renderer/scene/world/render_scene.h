@@ -143,6 +143,10 @@ struct RenderScene {
   /// footprint: world-space width of the ray's footprint on the surface (picks the mip level;
   /// 0 = full resolution).
   glm::vec4 baseColor(const SurfaceHit& s, float footprint) const;
+  /// baseColor's factors besides the texture (baseColor x vertex colour x tint, linear).
+  glm::vec4 baseFactor(const SurfaceHit& s) const;
+  /// baseColor's mip level of the base texture (0 without one).
+  float baseLod(const SurfaceHit& s, float footprint) const;
   /// Shine colour (shine texture x shineColor, linear RGB, A = texture alpha; 0 when the
   /// material has none), mip level from `footprint` as baseColor's.
   glm::vec4 shineColor(const SurfaceHit& s, float footprint) const;
