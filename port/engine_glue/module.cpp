@@ -127,8 +127,20 @@ void Module::loadWorld(const char* name) {
       throw DropError(std::string("LoadWorld: ") + name + ": " + error.what());
     }
   }
-  engine_.print(q3abi::PRINT_ALL, "pathtracer: loaded %s (%zu brush models)\n", name,
-                world_->brushModels().size());
+  worldFlares_.clear();
+  const q3::BspFile& bsp = world_->bsp();
+  if (!bsp.models.empty()) {
+    const auto first = static_cast<size_t>(std::max(0, bsp.models[0].firstSurface));
+    const size_t end = std::min(bsp.surfaces.size(), first + static_cast<size_t>(std::max(0, bsp.models[0].numSurfaces)));
+    for (size_t i = first; i < end; ++i) {
+      const q3::BspSurface& s = bsp.surfaces[i];
+      if (s.type == q3::SurfaceType::Flare) worldFlares_.push_back({s.lightmapOrigin, s.lightmapVecs[0], s.lightmapVecs[2]});
+    }
+  }
+  flareTracker_.reset(worldFlares_.size());
+  flareShader_ = registerShader("flareShader");
+  engine_.print(q3abi::PRINT_ALL, "pathtracer: loaded %s (%zu brush models, %zu flares)\n", name,
+                world_->brushModels().size(), worldFlares_.size());
 }
 
 void Module::setWorldVisData(const q3abi::byte*) {

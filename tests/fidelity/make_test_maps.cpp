@@ -169,7 +169,7 @@ int main(int argc, char** argv) {
     w.addQuad({glm::vec3(320, 300, 0), {320, 300, 160}, {320, 420, 0}, {320, 420, 160}}, {-1, 0, 0});
     w.surfaces.back().lightmap = q3::kLightmapByVertex;
     addFlare(w, {448, 200, 128}, {-1, 0, 0}, {1.0f, 0.9f, 0.6f}, 1);   // in the open, facing the spawn
-    addFlare(w, {448, 360, 80}, {-1, 0, 0}, {0.6f, 0.8f, 1.0f}, 1);    // behind the screen
+    addFlare(w, {448, 360, 112}, {-1, 0, 0}, {0.6f, 0.8f, 1.0f}, 1);   // behind the screen
     write(game / "maps/pa_flare.bsp", finish(w));
   }
   std::printf("test maps written to %s\n", game.c_str());
