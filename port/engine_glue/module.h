@@ -124,6 +124,8 @@ class Module {
   /// Prints the r_pt_stats line: per-frame means of stats_ up to `nowMs`.
   void printFrameStats(int nowMs) const;
   double seconds() const;
+  /// The stock picture cvars with the window's fullscreen state (the display's overbright bits).
+  PictureSettings picture() const;
   void takeScreenshot(const ScreenshotRequest& request);
   void captureVideoFrame(const VideoFrameRequest& request);
   std::string nextScreenshotName(const std::string& extension);

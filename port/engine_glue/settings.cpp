@@ -103,6 +103,8 @@ VideoModeRequest Settings::videoMode() const {
   return request;
 }
 
+int PictureSettings::displayOverBrightBits() const { return fullscreen ? std::clamp(overBrightBits, 0, 2) : 0; }
+
 int PictureSettings::lightShift() const { return std::clamp(mapOverBrightBits - displayOverBrightBits(), 0, 8); }
 
 std::array<uint8_t, 256> gammaRamp(float gamma, int overbrightBits) {

@@ -88,6 +88,12 @@ glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b) {
   return {d[0], d[1], d[2]};
 }
 
+glm::vec3 displayProductScaled(const glm::vec3& a, const glm::vec3& b, float scale) {
+  const Lanes e = encodeLanes(Lanes{a.x, a.y, a.z, b.x, b.y, b.z});
+  const Lanes d = decodeLanes(Lanes{e[0] * e[3] * scale, e[1] * e[4] * scale, e[2] * e[5] * scale});
+  return {d[0], d[1], d[2]};
+}
+
 glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend blend, float baseRedrawn) {
   const glm::vec3 dst = encode(base);
   const glm::vec3 src = encode(glm::vec3(shine));

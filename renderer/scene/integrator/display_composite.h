@@ -24,6 +24,9 @@ float fastSrgbToLinear(float c);
 /// decode(encode(a) * encode(b)) (the stock texture x lightmap multiply of 8-bit values; the
 /// linear product lin(a) lin(b) is up to 13x darker where the sRGB curve is linear, near black).
 glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b);
+/// decode(min(1, encode(a) * encode(b) * scale)): the product taken in display values and then
+/// scaled there, clamped at full white (a display ramp that multiplies what was drawn).
+glm::vec3 displayProductScaled(const glm::vec3& a, const glm::vec3& b, float scale);
 
 /// A shine stage over a lit base, composed as framebuffer blending does (StockLook::shineBlend):
 /// with dst = encode(base) and src = encode(shine.rgb), dst' = clamp(blend(dst, src)) (Add:

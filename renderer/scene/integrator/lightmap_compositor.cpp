@@ -40,7 +40,9 @@ glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, const glm::v
   } else if (m.lightmap != nullptr) {
     baked = glm::vec3(m.lightmap->sample(s.lightmapUv, 0.0f));
   }
-  glm::vec3 lit = displayProduct(albedo, baked);   // texture x lightmap in 8-bit values, as stock
+  // texture x lightmap in 8-bit values, as stock (x the display's overbright factor)
+  glm::vec3 lit = m.desc.stock.bakedLightScale == 1.0f ? displayProduct(albedo, baked)
+                                                       : displayProductScaled(albedo, baked, m.desc.stock.bakedLightScale);
   if (m.shine != nullptr) {   // the shine stage over the lit base, in display values too
     glm::vec4 shine = scene.shineColor(s, footprint);
     if (m.desc.stock.shineVertexColor) shine = glm::vec4(displayProduct(glm::vec3(shine), glm::vec3(s.vertexColor)), shine.a);

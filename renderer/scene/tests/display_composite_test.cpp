@@ -53,6 +53,15 @@ TEST(DisplayComposite, ProductOfDisplayValues) {
   EXPECT_NEAR(linearToSrgb(displayProduct(glm::vec3(1.0f), linear(0.6f)).y), 0.6f, 1e-5f);
 }
 
+TEST(DisplayComposite, ScaledProductClampsAtWhite) {
+  // 0.3 x 0.5 = 0.15 in display values, doubled 0.3; 0.8 x 0.9 = 0.72 doubled clamps at 1.
+  const glm::vec3 p = displayProductScaled(linear(0.3f), linear(0.5f), 2.0f);
+  EXPECT_NEAR(linearToSrgb(p.x), 0.3f, 1e-5f);
+  EXPECT_NEAR(linearToSrgb(displayProductScaled(linear(0.8f), linear(0.9f), 2.0f).x), 1.0f, 1e-6f);
+  // Scale 1 is the plain product.
+  EXPECT_NEAR(displayProductScaled(linear(0.3f), linear(0.1f), 1.0f).x, displayProduct(linear(0.3f), linear(0.1f)).x, 1e-7f);
+}
+
 TEST(DisplayComposite, NoLayersLeaveTheColourAlone) {
   const DisplayComposite none;
   EXPECT_EQ(none.over(glm::vec3(0.25f, 2.0f, 0.0f)), glm::vec3(0.25f, 2.0f, 0.0f));
