@@ -184,7 +184,10 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
       handles.lightmaps.push_back(kNoId);
       continue;
     }
-    std::vector<uint8_t> shifted = colorShiftLightmap(lm.rgba8, options.lightmapShift);
+    // Images a shader stage names are drawn unbrightened, as the stock renderer draws them.
+    const size_t index = handles.lightmaps.size();
+    const bool asImage = index < scene.lightmapNamedByShader.size() && scene.lightmapNamedByShader[index];
+    std::vector<uint8_t> shifted = colorShiftLightmap(lm.rgba8, asImage ? 0 : options.lightmapShift);
     TextureDesc desc;
     desc.width = lm.width;
     desc.height = lm.height;

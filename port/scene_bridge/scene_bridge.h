@@ -28,7 +28,8 @@ struct UploadOptions {
   float lightScale = 1.0f;   ///< Multiplies every light intensity and emission (artistic exposure).
   float skyIntensity = 1.0f; ///< Radiance multiplier of the sky.
   /// Lightmaps are brightened by 2^lightmapShift with hue-keeping saturation (Quake's
-  /// r_mapOverBrightBits minus the display's overbright bits; 2 by default).
+  /// r_mapOverBrightBits minus the display's overbright bits; 2 by default), except images a
+  /// shader stage names (WorldScene::lightmapNamedByShader), which stock draws unbrightened.
   int lightmapShift = 2;
   /// StockLook::bakedLightScale of the world's lightmapped and vertex-lit materials (the
   /// display's overbright: 2^bits when a gamma ramp doubles what was drawn).
