@@ -46,7 +46,7 @@ capture stock_pa_flare_off opengl1 pa_flare +set r_flares 0 || status=1
 [[ -n "$keep" ]] && { mkdir -p "$keep"; cp -r "$out"/. "$keep/"; }
 [[ $status -eq 0 ]] || exit 1
 # Thresholds just below the figures measured (tests/fidelity/README.md, "Test maps").
-compare pa_oor 26.5 0.96      # both vertex-lit
+compare pa_oor 35.5 0.965     # both vertex-lit
 compare pa_ext 19.5 0.95      # stock vertex-lit, ours from lm_0000 (same gradient: a shape check)
 compare pa_lm512 42 0.98      # both from the shader's image, unbrightened
 # Flares (r_flares 1): the open flare projects to about (375, 180) and the one behind the screen
@@ -61,7 +61,7 @@ crop() {   # crop NAME A B RECT MIN_PSNR MAX_PSNR MIN_SSIM
     { echo "FAIL: $1 outside PSNR [$5, $6] dB / SSIM >= $7"; status=1; }
 }
 flare=275,100,200,160; hidden=154,135,120,120
-crop "flare as stock" ours_pa_flare stock_pa_flare "$flare" 24 999 0.985
+crop "flare as stock" ours_pa_flare stock_pa_flare "$flare" 44 999 0.995
 crop "flare drawn" ours_pa_flare ours_pa_flare_off "$flare" 0 30 0
 crop "hidden flare not drawn" ours_pa_flare ours_pa_flare_off "$hidden" 45 999 0.99
 crop "hidden flare, stock" stock_pa_flare stock_pa_flare_off "$hidden" 45 999 0.99

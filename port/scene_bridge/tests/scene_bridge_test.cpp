@@ -191,6 +191,18 @@ TEST(SceneBridge, VertexLitSurfacesUseVertexColoursAsBakedLight) {
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(128 / 255.0f), 0.01f);
 }
 
+TEST(SceneBridge, VertexLightIsInterpolatedInDisplayValues) {
+  // Vertex light 0 along the bottom edge, 255 along the top: halfway up, a raster renderer's
+  // Gouraud shading shows byte 128 (linear 0.214), not linear 0.5.
+  q3::WorldScene scene = wallScene(0, true);
+  auto& colors = scene.models[0].meshes[0].colors;
+  colors = {glm::vec4(0, 0, 0, 1), glm::vec4(0, 0, 0, 1), glm::vec4(1, 1, 1, 1), glm::vec4(1, 1, 1, 1)};
+  Renderer renderer;
+  showSkyAndFog(uploadWorld(scene, renderer), renderer);
+  renderer.commit();
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(0.5f), 0.01f);
+}
+
 /// A q3map2 light of value 300 on the wall's axis at the distance where it lights a facing
 /// texel full bright (300 * pointScale / d^2 = 64, "texture unmodified").
 q3::WorldLight fullBrightPointLight() {
