@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "port/engine_glue/allocation_counter.h"
@@ -175,10 +176,51 @@ void Module::renderScene(const q3abi::refdef_t* view) {
                           static_cast<float>(view->x), static_cast<float>(view->y),
                           static_cast<float>(view->width), static_cast<float>(view->height),
                           !noWorld);
+      if (!noWorld) drawFlares(*view, *picture);
     }
   }
   // The next view holds only what is added after this one (as in the stock renderer).
   scene_.clear();
+}
+
+void Module::drawFlares(const q3abi::refdef_t& view, const TracedPicture& picture) {
+  if (worldFlares_.empty()) return;
+  const PictureSettings settings = settings_.picture(engine_);
+  if (!settings.flares) return;
+  FlareView flareView;
+  flareView.origin = {view.vieworg[0], view.vieworg[1], view.vieworg[2]};
+  flareView.forward = {view.viewaxis[0][0], view.viewaxis[0][1], view.viewaxis[0][2]};
+  flareView.left = {view.viewaxis[1][0], view.viewaxis[1][1], view.viewaxis[1][2]};
+  flareView.up = {view.viewaxis[2][0], view.viewaxis[2][1], view.viewaxis[2][2]};
+  flareView.fovX = view.fov_x;
+  flareView.fovY = view.fov_y;
+  flareView.x = view.x;
+  flareView.y = view.y;
+  flareView.width = view.width;
+  flareView.height = view.height;
+  flareView.timeMs = view.time;
+  // The depth of the traced pixel under a window position (the picture may be traced smaller).
+  const auto depthAt = [&](float x, float y) {
+    if (picture.depth.size() != size_t(picture.width) * size_t(picture.height) || picture.depth.empty())
+      return std::numeric_limits<float>::infinity();
+    const int px = std::clamp(static_cast<int>((x - view.x) * picture.width / view.width), 0, picture.width - 1);
+    const int py = std::clamp(static_cast<int>((y - view.y) * picture.height / view.height), 0, picture.height - 1);
+    return picture.depth[size_t(py) * size_t(picture.width) + size_t(px)];
+  };
+  flareTracker_.update(flareView, worldFlares_, settings.flare, depthAt, flareQuads_);
+  if (flareQuads_.empty()) return;
+  const ImageSource images = [this](const std::string& name) { return images_.load(engine_, name); };
+  const double shaderSeconds = view.time * 0.001;
+  overlay_.clip(view.x, view.y, view.width, view.height);
+  for (const FlareQuad& quad : flareQuads_) {
+    const float color[4] = {quad.color.r, quad.color.g, quad.color.b, 1.0f};
+    overlay_.setColor(color);
+    // Texture t runs up the screen, as stock's window-space quad has it.
+    overlay_.drawPic(shaders_, engine_, images, flareShader_, shaderSeconds, quad.centerX - quad.halfSize,
+                     quad.centerY - quad.halfSize, 2.0f * quad.halfSize, 2.0f * quad.halfSize, 0.0f, 1.0f, 1.0f, 0.0f);
+  }
+  overlay_.setColor(nullptr);
+  overlay_.clearClip();
 }
 
 void Module::setColor(const float* rgba) { overlay_.setColor(rgba); }

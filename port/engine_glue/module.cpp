@@ -58,6 +58,12 @@ void Module::ensureWindow(q3abi::glconfig_t* config) {
   if (config != nullptr) *config = glconfig_;
 }
 
+PictureSettings Module::picture() const {
+  PictureSettings out = settings_.picture(engine_);
+  out.fullscreen = glconfig_.isFullscreen != 0;
+  return out;
+}
+
 void Module::updateDisplayRamp() {
   displayRamp_ = gammaRamp(settings_.picture(engine_).gamma, 0);
   rampIsIdentity_ = isIdentityRamp(displayRamp_);
@@ -71,8 +77,8 @@ void Module::beginRegistration(q3abi::glconfig_t* config) {
   updateDisplayRamp();
   if (!views_) views_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);
   if (!modelViews_) modelViews_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);
-  views_->setPicture(settings_.picture(engine_));
-  modelViews_->setPicture(settings_.picture(engine_));
+  views_->setPicture(picture());
+  modelViews_->setPicture(picture());
   scripts_.load(engine_);
   engine_.print(q3abi::PRINT_DEVELOPER, "pathtracer: %zu shaders in scripts\n", scripts_.size());
   addCommands();
@@ -120,15 +126,27 @@ void Module::loadWorld(const char* name) {
   }
   if (views_) {
     try {
-      views_->setPicture(settings_.picture(engine_));
+      views_->setPicture(picture());
       views_->loadWorld(*world_, scripts_, images_);
     } catch (const std::exception& error) {
       world_.reset();
       throw DropError(std::string("LoadWorld: ") + name + ": " + error.what());
     }
   }
-  engine_.print(q3abi::PRINT_ALL, "pathtracer: loaded %s (%zu brush models)\n", name,
-                world_->brushModels().size());
+  worldFlares_.clear();
+  const q3::BspFile& bsp = world_->bsp();
+  if (!bsp.models.empty()) {
+    const auto first = static_cast<size_t>(std::max(0, bsp.models[0].firstSurface));
+    const size_t end = std::min(bsp.surfaces.size(), first + static_cast<size_t>(std::max(0, bsp.models[0].numSurfaces)));
+    for (size_t i = first; i < end; ++i) {
+      const q3::BspSurface& s = bsp.surfaces[i];
+      if (s.type == q3::SurfaceType::Flare) worldFlares_.push_back({s.lightmapOrigin, s.lightmapVecs[0], s.lightmapVecs[2]});
+    }
+  }
+  flareTracker_.reset(worldFlares_.size());
+  flareShader_ = registerShader("flareShader");
+  engine_.print(q3abi::PRINT_ALL, "pathtracer: loaded %s (%zu brush models, %zu flares)\n", name,
+                world_->brushModels().size(), worldFlares_.size());
 }
 
 void Module::setWorldVisData(const q3abi::byte*) {

@@ -124,12 +124,17 @@ class Module {
   /// Prints the r_pt_stats line: per-frame means of stats_ up to `nowMs`.
   void printFrameStats(int nowMs) const;
   double seconds() const;
+  /// The stock picture cvars with the window's fullscreen state (the display's overbright bits).
+  PictureSettings picture() const;
   void takeScreenshot(const ScreenshotRequest& request);
   void captureVideoFrame(const VideoFrameRequest& request);
   std::string nextScreenshotName(const std::string& extension);
   void fillFallbackFont(q3abi::fontInfo_t& font, int pointSize);
   void addCommands();
   void removeCommands();
+  /// r_flares: the map's flares over a traced view of the world, tested against its depth and
+  /// drawn with the flare shader (flares.h).
+  void drawFlares(const q3abi::refdef_t& view, const TracedPicture& picture);
 
   Engine engine_;
   Settings settings_;
@@ -147,6 +152,10 @@ class Module {
   /// Views without the world (RDF_NOWORLDMODEL: HUD heads, 3D icons, menu models): a scene and
   /// film of their own, so that they never rebuild, resize or reset the world view's.
   std::unique_ptr<ViewRenderer> modelViews_;
+  std::vector<Flare> worldFlares_;      ///< The world model's flare surfaces.
+  FlareTracker flareTracker_;           ///< Their fade state from view to view of the world.
+  std::vector<FlareQuad> flareQuads_;   ///< This view's flare quads (capacity kept).
+  q3abi::qhandle_t flareShader_ = 0;    ///< "flareShader", registered with the world.
   std::vector<ScreenshotRequest> pendingShots_;
   FilmCapture filmCapture_;   ///< r_pt_captureExr: the last world view of the last frame, for screenshots.
   /// The display's gamma ramp (r_gamma; stock sets it on the display, we map the finished frame).

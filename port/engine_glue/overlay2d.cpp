@@ -70,6 +70,16 @@ void Overlay2D::applyRamp(const std::array<uint8_t, 256>& ramp) {
   glPopAttrib();
 }
 
+void Overlay2D::clip(int x, int y, int w, int h) {
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(x, height_ - (y + h), std::max(0, w), std::max(0, h));
+}
+
+void Overlay2D::clearClip() {
+  glScissor(0, 0, width_, height_);
+  glDisable(GL_SCISSOR_TEST);
+}
+
 void Overlay2D::setColor(const float* rgba) {
   if (rgba == nullptr) color_ = {1, 1, 1, 1};
   else color_ = {rgba[0], rgba[1], rgba[2], rgba[3]};

@@ -42,6 +42,10 @@ class Overlay2D {
   void uploadRaw(int client, const uint8_t* rgba, int cols, int rows);
   /// DrawStretchRaw after an upload: draws that cinematic slot.
   void drawRaw(int client, float x, float y, float w, float h);
+  /// Limits drawing to a rectangle in window pixels (top-left origin) until clearClip().
+  void clip(int x, int y, int w, int h);
+  /// Draws over the whole window again.
+  void clearClip();
   /// Maps every colour byte of the frame (the beginFrame size from the bottom-left) through
   /// `ramp` (a gamma ramp applied in software): read back, mapped, drawn again.
   void applyRamp(const std::array<uint8_t, 256>& ramp);

@@ -68,7 +68,10 @@ void Settings::registerCvars(const Engine& engine) {
   mapOverBrightBits_ = engine.cvar("r_mapOverBrightBits", "2", CVAR_LATCH,
                                    "Lightmaps and baked vertex light are brightened by 2^(this - display bits)");
   intensity_ = engine.cvar("r_intensity", "1", CVAR_LATCH, "Multiplies world and model texture colours (>= 1)");
-  flares_ = engine.cvar("r_flares", "0", CVAR_ARCHIVE, "Light flares (not drawn by the path tracer)");
+  flares_ = engine.cvar("r_flares", "0", CVAR_ARCHIVE, "Light flares of the map's flare surfaces");
+  flareSize_ = engine.cvar("r_flareSize", "40", CVAR_CHEAT, "Flare size in pixels of a 640-wide view");
+  flareFade_ = engine.cvar("r_flareFade", "7", CVAR_CHEAT, "Flare fade in or out: full range per 1/this seconds");
+  flareCoeff_ = engine.cvar("r_flareCoeff", "150", CVAR_CHEAT, "Flare intensity falloff with distance (0 = 150)");
   temporal_ = engine.cvar("r_pt_temporal", "1", CVAR_ARCHIVE,
                           "Temporal accumulation (reprojected history) on the direct and path presets (0 = off)");
   if (temporal_ != nullptr) ri.Cvar_CheckRange(temporal_, 0, 1, 1);
@@ -99,6 +102,8 @@ VideoModeRequest Settings::videoMode() const {
   if (fullscreen_ != nullptr) request.fullscreen = fullscreen_->integer != 0;
   return request;
 }
+
+int PictureSettings::displayOverBrightBits() const { return fullscreen ? std::clamp(overBrightBits, 0, 2) : 0; }
 
 int PictureSettings::lightShift() const { return std::clamp(mapOverBrightBits - displayOverBrightBits(), 0, 8); }
 
@@ -166,6 +171,13 @@ PictureSettings Settings::picture(const Engine& engine) const {
     out.intensity = std::max(1.0f, intensity_->value);
   }
   out.flares = flares_ != nullptr && flares_->integer != 0;
+  const auto finiteOr = [](const q3abi::cvar_t* cvar, float fallback) {
+    return cvar != nullptr && std::isfinite(cvar->value) ? cvar->value : fallback;
+  };
+  out.flare.size = finiteOr(flareSize_, 40.0f);
+  out.flare.fade = finiteOr(flareFade_, 7.0f);
+  out.flare.coeff = finiteOr(flareCoeff_, 150.0f);
+  if (out.flare.coeff == 0.0f) out.flare.coeff = 150.0f;   // stock: 0 means the standard coefficient
   return out;
 }
 

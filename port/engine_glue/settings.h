@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "port/engine_glue/flares.h"
 #include "port/engine_glue/ioq3_abi.h"
 #include "port/engine_glue/window.h"
 
@@ -48,11 +49,16 @@ struct PictureSettings {
   int overBrightBits = 1;      ///< r_overBrightBits as set (see displayOverBrightBits).
   int mapOverBrightBits = 2;   ///< r_mapOverBrightBits: baked light is brightened by 2^(this - display bits).
   float intensity = 1.0f;      ///< r_intensity, at least 1: mipmapped texture bytes are multiplied by it.
-  bool flares = false;         ///< r_flares (flares are not drawn: registered for configs and menus).
+  bool fullscreen = false;     ///< The window is fullscreen (glconfig isFullscreen; set by the module).
+  bool flares = false;         ///< r_flares: the map's light flares over views of the world (flares.h).
+  FlareParams flare;           ///< r_flareSize, r_flareFade, r_flareCoeff.
 
-  /// Overbright bits of the display: stock uses r_overBrightBits only with a hardware gamma ramp
-  /// in fullscreen; the module presents the picture as stock does without one: 0.
-  int displayOverBrightBits() const { return 0; }
+  /// Overbright bits of the display, as stock opengl1 decides them (R_SetColorMappings): in a
+  /// window 0; fullscreen r_overBrightBits in [0, 2] (24-bit colour, gamma ramp available).
+  int displayOverBrightBits() const;
+  /// 2^displayOverBrightBits: stock draws lit surfaces at half and its gamma ramp doubles the
+  /// frame; the module multiplies texture x baked light by this in display values instead.
+  float bakedLightScale() const { return static_cast<float>(1 << displayOverBrightBits()); }
   /// The shift that brightens lightmaps and baked vertex light: r_mapOverBrightBits minus the
   /// display's overbright bits, at least 0.
   int lightShift() const;
@@ -106,6 +112,9 @@ class Settings {
   q3abi::cvar_t* mapOverBrightBits_ = nullptr;
   q3abi::cvar_t* intensity_ = nullptr;
   q3abi::cvar_t* flares_ = nullptr;
+  q3abi::cvar_t* flareSize_ = nullptr;
+  q3abi::cvar_t* flareFade_ = nullptr;
+  q3abi::cvar_t* flareCoeff_ = nullptr;
   q3abi::cvar_t* temporal_ = nullptr;
   q3abi::cvar_t* restir_ = nullptr;
   q3abi::cvar_t* look_ = nullptr;

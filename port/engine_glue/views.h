@@ -47,6 +47,8 @@ struct TracedPicture {
   /// variance of each pixel's mean luminance over this frame's samples (empty when unknown).
   std::span<const glm::vec3> radiance;
   std::span<const float> variance;
+  /// First-hit distance along each pixel's camera ray (+inf = sky; empty when unknown).
+  std::span<const float> depth;
 };
 
 /// Owns the path tracer and what it knows of the world.

@@ -336,7 +336,7 @@ TracedPicture ViewRenderer::Impl::picture(const ViewContext& ctx, const pa::Fram
       if (!std::isfinite(frame.depth[i])) rgba[i * 4 + 3] = 0;   // see-through background
   }
   return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), rgba.data(), timings,
-                       frame.accumulatedFrames, frame.radiance, frame.variance};
+                       frame.accumulatedFrames, frame.radiance, frame.variance, frame.depth};
 }
 
 }  // namespace glue

@@ -64,7 +64,10 @@ pa::MaterialDesc ViewRenderer::Impl::describe(const ShaderEntry& entry, const Sh
   const ImageTextures textures = [this](const std::shared_ptr<const Image>& i, bool clamp, bool noPicmip) {
     return texture(i, clamp, noPicmip);
   };
-  return describeStage(entry, look, image, use, layer, textures);
+  pa::MaterialDesc desc = describeStage(entry, look, image, use, layer, textures);
+  // Models lit by the light grid: the display's overbright doubles texture x light (settings.h).
+  if (desc.stock.useVertexLight) desc.stock.bakedLightScale = pictureSettings.bakedLightScale();
+  return desc;
 }
 
 const q3::Md3Model* ViewRenderer::Impl::md3(const ModelEntry& entry) {

@@ -49,6 +49,7 @@ void ViewRenderer::Impl::loadMap(const World& world, const ShaderScripts& module
   map.worldDeforms.extract(scene, library);   // before the upload: leaves the static mesh
   pa::bridge::UploadOptions upload;
   upload.lightmapShift = pictureSettings.lightShift();
+  upload.bakedLightScale = pictureSettings.bakedLightScale();
   map.world = pa::bridge::uploadWorld(scene, *renderer, upload);
   map.bridgeSky = map.world.sky;
   renderer->setSky(map.bridgeSky);

@@ -101,6 +101,7 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   desc.stock.lightmapTexture =
       q3::lightmapPageOf(lightmap, handles.lightmaps.size()) >= 0 ? handles.lightmaps[size_t(lightmap)] : kNoId;
   desc.stock.useVertexLight = m.vertexLit || desc.stock.lightmapTexture == kNoId;
+  if (m.vertexLit || desc.stock.lightmapTexture != kNoId) desc.stock.bakedLightScale = handles.bakedLightScale;
   desc.mirror = m.mirror;
   desc.specular = m.specular;
   desc.twoSided = m.twoSided;
@@ -165,6 +166,7 @@ LightDesc lightDesc(const q3::WorldLight& light, float lightScale) {
 
 WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const UploadOptions& options) {
   WorldHandles handles;
+  handles.bakedLightScale = options.bakedLightScale;
   for (const q3::WorldTexture& t : scene.textures) {
     if (!validImage(t.image)) {
       handles.textures.push_back(kNoId);
@@ -182,7 +184,10 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
       handles.lightmaps.push_back(kNoId);
       continue;
     }
-    std::vector<uint8_t> shifted = colorShiftLightmap(lm.rgba8, options.lightmapShift);
+    // Images a shader stage names are drawn unbrightened, as the stock renderer draws them.
+    const size_t index = handles.lightmaps.size();
+    const bool asImage = index < scene.lightmapNamedByShader.size() && scene.lightmapNamedByShader[index];
+    std::vector<uint8_t> shifted = colorShiftLightmap(lm.rgba8, asImage ? 0 : options.lightmapShift);
     TextureDesc desc;
     desc.width = lm.width;
     desc.height = lm.height;

@@ -28,8 +28,12 @@ struct UploadOptions {
   float lightScale = 1.0f;   ///< Multiplies every light intensity and emission (artistic exposure).
   float skyIntensity = 1.0f; ///< Radiance multiplier of the sky.
   /// Lightmaps are brightened by 2^lightmapShift with hue-keeping saturation (Quake's
-  /// r_mapOverBrightBits minus the display's overbright bits; 2 by default).
+  /// r_mapOverBrightBits minus the display's overbright bits; 2 by default), except images a
+  /// shader stage names (WorldScene::lightmapNamedByShader), which stock draws unbrightened.
   int lightmapShift = 2;
+  /// StockLook::bakedLightScale of the world's lightmapped and vertex-lit materials (the
+  /// display's overbright: 2^bits when a gamma ramp doubles what was drawn).
+  float bakedLightScale = 1.0f;
 };
 
 /// A map's fog volumes in the renderer's terms, owning the plane arrays the descriptions view.
@@ -52,6 +56,7 @@ struct WorldHandles {
   std::vector<InstanceId> modelInstances;   ///< Per model: identity instance (kNoId when empty).
   std::vector<LightId> lights;              ///< Per light added (scene.lights with a positive, finite intensity).
   uint64_t triangles = 0;
+  float bakedLightScale = 1.0f;   ///< UploadOptions::bakedLightScale, for materialDesc.
   /// The map's sky (skyDesc()) and fog volumes (fogVolumes()) with the upload's options: the
   /// caller shows them (showSkyAndFog) or replaces them with its own.
   SkyDesc sky;

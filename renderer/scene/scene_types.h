@@ -16,7 +16,8 @@
 //   front, i.e. the side cross(p1 - p0, p2 - p0) points to). One-sided surfaces are also culled
 //   from behind for camera and bounce rays (not for shadow rays).
 // - Vertex colours multiply the base colour, except with stock.useVertexLight where they are baked
-//   light: used by the Lightmap integrator only, ignored by Direct/Path.
+//   light: used by the Lightmap integrator only, ignored by Direct/Path, and interpolated across
+//   the triangle in display (sRGB-encoded) values, as a raster renderer's Gouraud shading does.
 // - Blend surfaces are stochastic coverage: a ray stops on them with probability
 //   alpha * opacity (hashed per ray and triangle), for camera, bounce and shadow rays alike.
 // - Additive surfaces add their colour (base colour + emission) to camera rays and mirror
@@ -199,6 +200,9 @@ struct UvWobble {
 struct StockLook {
   TextureId lightmapTexture = kNoId;    ///< Baked light for the lightmap preset (uses lightmapUvs).
   bool useVertexLight = false;          ///< Baked light is the vertex colour.
+  /// Display-value multiplier of base colour x baked light, clamped at white: a display whose
+  /// gamma ramp multiplies what was drawn (Quake's overbright bits: 2^bits).
+  float bakedLightScale = 1.0f;
   /// Additive materials: how the Lightmap compositor composes the layer over what is behind it, in
   /// display values as framebuffer blending does (the other integrators add the colour).
   LayerBlend layerBlend = LayerBlend::Add;

@@ -5,6 +5,8 @@
 # too has run the teleport through the server before the screenshot: both see the same picture)
 # (CAPTURE_WAIT ticks there, default 40) and writes OUT_DIR/view_N.tga (N = 1, 2, ...) plus OUT_DIR/engine.log. RENDERER and MODULE as
 # in capture_frames.sh. Used for views the demo never shows (fog volumes: tests/fidelity/README.md).
+# CAPTURE_GAME_FILES (a folder, optional): its files are copied into the home path's baseoa, e.g.
+# maps built by code (tests/fidelity/make_test_maps.cpp).
 # Exit 77 when the engine, the game data or xvfb-run are missing.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -19,6 +21,7 @@ pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not inst
 work="$(mktemp -d /tmp/pa-view.XXXXXX)"
 trap 'rm -rf "$work"' EXIT
 if [[ "$renderer" == pathtracer ]]; then pa_engine_prepare "$work" "$module"; else pa_engine_prepare "$work"; fi
+[[ -n "${CAPTURE_GAME_FILES:-}" ]] && cp -r "$CAPTURE_GAME_FILES"/. "$work/home/baseoa/"
 cfg="$(pa_engine_cfg "$work" view)"
 printf 'wait 60\nnoclip\n' >"$cfg"
 n=0

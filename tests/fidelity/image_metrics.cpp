@@ -174,4 +174,15 @@ RgbImage differenceImage(const RgbImage& a, const RgbImage& b, double gain) {
   return out;
 }
 
+RgbImage crop(const RgbImage& image, int x, int y, int width, int height) {
+  if (width <= 0 || height <= 0 || x < 0 || y < 0 || x + width > image.width || y + height > image.height)
+    throw std::invalid_argument("crop rectangle outside the image");
+  RgbImage out{width, height, std::vector<std::uint8_t>(static_cast<size_t>(width) * height * 3)};
+  for (int row = 0; row < height; ++row) {
+    const auto from = image.pixels.begin() + (static_cast<std::ptrdiff_t>(y + row) * image.width + x) * 3;
+    std::copy(from, from + width * 3, out.pixels.begin() + static_cast<std::ptrdiff_t>(row) * width * 3);
+  }
+  return out;
+}
+
 }  // namespace pa::fidelity

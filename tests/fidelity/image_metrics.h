@@ -55,6 +55,10 @@ struct WorstTile {
 /// Throws std::invalid_argument when the sizes differ or size < 1.
 WorstTile worstTile(const RgbImage& a, const RgbImage& b, int size);
 
+/// The width x height rectangle of `image` whose top-left pixel is (x, y); throws
+/// std::invalid_argument when the rectangle is empty or not inside the image.
+RgbImage crop(const RgbImage& image, int x, int y, int width, int height);
+
 /// Mean linear luminance of the image in [0, 1]: each 8-bit channel sRGB-decoded, then
 /// Y = 0.2126 R + 0.7152 G + 0.0722 B (ITU-R BT.709). What "as bright as" compares.
 double meanLinearLuminance(const RgbImage& image);

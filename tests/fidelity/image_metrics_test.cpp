@@ -22,6 +22,20 @@ RgbImage checkerboard(int width, int height, std::uint8_t low, std::uint8_t high
   return image;
 }
 
+TEST(ImageMetrics, CropKeepsTheRectangle) {
+  RgbImage image = filled(4, 3, 0);
+  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = static_cast<std::uint8_t>(i);
+  const RgbImage part = crop(image, 1, 1, 2, 2);
+  ASSERT_EQ(part.width, 2);
+  ASSERT_EQ(part.height, 2);
+  // Pixel (1, 1) starts at byte (1 * 4 + 1) * 3 = 15; (1, 2) at (2 * 4 + 1) * 3 = 27.
+  EXPECT_EQ(part.pixels[0], 15);
+  EXPECT_EQ(part.pixels[5], 20);
+  EXPECT_EQ(part.pixels[6], 27);
+  EXPECT_THROW(crop(image, 3, 0, 2, 1), std::invalid_argument);
+  EXPECT_THROW(crop(image, 0, 0, 0, 1), std::invalid_argument);
+}
+
 TEST(ImageMetrics, MeanLinearLuminanceKnownAnswers) {
   EXPECT_DOUBLE_EQ(meanLinearLuminance(filled(4, 4, 0)), 0.0);
   EXPECT_NEAR(meanLinearLuminance(filled(4, 4, 255)), 1.0, 1e-12);

@@ -1,9 +1,10 @@
-// pa-imgcompare A B [--diff OUT.png] [--gain G] [--min-psnr DB] [--min-ssim S] [--json]
+// pa-imgcompare A B [--diff OUT.png] [--gain G] [--min-psnr DB] [--min-ssim S] [--json] [--crop X,Y,W,H]
 // Compares two images of the same size (PNG, TGA, JPEG): PSNR over the R, G, B samples and
 // SSIM on BT.601 luma with an 11x11 Gaussian window (sigma 1.5), see image_metrics.h.
 // Prints "psnr_db=P ssim=S mse=M max_abs_diff=D luma_a=LA luma_b=LB luma_ratio=LB/LA
 // worst_tile=X,Y worst_tile_psnr_db=T" (or one JSON object with --json); luma: mean linear
 // luminance (meanLinearLuminance); worst tile: the 32x32 tile with the largest MSE (worstTile).
+// --crop compares only the W x H rectangle at (X, Y) (top-left origin) of both images.
 // Exit 0: compared and above the thresholds; 1: below a threshold; 2: usage or file error.
 #include "tests/fidelity/image_metrics.h"
 
@@ -17,7 +18,8 @@ namespace {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: pa-imgcompare A B [--diff OUT.png] [--gain G] [--min-psnr DB] [--min-ssim S] [--json]\n");
+               "usage: pa-imgcompare A B [--diff OUT.png] [--gain G] [--min-psnr DB] [--min-ssim S] [--json] "
+               "[--crop X,Y,W,H]\n");
   return 2;
 }
 
@@ -33,6 +35,8 @@ int main(int argc, char** argv) {
   std::string pathA, pathB, diffPath;
   double gain = 4, minPsnr = -1, minSsim = -2;
   bool json = false;
+  int cropRect[4] = {0, 0, 0, 0};
+  bool cropped = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool hasValue = i + 1 < argc;
@@ -44,6 +48,10 @@ int main(int argc, char** argv) {
       if (!parseNumber(argv[++i], minPsnr)) return usage();
     } else if (arg == "--min-ssim" && hasValue) {
       if (!parseNumber(argv[++i], minSsim)) return usage();
+    } else if (arg == "--crop" && hasValue) {
+      if (std::sscanf(argv[++i], "%d,%d,%d,%d", &cropRect[0], &cropRect[1], &cropRect[2], &cropRect[3]) != 4)
+        return usage();
+      cropped = true;
     } else if (arg == "--json") {
       json = true;
     } else if (!arg.empty() && arg[0] != '-' && pathA.empty()) {
@@ -56,8 +64,12 @@ int main(int argc, char** argv) {
   }
   if (pathA.empty() || pathB.empty()) return usage();
   try {
-    const auto a = pa::fidelity::loadRgb(pathA);
-    const auto b = pa::fidelity::loadRgb(pathB);
+    auto a = pa::fidelity::loadRgb(pathA);
+    auto b = pa::fidelity::loadRgb(pathB);
+    if (cropped) {
+      a = pa::fidelity::crop(a, cropRect[0], cropRect[1], cropRect[2], cropRect[3]);
+      b = pa::fidelity::crop(b, cropRect[0], cropRect[1], cropRect[2], cropRect[3]);
+    }
     const auto result = pa::fidelity::compare(a, b);
     if (!diffPath.empty()) pa::fidelity::savePng(diffPath, pa::fidelity::differenceImage(a, b, gain));
     // JSON has no infinity: identical images report psnr_db 999.

@@ -64,5 +64,20 @@ TEST(PictureSettings, BakedLightShiftFollowsMapOverBrightBits) {
   EXPECT_EQ(picture.lightShift(), 0);
 }
 
+TEST(PictureSettings, OverbrightBitsOnlyFullscreenAsStock) {
+  PictureSettings picture;   // r_overBrightBits 1, r_mapOverBrightBits 2
+  EXPECT_EQ(picture.displayOverBrightBits(), 0);   // a window: never overbright
+  EXPECT_EQ(picture.bakedLightScale(), 1.0f);
+  picture.fullscreen = true;
+  EXPECT_EQ(picture.displayOverBrightBits(), 1);
+  EXPECT_EQ(picture.lightShift(), 1);              // baked light shifted one bit less...
+  EXPECT_EQ(picture.bakedLightScale(), 2.0f);      // ...and the product doubled
+  picture.overBrightBits = 5;
+  EXPECT_EQ(picture.displayOverBrightBits(), 2);   // at most 2 with 24-bit colour
+  EXPECT_EQ(picture.lightShift(), 0);
+  picture.overBrightBits = -1;
+  EXPECT_EQ(picture.displayOverBrightBits(), 0);
+}
+
 }  // namespace
 }  // namespace glue

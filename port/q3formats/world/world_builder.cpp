@@ -151,6 +151,10 @@ class SceneAssembler {
     m.visible = !info.invisible && (!m.fog || solidStage) &&
                 (m.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
     if (!info.lightmapImage.empty()) m.lightmap = externalLightmaps_.get(info.lightmapImage);
+    if (m.lightmap >= 0) {   // drawn by its shader stage as an image
+      scene_.lightmapNamedByShader.resize(scene_.lightmaps.size(), false);
+      scene_.lightmapNamedByShader[size_t(m.lightmap)] = true;
+    }
     const bool lightmapped = hasLightmap || m.lightmap >= 0;
     m.vertexLit = info.lighting == LightingMode::Vertex || (!lightmapped && info.lighting == LightingMode::Lightmap) ||
                   (m.surfaceFlags & kSurfNolightmap) != 0;

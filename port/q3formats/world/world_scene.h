@@ -200,6 +200,10 @@ struct WorldScene {
   /// 2^r_mapOverBrightBits (= 4, with per-texel saturation keeping hue): a stored value of
   /// 64 is "full bright". kLightmapOverbrightScale carries that factor.
   std::vector<WorldImage> lightmaps;
+  /// Per lightmap (shorter vectors: false for the rest): true when a shader stage names the
+  /// image (q3map2's lightmap shaders for sizes other than 128). The stock renderer draws those
+  /// as ordinary images, without the brightening of lump pages.
+  std::vector<bool> lightmapNamedByShader;
   std::vector<WorldLight> lights;
   WorldSky sky;
   std::vector<WorldCamera> cameras;

@@ -98,6 +98,30 @@ TEST(SceneBridge, FullBrightLightmapShowsTheTextureUnmodified) {
   }
 }
 
+TEST(SceneBridge, LightmapImageNamedByAShaderIsDrawnUnbrightened) {
+  // Stock draws a shader stage's lightmap image as an ordinary image: white x 64/255.
+  q3::WorldScene scene = wallScene(64, false);
+  scene.lightmapNamedByShader = {true};
+  Renderer renderer;
+  showSkyAndFog(uploadWorld(scene, renderer), renderer);
+  renderer.commit();
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(64 / 255.0f), 0.005f);
+}
+
+TEST(SceneBridge, BakedLightScaleDoublesTheLitTextureInDisplayValues) {
+  // A display with one overbright bit: shift 1 (x2) and texture x light doubled, clamped at
+  // white: 32 -> 64 -> 128 displayed; 100 -> 200 -> 400 clamps at 255.
+  for (const auto [value, shown] : {std::pair<uint8_t, int>{32, 128}, std::pair<uint8_t, int>{100, 255}}) {
+    UploadOptions options;
+    options.lightmapShift = 1;
+    options.bakedLightScale = 2.0f;
+    Renderer renderer;
+    showSkyAndFog(uploadWorld(wallScene(value, false), renderer, options), renderer);
+    renderer.commit();
+    EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(shown / 255.0f), 0.01f) << int(value);
+  }
+}
+
 TEST(SceneBridge, FogVolumesCarryTheBrushColourAndStockMinimumDepth) {
   q3::WorldScene scene = wallScene(64, false);
   q3::WorldFog fog;
@@ -165,6 +189,18 @@ TEST(SceneBridge, VertexLitSurfacesUseVertexColoursAsBakedLight) {
   showSkyAndFog(uploadWorld(wallScene(128, true), renderer), renderer);
   renderer.commit();
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(128 / 255.0f), 0.01f);
+}
+
+TEST(SceneBridge, VertexLightIsInterpolatedInDisplayValues) {
+  // Vertex light 0 along the bottom edge, 255 along the top: halfway up, a raster renderer's
+  // Gouraud shading shows byte 128 (linear 0.214), not linear 0.5.
+  q3::WorldScene scene = wallScene(0, true);
+  auto& colors = scene.models[0].meshes[0].colors;
+  colors = {glm::vec4(0, 0, 0, 1), glm::vec4(0, 0, 0, 1), glm::vec4(1, 1, 1, 1), glm::vec4(1, 1, 1, 1)};
+  Renderer renderer;
+  showSkyAndFog(uploadWorld(scene, renderer), renderer);
+  renderer.commit();
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Lightmap, 1), srgbToLinear(0.5f), 0.01f);
 }
 
 /// A q3map2 light of value 300 on the wall's axis at the distance where it lights a facing

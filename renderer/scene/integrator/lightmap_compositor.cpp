@@ -83,7 +83,8 @@ StockTexels stockTexels(const RenderScene& scene, const SurfaceHit& s, float foo
 /// renderer multiplies and blends its stages; fills t.albedo.
 glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels& t, float footprint) {
   const MaterialRecord& m = *s.material;
-  const auto [product, albedo] = decodeTwo(t.base * t.baked, t.base);
+  // texture x baked light in 8-bit values, as stock (x the display's overbright factor)
+  const auto [product, albedo] = decodeTwo(t.base * t.baked * m.desc.stock.bakedLightScale, t.base);
   if (!t.albedoKnown) t.albedo = albedo;
   glm::vec3 lit = product;
   if (m.shine != nullptr) {   // the shine stage over the lit base, in display values too

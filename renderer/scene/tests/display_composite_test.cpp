@@ -75,6 +75,14 @@ TEST(DisplayComposite, ProductOfDisplayValues) {
   EXPECT_NEAR(linearToSrgb(displayProduct(glm::vec3(1.0f), linear(0.6f)).y), 0.6f, 1e-5f);
 }
 
+TEST(DisplayComposite, AnOverbrightProductClampsAtWhiteWhenDecoded) {
+  // The compositor doubles texture x light in display values per overbright bit, then decodes:
+  // 0.3 x 0.5 = 0.15 doubled shows 0.3; 0.8 x 0.9 = 0.72 doubled clamps at white.
+  const auto [doubled, clamped] = decodeTwo(glm::vec3(0.15f * 2.0f), glm::vec3(0.72f * 2.0f));
+  EXPECT_NEAR(linearToSrgb(doubled.x), 0.3f, 1e-5f);
+  EXPECT_NEAR(clamped.x, 1.0f, 1e-6f);
+}
+
 TEST(DisplayComposite, NoLayersLeaveTheColourAlone) {
   const DisplayComposite none;
   EXPECT_EQ(none.over(glm::vec3(0.25f, 2.0f, 0.0f)), glm::vec3(0.25f, 2.0f, 0.0f));

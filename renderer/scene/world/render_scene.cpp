@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/mat3x2.hpp>
 
+#include "renderer/scene/integrator/display_composite.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
 
 namespace pa {
@@ -274,7 +275,15 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
   if (!g.lightmapUvs.empty()) {
     s.lightmapUv = w0 * g.lightmapUvs[i0] + hit.u * g.lightmapUvs[i1] + hit.v * g.lightmapUvs[i2];
   }
-  if (!g.colors.empty()) s.vertexColor = w0 * g.colors[i0] + hit.u * g.colors[i1] + hit.v * g.colors[i2];
+  if (!g.colors.empty()) {
+    s.vertexColor = w0 * g.colors[i0] + hit.u * g.colors[i1] + hit.v * g.colors[i2];
+    // Baked light at the vertices is interpolated in display values, as a raster renderer's
+    // Gouraud shading interpolates its 8-bit vertex colours (linear blending is brighter inside).
+    if (desc.stock.useVertexLight)
+      for (int c = 0; c < 3; ++c)
+        s.vertexColor[c] = fastSrgbToLinear(w0 * fastLinearToSrgb(g.colors[i0][c]) + hit.u * fastLinearToSrgb(g.colors[i1][c]) +
+                                            hit.v * fastLinearToSrgb(g.colors[i2][c]));
+  }
   s.emissiveUv = s.uv;
   if (desc.emissiveOwnUv) {
     float area = 0.0f;
