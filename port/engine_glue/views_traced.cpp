@@ -323,6 +323,8 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   rs.height = static_cast<uint32_t>(std::max(8, static_cast<int>(std::lround(view.height * scale))));
   rs.integrator = integratorFor(settings.preset);
   rs.samplesPerPixel = static_cast<uint32_t>(settings.samplesPerPixel);
+  // The stock look samples textures at pixel centres, as opengl1 rasterises.
+  rs.pixelCentres = ctx.lightmapLook && rs.samplesPerPixel == 1;
   rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
   rs.accumulate = settings.preset == Preset::Reference;
   // In play the world never stands still (items bob, the player's own body breathes, shaders
