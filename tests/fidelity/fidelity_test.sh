@@ -31,6 +31,15 @@ min_psnr_recorded="${FIDELITY_MIN_PSNR_RECORDED:-13.0}"
 min_ssim_recorded="${FIDELITY_MIN_SSIM_RECORDED:-0.60}"
 min_mean_psnr="${FIDELITY_MIN_MEAN_PSNR:-25.5}"
 min_mean_ssim="${FIDELITY_MIN_MEAN_SSIM:-0.86}"
+# One C-library seed for every run (tests/regress pa_fixed_rand.so, FIDELITY_FIXED_RAND): the
+# game's random effects (explosion rotations, smoke, brass) then repeat run to run, and the module
+# draws from rand() at start as opengl1 does, so both renderers see the same ones.
+fixed_rand="${FIDELITY_FIXED_RAND:-$(dirname "$compare")/../regress/pa_fixed_rand.so}"
+if [[ -f "$fixed_rand" ]]; then
+  export PA_ENGINE_PRELOAD="$(cd "$(dirname "$fixed_rand")" && pwd)/$(basename "$fixed_rand")" PA_FIXED_RAND_SEED=1
+else
+  echo "note: $fixed_rand not built: the game's random effects differ run to run"
+fi
 if [[ -z "$out" ]]; then out="$(mktemp -d /tmp/pa-fidelity.XXXXXX)"; trap 'rm -rf "$out"' EXIT; fi
 mkdir -p "$out"
 # Same cvars for both: no console notify lines (the screenshot messages differ), no FPS counter.
