@@ -37,10 +37,13 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
     } else if (dst == 1 /*GL_ONE*/) {
       desc.alphaMode = pa::AlphaMode::Additive;
       desc.castsShadows = false;
-    } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
+    } else if (isAlphaBlend(look.blend) && stockLayers) {
+      // Premultiplied over, in display values (the batch's vertex colours are premultiplied too:
+      // premultiplyBlendedEffects), not the stochastic coverage that speckles at one sample.
       desc.baseTexture = texture(premultipliedImage(image), look.clamp, look.noPicmip);
       desc.alphaMode = pa::AlphaMode::Additive;
       desc.stock.layerBlend = pa::LayerBlend::Over;
+      desc.stock.useVertexLight = false;   // a model's light is its vertex colour: it tints the layer
       desc.castsShadows = false;
     } else if (const auto darken = filterAsDarkening(look.blend);
                darken != Darkening::None && use == MaterialUse::StockEffect) {

@@ -201,6 +201,7 @@ void ViewRenderer::Impl::placeModelEntities(const ViewContext& ctx, const SceneF
         light = noWorldLight();
       light = finishEntityLight(light, lightOrigin, scene.lights());
       lightModelLikeStock(e, entityTransform(e), light, shaders, batch);
+      premultiplyBlendedEffects(shaders, batch);   // alpha-blended stages are premultiplied-over layers
     }
     const EntityKey key{e.hModel, e.customSkin, e.customShader, onTop ? 1 : 0};
     const glm::vec3 viewer = viewerInModel(e, ctx.viewer.origin);

@@ -526,6 +526,18 @@ TEST(StageLayers, ModelStagesBlendedByTheirOwnAlphaAreFactorLayersInTheLightmapP
   const pa::MaterialDesc spec = describeStage(entry, entry.look.layers[0], nullptr, MaterialUse::StockModel, 1, textures);
   EXPECT_EQ(spec.stock.layerBlend, pa::LayerBlend::Factors);
   EXPECT_TRUE(spec.vertexAlphaTints);   // the specular alpha rides on the vertex copies
+  // An alpha-blended model stage is a premultiplied-over layer tinted by its vertex light.
+  const q3::ShaderScript blended = q3::parseShaderScript("m\n{\n { map m.tga\n blendfunc blend\n rgbGen lightingDiffuse }\n}\n",
+                                                        "m.shader");
+  ShaderEntry glass;
+  glass.name = "m";
+  glass.look = lookOfShader(blended.shaders.at(0));
+  const pa::MaterialDesc over = describeStage(glass, glass.look, nullptr, MaterialUse::StockModel, 0, textures);
+  EXPECT_EQ(over.alphaMode, pa::AlphaMode::Additive);
+  EXPECT_EQ(over.stock.layerBlend, pa::LayerBlend::Over);
+  EXPECT_FALSE(over.stock.useVertexLight);
+  EXPECT_TRUE(over.vertexColorTints);
+  EXPECT_EQ(describeStage(glass, glass.look, nullptr, MaterialUse::Model, 0, textures).alphaMode, pa::AlphaMode::Blend);
   // The traced presets keep models' additive stages plain additive.
   const pa::MaterialDesc traced = describeStage(entry, entry.look, nullptr, MaterialUse::Model, 0, textures);
   EXPECT_EQ(traced.alphaMode, pa::AlphaMode::Additive);
