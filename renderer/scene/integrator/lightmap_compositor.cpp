@@ -71,7 +71,7 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
   for (uint32_t depth = 0;; ++depth) {
     trace::SegmentHit segment;
     trace::traceSegment(scene, ray, depth, sampler.bits(kGroupsPerVertex * depth + kGroupRayBits), true, traced,
-                        segment, coneWidth, coneSpread);
+                        segment);
     const Hit& hit = segment.hit;
     const float tHit = segment.found ? hit.t : kInfinity;
     if (depth == 0) out.overlay = segment.found && segment.onOverlay;

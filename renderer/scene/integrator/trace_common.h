@@ -36,15 +36,12 @@ inline glm::vec3 clampContribution(const glm::vec3& c, uint32_t depth, float lim
 /// Closest hit for the vertex at `depth`: the drawOnTop overlay first for camera rays.
 /// Additive surfaces are collected only when `seeAdditive` (camera and mirror chains): they
 /// are visual effects (glows, flames), not light sources.
-/// coneWidth / coneSpread: the ray cone, for the additive surfaces' mip levels (TraceRequest).
 inline bool traceClosest(const RenderScene& scene, Ray& ray, Hit& hit, uint32_t depth, uint32_t bits, bool seeAdditive,
-                         AdditiveHits& additive, bool& onOverlay, float coneWidth = 0.0f, float coneSpread = 0.0f) {
+                         AdditiveHits& additive, bool& onOverlay) {
   TraceRequest request;
   request.kind = depth == 0 ? RayKind::Camera : RayKind::Bounce;
   request.randomBits = bits;
   request.additive = seeAdditive ? &additive : nullptr;
-  request.coneWidth = coneWidth;
-  request.coneSpread = coneSpread;
   onOverlay = false;
   if (depth == 0 && !scene.overlay.empty()) {
     Ray overlayRay = ray;
@@ -70,8 +67,7 @@ struct SegmentHit {
 
 /// Fills `segment` for the vertex at `depth` (see traceClosest; the camera ray ahead when given).
 inline void traceSegment(const RenderScene& scene, Ray& ray, uint32_t depth, uint32_t bits, bool seeAdditive,
-                         const TracedCameraRay* traced, SegmentHit& segment, float coneWidth = 0.0f,
-                         float coneSpread = 0.0f) {
+                         const TracedCameraRay* traced, SegmentHit& segment) {
   if (depth == 0 && traced) {   // the camera ray was traced ahead (as traceClosest would have)
     segment.hit = traced->hit;
     segment.onOverlay = traced->onOverlay;
@@ -79,8 +75,7 @@ inline void traceSegment(const RenderScene& scene, Ray& ray, uint32_t depth, uin
     segment.found = traced->found;
     return;
   }
-  segment.found = traceClosest(scene, ray, segment.hit, depth, bits, seeAdditive, segment.collected, segment.onOverlay,
-                               coneWidth, coneSpread);
+  segment.found = traceClosest(scene, ray, segment.hit, depth, bits, seeAdditive, segment.collected, segment.onOverlay);
 }
 
 /// The portal a hit on a mirror material enters (null: none, the material stays a mirror).

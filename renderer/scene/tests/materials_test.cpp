@@ -200,29 +200,6 @@ TEST(Materials, LayersThatShowNothingTakeNoSlot) {
   EXPECT_NEAR(f.radiance[5].g, expected, 1e-5f);
 }
 
-TEST(Materials, AdditiveLayersReadTheMipLevelOfTheirFootprint) {
-  // A 256 x 256 one-texel black and white checker, added over black, about 7 texels per pixel:
-  // each pixel shows the mean (linear 0.5), not whichever texel its centre falls on.
-  Renderer r({2});
-  std::vector<uint8_t> checker(256 * 256 * 4, 255);
-  for (uint32_t y = 0; y < 256; ++y)
-    for (uint32_t x = 0; x < 256; ++x)
-      for (uint32_t c = 0; c < 3; ++c) checker[(y * 256 + x) * 4 + c] = (x + y) % 2 ? 255 : 0;
-  MaterialDesc add;
-  add.alphaMode = AlphaMode::Additive;
-  add.baseTexture = r.addTexture({256, 256, checker});
-  test::MeshArrays quad = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
-  quad.setMaterial(r.addMaterial(add));
-  r.addInstance({r.addMesh(quad.desc())});
-  r.setSky(SkyDesc{});
-  r.commit();
-  RenderSettings settings = settingsFor(Integrator::Lightmap, 8, 1, 2);
-  settings.pixelCentres = true;
-  // Off centre: no pixel centre on the quad's diagonal, where both triangles would report the hit.
-  const FrameView f = r.render(lookAt({0.013f, 0.029f, 3}, {0.013f, 0.029f, 0}, 40.0f), settings);
-  for (const glm::vec3& c : f.radiance) EXPECT_NEAR(c.g, 0.5f, 0.1f);
-}
-
 TEST(Materials, BlendIsStochasticCoverage) {
   MaterialDesc glass = coloured(1.0f, 0.0f, 0.0f);
   glass.alphaMode = AlphaMode::Blend;

@@ -107,10 +107,7 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
         const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay, *ctx.ray);
         const glm::vec3 d = ctx.ray->dir;
         const float t = glm::dot(s.position - ctx.ray->origin, d) / glm::dot(d, d);
-        // The layer's mip level as for the surface behind (a minified sprite does not alias).
-        const float cosine = std::abs(glm::dot(s.geometricNormal, d)) / std::max(glm::length(d), 1e-20f);
-        const float footprint = (ctx.request->coneWidth + ctx.request->coneSpread * t) / std::max(0.05f, cosine);
-        const glm::vec4 base = ctx.scene->baseColor(s, footprint);
+        const glm::vec4 base = ctx.scene->baseColor(s, 0.0f);
         glm::vec3 added = glm::vec3(base) + ctx.scene->emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
         glm::vec3 transmit(1.0f);
         switch (m.stock.layerBlend) {
@@ -195,7 +192,6 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
     r.additive.count = 0;
     requests[i].kind = RayKind::Camera;
     requests[i].randomBits = r.randomBits;
-    requests[i].coneSpread = r.coneSpread;
     requests[i].additive = &r.additive;
   }
   uint32_t remaining = (1u << count) - 1;   // count <= kMaxPacketRays < 32

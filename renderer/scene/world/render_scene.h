@@ -76,11 +76,6 @@ struct TraceRequest {
   bool towardEnvironment = false;   ///< Shadow ray to sun/sky: sky surfaces let it through.
   bool overlay = false;             ///< Trace the drawOnTop instances instead of the world.
   AdditiveHits* additive = nullptr; ///< Collects additive surfaces (camera and bounce rays).
-  /// Additive surfaces' texture footprint, as the integrator measures a hit's: the ray cone's width
-  /// at the origin plus coneSpread per unit of t, over the cosine of incidence (both 0: the
-  /// finest mip level).
-  float coneWidth = 0.0f;
-  float coneSpread = 0.0f;
 };
 
 /// A camera ray traced ahead of its sample (RenderScene::intersectCameraPacket): what the
@@ -88,7 +83,6 @@ struct TraceRequest {
 struct TracedCameraRay {
   Ray ray;                  ///< In: the camera ray; out: tmax shortened to the hit.
   uint32_t randomBits = 0;  ///< In: TraceRequest::randomBits of the camera ray.
-  float coneSpread = 0.0f;  ///< In: TraceRequest::coneSpread of the camera ray.
   Hit hit;                  ///< Out: the closest hit (valid when found).
   bool found = false;       ///< Out: something was hit.
   bool onOverlay = false;   ///< Out: the hit is on a drawOnTop instance.
