@@ -10,13 +10,14 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
                                MaterialUse use, uint32_t layer, const ImageTextures& texture) {
   pa::MaterialDesc desc;
   desc.baseTexture = texture(image, look.clamp, look.noPicmip);
-  desc.stock.useVertexLight = use == MaterialUse::Model;
+  desc.stock.useVertexLight = use == MaterialUse::Model || use == MaterialUse::StockModel;
+  const bool stockLayers = use == MaterialUse::StockEffect || use == MaterialUse::StockModel;
   if (look.nodraw) desc.visible = false;
   if (look.fromScript) {
     const unsigned dst = look.blend.dst;
     const auto factors = layerFactors(look.blend);
     const bool plainAdd = look.blend.src == 1 && dst == 1;
-    if (use == MaterialUse::StockEffect && factors && look.blend.blends() && !plainAdd && !isAlphaBlend(look.blend) &&
+    if (stockLayers && factors && look.blend.blends() && !plainAdd && !isAlphaBlend(look.blend) &&
         filterAsDarkening(look.blend) == Darkening::None) {
       // Any other blend of the layer's own colour and alpha (gl_one gl_src_alpha explosions,
       // gl_src_alpha gl_one glows), composed in display values as the framebuffer does.
@@ -29,14 +30,20 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
       // (stock: a wave or identity colour comes with alpha 1).
       const bool entityRgb = look.vertexColor || look.rgbGen == q3::RgbGen::Entity;
       desc.vertexColorTints = entityRgb;
-      desc.vertexAlphaTints = entityRgb || look.vertexAlpha || look.alphaGen == q3::AlphaGen::Entity;
+      // alphaGen lightingSpecular: the batch carries the stock specular alpha in the vertex
+      // alpha of this layer's own vertex copies (specularAlphaLikeStock).
+      desc.vertexAlphaTints = entityRgb || look.vertexAlpha || look.alphaGen == q3::AlphaGen::Entity ||
+                              look.alphaGen == q3::AlphaGen::LightingSpecular;
     } else if (dst == 1 /*GL_ONE*/) {
       desc.alphaMode = pa::AlphaMode::Additive;
       desc.castsShadows = false;
-    } else if (isAlphaBlend(look.blend) && use == MaterialUse::StockEffect) {
+    } else if (isAlphaBlend(look.blend) && stockLayers) {
+      // Premultiplied over, in display values (the batch's vertex colours are premultiplied too:
+      // premultiplyBlendedEffects), not the stochastic coverage that speckles at one sample.
       desc.baseTexture = texture(premultipliedImage(image), look.clamp, look.noPicmip);
       desc.alphaMode = pa::AlphaMode::Additive;
       desc.stock.layerBlend = pa::LayerBlend::Over;
+      desc.stock.useVertexLight = false;   // a model's light is its vertex colour: it tints the layer
       desc.castsShadows = false;
     } else if (const auto darken = filterAsDarkening(look.blend);
                darken != Darkening::None && use == MaterialUse::StockEffect) {

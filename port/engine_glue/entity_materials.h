@@ -15,8 +15,9 @@ namespace glue {
 /// alpha-blended effects (smoke puffs) are premultiplied-over layers (src * a + dst * (1 - a)) and
 /// filters (marks, blob shadows) multiply layers (dst * src, dst * (1 - src)), composed in display
 /// values like the stock blend stages (the tracer's stochastic blend would speckle at one sample
-/// per pixel).
-enum class MaterialUse : uint8_t { Model, Effect, StockEffect };
+/// per pixel). StockModel: a model in the lightmap preset, whose stages that blend by their own
+/// colour and alpha (gl_src_alpha gl_one health spheres) are such display-value layers too.
+enum class MaterialUse : uint8_t { Model, Effect, StockEffect, StockModel };
 
 /// The renderer texture of an image (repeating or clamped to its edges, picmip applied unless
 /// noPicmip), made on first use.

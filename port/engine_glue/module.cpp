@@ -2,6 +2,8 @@
 // fonts, the world, RemapShader, entity tokens, model queries.
 #include "port/engine_glue/module.h"
 
+#include <cstdlib>
+
 #include <SDL.h>
 
 #include <cmath>
@@ -69,11 +71,26 @@ void Module::updateDisplayRamp() {
   rampIsIdentity_ = isIdentityRamp(displayRamp_);
 }
 
+namespace {
+
+/// Stock opengl1 draws its noise lattice (256 values and 256 permutation entries, tr_noise.c
+/// R_NoiseInit) from the C library's rand() each time it starts (RE_BeginRegistration ->
+/// R_Init): 512 draws. The game's native cgame draws its random effects (explosion rotations,
+/// smoke puffs, brass, the HUD head's turns) from the same sequence, so the module makes as many
+/// draws at the same point: under one seed a demo's random effects are those of opengl1. The
+/// values are not used (the glue's wave noise is its own, shader_time.h).
+void drawLikeTheStockRendererStart() {
+  for (int i = 0; i < kStockRendererStartDraws; ++i) (void)std::rand();
+}
+
+}  // namespace
+
 void Module::beginRegistration(q3abi::glconfig_t* config) {
   settings_.registerCvars(engine_);
   // Re-initialise fully (the engine calls Shutdown(0) before every map).
   if (registered_) shutdown(false);
   ensureWindow(config);
+  drawLikeTheStockRendererStart();
   updateDisplayRamp();
   if (!views_) views_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);
   if (!modelViews_) modelViews_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);

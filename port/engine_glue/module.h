@@ -27,6 +27,10 @@ namespace glue {
 
 class ViewRenderer;
 
+/// rand() draws stock opengl1 makes when it starts (its noise lattice); BeginRegistration makes
+/// as many, so that the game's random sequence runs as under opengl1 (module.cpp).
+inline constexpr int kStockRendererStartDraws = 512;
+
 /// A screenshot asked for by a console command, taken at the end of the frame.
 struct ScreenshotRequest {
   std::string extension;   ///< "tga", "jpg" or "png"

@@ -60,7 +60,9 @@ void Settings::registerCvars(const Engine& engine) {
   if (denoise_ != nullptr) ri.Cvar_CheckRange(denoise_, 0, 1, 1);
   // The stock picture cvars, with the stock defaults and flags (tr_init.c R_Register).
   gamma_ = engine.cvar("r_gamma", "1", CVAR_ARCHIVE, "Display gamma (menu brightness), 0.5..3");
-  picmip_ = engine.cvar("r_picmip", "0", CVAR_ARCHIVE | CVAR_LATCH,
+  // r_picmip: 1, the default of the engine this module plays in (Debian's ioquake3 1.36+u20221123
+  // opengl1 prints "picmip: 1" without any config; later ioquake3 releases default to 0).
+  picmip_ = engine.cvar("r_picmip", "1", CVAR_ARCHIVE | CVAR_LATCH,
                         "Halve world and model textures this many times (0..16)");
   if (picmip_ != nullptr) ri.Cvar_CheckRange(picmip_, 0, 16, 1);
   overBrightBits_ = engine.cvar("r_overBrightBits", "1", CVAR_ARCHIVE | CVAR_LATCH,

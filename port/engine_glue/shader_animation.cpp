@@ -77,7 +77,7 @@ pa::MaterialDesc materialAt(const StageMotion& motion, double seconds, const pa:
       desc.baseColor.a *= alpha;
   }
   if (motion.glowWaves) desc.emission = still.emission * greyByteToLinear(q3::rgbWaveAt(motion.glowWave, seconds));
-  if (!motion.glowTcMods.empty() && still.emissiveTexture != pa::kNoId && still.emissiveTexture != still.baseTexture) {
+  if (motion.glowOwnUv && still.emissiveTexture != pa::kNoId) {
     const q3::UvAffine m = q3::tcModsAt(motion.glowTcMods, seconds, entityScroll).affine;
     desc.emissiveOwnUv = true;
     desc.emissiveUvTransform = glm::mat3x2(glm::vec2(m.a, m.c), glm::vec2(m.b, m.d), glm::vec2(m.tx, m.ty));
@@ -126,7 +126,10 @@ void WorldAnimation::prepare(const q3::WorldScene& scene, const q3::ShaderLibrar
     entry.motion.alphaWave = info.baseAlphaWave;
     entry.motion.glowWaves = info.glowWaves && m.emissiveTexture >= 0;
     entry.motion.glowWave = info.glowWave;
-    if (m.emissiveTexture >= 0) entry.motion.glowTcMods = info.glowTcMods;
+    if (m.emissiveTexture >= 0 && !info.glowTextures.empty()) {
+      entry.motion.glowTcMods = info.glowTcMods;
+      entry.motion.glowOwnUv = !q3::sameTcMods(info.glowTcMods, info.uvAnimation);
+    }
     entry.still = pa::bridge::materialDesc(scene, world, key.first, key.second);
     entry.stillBase = entry.still.baseTexture;
     if (info.animFrames.size() > 1 && info.animFrequency > 0.0f) {

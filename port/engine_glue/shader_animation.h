@@ -38,12 +38,16 @@ struct StageMotion {
   bool glowWaves = false;       ///< The material's emission follows glowWave (a glow stage's rgbGen wave).
   q3::WaveForm glowWave;
   std::vector<q3::TcMod> glowTcMods;   ///< The glow stage's own tcMods (its emissive texture's uvs).
+  /// The glow is a stage of its own whose tcMods differ from the base's: its emissive texture is
+  /// read at the mesh uvs through glowTcMods, even when it is the base's image (lava: one image at
+  /// two scales).
+  bool glowOwnUv = false;
 
   /// True when anything here changes with time.
   bool timeDependent() const;
   /// True when the material's uvs or colours differ from the still look at some time (a static
   /// tcMod transform or scale included).
-  bool any() const { return !tcMods.empty() || !glowTcMods.empty() || timeDependent(); }
+  bool any() const { return !tcMods.empty() || !glowTcMods.empty() || glowOwnUv || timeDependent(); }
 };
 
 /// The motion of a drawable look's stage (its tcMods and waves).
@@ -57,8 +61,8 @@ void applyTcMods(const std::vector<q3::TcMod>& tcMods, double seconds, pa::Mater
 /// `still` (the material as drawn without animation) moved to shader time `seconds`: tcMods
 /// replace its uv transform; rgbGen wave scales its colour by the wave's grey byte (linearised,
 /// as stock multiplies bytes in gamma space); alphaGen wave sets its alpha (the whole colour for
-/// premultiplied layers, LayerBlend::Over); a glow wave scales its emission; glow tcMods move
-/// its emissive texture on its own uvs (their turb is left out).
+/// premultiplied layers, LayerBlend::Over); a glow wave scales its emission; with glowOwnUv the
+/// glow tcMods move its emissive texture on its own uvs (their turb is left out).
 pa::MaterialDesc materialAt(const StageMotion& motion, double seconds, const pa::MaterialDesc& still,
                             std::array<float, 2> entityScroll = {0, 0});
 

@@ -206,6 +206,50 @@ void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch) {
   }
 }
 
+uint8_t stockSpecularAlpha(const glm::vec3& position, const glm::vec3& normal, const glm::vec3& viewer) {
+  const glm::vec3 kLight(-960.0f, 1980.0f, 96.0f);   // stock's fixed specular light, model space
+  const float normalLength = glm::length(normal);
+  const glm::vec3 n = normalLength > 0.0f ? normal / normalLength : glm::vec3(0.0f, 0.0f, 1.0f);
+  const glm::vec3 toLight = kLight - position;
+  const float lightLength = glm::length(toLight);
+  const glm::vec3 l = lightLength > 0.0f ? toLight / lightLength : glm::vec3(0.0f);
+  const glm::vec3 reflected = 2.0f * glm::dot(n, l) * n - l;
+  const glm::vec3 toViewer = viewer - position;
+  const float viewerLength = glm::length(toViewer);
+  if (!(viewerLength > 0.0f)) return 0;
+  float d = glm::dot(reflected, toViewer) / viewerLength;
+  if (!(d >= 0.0f)) return 0;
+  d = d * d;
+  d = d * d;
+  return static_cast<uint8_t>(std::min(255, static_cast<int>(d * 255.0f)));
+}
+
+void specularAlphaLikeStock(const std::function<bool(q3abi::qhandle_t, uint32_t)>& specular, const glm::vec3& viewer,
+                            GeometryBatch& batch) {
+  const size_t vertices =
+      std::min({batch.positions.size(), batch.normals.size(), batch.uvs.size(), batch.colors.size()});
+  std::vector<uint32_t>& copies = batch.scratch.vertices;
+  copies.assign(vertices, UINT32_MAX);
+  for (size_t t = 0; t < batch.triangles(); ++t) {
+    const uint32_t layer = t < batch.triangleLayers.size() ? batch.triangleLayers[t] : 0u;
+    if (!specular(batch.triangleShaders[t], layer)) continue;
+    for (size_t corner = 0; corner < 3; ++corner) {
+      uint32_t& index = batch.indices[t * 3 + corner];
+      if (index >= vertices) continue;
+      if (copies[index] == UINT32_MAX) {
+        copies[index] = static_cast<uint32_t>(batch.positions.size());
+        const glm::vec3 position = batch.positions[index], normal = batch.normals[index];
+        const glm::vec4 color = batch.colors[index];
+        batch.positions.push_back(position);
+        batch.normals.push_back(normal);
+        batch.uvs.push_back(batch.uvs[index]);
+        batch.colors.push_back(glm::vec4(glm::vec3(color), stockSpecularAlpha(position, normal, viewer) / 255.0f));
+      }
+      index = copies[index];
+    }
+  }
+}
+
 void applyPictureToWorld(q3::WorldScene& scene, const q3::ShaderLibrary& library, const PictureSettings& picture) {
   if (picture.picmip == 0 && !(picture.intensity > 1.0f)) return;
   std::vector<bool> keepSize(scene.textures.size(), false);

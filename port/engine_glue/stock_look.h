@@ -3,6 +3,7 @@
 // picture: model vertex colours, blended effects, extra shader layers and the world's unlit
 // surfaces (used by views_traced.cpp; each function says which stock behaviour it follows).
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -63,6 +64,19 @@ void lightModelLikeStock(const q3abi::refEntity_t& e, const glm::mat4x3& toWorld
 /// Repeats the triangles of shaders that have extra additive layers once per layer
 /// (batch.triangleLayers tells which layer each triangle draws).
 void addShaderLayers(ShaderRegistry& shaders, GeometryBatch& batch);
+
+/// The alpha byte stock opengl1 gives a vertex for `alphaGen lightingSpecular` (tr_shade_calc.c):
+/// a fixed light at (-960, 1980, 96) in the model's own space, its direction mirrored about the
+/// vertex normal, dotted with the unit direction to the viewer (object space), to the 4th power,
+/// x 255, truncated; 0 when the dot is negative.
+uint8_t stockSpecularAlpha(const glm::vec3& position, const glm::vec3& normal, const glm::vec3& viewer);
+
+/// Lightmap preset, after addShaderLayers: the triangles of every (shader, layer) for which
+/// `specular` is true (a stage with alphaGen lightingSpecular) get copies of their vertices whose
+/// alpha is stockSpecularAlpha / 255 seen from `viewer` (object space); the other layers keep the
+/// vertices they share.
+void specularAlphaLikeStock(const std::function<bool(q3abi::qhandle_t shader, uint32_t layer)>& specular,
+                            const glm::vec3& viewer, GeometryBatch& batch);
 
 /// World surfaces whose shader has no lightmap stage and no vertex-colour stage (q3::deriveMaterial
 /// says Unlit) are drawn by opengl1 at full texture brightness (rgbGen identityLighting): their

@@ -44,6 +44,20 @@ glm::mat4x3 entityTransform(const q3abi::refEntity_t& e) {
   return m;
 }
 
+/// The viewer in an entity's model space as stock computes it (R_RotateForEntity): the offset
+/// from the entity dotted with each axis, divided by the first axis' length when the axes are
+/// not normalised.
+glm::vec3 viewerInModel(const q3abi::refEntity_t& e, const glm::vec3& viewer) {
+  const glm::mat4x3 m = entityTransform(e);
+  const glm::vec3 delta = viewer - m[3];
+  float scale = 1.0f;
+  if (e.nonNormalizedAxes) {
+    const float length = glm::length(m[0]);
+    scale = length > 0.0f ? 1.0f / length : 0.0f;
+  }
+  return glm::vec3(glm::dot(delta, m[0]), glm::dot(delta, m[1]), glm::dot(delta, m[2])) * scale;
+}
+
 pa::Integrator integratorFor(Preset preset) {
   switch (preset) {
     case Preset::Lightmap: return pa::Integrator::Lightmap;
@@ -187,11 +201,14 @@ void ViewRenderer::Impl::placeModelEntities(const ViewContext& ctx, const SceneF
         light = noWorldLight();
       light = finishEntityLight(light, lightOrigin, scene.lights());
       lightModelLikeStock(e, entityTransform(e), light, shaders, batch);
+      premultiplyBlendedEffects(shaders, batch);   // alpha-blended stages are premultiplied-over layers
     }
     const EntityKey key{e.hModel, e.customSkin, e.customShader, onTop ? 1 : 0};
+    const glm::vec3 viewer = viewerInModel(e, ctx.viewer.origin);
     fillSlot(map.entitySlots.claim(key, glm::vec3(e.origin[0], e.origin[1], e.origin[2])), shaders,
-             MaterialUse::Model, entityTransform(e), mask, onTop, ctx.seconds - e.shaderTime,
-             {e.shaderTexCoord[0], e.shaderTexCoord[1]});
+             ctx.lightmapLook ? MaterialUse::StockModel : MaterialUse::Model, entityTransform(e), mask, onTop,
+             ctx.seconds - e.shaderTime, {e.shaderTexCoord[0], e.shaderTexCoord[1]},
+             ctx.lightmapLook ? &viewer : nullptr);
   }
 }
 
@@ -307,6 +324,8 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   rs.height = static_cast<uint32_t>(std::max(8, static_cast<int>(std::lround(view.height * scale))));
   rs.integrator = integratorFor(settings.preset);
   rs.samplesPerPixel = static_cast<uint32_t>(settings.samplesPerPixel);
+  // The stock look samples textures at pixel centres, as opengl1 rasterises.
+  rs.pixelCentres = ctx.lightmapLook && rs.samplesPerPixel == 1;
   rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
   rs.accumulate = settings.preset == Preset::Reference;
   // In play the world never stands still (items bob, the player's own body breathes, shaders

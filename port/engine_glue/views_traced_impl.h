@@ -210,9 +210,12 @@ struct ViewRenderer::Impl {
                             MaterialUse use, uint32_t layer);
   /// The parsed geometry of an MD3 model (LOD 0), parsed once at registration.
   static const q3::Md3Model* md3(const ModelEntry& entry);
-  /// Puts scratch.batch into dynamic slot `index` (created on first use) with its materials.
+  /// Puts scratch.batch into dynamic slot `index` (created on first use) with its materials;
+  /// with `specularViewer` (the viewer in the batch's object space) layers with alphaGen
+  /// lightingSpecular get the stock specular alpha (specularAlphaLikeStock).
   void fillSlot(size_t index, ShaderRegistry& shaders, MaterialUse use, const glm::mat4x3& transform,
-                uint32_t mask, bool onTop, double seconds, std::array<float, 2> scroll = {0, 0});
+                uint32_t mask, bool onTop, double seconds, std::array<float, 2> scroll = {0, 0},
+                const glm::vec3* specularViewer = nullptr);
   /// Uploads dynamic triangles with one material per triangle into `slot` and shows its instance.
   template <typename Geometry>
   void showInSlot(DynamicSlot& slot, const Geometry& geometry, const std::vector<pa::MaterialId>& materials,

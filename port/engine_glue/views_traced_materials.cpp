@@ -76,11 +76,20 @@ const q3::Md3Model* ViewRenderer::Impl::md3(const ModelEntry& entry) {
 
 /// Shader time `seconds` less each triangle's batch.triangleShaderTimes; entityTranslate scrolls by `scroll`.
 void ViewRenderer::Impl::fillSlot(size_t index, ShaderRegistry& shaders, MaterialUse use, const glm::mat4x3& transform,
-                                  uint32_t mask, bool onTop, double seconds, std::array<float, 2> scroll) {
+                                  uint32_t mask, bool onTop, double seconds, std::array<float, 2> scroll,
+                                  const glm::vec3* specularViewer) {
   if (map.slots.size() <= index) map.slots.resize(index + 1);
   DynamicSlot& slot = map.slots[index];
   GeometryBatch& batch = scratch.batch;
   addShaderLayers(shaders, batch);
+  if (specularViewer != nullptr) {
+    const auto specular = [&shaders](q3abi::qhandle_t handle, uint32_t layer) {
+      const ShaderLook& look = shaders.resolve(handle).look;
+      const ShaderLook& stage = layer == 0 || layer > look.layers.size() ? look : look.layers[layer - 1];
+      return stage.alphaGen == q3::AlphaGen::LightingSpecular;
+    };
+    specularAlphaLikeStock(specular, *specularViewer, batch);
+  }
   scratch.triangleMaterials.resize(batch.triangles());
   // (shader, layer, shader time behind) -> material: a batch has few, mostly in runs.
   auto& slotMaterials = scratch.slotMaterials;

@@ -274,7 +274,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
             std::array<glm::vec2, kBlockSide * kBlockSide> jitters;   // this sample's, per pixel
             for (uint32_t s = 0; s < settings.samplesPerPixel; ++s) {
               for (uint32_t i = 0; i < count; ++i)
-                jitters[i] = glm::vec2(sampling::PixelSampler(pixels[i].seed, firstSample + s).get4(0));
+                jitters[i] = settings.pixelCentres ? glm::vec2(0.5f)
+                                                   : glm::vec2(sampling::PixelSampler(pixels[i].seed, firstSample + s).get4(0));
               if (settings.cameraPackets) {
                 for (uint32_t i = 0; i < count; ++i) {
                   traced[i].ray = rays.generate(static_cast<float>(pixels[i].x) + jitters[i].x,

@@ -412,6 +412,10 @@ struct RenderSettings {
   uint32_t height = 360;
   Integrator integrator = Integrator::Path;
   uint32_t samplesPerPixel = 1;   ///< Per render() call.
+  /// Every camera ray goes through its pixel's centre (no jitter): the sampling of a raster
+  /// renderer, so that a one-sample frame shows each texture as a rasteriser shows it and does
+  /// not change with the seed.
+  bool pixelCentres = false;
   uint32_t maxBounces = 4;
   float radianceClamp = 0.0f;     ///< Clamp on each path's contribution; 0 = off (reference).
   uint32_t seed = 0;

@@ -2,6 +2,8 @@
 // refimport_t, refexport_t), with the fake engine. Needs an X display (run under xvfb-run).
 #include <dlfcn.h>
 #include <gtest/gtest.h>
+
+#include <cstdlib>
 #include <stb_image.h>
 #include <stb_image_write.h>
 
@@ -152,6 +154,19 @@ TEST_F(ModuleTest, BeginRegistrationOpensTheWindowAndDescribesIt) {
   EXPECT_TRUE(fake::engine().commands.count("screenshotPNG"));
   EXPECT_TRUE(fake::engine().cvars.count("r_pt_preset"));
   EXPECT_TRUE(fake::engine().cvars.count("r_pt_spp"));
+}
+
+TEST_F(ModuleTest, RegistrationDrawsFromRandLikeTheStockRenderer) {
+  // The game's random effects come from the same rand() sequence: after BeginRegistration it
+  // stands where opengl1 leaves it (512 draws for its noise lattice).
+  begin();
+  re_->Shutdown(0);
+  std::srand(5);
+  re_->BeginRegistration(&config_);
+  const int next = std::rand();
+  std::srand(5);
+  for (int i = 0; i < 512; ++i) (void)std::rand();
+  EXPECT_EQ(next, std::rand());
 }
 
 TEST_F(ModuleTest, CustomModeIsHonoured) {

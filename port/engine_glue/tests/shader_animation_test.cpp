@@ -96,17 +96,18 @@ TEST(ShaderAnimation, GlowWaveScalesEmission) {
 TEST(ShaderAnimation, GlowTcModsMoveTheEmissiveTextureOnItsOwn) {
   StageMotion motion;
   motion.glowTcMods = {tcMod(q3::TcModKind::Scroll, 0.25f, 0.5f)};
+  motion.glowOwnUv = true;
   EXPECT_TRUE(motion.timeDependent());
   pa::MaterialDesc still;
   still.baseTexture = 0;
-  still.emissiveTexture = 1;
+  still.emissiveTexture = 0;   // the base's image on uvs of its own (lava at two scales)
   const pa::MaterialDesc moved = materialAt(motion, 3.0, still);   // scroll (0.75, 0.5)
   EXPECT_TRUE(moved.emissiveOwnUv);
   const glm::vec2 uv = moved.emissiveUvTransform * glm::vec3(0.1f, 0.2f, 1.0f);
   EXPECT_NEAR(uv.x, 0.85f, 1e-6);
   EXPECT_NEAR(uv.y, 0.7f, 1e-6);
   EXPECT_EQ(moved.uvTransform, still.uvTransform);   // the base stays
-  still.emissiveTexture = 0;                         // the base is its own glow: nothing to move apart
+  motion.glowOwnUv = false;   // the glow reads the base's uvs (same tcMods): nothing to move apart
   EXPECT_FALSE(materialAt(motion, 3.0, still).emissiveOwnUv);
 }
 
@@ -150,12 +151,14 @@ struct ScriptedWorld {
   WorldAnimation animation;
   std::vector<uint8_t> pixels;
 
-  explicit ScriptedWorld(const std::string& shader) {
+  /// `glowOfBaseImage`: the material glows with its base image (a glow stage of the same map).
+  explicit ScriptedWorld(const std::string& shader, bool glowOfBaseImage = false) {
     library.addScript(shader, "test.shader");
     q3::WorldMaterial material;
     material.shaderName = "textures/test/belt";
     material.fromScript = true;
     material.baseTexture = 0;
+    if (glowOfBaseImage) material.emissiveTexture = 0;
     material.vertexLit = true;
     scene.materials.push_back(material);
     for (int x = 0; x < 20; ++x) pixels.insert(pixels.end(), {uint8_t(x < 10 ? 255 : 0), uint8_t(x < 10 ? 0 : 255), 0, 255});
@@ -235,6 +238,23 @@ TEST(ShaderAnimation, StillWorldShadersCostNothingPerFrame) {
   EXPECT_EQ(world.animation.lastUpdates(), 0u);
   EXPECT_TRUE(isGreen(left));
   EXPECT_TRUE(isRed(right));
+}
+
+TEST(ShaderAnimation, AGlowStageOfTheBaseImageReadsItsOwnUvs) {
+  // Lava: one image drawn twice, the glow stage scrolling (half a width at 1 s). Left column:
+  // base red (u 0.4) plus the glow at u 0.9 (green) = yellow; with the base's uvs it would stay red.
+  ScriptedWorld world("textures/test/belt\n{\n{\nmap belt.tga\n}\n{\nmap belt.tga\nblendfunc add\ntcMod scroll 0.5 0\n}\n}\n",
+                      true);
+  const auto [left, right] = world.at(1.0);
+  EXPECT_GT(left.r, 0.9f);
+  EXPECT_GT(left.g, 0.9f);
+  EXPECT_GT(right.r, 0.9f);
+  EXPECT_GT(right.g, 0.9f);
+  // The same glow on the base's uvs (same tcMods as the base) adds the same colour.
+  ScriptedWorld same("textures/test/belt\n{\n{\nmap belt.tga\n}\n{\nmap belt.tga\nblendfunc add\n}\n}\n", true);
+  const auto [sameLeft, sameRight] = same.at(0.0);
+  EXPECT_TRUE(isRed(sameLeft)) << sameLeft.r << " " << sameLeft.g;
+  EXPECT_TRUE(isGreen(sameRight));
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "port/engine_glue/dlight_overlay.h"
+#include "port/engine_glue/entity_materials.h"
 #include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/scene.h"
 #include "port/engine_glue/sky_cube.h"
@@ -465,6 +466,82 @@ TEST(StockWorldLook, UnlitShadersAreWhitenedAndVertexLightIsShifted) {
   ASSERT_EQ(glow.count(0), 1u);
   EXPECT_EQ(glow[0], glm::vec3(1, 0, 0));
   EXPECT_EQ(glow.count(1), 0u);
+}
+
+TEST(StockSpecular, AlphaIsTheMirroredFixedLightToTheFourthPower) {
+  // Straight below the fixed light (-960, 1980, 96), facing up: the light mirrors straight up.
+  const glm::vec3 p(-960, 1980, -4), n(0, 0, 1);
+  EXPECT_EQ(stockSpecularAlpha(p, n, p + glm::vec3(0, 0, 50)), 255);
+  // 60 degrees off the mirror direction: 0.5^4 x 255 = 15.94, truncated.
+  EXPECT_EQ(stockSpecularAlpha(p, n, p + 80.0f * glm::vec3(std::sin(kPi / 3), 0, std::cos(kPi / 3))), 15);
+  // 45 degrees: 0.25 x 255 = 63.75.
+  EXPECT_EQ(stockSpecularAlpha(p, n, p + glm::vec3(0, 30, 30)), 63);
+  EXPECT_EQ(stockSpecularAlpha(p, n, p + glm::vec3(0, 0, -10)), 0);   // behind: negative dot
+  EXPECT_EQ(stockSpecularAlpha(p, 3.0f * n, p + glm::vec3(0, 0, 50)), 255);   // normal length ignored
+}
+
+TEST(StockSpecular, SpecularLayersGetVertexCopiesWithTheirAlpha) {
+  GeometryBatch batch;
+  const glm::vec3 p(-960, 1980, -4);
+  batch.positions = {p, p + glm::vec3(1, 0, 0), p + glm::vec3(0, 1, 0)};
+  batch.normals.assign(3, glm::vec3(0, 0, 1));
+  batch.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  batch.colors.assign(3, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+  batch.indices = {0, 1, 2, 0, 1, 2};
+  batch.triangleShaders = {7, 7};
+  batch.triangleLayers = {0, 1};
+  const glm::vec3 viewer = p + glm::vec3(0, 0, 50);
+  specularAlphaLikeStock([](q3abi::qhandle_t shader, uint32_t layer) { return shader == 7 && layer == 1; }, viewer, batch);
+  ASSERT_EQ(batch.positions.size(), 6u);
+  EXPECT_EQ(batch.indices, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5}));   // layer 0 keeps its vertices
+  for (uint32_t v = 0; v < 3; ++v) EXPECT_EQ(batch.colors[v].a, 1.0f);
+  for (uint32_t v = 3; v < 6; ++v) {
+    EXPECT_EQ(batch.positions[v], batch.positions[v - 3]);
+    EXPECT_EQ(batch.uvs[v], batch.uvs[v - 3]);
+    EXPECT_EQ(glm::vec3(batch.colors[v]), glm::vec3(0.5f));
+    EXPECT_EQ(batch.colors[v].a, stockSpecularAlpha(batch.positions[v], glm::vec3(0, 0, 1), viewer) / 255.0f);
+  }
+  EXPECT_EQ(batch.colors[3].a, 1.0f);   // the vertex right under the light, seen from above
+}
+
+TEST(StageLayers, ModelStagesBlendedByTheirOwnAlphaAreFactorLayersInTheLightmapPreset) {
+  // OpenArena's health sphere: gl_src_alpha gl_one with a pulsing alpha, then a specular stage.
+  const q3::ShaderScript script = q3::parseShaderScript(
+      "smallcrossEnv\n{\n cull disable\n { map h.tga\n blendfunc gl_src_alpha gl_one\n tcGen environment\n"
+      " alphaGen wave sin 0.3 0.2 0.5 0 }\n { map s.tga\n blendfunc gl_src_alpha gl_one\n tcGen environment\n"
+      " alphaGen lightingSpecular }\n}\n",
+      "shells.shader");
+  ShaderEntry entry;
+  entry.name = "smallcrossEnv";
+  entry.look = lookOfShader(script.shaders.at(0));
+  ASSERT_EQ(entry.look.layers.size(), 1u);
+  const ImageTextures textures = [](const std::shared_ptr<const Image>&, bool, bool) { return pa::TextureId(3); };
+  const pa::MaterialDesc base = describeStage(entry, entry.look, nullptr, MaterialUse::StockModel, 0, textures);
+  EXPECT_EQ(base.alphaMode, pa::AlphaMode::Additive);
+  EXPECT_EQ(base.stock.layerBlend, pa::LayerBlend::Factors);
+  EXPECT_EQ(base.stock.layerSrcFactor, pa::BlendFactor::SrcAlpha);
+  EXPECT_EQ(base.stock.layerDstFactor, pa::BlendFactor::One);
+  EXPECT_FALSE(base.vertexAlphaTints);
+  EXPECT_TRUE(base.stock.useVertexLight);
+  const pa::MaterialDesc spec = describeStage(entry, entry.look.layers[0], nullptr, MaterialUse::StockModel, 1, textures);
+  EXPECT_EQ(spec.stock.layerBlend, pa::LayerBlend::Factors);
+  EXPECT_TRUE(spec.vertexAlphaTints);   // the specular alpha rides on the vertex copies
+  // An alpha-blended model stage is a premultiplied-over layer tinted by its vertex light.
+  const q3::ShaderScript blended = q3::parseShaderScript("m\n{\n { map m.tga\n blendfunc blend\n rgbGen lightingDiffuse }\n}\n",
+                                                        "m.shader");
+  ShaderEntry glass;
+  glass.name = "m";
+  glass.look = lookOfShader(blended.shaders.at(0));
+  const pa::MaterialDesc over = describeStage(glass, glass.look, nullptr, MaterialUse::StockModel, 0, textures);
+  EXPECT_EQ(over.alphaMode, pa::AlphaMode::Additive);
+  EXPECT_EQ(over.stock.layerBlend, pa::LayerBlend::Over);
+  EXPECT_FALSE(over.stock.useVertexLight);
+  EXPECT_TRUE(over.vertexColorTints);
+  EXPECT_EQ(describeStage(glass, glass.look, nullptr, MaterialUse::Model, 0, textures).alphaMode, pa::AlphaMode::Blend);
+  // The traced presets keep models' additive stages plain additive.
+  const pa::MaterialDesc traced = describeStage(entry, entry.look, nullptr, MaterialUse::Model, 0, textures);
+  EXPECT_EQ(traced.alphaMode, pa::AlphaMode::Additive);
+  EXPECT_EQ(traced.stock.layerBlend, pa::LayerBlend::Add);
 }
 
 }  // namespace

@@ -73,17 +73,6 @@ AlphaMode blendMode(const ShaderStage& s) {
   return AlphaMode::Blend;
 }
 
-bool sameTcMods(const std::vector<TcMod>& a, const std::vector<TcMod>& b) {
-  if (a.size() != b.size()) return false;
-  for (size_t i = 0; i < a.size(); ++i) {
-    const TcMod &x = a[i], &y = b[i];
-    if (x.kind != y.kind || x.scroll != y.scroll || x.degreesPerSecond != y.degreesPerSecond || x.matrix != y.matrix ||
-        x.translate != y.translate || x.wave.func != y.wave.func || x.wave.base != y.wave.base ||
-        x.wave.amplitude != y.wave.amplitude || x.wave.phase != y.wave.phase || x.wave.frequency != y.wave.frequency)
-      return false;
-  }
-  return true;
-}
 
 /// q3map2 (shaders.c): the light image path is q3map_lightimage, else the sky's far box "_up"
 /// image, else (without qer_editorimage) the first image named by a stage; the light image is
@@ -134,6 +123,18 @@ bool litByLaterLightmap(const std::vector<ShaderStage>& stages, size_t index) {
 }
 
 }  // namespace
+
+bool sameTcMods(const std::vector<TcMod>& a, const std::vector<TcMod>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const TcMod &x = a[i], &y = b[i];
+    if (x.kind != y.kind || x.scroll != y.scroll || x.degreesPerSecond != y.degreesPerSecond || x.matrix != y.matrix ||
+        x.translate != y.translate || x.wave.func != y.wave.func || x.wave.base != y.wave.base ||
+        x.wave.amplitude != y.wave.amplitude || x.wave.phase != y.wave.phase || x.wave.frequency != y.wave.frequency)
+      return false;
+  }
+  return true;
+}
 
 bool modulateBase(std::vector<uint8_t>& base, uint32_t width, uint32_t height, const std::vector<uint8_t>& modulator,
                   uint32_t modulatorWidth, uint32_t modulatorHeight, float scale) {

@@ -134,6 +134,10 @@ struct MaterialInfo {
   uint64_t surfaceParms = 0;
 };
 
+/// True when two stages' tcMod lists are the same, kind by kind and value by value (the stages
+/// read the same texture coordinates).
+bool sameTcMods(const std::vector<TcMod>& a, const std::vector<TcMod>& b);
+
 /// Derives the neutral material of a shader (see the mapping table in material.cpp).
 MaterialInfo deriveMaterial(const ShaderDef& shader);
 

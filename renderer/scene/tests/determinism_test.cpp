@@ -57,6 +57,21 @@ TEST(Determinism, OneAndTwoThreadsGiveBitIdenticalImages) {
   EXPECT_TRUE(bitIdentical(renderWith(1, s, 2), renderWith(2, s, 2)));
 }
 
+TEST(Determinism, PixelCentresDoNotDependOnTheSeed) {
+  // One-sample Lightmap frames: jittered samples change with the seed along every edge, samples
+  // through the pixel centres do not.
+  RenderSettings s = settingsFor(Integrator::Lightmap, 48, 1, 1);
+  s.seed = 1;
+  const auto jittered = renderWith(2, s);
+  s.seed = 2;
+  EXPECT_FALSE(bitIdentical(jittered, renderWith(2, s)));
+  s.pixelCentres = true;
+  const auto centred = renderWith(2, s);
+  s.seed = 1;
+  EXPECT_TRUE(bitIdentical(centred, renderWith(2, s)));
+  EXPECT_FALSE(bitIdentical(centred, jittered));
+}
+
 TEST(Determinism, SameSeedSameImageOtherSeedOtherImage) {
   RenderSettings s = settingsFor(Integrator::Path, 32, 1, 3);
   const auto a = renderWith(2, s);

@@ -173,6 +173,33 @@ TEST(Materials, CoincidentLayersComposeInPrimitiveOrder) {
   }
 }
 
+TEST(Materials, LayersThatShowNothingTakeNoSlot) {
+  // Twenty black additive quads (sprite margins) in front of one that adds 0.5, over grey 0.2:
+  // more layers than a ray keeps (AdditiveHits::kCapacity), yet the one that shows is composed.
+  Renderer r({2});
+  test::MeshArrays back = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  back.setMaterial(r.addMaterial(coloured(0.2f, 0.2f, 0.2f)));
+  r.addInstance({r.addMesh(back.desc())});
+  MaterialDesc black = coloured(0.0f, 0.0f, 0.0f);
+  black.alphaMode = AlphaMode::Additive;
+  const MaterialId blackId = r.addMaterial(black);
+  for (int k = 0; k < 20; ++k) {
+    test::MeshArrays quad = test::quad({-5, -5, 1.0f + 0.05f * float(k)}, {10, 0, 0}, {0, 10, 0});
+    quad.setMaterial(blackId);
+    r.addInstance({r.addMesh(quad.desc())});
+  }
+  MaterialDesc add = coloured(0.5f, 0.5f, 0.5f);
+  add.alphaMode = AlphaMode::Additive;
+  test::MeshArrays shown = test::quad({-5, -5, 0.5f}, {10, 0, 0}, {0, 10, 0});
+  shown.setMaterial(r.addMaterial(add));
+  r.addInstance({r.addMesh(shown.desc())});
+  r.setSky(SkyDesc{});
+  r.commit();
+  const FrameView f = r.render(lookAt({0, 0, 3}, {0, 0, 0}, 20.0f), settingsFor(Integrator::Lightmap, 4, 1, 2));
+  const float expected = srgbToLinear(std::min(1.0f, linearToSrgb(0.2f) + linearToSrgb(0.5f)));
+  EXPECT_NEAR(f.radiance[5].g, expected, 1e-5f);
+}
+
 TEST(Materials, BlendIsStochasticCoverage) {
   MaterialDesc glass = coloured(1.0f, 0.0f, 0.0f);
   glass.alphaMode = AlphaMode::Blend;

@@ -31,6 +31,12 @@ glm::vec3 toWorld(const glm::mat4x3& m, const glm::vec3& p) { return m * glm::ve
 
 void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color,
                     const glm::vec3& transmit) {
+  // A layer that adds nothing and keeps what is behind is no layer (the black margins of sprite
+  // quads): it takes no slot from the ones that show.
+  constexpr float kNothing = 1e-5f;
+  if (glm::all(glm::lessThan(color, glm::vec3(kNothing))) &&
+      glm::all(glm::lessThan(glm::abs(transmit - 1.0f), glm::vec3(kNothing))))
+    return;
   for (uint32_t i = 0; i < hits.count; ++i) {
     if (hits.entries[i].instance == instance && hits.entries[i].prim == prim) return;   // reported twice
   }
