@@ -3,6 +3,7 @@
 #include "port/light_recovery/recover_lights.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <iterator>
@@ -31,6 +32,26 @@ float emittedRadiance(const q3::WorldScene& scene, const q3::WorldMaterial& m) {
   for (size_t i = 0; i + 3 < image.rgba8.size(); i += 4)
     for (int c = 0; c < 3; ++c) sum += pa::srgbToLinear(image.rgba8[i + size_t(c)] / 255.0);
   return float(sum / double(image.rgba8.size() / 4));
+}
+
+/// Appends the triangle to `emitters`, split into four at its edge midpoints until no edge is
+/// longer than kEmitterPieceEdge: the calibration sees each piece as light from its centre, and
+/// a whole lava pool seen from a wall beside it is no point (q3map2 subdivides its area lights
+/// too). Bounded: pieces stop splitting once `emitters` holds kMaxEmitterPieces.
+constexpr float kEmitterPieceEdge = 64.0f;
+constexpr size_t kMaxEmitterPieces = size_t(1) << 16;
+void appendEmitter(std::vector<CalibrationEmitter>& emitters, const CalibrationEmitter& e, int depth = 0) {
+  const float longest = std::max({glm::length(e.b - e.a), glm::length(e.c - e.b), glm::length(e.a - e.c)});
+  if (!(longest > kEmitterPieceEdge) || depth >= 8 || emitters.size() + 4 > kMaxEmitterPieces) {
+    emitters.push_back(e);
+    return;
+  }
+  const glm::vec3 ab = (e.a + e.b) * 0.5f, bc = (e.b + e.c) * 0.5f, ca = (e.c + e.a) * 0.5f;
+  for (const auto& [p, q, r] : {std::array{e.a, ab, ca}, std::array{ab, e.b, bc}, std::array{ca, bc, e.c}, std::array{ab, bc, ca}}) {
+    CalibrationEmitter piece = e;
+    piece.a = p, piece.b = q, piece.c = r;
+    appendEmitter(emitters, piece, depth + 1);
+  }
 }
 
 }  // namespace
@@ -112,7 +133,7 @@ std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene,
       for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
         const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
         if (a >= mesh.positions.size() || b >= mesh.positions.size() || c >= mesh.positions.size()) continue;
-        emitters.push_back({mesh.positions[a], mesh.positions[b], mesh.positions[c], radiance, m.twoSided, group});
+        appendEmitter(emitters, {mesh.positions[a], mesh.positions[b], mesh.positions[c], radiance, m.twoSided, group});
       }
     }
   Blas blas;
