@@ -156,7 +156,6 @@ std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene,
     const glm::vec3 sky = bridge::skyLightingRadiance(scene);
     withSky.skyLightValue = q3::kQ3FullBright * (sky.r + sky.g + sky.b);
   }
-
   // Inside solid: most directions first meet a triangle from behind (brushes are closed and
   // face outwards). Open directions (sky, leaks) count as outside.
   const PointInSolid inSolid = [&](const glm::vec3& point) {
@@ -185,7 +184,6 @@ std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene,
   for (const q3::WorldLight& l : gridCandidates) avoid.push_back(l.position);
   LightmapLightOptions lightmapOptions;
   lightmapOptions.maxCandidates = options.maxLightmapCandidates;
-  const auto start = std::chrono::steady_clock::now();
   // On maps whose lights were stripped, the emitting materials' light as the lightmaps show it,
   // fitted beside the grid's lights and candidates from every unexplained lightmap peak as if no
   // surface light were known (else a too bright emitter would leave no candidate to take its
@@ -210,6 +208,7 @@ std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene,
   // the sky explain (the light grid may be too coarse to show it, or its estimates blended).
   std::vector<q3::WorldLight> lightmapCandidates;
   LightmapLightStats lightmapStats;
+  const auto start = std::chrono::steady_clock::now();
   if (fromLightmaps) {
     const KnownLightAt known = [&](const glm::vec3& position, const glm::vec3& normal) {
       return knownLightAt(scene, position, normal, blocked, emitters, withSky);
