@@ -92,15 +92,10 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     const float authored = knownLight(scene, s, origin, blocked, emitters, o, rng, stats.shadowRays);
     stats.shadowRays += o.skyRays > 0 && o.skyLightValue > 0.0f ? size_t(o.skyRays) : 0;
     entries.clear();
+    appendShadowedGains(s, origin, fitted, 0, blocked, o, stats.shadowRays, entries);
     float predicted = authored;
-    for (size_t i = 0; i < k; ++i) {
-      const float gain = pointGain(s, *fitted[i]);
-      if (!(gain > 0.0f) || gain * 4.0f * std::max(fitted[i]->quakeIntensity, o.minLightValue) < o.minTracedValue) continue;
-      ++stats.shadowRays;
-      if (blocked(origin, fitted[i]->position)) continue;
-      entries.push_back({uint32_t(i), gain});
-      if (i < estimatedCount) predicted += gain * fitted[i]->quakeIntensity;
-    }
+    for (const Entry& e : entries)
+      if (e.light < estimatedCount) predicted += e.gain * fitted[e.light]->quakeIntensity;
     const float target = s.value - authored;
     sumTexel += s.value;
     sumBefore += predicted;
@@ -108,15 +103,7 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     // Relative errors: a dark texel says as much as a bright one (weight 1 / (texel + 32)).
     const double w = weightOf(s.value, o);
     weights[j] = w;
-    for (const Entry& a : entries) {
-      ++litSamples[a.light];
-      for (const Entry& b : entries) gram[a.light * n + b.light] += w * a.gain * b.gain;
-      gram[a.light * n + k] += w * a.gain;
-      gram[k * n + a.light] += w * a.gain;
-      rhs[a.light] += w * a.gain * target;
-    }
-    gram[k * n + k] += w;
-    rhs[k] += w * target;
+    accumulateRow(entries, w, target, n, gram, rhs, litSamples);
     perSample[j] = entries;
   }
 

@@ -187,6 +187,32 @@ double weightOf(float texel, const LightCalibrationOptions& o) {
   return o.relativeErrors ? 1.0 / (double(texel) + 32.0) : 1.0;
 }
 
+void appendShadowedGains(const Sample& s, const glm::vec3& origin, const std::vector<const WorldLight*>& lights,
+                         uint32_t offset, const SegmentBlocked& blocked, const LightCalibrationOptions& o, size_t& rays,
+                         std::vector<Entry>& entries) {
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const float gain = pointGain(s, *lights[i]);
+    if (!(gain > 0.0f) || gain * 4.0f * std::max(lights[i]->quakeIntensity, o.minLightValue) < o.minTracedValue) continue;
+    ++rays;
+    if (blocked(origin, lights[i]->position)) continue;
+    entries.push_back({offset + uint32_t(i), gain});
+  }
+}
+
+void accumulateRow(const std::vector<Entry>& entries, double w, double target, size_t n, std::vector<double>& gram,
+                   std::vector<double>& rhs, std::vector<size_t>& lit) {
+  const size_t constant = n - 1;
+  for (const Entry& a : entries) {
+    ++lit[a.light];
+    for (const Entry& b : entries) gram[a.light * n + b.light] += w * a.gain * b.gain;
+    gram[a.light * n + constant] += w * a.gain;
+    gram[constant * n + a.light] += w * a.gain;
+    rhs[a.light] += w * a.gain * target;
+  }
+  gram[constant * n + constant] += w;
+  rhs[constant] += w * target;
+}
+
 std::vector<double> solveBounded(const std::vector<double>& gram, const std::vector<double>& rhs, std::vector<double> x,
                                  const std::vector<double>& lower, const std::vector<double>& upper, int sweeps) {
   const size_t n = rhs.size();

@@ -69,6 +69,19 @@ float knownLight(const q3::WorldScene& scene, const Sample& s, const glm::vec3& 
 /// Least-squares weight of a texel: 1 (absolute errors) or 1 / (texel + 32) (relative).
 double weightOf(float texel, const LightCalibrationOptions& o);
 
+/// Appends {offset + i, gain} for each light i of `lights` whose unit gain on the sample is worth
+/// tracing (above options.minTracedValue at 4x its value or minLightValue) and whose shadow ray
+/// from `origin` is clear; every shadow ray traced is counted in `rays`.
+void appendShadowedGains(const Sample& s, const glm::vec3& origin, const std::vector<const q3::WorldLight*>& lights,
+                         uint32_t offset, const SegmentBlocked& blocked, const LightCalibrationOptions& o, size_t& rays,
+                         std::vector<Entry>& entries);
+
+/// Adds one sample's row (its entries' gains and the constant, the last of `n` unknowns) with
+/// weight `w` and right-hand side `target` to the normal equations, and counts each entry's
+/// unknown in `lit`.
+void accumulateRow(const std::vector<Entry>& entries, double w, double target, size_t n, std::vector<double>& gram,
+                   std::vector<double>& rhs, std::vector<size_t>& lit);
+
 /// min 1/2 x'(G + L)x - (b + L x0)'x subject to lower <= x <= upper, by coordinate descent
 /// (`gram` row-major n x n, the prior already folded into gram and rhs).
 std::vector<double> solveBounded(const std::vector<double>& gram, const std::vector<double>& rhs, std::vector<double> x,

@@ -43,7 +43,7 @@ std::vector<float> fitEmitterScales(const WorldScene& scene, const std::vector<W
     if (fitted.size() < gridCount + o.maxLightmapCandidates && l.estimated && l.type == WorldLightType::Point &&
         !l.linearFalloff && finite3(l.position))
       fitted.push_back(&l);
-  const size_t g = groupCount, k = fitted.size(), n = g + k + 1, constant = g + k;
+  const size_t g = groupCount, k = fitted.size(), n = g + k + 1;   // + the constant
   LightCalibrationOptions budgeted = o;
   // A third of the calibration's texels: the shares are few unknowns, and the shadow rays
   // towards every candidate are most of the load-time cost.
@@ -74,24 +74,8 @@ std::vector<float> fitEmitterScales(const WorldScene& scene, const std::vector<W
       if (e.group >= 0 && size_t(e.group) < groupCount) groupGain[size_t(e.group)] += emitterLight(s, e, origin, blocked, o, rays);
     for (size_t i = 0; i < g; ++i)
       if (groupGain[i] > 0.0) entries.push_back({uint32_t(i), float(groupGain[i])});
-    for (size_t i = 0; i < k; ++i) {
-      const float gain = pointGain(s, *fitted[i]);
-      if (!(gain > 0.0f) || gain * 4.0f * std::max(fitted[i]->quakeIntensity, o.minLightValue) < o.minTracedValue) continue;
-      ++rays;
-      if (blocked(origin, fitted[i]->position)) continue;
-      entries.push_back({uint32_t(g + i), gain});
-    }
-    const double target = double(s.value) - double(fixed);
-    const double w = weightOf(s.value, o);
-    for (const Entry& a : entries) {
-      ++lit[a.light];
-      for (const Entry& b : entries) gram[a.light * n + b.light] += w * double(a.gain) * double(b.gain);
-      gram[a.light * n + constant] += w * a.gain;
-      gram[constant * n + a.light] += w * a.gain;
-      rhs[a.light] += w * a.gain * target;
-    }
-    gram[constant * n + constant] += w;
-    rhs[constant] += w * target;
+    appendShadowedGains(s, origin, fitted, uint32_t(g), blocked, o, rays, entries);
+    accumulateRow(entries, weightOf(s.value, o), double(s.value) - double(fixed), n, gram, rhs, lit);
   }
 
   // Start and prior: groups at their shader's value (1), estimated lights at the grid's value,
