@@ -19,7 +19,7 @@ float greyByteToLinear(float level) { return byteToLinear(std::floor(255.0f * le
 
 bool sameLook(const pa::MaterialDesc& a, const pa::MaterialDesc& b) {
   return a.uvTransform == b.uvTransform && a.uvWobble == b.uvWobble && a.baseColor == b.baseColor &&
-         a.emission == b.emission && a.baseTexture == b.baseTexture && a.emissiveTexture == b.emissiveTexture &&
+         a.emission == b.emission && a.seenEmission == b.seenEmission && a.baseTexture == b.baseTexture && a.emissiveTexture == b.emissiveTexture &&
          a.emissiveOwnUv == b.emissiveOwnUv && a.emissiveUvTransform == b.emissiveUvTransform;
 }
 
@@ -76,7 +76,11 @@ pa::MaterialDesc materialAt(const StageMotion& motion, double seconds, const pa:
     else
       desc.baseColor.a *= alpha;
   }
-  if (motion.glowWaves) desc.emission = still.emission * greyByteToLinear(q3::rgbWaveAt(motion.glowWave, seconds));
+  if (motion.glowWaves) {
+    const float level = greyByteToLinear(q3::rgbWaveAt(motion.glowWave, seconds));
+    desc.emission = still.emission * level;
+    if (still.seenEmission.x >= 0.0f) desc.seenEmission = still.seenEmission * level;
+  }
   if (motion.glowOwnUv && still.emissiveTexture != pa::kNoId) {
     const q3::UvAffine m = q3::tcModsAt(motion.glowTcMods, seconds, entityScroll).affine;
     desc.emissiveOwnUv = true;

@@ -88,7 +88,9 @@ struct MapState {
   bool skyHidden = false;         ///< A view without the world set a black sky.
   bool stockSkyReady = false;     ///< stockSky was baked (the map has a sky shader).
   bool stockSkyShown = false;     ///< The renderer shows stockSky (else tracedSky).
-  bool stockEmissionShown = false;   ///< World surface lights drawn the stock way.
+  /// World surface lights drawn the stock way (1) or as the traced presets see them (0); -1 =
+  /// as uploaded, not yet chosen.
+  int stockEmissionShown = -1;
   /// The stock sky: its cube faces are baked once per map (the sky's mean and sampling); camera
   /// rays see stockSkyPictureAt(skyBaker, shader time), so moving clouds cost no bake per frame.
   std::shared_ptr<const SkyBaker> skyBaker;

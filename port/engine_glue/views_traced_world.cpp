@@ -144,25 +144,28 @@ void ViewRenderer::Impl::drawStockDlights(std::span<const DynamicLight> lights, 
 
 /// The stock renderer shows a q3map_surfacelight surface through its stages only (its light is
 /// baked in the lightmaps): in the lightmap preset such surfaces glow only through their
-/// additive glow stage, at the texture's own brightness. The traced presets keep the bridge's
-/// emitters.
+/// additive glow stage, at the texture's own brightness. The traced presets light with the
+/// bridge's emitters and show camera rays the glow stage in its colour (seenEmission).
 void ViewRenderer::Impl::selectWorldEmission(bool stockLook) {
-  if (stockLook == map.stockEmissionShown || !map.worldScene) return;
+  if (int(stockLook) == map.stockEmissionShown || !map.worldScene) return;
   for (const auto& [key, id] : map.world.materials) {
     const q3::WorldMaterial& m = map.worldScene->materials.at(key.first);
     if (!(m.surfaceLight > 0.0f) || m.alphaMode == q3::WorldAlphaMode::Additive) continue;
     if (std::find(map.spriteMaterials.begin(), map.spriteMaterials.end(), key.first) != map.spriteMaterials.end())
       continue;
     pa::MaterialDesc desc = pa::bridge::materialDesc(*map.worldScene, map.world, key.first, key.second);
+    const bool glows = m.emissiveTexture >= 0 && size_t(m.emissiveTexture) < map.world.textures.size();
+    const auto colour = map.glowColors.find(key.first);
+    const glm::vec3 glowColour = colour != map.glowColors.end() ? colour->second : glm::vec3(1.0f);
     if (stockLook) {
-      const bool glows = m.emissiveTexture >= 0 && size_t(m.emissiveTexture) < map.world.textures.size();
       desc.emissiveTexture = glows ? map.world.textures[size_t(m.emissiveTexture)] : pa::kNoId;
-      const auto colour = map.glowColors.find(key.first);
-      desc.emission = glows ? (colour != map.glowColors.end() ? colour->second : glm::vec3(1.0f)) : glm::vec3(0.0f);
+      desc.emission = glows ? glowColour : glm::vec3(0.0f);
+    } else if (glows && desc.seenEmission.x >= 0.0f) {
+      desc.seenEmission = glowColour;   // the glow stage as the stock renderer draws it
     }
     map.worldAnimation.setMaterial(id, desc, *renderer);
   }
-  map.stockEmissionShown = stockLook;
+  map.stockEmissionShown = int(stockLook);
 }
 
 /// The far box under scrolling cloud layers; the lightmap preset shows it instead of the

@@ -40,7 +40,10 @@ AlphaMode alphaModeOf(q3::WorldAlphaMode mode) {
 }
 
 /// q3map_surfacelight: constant radiance of the light's colour; shown through its texture
-/// (glow stage, else base) scaled so the texture's mean keeps the emitted power.
+/// (glow stage, else base) scaled so the texture's mean keeps the emitted power. Camera rays see
+/// that texture at its own brightness, as the stock renderer draws the stage
+/// (MaterialDesc::seenEmission): the light a shader claims is no guide to its look, and light
+/// recovery may scale it far down (a jump pad) or leave it far above white (lava).
 void setSurfaceLightEmission(const q3::WorldScene& scene, const WorldHandles& handles, const q3::WorldMaterial& m,
                              float lightScale, MaterialDesc& desc) {
   int32_t shown = m.emissiveTexture >= 0 ? m.emissiveTexture : m.baseTexture;
@@ -51,6 +54,7 @@ void setSurfaceLightEmission(const q3::WorldScene& scene, const WorldHandles& ha
     float luminance = 0.2126f * mean.r + 0.7152f * mean.g + 0.0722f * mean.b;
     if (luminance > 1e-3f && handles.textures[size_t(shown)] != kNoId) {
       desc.emissiveTexture = handles.textures[size_t(shown)];
+      desc.seenEmission = glm::vec3(1.0f);
       radiance /= luminance;
     }
   }

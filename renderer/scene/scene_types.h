@@ -235,6 +235,11 @@ struct MaterialDesc {
   float opacity = 1.0f;                 ///< Blend: overall opacity multiplier.
   TextureId emissiveTexture = kNoId;    ///< Emission map (RGB, sRGB); kNoId = constant emission.
   glm::vec3 emission{0.0f};             ///< Linear radiance multiplier (W/sr/m^2 in scene units).
+  /// What camera rays see of the emission until their first scattering (mirror and portal
+  /// chains included), where the look of an emitter was authored apart from the light it gives:
+  /// radiance multiplier of emissiveTexture. Negative = `emission`. Light sampling and rays
+  /// after a scattering always use `emission`.
+  glm::vec3 seenEmission{-1.0f};
   bool vertexColorTints = true;         ///< The vertex colour's RGB multiplies the base (unless stock.useVertexLight).
   bool vertexAlphaTints = true;         ///< The vertex colour's alpha multiplies the base's alpha.
   bool mirror = false;                  ///< Perfect specular reflection (mirrors, portals seen as mirrors).

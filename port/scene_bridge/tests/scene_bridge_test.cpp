@@ -257,10 +257,15 @@ TEST(SceneBridge, SurfaceLightEmitsItsQ3map2Radiance) {
   scene.materials[0].surfaceLight = 1000.0f;
   scene.materials[0].emission = glm::vec3(1.0f);
   Renderer renderer;
-  uploadWorld(scene, renderer);   // the sky stays unset
+  const WorldHandles handles = uploadWorld(scene, renderer);   // the sky stays unset
   renderer.commit();
-  // Seen directly (no bounces): emission only, = 1000 * 3 * 0.25 / 64 for a white texture.
-  EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 1), q3::surfaceLightRadiance(1000.0f), 0.05f);
+  // It lights with 1000 * 3 * 0.25 / 64 for a white texture (emission x the texture's mean)...
+  const MaterialDesc desc = materialDesc(scene, handles, 0, -1);
+  EXPECT_NEAR(desc.emission.g, q3::surfaceLightRadiance(1000.0f), 0.05f);
+  // ... and camera rays see the texture at its own brightness, as the stock renderer draws it
+  // (no bounces: emission only).
+  EXPECT_EQ(desc.seenEmission, glm::vec3(1.0f));
+  EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 1), 1.0f, 1e-3f);
 }
 
 TEST(SceneBridge, CameraFromSpawnKeepsAxesAndDerivesVerticalFov) {

@@ -175,7 +175,9 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     const glm::vec3 albedo = glm::clamp(glm::vec3(baseRgba), 0.0f, 1.0f);
     if (viewDepth == 0) trace::recordSurfaceAovs(scene, s, hit.t, albedo, ns, portalsCrossed > 0, out);
 
-    const glm::vec3 le = scene.emission(s, front);
+    // Until the first scattering every earlier vertex was the camera, a mirror or a portal, so
+    // the MIS weight below is 1 and the look may differ from the light (seenEmission).
+    const glm::vec3 le = scatterCount == 0 ? scene.seenEmission(s, front) : scene.emission(s, front);
     if (le != glm::vec3(0.0f)) {
       float weight = 1.0f;
       if (!prev.delta) {

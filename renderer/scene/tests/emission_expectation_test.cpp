@@ -240,5 +240,59 @@ TEST(EmissionExpectation, FilmResolvesTheEmissionMean) {
   EXPECT_FLOAT_EQ(film.radiance()[0].g, 10.0f / 3.0f);
 }
 
+/// An emitter whose look is authored apart from its light (MaterialDesc::seenEmission): camera
+/// rays see the look exactly, directly and through a mirror, even where the light is 0.
+TEST(EmissionExpectation, CameraRaysSeeTheSeenEmissionNotTheLight) {
+  const glm::vec3 seen(0.8f, 0.6f, 0.2f);
+  for (const glm::vec3 light : {glm::vec3(0.0f), glm::vec3(300.0f, 200.0f, 100.0f)}) {
+    for (Integrator integrator : {Integrator::Direct, Integrator::Path}) {
+      Renderer r({2});
+      MaterialDesc m = emitter(light, 0.0f);
+      m.seenEmission = seen;
+      addMesh(r, test::quad({-10, -10, 0}, {20, 0, 0}, {0, 20, 0}), m);
+      r.commit();
+      const RenderSettings s = settingsFor(integrator, 12, 4, integrator == Integrator::Path ? 4 : 1);
+      expectEveryPixelIs(r.render(cameraAbove(), s), seen, light.x > 0.0f ? "seen, bright light" : "seen, no light");
+    }
+  }
+  // Through a mirror filling the view (facing down at z = 1), the camera below looks up at it
+  // and sees the emitter beneath itself (z = -1, facing up).
+  Renderer r({2});
+  MaterialDesc mirror = test::diffuse(1.0f);
+  mirror.mirror = true;
+  addMesh(r, test::quad({-50, -50, 1}, {0, 100, 0}, {100, 0, 0}), mirror);
+  MaterialDesc m = emitter(glm::vec3(50.0f), 0.0f);
+  m.seenEmission = seen;
+  addMesh(r, test::quad({-50, -50, -1}, {100, 0, 0}, {0, 100, 0}), m);
+  r.commit();
+  const FrameView f = r.render(lookAt({0, 0, 0}, {0, 0, 1}, 30.0f), settingsFor(Integrator::Path, 12, 2, 4));
+  expectEveryPixelIs(f, seen, "seen through a mirror");
+}
+
+/// The light an emitter gives does not depend on its seen look: a floor lit by an emitter out of
+/// view is the same image, bit for bit, whatever the emitter's seenEmission.
+TEST(EmissionExpectation, SeenEmissionLeavesTheLightUnchanged) {
+  for (Integrator integrator : {Integrator::Direct, Integrator::Path}) {
+    std::vector<glm::vec3> images[2];
+    for (int apart = 0; apart < 2; ++apart) {
+      Renderer r({2});
+      addMesh(r, test::quad({-20, -20, 0}, {40, 0, 0}, {0, 40, 0}), test::diffuse(0.5f));
+      MaterialDesc lamp = emitter(glm::vec3(4.0f), 0.5f);
+      if (apart) lamp.seenEmission = glm::vec3(0.1f);
+      addMesh(r, test::quad({-0.5f, -0.5f, 2}, {0, 1, 0}, {1, 0, 0}), lamp);
+      r.commit();
+      const FrameView f = r.render(cameraOnFloor(), settingsFor(integrator, 16, 8, 4));
+      images[apart].assign(f.radiance.begin(), f.radiance.end());
+    }
+    ASSERT_EQ(images[0].size(), images[1].size());
+    float peak = 0.0f;
+    for (size_t i = 0; i < images[0].size(); ++i) {
+      ASSERT_EQ(images[0][i], images[1][i]) << "pixel " << i;
+      peak = std::max(peak, images[0][i].g);
+    }
+    EXPECT_GT(peak, 0.01f) << "the floor is lit";
+  }
+}
+
 }  // namespace
 }  // namespace pa

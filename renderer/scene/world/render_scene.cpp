@@ -368,6 +368,16 @@ glm::vec3 RenderScene::emission(const SurfaceHit& s, bool frontSide) const {
   return e;
 }
 
+glm::vec3 RenderScene::seenEmission(const SurfaceHit& s, bool frontSide) const {
+  const MaterialRecord& m = *s.material;
+  if (!m.seenApart) return emission(s, frontSide);
+  if (!frontSide && !m.desc.twoSided) return glm::vec3(0.0f);
+  glm::vec3 e = m.desc.seenEmission;
+  if (e == glm::vec3(0.0f)) return e;
+  if (m.emissive != nullptr) e *= glm::vec3(m.emissive->sample(s.emissiveUv, 0.0f));
+  return e;
+}
+
 const PortalDesc* RenderScene::portalAt(const glm::vec3& position, const glm::vec3& normal,
                                         const glm::vec3& direction) const {
   // Points on the plane within a quarter unit (plus float slack far from the origin), surfaces

@@ -32,6 +32,8 @@ struct MaterialRecord {
   const Texture* shine = nullptr;   ///< StockLook::shineTexture.
   bool filtered = false;   ///< Hits on it must go through the HitFilter.
   bool emits = false;      ///< Non-zero emission (collected as area light).
+  /// Camera rays see seenEmission in place of emission (MaterialDesc::seenEmission >= 0).
+  bool seenApart = false;
 };
 
 /// True when a material needs the HitFilter (anything but an opaque, visible, two-sided,
@@ -152,6 +154,9 @@ struct RenderScene {
   glm::vec4 shineColor(const SurfaceHit& s, float footprint) const;
   /// Emitted radiance toward the given side (front = the winding normal's side).
   glm::vec3 emission(const SurfaceHit& s, bool frontSide) const;
+  /// Emitted radiance as camera rays see it before their first scattering
+  /// (MaterialDesc::seenEmission; emission() where the material has none).
+  glm::vec3 seenEmission(const SurfaceHit& s, bool frontSide) const;
   /// Unnormalised world-space winding normal of a triangle (front side).
   glm::vec3 windingNormal(const RenderInstance& instance, uint32_t prim) const;
   /// Alpha coverage at barycentrics (full-resolution texture alpha x baseColor.a x vertex alpha

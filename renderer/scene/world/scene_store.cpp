@@ -66,6 +66,7 @@ void SceneStore::validateMaterial(const MaterialDesc& m, const CallContext& what
     throw SceneError(what + ": a layer blend factor is not a BlendFactor");
   requireFinite(finite(m.baseColor), what, "baseColor");
   requireNonNegative(m.emission, what, "emission");
+  requireFinite(finite(m.seenEmission), what, "seenEmission");
   requireFinite(finite(m.alphaCutoff), what, "alphaCutoff");
   requireFinite(finite(m.opacity), what, "opacity");
   requireFinite(finite(m.specular), what, "specular");
@@ -436,6 +437,7 @@ void SceneStore::commit(RenderScene& scene) {
     r.shine = texturePtr(d.stock.shineTexture);
     r.filtered = materialNeedsFilter(d);
     r.emits = d.emission.x > 0.0f || d.emission.y > 0.0f || d.emission.z > 0.0f;
+    r.seenApart = d.seenEmission.x >= 0.0f && d.seenEmission.y >= 0.0f && d.seenEmission.z >= 0.0f;
     return r;
   };
   scene.materials.reserve(materials_.size());
