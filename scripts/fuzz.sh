@@ -4,7 +4,7 @@
 #
 #   scripts/fuzz.sh build        configure + build build-fuzz (clang-14), check the committed seeds
 #   scripts/fuzz.sh seeds        regenerate the committed seed corpora (fuzz/seeds/ beside each harness)
-#   scripts/fuzz.sh run NAME     run one harness for PA_FUZZ_SECONDS (default 60) from its seeds
+#   scripts/fuzz.sh run NAME     run one harness for PA_FUZZ_SECONDS (default 30) from its seeds
 #   scripts/fuzz.sh all          build, then run every harness, two at a time
 #   scripts/fuzz.sh list         the harness names
 #
@@ -15,7 +15,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 dir=${PA_FUZZ_DIR:-$root/build-fuzz}
-seconds=${PA_FUZZ_SECONDS:-60}
+seconds=${PA_FUZZ_SECONDS:-30}
 niceness=${PA_FUZZ_NICE:-10}
 
 # name | binary (in the build tree) | seed folder (committed, in the source tree; "build:" = made
