@@ -42,8 +42,8 @@ void Settings::registerCvars(const Engine& engine) {
   fullscreen_ = engine.cvar("r_fullscreen", "1", CVAR_ARCHIVE | CVAR_LATCH, "Fullscreen window");
   preset_ = engine.cvar("r_pt_preset", "lightmap", CVAR_ARCHIVE,
                         "Path tracer quality: lightmap | direct | path | reference");
-  spp_ = engine.cvar("r_pt_spp", "1", CVAR_ARCHIVE, "Samples per pixel per frame (1..256)");
-  if (spp_ != nullptr) ri.Cvar_CheckRange(spp_, 1, 256, 1);
+  spp_ = engine.cvar("r_pt_spp", "1", CVAR_ARCHIVE, "Samples per pixel per frame (1..4096)");
+  if (spp_ != nullptr) ri.Cvar_CheckRange(spp_, 1, 4096, 1);
   bounces_ = engine.cvar("r_pt_bounces", "2", CVAR_ARCHIVE, "Maximum path bounces (0..16)");
   if (bounces_ != nullptr) ri.Cvar_CheckRange(bounces_, 0, 16, 1);
   scale_ = engine.cvar("r_pt_scale", "0.5", CVAR_ARCHIVE,
@@ -200,7 +200,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
     }
     preset_->modified = 0;
   }
-  if (spp_ != nullptr) out.samplesPerPixel = std::clamp(spp_->integer, 1, 256);
+  if (spp_ != nullptr) out.samplesPerPixel = std::clamp(spp_->integer, 1, 4096);
   if (bounces_ != nullptr) out.maxBounces = std::clamp(bounces_->integer, 0, 16);
   if (scale_ != nullptr && std::isfinite(scale_->value))
     out.resolutionScale = std::clamp(scale_->value, 0.1f, 1.0f);
