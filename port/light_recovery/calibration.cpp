@@ -26,8 +26,8 @@ float knownLightAt(const WorldScene& scene, const glm::vec3& position, const glm
   const Sample s{position, normal / length, 0.0f};
   const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
   size_t rays = 0;
-  std::mt19937 rng(o.seed ^ 0x27d4eb2fu);
-  const float value = knownLight(scene, s, origin, blocked, emitters, o, rng, rays);
+  SampleRandom random(o.seed ^ 0x27d4eb2fu, 0);
+  const float value = knownLight(scene, s, origin, blocked, emitters, o, random, rays);
   return std::isfinite(value) ? value : 0.0f;
 }
 
@@ -76,23 +76,31 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     return lights;
   }
 
-  std::mt19937 rng(o.seed ^ 0x5bd1e995u);
-  // Gains (shadowed) of every fitted light per sample, and the authored lights' light.
+  // Gains (shadowed) of every fitted light per sample, and the authored lights' light: the
+  // shadow rays, most of the cost, traced for the samples in parallel.
   const size_t k = fitted.size(), n = k + 1;   // + the constant
   std::vector<double> gram(n * n, 0.0), rhs(n, 0.0);
   std::vector<size_t> litSamples(k, 0);
-  std::vector<Entry> entries;
   double sumTexel = 0.0, sumBefore = 0.0;
   std::vector<std::vector<Entry>> perSample(samples.size());
+  std::vector<float> authoredLight(samples.size());
+  std::vector<size_t> raysPerSample(samples.size(), 0);
+  parallelOverSamples(samples.size(), [&](size_t begin, size_t end) {
+    for (size_t j = begin; j < end; ++j) {
+      const Sample& s = samples[j];
+      const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
+      SampleRandom random(o.seed ^ 0x5bd1e995u, j);
+      authoredLight[j] = knownLight(scene, s, origin, blocked, emitters, o, random, raysPerSample[j]);
+      appendShadowedGains(s, origin, fitted, 0, blocked, o, raysPerSample[j], perSample[j]);
+    }
+  });
   std::vector<float> targets(samples.size());
   std::vector<double> weights(samples.size(), 1.0);
   for (size_t j = 0; j < samples.size(); ++j) {
     const Sample& s = samples[j];
-    const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
-    const float authored = knownLight(scene, s, origin, blocked, emitters, o, rng, stats.shadowRays);
-    stats.shadowRays += o.skyRays > 0 && o.skyLightValue > 0.0f ? size_t(o.skyRays) : 0;
-    entries.clear();
-    appendShadowedGains(s, origin, fitted, 0, blocked, o, stats.shadowRays, entries);
+    const float authored = authoredLight[j];
+    const std::vector<Entry>& entries = perSample[j];
+    stats.shadowRays += raysPerSample[j] + (o.skyRays > 0 && o.skyLightValue > 0.0f ? size_t(o.skyRays) : 0);
     float predicted = authored;
     for (const Entry& e : entries)
       if (e.light < estimatedCount) predicted += e.gain * fitted[e.light]->quakeIntensity;
@@ -104,7 +112,6 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
     const double w = weightOf(s.value, o);
     weights[j] = w;
     accumulateRow(entries, w, target, n, gram, rhs, litSamples);
-    perSample[j] = entries;
   }
 
   // Lights that reach too few samples are not fitted: estimated ones keep their grid value

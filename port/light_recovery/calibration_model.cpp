@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <glm/geometric.hpp>
 
 #include "port/q3formats/world/world_lights.h"
@@ -24,6 +27,22 @@ struct SampleTriangle {
 
 
 float uniform01(std::mt19937& rng) { return float(rng() >> 8) * (1.0f / 16777216.0f); }
+
+SampleRandom::SampleRandom(uint32_t seed, uint64_t index)
+    : state_((uint64_t{seed} << 32) ^ (index * 0x9e3779b97f4a7c15ull) ^ 0x2545f4914f6cdd1dull) {}
+
+float SampleRandom::next01() {
+  uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  z ^= z >> 31;
+  return float(z >> 40) * (1.0f / 16777216.0f);
+}
+
+void parallelOverSamples(size_t count, const std::function<void(size_t, size_t)>& body, size_t grain) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, std::max<size_t>(1, grain)),
+                    [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
+}
 
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -130,13 +149,13 @@ float authoredLight(const Sample& s, const WorldLight& light, const glm::vec3& o
 }
 
 /// Cosine-weighted share of the hemisphere above the sample through which the sky is seen.
-float openSky(const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked, std::mt19937& rng, int rays) {
+float openSky(const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked, SampleRandom& random, int rays) {
   const glm::vec3 n = s.normal;
   const glm::vec3 helper = std::abs(n.x) > 0.9f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
   const glm::vec3 t = glm::normalize(glm::cross(helper, n)), b = glm::cross(n, t);
   int open = 0;
   for (int r = 0; r < rays; ++r) {
-    const float u = uniform01(rng), v = uniform01(rng);
+    const float u = random.next01(), v = random.next01();
     const float radius = std::sqrt(u), phi = 6.2831853f * v;
     const glm::vec3 dir = t * (radius * std::cos(phi)) + b * (radius * std::sin(phi)) + n * std::sqrt(std::max(0.0f, 1.0f - u));
     open += blocked(origin, origin + dir * kSunDistance) ? 0 : 1;
@@ -172,13 +191,13 @@ float emitterLight(const Sample& s, const CalibrationEmitter& e, const glm::vec3
 /// emitting triangles and the open sky, shadows included. Shadow rays towards lights and
 /// emitters are counted in `rays` (the sky's are not).
 float knownLight(const WorldScene& scene, const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked,
-                 const std::vector<CalibrationEmitter>& emitters, const LightCalibrationOptions& o, std::mt19937& rng,
+                 const std::vector<CalibrationEmitter>& emitters, const LightCalibrationOptions& o, SampleRandom& random,
                  size_t& rays) {
   float value = 0.0f;
   for (const WorldLight& l : scene.lights)
     if (!l.estimated) value += authoredLight(s, l, origin, blocked, rays);
   for (const CalibrationEmitter& e : emitters) value += emitterLight(s, e, origin, blocked, o, rays);
-  if (o.skyLightValue > 0.0f && o.skyRays > 0) value += o.skyLightValue * openSky(s, origin, blocked, rng, o.skyRays);
+  if (o.skyLightValue > 0.0f && o.skyRays > 0) value += o.skyLightValue * openSky(s, origin, blocked, random, o.skyRays);
   return value;
 }
 

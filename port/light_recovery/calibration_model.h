@@ -4,6 +4,7 @@
 // emitting triangles and the open sky, and the bounded least-squares solver. Internal to
 // pa_light_recovery.
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -33,6 +34,24 @@ struct Entry {
 /// A uniform number in [0, 1) from the generator's top 24 bits.
 float uniform01(std::mt19937& rng);
 
+/// The random numbers of one sample's sky rays (splitmix64), seeded per sample: a sample gets
+/// the same numbers whatever order or thread evaluates it.
+class SampleRandom {
+ public:
+  /// The stream of sample `index` of a pass seeded with `seed`.
+  SampleRandom(uint32_t seed, uint64_t index);
+  /// A uniform number in [0, 1) (24 bits).
+  float next01();
+
+ private:
+  uint64_t state_;
+};
+
+/// Calls body(begin, end) over sub-ranges of [0, count) on the current task arena's threads.
+/// Each call must write only the results of its own indices; results then do not depend on the
+/// thread count.
+void parallelOverSamples(size_t count, const std::function<void(size_t, size_t)>& body, size_t grain = 64);
+
 /// True when every component is finite.
 bool finite3(const glm::vec3& v);
 
@@ -53,7 +72,7 @@ float authoredLight(const Sample& s, const q3::WorldLight& light, const glm::vec
                     size_t& rays);
 
 /// Cosine-weighted share of the hemisphere above the sample through which the sky is seen.
-float openSky(const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked, std::mt19937& rng, int rays);
+float openSky(const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked, SampleRandom& random, int rays);
 
 /// Light value (summed over RGB) an emitting triangle gives the sample: the renderer's
 /// irradiance L * A * cos * cos' / d^2 in light-value units, shadowed towards its centre.
@@ -63,7 +82,7 @@ float emitterLight(const Sample& s, const CalibrationEmitter& e, const glm::vec3
 /// Light value (summed over RGB) the scene's own light gives the sample: authored lights,
 /// emitting triangles and the open sky, shadows included.
 float knownLight(const q3::WorldScene& scene, const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked,
-                 const std::vector<CalibrationEmitter>& emitters, const LightCalibrationOptions& o, std::mt19937& rng,
+                 const std::vector<CalibrationEmitter>& emitters, const LightCalibrationOptions& o, SampleRandom& random,
                  size_t& rays);
 
 /// Least-squares weight of a texel: 1 (absolute errors) or 1 / (texel + 32) (relative).

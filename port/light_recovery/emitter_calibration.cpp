@@ -58,25 +58,33 @@ std::vector<float> fitEmitterScales(const WorldScene& scene, const std::vector<W
   for (const CalibrationEmitter& e : emitters)
     if (!(e.group >= 0 && size_t(e.group) < groupCount)) known.push_back(e);
 
+  // Each sample's row (its shadow rays are most of the cost) in parallel, then the normal
+  // equations in sample order.
+  std::vector<std::vector<Entry>> rows(samples.size());
+  std::vector<float> fixedLight(samples.size());
+  parallelOverSamples(samples.size(), [&](size_t begin, size_t end) {
+    std::vector<double> groupGain(g);
+    size_t rays = 0;
+    for (size_t j = begin; j < end; ++j) {
+      const Sample& s = samples[j];
+      const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
+      // Authored lights (knownLight skips the estimated ones), the sky and ungrouped emitters.
+      SampleRandom random(o.seed ^ 0x68e31da4u, j);
+      fixedLight[j] = knownLight(scene, s, origin, blocked, known, o, random, rays);
+      std::vector<Entry>& entries = rows[j];
+      std::fill(groupGain.begin(), groupGain.end(), 0.0);
+      for (const CalibrationEmitter& e : emitters)
+        if (e.group >= 0 && size_t(e.group) < groupCount) groupGain[size_t(e.group)] += emitterLight(s, e, origin, blocked, o, rays);
+      for (size_t i = 0; i < g; ++i)
+        if (groupGain[i] > 0.0) entries.push_back({uint32_t(i), float(groupGain[i])});
+      appendShadowedGains(s, origin, fitted, uint32_t(g), blocked, o, rays, entries);
+    }
+  });
   std::vector<double> gram(n * n, 0.0), rhs(n, 0.0);
   std::vector<size_t> lit(n, 0);
-  std::vector<double> groupGain(g);
-  std::vector<Entry> entries;
-  std::mt19937 rng(o.seed ^ 0x68e31da4u);
-  size_t rays = 0;
-  for (const Sample& s : samples) {
-    const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
-    // Authored lights (knownLight skips the estimated ones), the sky and ungrouped emitters.
-    const float fixed = knownLight(scene, s, origin, blocked, known, o, rng, rays);
-    entries.clear();
-    std::fill(groupGain.begin(), groupGain.end(), 0.0);
-    for (const CalibrationEmitter& e : emitters)
-      if (e.group >= 0 && size_t(e.group) < groupCount) groupGain[size_t(e.group)] += emitterLight(s, e, origin, blocked, o, rays);
-    for (size_t i = 0; i < g; ++i)
-      if (groupGain[i] > 0.0) entries.push_back({uint32_t(i), float(groupGain[i])});
-    appendShadowedGains(s, origin, fitted, uint32_t(g), blocked, o, rays, entries);
-    accumulateRow(entries, weightOf(s.value, o), double(s.value) - double(fixed), n, gram, rhs, lit);
-  }
+  for (size_t j = 0; j < samples.size(); ++j)
+    accumulateRow(rows[j], weightOf(samples[j].value, o), double(samples[j].value) - double(fixedLight[j]), n, gram, rhs,
+                  lit);
 
   // Start and prior: groups at their shader's value (1), estimated lights at the grid's value,
   // candidates at 0; unknowns lighting too few texels stay out of the solve at their start.

@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
+#include "port/light_recovery/calibration_model.h"
 #include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/world/world_lights.h"
 
@@ -258,19 +259,34 @@ std::vector<WorldLight> lightsFromLightmaps(const WorldScene& scene, const Known
   for (const glm::vec3& p : avoid)
     if (finite3(p)) taken.add(p);
   std::vector<WorldLight> lights;
-  // Brightest peaks first; the known light (the costly part: shadow rays to every emitter) is
-  // evaluated only until enough candidates are found.
-  for (Peak& peak : peaks) {
+  // Brightest peaks first; the known light (the costly part: shadow rays to every emitter) and
+  // the height fits are evaluated only until enough candidates are found, for batches of peaks
+  // in parallel (each peak's own results); the choices below stay in order.
+  constexpr size_t kBatch = 32;
+  std::vector<std::vector<HeightFit>> peakFits(peaks.size());
+  size_t evaluated = 0;
+  for (size_t index = 0; index < peaks.size(); ++index) {
     if (lights.size() >= o.maxCandidates) break;
-    {
-      const LightmapTexel& t = placed.texels[size_t(peak.texel)];
-      const float explained = known ? known(t.position, t.normal) : 0.0f;
-      peak.unexplained = t.value - (std::isfinite(explained) ? std::max(0.0f, explained) : 0.0f);
-      if (!(peak.unexplained >= o.minUnexplainedShare * t.value)) continue;
-      ++stats.unexplained;
+    if (index == evaluated) {
+      evaluated = std::min(peaks.size(), index + kBatch);
+      model::parallelOverSamples(
+          evaluated - index,
+          [&](size_t begin, size_t end) {
+            for (size_t j = index + begin; j < index + end; ++j) {
+              Peak& p = peaks[j];
+              const LightmapTexel& t = placed.texels[size_t(p.texel)];
+              const float explained = known ? known(t.position, t.normal) : 0.0f;
+              p.unexplained = t.value - (std::isfinite(explained) ? std::max(0.0f, explained) : 0.0f);
+              if (p.unexplained >= o.minUnexplainedShare * t.value) peakFits[j] = fitHeights(placed, p, o);
+            }
+          },
+          1);
     }
+    Peak& peak = peaks[index];
+    if (!(peak.unexplained >= o.minUnexplainedShare * placed.texels[size_t(peak.texel)].value)) continue;
+    ++stats.unexplained;
     const LightmapTexel& centre = placed.texels[size_t(peak.texel)];
-    const std::vector<HeightFit> fits = fitHeights(placed, peak, o);
+    const std::vector<HeightFit>& fits = peakFits[index];
     const HeightFit* chosen = nullptr;
     glm::vec3 position{0.0f};
     for (size_t k = 0; k < fits.size() && k < size_t(kHeightAttempts); ++k) {
