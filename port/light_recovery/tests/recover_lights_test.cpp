@@ -2,6 +2,7 @@
 // calibration step with BVH shadow rays (calibrateWithShadowRays): a room whose lightmaps were
 // synthesised from a known light gives its value back.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include "port/light_recovery/recover_lights.h"
 #include "port/light_recovery/tests/lit_room_map.h"
@@ -67,6 +68,32 @@ TEST(ShadowRayCalibration, FindsTheLightOfAStrippedMapInItsLightmaps) {
   }
   EXPECT_NEAR(total, 350.0f, 350.0f * 0.15f);
   EXPECT_GE(stats.admittedFromLightmaps, 1u);
+}
+
+TEST(ShadowRayCalibration, TheSameLightsWithOneAndTwoThreads) {
+  // The shadow rays run in parallel; each sample keeps its own random sky rays, so the thread
+  // count changes nothing. A stripped map (lightmap candidates) with an open sky (random rays).
+  q3::WorldScene scene = testing::syntheticLitRoom(glm::vec3(-70.0f, 50.0f, 150.0f), 350.0f, 6.0f);
+  scene.lights.push_back(testing::estimatedLight(glm::vec3(60.0f, -40.0f, 120.0f), 200.0f));
+  LightCalibrationOptions options;
+  options.skyLightValue = 40.0f;
+  std::vector<q3::WorldLight> results[2];
+  LightCalibrationStats stats[2];
+  for (int threads = 1; threads <= 2; ++threads) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      results[threads - 1] = calibrateWithShadowRays(scene, scene.lights, {}, options, &stats[threads - 1]);
+    });
+  }
+  ASSERT_GE(results[0].size(), 1u);
+  ASSERT_EQ(results[0].size(), results[1].size());
+  for (size_t i = 0; i < results[0].size(); ++i) {
+    EXPECT_EQ(results[0][i].position, results[1][i].position) << i;
+    EXPECT_EQ(results[0][i].quakeIntensity, results[1][i].quakeIntensity) << i;
+  }
+  EXPECT_EQ(stats[0].shadowRays, stats[1].shadowRays);
+  EXPECT_EQ(stats[0].lightmapCandidates, stats[1].lightmapCandidates);
+  EXPECT_EQ(stats[0].unexplained, stats[1].unexplained);
 }
 
 /// The lit room map built as every program builds a map (q3::buildWorldScene), no textures.
