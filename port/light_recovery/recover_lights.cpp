@@ -76,9 +76,13 @@ RecoveredLights recoverLights(const q3::WorldScene& scene, const RecoveryOptions
     out.stats.estimated = estimated.size();
     out.stats.gridCandidates = gridCandidates.size();
     out.lights.insert(out.lights.end(), estimated.begin(), estimated.end());
-    if (options.calibrate)
+    if (options.calibrate) {
       out.lights = calibrateWithShadowRays(scene, out.lights, gridCandidates, options.calibration, &out.stats.calibration,
                                            &out.surfaceLightScales, &out.stats.emitters);
+      // The constant is summed over RGB, like every texel value the calibration fits.
+      const float perChannel = out.stats.calibration.unexplained / 3.0f;
+      out.ambientValue = std::isfinite(perChannel) ? std::clamp(perChannel, 0.0f, q3::kQ3FullBright) : 0.0f;
+    }
   }
   out.stats.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
@@ -86,6 +90,8 @@ RecoveredLights recoverLights(const q3::WorldScene& scene, const RecoveryOptions
 
 void applyRecoveredLights(q3::WorldScene& scene, const RecoveredLights& recovered) {
   scene.lights = recovered.lights;
+  if (recovered.ambientValue > 0.0f && std::isfinite(recovered.ambientValue))
+    scene.ambientLight = glm::max(scene.ambientLight, glm::vec3(std::min(recovered.ambientValue, q3::kQ3FullBright)));
   for (size_t i = 0; i < scene.materials.size() && i < recovered.surfaceLightScales.size(); ++i) {
     const float scale = recovered.surfaceLightScales[i];
     if (std::isfinite(scale) && scale >= 0.0f && scale < 1.0f) scene.materials[i].surfaceLight *= scale;

@@ -46,6 +46,10 @@ struct RecoveredLights {
   /// Per scene material: the share (0..1) of its q3map_surfacelight the lightmaps confirm
   /// (emitter_calibration.h); empty when nothing was fitted (every material keeps its value).
   std::vector<float> surfaceLightScales;
+  /// Light value per channel (0..64) the lightmaps show everywhere beyond every recovered light:
+  /// the calibration's fitted constant (an ambient the map was compiled with, light no lamp
+  /// explains); lit as an unshadowed ambient. 0 where nothing was calibrated.
+  float ambientValue = 0.0f;
   RecoveryStats stats;                  ///< What the recovery did.
 };
 
@@ -55,8 +59,9 @@ struct RecoveredLights {
 /// Deterministic; never throws on hostile data. Callers put the result in scene.lights.
 RecoveredLights recoverLights(const q3::WorldScene& scene, const RecoveryOptions& options = {});
 
-/// Puts a recovery's result into the scene it was run on: its lights, and every material's
-/// q3map_surfacelight times its fitted scale. What every program calls after recoverLights.
+/// Puts a recovery's result into the scene it was run on: its lights, every material's
+/// q3map_surfacelight times its fitted scale, and the ambient (at least ambientValue per
+/// channel). What every program calls after recoverLights.
 void applyRecoveredLights(q3::WorldScene& scene, const RecoveredLights& recovered);
 
 /// True when `lights` hold estimated lights or there are grid candidates worth calibrating.

@@ -70,6 +70,26 @@ TEST(ShadowRayCalibration, FindsTheLightOfAStrippedMapInItsLightmaps) {
   EXPECT_GE(stats.admittedFromLightmaps, 1u);
 }
 
+TEST(RecoverLights, LightTheBakeShowsEverywhereBecomesTheAmbient) {
+  // A stripped room baked from one light plus 12 light values everywhere: the lamp comes back
+  // from the lightmaps, the 12 as the ambient every program then lights with.
+  q3::WorldScene scene = testing::syntheticLitRoom(glm::vec3(-70.0f, 50.0f, 150.0f), 350.0f, 12.0f);
+  const RecoveredLights recovered = recoverLights(scene);
+  EXPECT_GE(recovered.lights.size(), 1u);
+  EXPECT_NEAR(recovered.ambientValue, 12.0f, 1.5f);
+  scene.ambientLight = glm::vec3(20.0f, 5.0f, 5.0f);   // an authored ambient: the larger one stays
+  applyRecoveredLights(scene, recovered);
+  EXPECT_EQ(scene.ambientLight.r, 20.0f);
+  EXPECT_NEAR(scene.ambientLight.g, 12.0f, 1.5f);
+  // Nothing unexplained, nothing added; a hostile value is capped at full bright.
+  q3::WorldScene dark = testing::syntheticLitRoom(glm::vec3(-70.0f, 50.0f, 150.0f), 350.0f, 0.0f);
+  EXPECT_LT(recoverLights(dark).ambientValue, 1.0f);
+  RecoveredLights hostile;
+  hostile.ambientValue = 1e30f;
+  applyRecoveredLights(dark, hostile);
+  EXPECT_EQ(dark.ambientLight, glm::vec3(q3::kQ3FullBright));
+}
+
 TEST(ShadowRayCalibration, TheSameLightsWithOneAndTwoThreads) {
   // The shadow rays run in parallel; each sample keeps its own random sky rays, so the thread
   // count changes nothing. A stripped map (lightmap candidates) with an open sky (random rays).
