@@ -226,8 +226,10 @@ Output:
   --stats FILE           JSON summary for scripts: scene, camera (index, name), triangles,
                          lights, image size, integrator, tonemap, exposure (the gain applied),
                          auto_exposure (with --exposure auto: gain, key, target, range,
-                         clamped), spp, frames, load and render seconds, sky_fraction (pixels
-                         whose first hit is sky or nothing)
+                         clamped), spp, frames, load and render seconds
+                         (first_frame_seconds: the first frame alone, which also builds
+                         what later frames reuse), sky_fraction (pixels whose first hit is
+                         sky or nothing)
 
 Image and sampling:
   --width W, --height H  Image size in pixels (1..16384). Default width 640; a missing side

@@ -153,7 +153,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     std::vector<uint8_t> previousRgba8;
     double changeSum = 0.0;
     uint64_t changeCount = 0;
-    double resampleMs = 0.0, traceMs = 0.0;
+    double resampleMs = 0.0, traceMs = 0.0, firstFrameSeconds = 0.0;
     for (uint32_t f = 0; f < options.frames; ++f) {
       if (!settings.accumulate) settings.seed = options.seed + f;
       frame = renderer.render(view, settings);
@@ -170,6 +170,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
         previousRgba8.assign(frame.rgba8.begin(), frame.rgba8.end());
       }
       progress.update(f + 1);
+      if (f == 0) firstFrameSeconds = progress.elapsedSeconds();
     }
     progress.finish();
     const double renderSeconds = progress.elapsedSeconds();
@@ -216,6 +217,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
                                            : nlohmann::json(nullptr)},
           {"load_seconds", loadSeconds},
           {"render_seconds", renderSeconds},
+          {"first_frame_seconds", firstFrameSeconds},
           {"sky_fraction", skyFraction(frame.depth)},
           {"warnings", scene.warnings.size()},
       };

@@ -1,11 +1,15 @@
 // pa-imgcompare A B [--diff OUT.png] [--gain G] [--min-psnr DB] [--min-ssim S] [--json] [--crop X,Y,W,H]
+//                    [--flip-map OUT.png] [--ppd P]
 // Compares two images of the same size (PNG, TGA, JPEG): PSNR over the R, G, B samples and
 // SSIM on BT.601 luma with an 11x11 Gaussian window (sigma 1.5), see image_metrics.h.
 // Prints "psnr_db=P ssim=S mse=M max_abs_diff=D luma_a=LA luma_b=LB luma_ratio=LB/LA
-// worst_tile=X,Y worst_tile_psnr_db=T" (or one JSON object with --json); luma: mean linear
-// luminance (meanLinearLuminance); worst tile: the 32x32 tile with the largest MSE (worstTile).
+// worst_tile=X,Y worst_tile_psnr_db=T flip=F" (or one JSON object with --json); luma: mean linear
+// luminance (meanLinearLuminance); worst tile: the 32x32 tile with the largest MSE (worstTile);
+// flip: mean LDR-FLIP with A as the reference (flip.h) at P pixels per degree (default 67.02, the
+// paper's 0.7 m from a 0.7 m wide 3840-pixel monitor); --flip-map writes its error map (grey).
 // --crop compares only the W x H rectangle at (X, Y) (top-left origin) of both images.
 // Exit 0: compared and above the thresholds; 1: below a threshold; 2: usage or file error.
+#include "tests/fidelity/flip.h"
 #include "tests/fidelity/image_metrics.h"
 
 #include <cmath>
@@ -19,7 +23,7 @@ namespace {
 int usage() {
   std::fprintf(stderr,
                "usage: pa-imgcompare A B [--diff OUT.png] [--gain G] [--min-psnr DB] [--min-ssim S] [--json] "
-               "[--crop X,Y,W,H]\n");
+               "[--crop X,Y,W,H] [--flip-map OUT.png] [--ppd P]\n");
   return 2;
 }
 
@@ -32,8 +36,8 @@ bool parseNumber(const char* text, double& value) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string pathA, pathB, diffPath;
-  double gain = 4, minPsnr = -1, minSsim = -2;
+  std::string pathA, pathB, diffPath, flipPath;
+  double gain = 4, minPsnr = -1, minSsim = -2, ppd = pa::fidelity::flipDefaultPixelsPerDegree();
   bool json = false;
   int cropRect[4] = {0, 0, 0, 0};
   bool cropped = false;
@@ -42,6 +46,10 @@ int main(int argc, char** argv) {
     const bool hasValue = i + 1 < argc;
     if (arg == "--diff" && hasValue) {
       diffPath = argv[++i];
+    } else if (arg == "--flip-map" && hasValue) {
+      flipPath = argv[++i];
+    } else if (arg == "--ppd" && hasValue) {
+      if (!parseNumber(argv[++i], ppd) || ppd <= 0) return usage();
     } else if (arg == "--gain" && hasValue) {
       if (!parseNumber(argv[++i], gain) || gain <= 0) return usage();
     } else if (arg == "--min-psnr" && hasValue) {
@@ -78,16 +86,19 @@ int main(int argc, char** argv) {
     const double lumaRatio = lumaA > 0.0 ? lumaB / lumaA : 0.0;   // B as bright as A: 1
     const auto tile = pa::fidelity::worstTile(a, b, 32);
     const double tilePsnr = std::isinf(tile.psnr) ? 999.0 : tile.psnr;
+    const auto flipMap = pa::fidelity::flip(a, b, ppd);
+    if (!flipPath.empty()) pa::fidelity::savePng(flipPath, pa::fidelity::flipErrorImage(flipMap));
     if (json)
       std::printf("{\"psnr_db\": %.3f, \"ssim\": %.5f, \"mse\": %.4f, \"max_abs_diff\": %.0f, \"width\": %d, \"height\": %d, "
                   "\"luma_a\": %.5f, \"luma_b\": %.5f, \"luma_ratio\": %.4f, \"worst_tile_x\": %d, \"worst_tile_y\": %d, "
-                  "\"worst_tile_psnr_db\": %.3f}\n",
+                  "\"worst_tile_psnr_db\": %.3f, \"flip\": %.5f}\n",
                   psnr, result.ssim, result.mse, result.maxAbsDiff, a.width, a.height, lumaA, lumaB, lumaRatio, tile.x,
-                  tile.y, tilePsnr);
+                  tile.y, tilePsnr, flipMap.mean);
     else
       std::printf("psnr_db=%.3f ssim=%.5f mse=%.4f max_abs_diff=%.0f luma_a=%.5f luma_b=%.5f luma_ratio=%.4f "
-                  "worst_tile=%d,%d worst_tile_psnr_db=%.3f\n",
-                  psnr, result.ssim, result.mse, result.maxAbsDiff, lumaA, lumaB, lumaRatio, tile.x, tile.y, tilePsnr);
+                  "worst_tile=%d,%d worst_tile_psnr_db=%.3f flip=%.5f\n",
+                  psnr, result.ssim, result.mse, result.maxAbsDiff, lumaA, lumaB, lumaRatio, tile.x, tile.y, tilePsnr,
+                  flipMap.mean);
     if (result.psnr < minPsnr || result.ssim < minSsim) {
       std::fprintf(stderr, "pa-imgcompare: below threshold (psnr %.3f < %.3f or ssim %.5f < %.5f)\n", psnr,
                    minPsnr, result.ssim, minSsim);

@@ -108,6 +108,8 @@ TEST_F(PaRenderTest, StatsJsonDescribesTheRenderAndCountsSkyPixelsOfTheDepthAov)
   EXPECT_GT(stats.at("triangles").get<int>(), 0);
   EXPECT_GE(stats.at("lights").get<int>(), 1);
   EXPECT_GE(stats.at("render_seconds").get<double>(), 0.0);
+  EXPECT_GE(stats.at("first_frame_seconds").get<double>(), 0.0);   // one frame: the whole render
+  EXPECT_LE(stats.at("first_frame_seconds").get<double>(), stats.at("render_seconds").get<double>());
 
   EXRVersion version;
   ASSERT_EQ(ParseEXRVersionFromFile(&version, file("s.exr").c_str()), TINYEXR_SUCCESS);
