@@ -16,7 +16,7 @@
 # Environment: CONFIGS (default "path path:r_pt_temporal=0 path:r_pt_restir=1"; PRESET:cvar=v,...),
 # FRAMES (20), START (200), WARMUP (16: the configuration starts that many ticks, 8 frames, before
 # START, so its history is warm; until then, and for the reference until 4 ticks before, the cheap
-# lightmap preset plays), SIZE (640x360), REF_SPP (256, the cvar's maximum), REF_RUNS (4),
+# lightmap preset plays), SIZE (640x360), REF_SPP (1024; the cvar allows 4096), REF_RUNS (1),
 # REF_BOUNCES (2), TIMEOUT (per engine run, 3600 s). Exit 77 without the engine or game data.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -28,7 +28,7 @@ compare="${PA_IMGCOMPARE:-$root/build/tests/fidelity/pa-imgcompare}"
 fixed_rand="${PA_FIXED_RAND:-$root/build/tests/regress/pa_fixed_rand.so}"
 configs="${CONFIGS:-path path:r_pt_temporal=0 path:r_pt_restir=1}"
 frames="${FRAMES:-20}"; start="${START:-200}"; size="${SIZE:-640x360}"
-warmup="${WARMUP:-16}"; ref_spp="${REF_SPP:-256}"; ref_runs="${REF_RUNS:-4}"; ref_bounces="${REF_BOUNCES:-2}"
+warmup="${WARMUP:-16}"; ref_spp="${REF_SPP:-1024}"; ref_runs="${REF_RUNS:-1}"; ref_bounces="${REF_BOUNCES:-2}"
 pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not installed"; exit 77; }
 command -v convert >/dev/null || { echo "needs ImageMagick's convert (scripts/setup.sh)" >&2; exit 2; }
 [[ -f "$fixed_rand" ]] || { echo "missing $fixed_rand (build the tree first)" >&2; exit 2; }
