@@ -77,6 +77,10 @@ void Settings::registerCvars(const Engine& engine) {
   temporal_ = engine.cvar("r_pt_temporal", "1", CVAR_ARCHIVE,
                           "Temporal accumulation (reprojected history) on the direct and path presets (0 = off)");
   if (temporal_ != nullptr) ri.Cvar_CheckRange(temporal_, 0, 1, 1);
+  taau_ = engine.cvar("r_pt_taau", "1", CVAR_ARCHIVE,
+                      "Temporal anti-aliasing and upscaling of the traced world view to the window: 0 = off "
+                      "(bilinear stretch), 1 = when r_pt_scale < 1, 2 = always");
+  if (taau_ != nullptr) ri.Cvar_CheckRange(taau_, 0, 2, 1);
   restir_ = engine.cvar("r_pt_restir", "0", CVAR_ARCHIVE,
                         "Direct light by spatiotemporal reservoir resampling (ReSTIR) on the direct and path presets (0 = off)");
   if (restir_ != nullptr) ri.Cvar_CheckRange(restir_, 0, 1, 1);
@@ -210,6 +214,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
   out.temporal = temporal_ == nullptr || temporal_->integer != 0;
   out.restir = restir_ != nullptr && restir_->integer != 0;
+  if (taau_ != nullptr) out.taau = std::clamp(taau_->integer, 0, 2);
   out.fireflies = fireflies_ == nullptr || fireflies_->integer != 0;
   out.stockLook = look_ == nullptr || look_->string == nullptr || normalizeName(look_->string) != "filmic";
   out.captureExr = captureExr_ != nullptr && captureExr_->integer != 0;

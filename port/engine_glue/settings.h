@@ -33,6 +33,9 @@ struct TracerSettings {
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
   bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
   bool restir = false;       ///< r_pt_restir: reservoir resampling of direct light on the direct and path presets
+  /// r_pt_taau: temporal anti-aliasing and upscaling to the window of world views; 0 = off (bilinear
+  /// stretch), 1 = when traced smaller than the window, 2 = always (also anti-aliases r_pt_scale 1)
+  int taau = 1;
   /// r_pt_look: the traced presets show light as the lightmap does (texture x light in display
   /// values, light clamped to 1, no tone curve); false: physical radiance through the ACES curve
   bool stockLook = true;
@@ -116,6 +119,7 @@ class Settings {
   q3abi::cvar_t* flareFade_ = nullptr;
   q3abi::cvar_t* flareCoeff_ = nullptr;
   q3abi::cvar_t* temporal_ = nullptr;
+  q3abi::cvar_t* taau_ = nullptr;
   q3abi::cvar_t* restir_ = nullptr;
   q3abi::cvar_t* look_ = nullptr;
   q3abi::cvar_t* fireflies_ = nullptr;
