@@ -55,7 +55,12 @@ void Module::beginFrame(int /*stereoFrame*/) {
   if (!window_.isOpen()) return;
   frameStartMs_ = engine_.milliseconds();
   const Clock::time_point now = Clock::now();
-  if (frameBegan_ != Clock::time_point{}) stats_.frameMs += std::chrono::duration<double, std::milli>(now - frameBegan_).count();
+  const TracerSettings tracer = settings_.tracer(engine_);
+  if (frameBegan_ != Clock::time_point{}) {
+    const double lastFrameMs = std::chrono::duration<double, std::milli>(now - frameBegan_).count();
+    stats_.frameMs += lastFrameMs;
+    resolution_.update(lastFrameMs, tracer.targetFps, tracer.minScale);   // r_pt_fps 0: forgets
+  }
   frameBegan_ = now;
   modelViewsThisFrame_ = 0;
   if (settings_.gammaChanged()) updateDisplayRamp();
@@ -108,12 +113,12 @@ void Module::printFrameStats(int nowMs) const {
                 "pathtracer: stats %s fps=%.1f frame_ms=%.2f world_views=%.2f scene_ms=%.2f commit_ms=%.2f "
                 "trace_ms=%.2f temporal_ms=%.2f denoise_ms=%.2f resolve_ms=%.2f upload_ms=%.2f model_views=%.2f model_view_ms=%.2f "
                 "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u anim_ms=%.3f anim_updates=%.2f resample_ms=%.2f "
-                "taau_ms=%.2f allocations=%.2f\n",
+                "taau_ms=%.2f scale=%.3f allocations=%.2f\n",
                 presetName(settings_.tracer(engine_).preset), 1000.0 * n / std::max(1, nowMs - s.sinceMs),
                 s.frameMs / n, s.views / n, s.world.sceneMs / n, s.world.commitMs / n, s.world.traceMs / n,
                 s.world.temporalMs / n, s.world.denoiseMs / n, s.world.resolveMs / n, s.uploadMs / n, s.modelViews / n, s.modelViewMs / n,
                 s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n, s.accumulated,
-                s.world.animationMs / n, s.world.animationUpdates / n, s.world.resampleMs / n, s.world.taauMs / n,
+                s.world.animationMs / n, s.world.animationUpdates / n, s.world.resampleMs / n, s.world.taauMs / n, s.scale,
                 static_cast<double>(allocationCount() - s.allocationsAtStart) / n);
 }
 
@@ -151,8 +156,10 @@ void Module::renderScene(const q3abi::refdef_t* view) {
     const int start = engine_.milliseconds();
     const Clock::time_point began = Clock::now();
     try {
-      picture = views->render(*view, scene_, settings_.tracer(engine_), shaders_, models_,
-                               noWorld ? nullptr : world_.get());
+      TracerSettings tracer = settings_.tracer(engine_);
+      if (tracer.targetFps > 0.0f) tracer.resolutionScale = resolution_.scale();
+      if (!noWorld) stats_.scale = tracer.resolutionScale;
+      picture = views->render(*view, scene_, tracer, shaders_, models_, noWorld ? nullptr : world_.get());
     } catch (const std::exception& error) {
       // Keep playing (2D still works); say it a few times, not every frame.
       if (renderFailures_++ < 3) engine_.warn(std::string("RenderScene: ") + error.what());

@@ -202,11 +202,11 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   endPhase(attachMs);
   timings.commitMs += attachMs;
   im.film.resize(settings.width, settings.height);
-  // Motion: last frame's camera at this size, and where each instance was.
+  // Motion: last frame's camera, in this frame's pixels (also across a change of size, which
+  // TAAU reprojects through; the temporal stage and ReSTIR start again then), and where each
+  // instance was.
   std::optional<CameraRays> previousRays;
-  if (im.haveLast && im.lastSettings.width == settings.width && im.lastSettings.height == settings.height) {
-    previousRays.emplace(im.lastCamera, settings.width, settings.height);
-  }
+  if (im.haveLast) previousRays.emplace(im.lastCamera, settings.width, settings.height);
   im.motions.beginFrame(im.scene.world, im.scene.overlay);
   im.gbuffer.resize(settings.width, settings.height);
   const bool temporalOn = settings.temporal && !settings.accumulate && settings.integrator != Integrator::Lightmap;

@@ -1,0 +1,78 @@
+// pa-taau-timing: wall-clock time of one TAAU resolve (renderer/scene/taau) from a traced frame to
+// the output size, with 1 and with N threads: the median over many frames of a synthetic frame
+// (textured gradient, a moving camera's motion, a sky band). Not a test (timings never are).
+//   pa-taau-timing [outWidth outHeight scale frames threads]   (defaults: 640 360 0.5 200 2)
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "renderer/scene/taau/taau.h"
+
+namespace {
+
+double medianMs(uint32_t threads, uint32_t W, uint32_t H, float scale, uint32_t frames) {
+  const uint32_t w = std::max(1u, static_cast<uint32_t>(std::lround(W * scale)));
+  const uint32_t h = std::max(1u, static_cast<uint32_t>(std::lround(H * scale)));
+  const size_t n = size_t{w} * h;
+  std::vector<uint8_t> rgba(n * 4, 255);
+  std::vector<glm::vec2> motion(n, glm::vec2(0.3f, -0.1f));
+  std::vector<float> depth(n, 10.0f);
+  std::vector<pa::InstanceId> instance(n, 0);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const size_t i = size_t{y} * w + x;
+      rgba[i * 4 + 0] = static_cast<uint8_t>((x * 7 + y * 3) & 255);
+      rgba[i * 4 + 1] = static_cast<uint8_t>(((x / 4 + y / 4) & 1) * 200);
+      rgba[i * 4 + 2] = static_cast<uint8_t>(y & 255);
+      if (y < h / 8) {   // sky band: reprojected by the camera's turn
+        depth[i] = std::numeric_limits<float>::infinity();
+        motion[i] = glm::vec2(std::numeric_limits<float>::quiet_NaN());
+      }
+    }
+  pa::Camera camera;
+  camera.forward = {1, 0, 0};
+  camera.left = {0, 1, 0};
+  camera.up = {0, 0, 1};
+  camera.fovX = 90.0f;
+  camera.fovY = 59.0f;
+  std::vector<double> times;
+  tbb::task_arena arena(static_cast<int>(threads));
+  arena.execute([&] {
+    pa::taau::Upscaler upscaler;
+    for (uint32_t f = 0; f < frames; ++f) {
+      camera.forward = glm::vec3(std::cos(0.001f * f), std::sin(0.001f * f), 0.0f);
+      camera.left = glm::vec3(-std::sin(0.001f * f), std::cos(0.001f * f), 0.0f);
+      const pa::taau::Frame frame{w, h, rgba, motion, depth, instance, pa::taau::jitter(f), &camera};
+      const auto start = std::chrono::steady_clock::now();
+      upscaler.resolve(frame, W, H);
+      times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+  });
+  std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
+  return times[times.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const uint32_t W = argc > 1 ? static_cast<uint32_t>(std::atoi(argv[1])) : 640;
+  const uint32_t H = argc > 2 ? static_cast<uint32_t>(std::atoi(argv[2])) : 360;
+  const float scale = argc > 3 ? static_cast<float>(std::atof(argv[3])) : 0.5f;
+  const uint32_t frames = argc > 4 ? static_cast<uint32_t>(std::atoi(argv[4])) : 200;
+  const uint32_t threads = argc > 5 ? static_cast<uint32_t>(std::atoi(argv[5])) : 2;
+  if (W == 0 || H == 0 || !(scale > 0.0f && scale <= 1.0f) || frames == 0 || threads == 0) {
+    std::fprintf(stderr, "usage: pa-taau-timing [outWidth outHeight scale frames threads]\n");
+    return 2;
+  }
+  const double one = medianMs(1, W, H, scale, frames);
+  const double many = medianMs(threads, W, H, scale, frames);
+  std::printf("TAAU %ux%u from scale %.2f: median %.2f ms (1 thread), %.2f ms (%u threads), %u frames\n", W, H, scale,
+              one, many, threads, frames);
+  return 0;
+}
