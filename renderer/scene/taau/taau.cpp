@@ -93,6 +93,7 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
     lastCamera_.reset();
   }
   samples_.resize(traced);
+  neighbourhood_.resize(traced);
   rays_.reset();
   previousRays_.reset();
   if (frame.camera != nullptr) {
@@ -105,6 +106,7 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
   weightCap_ = config_.memoryFrames * 3.14159265f * config_.kernelRadius * config_.kernelRadius / 3.0f *
                samplesPerPixel;
   parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { prepareRows(frame, y0, y1); });
+  parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { neighbourhoodRows(frame, y0, y1); });
   parallelRows(outHeight, [&](uint32_t y0, uint32_t y1) { resolveRows(frame, y0, y1); });
   std::swap(history_, nextHistory_);
   std::swap(weight_, nextWeight_);
@@ -127,11 +129,43 @@ void Upscaler::prepareRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   }
 }
 
+void Upscaler::neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1) {
+  const int w = static_cast<int>(frame.width), h = static_cast<int>(frame.height);
+  for (int y = static_cast<int>(y0); y < static_cast<int>(y1); ++y) {
+    for (int x = 0; x < w; ++x) {
+      glm::vec3 m1(0.0f), m2(0.0f);
+      float closestDepth = std::numeric_limits<float>::infinity();
+      size_t closest = size_t(y) * size_t(w) + size_t(x);
+      int count = 0;
+      for (int iy = std::max(y - 1, 0); iy <= std::min(y + 1, h - 1); ++iy) {
+        for (int ix = std::max(x - 1, 0); ix <= std::min(x + 1, w - 1); ++ix) {
+          const size_t i = size_t(iy) * size_t(w) + size_t(ix);
+          const glm::vec3 c = samples_[i];
+          m1 += c;
+          m2 += c * c;
+          ++count;
+          if (frame.depth[i] < closestDepth) {
+            closestDepth = frame.depth[i];
+            closest = i;
+          }
+        }
+      }
+      const float inv = 1.0f / static_cast<float>(count);
+      Neighbourhood& n = neighbourhood_[size_t(y) * size_t(w) + size_t(x)];
+      n.mean = m1 * inv;
+      n.sigma = glm::sqrt(glm::max(m2 * inv - n.mean * n.mean, glm::vec3(0.0f)));
+      n.closest = static_cast<uint32_t>(closest);
+    }
+  }
+}
+
 void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   const uint32_t w = frame.width, h = frame.height, W = outWidth_, H = outHeight_;
   const float sx = static_cast<float>(w) / static_cast<float>(W);   // traced pixels per output pixel
   const float sy = static_cast<float>(h) / static_cast<float>(H);
   const float invRadius2 = 1.0f / (config_.kernelRadius * config_.kernelRadius);
+  const float invSx = 1.0f / sx, invSy = 1.0f / sy;
+  const float reachX = config_.kernelRadius * sx, reachY = config_.kernelRadius * sy;   // in traced pixels
   const auto historyIndex = [&](int x, int y) {
     return size_t(std::clamp(y, 0, int(H) - 1)) * W + size_t(std::clamp(x, 0, int(W) - 1));
   };
@@ -141,39 +175,32 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
       const float qx = cx * sx, qy = cy * sy;   // the output pixel's centre in traced pixels
       const int ix0 = std::clamp(static_cast<int>(std::floor(qx - frame.jitter.x)), 0, int(w) - 1);
       const int iy0 = std::clamp(static_cast<int>(std::floor(qy - frame.jitter.y)), 0, int(h) - 1);
-      // This frame: kernel-weighted colour, the 3 x 3 colour moments, the closest surface.
-      glm::vec3 sum(0.0f), m1(0.0f), m2(0.0f), nearest(0.0f);
-      float confidence = 0.0f, nearestD2 = std::numeric_limits<float>::infinity();
-      float closestDepth = std::numeric_limits<float>::infinity();
-      size_t closest = size_t{uint32_t(iy0)} * w + uint32_t(ix0);
-      int count = 0;
-      for (int iy = std::max(iy0 - 1, 0); iy <= std::min(iy0 + 1, int(h) - 1); ++iy) {
-        for (int ix = std::max(ix0 - 1, 0); ix <= std::min(ix0 + 1, int(w) - 1); ++ix) {
-          const size_t i = size_t(iy) * w + size_t(ix);
-          const glm::vec3 c = samples_[i];
-          m1 += c;
-          m2 += c * c;
-          ++count;
-          const float dx = (static_cast<float>(ix) + 0.5f + frame.jitter.x - qx) / sx;
-          const float dy = (static_cast<float>(iy) + 0.5f + frame.jitter.y - qy) / sy;
-          const float d2 = dx * dx + dy * dy;
-          if (d2 < nearestD2) {
-            nearestD2 = d2;
-            nearest = c;
-          }
-          const float u = d2 * invRadius2;
+      // This frame: the colour within the kernel's reach (the nearest sample where none is).
+      glm::vec3 sum(0.0f);
+      float confidence = 0.0f;
+      const int xa = std::max(0, static_cast<int>(std::ceil(qx - frame.jitter.x - 0.5f - reachX)));
+      const int xb = std::min(int(w) - 1, static_cast<int>(std::floor(qx - frame.jitter.x - 0.5f + reachX)));
+      const int ya = std::max(0, static_cast<int>(std::ceil(qy - frame.jitter.y - 0.5f - reachY)));
+      const int yb = std::min(int(h) - 1, static_cast<int>(std::floor(qy - frame.jitter.y - 0.5f + reachY)));
+      for (int iy = ya; iy <= yb; ++iy) {
+        const float dy = (static_cast<float>(iy) + 0.5f + frame.jitter.y - qy) * invSy;
+        for (int ix = xa; ix <= xb; ++ix) {
+          const float dx = (static_cast<float>(ix) + 0.5f + frame.jitter.x - qx) * invSx;
+          const float u = (dx * dx + dy * dy) * invRadius2;
           if (u < 1.0f) {
             const float k = (1.0f - u) * (1.0f - u);
-            sum += k * c;
+            sum += k * samples_[size_t(iy) * w + size_t(ix)];
             confidence += k;
-          }
-          if (frame.depth[i] < closestDepth) {
-            closestDepth = frame.depth[i];
-            closest = i;
           }
         }
       }
-      const glm::vec3 current = confidence > 1e-4f ? sum / confidence : nearest;
+      const size_t centre = size_t(iy0) * w + size_t(ix0);   // the sample nearest to the pixel's centre
+      const glm::vec3 current = confidence > 1e-4f ? sum / confidence : samples_[centre];
+      // Its 3 x 3 neighbourhood: colour mean and deviation, the closest surface.
+      const Neighbourhood& near = neighbourhood_[centre];
+      const glm::vec3 mean = near.mean, sigma = near.sigma;
+      const size_t closest = near.closest;
+      const float closestDepth = frame.depth[closest];
       const InstanceId surface = frame.instance[closest];
       // Where this pixel was: the closest surface's motion, or the sky's under the camera's turn.
       glm::vec2 motion(std::numeric_limits<float>::quiet_NaN());
@@ -185,9 +212,6 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
         float px = 0.0f, py = 0.0f;
         if (previousRays_->project(previousRays_->origin() + dir, px, py)) motion = {px - cx, py - cy};
       }
-      const float inv = 1.0f / static_cast<float>(count);
-      const glm::vec3 mean = m1 * inv;
-      const glm::vec3 sigma = glm::sqrt(glm::max(m2 * inv - mean * mean, glm::vec3(0.0f)));
       const float still = std::isfinite(motion.x) ? std::clamp(1.0f - glm::length(motion), 0.0f, 1.0f) : 0.0f;
       const float gamma = config_.clipMoving + (config_.clipStill - config_.clipMoving) * still;
       glm::vec3 result = current;
@@ -203,11 +227,16 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
         if (seen) {
           const float tx = fx - static_cast<float>(x1), ty = fy - static_cast<float>(y1);
           const std::array<float, 4> wx = catmullRom(tx), wy = catmullRom(ty);
+          std::array<size_t, 4> columns, rows;
+          for (int i = 0; i < 4; ++i) {
+            columns[size_t(i)] = size_t(std::clamp(x1 - 1 + i, 0, int(W) - 1));
+            rows[size_t(i)] = size_t(std::clamp(y1 - 1 + i, 0, int(H) - 1)) * W;
+          }
           glm::vec3 history(0.0f);
-          for (int j = 0; j < 4; ++j) {
-            glm::vec3 row(0.0f);
-            for (int i = 0; i < 4; ++i) row += wx[size_t(i)] * history_[historyIndex(x1 - 1 + i, y1 - 1 + j)];
-            history += wy[size_t(j)] * row;
+          for (size_t j = 0; j < 4; ++j) {
+            const glm::vec3* row = &history_[rows[j]];
+            history += wy[j] * (wx[0] * row[columns[0]] + wx[1] * row[columns[1]] + wx[2] * row[columns[2]] +
+                                wx[3] * row[columns[3]]);
           }
           // Anti-ringing: within the four nearest taps' range.
           glm::vec3 lo = history_[taps[0]], hi = lo;

@@ -75,6 +75,7 @@ class Upscaler {
 
  private:
   void prepareRows(const Frame& frame, uint32_t y0, uint32_t y1);
+  void neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void resolveRows(const Frame& frame, uint32_t y0, uint32_t y1);
   uint8_t encode(float linear) const;
 
@@ -86,7 +87,14 @@ class Upscaler {
   std::optional<Camera> lastCamera_;
   std::optional<CameraRays> rays_, previousRays_;   ///< This frame's and the last one's, output size.
   float weightCap_ = 1.0f;
+  /// A traced pixel's 3 x 3 neighbourhood: colour mean and deviation (YCoCg), closest sample.
+  struct Neighbourhood {
+    glm::vec3 mean;
+    glm::vec3 sigma;
+    uint32_t closest;
+  };
   std::vector<glm::vec3> samples_;           ///< This frame, linear YCoCg, traced size.
+  std::vector<Neighbourhood> neighbourhood_;   ///< Per traced pixel.
   std::vector<glm::vec3> history_, nextHistory_;   ///< Linear YCoCg, output size.
   std::vector<float> weight_, nextWeight_;
   std::vector<InstanceId> instance_, nextInstance_;
