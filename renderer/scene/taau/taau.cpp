@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include <glm/geometric.hpp>
@@ -39,6 +40,15 @@ std::array<float, 4> catmullRom(float t) {
   const float t2 = t * t;
   return {t * (-0.5f + t * (1.0f - 0.5f * t)), 1.0f + t2 * (-2.5f + 1.5f * t), t * (0.5f + t * (2.0f - 1.5f * t)),
           t2 * (-0.5f + 0.5f * t)};
+}
+
+/// Four floats in one SIMD register (GCC / Clang vector extension).
+typedef float Lanes __attribute__((vector_size(16)));
+
+Lanes load(const glm::vec4& v) {
+  Lanes l;
+  std::memcpy(&l, &v, sizeof l);
+  return l;
 }
 
 template <class Body>
@@ -79,8 +89,8 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
     outWidth_ = outWidth;
     outHeight_ = outHeight;
     haveHistory_ = false;
-    history_.assign(n, glm::vec3(0.0f));
-    nextHistory_.assign(n, glm::vec3(0.0f));
+    history_.assign(n, glm::vec4(0.0f));
+    nextHistory_.assign(n, glm::vec4(0.0f));
     weight_.assign(n, 0.0f);
     nextWeight_.assign(n, 0.0f);
     instance_.assign(n, kNoId);
@@ -232,19 +242,24 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
             columns[size_t(i)] = size_t(std::clamp(x1 - 1 + i, 0, int(W) - 1));
             rows[size_t(i)] = size_t(std::clamp(y1 - 1 + i, 0, int(H) - 1)) * W;
           }
-          glm::vec3 history(0.0f);
+          // Four-wide: one load and one multiply-add per tap.
+          Lanes sum4 = {0.0f, 0.0f, 0.0f, 0.0f};
           for (size_t j = 0; j < 4; ++j) {
-            const glm::vec3* row = &history_[rows[j]];
-            history += wy[j] * (wx[0] * row[columns[0]] + wx[1] * row[columns[1]] + wx[2] * row[columns[2]] +
-                                wx[3] * row[columns[3]]);
+            const glm::vec4* row = &history_[rows[j]];
+            const Lanes r = load(row[columns[0]]) * wx[0] + load(row[columns[1]]) * wx[1] +
+                            load(row[columns[2]]) * wx[2] + load(row[columns[3]]) * wx[3];
+            sum4 += r * wy[j];
           }
           // Anti-ringing: within the four nearest taps' range.
-          glm::vec3 lo = history_[taps[0]], hi = lo;
-          for (const size_t t : taps) {
-            lo = glm::min(lo, history_[t]);
-            hi = glm::max(hi, history_[t]);
+          Lanes lo = load(history_[taps[0]]), hi = lo;
+          for (size_t t = 1; t < 4; ++t) {
+            const Lanes v = load(history_[taps[t]]);
+            lo = lo < v ? lo : v;
+            hi = hi > v ? hi : v;
           }
-          history = glm::clamp(history, lo, hi);
+          sum4 = sum4 < lo ? lo : sum4;
+          sum4 = sum4 > hi ? hi : sum4;
+          glm::vec3 history(sum4[0], sum4[1], sum4[2]);
           const float historyWeight =
               std::min(weightCap_, (1 - ty) * ((1 - tx) * weight_[taps[0]] + tx * weight_[taps[1]]) +
                                        ty * ((1 - tx) * weight_[taps[2]] + tx * weight_[taps[3]]));
@@ -268,7 +283,7 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
         }
       }
       const size_t o = size_t{oy} * W + ox;
-      nextHistory_[o] = result;
+      nextHistory_[o] = glm::vec4(result, 0.0f);
       nextWeight_[o] = weight;
       nextInstance_[o] = surface;
       nextBoxLo_[o] = mean - gamma * sigma;

@@ -17,6 +17,7 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "renderer/scene/integrator/camera_rays.h"
 #include "renderer/scene/scene_types.h"
@@ -95,7 +96,7 @@ class Upscaler {
   };
   std::vector<glm::vec3> samples_;           ///< This frame, linear YCoCg, traced size.
   std::vector<Neighbourhood> neighbourhood_;   ///< Per traced pixel.
-  std::vector<glm::vec3> history_, nextHistory_;   ///< Linear YCoCg, output size.
+  std::vector<glm::vec4> history_, nextHistory_;   ///< Linear YCoCg (w unused), output size.
   std::vector<float> weight_, nextWeight_;
   std::vector<InstanceId> instance_, nextInstance_;
   std::vector<glm::vec3> boxLo_, boxHi_, nextBoxLo_, nextBoxHi_;   ///< Each frame's clip box, output size.
