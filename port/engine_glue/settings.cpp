@@ -77,7 +77,7 @@ void Settings::registerCvars(const Engine& engine) {
   temporal_ = engine.cvar("r_pt_temporal", "1", CVAR_ARCHIVE,
                           "Temporal accumulation (reprojected history) on the direct and path presets (0 = off)");
   if (temporal_ != nullptr) ri.Cvar_CheckRange(temporal_, 0, 1, 1);
-  taau_ = engine.cvar("r_pt_taau", "1", CVAR_ARCHIVE,
+  taau_ = engine.cvar("r_pt_taau", "0", CVAR_ARCHIVE,
                       "Temporal anti-aliasing and upscaling of the traced world view to the window: 0 = off "
                       "(bilinear stretch), 1 = when r_pt_scale < 1, 2 = always");
   if (taau_ != nullptr) ri.Cvar_CheckRange(taau_, 0, 2, 1);

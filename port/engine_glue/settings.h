@@ -35,7 +35,7 @@ struct TracerSettings {
   bool restir = false;       ///< r_pt_restir: reservoir resampling of direct light on the direct and path presets
   /// r_pt_taau: temporal anti-aliasing and upscaling to the window of world views; 0 = off (bilinear
   /// stretch), 1 = when traced smaller than the window, 2 = always (also anti-aliases r_pt_scale 1)
-  int taau = 1;
+  int taau = 0;
   float targetFps = 0.0f;    ///< r_pt_fps: dynamic resolution's frame-rate target (0 = off: r_pt_scale as set)
   float minScale = 0.35f;    ///< r_pt_scale_min: the least scale dynamic resolution may pick
   /// r_pt_look: the traced presets show light as the lightmap does (texture x light in display
