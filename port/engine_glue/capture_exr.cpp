@@ -9,10 +9,10 @@ namespace glue {
 
 void FilmCapture::assign(const TracedPicture& picture) {
   clear();
-  const size_t pixels = static_cast<size_t>(picture.width) * static_cast<size_t>(picture.height);
+  const size_t pixels = static_cast<size_t>(picture.filmWidth) * static_cast<size_t>(picture.filmHeight);
   if (pixels == 0 || picture.radiance.size() != pixels) return;
-  width = picture.width;
-  height = picture.height;
+  width = picture.filmWidth;
+  height = picture.filmHeight;
   rgb.resize(pixels * 3);
   for (size_t i = 0; i < pixels; ++i)
     for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = picture.radiance[i][c];

@@ -46,6 +46,7 @@ void addTimings(ViewTimings& sum, const ViewTimings& t) {
   sum.animationMs += t.animationMs;
   sum.animationUpdates += t.animationUpdates;
   sum.resampleMs += t.resampleMs;
+  sum.taauMs += t.taauMs;
 }
 
 }  // namespace
@@ -54,7 +55,12 @@ void Module::beginFrame(int /*stereoFrame*/) {
   if (!window_.isOpen()) return;
   frameStartMs_ = engine_.milliseconds();
   const Clock::time_point now = Clock::now();
-  if (frameBegan_ != Clock::time_point{}) stats_.frameMs += std::chrono::duration<double, std::milli>(now - frameBegan_).count();
+  const TracerSettings tracer = settings_.tracer(engine_);
+  if (frameBegan_ != Clock::time_point{}) {
+    const double lastFrameMs = std::chrono::duration<double, std::milli>(now - frameBegan_).count();
+    stats_.frameMs += lastFrameMs;
+    resolution_.update(lastFrameMs, tracer.targetFps, tracer.minScale);   // r_pt_fps 0: forgets
+  }
   frameBegan_ = now;
   modelViewsThisFrame_ = 0;
   if (settings_.gammaChanged()) updateDisplayRamp();
@@ -101,18 +107,18 @@ void Module::printFrameStats(int nowMs) const {
   const FrameStats& s = stats_;
   const double n = s.frames;
   const double accounted = s.world.sceneMs + s.world.commitMs + s.world.resampleMs + s.world.traceMs + s.world.temporalMs + s.world.denoiseMs +
-                           s.world.resolveMs + s.uploadMs + s.modelViewMs + s.overlay2dMs + s.presentMs;
+                           s.world.resolveMs + s.world.taauMs + s.uploadMs + s.modelViewMs + s.overlay2dMs + s.presentMs;
   // One line of name=value pairs (per-frame means) that scripts/engine_bench.sh parses.
   engine_.print(q3abi::PRINT_ALL,
                 "pathtracer: stats %s fps=%.1f frame_ms=%.2f world_views=%.2f scene_ms=%.2f commit_ms=%.2f "
                 "trace_ms=%.2f temporal_ms=%.2f denoise_ms=%.2f resolve_ms=%.2f upload_ms=%.2f model_views=%.2f model_view_ms=%.2f "
                 "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u anim_ms=%.3f anim_updates=%.2f resample_ms=%.2f "
-                "allocations=%.2f\n",
+                "taau_ms=%.2f scale=%.3f allocations=%.2f\n",
                 presetName(settings_.tracer(engine_).preset), 1000.0 * n / std::max(1, nowMs - s.sinceMs),
                 s.frameMs / n, s.views / n, s.world.sceneMs / n, s.world.commitMs / n, s.world.traceMs / n,
                 s.world.temporalMs / n, s.world.denoiseMs / n, s.world.resolveMs / n, s.uploadMs / n, s.modelViews / n, s.modelViewMs / n,
                 s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n, s.accumulated,
-                s.world.animationMs / n, s.world.animationUpdates / n, s.world.resampleMs / n,
+                s.world.animationMs / n, s.world.animationUpdates / n, s.world.resampleMs / n, s.world.taauMs / n, s.scale,
                 static_cast<double>(allocationCount() - s.allocationsAtStart) / n);
 }
 
@@ -150,8 +156,10 @@ void Module::renderScene(const q3abi::refdef_t* view) {
     const int start = engine_.milliseconds();
     const Clock::time_point began = Clock::now();
     try {
-      picture = views->render(*view, scene_, settings_.tracer(engine_), shaders_, models_,
-                               noWorld ? nullptr : world_.get());
+      TracerSettings tracer = settings_.tracer(engine_);
+      if (tracer.targetFps > 0.0f) tracer.resolutionScale = resolution_.scale();
+      if (!noWorld) stats_.scale = tracer.resolutionScale;
+      picture = views->render(*view, scene_, tracer, shaders_, models_, noWorld ? nullptr : world_.get());
     } catch (const std::exception& error) {
       // Keep playing (2D still works); say it a few times, not every frame.
       if (renderFailures_++ < 3) engine_.warn(std::string("RenderScene: ") + error.what());
@@ -201,11 +209,12 @@ void Module::drawFlares(const q3abi::refdef_t& view, const TracedPicture& pictur
   flareView.timeMs = view.time;
   // The depth of the traced pixel under a window position (the picture may be traced smaller).
   const auto depthAt = [&](float x, float y) {
-    if (picture.depth.size() != size_t(picture.width) * size_t(picture.height) || picture.depth.empty())
+    const int w = picture.filmWidth, h = picture.filmHeight;
+    if (picture.depth.size() != size_t(w) * size_t(h) || picture.depth.empty())
       return std::numeric_limits<float>::infinity();
-    const int px = std::clamp(static_cast<int>((x - view.x) * picture.width / view.width), 0, picture.width - 1);
-    const int py = std::clamp(static_cast<int>((y - view.y) * picture.height / view.height), 0, picture.height - 1);
-    return picture.depth[size_t(py) * size_t(picture.width) + size_t(px)];
+    const int px = std::clamp(static_cast<int>((x - view.x) * w / view.width), 0, w - 1);
+    const int py = std::clamp(static_cast<int>((y - view.y) * h / view.height), 0, h - 1);
+    return picture.depth[size_t(py) * size_t(w) + size_t(px)];
   };
   flareTracker_.update(flareView, worldFlares_, settings.flare, depthAt, flareQuads_);
   if (flareQuads_.empty()) return;

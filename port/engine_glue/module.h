@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "port/engine_glue/capture_exr.h"
+#include "port/engine_glue/dynamic_resolution.h"
 #include "port/engine_glue/engine.h"
 #include "port/engine_glue/images.h"
 #include "port/engine_glue/ioq3_abi.h"
@@ -60,6 +61,7 @@ struct FrameStats {
   double presentMs = 0.0;      ///< Screenshots, video frames and the buffer swap.
   double frameMs = 0.0;        ///< BeginFrame to BeginFrame of the next frame (engine and game included).
   uint32_t accumulated = 0;    ///< Frames in the last world view's picture.
+  float scale = 0.0f;          ///< r_pt_scale of the last world view (dynamic resolution's choice with r_pt_fps).
   uint64_t allocationsAtStart = 0;   ///< allocationCount() when the period began.
 };
 
@@ -179,6 +181,7 @@ class Module {
   uint64_t framesMark_ = 0;                 ///< framesEnded_ at the last pt_allocations.
   int frameStartMs_ = 0;
   std::chrono::steady_clock::time_point frameBegan_{};   ///< Last BeginFrame (r_pt_stats).
+  ResolutionController resolution_;   ///< r_pt_fps: the world views' resolution scale.
 };
 
 }  // namespace glue

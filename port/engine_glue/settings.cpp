@@ -77,6 +77,16 @@ void Settings::registerCvars(const Engine& engine) {
   temporal_ = engine.cvar("r_pt_temporal", "1", CVAR_ARCHIVE,
                           "Temporal accumulation (reprojected history) on the direct and path presets (0 = off)");
   if (temporal_ != nullptr) ri.Cvar_CheckRange(temporal_, 0, 1, 1);
+  taau_ = engine.cvar("r_pt_taau", "0", CVAR_ARCHIVE,
+                      "Temporal anti-aliasing and upscaling of the traced world view to the window: 0 = off "
+                      "(bilinear stretch), 1 = when r_pt_scale < 1, 2 = always");
+  if (taau_ != nullptr) ri.Cvar_CheckRange(taau_, 0, 2, 1);
+  fps_ = engine.cvar("r_pt_fps", "0", CVAR_ARCHIVE,
+                     "Dynamic resolution: frames per second to aim at by moving the traced world view's scale "
+                     "between r_pt_scale_min and 1 (0 = off: r_pt_scale as set)");
+  if (fps_ != nullptr) ri.Cvar_CheckRange(fps_, 0, 1000, 0);
+  scaleMin_ = engine.cvar("r_pt_scale_min", "0.35", CVAR_ARCHIVE, "Least scale dynamic resolution (r_pt_fps) may pick (0.1..1)");
+  if (scaleMin_ != nullptr) ri.Cvar_CheckRange(scaleMin_, 0.1f, 1.0f, 0);
   restir_ = engine.cvar("r_pt_restir", "0", CVAR_ARCHIVE,
                         "Direct light by spatiotemporal reservoir resampling (ReSTIR) on the direct and path presets (0 = off)");
   if (restir_ != nullptr) ri.Cvar_CheckRange(restir_, 0, 1, 1);
@@ -210,6 +220,9 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
   out.temporal = temporal_ == nullptr || temporal_->integer != 0;
   out.restir = restir_ != nullptr && restir_->integer != 0;
+  if (taau_ != nullptr) out.taau = std::clamp(taau_->integer, 0, 2);
+  if (fps_ != nullptr && std::isfinite(fps_->value)) out.targetFps = std::clamp(fps_->value, 0.0f, 1000.0f);
+  if (scaleMin_ != nullptr && std::isfinite(scaleMin_->value)) out.minScale = std::clamp(scaleMin_->value, 0.1f, 1.0f);
   out.fireflies = fireflies_ == nullptr || fireflies_->integer != 0;
   out.stockLook = look_ == nullptr || look_->string == nullptr || normalizeName(look_->string) != "filmic";
   out.captureExr = captureExr_ != nullptr && captureExr_->integer != 0;

@@ -33,6 +33,11 @@ struct TracerSettings {
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
   bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
   bool restir = false;       ///< r_pt_restir: reservoir resampling of direct light on the direct and path presets
+  /// r_pt_taau: temporal anti-aliasing and upscaling to the window of world views; 0 = off (bilinear
+  /// stretch), 1 = when traced smaller than the window, 2 = always (also anti-aliases r_pt_scale 1)
+  int taau = 0;
+  float targetFps = 0.0f;    ///< r_pt_fps: dynamic resolution's frame-rate target (0 = off: r_pt_scale as set)
+  float minScale = 0.35f;    ///< r_pt_scale_min: the least scale dynamic resolution may pick
   /// r_pt_look: the traced presets show light as the lightmap does (texture x light in display
   /// values, light clamped to 1, no tone curve); false: physical radiance through the ACES curve
   bool stockLook = true;
@@ -116,6 +121,9 @@ class Settings {
   q3abi::cvar_t* flareFade_ = nullptr;
   q3abi::cvar_t* flareCoeff_ = nullptr;
   q3abi::cvar_t* temporal_ = nullptr;
+  q3abi::cvar_t* taau_ = nullptr;
+  q3abi::cvar_t* fps_ = nullptr;
+  q3abi::cvar_t* scaleMin_ = nullptr;
   q3abi::cvar_t* restir_ = nullptr;
   q3abi::cvar_t* look_ = nullptr;
   q3abi::cvar_t* fireflies_ = nullptr;

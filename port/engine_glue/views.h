@@ -33,16 +33,20 @@ struct ViewTimings {
   double animationMs = 0.0;       ///< Part of sceneMs: world materials moved to the shader time.
   double animationUpdates = 0.0;  ///< Materials replaced for shader animation (world and entities).
   double resampleMs = 0.0;  ///< Reservoir resampling of direct light (ReSTIR), before tracing.
+  double taauMs = 0.0;      ///< Temporal anti-aliasing and upscaling to the window's size.
 };
 
-/// A traced view: RGBA8, top row first; alpha 0 where nothing was hit (HUD model views).
+/// A traced view: RGBA8 (width x height, the view's size with TAAU, else the traced size), top
+/// row first; alpha 0 where nothing was hit (HUD model views).
 struct TracedPicture {
   int width = 0;
   int height = 0;
   const uint8_t* rgba = nullptr;
   ViewTimings timings;
   uint32_t accumulatedFrames = 1;   ///< Frames averaged in this picture (the reference preset's history).
-  /// The film behind the picture, width x height, valid until this ViewRenderer renders again:
+  int filmWidth = 0;    ///< Size of the film arrays below (the traced size).
+  int filmHeight = 0;   ///< See filmWidth.
+  /// The film behind the picture, filmWidth x filmHeight, valid until this ViewRenderer renders again:
   /// linear radiance (after denoising and temporal accumulation when those are on) and the
   /// variance of each pixel's mean luminance over this frame's samples (empty when unknown).
   std::span<const glm::vec3> radiance;

@@ -135,7 +135,7 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view, c
   const ViewTimings timings{sceneMs, frame.timings.commitMs, frame.timings.traceMs, frame.timings.temporalMs,
                             frame.timings.denoiseMs, frame.timings.resolveMs, animationMs,
                             double(d.animationUpdates + (ctx.withWorld ? d.map.worldAnimation.lastUpdates() : 0)),
-                            frame.timings.resampleMs};
+                            frame.timings.resampleMs, frame.timings.taauMs};
   return d.picture(ctx, frame, timings);
 }
 
@@ -338,6 +338,12 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   // Views of the world only: HUD model views share one renderer between differing views.
   rs.temporal = settings.temporal && ctx.withWorld && traced;
   rs.restir = settings.restir && ctx.withWorld && traced;
+  // TAAU to the window's size (world views only; HUD model views are traced at full size). With
+  // dynamic resolution it stays on at scale 1 too, so that its history lives through the changes.
+  const bool smaller = rs.width != static_cast<uint32_t>(view.width) || rs.height != static_cast<uint32_t>(view.height);
+  rs.taau = ctx.withWorld && (settings.taau == 2 || (settings.taau == 1 && (smaller || settings.targetFps > 0.0f)));
+  rs.outputWidth = static_cast<uint32_t>(view.width);
+  rs.outputHeight = static_cast<uint32_t>(view.height);
   rs.spreadFireflies = settings.fireflies;   // with the denoiser or temporal accumulation only
   // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does. The
   // traced presets show the light they find as the lightmap shows its texels (r_pt_look stock).
@@ -349,13 +355,14 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
 TracedPicture ViewRenderer::Impl::picture(const ViewContext& ctx, const pa::FrameView& frame,
                                           const ViewTimings& timings) {
   std::vector<uint8_t>& rgba = scratch.picture;
-  rgba.assign(frame.rgba8.begin(), frame.rgba8.end());
+  rgba.assign(frame.output.begin(), frame.output.end());
   if (!ctx.withWorld && frame.depth.size() * 4 == rgba.size()) {
     for (size_t i = 0; i < frame.depth.size(); ++i)
       if (!std::isfinite(frame.depth[i])) rgba[i * 4 + 3] = 0;   // see-through background
   }
-  return TracedPicture{static_cast<int>(frame.width), static_cast<int>(frame.height), rgba.data(), timings,
-                       frame.accumulatedFrames, frame.radiance, frame.variance, frame.depth};
+  return TracedPicture{static_cast<int>(frame.outputWidth), static_cast<int>(frame.outputHeight), rgba.data(), timings,
+                       frame.accumulatedFrames, static_cast<int>(frame.width), static_cast<int>(frame.height),
+                       frame.radiance, frame.variance, frame.depth};
 }
 
 }  // namespace glue

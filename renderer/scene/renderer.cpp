@@ -23,6 +23,7 @@
 #include "renderer/scene/integrator/integrator.h"
 #include "renderer/scene/restir/restir.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
+#include "renderer/scene/taau/taau.h"
 #include "renderer/scene/temporal/motion.h"
 #include "renderer/scene/temporal/temporal.h"
 #include "renderer/scene/world/render_scene.h"
@@ -87,6 +88,10 @@ void validateSettings(const RenderSettings& s) {
     throw SceneError("render: samplesPerPixel must be in [1, " + std::to_string(kMaxSamplesPerPixel) + "]");
   }
   if (!std::isfinite(s.exposure) || s.exposure < 0.0f) throw SceneError("render: exposure must be finite and >= 0");
+  if (s.outputWidth > kMaxImageSide || s.outputHeight > kMaxImageSide) {
+    throw SceneError("render: output size " + std::to_string(s.outputWidth) + "x" + std::to_string(s.outputHeight) +
+                     " exceeds " + std::to_string(kMaxImageSide));
+  }
   if (!std::isfinite(s.radianceClamp) || s.radianceClamp < 0.0f) {
     throw SceneError("render: radianceClamp must be finite and >= 0");
   }
@@ -114,6 +119,8 @@ struct Renderer::Impl {
   bool temporalLast = false;            // the last render ran the temporal stage
   restir::Resampler resampler;          // ReSTIR's reservoirs and their history
   bool restirLast = false;              // the last render resampled
+  taau::Upscaler upscaler;              // TAAU's history at the output size
+  uint32_t taauFrame = 0;               // frames resolved by TAAU in a row (picks the jitter)
   bool sceneChanged = true;   // a commit happened since the last render
   bool worldChanged = true;   // ... that changed more than camera-only overlays
   SeenChanges seenSinceRender;   // what the commits since the last render changed that the camera sees
@@ -167,13 +174,15 @@ void Renderer::commit() {
 void Renderer::resetAccumulation() {
   impl_->film.reset();
   impl_->temporal.reset();
+  impl_->upscaler.reset();
 }
 
 FrameView Renderer::render(const Camera& camera, const RenderSettings& settings) {
   Impl& im = *impl_;
   validateSettings(settings);
   if (settings.width == 0 || settings.height == 0) return FrameView{};
-  const CameraRays rays(camera, settings.width, settings.height);
+  CameraRays rays(camera, settings.width, settings.height);
+  if (settings.taau && settings.outputHeight > settings.height) rays.setFootprintHeight(settings.outputHeight);
   RenderTimings timings;
   timings.commitMs = std::exchange(im.commitMsSinceRender, 0.0);
   auto phaseStart = Clock::now();
@@ -193,11 +202,11 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   endPhase(attachMs);
   timings.commitMs += attachMs;
   im.film.resize(settings.width, settings.height);
-  // Motion: last frame's camera at this size, and where each instance was.
+  // Motion: last frame's camera, in this frame's pixels (also across a change of size, which
+  // TAAU reprojects through; the temporal stage and ReSTIR start again then), and where each
+  // instance was.
   std::optional<CameraRays> previousRays;
-  if (im.haveLast && im.lastSettings.width == settings.width && im.lastSettings.height == settings.height) {
-    previousRays.emplace(im.lastCamera, settings.width, settings.height);
-  }
+  if (im.haveLast) previousRays.emplace(im.lastCamera, settings.width, settings.height);
   im.motions.beginFrame(im.scene.world, im.scene.overlay);
   im.gbuffer.resize(settings.width, settings.height);
   const bool temporalOn = settings.temporal && !settings.accumulate && settings.integrator != Integrator::Lightmap;
@@ -226,6 +235,10 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   im.lastCamera = camera;
   im.lastSettings = settings;
 
+  // TAAU: one-sample pixel-centre frames move their samples by a sub-pixel jitter each frame.
+  if (!settings.taau) im.upscaler.reset();
+  const uint32_t taauFrame = settings.taau ? im.taauFrame++ : (im.taauFrame = 0);
+  const glm::vec2 centre = glm::vec2(0.5f) + (settings.taau && settings.pixelCentres ? taau::jitter(taauFrame) : glm::vec2(0.0f));
   const uint32_t tilesX = (settings.width + kTileSize - 1) / kTileSize;
   const uint32_t tilesY = (settings.height + kTileSize - 1) / kTileSize;
   const uint32_t firstSample = im.film.frames() * settings.samplesPerPixel;
@@ -274,7 +287,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
             std::array<glm::vec2, kBlockSide * kBlockSide> jitters;   // this sample's, per pixel
             for (uint32_t s = 0; s < settings.samplesPerPixel; ++s) {
               for (uint32_t i = 0; i < count; ++i)
-                jitters[i] = settings.pixelCentres ? glm::vec2(0.5f)
+                jitters[i] = settings.pixelCentres ? centre
                                                    : glm::vec2(sampling::PixelSampler(pixels[i].seed, firstSample + s).get4(0));
               if (settings.cameraPackets) {
                 for (uint32_t i = 0; i < count; ++i) {
@@ -364,6 +377,23 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   im.seenSinceRender.clear();
 
   FrameView view;
+  view.outputWidth = film.width();
+  view.outputHeight = film.height();
+  view.output = film.rgba8();
+  if (settings.taau) {
+    const uint32_t outWidth = settings.outputWidth != 0 ? settings.outputWidth : settings.width;
+    const uint32_t outHeight = settings.outputHeight != 0 ? settings.outputHeight : settings.height;
+    const taau::Frame frame{film.width(), film.height(), film.rgba8(), gbuffer.motion, film.depth(), gbuffer.instance,
+                            centre - glm::vec2(0.5f), &camera};
+    std::span<const uint8_t> upscaled;
+    im.arena.execute([&] { upscaled = im.upscaler.resolve(frame, outWidth, outHeight); });
+    if (!upscaled.empty()) {
+      view.outputWidth = outWidth;
+      view.outputHeight = outHeight;
+      view.output = upscaled;
+    }
+    endPhase(timings.taauMs);
+  }
   view.width = film.width();
   view.height = film.height();
   view.accumulatedFrames = film.frames();

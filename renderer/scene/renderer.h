@@ -23,6 +23,7 @@ struct RenderTimings {
   double temporalMs = 0.0;  ///< Temporal accumulation (0 when off).
   double denoiseMs = 0.0;   ///< The denoiser (0 when off).
   double resolveMs = 0.0;   ///< Film resolve: means, AOVs, exposure, tonemap, sRGB encode.
+  double taauMs = 0.0;      ///< Temporal anti-aliasing and upscaling (0 when off).
 };
 
 /// Output of render(): linear HDR radiance (running mean) plus AOVs for denoising, and the
@@ -37,6 +38,10 @@ struct FrameView {
   std::span<const float> depth;          ///< First-hit distance along the ray (inf = sky).
   std::span<const float> variance;       ///< Per-pixel variance of the mean's luminance estimate.
   std::span<const uint8_t> rgba8;        ///< Exposure + tonemap + sRGB, alpha 255.
+  /// The picture to show, outputWidth x outputHeight RGBA8: TAAU's (RenderSettings::taau), else rgba8.
+  uint32_t outputWidth = 0;
+  uint32_t outputHeight = 0;   ///< See outputWidth.
+  std::span<const uint8_t> output;   ///< See outputWidth.
   /// G-buffer of the first camera sample of each pixel: previous film position minus this one in
   /// pixels (NaN where there is none: sky, seen through a portal, an instance new this frame, or
   /// the first frame), the instance and material index hit (kNoId = none / default material).

@@ -455,6 +455,13 @@ struct RenderSettings {
   /// samples weighed per pixel, last frame's and neighbours' reused. Direct and Path only; its
   /// history starts again when the image size changes. Unbiased for a still scene (README there).
   bool restir = false;
+  /// Temporal anti-aliasing and upscaling (renderer/scene/taau) of the encoded frame to
+  /// outputWidth x outputHeight (FrameView::output): with pixelCentres, each frame's camera rays
+  /// move by a sub-pixel Halton jitter, and a history at the output size gathers the samples.
+  /// Does not reset accumulation; its history starts again when the output size changes.
+  bool taau = false;
+  uint32_t outputWidth = 0;    ///< TAAU's output width; 0 = width.
+  uint32_t outputHeight = 0;   ///< TAAU's output height; 0 = height.
 };
 
 }  // namespace pa

@@ -15,8 +15,10 @@ TEST(CaptureExr, FilmOfAPictureReadsBackAsWritten) {
                                            {1e-3f, 10.0f, 0.75f}, {0.0f, 0.0f, 0.0f}, {100.0f, 50.0f, 25.0f}};
   const std::vector<float> variance = {0.0f, 0.5f, 1e-4f, 2.0f, 0.0f, 7.0f};
   glue::TracedPicture picture;
-  picture.width = 3;
-  picture.height = 2;
+  picture.width = 6;   // shown at the window's size (TAAU); the film is the traced size
+  picture.height = 4;
+  picture.filmWidth = 3;
+  picture.filmHeight = 2;
   picture.radiance = radiance;
   picture.variance = variance;
   glue::FilmCapture film;
@@ -39,7 +41,9 @@ TEST(CaptureExr, FilmOfAPictureReadsBackAsWritten) {
 TEST(CaptureExr, APictureWithoutAFilmLeavesNothing) {
   glue::TracedPicture picture;
   picture.width = 4;
-  picture.height = 4;   // no radiance: a build without the tracer, or a picture of another size
+  picture.height = 4;
+  picture.filmWidth = 4;
+  picture.filmHeight = 4;   // no radiance: a build without the tracer, or a picture of another size
   glue::FilmCapture film;
   film.assign(picture);
   EXPECT_TRUE(film.empty());

@@ -37,4 +37,8 @@ CameraRays::CameraRays(const Camera& camera, uint32_t width, uint32_t height) {
   spread_ = std::atan(2.0f * tanHalfY_ / std::max(1.0f, height_));
 }
 
+void CameraRays::setFootprintHeight(uint32_t height) {
+  spread_ = std::atan(2.0f * tanHalfY_ / std::max(1.0f, static_cast<float>(height)));
+}
+
 }  // namespace pa

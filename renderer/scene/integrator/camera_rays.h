@@ -42,6 +42,9 @@ class CameraRays {
   const glm::vec3& forward() const { return forward_; }
   /// Angle subtended by one pixel (ray-cone spread for texture filtering).
   float pixelSpreadAngle() const { return spread_; }
+  /// Texture footprints of an image `height` pixels tall (TAAU shows more pixels than it traces:
+  /// textures are filtered for the picture shown).
+  void setFootprintHeight(uint32_t height);
 
  private:
   glm::vec3 origin_, forward_, right_, up_;

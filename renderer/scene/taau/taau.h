@@ -1,0 +1,108 @@
+#pragma once
+// Temporal anti-aliasing and upscaling (TAAU): each traced frame, sampled at a sub-pixel jitter
+// that changes from frame to frame, is merged into a history kept at the output resolution.
+// Per output pixel: this frame's samples within one output pixel are weighed by a smooth kernel
+// (their weight sum is this frame's confidence); the history is fetched at the pixel's previous
+// position (the traced motion vectors, or the camera's rotation for the sky) by a Catmull-Rom
+// filter clamped to its four nearest taps (sharp, no ringing), clipped to the 3 x 3 traced
+// neighbourhood's colour box in YCoCg (variance clipping), and dropped where the surface is new
+// (no motion, or none of the taps showed the same instance). The blend is a running weighted
+// mean of confidence with a capped memory, so a still view converges to the image supersampled
+// with that kernel at the output resolution.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "renderer/scene/integrator/camera_rays.h"
+#include "renderer/scene/scene_types.h"
+
+namespace pa::taau {
+
+/// Frames in one cycle of the jitter sequence.
+inline constexpr uint32_t kJitterPeriod = 16;
+
+/// Sub-pixel offset of frame `frame`'s samples from their pixel centres, in traced pixels, each
+/// component in (-0.5, 0.5): Halton bases 2 and 3, repeating every kJitterPeriod frames.
+glm::vec2 jitter(uint32_t frame);
+
+/// Tuning of the resolve.
+struct Config {
+  float kernelRadius = 0.7f;     ///< Reach of a sample's weight, in output pixels.
+  float memoryFrames = 16.0f;    ///< Cap on the history's weight, in frames of average confidence.
+  /// Colour-box half-size in standard deviations for a still pixel (whose box also takes in the
+  /// previous frame's)...
+  float clipStill = 2.5f;
+  float clipMoving = 1.0f;       ///< ... and for one moving by an output pixel or more.
+};
+
+/// One traced frame (width * height each, row-major from the top row).
+struct Frame {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  std::span<const uint8_t> rgba8;        ///< Display colours (sRGB encoded), alpha ignored.
+  /// Previous film position minus this sample's, in traced pixels; NaN where unknown (sky,
+  /// portals, new instances, first frame).
+  std::span<const glm::vec2> motion;
+  std::span<const float> depth;          ///< First-hit distance (+inf: sky).
+  std::span<const InstanceId> instance;  ///< First-hit instance (kNoId: none).
+  glm::vec2 jitter{0.0f};                ///< Where this frame's samples lie relative to their pixel centres.
+  /// This frame's camera; with it, the sky (infinite depth, no motion) is reprojected by the
+  /// camera's rotation since the previous frame. Null: sky pixels count as new every frame.
+  const Camera* camera = nullptr;
+};
+
+/// The TAAU resolve and its history. Not thread-safe; its rows run in parallel on the calling
+/// thread's task arena, and the result does not depend on the thread count.
+class Upscaler {
+ public:
+  /// An upscaler with the given tuning.
+  explicit Upscaler(const Config& config = {});
+
+  /// Merges `frame` into the history at outWidth x outHeight and returns the output image
+  /// (RGBA8, sRGB, alpha 255), valid until the next call. A new output size starts again.
+  std::span<const uint8_t> resolve(const Frame& frame, uint32_t outWidth, uint32_t outHeight);
+
+  /// Forgets the history (the next frame starts from its own samples).
+  void reset();
+
+  /// Per output pixel, the history's weight after the last resolve (confidence units).
+  std::span<const float> historyWeight() const { return weight_; }
+
+ private:
+  void prepareRows(const Frame& frame, uint32_t y0, uint32_t y1);
+  void neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1);
+  void resolveRows(const Frame& frame, uint32_t y0, uint32_t y1);
+  uint8_t encode(float linear) const;
+
+  static constexpr uint32_t kEncodeSteps = 4096;   ///< sqrt(linear) steps of the encoding table.
+
+  Config config_;
+  uint32_t outWidth_ = 0, outHeight_ = 0;
+  bool haveHistory_ = false;
+  std::optional<Camera> lastCamera_;
+  std::optional<CameraRays> rays_, previousRays_;   ///< This frame's and the last one's, output size.
+  float weightCap_ = 1.0f;
+  /// A traced pixel's 3 x 3 neighbourhood: colour mean and deviation (YCoCg), closest sample.
+  struct Neighbourhood {
+    glm::vec3 mean;
+    glm::vec3 sigma;
+    uint32_t closest;
+  };
+  std::vector<glm::vec3> samples_;           ///< This frame, linear YCoCg, traced size.
+  std::vector<Neighbourhood> neighbourhood_;   ///< Per traced pixel.
+  std::vector<glm::vec4> history_, nextHistory_;   ///< Linear YCoCg (w unused), output size.
+  std::vector<float> weight_, nextWeight_;
+  std::vector<InstanceId> instance_, nextInstance_;
+  std::vector<glm::vec3> boxLo_, boxHi_, nextBoxLo_, nextBoxHi_;   ///< Each frame's clip box, output size.
+  std::vector<uint8_t> output_;
+  std::array<float, 256> decode_{};              ///< sRGB byte -> linear.
+  std::array<uint8_t, kEncodeSteps> encode_{};   ///< sqrt(linear) -> sRGB byte.
+};
+
+}  // namespace pa::taau
