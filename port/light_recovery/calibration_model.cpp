@@ -23,21 +23,21 @@ struct SampleTriangle {
   const WorldImage* lightmap;
 };
 
-}  // namespace
+/// splitmix64's output function: a bijective mix of 64 bits.
+uint64_t mix64(uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
 
+}  // namespace
 
 float uniform01(std::mt19937& rng) { return float(rng() >> 8) * (1.0f / 16777216.0f); }
 
-SampleRandom::SampleRandom(uint32_t seed, uint64_t index)
-    : state_((uint64_t{seed} << 32) ^ (index * 0x9e3779b97f4a7c15ull) ^ 0x2545f4914f6cdd1dull) {}
+// The start state is a hash of (seed, index), so neighbouring samples' streams are unrelated.
+SampleRandom::SampleRandom(uint32_t seed, uint64_t index) : state_(mix64(mix64(uint64_t{seed} + 1) ^ index)) {}
 
-float SampleRandom::next01() {
-  uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  z ^= z >> 31;
-  return float(z >> 40) * (1.0f / 16777216.0f);
-}
+float SampleRandom::next01() { return float(mix64(state_ += 0x9e3779b97f4a7c15ull) >> 40) * (1.0f / 16777216.0f); }
 
 void parallelOverSamples(size_t count, const std::function<void(size_t, size_t)>& body, size_t grain) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, std::max<size_t>(1, grain)),
