@@ -64,7 +64,7 @@ void Module::beginFrame(int /*stereoFrame*/) {
   frameBegan_ = now;
   modelViewsThisFrame_ = 0;
   if (settings_.gammaChanged()) updateDisplayRamp();
-  overlay_.beginFrame(window_.width(), window_.height());
+  overlay_.beginFrame(window_.width(), window_.height(), window_.pictureFillsSurface());
   frameOpen_ = true;
   filmCapture_.clear();
 }
@@ -75,6 +75,7 @@ void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
   if (!window_.isOpen() || !frameOpen_) return;
   {
     const ScopeTimer present(stats_.presentMs);
+    overlay_.finishDrawing();
     // r_gamma: the frame through the display's ramp (stock screenshots carry the ramp too).
     if (!rampIsIdentity_) overlay_.applyRamp(displayRamp_);
     // Screenshot commands ran during the frame: capture what was drawn before it is shown.

@@ -19,7 +19,8 @@ constexpr int kMaxSlots = Overlay2D::kViewSlots + kCinematicSlots;
 
 }  // namespace
 
-void Overlay2D::beginFrame(int width, int height) {
+void Overlay2D::beginFrame(int width, int height, bool fillsSurface) {
+  fillsSurface_ = fillsSurface;
   width_ = width;
   height_ = height;
   glViewport(0, 0, width, height);
@@ -35,12 +36,26 @@ void Overlay2D::beginFrame(int width, int height) {
   glLoadIdentity();
   glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
   glClearColor(0, 0, 0, 1);
-  glClear(GL_COLOR_BUFFER_BIT);
+  // On a software GL every cleared pixel costs CPU: the clear waits for the first draw, which
+  // usually paints the whole window opaque (the traced world view).
+  clipped_ = false;
+  clearPending_ = true;
   color_ = {1, 1, 1, 1};
 }
 
+void Overlay2D::clearIfPending() const {
+  if (!clearPending_) return;
+  clearPending_ = false;
+  if (clipped_) glDisable(GL_SCISSOR_TEST);
+  glClear(GL_COLOR_BUFFER_BIT);
+  if (clipped_) glEnable(GL_SCISSOR_TEST);
+}
+
+void Overlay2D::finishDrawing() { clearIfPending(); }
+
 void Overlay2D::applyRamp(const std::array<uint8_t, 256>& ramp) {
   if (width_ <= 0 || height_ <= 0) return;
+  clearIfPending();
   rampPixels_.resize(size_t(width_) * size_t(height_) * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -71,11 +86,13 @@ void Overlay2D::applyRamp(const std::array<uint8_t, 256>& ramp) {
 }
 
 void Overlay2D::clip(int x, int y, int w, int h) {
+  clipped_ = true;
   glEnable(GL_SCISSOR_TEST);
   glScissor(x, height_ - (y + h), std::max(0, w), std::max(0, h));
 }
 
 void Overlay2D::clearClip() {
+  clipped_ = false;
   glScissor(0, 0, width_, height_);
   glDisable(GL_SCISSOR_TEST);
 }
@@ -90,6 +107,7 @@ void Overlay2D::drawPic(ShaderRegistry& shaders, const Engine& engine, const Ima
                         float t1, float s2, float t2) {
   const ShaderEntry& entry = shaders.resolve(shader);
   if (entry.look.nodraw) return;
+  clearIfPending();
   if (entry.look.fromScript && std::any_of(entry.look.stages.begin(), entry.look.stages.end(), stageDraws2D)) {
     drawStages2D(shaders, engine, images, shader, seconds, color_, x, y, w, h, s1, t1, s2, t2);
     return;
@@ -155,16 +173,22 @@ void Overlay2D::uploadRaw(int client, const uint8_t* rgba, int cols, int rows) {
 void Overlay2D::drawRaw(int client, float x, float y, float w, float h) {
   const int slot = kViewSlots + client;
   if (slot < kViewSlots || slot >= kMaxSlots || slotTextures_.empty() || slotTextures_[slot] == 0) return;
+  clearIfPending();
   glBindTexture(GL_TEXTURE_2D, slotTextures_[slot]);
   glDisable(GL_BLEND);
-  glColor4f(1, 1, 1, 1);
-  drawQuad2D(x, y, w, h, 0, 0, 1, 1);
+  drawTexelsQuad(x, y, w, h);
 }
 
 void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height, float x, float y,
                            float w, float h, bool opaque) {
   if (rgba == nullptr || width <= 0 || height <= 0 || slot < 0 || slot >= kViewSlots) return;
   upload(slot, rgba, width, height);
+  // An opaque picture over the whole unclipped window replaces every pixel the clear would set
+  // (the quad's edges are the viewport's, so it covers every pixel centre).
+  if (opaque && fillsSurface_ && !clipped_ && x == 0.0f && y == 0.0f && w == static_cast<float>(width_) &&
+      h == static_cast<float>(height_))
+    clearPending_ = false;
+  clearIfPending();
   if (opaque) {
     glDisable(GL_BLEND);
   } else {
@@ -173,13 +197,22 @@ void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height,
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   }
+  drawTexelsQuad(x, y, w, h);
+}
+
+void Overlay2D::drawTexelsQuad(float x, float y, float w, float h) {
+  // The texels as they are: replace, the same pixels as modulating by opaque white with a
+  // simpler fragment program for the software rasteriser.
+  glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
   glColor4f(1, 1, 1, 1);
   drawQuad2D(x, y, w, h, 0, 0, 1, 1);
+  glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
 }
 
 std::vector<uint8_t> Overlay2D::readPixelsRGB(int width, int height) const {
   std::vector<uint8_t> pixels(static_cast<size_t>(width) * height * 3);
   if (pixels.empty()) return pixels;
+  clearIfPending();
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadBuffer(GL_BACK);
   glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());

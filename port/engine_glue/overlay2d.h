@@ -24,8 +24,12 @@ class Overlay2D {
   Overlay2D(const Overlay2D&) = delete;
   Overlay2D& operator=(const Overlay2D&) = delete;
 
-  /// Starts a frame: viewport, projection, clears to black.
-  void beginFrame(int width, int height);
+  /// Starts a frame: viewport, projection, black background. The clear is done before the
+  /// first draw, and skipped when that draw is an opaque picture over the whole window and the
+  /// window is the whole drawable surface (`fillsSurface`).
+  void beginFrame(int width, int height, bool fillsSurface = true);
+  /// Ends the frame's drawing: a frame with nothing drawn is cleared now.
+  void finishDrawing();
   /// SetColor (nullptr = opaque white).
   void setColor(const float* rgba);
   /// DrawStretchPic: every stage of a scripted shader (see overlay_stages.h), else the image.
@@ -58,10 +62,17 @@ class Overlay2D {
   unsigned slotTexture(int slot);
   /// Replaces a slot's pixels (re-creating its texture only when the size changes).
   void upload(int slot, const uint8_t* rgba, int width, int height);
+  /// Draws the bound texture's texels unmodulated over a rectangle (blend state as set).
+  void drawTexelsQuad(float x, float y, float w, float h);
+  /// Clears the whole window if beginFrame's clear is still due.
+  void clearIfPending() const;
 
   int width_ = 0;
   int height_ = 0;
   std::array<float, 4> color_{1, 1, 1, 1};
+  bool fillsSurface_ = true;            ///< The window is the whole drawable surface.
+  bool clipped_ = false;                ///< A clip() rectangle is in force.
+  mutable bool clearPending_ = false;   ///< beginFrame's clear is not done yet.
   std::vector<unsigned> slotTextures_;   ///< Views, then kViewSlots + client for cinematics
   std::vector<std::array<int, 2>> slotSizes_;
   std::vector<uint8_t> rampPixels_;   ///< applyRamp's frame copy.

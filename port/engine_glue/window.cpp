@@ -94,8 +94,11 @@ void Window::open(const VideoModeRequest& request, q3abi::glconfig_t& config) {
     // whatever the display gave (a display without that mode keeps its own size: under Xvfb a
     // 640x360 request yields a 1024x768 surface with the 640x360 picture in its corner, and
     // screenshots read the 640x360 picture).
+    fillsSurface_ = width_ == width && height_ == height;
     width_ = width;
     height_ = height;
+  } else {
+    fillsSurface_ = true;
   }
 
   std::memset(&config, 0, sizeof config);

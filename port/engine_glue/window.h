@@ -41,12 +41,15 @@ class Window {
   /// Drawable size in pixels.
   int width() const { return width_; }
   int height() const { return height_; }
+  /// True when the picture (width() x height()) is the whole drawable surface.
+  bool pictureFillsSurface() const { return fillsSurface_; }
 
  private:
   SDL_Window* window_ = nullptr;
   void* glContext_ = nullptr;
   int width_ = 0;
   int height_ = 0;
+  bool fillsSurface_ = true;
 };
 
 }  // namespace glue
