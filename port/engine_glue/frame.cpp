@@ -197,10 +197,11 @@ void Module::drawFlares(const q3abi::refdef_t& view, const TracedPicture& pictur
   const PictureSettings settings = settings_.picture(engine_);
   if (!settings.flares) return;
   FlareView flareView;
-  flareView.origin = {view.vieworg[0], view.vieworg[1], view.vieworg[2]};
-  flareView.forward = {view.viewaxis[0][0], view.viewaxis[0][1], view.viewaxis[0][2]};
-  flareView.left = {view.viewaxis[1][0], view.viewaxis[1][1], view.viewaxis[1][2]};
-  flareView.up = {view.viewaxis[2][0], view.viewaxis[2][1], view.viewaxis[2][2]};
+  const ViewAxes axes = viewAxesOf(view);
+  flareView.origin = axes.origin;
+  flareView.forward = axes.forward;
+  flareView.left = axes.left;
+  flareView.up = axes.up;
   flareView.fovX = view.fov_x;
   flareView.fovY = view.fov_y;
   flareView.x = view.x;

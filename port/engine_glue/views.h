@@ -22,6 +22,17 @@ class ShaderRegistry;
 class ModelRegistry;
 class SceneFrame;
 
+/// A view's eye and axes in world space (refdef_t's vieworg and viewaxis rows).
+struct ViewAxes {
+  glm::vec3 origin, forward, left, up;
+};
+
+/// The eye and axes of `view`.
+inline ViewAxes viewAxesOf(const q3abi::refdef_t& view) {
+  const auto row = [&](int a) { return glm::vec3(view.viewaxis[a][0], view.viewaxis[a][1], view.viewaxis[a][2]); };
+  return {glm::vec3(view.vieworg[0], view.vieworg[1], view.vieworg[2]), row(0), row(1), row(2)};
+}
+
 /// Where a traced view's time went, in milliseconds.
 struct ViewTimings {
   double sceneMs = 0.0;     ///< Entities, effects, lights, sky and materials into the renderer's scene.

@@ -144,10 +144,11 @@ ViewContext ViewRenderer::Impl::beginView(const q3abi::refdef_t& view, const Tra
   ViewContext ctx;
   ctx.withWorld = world != nullptr && map.worldScene.has_value();
   pa::Camera& camera = ctx.camera;
-  camera.origin = {view.vieworg[0], view.vieworg[1], view.vieworg[2]};
-  camera.forward = {view.viewaxis[0][0], view.viewaxis[0][1], view.viewaxis[0][2]};
-  camera.left = {view.viewaxis[1][0], view.viewaxis[1][1], view.viewaxis[1][2]};
-  camera.up = {view.viewaxis[2][0], view.viewaxis[2][1], view.viewaxis[2][2]};
+  const ViewAxes axes = viewAxesOf(view);
+  camera.origin = axes.origin;
+  camera.forward = axes.forward;
+  camera.left = axes.left;
+  camera.up = axes.up;
   camera.fovX = std::clamp(view.fov_x, 1.0f, 179.0f);
   camera.fovY = std::clamp(view.fov_y, 1.0f, 179.0f);
   ctx.viewer = Viewer{camera.origin, camera.left, camera.up};

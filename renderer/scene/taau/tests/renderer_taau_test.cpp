@@ -34,6 +34,19 @@ void buildEdges(Renderer& r) {
 
 Camera view() { return test::lookAt({0.0f, -4.0f, 1.2f}, {0.0f, 2.0f, 1.0f}, 50.0f); }
 
+/// Lightmap frames as the game traces them (pixel centres, no accumulation) at half of `out`,
+/// resolved by TAAU to `out` x `out`.
+RenderSettings taauSettings(uint32_t out) {
+  RenderSettings s = test::settingsFor(Integrator::Lightmap, out / 2, 1);
+  s.accumulate = false;
+  s.pixelCentres = true;
+  s.tonemap = Tonemap::Clamp;
+  s.taau = true;
+  s.outputWidth = out;
+  s.outputHeight = out;
+  return s;
+}
+
 /// Mean absolute linear difference of two RGBA8 images over RGB.
 double meanAbs(std::span<const uint8_t> a, std::span<const uint8_t> b) {
   double e = 0.0;
@@ -50,13 +63,7 @@ double meanAbs(std::span<const uint8_t> a, std::span<const uint8_t> b) {
 std::vector<uint8_t> taauFrames(uint32_t threads, uint32_t out, uint32_t frames) {
   Renderer r({threads});
   buildEdges(r);
-  RenderSettings s = test::settingsFor(Integrator::Lightmap, out / 2, 1);
-  s.accumulate = false;
-  s.pixelCentres = true;
-  s.tonemap = Tonemap::Clamp;
-  s.taau = true;
-  s.outputWidth = out;
-  s.outputHeight = out;
+  const RenderSettings s = taauSettings(out);
   std::vector<uint8_t> last;
   for (uint32_t f = 0; f < frames; ++f) {
     const FrameView v = r.render(view(), s);
@@ -126,13 +133,7 @@ TEST(RendererTaau, MovingCameraStaysAligned) {
   const uint32_t out = 96;
   Renderer r({2});
   buildEdges(r);
-  RenderSettings s = test::settingsFor(Integrator::Lightmap, out / 2, 1);
-  s.accumulate = false;
-  s.pixelCentres = true;
-  s.tonemap = Tonemap::Clamp;
-  s.taau = true;
-  s.outputWidth = out;
-  s.outputHeight = out;
+  const RenderSettings s = taauSettings(out);
   const auto cameraAt = [](uint32_t f) {
     return test::lookAt({0.05f * float(f), -4.0f, 1.2f}, {0.05f * float(f), 2.0f, 1.0f}, 50.0f);
   };
