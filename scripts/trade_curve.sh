@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # trade_curve.sh SCENE OUT_DIR CAMERA [CAMERA ...]
-# Error against time per frame for every preset and knob, offline with pa-render on a converted map
-# (build/assets_converter/assets_converter --game /usr/share/games/openarena/baseoa --map MAP -o DIR).
+# Error against time per frame for every preset and knob, offline with pa-render on a map: MAP.bsp
+# (read from the installed game, with its bake, as the game draws it) or a converted map
+# (build/assets_converter/assets_converter --game /usr/share/games/openarena/baseoa --map MAP -o DIR;
+# glTF holds no bake, so --baked-path-end changes nothing there).
 # Per camera: a converged reference (path, REF_BOUNCES bounces, no clamp, REF_SPP x REF_FRAMES spp
 # accumulated), then each configuration below at WIDTH x WIDTH*9/16 (the traced size; scaled
 # configurations are traced smaller and stretched bilinearly to it, as the game stretches), every
@@ -25,34 +27,37 @@ ppd_args=(); [[ -n "${PPD:-}" ]] && ppd_args=(--ppd "$PPD")
 command -v convert >/dev/null || { echo "needs ImageMagick's convert (scripts/setup.sh)" >&2; exit 2; }
 mkdir -p "$out"
 look=(--tonemap clamp --lighting display)
-name="$(basename "$scene" .glb)"
+name="$(basename "$(basename "$scene" .glb)" .bsp)"
 tsv="$out/trade.tsv"
 [[ -f "$tsv" ]] || printf 'scene\tcamera\tgroup\tconfig\tms_per_frame\tflip\tpsnr_db\tssim\tluma_ratio\n' >"$tsv"
 
 # The game's presets (port/engine_glue: r_pt_spp 1, r_pt_bounces 2, clamp 10, temporal,
-# denoiser and firefly spreading on; `reference` accumulates without clamp), then one knob at a
+# denoiser and firefly spreading on, paths ending on the bake (r_pt_bake_end 1); `reference`
+# accumulates without clamp), then one knob at a
 # time around `path`. Columns: group, config, scale, extra pa-render arguments.
 configs() {
   local play="--play temporal --denoise --spread-fireflies --frames $frames"
   cat <<EOF
 preset lightmap 1 --integrator lightmap --spp 1 --play independent --frames 4
-preset direct 1 --integrator direct --clamp 10 --spp 1 $play
-preset path 1 --integrator path --bounces 2 --clamp 10 --spp 1 $play
-preset reference_4f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 4
-preset reference_16f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 16
-preset reference_64f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 64
-spp path_spp2 1 --integrator path --bounces 2 --clamp 10 --spp 2 $play
-spp path_spp4 1 --integrator path --bounces 2 --clamp 10 --spp 4 $play
-bounces path_bounces1 1 --integrator path --bounces 1 --clamp 10 --spp 1 $play
-bounces path_bounces4 1 --integrator path --bounces 4 --clamp 10 --spp 1 $play
-scale path_scale0.75 0.75 --integrator path --bounces 2 --clamp 10 --spp 1 $play
-scale path_scale0.5 0.5 --integrator path --bounces 2 --clamp 10 --spp 1 $play
-denoiser path_no_denoiser 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play temporal --spread-fireflies --frames $frames
-temporal path_no_temporal 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play independent --denoise --spread-fireflies --frames $frames
-temporal path_raw 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play independent --frames $frames
-restir path_restir 1 --integrator path --bounces 2 --clamp 10 --spp 1 --restir $play
-restir direct_restir 1 --integrator direct --clamp 10 --spp 1 --restir $play
-clamp path_no_clamp 1 --integrator path --bounces 2 --clamp 0 --spp 1 $play
+preset direct 1 --integrator direct --clamp 10 --spp 1 $play --baked-path-end
+preset path 1 --integrator path --bounces 2 --clamp 10 --spp 1 $play --baked-path-end
+preset reference_4f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 4 --baked-path-end
+preset reference_16f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 16 --baked-path-end
+preset reference_64f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 64 --baked-path-end
+spp path_spp2 1 --integrator path --bounces 2 --clamp 10 --spp 2 $play --baked-path-end
+spp path_spp4 1 --integrator path --bounces 2 --clamp 10 --spp 4 $play --baked-path-end
+bounces path_bounces1 1 --integrator path --bounces 1 --clamp 10 --spp 1 $play --baked-path-end
+bounces path_bounces4 1 --integrator path --bounces 4 --clamp 10 --spp 1 $play --baked-path-end
+scale path_scale0.75 0.75 --integrator path --bounces 2 --clamp 10 --spp 1 $play --baked-path-end
+scale path_scale0.5 0.5 --integrator path --bounces 2 --clamp 10 --spp 1 $play --baked-path-end
+denoiser path_no_denoiser 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play temporal --spread-fireflies --frames $frames --baked-path-end
+temporal path_no_temporal 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play independent --denoise --spread-fireflies --frames $frames --baked-path-end
+temporal path_raw 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play independent --frames $frames --baked-path-end
+restir path_restir 1 --integrator path --bounces 2 --clamp 10 --spp 1 --restir $play --baked-path-end
+restir direct_restir 1 --integrator direct --clamp 10 --spp 1 --restir $play --baked-path-end
+clamp path_no_clamp 1 --integrator path --bounces 2 --clamp 0 --spp 1 $play --baked-path-end
+bake path_no_bake 1 --integrator path --bounces 2 --clamp 10 --spp 1 $play
+bake direct_no_bake 1 --integrator direct --clamp 10 --spp 1 $play
 EOF
 }
 

@@ -90,6 +90,10 @@ void Settings::registerCvars(const Engine& engine) {
   restir_ = engine.cvar("r_pt_restir", "0", CVAR_ARCHIVE,
                         "Direct light by spatiotemporal reservoir resampling (ReSTIR) on the direct and path presets (0 = off)");
   if (restir_ != nullptr) ri.Cvar_CheckRange(restir_, 0, 1, 1);
+  bakedEnd_ = engine.cvar("r_pt_bake_end", "1", CVAR_ARCHIVE,
+                          "Direct, path and reference: a path's last bounce that lands on a lightmapped or vertex-lit "
+                          "surface takes the map's baked light there (its bounced light) instead of ending dark (0 = off)");
+  if (bakedEnd_ != nullptr) ri.Cvar_CheckRange(bakedEnd_, 0, 1, 1);
   fireflies_ = engine.cvar("r_pt_fireflies", "1", CVAR_ARCHIVE,
                            "Spread fireflies (pixels far above their neighbourhood) over their neighbours before "
                            "the denoiser, keeping the frame's energy (0 = off)");
@@ -220,6 +224,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
   out.temporal = temporal_ == nullptr || temporal_->integer != 0;
   out.restir = restir_ != nullptr && restir_->integer != 0;
+  out.bakedEnd = bakedEnd_ == nullptr || bakedEnd_->integer != 0;
   if (taau_ != nullptr) out.taau = std::clamp(taau_->integer, 0, 2);
   if (fps_ != nullptr && std::isfinite(fps_->value)) out.targetFps = std::clamp(fps_->value, 0.0f, 1000.0f);
   if (scaleMin_ != nullptr && std::isfinite(scaleMin_->value)) out.minScale = std::clamp(scaleMin_->value, 0.1f, 1.0f);

@@ -328,6 +328,7 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   // The stock look samples textures at pixel centres, as opengl1 rasterises.
   rs.pixelCentres = ctx.lightmapLook && rs.samplesPerPixel == 1;
   rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
+  rs.bakedLightAtPathEnd = settings.bakedEnd;
   rs.accumulate = settings.preset == Preset::Reference;
   // In play the world never stands still (items bob, the player's own body breathes, shaders
   // animate): a still view keeps accumulating, restarting only the pixels that show a change.

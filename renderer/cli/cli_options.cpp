@@ -88,7 +88,8 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
       inlineValue = arg.substr(eq + 1);
     }
     if (name == "--progress" || name == "--quiet" || name == "-q" || name == "--denoise" ||
-        name == "--no-camera-packets" || name == "--restir" || name == "--spread-fireflies") {
+        name == "--no-camera-packets" || name == "--restir" || name == "--spread-fireflies" ||
+        name == "--baked-path-end") {
       if (inlineValue) {
         message = std::string(name) + " takes no value";
         return result;
@@ -97,6 +98,8 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
         o.cameraPackets = false;
       } else if (name == "--restir") {
         o.restir = true;
+      } else if (name == "--baked-path-end") {
+        o.bakedPathEnd = true;
       } else if (name == "--spread-fireflies") {
         o.spreadFireflies = true;
       } else {
@@ -242,6 +245,9 @@ Image and sampling:
                            direct:   direct light with ray-traced shadows + emission
                            path:     full path tracing (NEE + MIS, Russian roulette)
   --bounces N            Maximum path length for 'path' (default 4)
+  --baked-path-end       direct and path: a path's last vertex on a surface with baked light
+                         (lightmap or vertex light, as .bsp maps have) reflects the bake's
+                         light there instead of ending dark (the compiler's bounced light)
   --clamp X              Clamp each path's contribution to X (0 = off, unbiased; default 0)
   --seed S               Random seed (default 0); the image depends only on scene, camera,
                          seed, frames and spp, never on the thread count

@@ -38,6 +38,7 @@ struct CliOptions {
   bool spreadFireflies = false;                 ///< --spread-fireflies (denoise/fireflies.h).
   bool cameraPackets = true;                    ///< Camera rays in 4x4 packets (off: --no-camera-packets).
   bool restir = false;                          ///< Reservoir resampling of direct light (--restir).
+  bool bakedPathEnd = false;                    ///< Paths end on the bake's light (--baked-path-end).
   /// How the frames combine (--play): accumulate into one mean; or play them as the game does
   /// (a new seed each, no accumulation), on their own or with temporal accumulation.
   enum class Play : uint8_t { Accumulate, Independent, Temporal } play = Play::Accumulate;

@@ -142,6 +142,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.spreadFireflies = options.spreadFireflies;
     settings.cameraPackets = options.cameraPackets;
     settings.restir = options.restir;
+    settings.bakedLightAtPathEnd = options.bakedPathEnd;
     const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);
 
     const bool showProgress = !options.quiet && (options.progress || ::isatty(::fileno(log)));
@@ -205,6 +206,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
           {"tonemap", tonemapName(options.tonemap)},
           {"denoise", options.denoise},
           {"restir", options.restir},
+          {"baked_path_end", options.bakedPathEnd},
           {"resample_seconds", resampleMs / 1000.0},
           {"trace_seconds", traceMs / 1000.0},
           {"exposure", exposure},

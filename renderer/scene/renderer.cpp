@@ -59,14 +59,14 @@ bool sameEstimate(const RenderSettings& a, const RenderSettings& b) {
   return a.width == b.width && a.height == b.height && a.integrator == b.integrator &&
          a.samplesPerPixel == b.samplesPerPixel && a.maxBounces == b.maxBounces &&
          a.radianceClamp == b.radianceClamp && a.seed == b.seed &&
-         a.accumulateThroughEdits == b.accumulateThroughEdits;
+         a.accumulateThroughEdits == b.accumulateThroughEdits && a.bakedLightAtPathEnd == b.bakedLightAtPathEnd;
 }
 
 /// Settings whose change starts the temporal history again (the seed changes every frame).
 bool sameTemporalEstimate(const RenderSettings& a, const RenderSettings& b) {
   return a.width == b.width && a.height == b.height && a.integrator == b.integrator &&
          a.samplesPerPixel == b.samplesPerPixel && a.maxBounces == b.maxBounces &&
-         a.radianceClamp == b.radianceClamp;
+         a.radianceClamp == b.radianceClamp && a.bakedLightAtPathEnd == b.bakedLightAtPathEnd;
 }
 
 /// True when a camera sample's first hit is the surface a pixel's history shows: the same instance

@@ -422,6 +422,12 @@ struct RenderSettings {
   /// not change with the seed.
   bool pixelCentres = false;
   uint32_t maxBounces = 4;
+  /// Direct and Path: a path whose last vertex (after maxBounces scatterings) lies on a surface
+  /// with baked light (StockLook: lightmap or vertex light) takes the bake's light there
+  /// (integrator/baked_light.h) instead of ending dark: the bounced light the map compiler
+  /// traced, for no extra ray. False: paths end after their last light sample (unbiased for
+  /// the scene's lights).
+  bool bakedLightAtPathEnd = false;
   float radianceClamp = 0.0f;     ///< Clamp on each path's contribution; 0 = off (reference).
   uint32_t seed = 0;
   bool accumulate = true;         ///< Average with earlier frames while camera and scene are unchanged.

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "renderer/bvh/ray_offset.h"
+#include "renderer/scene/integrator/baked_light.h"
 #include "renderer/scene/integrator/trace_common.h"
 #include "renderer/scene/materials/bsdf.h"
 #include "renderer/scene/media/fog_volumes.h"
@@ -189,7 +190,14 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
       }
       gather(clampContribution(beta * le * weight, viewDepth, settings.radianceClamp));
     }
-    if (scatterCount >= maxScatter || depth >= maxScatter + trace::kExtraDeltaBounces) break;
+    if (scatterCount >= maxScatter || depth >= maxScatter + trace::kExtraDeltaBounces) {
+      glm::vec3 baked;
+      if (settings.bakedLightAtPathEnd && scatterCount > 0 && scatterCount >= maxScatter && bakedLightAt(s, baked)) {
+        const glm::vec3 diffuse = albedo * (1.0f - std::clamp(m.desc.specular, 0.0f, 1.0f));
+        radiance += clampContribution(beta * diffuse * baked, depth, settings.radianceClamp);
+      }
+      break;
+    }
 
     const Bsdf bsdf(albedo, m.desc.specular, m.desc.roughness, m.desc.mirror, ns, ng);
     const glm::vec4 uLight = sampler.get4(group + kGroupLight);
