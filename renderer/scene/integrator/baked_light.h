@@ -2,9 +2,10 @@
 // The bake as the end of a path (RenderSettings::bakedLightAtPathEnd): a Direct or Path sample
 // whose last vertex, after a diffuse or glossy scattering, lies on a surface with baked light
 // (a lightmap or vertex light, StockLook) takes the light the bake shows there as that vertex's
-// reflected light, where the path would otherwise end dark. The bake holds every light the map
-// compiler traced, bounced light included, so the path's last bounce gathers the designer's
-// light at the cost of the ray it already traced.
+// reflected light, where the path would otherwise end dark (mirrors excepted: they reflect what
+// lies beyond them). The bake holds every light the map compiler traced, bounced light
+// included, so the path's last bounce gathers the designer's light at the cost of the ray it
+// already traced.
 //
 // Units: the Lightmap preset shows display(base) x baked x bakedLightScale; the DisplaySpace
 // look shows display(albedo) x E with E = reflected radiance / albedo. The bake therefore means

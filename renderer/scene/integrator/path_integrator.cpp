@@ -192,7 +192,8 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     }
     if (scatterCount >= maxScatter || depth >= maxScatter + trace::kExtraDeltaBounces) {
       glm::vec3 baked;
-      if (settings.bakedLightAtPathEnd && scatterCount > 0 && scatterCount >= maxScatter && bakedLightAt(s, baked)) {
+      if (settings.bakedLightAtPathEnd && scatterCount > 0 && scatterCount >= maxScatter && !m.desc.mirror &&
+          bakedLightAt(s, baked)) {
         const glm::vec3 diffuse = albedo * (1.0f - std::clamp(m.desc.specular, 0.0f, 1.0f));
         radiance += clampContribution(beta * diffuse * baked, depth, settings.radianceClamp);
       }

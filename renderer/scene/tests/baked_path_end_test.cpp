@@ -26,7 +26,7 @@ constexpr float kBakedLightScale = 2.0f;
 struct BakedBox {
   Renderer renderer{RendererConfig{2}};
   BakedBox(const glm::vec3& albedo, const std::vector<uint8_t>& lightmapBytes, bool srgbLightmap,
-           const glm::vec3& vertexLight = glm::vec3(0.0f)) {
+           const glm::vec3& vertexLight = glm::vec3(0.0f), bool mirrorsAboveTheFloor = false) {
     MaterialDesc m;
     m.baseColor = glm::vec4(albedo, 1.0f);
     m.stock.bakedLightScale = kBakedLightScale;
@@ -36,6 +36,8 @@ struct BakedBox {
       m.stock.useVertexLight = true;
     }
     const MaterialId id = renderer.addMaterial(m);
+    m.mirror = true;
+    const MaterialId mirror = mirrorsAboveTheFloor ? renderer.addMaterial(m) : id;
     const std::vector<glm::vec2> lightmapUvs(4, glm::vec2(0.5f));
     const std::vector<glm::vec4> colors(4, glm::vec4(vertexLight, 1.0f));
     const float h = 5.0f;
@@ -43,8 +45,9 @@ struct BakedBox {
         test::quad({-h, -h, -h}, {2 * h, 0, 0}, {0, 2 * h, 0}), test::quad({-h, -h, h}, {2 * h, 0, 0}, {0, 2 * h, 0}),
         test::quad({-h, -h, -h}, {2 * h, 0, 0}, {0, 0, 2 * h}), test::quad({-h, h, -h}, {2 * h, 0, 0}, {0, 0, 2 * h}),
         test::quad({-h, -h, -h}, {0, 2 * h, 0}, {0, 0, 2 * h}), test::quad({h, -h, -h}, {0, 2 * h, 0}, {0, 0, 2 * h})};
-    for (test::MeshArrays wall : walls) {
-      wall.setMaterial(id);
+    for (size_t i = 0; i < walls.size(); ++i) {
+      test::MeshArrays wall = walls[i];
+      wall.setMaterial(i == 0 ? id : mirror);   // walls[0] is the floor
       if (lightmapBytes.empty()) wall.colors = colors;   // vertex light (else they would tint the base)
       MeshDesc desc = wall.desc();
       desc.lightmapUvs = lightmapUvs;
@@ -87,6 +90,13 @@ TEST(BakedPathEnd, OnlyThePathsLastVertexTakesTheBake) {
   expectEveryPixel(box.render(Integrator::Path, 2, true), albedo * albedo * albedo * e);
   // No scattering, no bake: the camera's own hit shows only what it emits.
   expectEveryPixel(box.render(Integrator::Path, 0, true), glm::vec3(0.0f));
+}
+
+TEST(BakedPathEnd, AMirrorAtThePathsEndTakesNoBake) {
+  // The floor scatters once, then every path ends on a mirror: it reflects what lies beyond it,
+  // which the ended path does not trace, so nothing comes back.
+  BakedBox box(glm::vec3(0.6f), test::solidPixels(1, 1, 128, 128, 128, 255), true, glm::vec3(0.0f), true);
+  expectEveryPixel(box.render(Integrator::Path, 1, true), glm::vec3(0.0f));
 }
 
 TEST(BakedPathEnd, LinearLightmapsAndVertexLightAreEncodedAsTheLightmapPresetShowsThem) {
