@@ -223,7 +223,13 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       !im.worldChanged || (settings.accumulateThroughEdits && !im.seenSinceRender.everything);
   const bool keep = settings.accumulate && im.haveLast && unchangedOrSeenOnly && sameCamera(camera, im.lastCamera) &&
                     sameEstimate(settings, im.lastSettings);
-  if (!keep) im.film.reset();
+  // A frame of one sample per pixel that is not accumulated and that nothing filters afterwards
+  // (as the game's lightmap preset): each sample is its pixel's resolved value, written without
+  // the accumulators.
+  const bool singleSample = !settings.accumulate && settings.samplesPerPixel == 1 && !settings.denoise && !temporalOn;
+  if (singleSample) im.film.beginSingleSampleFrame();
+  else if (!keep) im.film.reset();
+  else im.film.resumeAccumulation();
   // Camera-only overlays changed (the first-person weapon moved): the pixels they covered last
   // frame or cover now start again.
   const bool restartOverlayPixels = keep && im.sceneChanged;
@@ -312,8 +318,12 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                   gbuffer.write(size_t{p.y} * settings.width + p.x, sample, static_cast<float>(p.x) + jitter.x,
                                 static_cast<float>(p.y) + jitter.y, motions, previousCamera);
                 }
-                PixelAccumulator& acc = film.pixel(p.x, p.y);
                 p.overlaySeen = p.overlaySeen || sample.overlay;
+                if (singleSample) {
+                  film.writeSample(p.x, p.y, sample);
+                  continue;
+                }
+                PixelAccumulator& acc = film.pixel(p.x, p.y);
                 const bool showsEdit =
                     sample.overlay || (restartSeenPixels && seen.seenAt(sample.instance, sample.material, scenePortals));
                 // Through edits, a pixel that shows one starts again only when its first hit is
@@ -338,6 +348,11 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       tbb::parallel_for(tbb::blocked_range<uint32_t>(0, settings.height, 8),
                         [&](const tbb::blocked_range<uint32_t>& r) { body(r.begin(), r.end()); });
     };
+    if (singleSample) {   // the resolved buffers hold the samples already
+      forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
+      endPhase(timings.resolveMs);
+      return;
+    }
     if (!settings.denoise && !temporalOn) {
       forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
       endPhase(timings.resolveMs);

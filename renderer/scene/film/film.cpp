@@ -11,11 +11,24 @@
 
 namespace pa {
 
-void PixelAccumulator::add(const PixelSample& s) {
+namespace {
+
+/// A sample's radiance and emission as the film counts them: black where not finite.
+struct CountedLight {
+  glm::vec3 radiance;
+  glm::vec3 emission;
+};
+
+CountedLight countedLight(const PixelSample& s) {
   const bool ok = std::isfinite(s.radiance.x) && std::isfinite(s.radiance.y) && std::isfinite(s.radiance.z);
-  const glm::vec3 r = ok ? s.radiance : glm::vec3(0.0f);
   const bool emissionOk = std::isfinite(s.emission.x) && std::isfinite(s.emission.y) && std::isfinite(s.emission.z);
-  const glm::vec3 e = ok && emissionOk ? s.emission : glm::vec3(0.0f);
+  return {ok ? s.radiance : glm::vec3(0.0f), ok && emissionOk ? s.emission : glm::vec3(0.0f)};
+}
+
+}  // namespace
+
+void PixelAccumulator::add(const PixelSample& s) {
+  const auto [r, e] = countedLight(s);
   for (int c = 0; c < 3; ++c) {
     radiance[c] += r[c];
     emission[c] += e[c];
@@ -62,12 +75,47 @@ void Film::resize(uint32_t width, uint32_t height) {
   overlay_.assign(n, 0);
   rgba8_.assign(n * 4, 0);
   frames_ = 0;
+  accumulatorsStale_ = false;
 }
 
 void Film::reset() {
   std::fill(pixels_.begin(), pixels_.end(), PixelAccumulator{});
   std::fill(overlay_.begin(), overlay_.end(), uint8_t{0});
   frames_ = 0;
+  accumulatorsStale_ = false;
+}
+
+void Film::beginSingleSampleFrame() {
+  frames_ = 0;
+  accumulatorsStale_ = true;
+}
+
+void Film::writeSample(uint32_t x, uint32_t y, const PixelSample& s) {
+  const size_t i = size_t{y} * width_ + x;
+  const auto [r, e] = countedLight(s);
+  // 0 + v as the sums, which start at +0, give: a -0 resolves to +0 there too.
+  radiance_[i] = glm::vec3(0.0f) + r;
+  emission_[i] = glm::vec3(0.0f) + e;
+  albedo_[i] = glm::vec3(0.0f) + s.albedo;
+  normal_[i] = glm::vec3(0.0f) + s.normal;
+  depth_[i] = std::isfinite(s.depth) ? 0.0f + s.depth : std::numeric_limits<float>::infinity();
+  variance_[i] = 0.0f;   // one sample
+}
+
+void Film::resumeAccumulation() {
+  if (!accumulatorsStale_) return;
+  accumulatorsStale_ = false;
+  // Each resolved value is its one sample as add() counted it: adding it again gives the same sums.
+  for (size_t i = 0; i < pixels_.size(); ++i) {
+    PixelSample s;
+    s.radiance = radiance_[i];
+    s.emission = emission_[i];
+    s.albedo = albedo_[i];
+    s.normal = normal_[i];
+    s.depth = depth_[i];
+    pixels_[i] = PixelAccumulator{};
+    pixels_[i].add(s);
+  }
 }
 
 void Film::resolveRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op, LightingLook look) {

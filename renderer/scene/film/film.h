@@ -121,6 +121,15 @@ class Film {
   bool overlayAt(uint32_t x, uint32_t y) const { return overlay_[size_t{y} * width_ + x] != 0; }
   /// Records whether this frame's samples of pixel (x, y) met an overlay first.
   void setOverlayAt(uint32_t x, uint32_t y, bool overlay) { overlay_[size_t{y} * width_ + x] = overlay ? 1 : 0; }
+  /// Starts a frame of one sample per pixel written straight into the resolved buffers
+  /// (writeSample) instead of the accumulators; a later frame that keeps accumulating rebuilds
+  /// them from those buffers first (resumeAccumulation).
+  void beginSingleSampleFrame();
+  /// The resolved values of pixel (x, y) for one sample: what add() then resolveMeanRows give.
+  void writeSample(uint32_t x, uint32_t y, const PixelSample& s);
+  /// Makes the accumulators hold the last single-sample frame again (exactly: one sample each)
+  /// when that frame skipped them; does nothing otherwise.
+  void resumeAccumulation();
   /// Counts one finished render() call.
   void finishFrame() { ++frames_; }
   /// Frames in the mean.
@@ -159,6 +168,7 @@ class Film {
   std::vector<float> depth_, variance_;
   std::vector<uint8_t> rgba8_;
   std::vector<uint8_t> overlay_;   ///< Per pixel: overlayAt.
+  bool accumulatorsStale_ = false;   ///< The last frame was written by writeSample.
   SrgbByteEncoder encoder_;
 };
 
