@@ -16,6 +16,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "renderer/core/prefetch.h"
 #include "renderer/scene/denoise/denoiser.h"
 #include "renderer/scene/denoise/fireflies.h"
 #include "renderer/scene/film/film.h"
@@ -77,6 +78,22 @@ bool sameFirstHit(const PixelAccumulator& history, const PixelSample& sample, In
   if (history.depthCount == 0) return !std::isfinite(sample.depth);   // the sky then and now
   const double mean = history.depthSum / static_cast<double>(history.depthCount);
   return std::isfinite(sample.depth) && std::abs(sample.depth - mean) <= 0.05 * mean;
+}
+
+/// Asks the cache for the film's and the G-buffer's storage of pixels [x0, x1) x [y0, y1) of an
+/// image `width` pixels wide, ahead of that block's samples (core/prefetch.h).
+void prefetchBlock(const Film& film, const temporal::GBuffer& gbuffer, uint32_t width, uint32_t x0, uint32_t y0,
+                   uint32_t x1, uint32_t y1) {
+  const size_t n = x1 - x0;
+  for (uint32_t y = y0; y < y1; ++y) {
+    film.prefetchPixels(x0, y, x1 - x0);
+    const size_t i = size_t{y} * width + x0;
+    prefetchForWrite(std::span(gbuffer.instance).subspan(i, n));
+    prefetchForWrite(std::span(gbuffer.material).subspan(i, n));
+    prefetchForWrite(std::span(gbuffer.motion).subspan(i, n));
+    prefetchForWrite(std::span(gbuffer.previousDepth).subspan(i, n));
+    prefetchForWrite(std::span(gbuffer.previousNormal).subspan(i, n));
+  }
 }
 
 void validateSettings(const RenderSettings& s) {
@@ -269,8 +286,16 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
         const uint32_t x1 = std::min(x0 + kTileSize, settings.width);
         const uint32_t y1 = std::min(y0 + kTileSize, settings.height);
         // Blocks of 4x4 pixels: each sample's camera rays of a block are traced as one packet.
+        prefetchBlock(film, gbuffer, settings.width, x0, y0, std::min(x0 + kBlockSide, x1), std::min(y0 + kBlockSide, y1));
         for (uint32_t by = y0; by < y1; by += kBlockSide) {
           for (uint32_t bx = x0; bx < x1; bx += kBlockSide) {
+            {   // the next block's storage, while this one is traced
+              const bool rowEnds = bx + kBlockSide >= x1;
+              const uint32_t nx = rowEnds ? x0 : bx + kBlockSide, ny = rowEnds ? by + kBlockSide : by;
+              if (ny < y1)
+                prefetchBlock(film, gbuffer, settings.width, nx, ny, std::min(nx + kBlockSide, x1),
+                              std::min(ny + kBlockSide, y1));
+            }
             struct PixelState {
               uint32_t x, y, seed;
               bool overlaySeen = false, coveredBefore = false, restarted = false;

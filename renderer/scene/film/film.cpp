@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "renderer/core/prefetch.h"
 #include "renderer/scene/sampling/warp.h"
 #include "renderer/scene/textures/texture.h"
 
@@ -100,6 +101,19 @@ void Film::writeSample(uint32_t x, uint32_t y, const PixelSample& s) {
   normal_[i] = glm::vec3(0.0f) + s.normal;
   depth_[i] = std::isfinite(s.depth) ? 0.0f + s.depth : std::numeric_limits<float>::infinity();
   variance_[i] = 0.0f;   // one sample
+}
+
+void Film::prefetchPixels(uint32_t x, uint32_t y, uint32_t n) const {
+  const size_t i = size_t{y} * width_ + x;
+  if (accumulatorsStale_) {
+    for (const std::vector<glm::vec3>* v : {&radiance_, &emission_, &albedo_, &normal_})
+      prefetchForWrite(std::span(*v).subspan(i, n));
+    prefetchForWrite(std::span(depth_).subspan(i, n));
+    prefetchForWrite(std::span(variance_).subspan(i, n));
+  } else {
+    prefetchForWrite(std::span(pixels_).subspan(i, n));
+  }
+  prefetchForWrite(std::span(overlay_).subspan(i, n));
 }
 
 void Film::resumeAccumulation() {

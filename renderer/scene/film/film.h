@@ -127,6 +127,9 @@ class Film {
   void beginSingleSampleFrame();
   /// The resolved values of pixel (x, y) for one sample: what add() then resolveMeanRows give.
   void writeSample(uint32_t x, uint32_t y, const PixelSample& s);
+  /// Asks the cache for the storage of pixels [x, x + n) of row y ahead of their samples
+  /// (writeSample's buffers in a single-sample frame, the accumulators otherwise).
+  void prefetchPixels(uint32_t x, uint32_t y, uint32_t n) const;
   /// Makes the accumulators hold the last single-sample frame again (exactly: one sample each)
   /// when that frame skipped them; does nothing otherwise.
   void resumeAccumulation();
