@@ -44,7 +44,10 @@ void PixelAccumulator::add(const PixelSample& s) {
   luminance.add(sampling::luminance(r));
 }
 
-glm::vec3 tonemap(const glm::vec3& x, Tonemap op) {
+namespace {
+
+/// tonemap(), inlined where the operator is a constant.
+[[gnu::always_inline]] inline glm::vec3 tonemapped(const glm::vec3& x, Tonemap op) {
   switch (op) {
     case Tonemap::AcesFitted: {
       const glm::vec3 y = glm::max(x, glm::vec3(0.0f));
@@ -60,6 +63,10 @@ glm::vec3 tonemap(const glm::vec3& x, Tonemap op) {
   }
   return glm::clamp(x, 0.0f, 1.0f);
 }
+
+}  // namespace
+
+glm::vec3 tonemap(const glm::vec3& x, Tonemap op) { return tonemapped(x, op); }
 
 void Film::resize(uint32_t width, uint32_t height) {
   if (width == width_ && height == height_ && pixels_.size() == size_t{width} * height) return;
@@ -181,16 +188,27 @@ uint8_t exactSrgbByte(float x) {
   return encoded >= 0.0f ? static_cast<uint8_t>(std::lround(encoded * 255.0f)) : 0;
 }
 
+/// encodeWith's loop for one tonemap operator (its switch out of the loop).
+template <Tonemap Op>
+void encodeAs(const SrgbByteEncoder& encode, std::span<const glm::vec3> linear, float exposure, uint8_t* rgba8) {
+  for (size_t i = 0; i < linear.size(); ++i) {
+    const glm::vec3 display = tonemapped(linear[i] * exposure, Op);
+    for (int c = 0; c < 3; ++c) rgba8[i * 4 + c] = encode(display[c]);
+    rgba8[i * 4 + 3] = 255;
+  }
+}
+
 void encodeWith(const SrgbByteEncoder& encode, std::span<const glm::vec3> linear, float exposure, Tonemap op,
                 std::span<uint8_t> rgba8) {
   if (rgba8.size() != linear.size() * 4)
     throw std::invalid_argument("encodeDisplay: " + std::to_string(rgba8.size()) + " bytes for " +
                                 std::to_string(linear.size()) + " pixels");
-  for (size_t i = 0; i < linear.size(); ++i) {
-    const glm::vec3 display = tonemap(linear[i] * exposure, op);
-    for (int c = 0; c < 3; ++c) rgba8[i * 4 + c] = encode(display[c]);
-    rgba8[i * 4 + 3] = 255;
+  switch (op) {
+    case Tonemap::AcesFitted: encodeAs<Tonemap::AcesFitted>(encode, linear, exposure, rgba8.data()); return;
+    case Tonemap::Reinhard: encodeAs<Tonemap::Reinhard>(encode, linear, exposure, rgba8.data()); return;
+    case Tonemap::Clamp: break;
   }
+  encodeAs<Tonemap::Clamp>(encode, linear, exposure, rgba8.data());
 }
 
 }  // namespace
@@ -210,11 +228,18 @@ SrgbByteEncoder::SrgbByteEncoder() {
     }
     steps_[k] = std::bit_cast<float>(hi);
   }
+  steps_[255] = steps_[256] = std::numeric_limits<float>::infinity();
   for (uint32_t i = 0; i < kBuckets; ++i) {
     const float x = float(i) / float(kBuckets);
     uint32_t byte = 0;
     while (byte < 255 && steps_[byte] <= x) ++byte;
     bucketStart_[i] = static_cast<uint8_t>(byte);
+  }
+  // operator() climbs at most two bytes from a bucket's start: the bytes in bucket i lie between
+  // bucketStart_[i] and the next bucket's (255 after the last).
+  for (uint32_t i = 0; i < kBuckets; ++i) {
+    const uint32_t next = i + 1 < kBuckets ? bucketStart_[i + 1] : 255;
+    if (next > bucketStart_[i] + 2u) throw std::logic_error("SrgbByteEncoder: a bucket spans more than two bytes");
   }
 }
 
