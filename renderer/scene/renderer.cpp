@@ -322,8 +322,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                                                    : glm::vec2(sampling::PixelSampler(pixels[i].seed, firstSample + s).get4(0));
               if (settings.cameraPackets) {
                 for (uint32_t i = 0; i < count; ++i) {
-                  traced[i].ray = rays.generate(static_cast<float>(pixels[i].x) + jitters[i].x,
-                                                static_cast<float>(pixels[i].y) + jitters[i].y);
+                  rays.generate(static_cast<float>(pixels[i].x) + jitters[i].x,
+                                static_cast<float>(pixels[i].y) + jitters[i].y, traced[i].ray);
                   traced[i].randomBits = cameraRayBits(sampling::PixelSampler(pixels[i].seed, firstSample + s));
                 }
                 scene.intersectCameraPacket(std::span(traced.data(), count));
