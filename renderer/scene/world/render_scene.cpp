@@ -280,10 +280,16 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
     vertexColor = w0 * g.colors[i0] + hit.u * g.colors[i1] + hit.v * g.colors[i2];
     // Baked light at the vertices is interpolated in display values, as a raster renderer's
     // Gouraud shading interpolates its 8-bit vertex colours (linear blending is brighter inside).
-    if (desc.stock.useVertexLight)
+    if (desc.stock.useVertexLight) {
+      const std::array<glm::vec3, 3> display =
+          encodeThree(glm::vec3(g.colors[i0]), glm::vec3(g.colors[i1]), glm::vec3(g.colors[i2]));
+      // The fused multiply-adds spelled out as the compiler contracted w0 a + u b + v c here before.
+      glm::vec3 mixed;
       for (int c = 0; c < 3; ++c)
-        vertexColor[c] = fastSrgbToLinear(w0 * fastLinearToSrgb(g.colors[i0][c]) + hit.u * fastLinearToSrgb(g.colors[i1][c]) +
-                                          hit.v * fastLinearToSrgb(g.colors[i2][c]));
+        mixed[c] = std::fma(hit.v, display[2][c], std::fma(w0, display[0][c], hit.u * display[1][c]));
+      const glm::vec3 light = fastSrgbToLinear(mixed);
+      vertexColor = glm::vec4(light, vertexColor.a);
+    }
   }
   glm::vec2 emissiveUv = uv;
   if (desc.emissiveOwnUv) {
