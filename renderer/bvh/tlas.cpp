@@ -6,6 +6,7 @@
 #include <array>
 #include <bit>
 #include <limits>
+#include <memory>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -209,10 +210,17 @@ struct Tlas::Impl {
   }
 
   Ray toObject(const PlacedInstance& inst, const Ray& ray) const {
-    Ray r = ray;
-    r.origin = inst.worldToObjectLinear * ray.origin + inst.worldToObjectOffset;
-    r.dir = inst.worldToObjectLinear * ray.dir;
+    Ray r;
+    toObject(inst, ray, r);
     return r;
+  }
+  /// toObject() written into `out` in place (a packet's rays: a copy of a Ray just built on the
+  /// stack reads its fields back wider than they were written, and stalls).
+  void toObject(const PlacedInstance& inst, const Ray& ray, Ray& out) const {
+    out.origin = inst.worldToObjectLinear * ray.origin + inst.worldToObjectOffset;
+    out.tmin = ray.tmin;
+    out.dir = inst.worldToObjectLinear * ray.dir;
+    out.tmax = ray.tmax;
   }
 };
 
@@ -323,7 +331,7 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   std::array<bvh_detail::SlabRay, kMaxPacketRays> slabs;
   for (uint32_t r = traceable; r; r &= r - 1) {
     const int lane = std::countr_zero(r);
-    slabs[lane] = bvh_detail::SlabRay(rays[lane].origin, rays[lane].dir);
+    std::construct_at(&slabs[lane], rays[lane].origin, rays[lane].dir);   // in place (see toObject)
   }
   std::array<PacketCandidate, kFlatInstances> candidates;
   uint32_t count = 0;
@@ -360,7 +368,7 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
     }
     if (!live) continue;
     const PlacedInstance& inst = self.instances[c.instance];
-    for (uint32_t r = live; r; r &= r - 1) local[std::countr_zero(r)] = self.toObject(inst, rays[std::countr_zero(r)]);
+    for (uint32_t r = live; r; r &= r - 1) self.toObject(inst, rays[std::countr_zero(r)], local[std::countr_zero(r)]);
     const uint32_t hitLanes = inst.blas->intersectPacket(local, hits, live, filters, inst.index);
     for (uint32_t r = hitLanes; r; r &= r - 1) rays[std::countr_zero(r)].tmax = local[std::countr_zero(r)].tmax;
     found |= hitLanes;

@@ -16,6 +16,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "renderer/core/prefetch.h"
 #include "renderer/scene/denoise/denoiser.h"
 #include "renderer/scene/denoise/fireflies.h"
 #include "renderer/scene/film/film.h"
@@ -77,6 +78,22 @@ bool sameFirstHit(const PixelAccumulator& history, const PixelSample& sample, In
   if (history.depthCount == 0) return !std::isfinite(sample.depth);   // the sky then and now
   const double mean = history.depthSum / static_cast<double>(history.depthCount);
   return std::isfinite(sample.depth) && std::abs(sample.depth - mean) <= 0.05 * mean;
+}
+
+/// Asks the cache for the film's and the G-buffer's storage of pixels [x0, x1) x [y0, y1) of an
+/// image `width` pixels wide, ahead of that block's samples (core/prefetch.h).
+void prefetchBlock(const Film& film, const temporal::GBuffer& gbuffer, uint32_t width, uint32_t x0, uint32_t y0,
+                   uint32_t x1, uint32_t y1) {
+  const size_t n = x1 - x0;
+  for (uint32_t y = y0; y < y1; ++y) {
+    film.prefetchPixels(x0, y, x1 - x0);
+    const size_t i = size_t{y} * width + x0;
+    prefetchForWrite(std::span(gbuffer.instance).subspan(i, n));
+    prefetchForWrite(std::span(gbuffer.material).subspan(i, n));
+    prefetchForWrite(std::span(gbuffer.motion).subspan(i, n));
+    prefetchForWrite(std::span(gbuffer.previousDepth).subspan(i, n));
+    prefetchForWrite(std::span(gbuffer.previousNormal).subspan(i, n));
+  }
 }
 
 void validateSettings(const RenderSettings& s) {
@@ -223,7 +240,13 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       !im.worldChanged || (settings.accumulateThroughEdits && !im.seenSinceRender.everything);
   const bool keep = settings.accumulate && im.haveLast && unchangedOrSeenOnly && sameCamera(camera, im.lastCamera) &&
                     sameEstimate(settings, im.lastSettings);
-  if (!keep) im.film.reset();
+  // A frame of one sample per pixel that is not accumulated and that nothing filters afterwards
+  // (as the game's lightmap preset): each sample is its pixel's resolved value, written without
+  // the accumulators.
+  const bool singleSample = !settings.accumulate && settings.samplesPerPixel == 1 && !settings.denoise && !temporalOn;
+  if (singleSample) im.film.beginSingleSampleFrame();
+  else if (!keep) im.film.reset();
+  else im.film.resumeAccumulation();
   // Camera-only overlays changed (the first-person weapon moved): the pixels they covered last
   // frame or cover now start again.
   const bool restartOverlayPixels = keep && im.sceneChanged;
@@ -263,8 +286,16 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
         const uint32_t x1 = std::min(x0 + kTileSize, settings.width);
         const uint32_t y1 = std::min(y0 + kTileSize, settings.height);
         // Blocks of 4x4 pixels: each sample's camera rays of a block are traced as one packet.
+        prefetchBlock(film, gbuffer, settings.width, x0, y0, std::min(x0 + kBlockSide, x1), std::min(y0 + kBlockSide, y1));
         for (uint32_t by = y0; by < y1; by += kBlockSide) {
           for (uint32_t bx = x0; bx < x1; bx += kBlockSide) {
+            {   // the next block's storage, while this one is traced
+              const bool rowEnds = bx + kBlockSide >= x1;
+              const uint32_t nx = rowEnds ? x0 : bx + kBlockSide, ny = rowEnds ? by + kBlockSide : by;
+              if (ny < y1)
+                prefetchBlock(film, gbuffer, settings.width, nx, ny, std::min(nx + kBlockSide, x1),
+                              std::min(ny + kBlockSide, y1));
+            }
             struct PixelState {
               uint32_t x, y, seed;
               bool overlaySeen = false, coveredBefore = false, restarted = false;
@@ -291,8 +322,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                                                    : glm::vec2(sampling::PixelSampler(pixels[i].seed, firstSample + s).get4(0));
               if (settings.cameraPackets) {
                 for (uint32_t i = 0; i < count; ++i) {
-                  traced[i].ray = rays.generate(static_cast<float>(pixels[i].x) + jitters[i].x,
-                                                static_cast<float>(pixels[i].y) + jitters[i].y);
+                  rays.generate(static_cast<float>(pixels[i].x) + jitters[i].x,
+                                static_cast<float>(pixels[i].y) + jitters[i].y, traced[i].ray);
                   traced[i].randomBits = cameraRayBits(sampling::PixelSampler(pixels[i].seed, firstSample + s));
                 }
                 scene.intersectCameraPacket(std::span(traced.data(), count));
@@ -312,8 +343,12 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                   gbuffer.write(size_t{p.y} * settings.width + p.x, sample, static_cast<float>(p.x) + jitter.x,
                                 static_cast<float>(p.y) + jitter.y, motions, previousCamera);
                 }
-                PixelAccumulator& acc = film.pixel(p.x, p.y);
                 p.overlaySeen = p.overlaySeen || sample.overlay;
+                if (singleSample) {
+                  film.writeSample(p.x, p.y, sample);
+                  continue;
+                }
+                PixelAccumulator& acc = film.pixel(p.x, p.y);
                 const bool showsEdit =
                     sample.overlay || (restartSeenPixels && seen.seenAt(sample.instance, sample.material, scenePortals));
                 // Through edits, a pixel that shows one starts again only when its first hit is
@@ -338,6 +373,11 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       tbb::parallel_for(tbb::blocked_range<uint32_t>(0, settings.height, 8),
                         [&](const tbb::blocked_range<uint32_t>& r) { body(r.begin(), r.end()); });
     };
+    if (singleSample) {   // the resolved buffers hold the samples already
+      forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
+      endPhase(timings.resolveMs);
+      return;
+    }
     if (!settings.denoise && !temporalOn) {
       forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
       endPhase(timings.resolveMs);

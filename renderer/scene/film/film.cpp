@@ -6,16 +6,30 @@
 #include <stdexcept>
 #include <string>
 
+#include "renderer/core/prefetch.h"
 #include "renderer/scene/sampling/warp.h"
 #include "renderer/scene/textures/texture.h"
 
 namespace pa {
 
-void PixelAccumulator::add(const PixelSample& s) {
+namespace {
+
+/// A sample's radiance and emission as the film counts them: black where not finite.
+struct CountedLight {
+  glm::vec3 radiance;
+  glm::vec3 emission;
+};
+
+CountedLight countedLight(const PixelSample& s) {
   const bool ok = std::isfinite(s.radiance.x) && std::isfinite(s.radiance.y) && std::isfinite(s.radiance.z);
-  const glm::vec3 r = ok ? s.radiance : glm::vec3(0.0f);
   const bool emissionOk = std::isfinite(s.emission.x) && std::isfinite(s.emission.y) && std::isfinite(s.emission.z);
-  const glm::vec3 e = ok && emissionOk ? s.emission : glm::vec3(0.0f);
+  return {ok ? s.radiance : glm::vec3(0.0f), ok && emissionOk ? s.emission : glm::vec3(0.0f)};
+}
+
+}  // namespace
+
+void PixelAccumulator::add(const PixelSample& s) {
+  const auto [r, e] = countedLight(s);
   for (int c = 0; c < 3; ++c) {
     radiance[c] += r[c];
     emission[c] += e[c];
@@ -30,7 +44,10 @@ void PixelAccumulator::add(const PixelSample& s) {
   luminance.add(sampling::luminance(r));
 }
 
-glm::vec3 tonemap(const glm::vec3& x, Tonemap op) {
+namespace {
+
+/// tonemap(), inlined where the operator is a constant.
+[[gnu::always_inline]] inline glm::vec3 tonemapped(const glm::vec3& x, Tonemap op) {
   switch (op) {
     case Tonemap::AcesFitted: {
       const glm::vec3 y = glm::max(x, glm::vec3(0.0f));
@@ -47,6 +64,10 @@ glm::vec3 tonemap(const glm::vec3& x, Tonemap op) {
   return glm::clamp(x, 0.0f, 1.0f);
 }
 
+}  // namespace
+
+glm::vec3 tonemap(const glm::vec3& x, Tonemap op) { return tonemapped(x, op); }
+
 void Film::resize(uint32_t width, uint32_t height) {
   if (width == width_ && height == height_ && pixels_.size() == size_t{width} * height) return;
   width_ = width;
@@ -62,12 +83,60 @@ void Film::resize(uint32_t width, uint32_t height) {
   overlay_.assign(n, 0);
   rgba8_.assign(n * 4, 0);
   frames_ = 0;
+  accumulatorsStale_ = false;
 }
 
 void Film::reset() {
   std::fill(pixels_.begin(), pixels_.end(), PixelAccumulator{});
   std::fill(overlay_.begin(), overlay_.end(), uint8_t{0});
   frames_ = 0;
+  accumulatorsStale_ = false;
+}
+
+void Film::beginSingleSampleFrame() {
+  frames_ = 0;
+  accumulatorsStale_ = true;
+}
+
+void Film::writeSample(uint32_t x, uint32_t y, const PixelSample& s) {
+  const size_t i = size_t{y} * width_ + x;
+  const auto [r, e] = countedLight(s);
+  // 0 + v as the sums, which start at +0, give: a -0 resolves to +0 there too.
+  radiance_[i] = glm::vec3(0.0f) + r;
+  emission_[i] = glm::vec3(0.0f) + e;
+  albedo_[i] = glm::vec3(0.0f) + s.albedo;
+  normal_[i] = glm::vec3(0.0f) + s.normal;
+  depth_[i] = std::isfinite(s.depth) ? 0.0f + s.depth : std::numeric_limits<float>::infinity();
+  variance_[i] = 0.0f;   // one sample
+}
+
+void Film::prefetchPixels(uint32_t x, uint32_t y, uint32_t n) const {
+  const size_t i = size_t{y} * width_ + x;
+  if (accumulatorsStale_) {
+    for (const std::vector<glm::vec3>* v : {&radiance_, &emission_, &albedo_, &normal_})
+      prefetchForWrite(std::span(*v).subspan(i, n));
+    prefetchForWrite(std::span(depth_).subspan(i, n));
+    prefetchForWrite(std::span(variance_).subspan(i, n));
+  } else {
+    prefetchForWrite(std::span(pixels_).subspan(i, n));
+  }
+  prefetchForWrite(std::span(overlay_).subspan(i, n));
+}
+
+void Film::resumeAccumulation() {
+  if (!accumulatorsStale_) return;
+  accumulatorsStale_ = false;
+  // Each resolved value is its one sample as add() counted it: adding it again gives the same sums.
+  for (size_t i = 0; i < pixels_.size(); ++i) {
+    PixelSample s;
+    s.radiance = radiance_[i];
+    s.emission = emission_[i];
+    s.albedo = albedo_[i];
+    s.normal = normal_[i];
+    s.depth = depth_[i];
+    pixels_[i] = PixelAccumulator{};
+    pixels_[i].add(s);
+  }
 }
 
 void Film::resolveRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonemap op, LightingLook look) {
@@ -119,16 +188,27 @@ uint8_t exactSrgbByte(float x) {
   return encoded >= 0.0f ? static_cast<uint8_t>(std::lround(encoded * 255.0f)) : 0;
 }
 
+/// encodeWith's loop for one tonemap operator (its switch out of the loop).
+template <Tonemap Op>
+void encodeAs(const SrgbByteEncoder& encode, std::span<const glm::vec3> linear, float exposure, uint8_t* rgba8) {
+  for (size_t i = 0; i < linear.size(); ++i) {
+    const glm::vec3 display = tonemapped(linear[i] * exposure, Op);
+    for (int c = 0; c < 3; ++c) rgba8[i * 4 + c] = encode(display[c]);
+    rgba8[i * 4 + 3] = 255;
+  }
+}
+
 void encodeWith(const SrgbByteEncoder& encode, std::span<const glm::vec3> linear, float exposure, Tonemap op,
                 std::span<uint8_t> rgba8) {
   if (rgba8.size() != linear.size() * 4)
     throw std::invalid_argument("encodeDisplay: " + std::to_string(rgba8.size()) + " bytes for " +
                                 std::to_string(linear.size()) + " pixels");
-  for (size_t i = 0; i < linear.size(); ++i) {
-    const glm::vec3 display = tonemap(linear[i] * exposure, op);
-    for (int c = 0; c < 3; ++c) rgba8[i * 4 + c] = encode(display[c]);
-    rgba8[i * 4 + 3] = 255;
+  switch (op) {
+    case Tonemap::AcesFitted: encodeAs<Tonemap::AcesFitted>(encode, linear, exposure, rgba8.data()); return;
+    case Tonemap::Reinhard: encodeAs<Tonemap::Reinhard>(encode, linear, exposure, rgba8.data()); return;
+    case Tonemap::Clamp: break;
   }
+  encodeAs<Tonemap::Clamp>(encode, linear, exposure, rgba8.data());
 }
 
 }  // namespace
@@ -148,11 +228,18 @@ SrgbByteEncoder::SrgbByteEncoder() {
     }
     steps_[k] = std::bit_cast<float>(hi);
   }
+  steps_[255] = steps_[256] = std::numeric_limits<float>::infinity();
   for (uint32_t i = 0; i < kBuckets; ++i) {
     const float x = float(i) / float(kBuckets);
     uint32_t byte = 0;
     while (byte < 255 && steps_[byte] <= x) ++byte;
     bucketStart_[i] = static_cast<uint8_t>(byte);
+  }
+  // operator() climbs at most two bytes from a bucket's start: the bytes in bucket i lie between
+  // bucketStart_[i] and the next bucket's (255 after the last).
+  for (uint32_t i = 0; i < kBuckets; ++i) {
+    const uint32_t next = i + 1 < kBuckets ? bucketStart_[i + 1] : 255;
+    if (next > bucketStart_[i] + 2u) throw std::logic_error("SrgbByteEncoder: a bucket spans more than two bytes");
   }
 }
 

@@ -78,8 +78,9 @@ glm::vec3 tonemap(const glm::vec3& linear, Tonemap op);
 /// The 8-bit sRGB byte of a display value in [0, 1] (lround(clamp(linearToSrgb(x)) x 255), NaN
 /// -> 0) without a power function: the byte is the number of the 255 values where it steps up
 /// that lie at or below x, those found once by bisection over floats with the exact curve, so
-/// every float encodes as with it. A table of the byte at each 1/4096 of [0, 1] starts the count
-/// (then 0-2 steps: the curve never climbs more than two bytes in 1/4096).
+/// every float encodes as with it. A table of the byte at each 1/4096 of [0, 1] starts the count,
+/// then two comparisons without branches (the curve never climbs more than two bytes in 1/4096:
+/// the constructor checks it).
 class SrgbByteEncoder {
  public:
   SrgbByteEncoder();
@@ -87,14 +88,14 @@ class SrgbByteEncoder {
   uint8_t operator()(float x) const {
     if (!(x > 0.0f)) return 0;   // NaN too
     if (x >= 1.0f) return 255;
-    uint32_t byte = bucketStart_[static_cast<uint32_t>(x * float(kBuckets))];   // exact: a power of two
-    while (byte < 255 && steps_[byte] <= x) ++byte;
-    return static_cast<uint8_t>(byte);
+    const uint32_t start = bucketStart_[static_cast<uint32_t>(x * float(kBuckets))];   // exact: a power of two
+    return static_cast<uint8_t>(start + (steps_[start] <= x) + (steps_[start + 1] <= x));
   }
 
  private:
   static constexpr uint32_t kBuckets = 4096;
-  std::array<float, 255> steps_;                ///< steps_[k]: the smallest float whose byte is k + 1.
+  /// steps_[k]: the smallest float whose byte is k + 1; entries 255 and 256 are infinite.
+  std::array<float, 257> steps_;
   std::array<uint8_t, kBuckets> bucketStart_;   ///< The byte of k / kBuckets.
 };
 
@@ -121,6 +122,18 @@ class Film {
   bool overlayAt(uint32_t x, uint32_t y) const { return overlay_[size_t{y} * width_ + x] != 0; }
   /// Records whether this frame's samples of pixel (x, y) met an overlay first.
   void setOverlayAt(uint32_t x, uint32_t y, bool overlay) { overlay_[size_t{y} * width_ + x] = overlay ? 1 : 0; }
+  /// Starts a frame of one sample per pixel written straight into the resolved buffers
+  /// (writeSample) instead of the accumulators; a later frame that keeps accumulating rebuilds
+  /// them from those buffers first (resumeAccumulation).
+  void beginSingleSampleFrame();
+  /// The resolved values of pixel (x, y) for one sample: what add() then resolveMeanRows give.
+  void writeSample(uint32_t x, uint32_t y, const PixelSample& s);
+  /// Asks the cache for the storage of pixels [x, x + n) of row y ahead of their samples
+  /// (writeSample's buffers in a single-sample frame, the accumulators otherwise).
+  void prefetchPixels(uint32_t x, uint32_t y, uint32_t n) const;
+  /// Makes the accumulators hold the last single-sample frame again (exactly: one sample each)
+  /// when that frame skipped them; does nothing otherwise.
+  void resumeAccumulation();
   /// Counts one finished render() call.
   void finishFrame() { ++frames_; }
   /// Frames in the mean.
@@ -159,6 +172,7 @@ class Film {
   std::vector<float> depth_, variance_;
   std::vector<uint8_t> rgba8_;
   std::vector<uint8_t> overlay_;   ///< Per pixel: overlayAt.
+  bool accumulatorsStale_ = false;   ///< The last frame was written by writeSample.
   SrgbByteEncoder encoder_;
 };
 

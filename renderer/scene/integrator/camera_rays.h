@@ -3,6 +3,7 @@
 // (= -left), +y goes down (= -up); fovX/fovY are full angles in degrees.
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -19,12 +20,19 @@ class CameraRays {
 
   /// Ray through film position (px, py) in pixels (continuous, (0,0) = top-left corner).
   Ray generate(float px, float py) const {
+    Ray r;
+    generate(px, py, r);
+    return r;
+  }
+  /// generate() written into `out` in place (a copy of a Ray just built on the stack reads its
+  /// fields back wider than they were written, and stalls).
+  void generate(float px, float py, Ray& out) const {
     const float sx = (2.0f * px / width_ - 1.0f) * tanHalfX_;
     const float sy = (1.0f - 2.0f * py / height_) * tanHalfY_;
-    Ray r;
-    r.origin = origin_;
-    r.dir = glm::normalize(forward_ + sx * right_ + sy * up_);
-    return r;
+    out.origin = origin_;
+    out.tmin = 0.0f;
+    out.dir = glm::normalize(forward_ + sx * right_ + sy * up_);
+    out.tmax = std::numeric_limits<float>::infinity();
   }
   /// Film position (pixels, continuous) whose ray passes through world point p: the inverse of
   /// generate() for orthonormal camera axes. False when p is not in front of the camera.

@@ -115,6 +115,13 @@ float fastLinearToSrgb(float c) { return encodeLanes(Lanes{c})[0]; }
 
 float fastSrgbToLinear(float c) { return decodeLanes(Lanes{c})[0]; }
 
+std::array<glm::vec3, 3> encodeThree(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  const Lanes e = encodeLanes(Lanes{a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y});
+  return {glm::vec3(e[0], e[1], e[2]), glm::vec3(e[3], e[4], e[5]), glm::vec3(e[6], e[7], encodeLanes(Lanes{c.z})[0])};
+}
+
+glm::vec3 fastSrgbToLinear(const glm::vec3& c) { return decode(c); }
+
 glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b) {
   const Lanes e = encodeLanes(Lanes{a.x, a.y, a.z, b.x, b.y, b.z});
   const Lanes d = decodeLanes(Lanes{e[0] * e[3], e[1] * e[4], e[2] * e[5]});

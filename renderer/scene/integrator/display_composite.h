@@ -21,6 +21,11 @@ float fastLinearToSrgb(float c);
 /// pa::srgbToLinear of c clamped to [0, 1] without powf (largest difference 1.8e-7, tested).
 float fastSrgbToLinear(float c);
 
+/// fastLinearToSrgb of each channel of three colours, in one pass (the same values).
+std::array<glm::vec3, 3> encodeThree(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
+/// fastSrgbToLinear of each channel, in one pass (the same values).
+glm::vec3 fastSrgbToLinear(const glm::vec3& c);
+
 /// The product of two linear colours taken in display values, as linear radiance:
 /// decode(encode(a) * encode(b)) (the stock texture x lightmap multiply of 8-bit values; the
 /// linear product lin(a) lin(b) is up to 13x darker where the sRGB curve is linear, near black).

@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <limits>
+#include <vector>
 
 #include "renderer/scene/textures/texture.h"
 
@@ -44,6 +47,28 @@ TEST(DisplayComposite, FastSrgbCurveMatchesTheExactOne) {
   EXPECT_FLOAT_EQ(fastSrgbToLinear(1.0f), srgbToLinear(1.0f));
   EXPECT_EQ(fastLinearToSrgb(-2.0f), 0.0f);   // clamped to [0, 1]
   EXPECT_FLOAT_EQ(fastLinearToSrgb(7.0f), linearToSrgb(1.0f));
+}
+
+TEST(DisplayComposite, ColoursAtOnceEncodeAndDecodeAsOneByOne) {
+  // encodeThree and the colour decode give each channel exactly the single-value functions' bits
+  // (vertex light is interpolated through them), over [-0.5, 1.5] with NaN and infinities.
+  std::vector<float> values;
+  for (int k = -5000; k <= 15000; ++k) values.push_back(static_cast<float>(k) * 1e-4f + 1e-7f * static_cast<float>(k % 7));
+  values.insert(values.end(), {std::nanf(""), std::numeric_limits<float>::infinity(),
+                               -std::numeric_limits<float>::infinity(), 0.0f, -0.0f, 1.0f});
+  const auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  for (size_t i = 0; i + 9 <= values.size(); i += 9) {
+    const float* v = &values[i];
+    const glm::vec3 colours[3] = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}};
+    const std::array<glm::vec3, 3> encoded = encodeThree(colours[0], colours[1], colours[2]);
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 decoded = fastSrgbToLinear(colours[k]);
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(same(encoded[k][c], fastLinearToSrgb(colours[k][c]))) << colours[k][c];
+        ASSERT_TRUE(same(decoded[c], fastSrgbToLinear(colours[k][c]))) << colours[k][c];
+      }
+    }
+  }
 }
 
 TEST(DisplayComposite, TableDecodeMatchesTheExactCurve) {
