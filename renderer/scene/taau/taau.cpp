@@ -169,6 +169,17 @@ void Upscaler::neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   }
 }
 
+glm::vec3 Upscaler::bilinearSample(const Frame& frame, float fx, float fy) const {
+  const int w = static_cast<int>(frame.width), h = static_cast<int>(frame.height);
+  const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+  const float tx = fx - static_cast<float>(x0), ty = fy - static_cast<float>(y0);
+  const size_t xa = size_t(std::clamp(x0, 0, w - 1)), xb = size_t(std::clamp(x0 + 1, 0, w - 1));
+  const size_t ya = size_t(std::clamp(y0, 0, h - 1)) * size_t(w), yb = size_t(std::clamp(y0 + 1, 0, h - 1)) * size_t(w);
+  const glm::vec3 top = samples_[ya + xa] + tx * (samples_[ya + xb] - samples_[ya + xa]);
+  const glm::vec3 bottom = samples_[yb + xa] + tx * (samples_[yb + xb] - samples_[yb + xa]);
+  return top + ty * (bottom - top);
+}
+
 void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   const uint32_t w = frame.width, h = frame.height, W = outWidth_, H = outHeight_;
   const float sx = static_cast<float>(w) / static_cast<float>(W);   // traced pixels per output pixel
@@ -224,7 +235,9 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
       }
       const float still = std::isfinite(motion.x) ? std::clamp(1.0f - glm::length(motion), 0.0f, 1.0f) : 0.0f;
       const float gamma = config_.clipMoving + (config_.clipStill - config_.clipMoving) * still;
-      glm::vec3 result = current;
+      // Without a history, the traced frame interpolated bilinearly (as the stretch shows it):
+      // this frame's samples within the kernel alone are one sample or none per output pixel.
+      glm::vec3 result = bilinearSample(frame, qx - frame.jitter.x - 0.5f, qy - frame.jitter.y - 0.5f);
       float weight = confidence;
       const float px = cx + motion.x, py = cy + motion.y;
       if (haveHistory_ && px >= 0.0f && py >= 0.0f && px <= static_cast<float>(W) && py <= static_cast<float>(H)) {

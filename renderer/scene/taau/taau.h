@@ -79,6 +79,9 @@ class Upscaler {
   void neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void resolveRows(const Frame& frame, uint32_t y0, uint32_t y1);
   uint8_t encode(float linear) const;
+  /// This frame's colour (linear YCoCg) interpolated bilinearly at traced-pixel position (fx, fy)
+  /// (pixel centres at +0.5), clamped to the frame.
+  glm::vec3 bilinearSample(const Frame& frame, float fx, float fy) const;
 
   static constexpr uint32_t kEncodeSteps = 4096;   ///< sqrt(linear) steps of the encoding table.
 

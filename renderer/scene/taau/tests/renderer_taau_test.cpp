@@ -114,7 +114,7 @@ TEST(RendererTaau, StillViewApproachesTheSupersampledFullSizeImage) {
   const double taauError = meanAbs(upscaled, reference), stretchError = meanAbs(stretched, reference);
   std::printf("mean |error| against the 64-spp full-size image: TAAU %.4f, bilinear stretch %.4f\n", taauError,
               stretchError);
-  // Measured: TAAU 0.0053, bilinear stretch 0.0131.
+  // Measured: TAAU 0.0056, bilinear stretch 0.0131.
   EXPECT_LT(taauError, 0.5 * stretchError);
   EXPECT_LT(taauError, 0.01);
 }
@@ -159,7 +159,7 @@ TEST(RendererTaau, MovingCameraStaysAligned) {
   const double twoBack = meanAbs(last, std::vector<uint8_t>(two.rgba8.begin(), two.rgba8.end()));
   std::printf("moving camera: mean |error| %.4f against this frame's camera, %.4f and %.4f against 1 and 2 frames back\n",
               error, oneBack, twoBack);
-  // Measured: 0.0061, 0.0084, 0.0120.
+  // Measured: 0.0065, 0.0087, 0.0122.
   EXPECT_LT(error, 0.85 * oneBack);
   EXPECT_LT(error, 0.6 * twoBack);
 }
@@ -170,7 +170,7 @@ TEST(RendererTaau, MovingCameraStaysAligned) {
 namespace pa {
 namespace {
 
-/// buildEdges' scene with a bright plate in front that slides along +x by 0.06 a frame: by its
+/// buildEdges' scene with a bright plate in front that slides along +x by 0.08 a frame: by its
 /// vertices (a dynamic mesh updated in place, as vertex-animated models are) or by its transform.
 struct SlidingPlate {
   Renderer r{RendererConfig{2}};
@@ -195,7 +195,7 @@ struct SlidingPlate {
     return m;
   }
   void place(uint32_t frame) {
-    const float dx = 0.06f * static_cast<float>(frame);
+    const float dx = 0.08f * static_cast<float>(frame);
     if (byVertices) {
       const test::MeshArrays p = plate(dx);
       MeshDesc d = p.desc();
@@ -243,6 +243,8 @@ TEST(RendererTaau, MeshWithMovingVerticesLeavesNoGhost) {
               "%.4f, %.4f\n", error, rigid, oneBack, twoBack);
   EXPECT_LT(error, 0.85 * oneBack);
   EXPECT_LT(error, 0.6 * twoBack);
+  // Measured: 0.0078 (by the transform 0.0078); 0.0104 and 0.0140 against 1 and 2 frames back.
+  // Reprojected as if the vertices stood still: 0.0114, closer to 1 and 2 frames back (0.0097, 0.0108).
   EXPECT_LT(error, 1.1 * rigid + 1e-4);   // as good as the same motion by the transform
 }
 
