@@ -115,8 +115,10 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
   const float samplesPerPixel = static_cast<float>(traced) / static_cast<float>(n);
   weightCap_ = config_.memoryFrames * 3.14159265f * config_.kernelRadius * config_.kernelRadius / 3.0f *
                samplesPerPixel;
-  kernelTaps(frame.width, outWidth, frame.jitter.x, columns_, columnD2_);
-  kernelTaps(frame.height, outHeight, frame.jitter.y, rows_, rowD2_);
+  kernelTaps(frame.width, outWidth, frame.jitter.x, config_.kernelRadius, columns_, columnD2_);
+  kernelTaps(frame.height, outHeight, frame.jitter.y, config_.kernelRadius, rows_, rowD2_);
+  kernelTaps(frame.width, outWidth, frame.jitter.x, config_.movingKernelRadius, movingColumns_, movingColumnD2_);
+  kernelTaps(frame.height, outHeight, frame.jitter.y, config_.movingKernelRadius, movingRows_, movingRowD2_);
   parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { prepareRows(frame, y0, y1); });
   parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { neighbourhoodRows(frame, y0, y1); });
   parallelRows(outHeight, [&](uint32_t y0, uint32_t y1) { resolveRows(frame, y0, y1); });
@@ -131,11 +133,11 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
   return output_;
 }
 
-void Upscaler::kernelTaps(uint32_t traced, uint32_t out, float jitter, std::vector<AxisTaps>& taps,
+void Upscaler::kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
                           std::vector<float>& d2) const {
   const float scale = static_cast<float>(traced) / static_cast<float>(out);   // traced pixels per output pixel
   const float inverse = 1.0f / scale;
-  const float reach = config_.kernelRadius * scale;   // in traced pixels
+  const float reach = radius * scale;   // in traced pixels
   taps.resize(out);
   d2.clear();   // memory kept between frames
   for (uint32_t o = 0; o < out; ++o) {
@@ -209,6 +211,7 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   const float sx = static_cast<float>(w) / static_cast<float>(W);   // traced pixels per output pixel
   const float sy = static_cast<float>(h) / static_cast<float>(H);
   const float invRadius2 = 1.0f / (config_.kernelRadius * config_.kernelRadius);
+  const float invMovingRadius2 = 1.0f / (config_.movingKernelRadius * config_.movingKernelRadius);
   const auto historyIndex = [&](int x, int y) {
     return size_t(std::clamp(y, 0, int(H) - 1)) * W + size_t(std::clamp(x, 0, int(W) - 1));
   };
@@ -216,25 +219,7 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
     for (uint32_t ox = 0; ox < W; ++ox) {
       const float cx = static_cast<float>(ox) + 0.5f, cy = static_cast<float>(oy) + 0.5f;
       const float qx = cx * sx, qy = cy * sy;   // the output pixel's centre in traced pixels
-      const AxisTaps& column = columns_[ox];
-      const AxisTaps& row = rows_[oy];
-      // This frame: the colour within the kernel's reach (the nearest sample where none is).
-      glm::vec3 sum(0.0f);
-      float confidence = 0.0f;
-      for (int a = 0; a < row.count; ++a) {
-        const float dy2 = rowD2_[row.offset + uint32_t(a)];
-        const glm::vec3* line = &samples_[size_t(row.first + a) * w + size_t(column.first)];
-        for (int b = 0; b < column.count; ++b) {
-          const float u = (columnD2_[column.offset + uint32_t(b)] + dy2) * invRadius2;
-          if (u < 1.0f) {
-            const float k = (1.0f - u) * (1.0f - u);
-            sum += k * line[b];
-            confidence += k;
-          }
-        }
-      }
-      const size_t centre = size_t(row.nearest) * w + size_t(column.nearest);   // the sample nearest to the pixel's centre
-      const glm::vec3 current = confidence > 1e-4f ? sum / confidence : samples_[centre];
+      const size_t centre = size_t(rows_[oy].nearest) * w + size_t(columns_[ox].nearest);   // the sample nearest to the pixel's centre
       // Its 3 x 3 neighbourhood: colour mean and deviation, the closest surface.
       const Neighbourhood& near = neighbourhood_[centre];
       const glm::vec3 mean = near.mean, sigma = near.sigma;
@@ -253,6 +238,29 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
       }
       const float still = std::isfinite(motion.x) ? std::clamp(1.0f - glm::length(motion), 0.0f, 1.0f) : 0.0f;
       const float gamma = config_.clipMoving + (config_.clipStill - config_.clipMoving) * still;
+      // This frame: the colour within the kernel's reach (the nearest sample where none is); a
+      // moving pixel takes the wider kernel, which reaches a sample from every output pixel.
+      const bool moving = still < 0.5f;
+      const AxisTaps& column = moving ? movingColumns_[ox] : columns_[ox];
+      const AxisTaps& row = moving ? movingRows_[oy] : rows_[oy];
+      const std::vector<float>& columnD2 = moving ? movingColumnD2_ : columnD2_;
+      const std::vector<float>& rowD2 = moving ? movingRowD2_ : rowD2_;
+      const float invR2 = moving ? invMovingRadius2 : invRadius2;
+      glm::vec3 sum(0.0f);
+      float confidence = 0.0f;
+      for (int a = 0; a < row.count; ++a) {
+        const float dy2 = rowD2[row.offset + uint32_t(a)];
+        const glm::vec3* line = &samples_[size_t(row.first + a) * w + size_t(column.first)];
+        for (int b = 0; b < column.count; ++b) {
+          const float u = (columnD2[column.offset + uint32_t(b)] + dy2) * invR2;
+          if (u < 1.0f) {
+            const float k = (1.0f - u) * (1.0f - u);
+            sum += k * line[b];
+            confidence += k;
+          }
+        }
+      }
+      const glm::vec3 current = confidence > 1e-4f ? sum / confidence : samples_[centre];
       glm::vec3 result;
       bool historyUsed = false;
       float weight = confidence;

@@ -33,7 +33,8 @@ glm::vec2 jitter(uint32_t frame);
 
 /// Tuning of the resolve.
 struct Config {
-  float kernelRadius = 0.7f;     ///< Reach of a sample's weight, in output pixels.
+  float kernelRadius = 0.7f;     ///< Reach of a sample's weight, in output pixels...
+  float movingKernelRadius = 1.5f;   ///< ... for a pixel moving by half an output pixel or more.
   float memoryFrames = 16.0f;    ///< Cap on the history's weight, in frames of average confidence...
   /// ... times this for a pixel moving by an output pixel or more (from 1 when still): each
   /// frame's resampling of a moving history blurs it, and a short memory also follows changed
@@ -87,7 +88,8 @@ class Upscaler {
     uint32_t offset = 0;   ///< Into the axis' squared distances (output pixels), one per index.
   };
   /// Fills `taps` (one per output index) and their squared distances for one axis of this frame.
-  void kernelTaps(uint32_t traced, uint32_t out, float jitter, std::vector<AxisTaps>& taps, std::vector<float>& d2) const;
+  void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
+                  std::vector<float>& d2) const;
   void prepareRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void resolveRows(const Frame& frame, uint32_t y0, uint32_t y1);
@@ -119,6 +121,8 @@ class Upscaler {
   std::vector<uint8_t> output_;
   std::vector<AxisTaps> columns_, rows_;        ///< This frame's kernel taps per output column and row.
   std::vector<float> columnD2_, rowD2_;
+  std::vector<AxisTaps> movingColumns_, movingRows_;   ///< The same for movingKernelRadius.
+  std::vector<float> movingColumnD2_, movingRowD2_;
   std::array<float, 256> decode_{};              ///< sRGB byte -> linear.
   std::array<uint8_t, kEncodeSteps> encode_{};   ///< sqrt(linear) -> sRGB byte.
 };
