@@ -219,7 +219,8 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
     for (uint32_t ox = 0; ox < W; ++ox) {
       const float cx = static_cast<float>(ox) + 0.5f, cy = static_cast<float>(oy) + 0.5f;
       const float qx = cx * sx, qy = cy * sy;   // the output pixel's centre in traced pixels
-      const size_t centre = size_t(rows_[oy].nearest) * w + size_t(columns_[ox].nearest);   // the sample nearest to the pixel's centre
+      // The sample nearest to the pixel's centre.
+      const size_t centre = size_t(rows_[oy].nearest) * w + size_t(columns_[ox].nearest);
       // Its 3 x 3 neighbourhood: colour mean and deviation, the closest surface.
       const Neighbourhood& near = neighbourhood_[centre];
       const glm::vec3 mean = near.mean, sigma = near.sigma;
@@ -271,7 +272,8 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
         const bool inside = x1 >= 1 && y1 >= 1 && x1 + 2 < int(W) && y1 + 2 < int(H);   // no clamping needed
         const size_t at = size_t(y1) * W + size_t(x1);
         const size_t taps[4] = {inside ? at : historyIndex(x1, y1), inside ? at + 1 : historyIndex(x1 + 1, y1),
-                                inside ? at + W : historyIndex(x1, y1 + 1), inside ? at + W + 1 : historyIndex(x1 + 1, y1 + 1)};
+                                inside ? at + W : historyIndex(x1, y1 + 1),
+                                inside ? at + W + 1 : historyIndex(x1 + 1, y1 + 1)};
         bool seen = false;
         for (const size_t t : taps) seen = seen || instance_[t] == surface;
         if (seen) {

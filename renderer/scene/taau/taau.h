@@ -1,14 +1,15 @@
 #pragma once
 // Temporal anti-aliasing and upscaling (TAAU): each traced frame, sampled at a sub-pixel jitter
 // that changes from frame to frame, is merged into a history kept at the output resolution.
-// Per output pixel: this frame's samples within one output pixel are weighed by a smooth kernel
-// (their weight sum is this frame's confidence); the history is fetched at the pixel's previous
-// position (the traced motion vectors, or the camera's rotation for the sky) by a Catmull-Rom
-// filter clamped to its four nearest taps (sharp, no ringing), clipped to the 3 x 3 traced
-// neighbourhood's colour box in YCoCg (variance clipping), and dropped where the surface is new
-// (no motion, or none of the taps showed the same instance). The blend is a running weighted
-// mean of confidence with a capped memory, so a still view converges to the image supersampled
-// with that kernel at the output resolution.
+// Per output pixel: this frame's samples within 0.7 output pixels (1.5 for a moving pixel) are
+// weighed by a smooth kernel (their weight sum is this frame's confidence); the history is
+// fetched at the pixel's previous position (the traced motion vectors, or the camera's rotation
+// for the sky) by a Catmull-Rom filter clamped to its four nearest taps (sharp, no ringing),
+// clipped to the 3 x 3 traced neighbourhood's colour box in YCoCg (variance clipping), and
+// dropped where the surface is new (no motion, or none of the taps showed the same instance;
+// such a pixel shows the frame interpolated bilinearly). The blend is a running weighted mean of
+// confidence with a capped memory (shorter for a moving pixel), so a still view converges to the
+// image supersampled with that kernel at the output resolution.
 #include <array>
 #include <cstdint>
 #include <optional>

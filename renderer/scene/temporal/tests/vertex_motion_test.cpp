@@ -50,7 +50,9 @@ struct MovingVertices {
 };
 
 /// Pixels per world unit at distance 10 with a 40 degree field on a 64-pixel film.
-float pixelsPerUnit(uint32_t size) { return 0.5f * static_cast<float>(size) / (10.0f * std::tan(20.0f * 3.14159265f / 180.0f)); }
+float pixelsPerUnit(uint32_t size) {
+  return 0.5f * static_cast<float>(size) / (10.0f * std::tan(20.0f * 3.14159265f / 180.0f));
+}
 
 TEST(VertexMotion, MovedVerticesUnderAStillCameraGiveTheirScreenMotion) {
   MovingVertices scene;
