@@ -138,6 +138,7 @@ struct Renderer::Impl {
   bool restirLast = false;              // the last render resampled
   taau::Upscaler upscaler;              // TAAU's history at the output size
   uint32_t taauFrame = 0;               // frames resolved by TAAU in a row (picks the jitter)
+  std::vector<glm::vec2> taauMotion;    // the G-buffer's motion without surfaces whose material changed
   bool sceneChanged = true;   // a commit happened since the last render
   bool worldChanged = true;   // ... that changed more than camera-only overlays
   SeenChanges seenSinceRender;   // what the commits since the last render changed that the camera sees
@@ -414,6 +415,15 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
     endPhase(timings.resolveMs);
     timings.resolveMs += meanMs;
   });
+  // TAAU: a surface whose material changed since the last frame (a scrolled or animated texture)
+  // moved where the geometry did not: no history there.
+  std::span<const glm::vec2> taauMotion = gbuffer.motion;
+  if (settings.taau && im.seenSinceRender.anyObject) {
+    im.taauMotion.assign(gbuffer.motion.begin(), gbuffer.motion.end());   // memory kept between frames
+    for (size_t i = 0; i < im.taauMotion.size(); ++i)
+      if (im.seenSinceRender.materialEdited(gbuffer.material[i])) im.taauMotion[i] = glm::vec2(temporal::GBuffer::kNoMotion);
+    taauMotion = im.taauMotion;
+  }
   im.seenSinceRender.clear();
 
   FrameView view;
@@ -423,7 +433,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   if (settings.taau) {
     const uint32_t outWidth = settings.outputWidth != 0 ? settings.outputWidth : settings.width;
     const uint32_t outHeight = settings.outputHeight != 0 ? settings.outputHeight : settings.height;
-    const taau::Frame frame{film.width(), film.height(), film.rgba8(), gbuffer.motion, film.depth(), gbuffer.instance,
+    const taau::Frame frame{film.width(), film.height(), film.rgba8(), taauMotion, film.depth(), gbuffer.instance,
                             centre - glm::vec2(0.5f), &camera};
     std::span<const uint8_t> upscaled;
     im.arena.execute([&] { upscaled = im.upscaler.resolve(frame, outWidth, outHeight); });

@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "renderer/scene/scene_types.h"
@@ -50,10 +51,13 @@ struct PixelSample {
   float depth = std::numeric_limits<float>::infinity();
   bool overlay = false;   ///< The camera ray's first hit was on a drawOnTop instance.
   /// First camera-visible hit for reprojection: its instance (kNoId = sky, or seen through a
-  /// portal), material index (kNoId = the default material) and world position.
+  /// portal), material index (kNoId = the default material), world position, and the triangle
+  /// and barycentrics (weights of vertices 1 and 2) it lies at (for meshes whose vertices move).
   InstanceId instance = kNoId;
   MaterialId material = kNoId;
   glm::vec3 position{0.0f};
+  uint32_t prim = 0;
+  glm::vec2 bary{0.0f};
 };
 
 /// Sums of one pixel's samples.

@@ -114,6 +114,8 @@ inline void recordSurfaceAovs(const RenderScene& scene, const SurfaceHit& s, flo
   out.instance = s.instance != nullptr ? s.instance->id : kNoId;
   out.material = s.material == &scene.defaultMaterial ? kNoId : static_cast<MaterialId>(s.material - scene.materials.data());
   out.position = s.position;
+  out.prim = s.prim;
+  out.bary = s.bary;
 }
 
 }  // namespace pa::trace

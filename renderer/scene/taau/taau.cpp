@@ -115,6 +115,10 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
   const float samplesPerPixel = static_cast<float>(traced) / static_cast<float>(n);
   weightCap_ = config_.memoryFrames * 3.14159265f * config_.kernelRadius * config_.kernelRadius / 3.0f *
                samplesPerPixel;
+  kernelTaps(frame.width, outWidth, frame.jitter.x, config_.kernelRadius, columns_, columnD2_);
+  kernelTaps(frame.height, outHeight, frame.jitter.y, config_.kernelRadius, rows_, rowD2_);
+  kernelTaps(frame.width, outWidth, frame.jitter.x, config_.movingKernelRadius, movingColumns_, movingColumnD2_);
+  kernelTaps(frame.height, outHeight, frame.jitter.y, config_.movingKernelRadius, movingRows_, movingRowD2_);
   parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { prepareRows(frame, y0, y1); });
   parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { neighbourhoodRows(frame, y0, y1); });
   parallelRows(outHeight, [&](uint32_t y0, uint32_t y1) { resolveRows(frame, y0, y1); });
@@ -127,6 +131,28 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
   if (frame.camera != nullptr) lastCamera_ = *frame.camera;
   else lastCamera_.reset();
   return output_;
+}
+
+void Upscaler::kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
+                          std::vector<float>& d2) const {
+  const float scale = static_cast<float>(traced) / static_cast<float>(out);   // traced pixels per output pixel
+  const float inverse = 1.0f / scale;
+  const float reach = radius * scale;   // in traced pixels
+  taps.resize(out);
+  d2.clear();   // memory kept between frames
+  for (uint32_t o = 0; o < out; ++o) {
+    AxisTaps& t = taps[o];
+    const float q = (static_cast<float>(o) + 0.5f) * scale;   // the output pixel's centre in traced pixels
+    t.nearest = std::clamp(static_cast<int>(std::floor(q - jitter)), 0, int(traced) - 1);
+    t.first = std::max(0, static_cast<int>(std::ceil(q - jitter - 0.5f - reach)));
+    const int last = std::min(int(traced) - 1, static_cast<int>(std::floor(q - jitter - 0.5f + reach)));
+    t.count = std::max(0, last - t.first + 1);
+    t.offset = static_cast<uint32_t>(d2.size());
+    for (int i = t.first; i <= last; ++i) {
+      const float d = (static_cast<float>(i) + 0.5f + jitter - q) * inverse;
+      d2.push_back(d * d);
+    }
+  }
 }
 
 void Upscaler::prepareRows(const Frame& frame, uint32_t y0, uint32_t y1) {
@@ -169,13 +195,23 @@ void Upscaler::neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   }
 }
 
+glm::vec3 Upscaler::bilinearSample(const Frame& frame, float fx, float fy) const {
+  const int w = static_cast<int>(frame.width), h = static_cast<int>(frame.height);
+  const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+  const float tx = fx - static_cast<float>(x0), ty = fy - static_cast<float>(y0);
+  const size_t xa = size_t(std::clamp(x0, 0, w - 1)), xb = size_t(std::clamp(x0 + 1, 0, w - 1));
+  const size_t ya = size_t(std::clamp(y0, 0, h - 1)) * size_t(w), yb = size_t(std::clamp(y0 + 1, 0, h - 1)) * size_t(w);
+  const glm::vec3 top = samples_[ya + xa] + tx * (samples_[ya + xb] - samples_[ya + xa]);
+  const glm::vec3 bottom = samples_[yb + xa] + tx * (samples_[yb + xb] - samples_[yb + xa]);
+  return top + ty * (bottom - top);
+}
+
 void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   const uint32_t w = frame.width, h = frame.height, W = outWidth_, H = outHeight_;
   const float sx = static_cast<float>(w) / static_cast<float>(W);   // traced pixels per output pixel
   const float sy = static_cast<float>(h) / static_cast<float>(H);
   const float invRadius2 = 1.0f / (config_.kernelRadius * config_.kernelRadius);
-  const float invSx = 1.0f / sx, invSy = 1.0f / sy;
-  const float reachX = config_.kernelRadius * sx, reachY = config_.kernelRadius * sy;   // in traced pixels
+  const float invMovingRadius2 = 1.0f / (config_.movingKernelRadius * config_.movingKernelRadius);
   const auto historyIndex = [&](int x, int y) {
     return size_t(std::clamp(y, 0, int(H) - 1)) * W + size_t(std::clamp(x, 0, int(W) - 1));
   };
@@ -183,29 +219,8 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
     for (uint32_t ox = 0; ox < W; ++ox) {
       const float cx = static_cast<float>(ox) + 0.5f, cy = static_cast<float>(oy) + 0.5f;
       const float qx = cx * sx, qy = cy * sy;   // the output pixel's centre in traced pixels
-      const int ix0 = std::clamp(static_cast<int>(std::floor(qx - frame.jitter.x)), 0, int(w) - 1);
-      const int iy0 = std::clamp(static_cast<int>(std::floor(qy - frame.jitter.y)), 0, int(h) - 1);
-      // This frame: the colour within the kernel's reach (the nearest sample where none is).
-      glm::vec3 sum(0.0f);
-      float confidence = 0.0f;
-      const int xa = std::max(0, static_cast<int>(std::ceil(qx - frame.jitter.x - 0.5f - reachX)));
-      const int xb = std::min(int(w) - 1, static_cast<int>(std::floor(qx - frame.jitter.x - 0.5f + reachX)));
-      const int ya = std::max(0, static_cast<int>(std::ceil(qy - frame.jitter.y - 0.5f - reachY)));
-      const int yb = std::min(int(h) - 1, static_cast<int>(std::floor(qy - frame.jitter.y - 0.5f + reachY)));
-      for (int iy = ya; iy <= yb; ++iy) {
-        const float dy = (static_cast<float>(iy) + 0.5f + frame.jitter.y - qy) * invSy;
-        for (int ix = xa; ix <= xb; ++ix) {
-          const float dx = (static_cast<float>(ix) + 0.5f + frame.jitter.x - qx) * invSx;
-          const float u = (dx * dx + dy * dy) * invRadius2;
-          if (u < 1.0f) {
-            const float k = (1.0f - u) * (1.0f - u);
-            sum += k * samples_[size_t(iy) * w + size_t(ix)];
-            confidence += k;
-          }
-        }
-      }
-      const size_t centre = size_t(iy0) * w + size_t(ix0);   // the sample nearest to the pixel's centre
-      const glm::vec3 current = confidence > 1e-4f ? sum / confidence : samples_[centre];
+      // The sample nearest to the pixel's centre.
+      const size_t centre = size_t(rows_[oy].nearest) * w + size_t(columns_[ox].nearest);
       // Its 3 x 3 neighbourhood: colour mean and deviation, the closest surface.
       const Neighbourhood& near = neighbourhood_[centre];
       const glm::vec3 mean = near.mean, sigma = near.sigma;
@@ -224,14 +239,41 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
       }
       const float still = std::isfinite(motion.x) ? std::clamp(1.0f - glm::length(motion), 0.0f, 1.0f) : 0.0f;
       const float gamma = config_.clipMoving + (config_.clipStill - config_.clipMoving) * still;
-      glm::vec3 result = current;
+      // This frame: the colour within the kernel's reach (the nearest sample where none is); a
+      // moving pixel takes the wider kernel, which reaches a sample from every output pixel.
+      const bool moving = still < 0.5f;
+      const AxisTaps& column = moving ? movingColumns_[ox] : columns_[ox];
+      const AxisTaps& row = moving ? movingRows_[oy] : rows_[oy];
+      const std::vector<float>& columnD2 = moving ? movingColumnD2_ : columnD2_;
+      const std::vector<float>& rowD2 = moving ? movingRowD2_ : rowD2_;
+      const float invR2 = moving ? invMovingRadius2 : invRadius2;
+      glm::vec3 sum(0.0f);
+      float confidence = 0.0f;
+      for (int a = 0; a < row.count; ++a) {
+        const float dy2 = rowD2[row.offset + uint32_t(a)];
+        const glm::vec3* line = &samples_[size_t(row.first + a) * w + size_t(column.first)];
+        for (int b = 0; b < column.count; ++b) {
+          const float u = (columnD2[column.offset + uint32_t(b)] + dy2) * invR2;
+          if (u < 1.0f) {
+            const float k = (1.0f - u) * (1.0f - u);
+            sum += k * line[b];
+            confidence += k;
+          }
+        }
+      }
+      const glm::vec3 current = confidence > 1e-4f ? sum / confidence : samples_[centre];
+      glm::vec3 result;
+      bool historyUsed = false;
       float weight = confidence;
       const float px = cx + motion.x, py = cy + motion.y;
       if (haveHistory_ && px >= 0.0f && py >= 0.0f && px <= static_cast<float>(W) && py <= static_cast<float>(H)) {
         const float fx = px - 0.5f, fy = py - 0.5f;
         const int x1 = static_cast<int>(std::floor(fx)), y1 = static_cast<int>(std::floor(fy));
-        const size_t taps[4] = {historyIndex(x1, y1), historyIndex(x1 + 1, y1), historyIndex(x1, y1 + 1),
-                                historyIndex(x1 + 1, y1 + 1)};
+        const bool inside = x1 >= 1 && y1 >= 1 && x1 + 2 < int(W) && y1 + 2 < int(H);   // no clamping needed
+        const size_t at = size_t(y1) * W + size_t(x1);
+        const size_t taps[4] = {inside ? at : historyIndex(x1, y1), inside ? at + 1 : historyIndex(x1 + 1, y1),
+                                inside ? at + W : historyIndex(x1, y1 + 1),
+                                inside ? at + W + 1 : historyIndex(x1 + 1, y1 + 1)};
         bool seen = false;
         for (const size_t t : taps) seen = seen || instance_[t] == surface;
         if (seen) {
@@ -239,8 +281,8 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
           const std::array<float, 4> wx = catmullRom(tx), wy = catmullRom(ty);
           std::array<size_t, 4> columns, rows;
           for (int i = 0; i < 4; ++i) {
-            columns[size_t(i)] = size_t(std::clamp(x1 - 1 + i, 0, int(W) - 1));
-            rows[size_t(i)] = size_t(std::clamp(y1 - 1 + i, 0, int(H) - 1)) * W;
+            columns[size_t(i)] = inside ? size_t(x1 - 1 + i) : size_t(std::clamp(x1 - 1 + i, 0, int(W) - 1));
+            rows[size_t(i)] = (inside ? size_t(y1 - 1 + i) : size_t(std::clamp(y1 - 1 + i, 0, int(H) - 1))) * W;
           }
           // Four-wide: one load and one multiply-add per tap.
           Lanes sum4 = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -260,9 +302,10 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
           sum4 = sum4 < lo ? lo : sum4;
           sum4 = sum4 > hi ? hi : sum4;
           glm::vec3 history(sum4[0], sum4[1], sum4[2]);
+          const float cap = weightCap_ * (config_.movingMemory + (1.0f - config_.movingMemory) * still);
           const float historyWeight =
-              std::min(weightCap_, (1 - ty) * ((1 - tx) * weight_[taps[0]] + tx * weight_[taps[1]]) +
-                                       ty * ((1 - tx) * weight_[taps[2]] + tx * weight_[taps[3]]));
+              std::min(cap, (1 - ty) * ((1 - tx) * weight_[taps[0]] + tx * weight_[taps[1]]) +
+                                ty * ((1 - tx) * weight_[taps[2]] + tx * weight_[taps[3]]));
           // Variance clipping toward the neighbourhood mean, wider for a still pixel.
           glm::vec3 boxLo = mean - gamma * sigma, boxHi = mean + gamma * sigma;
           // A still pixel keeps what last frame's samples showed too: a line thinner than a
@@ -280,8 +323,12 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
           const float alpha = total > 0.0f ? confidence / total : 1.0f;
           result = history + alpha * (current - history);
           weight = total;
+          historyUsed = true;
         }
       }
+      // Without a history, the traced frame interpolated bilinearly (as the stretch shows it):
+      // this frame's samples within the kernel alone are one sample or none per output pixel.
+      if (!historyUsed) result = bilinearSample(frame, qx - frame.jitter.x - 0.5f, qy - frame.jitter.y - 0.5f);
       const size_t o = size_t{oy} * W + ox;
       nextHistory_[o] = glm::vec4(result, 0.0f);
       nextWeight_[o] = weight;

@@ -19,30 +19,53 @@
 
 namespace pa::temporal {
 
-/// Per-instance map from this frame's world space to the previous frame's.
+/// Per-instance map from this frame's world space to the previous frame's, and the previous
+/// vertex positions of instances whose mesh's vertices moved (MeshRecord::positionsStamp).
 class InstanceMotion {
  public:
   /// Starts a frame with the committed instances (those camera rays see); the previous frame is
-  /// the last beginFrame's.
+  /// the last beginFrame's. Copies the positions of dynamic meshes that changed (into memory
+  /// kept from frame to frame).
   void beginFrame(std::span<const RenderInstance> world, std::span<const RenderInstance> overlay);
   /// Forgets the previous frame: every instance counts as new (disoccluded) in the next one.
   void reset();
-  /// Moves a point and a normal of instance `id` on this frame to where they were on the previous
-  /// one; false when the instance did not exist then (or its transform is not invertible).
-  bool toPrevious(InstanceId id, glm::vec3& point, glm::vec3& normal) const {
+  /// Moves a hit of instance `id` on this frame (world point and normal, on triangle `prim` at
+  /// barycentrics `bary`) to where it was on the previous one; false when the instance did not
+  /// exist then, its transform is not invertible, or its mesh changed in a way that has no
+  /// previous position (another mesh, another vertex count or indices, a non-dynamic mesh's
+  /// vertices changed). Where the vertices moved, the point is the same barycentrics on the
+  /// previous vertices through the previous transform; the normal follows the transform only.
+  bool toPrevious(InstanceId id, uint32_t prim, glm::vec2 bary, glm::vec3& point, glm::vec3& normal) const {
     if (id >= valid_.size() || valid_[id] == 0) return false;
-    point = pointToPrevious_[id] * glm::vec4(point, 1.0f);
     normal = normalToPrevious_[id] * normal;
-    return true;
+    if (valid_[id] == kRigid) {
+      point = pointToPrevious_[id] * glm::vec4(point, 1.0f);
+      return true;
+    }
+    return previousOnVertices(id, prim, bary, point);
   }
 
  private:
+  static constexpr uint8_t kRigid = 1;      ///< valid_: the mesh's vertices did not move.
+  static constexpr uint8_t kVertices = 2;   ///< valid_: they moved; history_[id].then holds where.
+  /// A dynamic mesh's vertices as an instance showed them.
+  struct VertexHistory {
+    const MeshRecord* mesh = nullptr;
+    uint64_t positionsStamp = 0;
+    uint64_t topologyStamp = 0;
+    std::vector<glm::vec3> now;    ///< The positions at positionsStamp (dynamic meshes only).
+    std::vector<glm::vec3> then;   ///< The positions before (valid when valid_ is kVertices).
+    bool hasNow = false;           ///< `now` holds the positions at positionsStamp.
+  };
   void record(std::span<const RenderInstance> instances);
+  bool previousOnVertices(InstanceId id, uint32_t prim, glm::vec2 bary, glm::vec3& point) const;
   std::vector<glm::mat4x3> current_, previous_;
   std::vector<uint8_t> currentKnown_, previousKnown_;
+  std::vector<uint8_t> vertexState_;   ///< This frame, per id: 0 no previous vertices, kRigid, kVertices.
+  std::vector<VertexHistory> history_;
   std::vector<glm::mat4x3> pointToPrevious_;
   std::vector<glm::mat3> normalToPrevious_;
-  std::vector<uint8_t> valid_;
+  std::vector<uint8_t> valid_;   ///< 0 (no previous position), kRigid or kVertices.
 };
 
 /// Per-pixel reprojection data of one frame (width * height each, row-major from the top row).
@@ -60,7 +83,7 @@ struct GBuffer {
   /// Sizes every array (contents unspecified until written).
   void resize(uint32_t w, uint32_t h);
   /// Writes pixel i from a camera sample taken at film position (px, py): its instance and
-  /// material and, where the instance existed in the previous frame, its motion.
+  /// material and, where the hit has a previous position (InstanceMotion::toPrevious), its motion.
   void write(size_t i, const PixelSample& sample, float px, float py, const InstanceMotion& motions,
              const CameraRays* previousCamera);
 };

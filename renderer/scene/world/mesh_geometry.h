@@ -63,6 +63,10 @@ struct MeshRecord {
   std::vector<uint8_t> filtered;   ///< Per triangle: non-zero = hits go through the HitFilter.
   Blas blas;
   bool built = false;
+  /// Changes (to a value unique within its SceneStore) whenever a commit changes the positions.
+  uint64_t positionsStamp = 0;
+  /// Changes whenever a commit changes the vertex count or the indices (and on the first commit).
+  uint64_t topologyStamp = 0;
 };
 
 }  // namespace pa

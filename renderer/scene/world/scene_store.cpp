@@ -361,8 +361,11 @@ void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
     bool canRefit = false;
     if (slot.hasPending) {
       MeshGeometry& next = slot.pending;
-      canRefit = rec.built && next.dynamic && next.positions.size() == rec.geometry.positions.size() &&
-                 next.indices == rec.geometry.indices;
+      const bool sameTopology = rec.built && next.positions.size() == rec.geometry.positions.size() &&
+                                next.indices == rec.geometry.indices;
+      canRefit = sameTopology && next.dynamic;
+      if (next.positions != rec.geometry.positions) rec.positionsStamp = ++meshStamps_;
+      if (!sameTopology) rec.topologyStamp = rec.positionsStamp = ++meshStamps_;
       std::swap(rec.geometry, next);   // the old arrays take the next update (no allocation)
       slot.hasPending = false;
       geometryChanged = true;

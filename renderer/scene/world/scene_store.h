@@ -106,6 +106,7 @@ class SceneStore {
   bool dirty_ = true;
   bool worldDirty_ = true;                   ///< A change since the last commit beyond camera-only overlays.
   std::vector<MeshId> touchedMeshes_;        ///< Meshes updated since the last commit.
+  uint64_t meshStamps_ = 0;                  ///< The last MeshRecord position/topology stamp handed out.
   /// A mesh's BVH work at commit: a build, or a refit of the same topology.
   struct MeshJob {
     MeshRecord* record;

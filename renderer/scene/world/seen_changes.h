@@ -44,6 +44,9 @@ struct SeenChanges {
     for (size_t i = 0; i < other.materials.size(); ++i)
       if (other.materials[i]) markMaterial(static_cast<MaterialId>(i));
   }
+  /// True when material id itself was replaced by a different material (a texture animation
+  /// step, say); `everything` is not consulted.
+  bool materialEdited(MaterialId id) const { return id != kNoId && flagged(materials, id); }
   /// True when a camera sample whose first visible hit was (instance, material) shows an edit.
   /// instance kNoId is the sky or a view through a portal: it shows sky edits, and portal and
   /// object edits when the scene has portals.
