@@ -36,7 +36,7 @@ TEST(CliOptions, ParsesEveryOption) {
                                "--exposure=2", "--frames", "5", "--exr", "o.exr", "--light-scale", "0.001",
                                "--stats", "s.json", "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png",
                                "--denoise", "--play", "temporal", "--restir", "--lighting", "display",
-                               "--spread-fireflies"});
+                               "--spread-fireflies", "--baked-path-end"});
   ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
   const CliOptions& o = r.options;
   EXPECT_EQ(o.play, CliOptions::Play::Temporal);
@@ -62,6 +62,7 @@ TEST(CliOptions, ParsesEveryOption) {
   EXPECT_TRUE(o.spreadFireflies);
   EXPECT_TRUE(o.denoise);
   EXPECT_TRUE(o.restir);
+  EXPECT_TRUE(o.bakedPathEnd);
 }
 
 TEST(CliOptions, ExposureAutoMetersTheImage) {
