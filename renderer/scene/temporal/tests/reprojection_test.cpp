@@ -7,6 +7,7 @@
 #include <cstring>
 #include <vector>
 
+#include "motion_checks.h"
 #include "scene_builders.h"
 
 namespace pa {
@@ -96,22 +97,9 @@ TEST(Reprojection, MovingInstanceHasItsOwnMotionAndTheStillWorldNone) {
   r.setInstance(id, moving);
   r.commit();
   const FrameView f = r.render(top, s);
-  // At distance 10 with a 40 degree field, one unit spans 32 / (10 tan 20 deg) = 8.79 pixels.
-  const float expected = 0.5f * size / (10.0f * std::tan(20.0f * 3.14159265f / 180.0f));
-  size_t onBox = 0, onFloor = 0;
-  for (size_t i = 0; i < f.motion.size(); ++i) {
-    const glm::vec2 m = f.motion[i];
-    ASSERT_TRUE(std::isfinite(m.x)) << i;
-    if (f.instance[i] == id) {
-      ++onBox;
-      EXPECT_NEAR(glm::length(m), expected, 0.02f * expected) << i;   // back to where it was
-    } else {
-      ++onFloor;
-      EXPECT_LT(glm::length(m), 1e-3f) << i;
-    }
-  }
-  EXPECT_GT(onBox, 30u);
-  EXPECT_GT(onFloor, 1000u);
+  // At distance 10 with a 40 degree field, one unit spans 32 / (10 tan 20 deg) = 8.79 pixels;
+  // the box's pixels point back to where it was.
+  test::expectMotionOnlyOn(f, id, test::pixelsPerUnitAt10(size), 30, 1000);
 }
 
 TEST(Reprojection, InstanceShownAgainAfterBeingHiddenIsDisoccluded) {
