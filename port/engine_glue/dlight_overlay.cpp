@@ -111,9 +111,17 @@ void DlightOverlayBuilder::prepare(const q3::WorldScene& scene) {
   }
 }
 
-void DlightOverlayBuilder::build(std::span<const DynamicLight> lights, DlightOverlay& out) const {
+std::vector<uint32_t> DlightOverlayBuilder::materials() const {
+  std::vector<uint32_t> out;
+  for (const Triangle& t : triangles_) out.push_back(t.material);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+void DlightOverlayBuilder::build(std::span<const DynamicLight> lights, DlightOverlay& out) {
   if (lights.empty()) return;
-  std::vector<DynamicLight> reaching;
+  std::vector<DynamicLight>& reaching = reaching_;
   for (const Triangle& t : triangles_) {
     reaching.clear();
     for (const DynamicLight& light : lights)

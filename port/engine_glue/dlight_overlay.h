@@ -48,9 +48,11 @@ class DlightOverlayBuilder {
   /// Keeps the opaque, visible, lightmapped or vertex-lit triangles of the world model (model 0).
   void prepare(const q3::WorldScene& scene);
   /// Appends the overlay of `lights` to `out` (nothing when no light reaches a triangle).
-  void build(std::span<const DynamicLight> lights, DlightOverlay& out) const;
+  void build(std::span<const DynamicLight> lights, DlightOverlay& out);
   /// Number of prepared triangles.
   size_t triangles() const { return triangles_.size(); }
+  /// The world materials of the prepared triangles, each once, ascending.
+  std::vector<uint32_t> materials() const;
 
  private:
   struct Vertex {
@@ -66,6 +68,7 @@ class DlightOverlayBuilder {
   void emit(const Triangle& t, std::span<const DynamicLight> lights, int depth, DlightOverlay& out) const;
 
   std::vector<Triangle> triangles_;
+  std::vector<DynamicLight> reaching_;   ///< build's working list (kept: play allocates nothing).
 };
 
 }  // namespace glue

@@ -107,6 +107,7 @@ void ViewRenderer::shadersChanged() {
   // Remapped shaders resolve to other entries: rebuild entity materials lazily.
   impl_->map.materials.clear();
   impl_->map.moving.clear();
+  impl_->map.preparedShaders = 0;
 }
 
 void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScripts, ImageCache& images) {
@@ -120,6 +121,8 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view, c
   Impl& d = *impl_;
   const auto start = Clock::now();
   const ViewContext ctx = d.beginView(view, settings, world);
+  // The world's effects use 2D-registered shaders too; HUD model views show models only.
+  d.prepareMaterials(shaders, ctx.lightmapLook, ctx.withWorld);
   d.placeModelEntities(ctx, scene, shaders, models);
   d.placeBrushModels(ctx);
   d.deformWorld(ctx);
@@ -206,7 +209,7 @@ void ViewRenderer::Impl::placeModelEntities(const ViewContext& ctx, const SceneF
     }
     const EntityKey key{e.hModel, e.customSkin, e.customShader, onTop ? 1 : 0};
     const glm::vec3 viewer = viewerInModel(e, ctx.viewer.origin);
-    fillSlot(map.entitySlots.claim(key, glm::vec3(e.origin[0], e.origin[1], e.origin[2])), shaders,
+    fillSlot(key, glm::vec3(e.origin[0], e.origin[1], e.origin[2]), shaders,
              ctx.lightmapLook ? MaterialUse::StockModel : MaterialUse::Model, entityTransform(e), mask, onTop,
              ctx.seconds - e.shaderTime, {e.shaderTexCoord[0], e.shaderTexCoord[1]},
              ctx.lightmapLook ? &viewer : nullptr);
@@ -269,7 +272,7 @@ void ViewRenderer::Impl::drawEffects(const ViewContext& ctx, const SceneFrame& s
   }
   if (batch.indices.empty()) return;
   if (ctx.lightmapLook) premultiplyBlendedEffects(shaders, batch);
-  fillSlot(map.entitySlots.claim(EntityKey{0, 0, 0, 2}, glm::vec3(0.0f)), shaders,
+  fillSlot(EntityKey{0, 0, 0, 2}, glm::vec3(0.0f), shaders,
            ctx.lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect, glm::mat4x3(1.0f), pa::kMaskAll, false,
            ctx.seconds);
 }

@@ -78,6 +78,8 @@ struct MapState {
   std::vector<pa::LightId> lights;  ///< Dynamic lights (a pool, reused from view to view).
   std::vector<bool> lightOn;        ///< Per pooled light: lit in the last view.
   pa::MaterialId defaultMaterial = pa::kNoId;   ///< A plain material, the renderer's first (startMap).
+  int preparedShaders = 0;     ///< Shader handles below this have their materials made (prepareMaterials).
+  int preparedLook = -1;       ///< The look they were made for (1: lightmap, 0: traced, -1: none yet).
   /// A mesh without triangles: hidden dynamic slots show it, so that the renderer leaves their
   /// instances out of the scene (no stale boxes in the instance hierarchy, no lights from them).
   pa::MeshId emptyMesh = pa::kNoId;
@@ -207,17 +209,22 @@ struct ViewRenderer::Impl {
   /// The renderer material of a shader handle's stage `layer` drawn as `use` at shader time `seconds`.
   pa::MaterialId material(ShaderRegistry& shaders, q3abi::qhandle_t handle, MaterialUse use, uint32_t layer,
                           double seconds, std::array<float, 2> scroll = {0, 0});
+  /// Makes the materials (and textures) of every shader registered since the last call, for
+  /// this look's model and effect uses, every stage and animMap frame: play then finds them made
+  /// instead of creating them the first time an effect shows (no allocation in steady play).
+  /// Without `pictures`, shaders registered for 2D (no mipmaps) are left to be made on first use.
+  void prepareMaterials(ShaderRegistry& shaders, bool lightmapLook, bool pictures);
   /// The still look (no animation) of a shader stage drawn as `use` with `image`.
   pa::MaterialDesc describe(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,
                             MaterialUse use, uint32_t layer);
   /// The parsed geometry of an MD3 model (LOD 0), parsed once at registration.
   static const q3::Md3Model* md3(const ModelEntry& entry);
-  /// Puts scratch.batch into dynamic slot `index` (created on first use) with its materials;
-  /// with `specularViewer` (the viewer in the batch's object space) layers with alphaGen
-  /// lightingSpecular get the stock specular alpha (specularAlphaLikeStock).
-  void fillSlot(size_t index, ShaderRegistry& shaders, MaterialUse use, const glm::mat4x3& transform,
-                uint32_t mask, bool onTop, double seconds, std::array<float, 2> scroll = {0, 0},
-                const glm::vec3* specularViewer = nullptr);
+  /// Puts scratch.batch into the dynamic slot the entity `key` at `origin` claims (created on
+  /// first use) with its materials; with `specularViewer` (the viewer in the batch's object
+  /// space) layers with alphaGen lightingSpecular get the stock specular alpha (specularAlphaLikeStock).
+  void fillSlot(const EntityKey& key, const glm::vec3& origin, ShaderRegistry& shaders, MaterialUse use,
+                const glm::mat4x3& transform, uint32_t mask, bool onTop, double seconds,
+                std::array<float, 2> scroll = {0, 0}, const glm::vec3* specularViewer = nullptr);
   /// Uploads dynamic triangles with one material per triangle into `slot` and shows its instance.
   template <typename Geometry>
   void showInSlot(DynamicSlot& slot, const Geometry& geometry, const std::vector<pa::MaterialId>& materials,

@@ -1,6 +1,7 @@
 // ViewRenderer::Impl: entity textures and materials, dynamic mesh slots, brush model instances
 // and the dynamic light pool.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "port/engine_glue/stock_look.h"
@@ -57,6 +58,40 @@ pa::MaterialId ViewRenderer::Impl::material(ShaderRegistry& shaders, q3abi::qhan
   return m.pool.get(m.motion, m.still, seconds, scroll, viewCount, *renderer, animationUpdates);
 }
 
+void ViewRenderer::Impl::prepareMaterials(ShaderRegistry& shaders, bool lightmapLook, bool pictures) {
+  const int look = lightmapLook ? 1 : 0;
+  if (map.preparedLook != look) {
+    map.preparedLook = look;
+    map.preparedShaders = 1;   // handle 0 is the default shader
+  }
+  const int count = shaders.count();
+  if (map.preparedShaders >= count) return;
+  const auto start = std::chrono::steady_clock::now();
+  const size_t materialsBefore = map.materials.size() + map.moving.size(), texturesBefore = map.textures.size();
+  const MaterialUse uses[2] = {lightmapLook ? MaterialUse::StockModel : MaterialUse::Model,
+                               lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect};
+  for (int handle = map.preparedShaders; handle < count; ++handle) {
+    const ShaderEntry* entry = &shaders.resolve(handle);   // as material() sees it (remapped)
+    if (entry->isDefault || (entry->clampToEdge && !pictures)) continue;
+    map.modelDeforms.find(entry->name);   // its deforms looked up once, too
+    for (uint32_t layer = 0; layer <= entry->look.layers.size() && layer <= entry->layerFrames.size(); ++layer) {
+      const ShaderLook& stage = layer == 0 ? entry->look : entry->look.layers[layer - 1];
+      const size_t frames = layer == 0 ? entry->frames.size() : entry->layerFrames[layer - 1].size();
+      const bool animated = frames > 1 && stage.animFrequency > 0.0f;
+      for (size_t frame = 0; frame < (animated ? frames : 1); ++frame) {
+        // The middle of animMap frame `frame` (q3::animMapFrame).
+        const double seconds = animated ? (static_cast<double>(frame) + 0.5) / stage.animFrequency : 0.0;
+        for (const MaterialUse use : uses) material(shaders, handle, use, layer, seconds);
+      }
+    }
+  }
+  engine.print(q3abi::PRINT_DEVELOPER, "pathtracer: prepared shaders %d-%d: %zu materials, %zu textures, %.1f ms\n",
+               map.preparedShaders, count - 1, map.materials.size() + map.moving.size() - materialsBefore,
+               map.textures.size() - texturesBefore,
+               std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  map.preparedShaders = count;
+}
+
 /// The still look of a stage (entity_materials.h), its images made textures of this renderer.
 pa::MaterialDesc ViewRenderer::Impl::describe(const ShaderEntry& entry, const ShaderLook& look,
                                               const std::shared_ptr<const Image>& image, MaterialUse use,
@@ -75,13 +110,14 @@ const q3::Md3Model* ViewRenderer::Impl::md3(const ModelEntry& entry) {
 }
 
 /// Shader time `seconds` less each triangle's batch.triangleShaderTimes; entityTranslate scrolls by `scroll`.
-void ViewRenderer::Impl::fillSlot(size_t index, ShaderRegistry& shaders, MaterialUse use, const glm::mat4x3& transform,
-                                  uint32_t mask, bool onTop, double seconds, std::array<float, 2> scroll,
-                                  const glm::vec3* specularViewer) {
-  if (map.slots.size() <= index) map.slots.resize(index + 1);
-  DynamicSlot& slot = map.slots[index];
+void ViewRenderer::Impl::fillSlot(const EntityKey& key, const glm::vec3& origin, ShaderRegistry& shaders,
+                                  MaterialUse use, const glm::mat4x3& transform, uint32_t mask, bool onTop,
+                                  double seconds, std::array<float, 2> scroll, const glm::vec3* specularViewer) {
   GeometryBatch& batch = scratch.batch;
   addShaderLayers(shaders, batch);
+  const size_t index = map.entitySlots.claim(key, origin, batch.triangles());
+  if (map.slots.size() <= index) map.slots.resize(index + 1);
+  DynamicSlot& slot = map.slots[index];
   if (specularViewer != nullptr) {
     const auto specular = [&shaders](q3abi::qhandle_t handle, uint32_t layer) {
       const ShaderLook& look = shaders.resolve(handle).look;

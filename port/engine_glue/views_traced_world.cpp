@@ -61,6 +61,7 @@ void ViewRenderer::Impl::loadMap(const World& world, const ShaderScripts& module
   map.portals.load(bsp, scene);
   prepareStockSky(library, images);
   map.dlightBuilder.prepare(scene);
+  for (const uint32_t m : map.dlightBuilder.materials()) dlightMaterial(m);   // made now, not in play
   map.scripts = &moduleScripts;
   map.images = &images;
   prepareWorldSprites(library);

@@ -32,9 +32,11 @@ class ScratchBuffer {
     return *this;
   }
 
-  /// At least `bytes` bytes, 64-byte aligned (contents unspecified: not kept when it grows).
+  /// At least `bytes` bytes, 64-byte aligned (contents unspecified: not kept when it grows). A
+  /// block that grows again at least doubles, so that meshes rebuilt at varying sizes (dynamic
+  /// meshes in play) stop reallocating once they reach their largest.
   std::byte* reserve(size_t bytes) {
-    if (bytes > bytes_) grow(bytes);
+    if (bytes > bytes_) grow(bytes_ == 0 ? bytes : std::max(bytes, 2 * bytes_));
     return data_;
   }
 

@@ -42,6 +42,38 @@ TEST(EntitySlots, NewEntityTakesASlotThatShowedNothing) {
   EXPECT_EQ(slots.claim(player, {900, 0, 0}), p);
 }
 
+TEST(EntitySlots, NewEntityPrefersAFreeSlotThatLastShowedItsModel) {
+  // Slots are reused across models; one that last showed the same model already has a mesh of
+  // that size, so taking it updates the mesh in place.
+  EntitySlots slots;
+  const EntityKey player{7, 0, 0, 0}, rocket{5, 0, 0, 0}, gib{9, 0, 0, 0};
+  slots.beginFrame();
+  const size_t p = slots.claim(player, {0, 0, 0});
+  const size_t r = slots.claim(rocket, {0, 0, 0});
+  slots.beginFrame();   // both gone: their slots showed nothing this frame
+  slots.beginFrame();
+  EXPECT_EQ(slots.claim(rocket, {900, 0, 0}), r);   // a new rocket: the old rocket's slot, not the first free
+  EXPECT_EQ(slots.claim(gib, {0, 0, 0}), p);        // no slot of its model: the first free one
+  EXPECT_EQ(slots.size(), 2u);
+}
+
+TEST(EntitySlots, NewEntityTakesTheSmallestFreeSlotThatHoldsItsTriangles) {
+  // A slot's mesh keeps the size of the largest model it showed: a newcomer takes the smallest
+  // free one that already holds it, else the largest, so that slot meshes stop growing.
+  EntitySlots slots;
+  const EntityKey big{1, 0, 0, 0}, medium{2, 0, 0, 0}, small{3, 0, 0, 0}, other{4, 0, 0, 0}, huge{5, 0, 0, 0};
+  slots.beginFrame();
+  const size_t b = slots.claim(big, {0, 0, 0}, 900);
+  const size_t m = slots.claim(medium, {0, 0, 0}, 300);
+  const size_t s = slots.claim(small, {0, 0, 0}, 20);
+  slots.beginFrame();   // all gone
+  slots.beginFrame();
+  EXPECT_EQ(slots.claim(other, {0, 0, 0}, 250), m);   // fits in 300 and 900: the smaller
+  EXPECT_EQ(slots.claim(huge, {0, 0, 0}, 2000), b);   // fits nowhere: the largest grows
+  EXPECT_EQ(slots.claim(other, {500, 0, 0}, 10), s);
+  EXPECT_EQ(slots.size(), 3u);
+}
+
 TEST(EntitySlots, FarMoveOrOtherModelIsANewEntity) {
   EntitySlots slots;
   const EntityKey a{3, 0, 0, 0}, b{4, 0, 0, 0};

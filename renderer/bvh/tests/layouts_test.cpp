@@ -214,6 +214,8 @@ TEST(Build, ScratchBufferGrowsOnlyAndAlignsHugeBlocks) {
   EXPECT_EQ(reinterpret_cast<uintptr_t>(small) % 64, 0u);
   EXPECT_EQ(buffer.capacityBytes(), 128u);
   EXPECT_EQ(buffer.reserve(50), small);   // never shrinks or moves for a smaller request
+  buffer.reserve(129);                    // growing again: at least doubles
+  EXPECT_EQ(buffer.capacityBytes(), 256u);
   // From kHugePagesFrom on: whole 2 MiB pages, 2 MiB aligned, all of it writable.
   const size_t big = size_t(3) << 20;   // 3 MiB, above kHugePagesFrom
   std::byte* huge = buffer.reserve(big);

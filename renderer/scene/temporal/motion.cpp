@@ -8,6 +8,8 @@
 #include <glm/mat4x4.hpp>
 #include <glm/matrix.hpp>
 
+#include "renderer/core/reuse.h"
+
 namespace pa::temporal {
 
 namespace {
@@ -48,11 +50,15 @@ void InstanceMotion::record(std::span<const RenderInstance> instances) {
     // Hidden instances (reused slots showing nothing) are not recorded: an instance shown again
     // has no previous transform and its pixels count as disoccluded.
     if (instance.id == kNoId || (instance.mask & kMaskCamera) == 0) continue;
-    if (instance.id >= current_.size()) {
+    if (instance.id >= current_.size()) {   // grown geometrically: new instances keep coming in play
+      reserveGeometric(current_, instance.id + 1);
+      reserveGeometric(currentKnown_, instance.id + 1);
       current_.resize(instance.id + 1, glm::mat4x3(1.0f));
       currentKnown_.resize(instance.id + 1, 0);
     }
     if (instance.id >= history_.size()) {   // these are not swapped: they may be longer than current_
+      reserveGeometric(vertexState_, instance.id + 1);
+      reserveGeometric(history_, instance.id + 1);
       vertexState_.resize(instance.id + 1, 0);
       history_.resize(instance.id + 1);
     }
