@@ -167,6 +167,7 @@ void ViewRenderer::Impl::placeModelEntities(const ViewContext& ctx, const SceneF
   std::vector<bool>& brushPlaced = scratch.brushPlaced;
   brushPlaced.assign(map.world.modelInstances.size(), false);
   map.entitySlots.beginFrame();
+  reserveSlotMemory();
   GeometryBatch& batch = scratch.batch;
   for (const q3abi::refEntity_t& e : scene.entities()) {
     uint32_t mask = pa::kMaskAll;

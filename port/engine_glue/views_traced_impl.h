@@ -75,6 +75,10 @@ struct MapState {
   std::map<std::tuple<const Image*, bool, bool>, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
   std::vector<DynamicSlot> slots;   ///< Entity and effect meshes.
   EntitySlots entitySlots;          ///< Which slot each model entity (and the effects batch) takes.
+  /// The slot that has shown the most triangles: every slot takes its memory (reserveSlotMemory).
+  size_t largestSlot = SIZE_MAX;
+  size_t largestSlotTriangles = 0;   ///< How many.
+  bool largestSlotGrew = false;      ///< The other slots take its memory at the next view.
   std::vector<pa::LightId> lights;  ///< Dynamic lights (a pool, reused from view to view).
   std::vector<bool> lightOn;        ///< Per pooled light: lit in the last view.
   pa::MaterialId defaultMaterial = pa::kNoId;   ///< A plain material, the renderer's first (startMap).
@@ -229,6 +233,9 @@ struct ViewRenderer::Impl {
   template <typename Geometry>
   void showInSlot(DynamicSlot& slot, const Geometry& geometry, const std::vector<pa::MaterialId>& materials,
                   pa::InstanceDesc instance);
+  /// Once the largest slot has grown (and its BVH was built), every slot takes as much memory,
+  /// so that an entity showing a large model in a slot that held small ones allocates nothing.
+  void reserveSlotMemory();
   /// Hides every slot no entity claimed this view.
   void hideUnclaimedSlots();
   /// Hides a dynamic slot's instance (it shows the empty mesh).

@@ -115,9 +115,11 @@ void ViewRenderer::Impl::fillSlot(const EntityKey& key, const glm::vec3& origin,
                                   double seconds, std::array<float, 2> scroll, const glm::vec3* specularViewer) {
   GeometryBatch& batch = scratch.batch;
   addShaderLayers(shaders, batch);
-  const size_t index = map.entitySlots.claim(key, origin, batch.triangles());
+  const size_t triangles = batch.triangles();
+  const size_t index = map.entitySlots.claim(key, origin, triangles);
   if (map.slots.size() <= index) map.slots.resize(index + 1);
   DynamicSlot& slot = map.slots[index];
+  const bool newSlot = slot.mesh == pa::kNoId;
   if (specularViewer != nullptr) {
     const auto specular = [&shaders](q3abi::qhandle_t handle, uint32_t layer) {
       const ShaderLook& look = shaders.resolve(handle).look;
@@ -147,6 +149,21 @@ void ViewRenderer::Impl::fillSlot(const EntityKey& key, const glm::vec3& origin,
   instance.mask = mask;
   instance.drawOnTop = onTop;
   showInSlot(slot, batch, scratch.triangleMaterials, instance);
+  if (triangles > map.largestSlotTriangles) {
+    map.largestSlotTriangles = triangles;
+    map.largestSlot = index;
+    map.largestSlotGrew = true;   // its BVH is built at this view's commit
+  } else if (newSlot && map.largestSlot != index && map.largestSlot < map.slots.size() && !map.largestSlotGrew) {
+    renderer->reserveMeshLike(slot.mesh, map.slots[map.largestSlot].mesh);
+  }
+}
+
+void ViewRenderer::Impl::reserveSlotMemory() {
+  if (!map.largestSlotGrew || map.largestSlot >= map.slots.size()) return;
+  map.largestSlotGrew = false;
+  const pa::MeshId largest = map.slots[map.largestSlot].mesh;
+  for (const DynamicSlot& slot : map.slots)
+    if (slot.mesh != pa::kNoId && slot.mesh != largest) renderer->reserveMeshLike(slot.mesh, largest);
 }
 
 void ViewRenderer::Impl::hideUnclaimedSlots() {

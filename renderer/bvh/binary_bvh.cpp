@@ -177,7 +177,7 @@ class Builder {
     // One block: refs | partitioned | nodes (room for the worst case, 2n - 1 nodes).
     static_assert(alignof(PrimRef) <= 64 && alignof(BinaryNode) <= 64 && std::is_trivially_copyable_v<PrimRef>);
     const size_t refBytes = (count * sizeof(PrimRef) + 63) / 64 * 64;
-    std::byte* memory = scratch.memory.reserve(2 * refBytes + 2 * count * sizeof(BinaryNode));
+    std::byte* memory = scratch.memory.reserve(binaryBuildScratchBytes(count));
     refs_ = reinterpret_cast<PrimRef*>(memory);
     partitioned_ = reinterpret_cast<PrimRef*>(memory + refBytes);
     nodes_ = reinterpret_cast<BinaryNode*>(memory + 2 * refBytes);
@@ -465,6 +465,12 @@ class Builder {
 };
 
 }  // namespace
+
+size_t binaryBuildScratchBytes(size_t prims) {
+  // refs | partitioned | nodes (room for the worst case, 2n - 1 nodes)
+  const size_t refBytes = (prims * sizeof(PrimRef) + 63) / 64 * 64;
+  return 2 * refBytes + 2 * prims * sizeof(BinaryNode);
+}
 
 void validateBuildConfig(const BvhBuildConfig& config) {
   if (config.binCount < 2 || config.binCount > kMaxBins)

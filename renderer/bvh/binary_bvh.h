@@ -51,6 +51,9 @@ struct BinaryBuildScratch {
   }
 };
 
+/// Bytes of BinaryBuildScratch::memory a build over `prims` references uses.
+size_t binaryBuildScratchBytes(size_t prims);
+
 /// Builds over primBounds (each must be finite and non-empty). Deterministic: the result does
 /// not depend on the number of threads. Runs in the caller's TBB arena. Pre-splitting needs the
 /// triangles, so this overload ignores config.splitBudget.

@@ -27,6 +27,7 @@ struct Blas::Impl {
   bvh_detail::CollapseWorkspace collapseWorkspace;   // likewise, for the conversion to the wide layout
   std::vector<Bounds> triangleBoxes;        // a refit's triangle boxes (kept: refits repeat)
   uint32_t builds = 0;
+  bool keepsBuildMemory = false;   // reserveLike: the first build keeps its scratch too
 
   /// Converts binary into the layout of nodeWidth (the other layout is emptied); allowAvx512
   /// false keeps the 8-wide layout on its baseline kernel.
@@ -84,10 +85,47 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
   }
   // A Blas built once (static geometry) does not hold on to the scratch arrays; one that is
   // rebuilt is likely to be rebuilt again (dynamic geometry) and keeps them.
-  if (++impl.builds == 1) {
+  if (++impl.builds == 1 && !impl.keepsBuildMemory) {
     impl.scratch.release();
     impl.collapseWorkspace = bvh_detail::CollapseWorkspace{};
   }
+}
+
+namespace {
+
+/// Makes room for n elements in v without changing its contents.
+template <class Vector>
+void reserveAtLeast(Vector& v, size_t n) {
+  if (n > v.capacity()) v.reserve(n);
+}
+
+}  // namespace
+
+void Blas::reserveLike(const Blas& example) {
+  if (!impl_) impl_ = std::make_unique<Impl>();
+  Impl& impl = *impl_;
+  impl.keepsBuildMemory = true;
+  if (!example.impl_) return;
+  const Impl& other = *example.impl_;
+  const size_t triangles = other.mesh.triangleCount();
+  reserveAtLeast(impl.mesh.positions, other.mesh.positions.capacity());
+  reserveAtLeast(impl.mesh.indices, other.mesh.indices.capacity());
+  reserveAtLeast(impl.mesh.masked, other.mesh.masked.capacity());
+  reserveAtLeast(impl.mesh.degenerate, other.mesh.degenerate.capacity());
+  reserveAtLeast(impl.binary.nodes, other.binary.nodes.capacity());
+  reserveAtLeast(impl.binary.primIndices, other.binary.primIndices.capacity());
+  impl.scratch.memory.reserve(bvh_detail::binaryBuildScratchBytes(triangles));
+  reserveAtLeast(impl.scratch.renumberStack, 2 * triangles + 1);   // the depth-first stack: at most the depth
+  const auto width = other.nodeWidth;
+  impl.collapseWorkspace.plan.reserve(other.binary.nodes.size(), width);
+  reserveAtLeast(impl.collapseWorkspace.leaves, other.binary.leafCount);
+  reserveAtLeast(impl.collapseWorkspace.firstPack, other.binary.leafCount);
+  reserveAtLeast(impl.wide.nodes, other.wide.nodes.capacity());
+  reserveAtLeast(impl.wide.packs, other.wide.packs.capacity());
+  reserveAtLeast(impl.wide16.nodes, other.wide16.nodes.capacity());
+  reserveAtLeast(impl.wide16.packs, other.wide16.packs.capacity());
+  reserveAtLeast(impl.wide16.smallPacks, other.wide16.smallPacks.capacity());
+  reserveAtLeast(impl.triangleBoxes, triangles);
 }
 
 void Blas::refit(std::span<const glm::vec3> positions) {

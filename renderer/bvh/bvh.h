@@ -60,6 +60,10 @@ class Blas {
   /// on out-of-range indices or non-finite positions. Degenerate triangles are kept but never hit.
   /// A rebuild reuses the previous build's memory; invalid input leaves the Blas unchanged.
   void build(const BlasInput& input, const BvhBuildConfig& config = {});
+  /// Holds at least the memory that rebuilding example's mesh would use (and keeps it between
+  /// builds), so that rebuilds of meshes up to that size and shape allocate nothing: dynamic
+  /// meshes in play take this once instead of growing while they are shown.
+  void reserveLike(const Blas& example);
   /// Updates node bounds for moved vertices with the same topology (animated meshes).
   void refit(std::span<const glm::vec3> positions);
   /// Closest hit in [ray.tmin, ray.tmax]; on a hit shortens ray.tmax, fills hit, returns true.

@@ -7,6 +7,16 @@
 
 namespace pa::bvh_detail {
 
+void OptimalCollapse::reserve(size_t nodes, uint32_t width) {
+  subtreeCost_.ensure(nodes * width);
+  leavesBelow_.ensure(nodes);
+  leftSlots_.ensure(nodes * width);
+  usedSlots_.ensure(nodes * width);
+  leaf_.ensure(nodes);
+  count_.ensure(nodes);
+  distributedLeftW_.ensure(nodes);
+}
+
 void OptimalCollapse::plan(const BinaryBvh& binary, const CollapseCosts& costs) {
   if (costs.width < 2 || costs.width > 64) throw std::invalid_argument("collapse width must be in [2, 64]");
   binary_ = &binary;

@@ -55,6 +55,8 @@ class OptimalCollapse {
   void trianglesBelow(uint32_t n, std::span<uint32_t> out, uint32_t& count) const;
   /// Triangle count below binary node n.
   uint32_t triangleCount(uint32_t n) const { return count_[n]; }
+  /// Makes room for planning a tree of `nodes` binary nodes at `width` without allocating.
+  void reserve(size_t nodes, uint32_t width);
 
  private:
   /// An array that only grows (default-initialised, no zero fill): the largest arrays of the plan.

@@ -155,6 +155,7 @@ Renderer::~Renderer() = default;
 MeshId Renderer::addMesh(const MeshDesc& mesh) { return impl_->store.addMesh(mesh); }
 void Renderer::updateMesh(MeshId id, const MeshDesc& mesh) { impl_->store.updateMesh(id, mesh); }
 void Renderer::removeMesh(MeshId id) { impl_->store.removeMesh(id); }
+void Renderer::reserveMeshLike(MeshId id, MeshId example) { impl_->store.reserveMeshLike(id, example); }
 InstanceId Renderer::addInstance(const InstanceDesc& instance) { return impl_->store.addInstance(instance); }
 void Renderer::setInstance(InstanceId id, const InstanceDesc& instance) { impl_->store.setInstance(id, instance); }
 void Renderer::removeInstance(InstanceId id) { impl_->store.removeInstance(id); }

@@ -68,6 +68,9 @@ class Renderer {
   void updateMesh(MeshId id, const MeshDesc& mesh);
   /// Removes a mesh; instances that still use it are an error at commit().
   void removeMesh(MeshId id);
+  /// Gives mesh id at least the memory mesh example holds (arrays, pending copy, BVH), so that
+  /// its updates up to example's size and shape allocate nothing (dynamic meshes in play).
+  void reserveMeshLike(MeshId id, MeshId example);
 
   /// Adds an instance of a mesh.
   InstanceId addInstance(const InstanceDesc& instance);

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Allocations in the steady state of play: Debian's ioquake3 under xvfb-run plays a recorded demo
-# with our module (timedemo 1, 640x360), warms up for WARMUP frames, then the module's
-# pt_allocations command counts its heap allocations (operator new and the malloc family of the
-# module's code, allocation_counter.h) over the next FRAMES frames, for each preset given.
+# with our module (timedemo 1, 640x360), warms up for WARMUP command-buffer ticks (a timedemo
+# runs about two a frame: 600 ticks is about 300 of a 600-frame demo, by when every kind of
+# entity, effect and HUD view has been shown), then the module's pt_allocations command counts
+# its heap allocations (operator new and the malloc family of the module's code,
+# allocation_counter.h) over the next FRAMES frames, for each preset given.
 #   engine_allocations.sh MODULE [PRESETS] [DEMO] [WARMUP] [FRAMES]
 # PRESETS: "preset[:budget] ..." where budget is the most allocations per frame accepted (default
-# 0). Defaults: "lightmap direct path", tests/demos/dm1_ffa, 150, 100. On failure the log shows a
+# 0). Defaults: "lightmap direct path", tests/demos/dm1_ffa, 600, 100. On failure the log shows a
 # backtrace of the first allocations of the window (pt_allocations trace; PA_ALLOCATION_TRACES=N
 # traces more, PA_KEEP=1 keeps the engine logs) to find them with addr2line -f -C -e MODULE.
 # Exit 77 when the engine, the game data or xvfb-run are missing.
@@ -14,7 +16,7 @@ module="$1"
 presets="${2:-lightmap direct path}"
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../../.." && pwd)"
 demo="${3:-$root/tests/demos/dm1_ffa.dm_71}"
-warmup="${4:-150}"
+warmup="${4:-600}"
 frames="${5:-100}"
 source "$root/tests/fidelity/engine_env.sh"
 pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not installed"; exit 77; }

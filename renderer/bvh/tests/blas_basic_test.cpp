@@ -136,6 +136,34 @@ TEST(Blas, RebuildGivesTheSameHitsAsAFreshBuild) {
   EXPECT_GT(hits, 100u);
 }
 
+TEST(Blas, ReservedLikeALargerBlasBuildsTheSameHits) {
+  // reserveLike only gives memory: builds after it (smaller, as large, and of an empty or a
+  // never-built example) answer as a fresh build.
+  const testing::TestMesh large = testing::makeTriangleSoup(5000, 21);
+  const testing::TestMesh target = testing::makeTriangleSoup(3000, 22);
+  Blas example, fresh, reserved, emptyExample;
+  example.build(large.input());
+  example.build(large.input());   // rebuilt: it keeps its build memory, as dynamic meshes do
+  fresh.build(target.input());
+  reserved.reserveLike(emptyExample);
+  reserved.reserveLike(example);
+  reserved.build(testing::makeTriangleSoup(100, 23).input());
+  reserved.build(target.input());
+  const std::vector<Ray> rays = testing::makeRandomRays(fresh.bounds(), 2000, 24);
+  uint32_t hits = 0;
+  for (const Ray& ray : rays) {
+    Ray a = ray, b = ray;
+    Hit ha, hb;
+    const bool hitA = fresh.intersect(a, ha);
+    ASSERT_EQ(hitA, reserved.intersect(b, hb));
+    ASSERT_EQ(ha.prim, hb.prim);
+    ASSERT_EQ(ha.t, hb.t);
+    ASSERT_EQ(fresh.occluded(ray), reserved.occluded(ray));
+    hits += hitA;
+  }
+  EXPECT_GT(hits, 100u);
+}
+
 TEST(Blas, BadInputLeavesTheBuiltBlasUnchanged) {
   testing::TestMesh m = twoTriangles();
   Blas blas;

@@ -34,6 +34,10 @@ uint8_t noteVertices(History& h, const MeshRecord* mesh, uint8_t rigid, uint8_t 
   if (!mesh->geometry.dynamic) {
     h.hasNow = false;   // static meshes keep no copy: an update to one counts as disoccluded
   } else if (moved || !sameMesh || !h.hasNow) {
+    if (positions.size() > h.now.capacity()) {   // as much as the mesh holds room for, in both halves
+      h.now.reserve(positions.capacity());
+      h.then.reserve(positions.capacity());
+    }
     h.now.assign(positions.begin(), positions.end());   // memory kept between frames
     h.hasNow = true;
   }
@@ -68,7 +72,26 @@ void InstanceMotion::record(std::span<const RenderInstance> instances) {
   }
 }
 
+void InstanceMotion::reserveIds(std::span<const RenderInstance> world, std::span<const RenderInstance> overlay) {
+  size_t ids = 0;
+  for (const auto span : {world, overlay})
+    for (const RenderInstance& instance : span)
+      if (instance.id != kNoId) ids = std::max(ids, size_t(instance.id) + 1);
+  // Both halves of each swapped pair and the per-frame arrays at once: an instance id seen for
+  // the first time then costs one growth, not one in each of the next frames.
+  reserveGeometric(current_, ids);
+  reserveGeometric(previous_, ids);
+  reserveGeometric(currentKnown_, ids);
+  reserveGeometric(previousKnown_, ids);
+  reserveGeometric(vertexState_, ids);
+  reserveGeometric(history_, ids);
+  reserveGeometric(pointToPrevious_, ids);
+  reserveGeometric(normalToPrevious_, ids);
+  reserveGeometric(valid_, ids);
+}
+
 void InstanceMotion::beginFrame(std::span<const RenderInstance> world, std::span<const RenderInstance> overlay) {
+  reserveIds(world, overlay);
   std::swap(current_, previous_);
   std::swap(currentKnown_, previousKnown_);
   std::fill(currentKnown_.begin(), currentKnown_.end(), uint8_t{0});

@@ -58,6 +58,8 @@ class InstanceMotion {
     bool hasNow = false;           ///< `now` holds the positions at positionsStamp.
   };
   void record(std::span<const RenderInstance> instances);
+  /// Makes room in every per-id array for the highest instance id of this frame.
+  void reserveIds(std::span<const RenderInstance> world, std::span<const RenderInstance> overlay);
   bool previousOnVertices(InstanceId id, uint32_t prim, glm::vec2 bary, glm::vec3& point) const;
   std::vector<glm::mat4x3> current_, previous_;
   std::vector<uint8_t> currentKnown_, previousKnown_;

@@ -94,6 +94,19 @@ void MeshGeometry::assign(const MeshDesc& desc) {
   assignReusing(materials, desc.materials.begin(), desc.materials.end());
 }
 
+void MeshGeometry::reserveLike(const MeshGeometry& example) {
+  const auto atLeast = [](auto& v, const auto& other) {
+    if (other.capacity() > v.capacity()) v.reserve(other.capacity());
+  };
+  atLeast(positions, example.positions);
+  atLeast(indices, example.indices);
+  atLeast(normals, example.normals);
+  atLeast(uvs, example.uvs);
+  atLeast(lightmapUvs, example.lightmapUvs);
+  atLeast(colors, example.colors);
+  atLeast(materials, example.materials);
+}
+
 bool MeshGeometry::holds(const MeshDesc& desc) const {
   return dynamic == desc.dynamic && sameElements(positions, desc.positions) && sameElements(indices, desc.indices) &&
          sameElements(normals, desc.normals) && sameElements(uvs, desc.uvs) &&

@@ -48,6 +48,8 @@ struct MeshGeometry {
   static void validate(const MeshDesc& desc, const CallContext& what);
   /// Copies a validated desc into these arrays, reusing their memory.
   void assign(const MeshDesc& desc);
+  /// Makes room for as many elements in each array as example's arrays hold (contents unchanged).
+  void reserveLike(const MeshGeometry& example);
   /// Whether these arrays hold exactly desc's data.
   bool holds(const MeshDesc& desc) const;
   /// Triangles in the mesh.

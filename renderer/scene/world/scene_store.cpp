@@ -158,6 +158,23 @@ void SceneStore::removeMesh(MeshId id) {
   dirty_ = worldDirty_ = true;
 }
 
+void SceneStore::reserveMeshLike(MeshId id, MeshId example) {
+  MeshSlot& slot = liveMesh(id, "reserveMeshLike");
+  const MeshSlot& model = liveMesh(example, "reserveMeshLike");
+  if (id == example) return;
+  if (!slot.record) slot.record = std::make_unique<MeshRecord>();   // as the next commit would
+  MeshRecord& record = *slot.record;
+  slot.pending.reserveLike(model.pending);
+  if (model.record) {
+    slot.pending.reserveLike(model.record->geometry);
+    record.geometry.reserveLike(model.record->geometry);
+    if (model.record->filtered.capacity() > record.filtered.capacity())
+      record.filtered.reserve(model.record->filtered.capacity());
+    record.blas.reserveLike(model.record->blas);
+  }
+  record.geometry.reserveLike(model.pending);
+}
+
 InstanceId SceneStore::addInstance(const InstanceDesc& instance) {
   const auto id = static_cast<InstanceId>(instances_.size());
   validateInstance(instance, {"addInstance", "instance", id});

@@ -26,6 +26,9 @@ class SceneStore {
   void updateMesh(MeshId id, const MeshDesc& mesh);
   /// Removes a mesh at the next commit.
   void removeMesh(MeshId id);
+  /// Gives mesh id at least the memory mesh example holds (its arrays, the copy its updates go
+  /// to and its BVH's), so that updates up to example's size and shape allocate nothing.
+  void reserveMeshLike(MeshId id, MeshId example);
   /// Adds an instance.
   InstanceId addInstance(const InstanceDesc& instance);
   /// Replaces an instance.
