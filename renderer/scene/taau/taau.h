@@ -78,7 +78,7 @@ class Upscaler {
   void reset();
 
   /// Per output pixel, the history's weight after the last resolve (confidence units).
-  std::span<const float> historyWeight() const { return weight_; }
+  std::span<const float> historyWeight() const { return std::span<const float>(weight_).first(size_t{outWidth_} * outHeight_); }
 
  private:
   /// The traced samples within the kernel's reach along one axis of an output pixel.
@@ -88,42 +88,67 @@ class Upscaler {
     int nearest = 0;       ///< The traced index nearest to the output pixel's centre.
     uint32_t offset = 0;   ///< Into the axis' squared distances (output pixels), one per index.
   };
+  /// One radius' column taps laid out for 8 output columns a step: every column takes `count`
+  /// taps (those past its own count at a squared distance beyond the kernel), tap b of column x
+  /// at [b * paddedWidth + x]; a tap's traced column is `base` of its 8-column block plus its
+  /// offset (below 16 where `window` is set for the block, so two loads and a permutation fetch it).
+  struct LaneTaps {
+    int count = 0;
+    std::vector<int32_t> offset;
+    std::vector<float> d2;
+    std::vector<int32_t> base;     ///< Per block of 8 columns.
+    std::vector<uint8_t> window;   ///< Per block of 8 columns.
+  };
+  /// Three planes (Y, Co, Cg), each padded so 16 values can be read from any of its indices.
+  struct Planes {
+    std::vector<float> y, co, cg;
+    void assign(size_t n) {
+      y.assign(n + kPad, 0.0f);
+      co.assign(n + kPad, 0.0f);
+      cg.assign(n + kPad, 0.0f);
+    }
+    void swap(Planes& o) {
+      y.swap(o.y);
+      co.swap(o.co);
+      cg.swap(o.cg);
+    }
+  };
   /// Fills `taps` (one per output index) and their squared distances for one axis of this frame.
   void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
                   std::vector<float>& d2) const;
+  /// Lays one radius' column taps out for 8 output columns a step.
+  void laneTaps(uint32_t traced, const std::vector<AxisTaps>& taps, const std::vector<float>& d2, LaneTaps& lanes) const;
   void prepareRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void resolveRows(const Frame& frame, uint32_t y0, uint32_t y1);
-  uint8_t encode(float linear) const;
-  /// This frame's colour (linear YCoCg) interpolated bilinearly at traced-pixel position (fx, fy)
-  /// (pixel centres at +0.5), clamped to the frame.
-  glm::vec3 bilinearSample(const Frame& frame, float fx, float fy) const;
 
   static constexpr uint32_t kEncodeSteps = 4096;   ///< sqrt(linear) steps of the encoding table.
+  static constexpr size_t kPad = 16;                ///< Readable values past each plane's end.
 
   Config config_;
   uint32_t outWidth_ = 0, outHeight_ = 0;
+  uint32_t paddedWidth_ = 0;   ///< outWidth_ rounded up to 8.
   bool haveHistory_ = false;
   std::optional<Camera> lastCamera_;
   std::optional<CameraRays> rays_, previousRays_;   ///< This frame's and the last one's, output size.
   float weightCap_ = 1.0f;
-  /// A traced pixel's 3 x 3 neighbourhood: colour mean and deviation (YCoCg), closest sample.
-  struct Neighbourhood {
-    glm::vec3 mean;
-    glm::vec3 sigma;
-    uint32_t closest;
-  };
-  std::vector<glm::vec3> samples_;           ///< This frame, linear YCoCg, traced size.
-  std::vector<Neighbourhood> neighbourhood_;   ///< Per traced pixel.
-  std::vector<glm::vec4> history_, nextHistory_;   ///< Linear YCoCg (w unused), output size.
+  Planes samples_;                 ///< This frame, linear YCoCg, traced size.
+  /// Per traced pixel, its 3 x 3 neighbourhood: colour mean and deviation (YCoCg), and the depth,
+  /// instance and motion of the closest sample.
+  Planes mean_, sigma_;
+  std::vector<float> closestDepth_, closestMotionX_, closestMotionY_;
+  std::vector<int32_t> closestInstance_;
+  Planes history_, nextHistory_;   ///< Linear YCoCg, output size.
   std::vector<float> weight_, nextWeight_;
-  std::vector<InstanceId> instance_, nextInstance_;
-  std::vector<glm::vec3> boxLo_, boxHi_, nextBoxLo_, nextBoxHi_;   ///< Each frame's clip box, output size.
+  std::vector<int32_t> instance_, nextInstance_;
+  Planes boxLo_, boxHi_, nextBoxLo_, nextBoxHi_;   ///< Each frame's clip box, output size.
   std::vector<uint8_t> output_;
   std::vector<AxisTaps> columns_, rows_;        ///< This frame's kernel taps per output column and row.
   std::vector<float> columnD2_, rowD2_;
   std::vector<AxisTaps> movingColumns_, movingRows_;   ///< The same for movingKernelRadius.
   std::vector<float> movingColumnD2_, movingRowD2_;
+  LaneTaps laneColumns_, movingLaneColumns_;           ///< columns_ and movingColumns_ for 8 columns a step.
+  std::vector<int32_t> nearestColumn_;                 ///< Per output column (paddedWidth_).
   std::array<float, 256> decode_{};              ///< sRGB byte -> linear.
   std::array<uint8_t, kEncodeSteps> encode_{};   ///< sqrt(linear) -> sRGB byte.
 };
