@@ -1,49 +1,68 @@
 #pragma once
-// Eight floats (or ints) in one value, for the TAAU resolve's 8 output pixels a step: GCC / Clang
-// vector extensions, so the same code builds for every PATHARENA_ISA (one AVX register at
-// x86-64-v3; the compiler splits each operation into two SSE halves at x86-64-v2). Only plain
-// IEEE operations (no fused multiply-add, no approximations): a lane computes what the same
-// scalar expression would.
+// Lanes of floats (or ints) in one value, for the TAAU resolve's output pixels a step: GCC / Clang
+// vector extensions. Eight lanes (one AVX register) where the module is built for AVX
+// (PATHARENA_ISA x86-64-v3), four (one SSE register) otherwise: eight-lane values without AVX
+// are split into halves through memory, which made the x86-64-v2 resolve 2x slower than the
+// scalar one. Only plain IEEE operations (no approximations): a lane computes what the same
+// scalar expression would, up to the multiply-adds the compiler fuses.
 #include <cstdint>
 #include <cstring>
 
 // These types never cross a library boundary: the note that their argument-passing ABI depends
-// on the ISA (x86-64-v2 builds) does not apply.
+// on the ISA does not apply.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace pa::taau::lanes {
 
+#if defined(__AVX__)
 /// Lanes per value.
 inline constexpr int kCount = 8;
+#else
+/// Lanes per value.
+inline constexpr int kCount = 4;
+#endif
 
-/// Eight floats.
-typedef float F __attribute__((vector_size(32)));
-/// Eight 32-bit ints; also the result of comparing two F or I (-1: true, 0: false).
-typedef int32_t I __attribute__((vector_size(32)));
+/// kCount floats.
+typedef float F __attribute__((vector_size(4 * kCount)));
+/// kCount 32-bit ints; also the result of comparing two F or I (-1: true, 0: false).
+typedef int32_t I __attribute__((vector_size(4 * kCount)));
 
-/// 0, 1, ..., 7.
+#if defined(__AVX__)
+/// 0, 1, ..., kCount - 1.
 inline constexpr I kIota = {0, 1, 2, 3, 4, 5, 6, 7};
+#else
+/// 0, 1, ..., kCount - 1.
+inline constexpr I kIota = {0, 1, 2, 3};
+#endif
 
 /// Every lane `v`.
-inline F splat(float v) { return F{v, v, v, v, v, v, v, v}; }
+inline F splat(float v) {
+  F r;
+  for (int i = 0; i < kCount; ++i) r[i] = v;
+  return r;
+}
 /// Every lane `v`.
-inline I splat(int32_t v) { return I{v, v, v, v, v, v, v, v}; }
+inline I splat(int32_t v) {
+  I r;
+  for (int i = 0; i < kCount; ++i) r[i] = v;
+  return r;
+}
 
-/// Eight consecutive values from p (any alignment).
+/// kCount consecutive values from p (any alignment).
 inline F load(const float* p) {
   F v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-/// Eight consecutive values from p (any alignment).
+/// kCount consecutive values from p (any alignment).
 inline I load(const int32_t* p) {
   I v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-/// Eight consecutive values to p (any alignment).
+/// kCount consecutive values to p (any alignment).
 inline void store(float* p, F v) { std::memcpy(p, &v, sizeof v); }
-/// Eight consecutive values to p (any alignment).
+/// kCount consecutive values to p (any alignment).
 inline void store(int32_t* p, I v) { std::memcpy(p, &v, sizeof v); }
 
 /// Per lane, mask ? a : b (mask lanes -1 or 0).
@@ -81,6 +100,8 @@ inline I floorToInt(F v) {
 inline F sqrt(F v) {
 #if defined(__AVX__)
   return __builtin_ia32_sqrtps256(v);
+#elif defined(__SSE__)
+  return __builtin_ia32_sqrtps(v);
 #else
   F r;
   for (int i = 0; i < kCount; ++i) r[i] = __builtin_sqrtf(v[i]);
@@ -92,6 +113,8 @@ inline F sqrt(F v) {
 inline bool any(I mask) {
 #if defined(__AVX__)
   return __builtin_ia32_movmskps256(__builtin_bit_cast(F, mask)) != 0;
+#elif defined(__SSE__)
+  return __builtin_ia32_movmskps(__builtin_bit_cast(F, mask)) != 0;
 #else
   int32_t m = 0;
   for (int i = 0; i < kCount; ++i) m |= mask[i];
@@ -102,6 +125,8 @@ inline bool any(I mask) {
 inline bool all(I mask) {
 #if defined(__AVX__)
   return __builtin_ia32_movmskps256(__builtin_bit_cast(F, mask)) == 0xff;
+#elif defined(__SSE__)
+  return __builtin_ia32_movmskps(__builtin_bit_cast(F, mask)) == 0xf;
 #else
   int32_t m = -1;
   for (int i = 0; i < kCount; ++i) m &= mask[i];
@@ -122,9 +147,9 @@ inline I gather(const int32_t* base, I index) {
   return r;
 }
 
-/// Per lane, p[offset] for offsets in [0, 16): two loads and a permutation (p[0..15] readable).
-inline F permute16(const float* p, I offset) { return __builtin_shuffle(load(p), load(p + kCount), offset); }
-/// Per lane, p[offset] for offsets in [0, 16): two loads and a permutation (p[0..15] readable).
-inline I permute16(const int32_t* p, I offset) { return __builtin_shuffle(load(p), load(p + kCount), offset); }
+/// Per lane, p[offset] for offsets in [0, 2 kCount): two loads and a permutation (p[0 .. 2 kCount - 1] readable).
+inline F permute(const float* p, I offset) { return __builtin_shuffle(load(p), load(p + kCount), offset); }
+/// Per lane, p[offset] for offsets in [0, 2 kCount): two loads and a permutation (p[0 .. 2 kCount - 1] readable).
+inline I permute(const int32_t* p, I offset) { return __builtin_shuffle(load(p), load(p + kCount), offset); }
 
 }  // namespace pa::taau::lanes

@@ -46,9 +46,9 @@ std::array<F, 4> catmullRom(F t) {
           t2 * (-0.5f + 0.5f * t)};
 }
 
-/// Reads 8 lanes at per-lane indices from planes of one layout: one load where the indices are
-/// consecutive, two loads and a permutation where they lie within 16 values from the first lane's
-/// (every plane has 16 readable values past its end), one read per lane otherwise.
+/// Reads the lanes at per-lane indices from planes of one layout: one load where the indices are
+/// consecutive, two loads and a permutation where they lie within 2 kCount values from the first
+/// lane's (every plane has kPad >= 2 kCount readable values past its end), one read per lane otherwise.
 class Fetch {
  public:
   explicit Fetch(I index) : base_(index[0]), offset_(index - index[0]) {
@@ -56,7 +56,7 @@ class Fetch {
             : L::all((offset_ >= 0) & (offset_ < 2 * L::kCount)) ? Kind::Window
                                                                  : Kind::Gather;
   }
-  /// Indices first, first + 1, ..., first + 7.
+  /// Indices first, first + 1, ..., first + kCount - 1.
   static Fetch consecutive(int first) { return Fetch(first); }
   Fetch() : Fetch(0) {}
 
@@ -69,7 +69,7 @@ class Fetch {
   auto read(const T* p) const -> decltype(L::load(p)) {
     switch (kind_) {
       case Kind::Consecutive: return L::load(p);
-      case Kind::Window: return L::permute16(p, offset_);
+      case Kind::Window: return L::permute(p, offset_);
       default: return L::gather(p, offset_);
     }
   }
@@ -196,9 +196,9 @@ void Upscaler::laneTaps(uint32_t traced, const std::vector<AxisTaps>& taps, cons
   const int lastColumn = static_cast<int>(traced) - 1;
   lanes.count = 0;
   for (const AxisTaps& t : taps) lanes.count = std::max(lanes.count, t.count);
-  const size_t taps8 = size_t(lanes.count) * P;
-  lanes.offset.assign(taps8, 0);
-  lanes.d2.assign(taps8, 1e30f);   // beyond the kernel: weight 0
+  const size_t lanesTaps = size_t(lanes.count) * P;
+  lanes.offset.assign(lanesTaps, 0);
+  lanes.d2.assign(lanesTaps, 1e30f);   // beyond the kernel: weight 0
   lanes.base.assign(P / L::kCount, 0);
   lanes.window.assign(P / L::kCount, 0);
   for (uint32_t block = 0; block < P / L::kCount; ++block) {
@@ -271,7 +271,7 @@ void Upscaler::neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1) {
     int x = 0;
     if (w >= 2) write(y, 0, 0, 1, ya, yb);
     else write(y, 0, 0, 0, ya, yb);
-    // 8 pixels a step where all three columns of each lie in the frame: the same sums in the
+    // kCount pixels a step where all three columns of each lie in the frame: the same sums in the
     // same order as one pixel at a time.
     for (x = 1; x + L::kCount < w; x += L::kCount) {
       F m1y = L::splat(0.0f), m1co = m1y, m1cg = m1y, m2y = m1y, m2co = m1y, m2cg = m1y;
@@ -325,7 +325,7 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const I zero = L::splat(0), lastColumn = L::splat(int(W) - 1), lastRow = L::splat(int(H) - 1);
   const I lastTracedColumn = L::splat(int(w) - 1);
-  // This frame's weighted sum of YCoCg and weight within one radius' kernel, 8 columns from x0.
+  // This frame's weighted sum of YCoCg and weight within one radius' kernel, kCount columns from x0.
   struct Sum {
     F y, co, cg, weight;
   };
@@ -343,7 +343,7 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
         const F k = L::select(u < 1.0f, (1.0f - u) * (1.0f - u), L::splat(0.0f));
         const I offset = L::load(&columns.offset[at]);
         const auto tap = [&](const std::vector<float>& plane) {
-          return window ? L::permute16(&plane[line], offset) : L::gather(&plane[line], offset);
+          return window ? L::permute(&plane[line], offset) : L::gather(&plane[line], offset);
         };
         s.y += k * tap(samples_.y);
         s.co += k * tap(samples_.co);
@@ -428,8 +428,8 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
       if (haveHistory_ && L::any(inRange)) {
         const F fx = L::select(inRange, px - 0.5f, L::splat(0.0f)), fy = L::select(inRange, py - 0.5f, L::splat(0.0f));
         const I x1 = L::floorToInt(fx), y1 = L::floorToInt(fy);
-        // The 4 x 4 history taps, clamped to the history: one load per tap where the 8 pixels'
-        // taps are 8 consecutive history pixels (the usual case: motion that changes slowly).
+        // The 4 x 4 history taps, clamped to the history: one load per tap where the pixels' taps
+        // are consecutive history pixels (the usual case: motion that changes slowly).
         const bool consecutive = L::all(inRange) && L::all(y1 == y1[0]) && L::all(x1 == x1[0] + L::kIota) &&
                                  x1[0] >= 1 && y1[0] >= 1 && x1[0] + L::kCount + 1 < int(W) && y1[0] + 2 < int(H);
         // tap(plane, j, i): the history tap (x1 - 1 + i, y1 - 1 + j) of each pixel, from one plane.

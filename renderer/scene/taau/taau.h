@@ -78,7 +78,9 @@ class Upscaler {
   void reset();
 
   /// Per output pixel, the history's weight after the last resolve (confidence units).
-  std::span<const float> historyWeight() const { return std::span<const float>(weight_).first(size_t{outWidth_} * outHeight_); }
+  std::span<const float> historyWeight() const {
+    return std::span<const float>(weight_).first(size_t{outWidth_} * outHeight_);
+  }
 
  private:
   /// The traced samples within the kernel's reach along one axis of an output pixel.
@@ -88,16 +90,17 @@ class Upscaler {
     int nearest = 0;       ///< The traced index nearest to the output pixel's centre.
     uint32_t offset = 0;   ///< Into the axis' squared distances (output pixels), one per index.
   };
-  /// One radius' column taps laid out for 8 output columns a step: every column takes `count`
-  /// taps (those past its own count at a squared distance beyond the kernel), tap b of column x
-  /// at [b * paddedWidth + x]; a tap's traced column is `base` of its 8-column block plus its
-  /// offset (below 16 where `window` is set for the block, so two loads and a permutation fetch it).
+  /// One radius' column taps laid out for a step of lanes::kCount output columns (8 with AVX, 4
+  /// without): every column takes `count` taps (those past its own count at a squared distance
+  /// beyond the kernel), tap b of column x at [b * paddedWidth_ + x]; a tap's traced column is
+  /// `base` of its block of columns plus its offset (below 2 kCount where `window` is set for the
+  /// block: two loads and a permutation fetch it).
   struct LaneTaps {
     int count = 0;
     std::vector<int32_t> offset;
     std::vector<float> d2;
-    std::vector<int32_t> base;     ///< Per block of 8 columns.
-    std::vector<uint8_t> window;   ///< Per block of 8 columns.
+    std::vector<int32_t> base;     ///< Per block of kCount columns.
+    std::vector<uint8_t> window;   ///< Per block of kCount columns.
   };
   /// Three planes (Y, Co, Cg), each padded so 16 values can be read from any of its indices.
   struct Planes {
@@ -116,18 +119,18 @@ class Upscaler {
   /// Fills `taps` (one per output index) and their squared distances for one axis of this frame.
   void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
                   std::vector<float>& d2) const;
-  /// Lays one radius' column taps out for 8 output columns a step.
+  /// Lays one radius' column taps out for kCount output columns a step.
   void laneTaps(uint32_t traced, const std::vector<AxisTaps>& taps, const std::vector<float>& d2, LaneTaps& lanes) const;
   void prepareRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void resolveRows(const Frame& frame, uint32_t y0, uint32_t y1);
 
   static constexpr uint32_t kEncodeSteps = 4096;   ///< sqrt(linear) steps of the encoding table.
-  static constexpr size_t kPad = 16;                ///< Readable values past each plane's end.
+  static constexpr size_t kPad = 16;   ///< Readable values past each plane's end (>= 2 lanes::kCount).
 
   Config config_;
   uint32_t outWidth_ = 0, outHeight_ = 0;
-  uint32_t paddedWidth_ = 0;   ///< outWidth_ rounded up to 8.
+  uint32_t paddedWidth_ = 0;   ///< outWidth_ rounded up to lanes::kCount.
   bool haveHistory_ = false;
   std::optional<Camera> lastCamera_;
   std::optional<CameraRays> rays_, previousRays_;   ///< This frame's and the last one's, output size.
@@ -147,7 +150,7 @@ class Upscaler {
   std::vector<float> columnD2_, rowD2_;
   std::vector<AxisTaps> movingColumns_, movingRows_;   ///< The same for movingKernelRadius.
   std::vector<float> movingColumnD2_, movingRowD2_;
-  LaneTaps laneColumns_, movingLaneColumns_;           ///< columns_ and movingColumns_ for 8 columns a step.
+  LaneTaps laneColumns_, movingLaneColumns_;           ///< columns_ and movingColumns_, kCount columns a step.
   std::vector<int32_t> nearestColumn_;                 ///< Per output column (paddedWidth_).
   std::array<float, 256> decode_{};              ///< sRGB byte -> linear.
   std::array<uint8_t, kEncodeSteps> encode_{};   ///< sqrt(linear) -> sRGB byte.
