@@ -147,6 +147,10 @@ inline I gather(const int32_t* base, I index) {
   return r;
 }
 
+/// Per lane, p[offset] for offsets in [0, kCount): one load and a permutation.
+inline F permute1(const float* p, I offset) { return __builtin_shuffle(load(p), offset); }
+/// Per lane, p[offset] for offsets in [0, kCount): one load and a permutation.
+inline I permute1(const int32_t* p, I offset) { return __builtin_shuffle(load(p), offset); }
 /// Per lane, p[offset] for offsets in [0, 2 kCount): two loads and a permutation (p[0 .. 2 kCount - 1] readable).
 inline F permute(const float* p, I offset) { return __builtin_shuffle(load(p), load(p + kCount), offset); }
 /// Per lane, p[offset] for offsets in [0, 2 kCount): two loads and a permutation (p[0 .. 2 kCount - 1] readable).

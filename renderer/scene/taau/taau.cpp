@@ -47,33 +47,36 @@ std::array<F, 4> catmullRom(F t) {
 }
 
 /// Reads the lanes at per-lane indices from planes of one layout: one load where the indices are
-/// consecutive, two loads and a permutation where they lie within 2 kCount values from the first
-/// lane's (every plane has kPad >= 2 kCount readable values past its end), one read per lane otherwise.
+/// consecutive, one or two loads and a permutation where they lie within kCount or 2 kCount values
+/// from the first lane's (every plane has kPad >= 2 kCount readable values past its end), one
+/// read per lane otherwise.
 class Fetch {
  public:
-  explicit Fetch(I index) : base_(index[0]), offset_(index - index[0]) {
-    kind_ = L::all(offset_ == L::kIota)                        ? Kind::Consecutive
-            : L::all((offset_ >= 0) & (offset_ < 2 * L::kCount)) ? Kind::Window
-                                                                 : Kind::Gather;
+  enum class Kind : uint8_t { Gather, Window, NarrowWindow, Consecutive };
+  /// How lanes at `offset` from one index are read.
+  static Kind kind(I offset) {
+    if (L::all(offset == L::kIota)) return Kind::Consecutive;
+    if (L::any((offset < 0) | (offset >= 2 * L::kCount))) return Kind::Gather;
+    return L::all(offset < L::kCount) ? Kind::NarrowWindow : Kind::Window;
   }
-  /// Indices first, first + 1, ..., first + kCount - 1.
-  static Fetch consecutive(int first) { return Fetch(first); }
-  Fetch() : Fetch(0) {}
+  explicit Fetch(I index) : base_(index[0]), offset_(index - index[0]), kind_(kind(offset_)) {}
+  Fetch() : base_(0), offset_(L::kIota), kind_(Kind::Consecutive) {}
 
-  F operator()(const std::vector<float>& plane) const { return read(plane.data() + base_); }
-  I operator()(const std::vector<int32_t>& plane) const { return read(plane.data() + base_); }
+  F operator()(const std::vector<float>& plane) const { return read(plane.data() + base_, offset_, kind_); }
+  I operator()(const std::vector<int32_t>& plane) const { return read(plane.data() + base_, offset_, kind_); }
 
- private:
-  explicit Fetch(int first) : base_(first), offset_(L::kIota), kind_(Kind::Consecutive) {}
+  /// Per lane, p[offset] read as `kind` says.
   template <class T>
-  auto read(const T* p) const -> decltype(L::load(p)) {
-    switch (kind_) {
+  static auto read(const T* p, I offset, Kind kind) -> decltype(L::load(p)) {
+    switch (kind) {
       case Kind::Consecutive: return L::load(p);
-      case Kind::Window: return L::permute(p, offset_);
-      default: return L::gather(p, offset_);
+      case Kind::NarrowWindow: return L::permute1(p, offset);
+      case Kind::Window: return L::permute(p, offset);
+      default: return L::gather(p, offset);
     }
   }
-  enum class Kind : uint8_t { Consecutive, Window, Gather };
+
+ private:
   int base_;
   I offset_;
   Kind kind_;
@@ -200,7 +203,7 @@ void Upscaler::laneTaps(uint32_t traced, const std::vector<AxisTaps>& taps, cons
   lanes.offset.assign(lanesTaps, 0);
   lanes.d2.assign(lanesTaps, 1e30f);   // beyond the kernel: weight 0
   lanes.base.assign(P / L::kCount, 0);
-  lanes.window.assign(P / L::kCount, 0);
+  lanes.kind.assign(P / L::kCount, 0);
   for (uint32_t block = 0; block < P / L::kCount; ++block) {
     const uint32_t x0 = block * L::kCount;
     const int base = std::min(taps[x0].first, lastColumn);   // taps' first columns grow with x
@@ -215,7 +218,8 @@ void Upscaler::laneTaps(uint32_t traced, const std::vector<AxisTaps>& taps, cons
       }
     }
     lanes.base[block] = base;
-    lanes.window[block] = reach < 2 * L::kCount;
+    lanes.kind[block] = static_cast<uint8_t>(reach < L::kCount ? Fetch::Kind::NarrowWindow
+                                             : reach < 2 * L::kCount ? Fetch::Kind::Window : Fetch::Kind::Gather);
   }
 }
 
@@ -333,7 +337,7 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
                           uint32_t x0) {
     Sum s{L::splat(0.0f), L::splat(0.0f), L::splat(0.0f), L::splat(0.0f)};
     const int base = columns.base[x0 / L::kCount];
-    const bool window = columns.window[x0 / L::kCount] != 0;
+    const auto kind = static_cast<Fetch::Kind>(columns.kind[x0 / L::kCount]);
     for (int a = 0; a < row.count; ++a) {
       const float dy2 = rowD2[row.offset + uint32_t(a)];
       const size_t line = size_t(row.first + a) * w + size_t(base);
@@ -342,9 +346,7 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
         const F u = (L::load(&columns.d2[at]) + dy2) * invR2;
         const F k = L::select(u < 1.0f, (1.0f - u) * (1.0f - u), L::splat(0.0f));
         const I offset = L::load(&columns.offset[at]);
-        const auto tap = [&](const std::vector<float>& plane) {
-          return window ? L::permute(&plane[line], offset) : L::gather(&plane[line], offset);
-        };
+        const auto tap = [&](const std::vector<float>& plane) { return Fetch::read(&plane[line], offset, kind); };
         s.y += k * tap(samples_.y);
         s.co += k * tap(samples_.co);
         s.cg += k * tap(samples_.cg);

@@ -93,14 +93,14 @@ class Upscaler {
   /// One radius' column taps laid out for a step of lanes::kCount output columns (8 with AVX, 4
   /// without): every column takes `count` taps (those past its own count at a squared distance
   /// beyond the kernel), tap b of column x at [b * paddedWidth_ + x]; a tap's traced column is
-  /// `base` of its block of columns plus its offset (below 2 kCount where `window` is set for the
-  /// block: two loads and a permutation fetch it).
+  /// `base` of its block of columns plus its offset; `kind`: how the block's taps are read (a
+  /// Fetch::Kind in taau.cpp: offsets below kCount or 2 kCount are permutations of one or two loads).
   struct LaneTaps {
     int count = 0;
     std::vector<int32_t> offset;
     std::vector<float> d2;
     std::vector<int32_t> base;     ///< Per block of kCount columns.
-    std::vector<uint8_t> window;   ///< Per block of kCount columns.
+    std::vector<uint8_t> kind;     ///< Per block of kCount columns.
   };
   /// Three planes (Y, Co, Cg), each padded so 16 values can be read from any of its indices.
   struct Planes {
