@@ -82,6 +82,51 @@ class Fetch {
   Kind kind_;
 };
 
+/// Reads the lanes at columns x, rows y of planes `stride` values a row, and at any fixed offset
+/// (dx, dy) from those, with one load where the columns are consecutive on one row, one or two
+/// loads and a permutation where they lie within kCount or 2 kCount columns of the leftmost, on
+/// one row or on two consecutive rows (twice that and a select), one read per lane otherwise. The
+/// pixels at the offsets read must lie in the plane.
+class GridFetch {
+ public:
+  GridFetch(I x, I y, int stride) : stride_(stride) {
+    int left = x[0], top = y[0];
+    for (int l = 1; l < L::kCount; ++l) {
+      left = std::min(left, x[l]);
+      top = std::min(top, y[l]);
+    }
+    base_ = top * stride + left;
+    offset_ = x - left;
+    lower_ = y != top;
+    twoRows_ = L::any(lower_);
+    kind_ = Fetch::kind(offset_);
+    if (twoRows_ && kind_ == Fetch::Kind::Consecutive) kind_ = Fetch::Kind::NarrowWindow;   // offsets 0 .. kCount - 1
+    if (L::any(y - top > 1)) kind_ = Fetch::Kind::Gather;
+    if (kind_ == Fetch::Kind::Gather) {
+      offset_ = (y - top) * stride + offset_;
+      twoRows_ = false;
+    }
+  }
+  /// How the lanes are read (Consecutive: one load at `first()`).
+  Fetch::Kind kind() const { return kind_; }
+  /// Index of the top-left pixel read.
+  int first() const { return base_; }
+
+  /// Per lane, plane[(y + dy) * stride + x + dx].
+  template <class T>
+  auto operator()(const std::vector<T>& plane, int dy, int dx) const -> decltype(L::load(plane.data())) {
+    const T* p = plane.data() + base_ + dy * stride_ + dx;
+    const auto v = Fetch::read(p, offset_, kind_);
+    return twoRows_ ? L::select(lower_, Fetch::read(p + stride_, offset_, kind_), v) : v;
+  }
+
+ private:
+  int stride_, base_ = 0;
+  I offset_, lower_;
+  bool twoRows_ = false;
+  Fetch::Kind kind_ = Fetch::Kind::Gather;
+};
+
 template <class Body>
 void parallelRows(uint32_t height, Body&& body) {
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, height, kRowGrain),
@@ -432,8 +477,7 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
         const I x1 = L::floorToInt(fx), y1 = L::floorToInt(fy);
         // The 4 x 4 history taps, clamped to the history: one load per tap where the pixels' taps
         // are consecutive history pixels (the usual case: motion that changes slowly).
-        const bool consecutive = L::all(inRange) && L::all(y1 == y1[0]) && L::all(x1 == x1[0] + L::kIota) &&
-                                 x1[0] >= 1 && y1[0] >= 1 && x1[0] + L::kCount + 1 < int(W) && y1[0] + 2 < int(H);
+        const bool inside = L::all(inRange & (x1 >= 1) & (y1 >= 1) & (x1 + 2 < int(W)) & (y1 + 2 < int(H)));
         // tap(plane, j, i): the history tap (x1 - 1 + i, y1 - 1 + j) of each pixel, from one plane.
         const auto merge = [&](const auto& tap) {
         // The four nearest: (x1, y1), (x1 + 1, y1), (x1, y1 + 1), (x1 + 1, y1 + 1).
@@ -474,8 +518,10 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
           // Variance clipping toward the neighbourhood mean, wider for a still pixel. A still pixel
           // keeps what last frame's samples showed too: a line thinner than a traced pixel, missed
           // by this frame's samples, is not clipped away.
-          const Fetch previous(L::clamp(L::floorToInt(L::select(inRange, py, L::splat(0.0f))), zero, lastRow) * int(W) +
-                               L::clamp(L::floorToInt(L::select(inRange, px, L::splat(0.0f))), zero, lastColumn));
+          const GridFetch previousPixel(L::clamp(L::floorToInt(L::select(inRange, px, L::splat(0.0f))), zero, lastColumn),
+                                        L::clamp(L::floorToInt(L::select(inRange, py, L::splat(0.0f))), zero, lastRow),
+                                        int(W));
+          const auto previous = [&](const std::vector<float>& plane) { return previousPixel(plane, 0, 0); };
           const F keep = 1.0f - still;
           const auto box = [&](F mean, F sigma, const std::vector<float>& lastLo, const std::vector<float>& lastHi,
                                F& lo, F& hi) {
@@ -506,9 +552,12 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
           historyUsed = seen;
         }
         };
-        if (consecutive) {
-          const int first = (y1[0] - 1) * int(W) + x1[0] - 1;
+        const GridFetch grid(x1 - 1, y1 - 1, int(W));   // used inside the history only
+        if (inside && grid.kind() == Fetch::Kind::Consecutive) {
+          const int first = grid.first();
           merge([&](const auto& plane, int j, int i) { return L::load(plane.data() + first + j * int(W) + i); });
+        } else if (inside) {
+          merge([&](const auto& plane, int j, int i) { return grid(plane, j, i); });
         } else {
           std::array<std::array<Fetch, 4>, 4> taps;
           for (int j = 0; j < 4; ++j)

@@ -64,7 +64,8 @@ struct Frame {
 };
 
 /// The TAAU resolve and its history. Not thread-safe; its rows run in parallel on the calling
-/// thread's task arena, and the result does not depend on the thread count.
+/// thread's task arena, and the result does not depend on the thread count. Each row is resolved
+/// lanes::kCount output pixels a step over planar arrays (README.md "Lanes").
 class Upscaler {
  public:
   /// An upscaler with the given tuning.
