@@ -90,6 +90,13 @@ class Fetch {
 class GridFetch {
  public:
   GridFetch(I x, I y, int stride) : stride_(stride) {
+    if (L::all((y == y[0]) & (x == x[0] + L::kIota))) {   // the usual case, first
+      base_ = y[0] * stride + x[0];
+      offset_ = L::kIota;
+      lower_ = L::splat(0);
+      kind_ = Fetch::Kind::Consecutive;
+      return;
+    }
     int left = x[0], top = y[0];
     for (int l = 1; l < L::kCount; ++l) {
       left = std::min(left, x[l]);
@@ -476,18 +483,18 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
         const F fx = L::select(inRange, px - 0.5f, L::splat(0.0f)), fy = L::select(inRange, py - 0.5f, L::splat(0.0f));
         const I x1 = L::floorToInt(fx), y1 = L::floorToInt(fy);
         // The 4 x 4 history taps, clamped to the history: one load per tap where the pixels' taps
-        // are consecutive history pixels (the usual case: motion that changes slowly).
+        // are consecutive history pixels (motion that changes slowly), one or two loads and a
+        // permutation where they lie within a register's width on one or two rows (GridFetch).
         const bool inside = L::all(inRange & (x1 >= 1) & (y1 >= 1) & (x1 + 2 < int(W)) & (y1 + 2 < int(H)));
         // tap(plane, j, i): the history tap (x1 - 1 + i, y1 - 1 + j) of each pixel, from one plane.
         const auto merge = [&](const auto& tap) {
-        // The four nearest: (x1, y1), (x1 + 1, y1), (x1, y1 + 1), (x1 + 1, y1 + 1).
-        const auto nearest = [&](const auto& plane, int t) { return tap(plane, 1 + t / 2, 1 + t % 2); };
-        // Disocclusion: kept where one of the four nearest history pixels showed the same instance.
-        I seen = zero;
-        for (int t = 0; t < 4; ++t) seen |= nearest(instance_, t) == surface;
-        seen &= inRange;
-        if (!L::any(seen)) return;
-        {
+          // The four nearest: (x1, y1), (x1 + 1, y1), (x1, y1 + 1), (x1 + 1, y1 + 1).
+          const auto nearest = [&](const auto& plane, int t) { return tap(plane, 1 + t / 2, 1 + t % 2); };
+          // Disocclusion: kept where one of the four nearest history pixels showed the same instance.
+          I seen = zero;
+          for (int t = 0; t < 4; ++t) seen |= nearest(instance_, t) == surface;
+          seen &= inRange;
+          if (!L::any(seen)) return;
           const F tx = fx - L::toFloat(x1), ty = fy - L::toFloat(y1);
           const std::array<F, 4> wx = catmullRom(tx), wy = catmullRom(ty);
           // Catmull-Rom, then anti-ringing: within the four nearest taps' range.
@@ -550,7 +557,6 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
           resultCg = historyCg + alpha * (currentCg - historyCg);
           weight = L::select(seen, total, confidence);
           historyUsed = seen;
-        }
         };
         const GridFetch grid(x1 - 1, y1 - 1, int(W));   // used inside the history only
         if (inside && grid.kind() == Fetch::Kind::Consecutive) {
