@@ -609,13 +609,12 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
                            0.5f);
       };
       const I r = code(resultY + resultCo - resultCg), g = code(resultY + resultCg), b = code(resultY - resultCo - resultCg);
-      uint8_t* out = &output_[o * 4];
-      for (uint32_t l = 0; l < active; ++l) {
-        out[l * 4 + 0] = encode_[uint32_t(r[l])];
-        out[l * 4 + 1] = encode_[uint32_t(g[l])];
-        out[l * 4 + 2] = encode_[uint32_t(b[l])];
-        out[l * 4 + 3] = 255;
-      }
+      I rgba;   // bytes R, G, B, A in memory order (x86-64: little-endian)
+      for (int l = 0; l < L::kCount; ++l)
+        rgba[l] = static_cast<int32_t>(uint32_t{encode_[uint32_t(r[l])]} | uint32_t{encode_[uint32_t(g[l])]} << 8 |
+                                       uint32_t{encode_[uint32_t(b[l])]} << 16 | 0xff000000u);
+      if (active == L::kCount) std::memcpy(&output_[o * 4], &rgba, sizeof rgba);
+      else std::memcpy(&output_[o * 4], &rgba, size_t{active} * 4);
     }
   }
 }
