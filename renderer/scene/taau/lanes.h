@@ -1,10 +1,10 @@
 #pragma once
 // Lanes of floats (or ints) in one value, for the TAAU resolve's output pixels a step: GCC / Clang
 // vector extensions. Eight lanes (one AVX register) where the module is built for AVX
-// (PATHARENA_ISA x86-64-v3), four (one SSE register) otherwise: eight-lane values without AVX
-// are split into halves through memory, which made the x86-64-v2 resolve 2x slower than the
-// scalar one. Only plain IEEE operations (no approximations): a lane computes what the same
-// scalar expression would, up to the multiply-adds the compiler fuses.
+// (PATHARENA_ISA x86-64-v3), four (one SSE register) otherwise: without AVX, eight-lane values
+// are split into halves through memory (a resolve 3x slower than with four lanes). Only plain
+// IEEE operations (no approximations): a lane computes what the same scalar expression would, up
+// to the multiply-adds the compiler fuses.
 #include <cstdint>
 #include <cstring>
 

@@ -17,7 +17,6 @@ namespace {
 
 constexpr uint32_t kRowGrain = 8;        // rows per parallel task
 
-
 float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 float linearToSrgb(float c) { return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f; }
@@ -51,7 +50,6 @@ void parallelRows(uint32_t height, Body&& body) {
 }
 
 }  // namespace
-
 
 ScalarUpscaler::ScalarUpscaler(const Config& config) : config_(config) {
   for (uint32_t i = 0; i < 256; ++i) decode_[i] = srgbToLinear(static_cast<float>(i) / 255.0f);

@@ -1,6 +1,6 @@
 #pragma once
-// The scalar TAAU resolve (one output pixel at a time, interleaved YCoCg), as it was before the
-// resolve went 8 pixels a step: the reference the lane resolve is tested against.
+// The scalar TAAU resolve (one output pixel at a time, interleaved YCoCg): the reference the lane
+// resolve (taau.cpp) is tested against.
 #include "renderer/scene/taau/taau.h"
 
 namespace pa::taau::test {
