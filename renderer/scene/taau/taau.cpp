@@ -443,15 +443,23 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
       if (rays_ && previousRays_) {
         const I sky = ~hasMotion & ~L::finite(closestDepth);
         if (L::any(sky)) {
-          for (int l = 0; l < L::kCount; ++l) {
-            if (sky[l] == 0) continue;
-            const glm::vec3 dir = rays_->generate(cx[l], cy).dir;
-            float px = 0.0f, py = 0.0f;
-            if (previousRays_->project(previousRays_->origin() + dir, px, py)) {
-              mx[l] = px - cx[l];
-              my[l] = py - cy;
-            }
-          }
+          // The ray through each pixel's centre (CameraRays::generate) projected through the last
+          // frame's camera (CameraRays::project), in lanes.
+          const CameraRays::Basis now = rays_->basis(), last = previousRays_->basis();
+          const F rx = (2.0f * cx / now.width - 1.0f) * now.tanHalfX;
+          const float ry = (1.0f - 2.0f * cy / now.height) * now.tanHalfY;
+          std::array<F, 3> dir;
+          for (int c = 0; c < 3; ++c) dir[size_t(c)] = now.forward[c] + rx * now.right[c] + ry * now.up[c];
+          const F inverse = 1.0f / L::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+          std::array<F, 3> d;   // (last origin + dir) - last origin, as project() sees it
+          for (int c = 0; c < 3; ++c) d[size_t(c)] = (last.origin[c] + dir[size_t(c)] * inverse) - last.origin[c];
+          const auto dot = [&](const glm::vec3& axis) { return d[0] * axis.x + d[1] * axis.y + d[2] * axis.z; };
+          const F z = dot(last.forward);
+          const F px = (dot(last.right) / (z * last.tanHalfX) + 1.0f) * 0.5f * last.width;
+          const F py = (1.0f - dot(last.up) / (z * last.tanHalfY)) * 0.5f * last.height;
+          const I projected = sky & (z > 1e-6f) & L::finite(px) & L::finite(py);
+          mx = L::select(projected, px - cx, mx);
+          my = L::select(projected, py - cy, my);
         }
       }
       const F still = L::select(L::finite(mx), L::clamp(1.0f - L::sqrt(mx * mx + my * my), L::splat(0.0f), L::splat(1.0f)),
