@@ -44,6 +44,13 @@ class CameraRays {
     py = (1.0f - glm::dot(d, up_) / (z * tanHalfY_)) * 0.5f * height_;
     return std::isfinite(px) && std::isfinite(py);
   }
+  /// What generate() and project() compute with (for code that runs them on many pixels at once).
+  struct Basis {
+    glm::vec3 origin, forward, right, up;
+    float tanHalfX, tanHalfY, width, height;
+  };
+  /// This camera's basis.
+  Basis basis() const { return {origin_, forward_, right_, up_, tanHalfX_, tanHalfY_, width_, height_}; }
   /// Eye position.
   const glm::vec3& origin() const { return origin_; }
   /// Unit forward axis (eye-space depth = distance along it).

@@ -64,7 +64,8 @@ struct Frame {
 };
 
 /// The TAAU resolve and its history. Not thread-safe; its rows run in parallel on the calling
-/// thread's task arena, and the result does not depend on the thread count.
+/// thread's task arena, and the result does not depend on the thread count. Each row is resolved
+/// lanes::kCount output pixels a step over planar arrays (README.md "Lanes").
 class Upscaler {
  public:
   /// An upscaler with the given tuning.
@@ -78,7 +79,9 @@ class Upscaler {
   void reset();
 
   /// Per output pixel, the history's weight after the last resolve (confidence units).
-  std::span<const float> historyWeight() const { return weight_; }
+  std::span<const float> historyWeight() const {
+    return std::span<const float>(weight_).first(size_t{outWidth_} * outHeight_);
+  }
 
  private:
   /// The traced samples within the kernel's reach along one axis of an output pixel.
@@ -88,42 +91,68 @@ class Upscaler {
     int nearest = 0;       ///< The traced index nearest to the output pixel's centre.
     uint32_t offset = 0;   ///< Into the axis' squared distances (output pixels), one per index.
   };
+  /// One radius' column taps laid out for a step of lanes::kCount output columns (8 with AVX, 4
+  /// without): every column takes `count` taps (those past its own count at a squared distance
+  /// beyond the kernel), tap b of column x at [b * paddedWidth_ + x]; a tap's traced column is
+  /// `base` of its block of columns plus its offset; `kind`: how the block's taps are read (a
+  /// Fetch::Kind in taau.cpp: offsets below kCount or 2 kCount are permutations of one or two loads).
+  struct LaneTaps {
+    int count = 0;
+    std::vector<int32_t> offset;
+    std::vector<float> d2;
+    std::vector<int32_t> base;     ///< Per block of kCount columns.
+    std::vector<uint8_t> kind;     ///< Per block of kCount columns.
+  };
+  /// Three planes (Y, Co, Cg), each padded so 16 values can be read from any of its indices.
+  struct Planes {
+    std::vector<float> y, co, cg;
+    void assign(size_t n) {
+      y.assign(n + kPad, 0.0f);
+      co.assign(n + kPad, 0.0f);
+      cg.assign(n + kPad, 0.0f);
+    }
+    void swap(Planes& o) {
+      y.swap(o.y);
+      co.swap(o.co);
+      cg.swap(o.cg);
+    }
+  };
   /// Fills `taps` (one per output index) and their squared distances for one axis of this frame.
   void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
                   std::vector<float>& d2) const;
+  /// Lays one radius' column taps out for kCount output columns a step.
+  void laneTaps(uint32_t traced, const std::vector<AxisTaps>& taps, const std::vector<float>& d2, LaneTaps& lanes) const;
   void prepareRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void resolveRows(const Frame& frame, uint32_t y0, uint32_t y1);
-  uint8_t encode(float linear) const;
-  /// This frame's colour (linear YCoCg) interpolated bilinearly at traced-pixel position (fx, fy)
-  /// (pixel centres at +0.5), clamped to the frame.
-  glm::vec3 bilinearSample(const Frame& frame, float fx, float fy) const;
 
   static constexpr uint32_t kEncodeSteps = 4096;   ///< sqrt(linear) steps of the encoding table.
+  static constexpr size_t kPad = 16;   ///< Readable values past each plane's end (>= 2 lanes::kCount).
 
   Config config_;
   uint32_t outWidth_ = 0, outHeight_ = 0;
+  uint32_t paddedWidth_ = 0;   ///< outWidth_ rounded up to lanes::kCount.
   bool haveHistory_ = false;
   std::optional<Camera> lastCamera_;
   std::optional<CameraRays> rays_, previousRays_;   ///< This frame's and the last one's, output size.
   float weightCap_ = 1.0f;
-  /// A traced pixel's 3 x 3 neighbourhood: colour mean and deviation (YCoCg), closest sample.
-  struct Neighbourhood {
-    glm::vec3 mean;
-    glm::vec3 sigma;
-    uint32_t closest;
-  };
-  std::vector<glm::vec3> samples_;           ///< This frame, linear YCoCg, traced size.
-  std::vector<Neighbourhood> neighbourhood_;   ///< Per traced pixel.
-  std::vector<glm::vec4> history_, nextHistory_;   ///< Linear YCoCg (w unused), output size.
+  Planes samples_;                 ///< This frame, linear YCoCg, traced size.
+  /// Per traced pixel, its 3 x 3 neighbourhood: colour mean and deviation (YCoCg), and the depth,
+  /// instance and motion of the closest sample.
+  Planes mean_, sigma_;
+  std::vector<float> closestDepth_, closestMotionX_, closestMotionY_;
+  std::vector<int32_t> closestInstance_;
+  Planes history_, nextHistory_;   ///< Linear YCoCg, output size.
   std::vector<float> weight_, nextWeight_;
-  std::vector<InstanceId> instance_, nextInstance_;
-  std::vector<glm::vec3> boxLo_, boxHi_, nextBoxLo_, nextBoxHi_;   ///< Each frame's clip box, output size.
+  std::vector<int32_t> instance_, nextInstance_;
+  Planes boxLo_, boxHi_, nextBoxLo_, nextBoxHi_;   ///< Each frame's clip box, output size.
   std::vector<uint8_t> output_;
   std::vector<AxisTaps> columns_, rows_;        ///< This frame's kernel taps per output column and row.
   std::vector<float> columnD2_, rowD2_;
   std::vector<AxisTaps> movingColumns_, movingRows_;   ///< The same for movingKernelRadius.
   std::vector<float> movingColumnD2_, movingRowD2_;
+  LaneTaps laneColumns_, movingLaneColumns_;           ///< columns_ and movingColumns_, kCount columns a step.
+  std::vector<int32_t> nearestColumn_;                 ///< Per output column (paddedWidth_).
   std::array<float, 256> decode_{};              ///< sRGB byte -> linear.
   std::array<uint8_t, kEncodeSteps> encode_{};   ///< sqrt(linear) -> sRGB byte.
 };

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <vector>
 
 #include "renderer/scene/renderer.h"
@@ -59,14 +60,13 @@ double meanAbs(std::span<const uint8_t> a, std::span<const uint8_t> b) {
   return e / static_cast<double>(n);
 }
 
-/// 16 jittered Lightmap frames at half size through TAAU to `out` x `out`.
-std::vector<uint8_t> taauFrames(uint32_t threads, uint32_t out, uint32_t frames) {
-  Renderer r({threads});
-  buildEdges(r);
+/// `frames` TAAU frames (taauSettings(out)) through `r`, `step(frame)` before each (it moves what
+/// moves and returns the camera): the last frame's output.
+std::vector<uint8_t> lastOutput(Renderer& r, uint32_t out, uint32_t frames, const std::function<Camera(uint32_t)>& step) {
   const RenderSettings s = taauSettings(out);
   std::vector<uint8_t> last;
   for (uint32_t f = 0; f < frames; ++f) {
-    const FrameView v = r.render(view(), s);
+    const FrameView v = r.render(step(f), s);
     EXPECT_EQ(v.outputWidth, out);
     EXPECT_EQ(v.output.size(), size_t{out} * out * 4);
     last.assign(v.output.begin(), v.output.end());
@@ -74,15 +74,28 @@ std::vector<uint8_t> taauFrames(uint32_t threads, uint32_t out, uint32_t frames)
   return last;
 }
 
+/// The reference: `camera`'s picture at `out` x `out`, 64 samples at random positions in each
+/// pixel (a box filter), accumulated, clamped.
+std::vector<uint8_t> supersampled(Renderer& r, const Camera& camera, uint32_t out) {
+  RenderSettings full = test::settingsFor(Integrator::Lightmap, out, 64);
+  full.accumulate = true;
+  full.tonemap = Tonemap::Clamp;
+  const FrameView f = r.render(camera, full);
+  return std::vector<uint8_t>(f.rgba8.begin(), f.rgba8.end());
+}
+
+/// Jittered Lightmap frames of buildEdges' still view at half size through TAAU to `out` x `out`.
+std::vector<uint8_t> taauFrames(uint32_t threads, uint32_t out, uint32_t frames) {
+  Renderer r({threads});
+  buildEdges(r);
+  return lastOutput(r, out, frames, [](uint32_t) { return view(); });
+}
+
 TEST(RendererTaau, StillViewApproachesTheSupersampledFullSizeImage) {
   const uint32_t out = 96;
   Renderer r({2});
   buildEdges(r);
-  RenderSettings full = test::settingsFor(Integrator::Lightmap, out, 64);   // random positions: box filter
-  full.accumulate = true;
-  full.tonemap = Tonemap::Clamp;
-  const FrameView ref = r.render(view(), full);
-  const std::vector<uint8_t> reference(ref.rgba8.begin(), ref.rgba8.end());
+  const std::vector<uint8_t> reference = supersampled(r, view(), out);
   const std::vector<uint8_t> upscaled = taauFrames(2, out, 48);
   // The same half-size frame at pixel centres, stretched bilinearly (what the window showed before).
   Renderer r2({2});
@@ -133,30 +146,18 @@ TEST(RendererTaau, MovingCameraStaysAligned) {
   const uint32_t out = 96;
   Renderer r({2});
   buildEdges(r);
-  const RenderSettings s = taauSettings(out);
   const auto cameraAt = [](uint32_t f) {
     return test::lookAt({0.05f * float(f), -4.0f, 1.2f}, {0.05f * float(f), 2.0f, 1.0f}, 50.0f);
   };
-  std::vector<uint8_t> last;
   const uint32_t frames = 24;
-  for (uint32_t f = 0; f < frames; ++f) {
-    const FrameView v = r.render(cameraAt(f), s);
-    last.assign(v.output.begin(), v.output.end());
-  }
+  const std::vector<uint8_t> last = lastOutput(r, out, frames, cameraAt);
   Renderer ref({2});
   buildEdges(ref);
-  RenderSettings full = test::settingsFor(Integrator::Lightmap, out, 64);
-  full.accumulate = true;
-  full.tonemap = Tonemap::Clamp;
-  const FrameView f = ref.render(cameraAt(frames - 1), full);
-  const std::vector<uint8_t> reference(f.rgba8.begin(), f.rgba8.end());
-  const double error = meanAbs(last, reference);
+  const double error = meanAbs(last, supersampled(ref, cameraAt(frames - 1), out));
   // The same error against the pictures of the cameras 1 and 2 frames back: a history that lags
   // (wrong motion) is closer to those.
-  const FrameView one = ref.render(cameraAt(frames - 2), full);
-  const double oneBack = meanAbs(last, std::vector<uint8_t>(one.rgba8.begin(), one.rgba8.end()));
-  const FrameView two = ref.render(cameraAt(frames - 3), full);
-  const double twoBack = meanAbs(last, std::vector<uint8_t>(two.rgba8.begin(), two.rgba8.end()));
+  const double oneBack = meanAbs(last, supersampled(ref, cameraAt(frames - 2), out));
+  const double twoBack = meanAbs(last, supersampled(ref, cameraAt(frames - 3), out));
   std::printf("moving camera: mean |error| %.4f against this frame's camera, %.4f and %.4f against 1 and 2 frames back\n",
               error, oneBack, twoBack);
   // Measured: 0.0068, 0.0088, 0.0121.
@@ -214,26 +215,18 @@ TEST(RendererTaau, MeshWithMovingVerticesLeavesNoGhost) {
   const uint32_t out = 96, frames = 24;
   const auto run = [&](bool byVertices) {
     SlidingPlate scene(byVertices);
-    const RenderSettings s = taauSettings(out);
-    std::vector<uint8_t> last;
-    for (uint32_t f = 0; f < frames; ++f) {
+    return lastOutput(scene.r, out, frames, [&](uint32_t f) {
       scene.place(f);
-      const FrameView v = scene.r.render(view(), s);
-      last.assign(v.output.begin(), v.output.end());
-    }
-    return last;
+      return view();
+    });
   };
   const std::vector<uint8_t> byVertices = run(true), byTransform = run(false);
   // References: the plate at the last frame's place, and 1 and 2 frames back (a lagging history
   // or a copy left behind is closer to those).
   SlidingPlate ref(true);
-  RenderSettings full = test::settingsFor(Integrator::Lightmap, out, 64);
-  full.accumulate = true;
-  full.tonemap = Tonemap::Clamp;
   const auto reference = [&](uint32_t frame) {
     ref.place(frame);
-    const FrameView f = ref.r.render(view(), full);
-    return std::vector<uint8_t>(f.rgba8.begin(), f.rgba8.end());
+    return supersampled(ref.r, view(), out);
   };
   const double error = meanAbs(byVertices, reference(frames - 1));
   const double rigid = meanAbs(byTransform, reference(frames - 1));
@@ -289,21 +282,14 @@ struct ScrollingWall {
 TEST(RendererTaau, ScrollingTextureLeavesNoGhost) {
   const uint32_t out = 96, frames = 20;
   ScrollingWall scene;
-  const RenderSettings s = taauSettings(out);
-  std::vector<uint8_t> last;
-  for (uint32_t f = 0; f < frames; ++f) {
+  const std::vector<uint8_t> last = lastOutput(scene.r, out, frames, [&](uint32_t f) {
     scene.scroll(f);
-    const FrameView v = scene.r.render(view(), s);
-    last.assign(v.output.begin(), v.output.end());
-  }
+    return view();
+  });
   ScrollingWall ref;
-  RenderSettings full = test::settingsFor(Integrator::Lightmap, out, 64);
-  full.accumulate = true;
-  full.tonemap = Tonemap::Clamp;
   const auto reference = [&](uint32_t frame) {
     ref.scroll(frame);
-    const FrameView f = ref.r.render(view(), full);
-    return std::vector<uint8_t>(f.rgba8.begin(), f.rgba8.end());
+    return supersampled(ref.r, view(), out);
   };
   const double error = meanAbs(last, reference(frames - 1));
   const double oneBack = meanAbs(last, reference(frames - 2));
