@@ -272,7 +272,8 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
     if (uw < split.emissive) {
       uint32_t triangle = 0;
       float withinTree = 0.0f;
-      if (!emissiveTree_.sample(p, n, uw / split.emissive, triangle, withinTree)) return false;
+      // split.emissive > 0: the tree's root importance, summed by localSplit(), is > 0.
+      if (!emissiveTree_.sample(p, n, uw / split.emissive, triangle, withinTree, true)) return false;
       selection *= split.emissive * withinTree;
       ok = sampleTriangle(triangles_[triangle], p, uv, out);
       out.light.index = triangle;
@@ -528,7 +529,7 @@ float LightSampler::emissiveSelection(uint32_t index, const glm::vec3& p, const 
   if (localEntry_ == UINT32_MAX || index >= triangles_.size()) return 0.0f;
   const LocalSplit split = localSplit(p, n);
   if (!(split.emissive > 0.0f)) return 0.0f;
-  return entryProbability(localEntry_, p, n) * split.emissive * emissiveTree_.pmf(index, p, n);
+  return entryProbability(localEntry_, p, n) * split.emissive * emissiveTree_.pmf(index, p, n, true);
 }
 
 float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const {
