@@ -266,12 +266,14 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
   bool ok;
   if (entry == localEntry_) {
     // u.w is free here (only the sky's cell choice uses it): it picks the kind, then the emitter.
-    const LocalSplit split = localSplit(p, n);
+    LampPrefix prefix;   // uninitialised: localSplit() writes what pickLocalLight() reads
+    const LocalSplit split = localSplit(p, n, &prefix);
     float uw = std::min(u.w, 0x1.fffffep-1f);
     if (uw < split.emissive) {
       uint32_t triangle = 0;
       float withinTree = 0.0f;
-      if (!emissiveTree_.sample(p, n, uw / split.emissive, triangle, withinTree)) return false;
+      // split.emissive > 0: the tree's root importance, summed by localSplit(), is > 0.
+      if (!emissiveTree_.sample(p, n, uw / split.emissive, triangle, withinTree, true)) return false;
       selection *= split.emissive * withinTree;
       ok = sampleTriangle(triangles_[triangle], p, uv, out);
       out.light.index = triangle;
@@ -279,7 +281,7 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
       uint32_t light = 0;
       float withinLamps = 0.0f;
       uw = (uw - split.emissive) / (1.0f - split.emissive);
-      if (!pickLocalLight(p, n, uw, split.lampWeight, light, withinLamps)) return false;
+      if (!pickLocalLight(p, n, uw, split.lampWeight, &prefix, light, withinLamps)) return false;
       selection *= (1.0f - split.emissive) * withinLamps;
       ok = sampleAnalytic(analytic_[light], p, uv, out);
       out.light = {LightPoint::Kind::Lamp, light, glm::vec3(uv, 0.0f)};
@@ -339,11 +341,22 @@ void LightSampler::lampWeights(uint32_t group, const glm::vec3& p, const glm::ve
   std::memcpy(out, &weight, sizeof weight);
 }
 
-LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm::vec3& n) const {
+LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm::vec3& n, LampPrefix* prefix) const {
   LocalSplit split;
   double lamps = 0.0;
   alignas(32) float w[8];
-  for (uint32_t g = 0; g < lampGroups_.size(); ++g) {
+  const uint32_t buffered = prefix != nullptr ? std::min<uint32_t>(lampGroups_.size(), kBufferedLamps / 8) : 0;
+  uint32_t g = 0;
+  for (; g < buffered; ++g) {
+    float* weight = prefix->weight + 8 * g;
+    lampWeights(g, p, n, weight);
+    for (uint32_t lane = 0; lane < 8; ++lane) {
+      lamps += weight[lane];
+      prefix->running[8 * g + lane] = lamps;
+    }
+  }
+  if (prefix != nullptr) prefix->count = 8 * buffered;
+  for (; g < lampGroups_.size(); ++g) {
     lampWeights(g, p, n, w);
     for (float wi : w) lamps += wi;
   }
@@ -356,15 +369,36 @@ LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm:
 }
 
 bool LightSampler::pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total,
-                                  uint32_t& index, float& probability) const {
-  // Inverts the running sum of the weights localSplit() summed (recomputed, nothing is stored
-  // per sample).
+                                  const LampPrefix* prefix, uint32_t& index, float& probability) const {
+  // Inverts the running sum of the weights localSplit() summed: stored ones by binary search,
+  // the rest recomputed (nothing is kept per sample).
   if (!(total > 0.0)) return false;
   const double target = double(u) * total;
   double running = 0.0;
   float chosenWeight = 0.0f;
+  uint32_t g = 0;
+  if (prefix != nullptr && prefix->count > 0) {
+    const uint32_t count = prefix->count;
+    // The first running sum above the target ends at a lamp of positive weight (zero weights
+    // leave the sum as it is), the lamp a walk over the weights stops at.
+    const uint32_t k = uint32_t(std::upper_bound(prefix->running, prefix->running + count, target) - prefix->running);
+    if (k < count) {
+      index = localLights_[k];
+      probability = float(double(prefix->weight[k]) / total);
+      return probability > 0.0f;
+    }
+    // Beyond the stored lamps: the last stored one of positive weight catches rounding at the top end.
+    for (uint32_t j = count; j-- > 0;) {
+      if (prefix->weight[j] == 0.0f) continue;
+      index = localLights_[j];
+      chosenWeight = prefix->weight[j];
+      break;
+    }
+    running = prefix->running[count - 1];
+    g = count / 8;
+  }
   alignas(32) float w[8];
-  for (uint32_t g = 0; g < lampGroups_.size() && !(target < running); ++g) {
+  for (; g < lampGroups_.size() && !(target < running); ++g) {
     lampWeights(g, p, n, w);
     for (uint32_t lane = 0; lane < 8; ++lane) {
       if (w[lane] == 0.0f) continue;
@@ -377,6 +411,13 @@ bool LightSampler::pickLocalLight(const glm::vec3& p, const glm::vec3& n, float 
   if (!(chosenWeight > 0.0f)) return false;
   probability = float(double(chosenWeight) / total);
   return probability > 0.0f;
+}
+
+bool LightSampler::pickLamp(const glm::vec3& p, const glm::vec3& n, float u, bool reuseWeights, uint32_t& index,
+                            float& probability) const {
+  LampPrefix prefix;
+  const LocalSplit split = localSplit(p, n, reuseWeights ? &prefix : nullptr);
+  return pickLocalLight(p, n, u, split.lampWeight, reuseWeights ? &prefix : nullptr, index, probability);
 }
 
 bool LightSampler::sampleAnalytic(const LightDesc& l, const glm::vec3& p, const glm::vec2& u,
@@ -488,7 +529,7 @@ float LightSampler::emissiveSelection(uint32_t index, const glm::vec3& p, const 
   if (localEntry_ == UINT32_MAX || index >= triangles_.size()) return 0.0f;
   const LocalSplit split = localSplit(p, n);
   if (!(split.emissive > 0.0f)) return 0.0f;
-  return entryProbability(localEntry_, p, n) * split.emissive * emissiveTree_.pmf(index, p, n);
+  return entryProbability(localEntry_, p, n) * split.emissive * emissiveTree_.pmf(index, p, n, true);
 }
 
 float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const {

@@ -120,6 +120,11 @@ class LightSampler {
   void setEnvironmentVisibility(std::shared_ptr<const EnvironmentVisibility> visibility) {
     visibility_ = std::move(visibility);
   }
+  /// Picks a lamp (point or spot light) at p, n as sample() does with u in [0, 1): its index into
+  /// the lights and the probability of that choice among the lamps. `reuseWeights` false
+  /// recomputes every weight while choosing; the choice and probability are the same bit for bit.
+  bool pickLamp(const glm::vec3& p, const glm::vec3& n, float u, bool reuseWeights, uint32_t& index,
+                float& probability) const;
   /// The emissive triangles (index as in emissivePdf).
   std::span<const EmissiveTriangle> triangles() const { return triangles_; }
 
@@ -130,11 +135,21 @@ class LightSampler {
     float emissive = 0.0f;     ///< Probability of the triangles (1 - that of the lamps).
     double lampWeight = 0.0;   ///< Summed lamp weights at p (their normaliser).
   };
-  LocalSplit localSplit(const glm::vec3& p, const glm::vec3& n) const;
+  /// The weights of the first kBufferedLamps lamps at a shading point and their running sums,
+  /// kept on the stack by sample() so that choosing a lamp does not recompute them.
+  static constexpr uint32_t kBufferedLamps = 512;
+  struct LampPrefix {
+    float weight[kBufferedLamps];     ///< lampWeights() of lamp k (localLights_ order).
+    double running[kBufferedLamps];   ///< weight[0] + ... + weight[k], summed as localSplit() sums.
+    uint32_t count = 0;               ///< Lamps stored (whole groups, at most kBufferedLamps).
+  };
+  /// How the local entry divides at p, n; stores the lamps' weights into `prefix` when not null.
+  LocalSplit localSplit(const glm::vec3& p, const glm::vec3& n, LampPrefix* prefix = nullptr) const;
   /// Picks a lamp at p, n in proportion to its weight (u in [0,1), total = summed weights);
-  /// returns its index into analytic_ and the probability of that choice among the lamps.
-  bool pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total, uint32_t& index,
-                      float& probability) const;
+  /// returns its index into analytic_ and the probability of that choice among the lamps. Lamps
+  /// in `prefix` (null: none) are chosen by binary search; the weights of the rest are recomputed.
+  bool pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total, const LampPrefix* prefix,
+                      uint32_t& index, float& probability) const;
   bool sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
   /// The connection from p to the point of `tri` at barycentrics `bary`.
   bool connectTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& bary, LightSample& out) const;

@@ -245,8 +245,9 @@ float LightTree::firstChildProbability(const Node& node, const glm::vec3& p, con
   return first / total;
 }
 
-bool LightTree::sample(const glm::vec3& p, const glm::vec3& n, float u, uint32_t& index, float& pmf) const {
-  if (nodes_.empty() || !(lightImportance(nodes_[0].bounds, p, n) > 0.0f)) return false;
+bool LightTree::sample(const glm::vec3& p, const glm::vec3& n, float u, uint32_t& index, float& pmf,
+                       bool rootReaches) const {
+  if (nodes_.empty() || !(rootReaches || lightImportance(nodes_[0].bounds, p, n) > 0.0f)) return false;
   uint32_t node = 0;
   float probability = 1.0f;
   u = std::clamp(u, 0.0f, kOneMinusEpsilon);
@@ -267,9 +268,9 @@ bool LightTree::sample(const glm::vec3& p, const glm::vec3& n, float u, uint32_t
   return pmf > 0.0f;
 }
 
-float LightTree::pmf(uint32_t index, const glm::vec3& p, const glm::vec3& n) const {
+float LightTree::pmf(uint32_t index, const glm::vec3& p, const glm::vec3& n, bool rootReaches) const {
   if (index >= leafOfLight_.size() || leafOfLight_[index] == UINT32_MAX) return 0.0f;
-  if (!(lightImportance(nodes_[0].bounds, p, n) > 0.0f)) return 0.0f;
+  if (!rootReaches && !(lightImportance(nodes_[0].bounds, p, n) > 0.0f)) return 0.0f;
   uint32_t node = leafOfLight_[index];
   // Branch probabilities from the leaf up, multiplied from the root down as sample() does.
   std::array<float, 128> branch{};

@@ -63,9 +63,11 @@ class LightTree {
   bool empty() const { return nodes_.empty(); }
   /// Picks an emitter for point p, normal n with u in [0, 1); false when none can reach p (then
   /// pmf() is 0 for every emitter; otherwise it sums to 1 over them).
-  bool sample(const glm::vec3& p, const glm::vec3& n, float u, uint32_t& index, float& pmf) const;
-  /// Probability with which sample() picks emitter `index` at p, n.
-  float pmf(uint32_t index, const glm::vec3& p, const glm::vec3& n) const;
+  /// `rootReaches`: the caller has found importance(p, n) > 0, which is then not recomputed.
+  bool sample(const glm::vec3& p, const glm::vec3& n, float u, uint32_t& index, float& pmf,
+              bool rootReaches = false) const;
+  /// Probability with which sample() picks emitter `index` at p, n (`rootReaches` as for sample()).
+  float pmf(uint32_t index, const glm::vec3& p, const glm::vec3& n, bool rootReaches = false) const;
   /// The root's importance at p, n (0 for an empty tree): what the whole tree can deliver.
   float importance(const glm::vec3& p, const glm::vec3& n) const {
     return nodes_.empty() ? 0.0f : lightImportance(nodes_[0].bounds, p, n);

@@ -3,7 +3,9 @@
 // any mix.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -234,6 +236,53 @@ TEST(LightSampler, LampChoiceProbabilityIsItsWeightShare) {
       }
     }
     EXPECT_GT(chosen, 400);
+  }
+}
+
+TEST(LightSampler, StoredLampWeightsChooseAsRecomputedOnes) {
+  // sample() keeps the weights of the first lamps from the split to the choice; the lamp chosen
+  // and its probability must be those of recomputing every weight while choosing, bit for bit,
+  // with fewer lamps than are stored (300) and more (700: the rest are recomputed).
+  for (const int count : {300, 700}) {
+    std::mt19937 rng(1234u + unsigned(count));
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::vector<LightDesc> lights;
+    for (int i = 0; i < count; ++i) {
+      LightDesc l;
+      l.type = i % 4 == 0 ? LightType::Spot : LightType::Point;
+      l.position = glm::vec3(unit(rng), unit(rng), unit(rng)) * 400.0f - 200.0f;
+      l.intensity = 10.0f + 500.0f * unit(rng);
+      l.color = glm::vec3(unit(rng), unit(rng), unit(rng));
+      l.radius = i % 5 == 0 ? 4.0f * unit(rng) : 0.0f;
+      if (i % 3 == 0) {
+        l.falloff = Falloff::Linear;
+        l.range = 50.0f + 150.0f * unit(rng);   // many lamps out of range: weight 0
+      }
+      if (l.type == LightType::Spot) {
+        l.direction = glm::normalize(glm::vec3(unit(rng), unit(rng), unit(rng)) - 0.5f);
+        l.cosInnerAngle = 0.9f;
+        l.cosOuterAngle = 0.5f;
+      }
+      lights.push_back(l);
+    }
+    const LightSampler sampler(lights, {}, Sky{}, Bounds{});
+    int chosen = 0;
+    for (int i = 0; i < 4000; ++i) {
+      const glm::vec3 p = glm::vec3(unit(rng), unit(rng), unit(rng)) * 400.0f - 200.0f;
+      const glm::vec3 n = i % 7 == 0 ? glm::vec3(0.0f) : glm::normalize(glm::vec3(unit(rng), unit(rng), unit(rng)) - 0.5f);
+      const float u = i % 50 == 0 ? 0x1.fffffep-1f : i % 50 == 1 ? 0.0f : unit(rng);
+      uint32_t stored = UINT32_MAX, recomputed = UINT32_MAX;
+      float storedProbability = -1.0f, recomputedProbability = -1.0f;
+      const bool a = sampler.pickLamp(p, n, u, true, stored, storedProbability);
+      const bool b = sampler.pickLamp(p, n, u, false, recomputed, recomputedProbability);
+      ASSERT_EQ(a, b) << "lamps " << count << " sample " << i;
+      if (!a) continue;
+      ++chosen;
+      ASSERT_EQ(stored, recomputed) << "lamps " << count << " sample " << i;
+      ASSERT_EQ(std::bit_cast<uint32_t>(storedProbability), std::bit_cast<uint32_t>(recomputedProbability))
+          << "lamps " << count << " sample " << i;
+    }
+    EXPECT_GT(chosen, 3000) << "lamps " << count;
   }
 }
 

@@ -3,6 +3,7 @@
 // point are not chosen, and everything is deterministic.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -344,6 +345,30 @@ TEST(LightTree, SamplingIsDeterministic) {
     EXPECT_EQ(sa.lightPoint, sb.lightPoint);
     EXPECT_EQ(sa.radiance, sb.radiance);
   }
+}
+
+TEST(LightTree, KnownReachingRootChangesNoChoice) {
+  // Where the caller has found the root's importance > 0, sample() and pmf() skip recomputing it
+  // and must give the same emitter and the same bits.
+  const auto tris = triangleSoup(300, 41);
+  const LightTree tree(boundsOf(tris));
+  Random r(77);
+  int reached = 0;
+  for (int s = 0; s < 2000; ++s) {
+    const glm::vec3 p = r.inBox(200.0f), n = r.direction();
+    const float u = r.next();
+    if (!(tree.importance(p, n) > 0.0f)) continue;
+    ++reached;
+    uint32_t a = 0, b = 0;
+    float pa = 0.0f, pb = 0.0f;
+    const bool oka = tree.sample(p, n, u, a, pa), okb = tree.sample(p, n, u, b, pb, true);
+    ASSERT_EQ(oka, okb);
+    if (!oka) continue;
+    EXPECT_EQ(a, b);
+    EXPECT_EQ(std::bit_cast<uint32_t>(pa), std::bit_cast<uint32_t>(pb));
+    EXPECT_EQ(std::bit_cast<uint32_t>(tree.pmf(a, p, n)), std::bit_cast<uint32_t>(tree.pmf(a, p, n, true)));
+  }
+  EXPECT_GT(reached, 1000);
 }
 
 }  // namespace

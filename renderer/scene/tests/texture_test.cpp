@@ -1,6 +1,9 @@
 // Texture decoding, mip chain, filtering and addressing.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "renderer/scene/textures/texture.h"
 #include "scene_builders.h"
 
@@ -82,6 +85,38 @@ TEST(Texture, BilinearRepeatWrapsAndClampHoldsTheEdge) {
   EXPECT_NEAR(clamp.sampleFull({5.0f, 0.5f}).r, 1.0f, 1e-6f);
   EXPECT_EQ(clamp.levelCount(), 1u);
   EXPECT_NEAR(clamp.average().r, 0.5f, 1e-6f);
+}
+
+TEST(Texture, BilinearLookupIsTheBlendOfItsFourTexels) {
+  // A 5x3 sRGB texture of varied bytes, repeat: sampleFull at many points is the bilinear blend
+  // of the four decoded texels around it, (b fx + a (1 - fx)) (1 - fy) + (d fx + c (1 - fx)) fy,
+  // bit for bit where the blend is fused (FMA), within rounding elsewhere.
+  std::vector<uint8_t> px;
+  for (int i = 0; i < 5 * 3 * 4; ++i) px.push_back(uint8_t((i * 97 + 13) % 256));
+  const Texture t = Texture::fromDesc({5, 3, px, true, TextureWrap::Repeat, false}, "t");
+  for (int i = 0; i < 400; ++i) {
+    const glm::vec2 uv(float((i * 37) % 400) / 400.0f + 0.0013f, float((i * 53) % 400) / 400.0f + 0.0007f);
+#if defined(__FMA__)
+    const float x = std::fma(uv.x, 5.0f, -0.5f), y = std::fma(uv.y, 3.0f, -0.5f);
+#else
+    const float x = uv.x * 5.0f - 0.5f, y = uv.y * 3.0f - 0.5f;
+#endif
+    const float fx = x - std::floor(x), fy = y - std::floor(y);
+    const int x0 = (int(std::floor(x)) + 5) % 5, y0 = (int(std::floor(y)) + 3) % 3;
+    const int x1 = (x0 + 1) % 5, y1 = (y0 + 1) % 3;
+    const glm::vec4 got = t.sampleFull(uv);
+    for (int c = 0; c < 4; ++c) {
+      const float a = t.texel(0, x0, y0)[c], b = t.texel(0, x1, y0)[c];
+      const float cc = t.texel(0, x0, y1)[c], d = t.texel(0, x1, y1)[c];
+#if defined(__FMA__)
+      const float top = std::fma(b, fx, a * (1.0f - fx)), bottom = std::fma(d, fx, cc * (1.0f - fx));
+      EXPECT_EQ(got[c], std::fma(bottom, fy, top * (1.0f - fy))) << "uv " << uv.x << " " << uv.y << " channel " << c;
+#else
+      const float want = (a * (1.0f - fx) + b * fx) * (1.0f - fy) + (cc * (1.0f - fx) + d * fx) * fy;
+      EXPECT_NEAR(got[c], want, 1e-6f) << "uv " << uv.x << " " << uv.y << " channel " << c;
+#endif
+    }
+  }
 }
 
 TEST(Texture, NonFiniteCoordinatesAreSafe) {
