@@ -223,8 +223,8 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
   return output_;
 }
 
-void Upscaler::kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
-                          std::vector<float>& d2) const {
+void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
+                std::vector<float>& d2) {
   const float scale = static_cast<float>(traced) / static_cast<float>(out);   // traced pixels per output pixel
   const float inverse = 1.0f / scale;
   const float reach = radius * scale;   // in traced pixels

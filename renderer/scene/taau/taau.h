@@ -63,6 +63,20 @@ struct Frame {
   const Camera* camera = nullptr;
 };
 
+/// The traced samples within the kernel's reach along one axis of an output pixel.
+struct AxisTaps {
+  int first = 0;         ///< First traced index within reach.
+  int count = 0;         ///< Traced indices within reach (from first on).
+  int nearest = 0;       ///< The traced index nearest to the output pixel's centre.
+  uint32_t offset = 0;   ///< Into the axis' squared distances (output pixels), one per index.
+};
+
+/// Fills `taps` (one per output index of `out`) and their squared distances (in output pixels,
+/// into `d2`, whose memory is kept) for one axis of a frame traced at `traced` with this jitter,
+/// for a kernel of `radius` output pixels.
+void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
+                std::vector<float>& d2);
+
 /// The TAAU resolve and its history. Not thread-safe; its rows run in parallel on the calling
 /// thread's task arena, and the result does not depend on the thread count. Each row is resolved
 /// lanes::kCount output pixels a step over planar arrays (README.md "Lanes").
@@ -84,13 +98,6 @@ class Upscaler {
   }
 
  private:
-  /// The traced samples within the kernel's reach along one axis of an output pixel.
-  struct AxisTaps {
-    int first = 0;         ///< First traced index within reach.
-    int count = 0;         ///< Traced indices within reach (from first on).
-    int nearest = 0;       ///< The traced index nearest to the output pixel's centre.
-    uint32_t offset = 0;   ///< Into the axis' squared distances (output pixels), one per index.
-  };
   /// One radius' column taps laid out for a step of lanes::kCount output columns (8 with AVX, 4
   /// without): every column takes `count` taps (those past its own count at a squared distance
   /// beyond the kernel), tap b of column x at [b * paddedWidth_ + x]; a tap's traced column is
@@ -117,9 +124,6 @@ class Upscaler {
       cg.swap(o.cg);
     }
   };
-  /// Fills `taps` (one per output index) and their squared distances for one axis of this frame.
-  void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
-                  std::vector<float>& d2) const;
   /// Lays one radius' column taps out for kCount output columns a step.
   void laneTaps(uint32_t traced, const std::vector<AxisTaps>& taps, const std::vector<float>& d2, LaneTaps& lanes) const;
   void prepareRows(const Frame& frame, uint32_t y0, uint32_t y1);

@@ -120,28 +120,6 @@ std::span<const uint8_t> ScalarUpscaler::resolve(const Frame& frame, uint32_t ou
   return output_;
 }
 
-void ScalarUpscaler::kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
-                          std::vector<float>& d2) const {
-  const float scale = static_cast<float>(traced) / static_cast<float>(out);   // traced pixels per output pixel
-  const float inverse = 1.0f / scale;
-  const float reach = radius * scale;   // in traced pixels
-  taps.resize(out);
-  d2.clear();   // memory kept between frames
-  for (uint32_t o = 0; o < out; ++o) {
-    AxisTaps& t = taps[o];
-    const float q = (static_cast<float>(o) + 0.5f) * scale;   // the output pixel's centre in traced pixels
-    t.nearest = std::clamp(static_cast<int>(std::floor(q - jitter)), 0, int(traced) - 1);
-    t.first = std::max(0, static_cast<int>(std::ceil(q - jitter - 0.5f - reach)));
-    const int last = std::min(int(traced) - 1, static_cast<int>(std::floor(q - jitter - 0.5f + reach)));
-    t.count = std::max(0, last - t.first + 1);
-    t.offset = static_cast<uint32_t>(d2.size());
-    for (int i = t.first; i <= last; ++i) {
-      const float d = (static_cast<float>(i) + 0.5f + jitter - q) * inverse;
-      d2.push_back(d * d);
-    }
-  }
-}
-
 void ScalarUpscaler::prepareRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   for (uint32_t y = y0; y < y1; ++y) {
     for (uint32_t x = 0; x < frame.width; ++x) {

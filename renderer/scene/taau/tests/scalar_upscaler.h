@@ -23,16 +23,6 @@ class ScalarUpscaler {
   std::span<const float> historyWeight() const { return weight_; }
 
  private:
-  /// The traced samples within the kernel's reach along one axis of an output pixel.
-  struct AxisTaps {
-    int first = 0;         ///< First traced index within reach.
-    int count = 0;         ///< Traced indices within reach (from first on).
-    int nearest = 0;       ///< The traced index nearest to the output pixel's centre.
-    uint32_t offset = 0;   ///< Into the axis' squared distances (output pixels), one per index.
-  };
-  /// Fills `taps` (one per output index) and their squared distances for one axis of this frame.
-  void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
-                  std::vector<float>& d2) const;
   void prepareRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void neighbourhoodRows(const Frame& frame, uint32_t y0, uint32_t y1);
   void resolveRows(const Frame& frame, uint32_t y0, uint32_t y1);
