@@ -25,6 +25,10 @@ struct EntityKey {
   bool operator==(const EntityKey&) const = default;
 };
 
+/// EntityKey::kind of the frame's effects batch (sprites, polys, world autosprites in one slot of
+/// its own); model entities are kind 0, or 1 when drawn on top.
+inline constexpr int kEffectsBatchKind = 2;
+
 /// Slot assignment across frames.
 class EntitySlots {
  public:

@@ -273,7 +273,7 @@ void ViewRenderer::Impl::drawEffects(const ViewContext& ctx, const SceneFrame& s
   }
   if (batch.indices.empty()) return;
   if (ctx.lightmapLook) premultiplyBlendedEffects(shaders, batch);
-  fillSlot(EntityKey{0, 0, 0, 2}, glm::vec3(0.0f), shaders,
+  fillSlot(EntityKey{0, 0, 0, kEffectsBatchKind}, glm::vec3(0.0f), shaders,
            ctx.lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect, glm::mat4x3(1.0f), pa::kMaskAll, false,
            ctx.seconds);
 }

@@ -75,7 +75,7 @@ struct MapState {
   std::map<std::tuple<const Image*, bool, bool>, std::pair<std::shared_ptr<const Image>, pa::TextureId>> textures;
   std::vector<DynamicSlot> slots;   ///< Entity and effect meshes.
   EntitySlots entitySlots;          ///< Which slot each model entity (and the effects batch) takes.
-  /// The slot that has shown the most triangles: every slot takes its memory (reserveSlotMemory).
+  /// The model slot that has shown the most triangles: every slot takes its memory (reserveSlotMemory).
   size_t largestSlot = SIZE_MAX;
   size_t largestSlotTriangles = 0;   ///< How many.
   bool largestSlotGrew = false;      ///< The other slots take its memory at the next view.

@@ -149,6 +149,8 @@ void ViewRenderer::Impl::fillSlot(const EntityKey& key, const glm::vec3& origin,
   instance.mask = mask;
   instance.drawOnTop = onTop;
   showInSlot(slot, batch, scratch.triangleMaterials, instance);
+  // The effects batch keeps its own slot and sizes only that one: model slots follow the largest model.
+  if (key.kind == kEffectsBatchKind) return;
   if (triangles > map.largestSlotTriangles) {
     map.largestSlotTriangles = triangles;
     map.largestSlot = index;
