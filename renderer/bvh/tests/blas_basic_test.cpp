@@ -110,6 +110,24 @@ TEST(Blas, RejectsBadInput) {
   EXPECT_THROW(blas.build({p, ok, {}}, bad), std::invalid_argument);
 }
 
+// Two Blas over the same triangles answer 2000 random rays alike (closest hit and occlusion),
+// more than 100 of which hit.
+void expectSameHits(const Blas& expected, const Blas& actual, uint32_t seed) {
+  const std::vector<Ray> rays = testing::makeRandomRays(expected.bounds(), 2000, seed);
+  uint32_t hits = 0;
+  for (const Ray& ray : rays) {
+    Ray a = ray, b = ray;
+    Hit ha, hb;
+    const bool hitA = expected.intersect(a, ha);
+    ASSERT_EQ(hitA, actual.intersect(b, hb));
+    ASSERT_EQ(ha.prim, hb.prim);
+    ASSERT_EQ(ha.t, hb.t);
+    ASSERT_EQ(expected.occluded(ray), actual.occluded(ray));
+    hits += hitA;
+  }
+  EXPECT_GT(hits, 100u);
+}
+
 TEST(Blas, RebuildGivesTheSameHitsAsAFreshBuild) {
   // A rebuilt Blas reuses its previous build's memory; different sizes in between (and an
   // empty mesh) must not leave anything behind.
@@ -121,19 +139,7 @@ TEST(Blas, RebuildGivesTheSameHitsAsAFreshBuild) {
   ASSERT_EQ(rebuilt.triangleCount(), 3000u);
   EXPECT_EQ(rebuilt.bounds().min, fresh.bounds().min);
   EXPECT_EQ(rebuilt.bounds().max, fresh.bounds().max);
-  const std::vector<Ray> rays = testing::makeRandomRays(fresh.bounds(), 2000, 13);
-  uint32_t hits = 0;
-  for (const Ray& ray : rays) {
-    Ray a = ray, b = ray;
-    Hit ha, hb;
-    const bool hitA = fresh.intersect(a, ha);
-    ASSERT_EQ(hitA, rebuilt.intersect(b, hb));
-    ASSERT_EQ(ha.prim, hb.prim);
-    ASSERT_EQ(ha.t, hb.t);
-    ASSERT_EQ(fresh.occluded(ray), rebuilt.occluded(ray));
-    hits += hitA;
-  }
-  EXPECT_GT(hits, 100u);
+  expectSameHits(fresh, rebuilt, 13);
 }
 
 TEST(Blas, ReservedLikeALargerBlasBuildsTheSameHits) {
@@ -149,19 +155,7 @@ TEST(Blas, ReservedLikeALargerBlasBuildsTheSameHits) {
   reserved.reserveLike(example);
   reserved.build(testing::makeTriangleSoup(100, 23).input());
   reserved.build(target.input());
-  const std::vector<Ray> rays = testing::makeRandomRays(fresh.bounds(), 2000, 24);
-  uint32_t hits = 0;
-  for (const Ray& ray : rays) {
-    Ray a = ray, b = ray;
-    Hit ha, hb;
-    const bool hitA = fresh.intersect(a, ha);
-    ASSERT_EQ(hitA, reserved.intersect(b, hb));
-    ASSERT_EQ(ha.prim, hb.prim);
-    ASSERT_EQ(ha.t, hb.t);
-    ASSERT_EQ(fresh.occluded(ray), reserved.occluded(ray));
-    hits += hitA;
-  }
-  EXPECT_GT(hits, 100u);
+  expectSameHits(fresh, reserved, 24);
 }
 
 TEST(Blas, BadInputLeavesTheBuiltBlasUnchanged) {

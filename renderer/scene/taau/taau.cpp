@@ -196,11 +196,7 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
     rays_.emplace(*frame.camera, outWidth, outHeight);
     if (lastCamera_) previousRays_.emplace(*lastCamera_, outWidth, outHeight);
   }
-  // Average confidence of one frame: the kernel's integral, (1 - r^2/R^2)^2 over the disc
-  // (pi R^2 / 3), times the traced samples per output pixel.
-  const float samplesPerPixel = static_cast<float>(traced) / static_cast<float>(n);
-  weightCap_ = config_.memoryFrames * 3.14159265f * config_.kernelRadius * config_.kernelRadius / 3.0f *
-               samplesPerPixel;
+  weightCap_ = historyWeightCap(config_, static_cast<float>(traced) / static_cast<float>(n));
   kernelTaps(frame.width, outWidth, frame.jitter.x, config_.kernelRadius, columns_, columnD2_);
   kernelTaps(frame.height, outHeight, frame.jitter.y, config_.kernelRadius, rows_, rowD2_);
   kernelTaps(frame.width, outWidth, frame.jitter.x, config_.movingKernelRadius, movingColumns_, movingColumnD2_);
@@ -221,6 +217,10 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
   if (frame.camera != nullptr) lastCamera_ = *frame.camera;
   else lastCamera_.reset();
   return output_;
+}
+
+float historyWeightCap(const Config& config, float samplesPerPixel) {
+  return config.memoryFrames * 3.14159265f * config.kernelRadius * config.kernelRadius / 3.0f * samplesPerPixel;
 }
 
 void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,

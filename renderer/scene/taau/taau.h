@@ -77,6 +77,11 @@ struct AxisTaps {
 void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
                 std::vector<float>& d2);
 
+/// The most history weight a pixel keeps (confidence units): config.memoryFrames frames of the
+/// kernel's average confidence, its integral (1 - r^2/R^2)^2 over the disc (pi R^2 / 3) times the
+/// traced samples per output pixel.
+float historyWeightCap(const Config& config, float samplesPerPixel);
+
 /// The TAAU resolve and its history. Not thread-safe; its rows run in parallel on the calling
 /// thread's task arena, and the result does not depend on the thread count. Each row is resolved
 /// lanes::kCount output pixels a step over planar arrays (README.md "Lanes").
