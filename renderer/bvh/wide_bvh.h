@@ -127,8 +127,8 @@ void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& 
 bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
 
 /// Closest hits of the rays in `active` (bit i: rays[i], hits[i], filters[i]; at most 16) traced
-/// as packets of up to eight rays that share an octant: per ray the contract of intersectWide.
-/// Returns the rays that hit.
+/// as packets of rays that share an octant (sixteen with the AVX-512 kernel, else eight): per ray
+/// the contract of intersectWide. Returns the rays that hit.
 unsigned intersectWidePacket(const WideBvh& bvh, Ray* rays, Hit* hits, unsigned active, const HitFilter* filters,
                              uint32_t instanceId);
 
@@ -139,5 +139,7 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
 /// call them when wideKernelAvailable(WideKernel::Avx512).
 bool intersectWideAvx512(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
 bool occludedWideAvx512(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId);
+unsigned intersectWidePacketAvx512(const WideBvh& bvh, Ray* rays, Hit* hits, unsigned active,
+                                   const HitFilter* filters, uint32_t instanceId);
 
 }  // namespace pa::bvh_detail

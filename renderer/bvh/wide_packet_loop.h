@@ -11,6 +11,8 @@
 //
 // L supplies, beyond what the single-ray loop needs:
 //   Float ops                        abs, select(bits, a, b), minOverLanes, maxOverLanes
+//   Float8                           eight lanes: the 8-wide nodes' and packs' boxes are culled
+//                                    for the packet in it (Float, one ray per lane, may be wider)
 //   PacketPlane, planeDistancesOverRays   the accurate plane distance of one triangle for all
 //                                    rays of a packet
 //   kOctantOrder: octantOrder, octantSlot   children in the node's per-octant order (else the
@@ -22,6 +24,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #if !defined(PA_BVH_INLINE)
 #error "include wide_traversal_loop.h before wide_packet_loop.h"
@@ -83,6 +86,11 @@ PA_BVH_INLINE bool popLivePacketEntry(const PacketEntry<kRays>* stack, int& top,
   }
   return false;
 }
+
+/// The lanes of a node or pack whose boxes a packet's cull tests: L::Float8 for the 8-wide
+/// layout's (Eight: WideNode or TrianglePack), else L::Float.
+template <class L, class NodeOrPack, class Eight>
+using LayoutFloat = std::conditional_t<std::is_same_v<NodeOrPack, Eight>, typename L::Float8, typename L::Float>;
 
 /// Whether the ray's inverse direction is finite in every component (packets need that for
 /// their interval bounds; other rays take the single-ray kernel).
@@ -205,8 +213,11 @@ PA_BVH_INLINE bool enterPacketChildren(const typename L::Node& node, const Packe
                                        PacketEntry<L::kWidth>* stack, int& top, uint32_t& current,
                                        unsigned& currentRays) {
   using Float = typename L::Float;
-  const Float lo[3] = {Float::load(node.bounds[0][0]), Float::load(node.bounds[0][1]), Float::load(node.bounds[0][2])};
-  const Float hi[3] = {Float::load(node.bounds[1][0]), Float::load(node.bounds[1][1]), Float::load(node.bounds[1][2])};
+  using NodeFloat = LayoutFloat<L, typename L::Node, WideNode>;
+  const NodeFloat lo[3] = {NodeFloat::load(node.bounds[0][0]), NodeFloat::load(node.bounds[0][1]),
+                           NodeFloat::load(node.bounds[0][2])};
+  const NodeFloat hi[3] = {NodeFloat::load(node.bounds[1][0]), NodeFloat::load(node.bounds[1][1]),
+                           NodeFloat::load(node.bounds[1][2])};
   unsigned candidates = packetMayEnterBoxes(lo, hi, p.box, p.nearSide, maxOverLanes(tmax, currentRays));
   if (!candidates) return false;
   if constexpr (L::kOctantOrder) {
@@ -290,10 +301,11 @@ PA_BVH_INLINE unsigned testTriangleAgainstRays(const Pack& pack, int lane, const
 template <class L, class Pack>
 PA_BVH_INLINE unsigned trianglesPacketMayHit(const Pack& pack, const PacketBounds& b, const int nearSide[3],
                                              float tmaxHi) {
-  using Float = typename L::Float;
+  using Float = LayoutFloat<L, Pack, TrianglePack>;
   Float lo[3], hi[3];
   for (int axis = 0; axis < 3; ++axis) {
-    const Float v0 = L::loadVertex(pack, 0, axis), v1 = L::loadVertex(pack, 1, axis), v2 = L::loadVertex(pack, 2, axis);
+    const Float v0 = Float::load(pack.v[0][axis]), v1 = Float::load(pack.v[1][axis]),
+                v2 = Float::load(pack.v[2][axis]);
     lo[axis] = minKeep(v0, minKeep(v1, v2));
     hi[axis] = maxKeep(v0, maxKeep(v1, v2));
   }
@@ -385,7 +397,8 @@ template <class L>
 PA_BVH_KERNEL unsigned traversePacket(const typename L::Bvh& bvh, Packet<L>& p, const Ray* rays, Hit* hits,
                                       const HitFilter* filters, uint32_t instanceId) {
   using Float = typename L::Float;
-  PacketEntry<L::kWidth> stack[kStackSizeFor<L::kWidth>];
+  // At most children - 1 deferred entries per level, as in the single-ray stack.
+  PacketEntry<L::kWidth> stack[kStackSizeFor<uint32_t(std::extent_v<decltype(L::Node::child)>)>];
   int top = 0;
   uint32_t current = 0;
   unsigned currentRays = p.lanes;

@@ -53,6 +53,7 @@ inline __m256i compactPermutation(unsigned mask) {
 /// The build's 8 lanes (AVX2, or SSE halves) on the 8-wide layout.
 struct BaselineLanes {
   using Float = vfloat8;
+  using Float8 = vfloat8;
   using Node = WideNode;
   using Bvh = WideBvh;
   static constexpr uint32_t kWidth = kWideWidth;
@@ -227,6 +228,10 @@ bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filt
 
 unsigned intersectWidePacket(const WideBvh& bvh, Ray* rays, Hit* hits, unsigned active, const HitFilter* filters,
                              uint32_t instanceId) {
+#if defined(__AVX2__)
+  if (bvh.kernel == WideKernel::Avx512)
+    return intersectWidePacketAvx512(bvh, rays, hits, active, filters, instanceId);
+#endif
   return intersectPacket<BaselineLanes, intersectWide>(bvh, rays, hits, active, filters, instanceId);
 }
 

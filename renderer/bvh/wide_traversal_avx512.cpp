@@ -8,7 +8,8 @@
 // - 16 lanes on the 16-wide BVH (wide16_bvh.h): a closest-hit ray entering several children
 //   takes them in the node's order for its octant (Wide16Node::order), one permutation instead
 //   of a sort; leaves are one 8-wide pack (small leaves, read as sixteen lanes whose upper half
-//   is never valid) or up to eight 16-wide packs. Camera-ray packets of up to sixteen rays.
+//   is never valid) or up to eight 16-wide packs.
+// - Camera-ray packets of up to sixteen rays on either layout, one ray per lane.
 // The float and double operations are those of the baseline lanes and the scalar reference, in
 // the same order, so hit distances are bit-identical; on an exact tie in t the reported
 // triangle may differ from the baseline kernel's (another visiting order).
@@ -67,6 +68,7 @@ PA_AVX512_INLINE __m512i compareExchange(__m512i keys, __m512i partner, __mmask8
 template <uint32_t kLanes>
 struct Avx512Lanes {
   using Float = vfloat<int(kLanes)>;
+  using Float8 = vfloat<8>;
   using Node = std::conditional_t<kLanes == 16, Wide16Node, WideNode>;
   using Bvh = std::conditional_t<kLanes == 16, Wide16Bvh, WideBvh>;
   using PlaneRay = simd::avx512::PlaneRay;
@@ -230,6 +232,15 @@ struct Avx512Lanes {
 using Avx512Lanes8 = Avx512Lanes<kWideWidth>;
 using Avx512Lanes16 = Avx512Lanes<kWide16Width>;
 
+/// Camera-ray packets of sixteen rays over the 8-wide layout: Avx512Lanes16's operations, one
+/// ray per lane, over the 8-wide nodes and packs (whose boxes are culled in Float8).
+struct Avx512PacketLanesOverWide : Avx512Lanes16 {
+  using Node = WideNode;
+  using Bvh = WideBvh;
+  static constexpr bool kOctantOrder = false;
+  static constexpr bool kSmallLeaves = false;
+};
+
 }  // namespace
 
 PA_AVX512 bool intersectWideAvx512(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter,
@@ -241,6 +252,12 @@ PA_AVX512 bool occludedWideAvx512(const WideBvh& bvh, const Ray& ray, const HitF
   float tmax = ray.tmax;
   Hit unused;
   return traverse<Avx512Lanes8, true>(bvh, ray, tmax, unused, filter, instanceId);
+}
+
+PA_AVX512 unsigned intersectWidePacketAvx512(const WideBvh& bvh, Ray* rays, Hit* hits, unsigned active,
+                                            const HitFilter* filters, uint32_t instanceId) {
+  return intersectPacket<Avx512PacketLanesOverWide, intersectWideAvx512>(bvh, rays, hits, active, filters,
+                                                                         instanceId);
 }
 
 PA_AVX512 bool intersectWide16(const Wide16Bvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId) {

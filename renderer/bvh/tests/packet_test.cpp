@@ -3,7 +3,7 @@
 // same triangle and barycentrics unless two triangles are hit at exactly the same distance, and
 // each ray's own filter. Packets of camera rays (one origin, one octant), of rays spanning
 // octants, of rays along axis planes (zero direction components), partly active packets, and
-// instanced scenes with flat and hierarchical TLASes, on both node widths.
+// instanced scenes with flat and hierarchical TLASes, on both node widths and both 8-wide kernels.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -104,6 +104,7 @@ uint32_t expectSameAsOneByOne(const std::vector<Ray>& rays, bool filtered, uint3
 struct PacketCase {
   uint32_t nodeWidth;
   bool filtered;
+  bool allowAvx512 = true;   ///< false: the 8-wide layout's baseline (AVX2 / SSE) kernel.
 };
 
 class BlasPackets : public ::testing::TestWithParam<PacketCase> {};
@@ -121,6 +122,7 @@ TEST_P(BlasPackets, SameHitsAsRayByRay) {
     }
     BvhBuildConfig config;
     config.nodeWidth = param.nodeWidth;
+    config.allowAvx512 = param.allowAvx512;
     Blas blas;
     blas.build(m.input(), config);
     const auto packet = [&](std::array<Ray, 16>& rays, std::array<Hit, 16>& hits, uint32_t active,
@@ -148,7 +150,8 @@ TEST_P(BlasPackets, SameHitsAsRayByRay) {
 
 INSTANTIATE_TEST_SUITE_P(Widths, BlasPackets,
                          ::testing::Values(PacketCase{16, false}, PacketCase{16, true}, PacketCase{8, false},
-                                           PacketCase{8, true}));
+                                           PacketCase{8, true}, PacketCase{8, false, false},
+                                           PacketCase{8, true, false}));
 
 class TlasPackets : public ::testing::TestWithParam<uint32_t> {};
 
