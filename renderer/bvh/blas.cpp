@@ -152,15 +152,11 @@ uint32_t Blas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   const uint32_t highest = active ? 32 - std::countl_zero(active) : 0;
   if (rays.size() < highest || hits.size() < highest || filters.size() < highest)
     throw std::invalid_argument("Blas::intersectPacket: spans shorter than the active rays");
-  uint32_t traceable = 0;
-  for (uint32_t r = active; r; r &= r - 1) {
-    const int lane = std::countr_zero(r);
-    if (bvh_detail::isTraceableRay(rays[lane])) traceable |= 1u << lane;
-  }
+  // The kernels skip the rays that are not traceable (isTraceableRay).
   if (impl_->nodeWidth == 16)
-    return bvh_detail::intersectWide16Packet(impl_->wide16, rays.data(), hits.data(), traceable, filters.data(),
+    return bvh_detail::intersectWide16Packet(impl_->wide16, rays.data(), hits.data(), active, filters.data(),
                                              instanceId);
-  return bvh_detail::intersectWidePacket(impl_->wide, rays.data(), hits.data(), traceable, filters.data(), instanceId);
+  return bvh_detail::intersectWidePacket(impl_->wide, rays.data(), hits.data(), active, filters.data(), instanceId);
 }
 
 bool Blas::occluded(const Ray& ray, const HitFilter& filter, uint32_t instanceId) const {

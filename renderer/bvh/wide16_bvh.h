@@ -69,8 +69,8 @@ void collapseToWide16(const BinaryBvh& binary, const TriangleMesh& mesh, Wide16B
 /// wide16Available().
 bool intersectWide16(const Wide16Bvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
 
-/// Closest hits of the rays in `active` (bit i: rays[i], hits[i], filters[i]; at most 16),
-/// traced as packets of rays that share an octant: per ray the contract of intersectWide16
+/// Closest hits of the traceable rays (isTraceableRay) in `active` (bit i: rays[i], hits[i],
+/// filters[i]; at most 16; the others are left as they are), traced as packets of rays that share an octant: per ray the contract of intersectWide16
 /// (each ray's tmax shrinks to its hit). Returns the rays that hit. Needs wide16Available().
 unsigned intersectWide16Packet(const Wide16Bvh& bvh, Ray* rays, Hit* hits, unsigned active, const HitFilter* filters,
                                uint32_t instanceId);

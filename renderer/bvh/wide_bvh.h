@@ -126,7 +126,8 @@ void collapseToWide(const BinaryBvh& binary, const TriangleMesh& mesh, WideBvh& 
 /// Closest hit, same contract as Blas::intersect (the ray must be traceable).
 bool intersectWide(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
 
-/// Closest hits of the rays in `active` (bit i: rays[i], hits[i], filters[i]; at most 16) traced
+/// Closest hits of the traceable rays (isTraceableRay) in `active` (bit i: rays[i], hits[i],
+/// filters[i]; at most 16; the others are left as they are) traced
 /// as packets of rays that share an octant (sixteen with the AVX-512 kernel, else eight): per ray
 /// the contract of intersectWide. Returns the rays that hit.
 unsigned intersectWidePacket(const WideBvh& bvh, Ray* rays, Hit* hits, unsigned active, const HitFilter* filters,

@@ -10,6 +10,8 @@
 // of two hits at exactly the same distance is kept).
 //
 // L supplies, beyond what the single-ray loop needs:
+//   loadRays (16 lanes only)        PacketRays of rays[i] in lane i for the lanes given, the
+//                                    first of them in every other lane
 //   Float ops                        abs, select(bits, a, b), minOverLanes, maxOverLanes
 //   Float8                           eight lanes: the 8-wide nodes' and packs' boxes are culled
 //                                    for the packet in it (Float, one ray per lane, may be wider)
@@ -19,12 +21,15 @@
 //                                    nearest first, by the nearest ray's entry distance)
 //
 // Include after wide_traversal_loop.h, in a kernel file (PA_BVH_KERNEL defined).
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
+
+#include "renderer/bvh/triangle_mesh.h"
 
 #if !defined(PA_BVH_INLINE)
 #error "include wide_traversal_loop.h before wide_packet_loop.h"
@@ -114,6 +119,9 @@ struct Packet {
   Float sx, sy, sz;                        ///< RayShear::sx, sy, sz per ray.
   typename L::PacketPlane plane;           ///< What L::planeDistancesOverRays needs of the rays.
   PacketBounds box;
+  bool sharedOrigin = false;               ///< Every live ray starts at box.oLo (camera rays).
+  float dLo[3], dHi[3];                    ///< Bounds of the live rays' directions per axis.
+  float dSize;                             ///< Largest |direction|_1 of the live rays (bound).
   int nearSide[3];                         ///< The octant's near box side per axis.
   int orderShift;                          ///< 4 x the octant (Wide16Node::order).
   unsigned lanes = 0;                      ///< The live lanes.
@@ -123,50 +131,46 @@ struct Packet {
   alignas(4 * L::kWidth) float tmax[L::kWidth];
 };
 
-/// Fills p with the rays of `chosen` (bit i: rays[i]; at most L::kWidth of one octant, finite
-/// inverse directions), lane by lane in index order: the divisions and comparisons of BoxRay and
-/// RayShear, all lanes at once.
+/// A packet's rays as lanes: origins, directions, tmin and tmax.
+template <class Float>
+struct PacketRays {
+  Float o[3], d[3], tmin, tmax;
+};
+
+/// Fills p from the rays in r's lanes `lanes` (one octant, finite inverse directions; every
+/// other lane holds a copy of one of them): the divisions and comparisons of BoxRay and RayShear,
+/// all lanes at once, and the packet's interval bounds. p.ray is the caller's to fill.
 template <class L>
-PA_BVH_INLINE void makePacket(const Ray* rays, unsigned chosen, Packet<L>& p) {
+PA_BVH_INLINE void finishPacket(const PacketRays<typename L::Float>& r, unsigned lanes, Packet<L>& p) {
   using Float = typename L::Float;
-  constexpr uint32_t kRays = L::kWidth;
-  const int first = std::countr_zero(chosen);
-  alignas(4 * kRays) float soa[7][kRays];
-  uint32_t lane = 0;
-  for (unsigned r = chosen; r; r &= r - 1, ++lane) {
-    const Ray& ray = rays[std::countr_zero(r)];
-    p.ray[lane] = static_cast<uint32_t>(std::countr_zero(r));
-    soa[0][lane] = ray.origin.x, soa[1][lane] = ray.origin.y, soa[2][lane] = ray.origin.z;
-    soa[3][lane] = ray.dir.x, soa[4][lane] = ray.dir.y, soa[5][lane] = ray.dir.z;
-    soa[6][lane] = ray.tmin;
-    p.tmax[lane] = ray.tmax;
-  }
-  p.lanes = (1u << lane) - 1;
-  for (; lane < kRays; ++lane) {
-    const Ray& ray = rays[first];
-    p.ray[lane] = static_cast<uint32_t>(first);
-    soa[0][lane] = ray.origin.x, soa[1][lane] = ray.origin.y, soa[2][lane] = ray.origin.z;
-    soa[3][lane] = ray.dir.x, soa[4][lane] = ray.dir.y, soa[5][lane] = ray.dir.z;
-    soa[6][lane] = ray.tmin;
-    p.tmax[lane] = -std::numeric_limits<float>::infinity();
-  }
-  for (int axis = 0; axis < 3; ++axis) p.nearSide[axis] = std::signbit(rays[first].dir[axis]);
+  const auto bits = [](auto laneMask) { return static_cast<unsigned>(laneMask.mask()); };
+  const Float minusInfinity(-std::numeric_limits<float>::infinity());
+  p.lanes = lanes;
+  select(lanes, minusInfinity, r.tmax).store(p.tmax);   // idle lanes: -inf
+  const int first = std::countr_zero(lanes);
+  for (int axis = 0; axis < 3; ++axis) p.nearSide[axis] = bits(r.d[axis] < Float(0.0f)) >> first & 1;
   p.orderShift = 4 * (p.nearSide[0] | p.nearSide[1] << 1 | p.nearSide[2] << 2);
-  p.ox = Float::load(soa[0]), p.oy = Float::load(soa[1]), p.oz = Float::load(soa[2]);
-  const Float dx = Float::load(soa[3]), dy = Float::load(soa[4]), dz = Float::load(soa[5]);
+  p.ox = r.o[0], p.oy = r.o[1], p.oz = r.o[2];
+  const Float dx = r.d[0], dy = r.d[1], dz = r.d[2];
   p.idx = Float(1.0f) / dx, p.idy = Float(1.0f) / dy, p.idz = Float(1.0f) / dz;
-  p.tmin = Float::load(soa[6]);
-  const Float origins[3] = {p.ox, p.oy, p.oz}, inverses[3] = {p.idx, p.idy, p.idz}, directions[3] = {dx, dy, dz};
+  p.tmin = r.tmin;
+  p.sharedOrigin = true;
+  p.dSize = 0.0f;
   for (int axis = 0; axis < 3; ++axis) {
-    p.box.oLo[axis] = minOverLanes(origins[axis], p.lanes);
-    p.box.oHi[axis] = maxOverLanes(origins[axis], p.lanes);
-    p.box.iLo[axis] = minOverLanes(inverses[axis], p.lanes);
-    p.box.iHi[axis] = maxOverLanes(inverses[axis], p.lanes);
+    p.box.oLo[axis] = minOverLanes(r.o[axis], lanes);
+    p.box.oHi[axis] = maxOverLanes(r.o[axis], lanes);
+    p.dLo[axis] = minOverLanes(r.d[axis], lanes);
+    p.dHi[axis] = maxOverLanes(r.d[axis], lanes);
+    // 1/d falls as d rises on either side of zero, and rounding keeps that order: the bounds of
+    // the lanes' own inverses.
+    p.box.iLo[axis] = 1.0f / p.dHi[axis];
+    p.box.iHi[axis] = 1.0f / p.dLo[axis];
+    p.sharedOrigin = p.sharedOrigin && p.box.oLo[axis] == p.box.oHi[axis];
+    p.dSize += std::max(std::abs(p.dLo[axis]), std::abs(p.dHi[axis]));
   }
-  p.box.tminLo = minOverLanes(p.tmin, p.lanes);
+  p.box.tminLo = minOverLanes(p.tmin, lanes);
   // RayShear of every ray: the dominant axis kz, kx and ky swapped where dir[kz] < 0.
   const Float ax = abs(dx), ay = abs(dy), az = abs(dz);
-  const auto bits = [](auto laneMask) { return static_cast<unsigned>(laneMask.mask()); };
   const unsigned xy = bits(ax > ay), xz = bits(ax > az), yz = bits(ay > az);
   const unsigned kz0 = xy & xz, kz1 = ~xy & yz, kz2 = ~(kz0 | kz1);
   const Float dkz = select(kz1, select(kz0, dz, dx), dy);
@@ -178,12 +182,36 @@ PA_BVH_INLINE void makePacket(const Ray* rays, unsigned chosen, Packet<L>& p) {
   p.sz = Float(1.0f) / dkz;
   const unsigned byAxis[3] = {kz0, kz1, kz2};
   for (int kz = 0; kz < 3; ++kz) {
-    p.classRays[2 * kz] = p.lanes & byAxis[kz] & ~swapped;
-    p.classRays[2 * kz + 1] = p.lanes & byAxis[kz] & swapped;
+    p.classRays[2 * kz] = lanes & byAxis[kz] & ~swapped;
+    p.classRays[2 * kz + 1] = lanes & byAxis[kz] & swapped;
     p.axes[2 * kz][0] = (kz + 1) % 3, p.axes[2 * kz][1] = (kz + 2) % 3, p.axes[2 * kz][2] = kz;
     p.axes[2 * kz + 1][0] = (kz + 2) % 3, p.axes[2 * kz + 1][1] = (kz + 1) % 3, p.axes[2 * kz + 1][2] = kz;
   }
-  p.plane = typename L::PacketPlane(origins, directions);
+  p.plane = typename L::PacketPlane(r.o, r.d);
+}
+
+/// Fills p with the rays of `chosen` (bit i: rays[i]; at most L::kWidth of one octant, finite
+/// inverse directions), lane by lane in index order; idle lanes repeat the first ray.
+template <class L>
+PA_BVH_INLINE void makePacket(const Ray* rays, unsigned chosen, Packet<L>& p) {
+  using Float = typename L::Float;
+  constexpr uint32_t kRays = L::kWidth;
+  alignas(4 * kRays) float soa[8][kRays];
+  uint32_t lane = 0;
+  for (unsigned r = chosen; r; r &= r - 1, ++lane) p.ray[lane] = static_cast<uint32_t>(std::countr_zero(r));
+  const unsigned lanes = (1u << lane) - 1;
+  for (; lane < kRays; ++lane) p.ray[lane] = p.ray[0];
+  for (lane = 0; lane < kRays; ++lane) {
+    const Ray& ray = rays[p.ray[lane]];
+    soa[0][lane] = ray.origin.x, soa[1][lane] = ray.origin.y, soa[2][lane] = ray.origin.z;
+    soa[3][lane] = ray.dir.x, soa[4][lane] = ray.dir.y, soa[5][lane] = ray.dir.z;
+    soa[6][lane] = ray.tmin, soa[7][lane] = ray.tmax;
+  }
+  const PacketRays<Float> r{{Float::load(soa[0]), Float::load(soa[1]), Float::load(soa[2])},
+                            {Float::load(soa[3]), Float::load(soa[4]), Float::load(soa[5])},
+                            Float::load(soa[6]),
+                            Float::load(soa[7])};
+  finishPacket(r, lanes, p);
 }
 
 /// The rays (lanes) of the packet that enter child slot s of node before their tmax, with their
@@ -312,6 +340,46 @@ PA_BVH_INLINE unsigned trianglesPacketMayHit(const Pack& pack, const PacketBound
   return packetMayEnterBoxes(lo, hi, b, nearSide, tmaxHi);
 }
 
+/// Relative margin of trianglesPacketMayCross: far above the float rounding of its own edge
+/// functions and of the watertight test's (a few units in the last place of the same magnitudes).
+inline constexpr float kCrossMargin = 1.0f / 4096.0f;
+
+/// For a packet whose rays share their origin: the triangles of a pack whose edges may straddle
+/// some ray's line. Each edge function of the watertight test is, up to a factor common to the
+/// three edges of one ray, the triple product ((a - o) x (b - o)) . d; bounded over the box of the
+/// packet's directions, an edge is surely negative or surely positive for every ray, and a ray
+/// with edges of both signs misses. A triangle is skipped only where some edge is surely negative
+/// and another surely positive by more than kCrossMargin of the product's magnitude, so every
+/// triangle the single-ray test could accept is kept.
+template <class L, class Pack>
+PA_BVH_INLINE unsigned trianglesPacketMayCross(const Pack& pack, const Packet<L>& p) {
+  using Float = LayoutFloat<L, Pack, TrianglePack>;
+  Float v[3][3], size[3];   // vertices relative to the origin [vertex][axis]; their 1-norms
+  for (int vertex = 0; vertex < 3; ++vertex) {
+    for (int axis = 0; axis < 3; ++axis) v[vertex][axis] = Float::load(pack.v[vertex][axis]) - Float(p.box.oLo[axis]);
+    size[vertex] = abs(v[vertex][0]) + abs(v[vertex][1]) + abs(v[vertex][2]);
+  }
+  const Float dLo[3] = {Float(p.dLo[0]), Float(p.dLo[1]), Float(p.dLo[2])};
+  const Float dHi[3] = {Float(p.dHi[0]), Float(p.dHi[1]), Float(p.dHi[2])};
+  const Float margin(kCrossMargin * p.dSize);
+  unsigned negative = 0, positive = 0;
+  for (int edge = 0; edge < 3; ++edge) {
+    const Float* a = v[edge];
+    const Float* b = v[(edge + 1) % 3];
+    const Float n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    Float lo(0.0f), hi(0.0f);
+    for (int axis = 0; axis < 3; ++axis) {
+      const Float x = n[axis] * dLo[axis], y = n[axis] * dHi[axis];
+      lo = lo + minKeep(x, y);
+      hi = hi + maxKeep(x, y);
+    }
+    const Float bound = size[edge] * size[(edge + 1) % 3] * margin;
+    negative |= static_cast<unsigned>((hi < Float(0.0f) - bound).mask());
+    positive |= static_cast<unsigned>((lo > bound).mask());
+  }
+  return ~(negative & positive);
+}
+
 /// A pack's triangles against the rays in `rays` (shear class c), triangle by triangle in the
 /// order the single-ray kernel accepts them (lane order): a ray takes a hit within [tmin, its
 /// current tmax] that its filter accepts (alpha-masked triangles only). Returns the rays that
@@ -322,8 +390,8 @@ PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c,
                                     uint32_t instanceId) {
   using Float = typename L::Float;
   unsigned found = 0;
-  const unsigned candidates = pack.validBits & trianglesPacketMayHit<L>(pack, p.box, p.nearSide,
-                                                                       maxOverLanes(tmax, rays));
+  unsigned candidates = pack.validBits & trianglesPacketMayHit<L>(pack, p.box, p.nearSide, maxOverLanes(tmax, rays));
+  if (candidates && p.sharedOrigin) candidates &= trianglesPacketMayCross<L>(pack, p);
   for (unsigned triangles = candidates; triangles; triangles &= triangles - 1) {
     const int lane = std::countr_zero(triangles);
     PackEdges<Float> e;
@@ -417,47 +485,116 @@ PA_BVH_KERNEL unsigned traversePacket(const typename L::Bvh& bvh, Packet<L>& p, 
   }
 }
 
-/// Closest hits of the rays in `active` (bit i: rays[i], hits[i], filters[i]; at most 16): rays
-/// of one octant in packets of up to L::kWidth, the others (and packets of one ray) by
-/// kSingleRay. Per ray the single-ray contract (its tmax shrinks to its hit); returns the rays
-/// that hit.
+/// The lanes of r whose rays are traceable (isTraceableRay: finite origin and direction, a
+/// direction that is not zero, tmin <= tmax and neither NaN).
+template <class Float>
+PA_BVH_INLINE unsigned traceableLanes(const PacketRays<Float>& r) {
+  const Float zero(0.0f);
+  unsigned lanes = static_cast<unsigned>((r.tmin <= r.tmax).mask());
+  for (int axis = 0; axis < 3; ++axis)   // x - x is 0 exactly where x is finite
+    lanes &= static_cast<unsigned>((((r.o[axis] - r.o[axis]) == zero) & ((r.d[axis] - r.d[axis]) == zero)).mask());
+  return lanes & ~static_cast<unsigned>(((r.d[0] == zero) & (r.d[1] == zero) & (r.d[2] == zero)).mask());
+}
+
+/// The lanes of r whose inverse direction is finite in every component (finiteInverseDirection).
+template <class Float>
+PA_BVH_INLINE unsigned finiteInverseLanes(const PacketRays<Float>& r) {
+  const Float zero(0.0f), one(1.0f);
+  unsigned lanes = ~0u;
+  for (int axis = 0; axis < 3; ++axis) {
+    const Float inverse = one / r.d[axis];
+    lanes &= static_cast<unsigned>(((r.d[axis] != zero) & ((inverse - inverse) == zero)).mask());
+  }
+  return lanes;
+}
+
+/// Packets of L::kWidth == kMaxPacketRays lanes: rays[i] in lane i, loaded at once
+/// (L::loadRays), traceability and octants decided for all lanes together; each octant's rays
+/// are one packet (the rays in its lanes, the others masked).
+template <class L, bool (*kSingleRay)(const typename L::Bvh&, Ray&, Hit&, const HitFilter&, uint32_t)>
+PA_BVH_INLINE unsigned intersectPacketInPlace(const typename L::Bvh& bvh, Ray* rays, Hit* hits, unsigned active,
+                                              const HitFilter* filters, uint32_t instanceId) {
+  using Float = typename L::Float;
+  static_assert(L::kWidth == kMaxPacketRays);
+  if (!active) return 0;
+  const PacketRays<Float> all = L::loadRays(rays, active);
+  const unsigned traceable = active & traceableLanes(all);
+  unsigned packetable = traceable & finiteInverseLanes(all);
+  unsigned found = 0;
+  for (unsigned r = traceable & ~packetable; r; r &= r - 1) {
+    const int index = std::countr_zero(r);
+    if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << index;
+  }
+  unsigned negative[3];
+  for (int axis = 0; axis < 3; ++axis) negative[axis] = static_cast<unsigned>((all.d[axis] < Float(0.0f)).mask());
+  while (packetable) {
+    const int first = std::countr_zero(packetable);
+    unsigned octant = packetable;
+    for (int axis = 0; axis < 3; ++axis) octant &= (negative[axis] >> first & 1) ? negative[axis] : ~negative[axis];
+    packetable &= ~octant;
+    if (std::popcount(octant) == 1) {
+      if (kSingleRay(bvh, rays[first], hits[first], filters[first], instanceId)) found |= 1u << first;
+      continue;
+    }
+    Packet<L> packet;
+    // Lanes outside the packet must hold one of its rays: reload where other rays share them.
+    finishPacket(octant == active ? all : L::loadRays(rays, octant), octant, packet);
+    for (uint32_t lane = 0; lane < L::kWidth; ++lane) packet.ray[lane] = lane;
+    for (unsigned r = traversePacket(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
+      const int lane = std::countr_zero(r);
+      rays[lane].tmax = packet.tmax[lane];
+      found |= 1u << lane;
+    }
+  }
+  return found;
+}
+
+/// Closest hits of the traceable rays in `active` (bit i: rays[i], hits[i], filters[i]; at most
+/// 16; isTraceableRay decides, the others are left as they are): rays of one octant in packets
+/// of up to L::kWidth, the others (and packets of one ray) by kSingleRay. Per ray the single-ray
+/// contract (its tmax shrinks to its hit); returns the rays that hit.
 template <class L, bool (*kSingleRay)(const typename L::Bvh&, Ray&, Hit&, const HitFilter&, uint32_t)>
 PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* rays, Hit* hits, unsigned active,
                                        const HitFilter* filters, uint32_t instanceId) {
   if (bvh.empty()) return 0;
-  unsigned found = 0;
-  unsigned byOctant[8] = {};
-  for (unsigned r = active; r; r &= r - 1) {
-    const int index = std::countr_zero(r);
-    const Ray& ray = rays[index];
-    if (!finiteInverseDirection(ray)) {
-      if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << index;
-      continue;
-    }
-    byOctant[std::signbit(ray.dir.x) | std::signbit(ray.dir.y) << 1 | std::signbit(ray.dir.z) << 2] |= 1u << index;
-  }
-  for (unsigned octantRays : byOctant) {
-    while (octantRays) {
-      unsigned chunk = 0;   // the next (up to) L::kWidth rays of the octant
-      for (uint32_t k = 0; k < L::kWidth && octantRays; ++k) {
-        chunk |= octantRays & (~octantRays + 1);
-        octantRays &= octantRays - 1;
-      }
-      if (std::popcount(chunk) == 1) {
-        const int index = std::countr_zero(chunk);
+  if constexpr (L::kWidth == kMaxPacketRays) {
+    return intersectPacketInPlace<L, kSingleRay>(bvh, rays, hits, active, filters, instanceId);
+  } else {
+    unsigned found = 0;
+    unsigned byOctant[8] = {};
+    for (unsigned r = active; r; r &= r - 1) {
+      const int index = std::countr_zero(r);
+      const Ray& ray = rays[index];
+      if (!isTraceableRay(ray)) continue;
+      if (!finiteInverseDirection(ray)) {
         if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << index;
         continue;
       }
-      Packet<L> packet;
-      makePacket(rays, chunk, packet);
-      for (unsigned r = traversePacket(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
-        const int lane = std::countr_zero(r);
-        rays[packet.ray[lane]].tmax = packet.tmax[lane];
-        found |= 1u << packet.ray[lane];
+      byOctant[std::signbit(ray.dir.x) | std::signbit(ray.dir.y) << 1 | std::signbit(ray.dir.z) << 2] |= 1u << index;
+    }
+    for (unsigned octantRays : byOctant) {
+      while (octantRays) {
+        unsigned chunk = 0;   // the next (up to) L::kWidth rays of the octant
+        for (uint32_t k = 0; k < L::kWidth && octantRays; ++k) {
+          chunk |= octantRays & (~octantRays + 1);
+          octantRays &= octantRays - 1;
+        }
+        if (std::popcount(chunk) == 1) {
+          const int index = std::countr_zero(chunk);
+          if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << index;
+          continue;
+        }
+        Packet<L> packet;
+        makePacket(rays, chunk, packet);
+        for (unsigned r = traversePacket(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
+          const int lane = std::countr_zero(r);
+          rays[packet.ray[lane]].tmax = packet.tmax[lane];
+          found |= 1u << packet.ray[lane];
+        }
       }
     }
+    return found;
   }
-  return found;
 }
 
 }  // namespace pa::bvh_detail
