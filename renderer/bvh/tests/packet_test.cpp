@@ -153,6 +153,58 @@ INSTANTIATE_TEST_SUITE_P(Widths, BlasPackets,
                                            PacketCase{8, true}, PacketCase{8, false, false},
                                            PacketCase{8, true, false}));
 
+/// A slanted grid of triangles (two per cell, shared edges) and camera packets whose rays pass
+/// exactly through its vertices and along its edges: the packets' edge cull
+/// (trianglesPacketMayCross) must keep every triangle such a ray can hit, so each ray hits the
+/// grid (watertight) and as it does when traced alone.
+TEST_P(BlasPackets, RaysThroughSharedVerticesAndEdgesAllHit) {
+  const PacketCase param = GetParam();
+  if (param.nodeWidth == 16 && !bvh_detail::wide16Available()) GTEST_SKIP() << "no AVX-512 on this CPU";
+  constexpr int kCells = 48;
+  TestMesh grid;
+  const auto corner = [](int i, int j) {   // integers: exactly representable, slanted plane
+    return glm::vec3(float(i), float(j), 0.5f * float(i) + 0.25f * float(j));
+  };
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i) grid.positions.push_back(corner(i, j));
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      const uint32_t a = j * (kCells + 1) + i, b = a + 1, c = a + kCells + 1, d = c + 1;
+      grid.indices.insert(grid.indices.end(), {a, b, d, a, d, c});
+    }
+  BvhBuildConfig config;
+  config.nodeWidth = param.nodeWidth;
+  config.allowAvx512 = param.allowAvx512;
+  Blas blas;
+  blas.build(grid.input(), config);
+  const std::array<HitFilter, kMaxPacketRays> filters{};
+  const glm::vec3 eyes[] = {{24.0f, 24.0f, 60.0f}, {-7.0f, 30.0f, 40.0f}, {13.0f, 5.0f, 80.0f}};
+  uint32_t packets = 0;
+  for (const glm::vec3& eye : eyes)
+    for (int tj = 1; tj + 4 < kCells; tj += 5)
+      for (int ti = 1; ti + 4 < kCells; ti += 5) {
+        // 4x4 rays per packet: at vertices, at edge midpoints (half-integers) and at cell
+        // diagonals' midpoints; directions unnormalised, so each ray's line meets its point.
+        std::array<Ray, kMaxPacketRays> rays;
+        for (int k = 0; k < 16; ++k) {
+          const float x = float(ti) + 0.5f * float(k % 4), y = float(tj) + 0.5f * float(k / 4);
+          rays[k].origin = eye;
+          rays[k].dir = glm::vec3(x, y, 0.5f * x + 0.25f * y) - eye;
+        }
+        std::array<Ray, kMaxPacketRays> alone = rays;
+        std::array<Hit, kMaxPacketRays> hits;
+        const uint32_t found = blas.intersectPacket(rays, hits, 0xffffu, filters);
+        ++packets;
+        for (int k = 0; k < 16; ++k) {
+          Hit one;
+          ASSERT_TRUE(blas.intersect(alone[k], one)) << "ray " << k << " leaked through the grid alone";
+          ASSERT_TRUE(found >> k & 1) << "ray " << k << " leaked through the grid in a packet";
+          EXPECT_EQ(hits[k].t, one.t);
+        }
+      }
+  EXPECT_GT(packets, 200u);
+}
+
 class TlasPackets : public ::testing::TestWithParam<uint32_t> {};
 
 TEST_P(TlasPackets, SameHitsAsRayByRay) {
