@@ -232,13 +232,14 @@ PA_BVH_INLINE unsigned raysEnteringChild(const typename L::Node& node, int s, co
   return static_cast<unsigned>((tNear <= tFar).mask());
 }
 
-/// At an inner node: culls the children for the packet, tests the rest against the rays of
+/// At an inner node: culls the children for the packet (boxes no ray may enter before tmaxHi,
+/// the largest tmax of the packet's rays), tests the rest against the rays of
 /// currentRays, and goes on with one entered child (current, currentRays), deferring the others
 /// farthest first: in the node's order for the octant (L::kOctantOrder), else nearest first by
 /// the nearest ray's entry distance. False when no ray enters any child.
 template <class L>
 PA_BVH_INLINE bool enterPacketChildren(const typename L::Node& node, const Packet<L>& p, typename L::Float tmax,
-                                       PacketEntry<L::kWidth>* stack, int& top, uint32_t& current,
+                                       float tmaxHi, PacketEntry<L::kWidth>* stack, int& top, uint32_t& current,
                                        unsigned& currentRays) {
   using Float = typename L::Float;
   using NodeFloat = LayoutFloat<L, typename L::Node, WideNode>;
@@ -246,7 +247,7 @@ PA_BVH_INLINE bool enterPacketChildren(const typename L::Node& node, const Packe
                            NodeFloat::load(node.bounds[0][2])};
   const NodeFloat hi[3] = {NodeFloat::load(node.bounds[1][0]), NodeFloat::load(node.bounds[1][1]),
                            NodeFloat::load(node.bounds[1][2])};
-  unsigned candidates = packetMayEnterBoxes(lo, hi, p.box, p.nearSide, maxOverLanes(tmax, currentRays));
+  unsigned candidates = packetMayEnterBoxes(lo, hi, p.box, p.nearSide, tmaxHi);
   if (!candidates) return false;
   if constexpr (L::kOctantOrder) {
     bool haveNext = false;
@@ -274,36 +275,43 @@ PA_BVH_INLINE bool enterPacketChildren(const typename L::Node& node, const Packe
     currentRays = nextRays;
     return true;
   } else {
-    struct Entered {
-      float key;   ///< The nearest entered ray's entry distance.
-      uint32_t ref;
-      unsigned rays;
-      Float tNear;
-    };
-    std::array<Entered, L::kWidth> entered;   // farthest first
+    constexpr int kChildren = int(std::extent_v<decltype(node.child)>);
+    uint32_t refs[kChildren];   // the entered children, in slot order
+    unsigned raysOf[kChildren];
+    Float nears[kChildren];
     int count = 0;
     for (; candidates; candidates &= candidates - 1) {
       const int slot = std::countr_zero(candidates);
-      Float tNear;
-      const unsigned rays = raysEnteringChild(node, slot, p, tmax, tNear) & currentRays;
+      const unsigned rays = raysEnteringChild(node, slot, p, tmax, nears[count]) & currentRays;
       if (!rays) continue;
-      const float key = minOverLanes(tNear, rays);
-      int k = count++;
-      while (k > 0 && entered[k - 1].key < key) {
-        entered[k] = entered[k - 1];
-        --k;
-      }
-      entered[k] = {key, node.child[slot], rays, tNear};
+      refs[count] = node.child[slot];
+      raysOf[count++] = rays;
     }
-    if (count == 0) return false;
+    if (count <= 1) {
+      if (count == 0) return false;
+      current = refs[0];
+      currentRays = raysOf[0];
+      return true;
+    }
+    float keys[kChildren];   // the nearest entered ray's entry distance
+    int order[kChildren];    // farthest first
+    for (int k = 0; k < count; ++k) {
+      keys[k] = minOverLanes(nears[k], raysOf[k]);
+      int at = k;
+      while (at > 0 && keys[order[at - 1]] < keys[k]) {
+        order[at] = order[at - 1];
+        --at;
+      }
+      order[at] = k;
+    }
     for (int k = 0; k + 1 < count; ++k) {
       PacketEntry<L::kWidth>& e = stack[top++];
-      entered[k].tNear.store(e.tNear);
-      e.ref = entered[k].ref;
-      e.rays = entered[k].rays;
+      nears[order[k]].store(e.tNear);
+      e.ref = refs[order[k]];
+      e.rays = raysOf[order[k]];
     }
-    current = entered[count - 1].ref;
-    currentRays = entered[count - 1].rays;
+    current = refs[order[count - 1]];
+    currentRays = raysOf[order[count - 1]];
     return true;
   }
 }
@@ -339,6 +347,14 @@ PA_BVH_INLINE unsigned trianglesPacketMayHit(const Pack& pack, const PacketBound
   }
   return packetMayEnterBoxes(lo, hi, b, nearSide, tmaxHi);
 }
+
+/// The nearest accepted hit of each ray (lane) of a packet so far: barycentrics and the
+/// triangle's id (its bits in a float lane; only moved, never computed with). Its distance is the
+/// lane's tmax. Written to the caller's hits when the traversal ends.
+template <class Float>
+struct PacketNearest {
+  Float u, v, prim;
+};
 
 /// Relative margin of trianglesPacketMayCross: far above the float rounding of its own edge
 /// functions and of the watertight test's (a few units in the last place of the same magnitudes).
@@ -383,11 +399,11 @@ PA_BVH_INLINE unsigned trianglesPacketMayCross(const Pack& pack, const Packet<L>
 /// A pack's triangles against the rays in `rays` (shear class c), triangle by triangle in the
 /// order the single-ray kernel accepts them (lane order): a ray takes a hit within [tmin, its
 /// current tmax] that its filter accepts (alpha-masked triangles only). Returns the rays that
-/// took a hit; their tmax (lanes of tmax) and hits are updated.
+/// took a hit; their tmax (lanes of tmax) and nearest hits are updated.
 template <class L, class Pack>
 PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c, unsigned rays,
-                                    typename L::Float& tmax, Hit* hits, const HitFilter* filters,
-                                    uint32_t instanceId) {
+                                    typename L::Float& tmax, PacketNearest<typename L::Float>& nearest,
+                                    const HitFilter* filters, uint32_t instanceId) {
   using Float = typename L::Float;
   unsigned found = 0;
   unsigned candidates = pack.validBits & trianglesPacketMayHit<L>(pack, p.box, p.nearSide, maxOverLanes(tmax, rays));
@@ -401,21 +417,21 @@ PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c,
     const Float t = L::planeDistancesOverRays(pack, lane, p.plane, accepted, e.tScaled * rcp);
     accepted &= static_cast<unsigned>(((t >= p.tmin) & (t <= tmax)).mask());
     if (!accepted) continue;
-    alignas(4 * L::kWidth) float ts[L::kWidth], us[L::kWidth], vs[L::kWidth];
-    t.store(ts);
-    (e.u * rcp).store(us);
-    (e.v * rcp).store(vs);
+    const Float u = e.u * rcp, v = e.v * rcp;
     if (pack.maskedBits >> lane & 1) {
+      alignas(4 * L::kWidth) float us[L::kWidth], vs[L::kWidth];
+      u.store(us);
+      v.store(vs);
       for (unsigned r = accepted; r; r &= r - 1) {
         const int ray = std::countr_zero(r);
         if (!filters[p.ray[ray]](instanceId, pack.prim[lane], us[ray], vs[ray])) accepted &= ~(1u << ray);
       }
-    }
-    for (unsigned r = accepted; r; r &= r - 1) {
-      const int ray = std::countr_zero(r);
-      hits[p.ray[ray]] = {ts[ray], us[ray], vs[ray], pack.prim[lane], instanceId};
+      if (!accepted) continue;
     }
     tmax = select(accepted, tmax, t);
+    nearest.u = select(accepted, nearest.u, u);
+    nearest.v = select(accepted, nearest.v, v);
+    nearest.prim = select(accepted, nearest.prim, Float(std::bit_cast<float>(pack.prim[lane])));
     found |= accepted;
   }
   return found;
@@ -426,8 +442,8 @@ PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c,
 /// (packOverRays). Returns the rays (lanes) that took a hit; tmax and hits are updated.
 template <class L>
 PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, Packet<L>& p, unsigned currentRays,
-                                      typename L::Float& tmax, const Ray* rays, Hit* hits,
-                                      const HitFilter* filters, uint32_t instanceId) {
+                                      typename L::Float& tmax, PacketNearest<typename L::Float>& nearest,
+                                      const Ray* rays, Hit* hits, const HitFilter* filters, uint32_t instanceId) {
   using Float = typename L::Float;
   unsigned found = 0;
   for (int c = 0; c < 6; ++c) {
@@ -435,32 +451,45 @@ PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, 
     if (!classRays) continue;
     if (std::popcount(classRays) <= kRayByRayLeaf) {
       tmax.store(p.tmax);
+      unsigned hitAlone = 0;
       for (unsigned r = classRays; r; r &= r - 1) {
         const int lane = std::countr_zero(r);
         const Ray& ray = rays[p.ray[lane]];
         if (testLeaf<L, false>(bvh, ref, TriangleRay<L>(ray), ray, p.tmax[lane], hits[p.ray[lane]],
                                filters[p.ray[lane]], instanceId))
-          found |= 1u << lane;
+          hitAlone |= 1u << lane;
       }
       tmax = Float::load(p.tmax);
+      if (hitAlone) {   // the lanes' nearest hits are those testLeaf wrote
+        alignas(4 * L::kWidth) float us[L::kWidth], vs[L::kWidth], prims[L::kWidth];
+        nearest.u.store(us), nearest.v.store(vs), nearest.prim.store(prims);
+        for (unsigned r = hitAlone; r; r &= r - 1) {
+          const Hit& hit = hits[p.ray[std::countr_zero(r)]];
+          us[std::countr_zero(r)] = hit.u, vs[std::countr_zero(r)] = hit.v;
+          prims[std::countr_zero(r)] = std::bit_cast<float>(hit.prim);
+        }
+        nearest = {Float::load(us), Float::load(vs), Float::load(prims)};
+        found |= hitAlone;
+      }
       continue;
     }
     if constexpr (L::kSmallLeaves) {
       if (ref & kSmallLeafBit) {
-        found |= packOverRays(bvh.smallPacks[ref & kFirstPackMask], p, c, classRays, tmax, hits, filters, instanceId);
+        found |= packOverRays(bvh.smallPacks[ref & kFirstPackMask], p, c, classRays, tmax, nearest, filters,
+                              instanceId);
         continue;
       }
     }
     uint32_t firstPack, packCount;
     leafPacks(ref, firstPack, packCount);
     for (uint32_t k = firstPack; k < firstPack + packCount; ++k)
-      found |= packOverRays(bvh.packs[k], p, c, classRays, tmax, hits, filters, instanceId);
+      found |= packOverRays(bvh.packs[k], p, c, classRays, tmax, nearest, filters, instanceId);
   }
   return found;
 }
 
 /// Closest hits of the packet's rays: one traversal for all of them. Returns the lanes that hit;
-/// p.tmax holds their distances and hits (by caller index) their hits.
+/// p.tmax holds their distances and hits (by caller index) their hits, written once at the end.
 template <class L>
 PA_BVH_KERNEL unsigned traversePacket(const typename L::Bvh& bvh, Packet<L>& p, const Ray* rays, Hit* hits,
                                       const HitFilter* filters, uint32_t instanceId) {
@@ -472,14 +501,24 @@ PA_BVH_KERNEL unsigned traversePacket(const typename L::Bvh& bvh, Packet<L>& p, 
   unsigned currentRays = p.lanes;
   unsigned found = 0;
   Float tmax = Float::load(p.tmax);
+  float tmaxHi = maxOverLanes(tmax, p.lanes);   // updated where a leaf shortens some ray
+  PacketNearest<Float> nearest{Float(0.0f), Float(0.0f), Float(0.0f)};
   for (;;) {
     if (!(current & kLeafBit)) {
-      if (enterPacketChildren<L>(bvh.nodes[current], p, tmax, stack, top, current, currentRays)) continue;
-    } else {
-      found |= testPacketLeaf<L>(bvh, current, p, currentRays, tmax, rays, hits, filters, instanceId);
+      if (enterPacketChildren<L>(bvh.nodes[current], p, tmax, tmaxHi, stack, top, current, currentRays)) continue;
+    } else if (const unsigned hit = testPacketLeaf<L>(bvh, current, p, currentRays, tmax, nearest, rays, hits,
+                                                      filters, instanceId)) {
+      found |= hit;
+      tmaxHi = maxOverLanes(tmax, p.lanes);
     }
     if (!popLivePacketEntry(stack, top, tmax, current, currentRays)) {
       tmax.store(p.tmax);
+      alignas(4 * L::kWidth) float us[L::kWidth], vs[L::kWidth], prims[L::kWidth];
+      nearest.u.store(us), nearest.v.store(vs), nearest.prim.store(prims);
+      for (unsigned r = found; r; r &= r - 1) {
+        const int lane = std::countr_zero(r);
+        hits[p.ray[lane]] = {p.tmax[lane], us[lane], vs[lane], std::bit_cast<uint32_t>(prims[lane]), instanceId};
+      }
       return found;
     }
   }

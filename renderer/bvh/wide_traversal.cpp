@@ -177,35 +177,64 @@ struct BaselineLanes {
     return found;
   }
 
-  /// Packets: each ray's origin and direction.
+  /// Packets: each ray's origin and direction, in double.
   struct PacketPlane {
-    glm::vec3 origin[kWideWidth], dir[kWideWidth];
+    alignas(32) double o[3][kWideWidth], d[3][kWideWidth];
     PacketPlane() = default;
-    PacketPlane(const vfloat8 (&o)[3], const vfloat8 (&d)[3]) {
+    PacketPlane(const vfloat8 (&origin)[3], const vfloat8 (&dir)[3]) {
       alignas(32) float f[6][kWideWidth];
       for (int axis = 0; axis < 3; ++axis) {
-        o[axis].store(f[axis]);
-        d[axis].store(f[3 + axis]);
+        origin[axis].store(f[axis]);
+        dir[axis].store(f[3 + axis]);
       }
-      for (uint32_t lane = 0; lane < kWideWidth; ++lane) {
-        origin[lane] = {f[0][lane], f[1][lane], f[2][lane]};
-        dir[lane] = {f[3][lane], f[4][lane], f[5][lane]};
-      }
+      for (int axis = 0; axis < 3; ++axis)
+        for (uint32_t lane = 0; lane < kWideWidth; ++lane) {
+          o[axis][lane] = f[axis][lane];
+          d[axis][lane] = f[3 + axis][lane];
+        }
     }
   };
 
   /// Packets: planeHitDistance of triangle `lane` of the pack for each ray (lane) in rays,
-  /// fallback elsewhere.
+  /// fallback elsewhere: the triangle's normal once, then the rays' distances (four per AVX
+  /// register where there is one), the same double operations in the same order.
   static vfloat8 planeDistancesOverRays(const TrianglePack& pack, int lane, const PacketPlane& r, unsigned rays,
                                         vfloat8 fallback) {
-    const auto vertex = [&](int k) { return glm::vec3(pack.v[k][0][lane], pack.v[k][1][lane], pack.v[k][2][lane]); };
-    const glm::vec3 v0 = vertex(0), v1 = vertex(1), v2 = vertex(2);
+    const double v0x = pack.v[0][0][lane], v0y = pack.v[0][1][lane], v0z = pack.v[0][2][lane];
+    const double e1x = double(pack.v[1][0][lane]) - v0x, e1y = double(pack.v[1][1][lane]) - v0y,
+                 e1z = double(pack.v[1][2][lane]) - v0z;
+    const double e2x = double(pack.v[2][0][lane]) - v0x, e2y = double(pack.v[2][1][lane]) - v0y,
+                 e2z = double(pack.v[2][2][lane]) - v0z;
+    const double nx = e1y * e2z - e1z * e2y, ny = e1z * e2x - e1x * e2z, nz = e1x * e2y - e1y * e2x;
     alignas(32) float t[kWideWidth];
     fallback.store(t);
+#if defined(__AVX2__)
+    const __m256d vnx = _mm256_set1_pd(nx), vny = _mm256_set1_pd(ny), vnz = _mm256_set1_pd(nz);
+    const __m256d px = _mm256_set1_pd(v0x), py = _mm256_set1_pd(v0y), pz = _mm256_set1_pd(v0z);
+    for (int part = 0; part < 2; ++part) {
+      if (!(rays >> (4 * part) & 0xf)) continue;
+      const int at = 4 * part;
+      const __m256d denom = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(vnx, _mm256_load_pd(r.d[0] + at)),
+                                                        _mm256_mul_pd(vny, _mm256_load_pd(r.d[1] + at))),
+                                          _mm256_mul_pd(vnz, _mm256_load_pd(r.d[2] + at)));
+      const __m256d num =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(vnx, _mm256_sub_pd(px, _mm256_load_pd(r.o[0] + at))),
+                                      _mm256_mul_pd(vny, _mm256_sub_pd(py, _mm256_load_pd(r.o[1] + at)))),
+                        _mm256_mul_pd(vnz, _mm256_sub_pd(pz, _mm256_load_pd(r.o[2] + at))));
+      const __m128 distance = _mm256_cvtpd_ps(_mm256_div_pd(num, denom));
+      // All-ones where parallel: a NaN whose float conversion keeps the sign bit blendv reads.
+      const __m128 parallel = _mm256_cvtpd_ps(_mm256_cmp_pd(denom, _mm256_setzero_pd(), _CMP_EQ_OQ));
+      _mm_store_ps(t + at, _mm_blendv_ps(distance, _mm_load_ps(t + at), parallel));
+    }
+#else
     for (; rays; rays &= rays - 1) {
       const int ray = std::countr_zero(rays);
-      t[ray] = planeHitDistance(r.origin[ray], r.dir[ray], v0, v1, v2, t[ray]);
+      const double denom = nx * r.d[0][ray] + ny * r.d[1][ray] + nz * r.d[2][ray];
+      if (denom == 0.0) continue;
+      const double num = nx * (v0x - r.o[0][ray]) + ny * (v0y - r.o[1][ray]) + nz * (v0z - r.o[2][ray]);
+      t[ray] = static_cast<float>(num / denom);
     }
+#endif
     return vfloat8::load(t);
   }
 };
