@@ -112,7 +112,8 @@ struct PacketInterval {
   bool valid = false;   ///< False when the rays span octants or run along an axis plane.
 };
 
-PacketInterval packetInterval(std::span<const Ray> rays, uint32_t lanes) {
+/// inverse[axis][lane]: 1 / rays[lane].dir[axis] for the lanes given.
+PacketInterval packetInterval(std::span<const Ray> rays, uint32_t lanes, const float (&inverse)[3][kMaxPacketRays]) {
   PacketInterval p;
   for (int axis = 0; axis < 3; ++axis) {
     p.oLo[axis] = p.iLo[axis] = std::numeric_limits<float>::infinity();
@@ -125,12 +126,12 @@ PacketInterval packetInterval(std::span<const Ray> rays, uint32_t lanes) {
     if (octant >= 0 && o != octant) return p;
     octant = o;
     for (int axis = 0; axis < 3; ++axis) {
-      const float inverse = 1.0f / ray.dir[axis];
-      if (ray.dir[axis] == 0.0f || !std::isfinite(inverse)) return p;
+      const float inv = inverse[axis][std::countr_zero(r)];
+      if (ray.dir[axis] == 0.0f || !std::isfinite(inv)) return p;
       p.oLo[axis] = std::min(p.oLo[axis], ray.origin[axis]);
       p.oHi[axis] = std::max(p.oHi[axis], ray.origin[axis]);
-      p.iLo[axis] = std::min(p.iLo[axis], inverse);
-      p.iHi[axis] = std::max(p.iHi[axis], inverse);
+      p.iLo[axis] = std::min(p.iLo[axis], inv);
+      p.iHi[axis] = std::max(p.iHi[axis], inv);
     }
     p.tminLo = std::min(p.tminLo, ray.tmin);
   }
@@ -325,13 +326,21 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   }
   // Which rays enter which instance box (each ray's own slab test, as forEachEntered's), after
   // the packet's interval test has culled the boxes no ray can enter.
-  const PacketInterval interval = packetInterval(rays, traceable);
+  // Every lane's inverse direction, divided in SIMD lanes (the loop vectorises; idle lanes
+  // divide 1 by 1), for the packet's interval and each ray's slab tests.
+  alignas(64) float direction[3][kMaxPacketRays], inverse[3][kMaxPacketRays];
+  for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane)
+    for (int axis = 0; axis < 3; ++axis) direction[axis][lane] = traceable >> lane & 1 ? rays[lane].dir[axis] : 1.0f;
+  for (int axis = 0; axis < 3; ++axis)
+    for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) inverse[axis][lane] = 1.0f / direction[axis][lane];
+  const PacketInterval interval = packetInterval(rays, traceable, inverse);
   float tmaxHi = -std::numeric_limits<float>::infinity();
   for (uint32_t r = traceable; r; r &= r - 1) tmaxHi = std::max(tmaxHi, rays[std::countr_zero(r)].tmax);
   std::array<bvh_detail::SlabRay, kMaxPacketRays> slabs;
   for (uint32_t r = traceable; r; r &= r - 1) {
     const int lane = std::countr_zero(r);
-    std::construct_at(&slabs[lane], rays[lane].origin, rays[lane].dir);   // in place (see toObject)
+    const glm::vec3 inv(inverse[0][lane], inverse[1][lane], inverse[2][lane]);
+    std::construct_at(&slabs[lane], rays[lane].origin, rays[lane].dir, inv);   // in place (see toObject)
   }
   std::array<PacketCandidate, kFlatInstances> candidates;
   uint32_t count = 0;
