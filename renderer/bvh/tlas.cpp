@@ -156,6 +156,52 @@ bool packetMayEnter(const PacketInterval& p, const Bounds& box, float tmaxHi) {
   return tNear <= tFar * bvh_detail::kRobustFarScale;
 }
 
+/// A packet's rays as lanes (structure of arrays), with their inverse directions and near box
+/// sides; idle lanes hold a ray that enters no box (tmin > tmax).
+struct PacketLanes {
+  alignas(64) float origin[3][kMaxPacketRays];
+  alignas(64) float inverse[3][kMaxPacketRays];
+  alignas(64) int nearSide[3][kMaxPacketRays];   ///< 1: the box's max is the near plane.
+  alignas(64) float tmin[kMaxPacketRays], tmax[kMaxPacketRays];
+};
+
+PacketLanes packetLanes(std::span<const Ray> rays, uint32_t traceable) {
+  PacketLanes p;
+  alignas(64) float direction[3][kMaxPacketRays];
+  for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
+    const bool live = traceable >> lane & 1;
+    for (int axis = 0; axis < 3; ++axis) {
+      p.origin[axis][lane] = live ? rays[lane].origin[axis] : 0.0f;
+      direction[axis][lane] = live ? rays[lane].dir[axis] : 1.0f;
+      p.nearSide[axis][lane] = std::signbit(direction[axis][lane]);
+    }
+    p.tmin[lane] = live ? rays[lane].tmin : 1.0f;
+    p.tmax[lane] = live ? rays[lane].tmax : 0.0f;
+  }
+  for (int axis = 0; axis < 3; ++axis)
+    for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) p.inverse[axis][lane] = 1.0f / direction[axis][lane];
+  return p;
+}
+
+/// bvh_detail::slabEntry of every lane's ray against one box (the same operations lane by lane,
+/// in a loop the compiler vectorises).
+void slabEntries(const PacketLanes& p, const Bounds& box, std::array<float, kMaxPacketRays>& entry) {
+  using bvh_detail::maxKeep, bvh_detail::minKeep;
+  for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
+    float tNear = p.tmin[lane], tFar = p.tmax[lane];
+    float n[3], f[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      const float nearBound = p.nearSide[axis][lane] ? box.max[axis] : box.min[axis];
+      const float farBound = p.nearSide[axis][lane] ? box.min[axis] : box.max[axis];
+      n[axis] = (nearBound - p.origin[axis][lane]) * p.inverse[axis][lane];
+      f[axis] = (farBound - p.origin[axis][lane]) * p.inverse[axis][lane];
+    }
+    tNear = maxKeep(n[0], maxKeep(n[1], maxKeep(n[2], tNear)));
+    tFar = minKeep(f[0], minKeep(f[1], minKeep(f[2], tFar))) * bvh_detail::kRobustFarScale;
+    entry[lane] = tNear <= tFar ? tNear : std::numeric_limits<float>::infinity();
+  }
+}
+
 /// An instance some rays of a packet enter: each ray's entry distance (inf: not entered).
 struct PacketCandidate {
   float nearest;
@@ -326,22 +372,13 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   }
   // Which rays enter which instance box (each ray's own slab test, as forEachEntered's), after
   // the packet's interval test has culled the boxes no ray can enter.
-  // Every lane's inverse direction, divided in SIMD lanes (the loop vectorises; idle lanes
-  // divide 1 by 1), for the packet's interval and each ray's slab tests.
-  alignas(64) float direction[3][kMaxPacketRays], inverse[3][kMaxPacketRays];
-  for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane)
-    for (int axis = 0; axis < 3; ++axis) direction[axis][lane] = traceable >> lane & 1 ? rays[lane].dir[axis] : 1.0f;
-  for (int axis = 0; axis < 3; ++axis)
-    for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) inverse[axis][lane] = 1.0f / direction[axis][lane];
-  const PacketInterval interval = packetInterval(rays, traceable, inverse);
+  // The rays as lanes (idle lanes: a ray along +1 that enters nothing), so the loops below
+  // vectorise: the inverse directions are divided once for the packet's interval and the slab
+  // tests, and each instance box is tested against all rays at once.
+  const PacketLanes lanes = packetLanes(rays, traceable);
+  const PacketInterval interval = packetInterval(rays, traceable, lanes.inverse);
   float tmaxHi = -std::numeric_limits<float>::infinity();
   for (uint32_t r = traceable; r; r &= r - 1) tmaxHi = std::max(tmaxHi, rays[std::countr_zero(r)].tmax);
-  std::array<bvh_detail::SlabRay, kMaxPacketRays> slabs;
-  for (uint32_t r = traceable; r; r &= r - 1) {
-    const int lane = std::countr_zero(r);
-    const glm::vec3 inv(inverse[0][lane], inverse[1][lane], inverse[2][lane]);
-    std::construct_at(&slabs[lane], rays[lane].origin, rays[lane].dir, inv);   // in place (see toObject)
-  }
   std::array<PacketCandidate, kFlatInstances> candidates;
   uint32_t count = 0;
   for (uint32_t k = 0; k < self.instances.size(); ++k) {
@@ -349,16 +386,17 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
     const Bounds& box = self.worldBounds[k];
     if (interval.valid && !packetMayEnter(interval, box, tmaxHi)) continue;
     PacketCandidate& c = candidates[count];
-    c.nearest = std::numeric_limits<float>::infinity();
     c.instance = k;
-    c.rays = 0;
-    for (uint32_t r = traceable; r; r &= r - 1) {
-      const int lane = std::countr_zero(r);
-      c.entry[lane] = bvh_detail::slabEntry(slabs[lane], box, rays[lane].tmin, rays[lane].tmax);
-      if (c.entry[lane] == std::numeric_limits<float>::infinity()) continue;
-      c.rays |= 1u << lane;
-      c.nearest = std::min(c.nearest, c.entry[lane]);
+    slabEntries(lanes, box, c.entry);
+    uint32_t entered = 0;   // in registers, not through c (a chain of stores and reloads)
+    float nearest = std::numeric_limits<float>::infinity();
+    for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
+      const float entry = c.entry[lane];
+      entered |= uint32_t{entry != std::numeric_limits<float>::infinity()} << lane;
+      nearest = std::min(nearest, traceable >> lane & 1 ? entry : std::numeric_limits<float>::infinity());
     }
+    c.rays = entered & traceable;
+    c.nearest = nearest;
     if (c.rays) ++count;
   }
   // Nearest box first (over the packet's rays); each ray enters only while its entry is within
