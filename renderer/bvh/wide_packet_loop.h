@@ -10,7 +10,7 @@
 // of two hits at exactly the same distance is kept).
 //
 // L supplies, beyond what the single-ray loop needs:
-//   loadRays (16 lanes only)        PacketRays of rays[i] in lane i for the lanes given, the
+//   loadRays                         PacketRays of rays[i] in lane i for the lanes given, the
 //                                    first of them in every other lane
 //   Float ops                        abs, select(bits, a, b), minOverLanes, maxOverLanes
 //   Float8                           eight lanes: the 8-wide nodes' and packs' boxes are culled
@@ -28,8 +28,6 @@
 #include <cstdint>
 #include <limits>
 #include <type_traits>
-
-#include "renderer/bvh/triangle_mesh.h"
 
 #if !defined(PA_BVH_INLINE)
 #error "include wide_traversal_loop.h before wide_packet_loop.h"
@@ -97,19 +95,13 @@ PA_BVH_INLINE bool popLivePacketEntry(const PacketEntry<kRays>* stack, int& top,
 template <class L, class NodeOrPack, class Eight>
 using LayoutFloat = std::conditional_t<std::is_same_v<NodeOrPack, Eight>, typename L::Float8, typename L::Float>;
 
-/// Whether the ray's inverse direction is finite in every component (packets need that for
-/// their interval bounds; other rays take the single-ray kernel).
-inline bool finiteInverseDirection(const Ray& ray) {
-  return ray.dir.x != 0.0f && ray.dir.y != 0.0f && ray.dir.z != 0.0f && std::isfinite(1.0f / ray.dir.x) &&
-         std::isfinite(1.0f / ray.dir.y) && std::isfinite(1.0f / ray.dir.z);
-}
-
 /// Leaves reached by at most this many rays of a shear class are tested ray by ray (a pack's
 /// triangles per instruction); more rays test the leaf triangle by triangle (rays per
 /// instruction).
 inline constexpr int kRayByRayLeaf = 2;
 
-/// Up to L::kWidth rays of one octant with finite inverse directions, one per lane: the per-ray
+/// Up to L::kWidth rays of one octant with finite inverse directions, one per lane (lane i: the
+/// caller's i-th ray of the L::kWidth traced together): the per-ray
 /// constants of the slab test (BoxRay's) and of the watertight test (RayShear's), their
 /// interval bounds, and their shear classes. Idle lanes repeat the first ray, with tmax -inf.
 template <class L>
@@ -127,7 +119,6 @@ struct Packet {
   unsigned lanes = 0;                      ///< The live lanes.
   unsigned classRays[6] = {};              ///< Lanes of each shear class (kz, kx/ky swapped).
   int axes[6][3] = {};                     ///< kx, ky, kz of each shear class.
-  uint32_t ray[L::kWidth];                 ///< Lane -> index into the caller's rays.
   alignas(4 * L::kWidth) float tmax[L::kWidth];
 };
 
@@ -139,7 +130,7 @@ struct PacketRays {
 
 /// Fills p from the rays in r's lanes `lanes` (one octant, finite inverse directions; every
 /// other lane holds a copy of one of them): the divisions and comparisons of BoxRay and RayShear,
-/// all lanes at once, and the packet's interval bounds. p.ray is the caller's to fill.
+/// all lanes at once, and the packet's interval bounds.
 template <class L>
 PA_BVH_INLINE void finishPacket(const PacketRays<typename L::Float>& r, unsigned lanes, Packet<L>& p) {
   using Float = typename L::Float;
@@ -188,30 +179,6 @@ PA_BVH_INLINE void finishPacket(const PacketRays<typename L::Float>& r, unsigned
     p.axes[2 * kz + 1][0] = (kz + 2) % 3, p.axes[2 * kz + 1][1] = (kz + 1) % 3, p.axes[2 * kz + 1][2] = kz;
   }
   p.plane = typename L::PacketPlane(r.o, r.d);
-}
-
-/// Fills p with the rays of `chosen` (bit i: rays[i]; at most L::kWidth of one octant, finite
-/// inverse directions), lane by lane in index order; idle lanes repeat the first ray.
-template <class L>
-PA_BVH_INLINE void makePacket(const Ray* rays, unsigned chosen, Packet<L>& p) {
-  using Float = typename L::Float;
-  constexpr uint32_t kRays = L::kWidth;
-  alignas(4 * kRays) float soa[8][kRays];
-  uint32_t lane = 0;
-  for (unsigned r = chosen; r; r &= r - 1, ++lane) p.ray[lane] = static_cast<uint32_t>(std::countr_zero(r));
-  const unsigned lanes = (1u << lane) - 1;
-  for (; lane < kRays; ++lane) p.ray[lane] = p.ray[0];
-  for (lane = 0; lane < kRays; ++lane) {
-    const Ray& ray = rays[p.ray[lane]];
-    soa[0][lane] = ray.origin.x, soa[1][lane] = ray.origin.y, soa[2][lane] = ray.origin.z;
-    soa[3][lane] = ray.dir.x, soa[4][lane] = ray.dir.y, soa[5][lane] = ray.dir.z;
-    soa[6][lane] = ray.tmin, soa[7][lane] = ray.tmax;
-  }
-  const PacketRays<Float> r{{Float::load(soa[0]), Float::load(soa[1]), Float::load(soa[2])},
-                            {Float::load(soa[3]), Float::load(soa[4]), Float::load(soa[5])},
-                            Float::load(soa[6]),
-                            Float::load(soa[7])};
-  finishPacket(r, lanes, p);
 }
 
 /// The rays (lanes) of the packet that enter child slot s of node before their tmax, with their
@@ -424,7 +391,7 @@ PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c,
       v.store(vs);
       for (unsigned r = accepted; r; r &= r - 1) {
         const int ray = std::countr_zero(r);
-        if (!filters[p.ray[ray]](instanceId, pack.prim[lane], us[ray], vs[ray])) accepted &= ~(1u << ray);
+        if (!filters[ray](instanceId, pack.prim[lane], us[ray], vs[ray])) accepted &= ~(1u << ray);
       }
       if (!accepted) continue;
     }
@@ -454,9 +421,9 @@ PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, 
       unsigned hitAlone = 0;
       for (unsigned r = classRays; r; r &= r - 1) {
         const int lane = std::countr_zero(r);
-        const Ray& ray = rays[p.ray[lane]];
-        if (testLeaf<L, false>(bvh, ref, TriangleRay<L>(ray), ray, p.tmax[lane], hits[p.ray[lane]],
-                               filters[p.ray[lane]], instanceId))
+        const Ray& ray = rays[lane];
+        if (testLeaf<L, false>(bvh, ref, TriangleRay<L>(ray), ray, p.tmax[lane], hits[lane],
+                               filters[lane], instanceId))
           hitAlone |= 1u << lane;
       }
       tmax = Float::load(p.tmax);
@@ -464,7 +431,7 @@ PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, 
         alignas(4 * L::kWidth) float us[L::kWidth], vs[L::kWidth], prims[L::kWidth];
         nearest.u.store(us), nearest.v.store(vs), nearest.prim.store(prims);
         for (unsigned r = hitAlone; r; r &= r - 1) {
-          const Hit& hit = hits[p.ray[std::countr_zero(r)]];
+          const Hit& hit = hits[std::countr_zero(r)];
           us[std::countr_zero(r)] = hit.u, vs[std::countr_zero(r)] = hit.v;
           prims[std::countr_zero(r)] = std::bit_cast<float>(hit.prim);
         }
@@ -517,7 +484,7 @@ PA_BVH_KERNEL unsigned traversePacket(const typename L::Bvh& bvh, Packet<L>& p, 
       nearest.u.store(us), nearest.v.store(vs), nearest.prim.store(prims);
       for (unsigned r = found; r; r &= r - 1) {
         const int lane = std::countr_zero(r);
-        hits[p.ray[lane]] = {p.tmax[lane], us[lane], vs[lane], std::bit_cast<uint32_t>(prims[lane]), instanceId};
+        hits[lane] = {p.tmax[lane], us[lane], vs[lane], std::bit_cast<uint32_t>(prims[lane]), instanceId};
       }
       return found;
     }
@@ -547,93 +514,55 @@ PA_BVH_INLINE unsigned finiteInverseLanes(const PacketRays<Float>& r) {
   return lanes;
 }
 
-/// Packets of L::kWidth == kMaxPacketRays lanes: rays[i] in lane i, loaded at once
-/// (L::loadRays), traceability and octants decided for all lanes together; each octant's rays
-/// are one packet (the rays in its lanes, the others masked).
+/// Closest hits of the traceable rays (isTraceableRay) in `active` (bit i: rays[i], hits[i],
+/// filters[i]; at most kMaxPacketRays; the others are left as they are), L::kWidth consecutive
+/// rays at a time: loaded into lanes at once (L::loadRays, lane i = the i-th of them),
+/// traceability and octants decided for all lanes together, then each octant's rays traced as
+/// one packet (the rays in its lanes, the others masked); rays whose inverse direction is not
+/// finite, and octants of one ray, by kSingleRay. Per ray the single-ray contract (its tmax
+/// shrinks to its hit); returns the rays that hit.
 template <class L, bool (*kSingleRay)(const typename L::Bvh&, Ray&, Hit&, const HitFilter&, uint32_t)>
-PA_BVH_INLINE unsigned intersectPacketInPlace(const typename L::Bvh& bvh, Ray* rays, Hit* hits, unsigned active,
-                                              const HitFilter* filters, uint32_t instanceId) {
+PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* allRays, Hit* allHits, unsigned allActive,
+                                       const HitFilter* allFilters, uint32_t instanceId) {
   using Float = typename L::Float;
-  static_assert(L::kWidth == kMaxPacketRays);
-  if (!active) return 0;
-  const PacketRays<Float> all = L::loadRays(rays, active);
-  const unsigned traceable = active & traceableLanes(all);
-  unsigned packetable = traceable & finiteInverseLanes(all);
+  static_assert(kMaxPacketRays % L::kWidth == 0);
+  if (bvh.empty()) return 0;
   unsigned found = 0;
-  for (unsigned r = traceable & ~packetable; r; r &= r - 1) {
-    const int index = std::countr_zero(r);
-    if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << index;
-  }
-  unsigned negative[3];
-  for (int axis = 0; axis < 3; ++axis) negative[axis] = static_cast<unsigned>((all.d[axis] < Float(0.0f)).mask());
-  while (packetable) {
-    const int first = std::countr_zero(packetable);
-    unsigned octant = packetable;
-    for (int axis = 0; axis < 3; ++axis) octant &= (negative[axis] >> first & 1) ? negative[axis] : ~negative[axis];
-    packetable &= ~octant;
-    if (std::popcount(octant) == 1) {
-      if (kSingleRay(bvh, rays[first], hits[first], filters[first], instanceId)) found |= 1u << first;
-      continue;
+  for (uint32_t base = 0; base < kMaxPacketRays; base += L::kWidth) {
+    const unsigned active = allActive >> base & ((1u << L::kWidth) - 1);
+    if (!active) continue;
+    Ray* rays = allRays + base;
+    Hit* hits = allHits + base;
+    const HitFilter* filters = allFilters + base;
+    const PacketRays<Float> all = L::loadRays(rays, active);
+    const unsigned traceable = active & traceableLanes(all);
+    unsigned packetable = traceable & finiteInverseLanes(all);
+    for (unsigned r = traceable & ~packetable; r; r &= r - 1) {
+      const int index = std::countr_zero(r);
+      if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << (base + index);
     }
-    Packet<L> packet;
-    // Lanes outside the packet must hold one of its rays: reload where other rays share them.
-    finishPacket(octant == active ? all : L::loadRays(rays, octant), octant, packet);
-    for (uint32_t lane = 0; lane < L::kWidth; ++lane) packet.ray[lane] = lane;
-    for (unsigned r = traversePacket(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
-      const int lane = std::countr_zero(r);
-      rays[lane].tmax = packet.tmax[lane];
-      found |= 1u << lane;
+    unsigned negative[3];
+    for (int axis = 0; axis < 3; ++axis) negative[axis] = static_cast<unsigned>((all.d[axis] < Float(0.0f)).mask());
+    while (packetable) {
+      const int first = std::countr_zero(packetable);
+      unsigned octant = packetable;
+      for (int axis = 0; axis < 3; ++axis) octant &= (negative[axis] >> first & 1) ? negative[axis] : ~negative[axis];
+      packetable &= ~octant;
+      if (std::popcount(octant) == 1) {
+        if (kSingleRay(bvh, rays[first], hits[first], filters[first], instanceId)) found |= 1u << (base + first);
+        continue;
+      }
+      Packet<L> packet;
+      // Lanes outside the packet must hold one of its rays: reload where other rays share them.
+      finishPacket(octant == active ? all : L::loadRays(rays, octant), octant, packet);
+      for (unsigned r = traversePacket(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
+        const int lane = std::countr_zero(r);
+        rays[lane].tmax = packet.tmax[lane];
+        found |= 1u << (base + lane);
+      }
     }
   }
   return found;
-}
-
-/// Closest hits of the traceable rays in `active` (bit i: rays[i], hits[i], filters[i]; at most
-/// 16; isTraceableRay decides, the others are left as they are): rays of one octant in packets
-/// of up to L::kWidth, the others (and packets of one ray) by kSingleRay. Per ray the single-ray
-/// contract (its tmax shrinks to its hit); returns the rays that hit.
-template <class L, bool (*kSingleRay)(const typename L::Bvh&, Ray&, Hit&, const HitFilter&, uint32_t)>
-PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* rays, Hit* hits, unsigned active,
-                                       const HitFilter* filters, uint32_t instanceId) {
-  if (bvh.empty()) return 0;
-  if constexpr (L::kWidth == kMaxPacketRays) {
-    return intersectPacketInPlace<L, kSingleRay>(bvh, rays, hits, active, filters, instanceId);
-  } else {
-    unsigned found = 0;
-    unsigned byOctant[8] = {};
-    for (unsigned r = active; r; r &= r - 1) {
-      const int index = std::countr_zero(r);
-      const Ray& ray = rays[index];
-      if (!isTraceableRay(ray)) continue;
-      if (!finiteInverseDirection(ray)) {
-        if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << index;
-        continue;
-      }
-      byOctant[std::signbit(ray.dir.x) | std::signbit(ray.dir.y) << 1 | std::signbit(ray.dir.z) << 2] |= 1u << index;
-    }
-    for (unsigned octantRays : byOctant) {
-      while (octantRays) {
-        unsigned chunk = 0;   // the next (up to) L::kWidth rays of the octant
-        for (uint32_t k = 0; k < L::kWidth && octantRays; ++k) {
-          chunk |= octantRays & (~octantRays + 1);
-          octantRays &= octantRays - 1;
-        }
-        if (std::popcount(chunk) == 1) {
-          const int index = std::countr_zero(chunk);
-          if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << index;
-          continue;
-        }
-        Packet<L> packet;
-        makePacket(rays, chunk, packet);
-        for (unsigned r = traversePacket(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
-          const int lane = std::countr_zero(r);
-          rays[packet.ray[lane]].tmax = packet.tmax[lane];
-          found |= 1u << packet.ray[lane];
-        }
-      }
-    }
-    return found;
-  }
 }
 
 }  // namespace pa::bvh_detail
