@@ -250,9 +250,12 @@ glm::vec3 skyCubeMeanLinear(const SkyCube& cube) {
 
 pa::SkyDesc litStockSky(const pa::SkyDesc& stock, const glm::vec3& stockMean, const pa::SkyDesc& bridge,
                         const glm::vec3& lighting) {
-  const auto luminance = [](const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; };
-  const float shown = luminance(stockMean) * luminance(stock.color) * stock.intensity;
-  const float lit = luminance(lighting);
+  // The look's brightest channel lights as the compiled sky's brightest channel (q3map2 scales
+  // its sky colour so; light recovery subtracts that light): a deep blue night sky brought to
+  // the luminance of its white compiled light would light several times that light in blue.
+  const glm::vec3 look = stockMean * stock.color * stock.intensity;
+  const float shown = std::max({look.r, look.g, look.b});
+  const float lit = std::max({lighting.r, lighting.g, lighting.b});
   if (!(shown > 1e-6f) && lit > 0.0f) return bridge;   // a black stock look cannot carry the light
   pa::SkyDesc sky = stock;
   sky.lightingScale = lit > 0.0f ? lit / shown : 0.0f;

@@ -46,9 +46,9 @@ struct SkyCube {
 glm::vec3 skyCubeMeanLinear(const SkyCube& cube);
 
 /// The traced presets' sky: what rays see is `stock` (the stock look), what lights surfaces is
-/// the bridge's: lightingScale brings the luminance of `stockMean` (skyCubeMeanLinear of the
-/// stock faces) to that of `lighting` (pa::bridge::skyLightingRadiance: what the compiler lit the
-/// map with through the sky; 0 lights nothing), and the ambient light and floor are `bridge`'s.
+/// the bridge's: lightingScale brings the brightest channel of `stockMean` (skyCubeMeanLinear of
+/// the stock faces) to that of `lighting` (pa::bridge::skyLightingRadiance: what the compiler lit
+/// the map with through the sky; 0 lights nothing), and the ambient light and floor are `bridge`'s.
 /// A black stock look that should light gives `bridge` itself.
 pa::SkyDesc litStockSky(const pa::SkyDesc& stock, const glm::vec3& stockMean, const pa::SkyDesc& bridge,
                         const glm::vec3& lighting);

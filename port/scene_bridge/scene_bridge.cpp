@@ -40,7 +40,9 @@ AlphaMode alphaModeOf(q3::WorldAlphaMode mode) {
 }
 
 /// q3map_surfacelight: constant radiance of the light's colour; shown through its texture
-/// (glow stage, else base) scaled so the texture's mean keeps the emitted power. Camera rays see
+/// (glow stage, else base) scaled per channel so that the texture's mean emits the light's
+/// colour (q3map2 lights with the light image's mean colour, uniform: the texture must not tint
+/// it a second time). Camera rays see
 /// that texture at its own brightness, as the stock renderer draws the stage
 /// (MaterialDesc::seenEmission): the light a shader claims is no guide to its look, and light
 /// recovery may scale it far down (a jump pad) or leave it far above white (lava).
@@ -55,7 +57,7 @@ void setSurfaceLightEmission(const q3::WorldScene& scene, const WorldHandles& ha
     if (luminance > 1e-3f && handles.textures[size_t(shown)] != kNoId) {
       desc.emissiveTexture = handles.textures[size_t(shown)];
       desc.seenEmission = glm::vec3(1.0f);
-      radiance /= luminance;
+      radiance /= glm::max(mean, glm::vec3(1e-3f * luminance));
     }
   }
   desc.emission = radiance;

@@ -115,13 +115,21 @@ TEST(SkyCube, TracedSkyLooksStockAndLightsAsCompiled) {
   bridge.ambientRadiance = glm::vec3(0.1f);
   bridge.minimumRadiance = glm::vec3(0.2f);
   // The compiler lit the map with a uniform sky of radiance 0.234 (q3map_surfacelight 20): the
-  // stock look, seen as drawn, lights with its mean brought to 0.234.
+  // stock look, seen as drawn, lights with its mean's brightest channel brought to 0.234.
   const pa::SkyDesc sky = litStockSky(stock, mean, bridge, glm::vec3(0.234f));
   EXPECT_EQ(sky.faces[0], 7);
   EXPECT_EQ(sky.color, glm::vec3(1.0f));
   EXPECT_NEAR(mean.g * sky.lightingScale, 0.234f, 1e-5f);
   EXPECT_EQ(sky.ambientRadiance, glm::vec3(0.1f));
   EXPECT_EQ(sky.minimumRadiance, glm::vec3(0.2f));
+  // A deep blue night sky over a white compiled sky light (czest1dm: nitesky, q3map_surfacelight
+  // 20 from its grey star image): its brightest channel lights as the compiled light's, so no
+  // channel lights more than the compiler lit (brought to the compiled luminance, its blue lit
+  // at 3.4x the compiled light: the sunlit courtyard turned blue, 0.65x the bake's brightness).
+  const glm::vec3 blue(0.0033f, 0.0030f, 0.0130f);
+  const pa::SkyDesc night = litStockSky(stock, blue, bridge, glm::vec3(0.234f));
+  EXPECT_NEAR(blue.b * night.lightingScale, 0.234f, 1e-5f);
+  EXPECT_LT(blue.r * night.lightingScale, 0.234f);
   // A map lit by its sun alone: the sky lights nothing; a black stock sky leaves the bridge's.
   EXPECT_EQ(litStockSky(stock, mean, bridge, glm::vec3(0.0f)).lightingScale, 0.0f);
   bridge.lightingScale = 3.0f;

@@ -268,6 +268,27 @@ TEST(SceneBridge, SurfaceLightEmitsItsQ3map2Radiance) {
   EXPECT_NEAR(centreRadiance(renderer, Integrator::Direct, 1), 1.0f, 1e-3f);
 }
 
+TEST(SceneBridge, ColouredSurfaceLightEmitsTheCompilersColourOnce) {
+  // q3map2 lights with the light image's mean colour (normalised: czest1dm's lanterns
+  // 1, 0.67, 0.18), uniform over the surface; the renderer shows the emission through the
+  // texture. The texture's mean must not tint that colour again: emission x the texture's mean
+  // linear colour is the compiler's colour x its radiance in every channel (was 1.97, 0.54,
+  // 0.01 x the radiance for this orange texture: a red pool where the bake shows an orange glow).
+  q3::WorldScene scene = wallScene(64, false);
+  std::vector<uint8_t> orange(16, 255);
+  for (size_t i = 0; i < orange.size(); i += 4) orange[i + 1] = 170, orange[i + 2] = 45;
+  scene.textures[0].image.rgba8 = orange;
+  scene.materials[0].surfaceLight = 1000.0f;
+  scene.materials[0].emission = glm::vec3(1.0f, 170.0f / 255.0f, 45.0f / 255.0f);
+  Renderer renderer;
+  const WorldHandles handles = uploadWorld(scene, renderer);
+  const MaterialDesc desc = materialDesc(scene, handles, 0, -1);
+  const glm::vec3 mean(srgbToLinear(1.0f), srgbToLinear(170.0f / 255.0f), srgbToLinear(45.0f / 255.0f));
+  const glm::vec3 expected = scene.materials[0].emission * q3::surfaceLightRadiance(1000.0f);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(desc.emission[c] * mean[c], expected[c], 1e-3f * expected[c]) << c;
+  EXPECT_EQ(desc.seenEmission, glm::vec3(1.0f));   // camera rays still see the texture as drawn
+}
+
 TEST(SceneBridge, CameraFromSpawnKeepsAxesAndDerivesVerticalFov) {
   q3::WorldCamera spawn;
   spawn.eye = {1, 2, 3};
