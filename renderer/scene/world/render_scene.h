@@ -95,9 +95,12 @@ struct TracedCameraRay {
 enum class SurfaceParts : uint8_t {
   All,
   /// What a see-through layer's colour reads (the hit filter, once per additive surface a camera
-  /// ray crosses): all but a vertex-lit material's baked light (StockLook::useVertexLight, which
-  /// takes two sRGB curve passes), whose vertexColor RGB stays 1; baseFactor reads only the
-  /// alpha there. Every other member has All's bits.
+  /// ray crosses): position, uv, emissiveUv, uvArea and vertexColor as baseFactor reads it, and
+  /// the winding normal where the material emits (emission's side), with All's bits. Left out:
+  /// the shading normal (the geometric one), lightmap and shine uvs (0), the winding normal and
+  /// worldArea of a material that does not emit ((0, 0, 1) and 0), and a vertex-lit material's
+  /// baked light (StockLook::useVertexLight: two sRGB curve passes; vertexColor's RGB stays 1,
+  /// of which baseFactor reads only the alpha).
   LayerColour,
 };
 
