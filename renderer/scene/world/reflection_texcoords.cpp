@@ -11,8 +11,8 @@
 
 namespace pa {
 
-SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, const Ray& ray) const {
-  SurfaceHit s = surfaceAt(hit, overlayHit);
+SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, const Ray& ray, SurfaceParts parts) const {
+  SurfaceHit s = surfaceAt(hit, overlayHit, parts);
   if (s.material == nullptr || s.instance == nullptr) return s;
   const MaterialDesc& desc = s.material->desc;
   const bool baseReflects = desc.baseTexCoords == TexCoordSource::ReflectionSphere;

@@ -105,7 +105,7 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
         hit.v = v;
         hit.prim = prim;
         hit.instance = instanceIndex;
-        const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay, *ctx.ray);
+        const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay, *ctx.ray, SurfaceParts::LayerColour);
         const glm::vec3 d = ctx.ray->dir;
         const float t = glm::dot(s.position - ctx.ray->origin, d) / glm::dot(d, d);
         const glm::vec4 base = ctx.scene->baseColor(s, 0.0f);
@@ -229,7 +229,7 @@ bool RenderScene::occluded(const Ray& shadowRay, const TraceRequest& request) co
   return worldTlas.occluded(ray, rayMaskFor(RayKind::Shadow), filter);
 }
 
-SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
+SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, SurfaceParts parts) const {
   const RenderInstance& inst = instancesFor(*this, overlayHit)[hit.instance];
   const MeshGeometry& g = inst.mesh->geometry;
   const MaterialRecord& material = materialOf(inst, hit.prim);
@@ -240,11 +240,17 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
   const glm::vec3 p0 = toWorld(inst.objectToWorld, g.positions[i0]);
   const glm::vec3 p1 = toWorld(inst.objectToWorld, g.positions[i1]);
   const glm::vec3 p2 = toWorld(inst.objectToWorld, g.positions[i2]);
-  const glm::vec3 cross = glm::cross(p1 - p0, p2 - p0);
-  const float len = glm::length(cross);
-  const glm::vec3 geometricNormal = len > 0.0f ? cross / len : glm::vec3(0.0f, 0.0f, 1.0f);
+  // A layer's colour reads the winding normal only for the side its glow shows on.
+  const bool all = parts == SurfaceParts::All;
+  float len = 0.0f;
+  glm::vec3 geometricNormal(0.0f, 0.0f, 1.0f);
+  if (all || material.emits) {
+    const glm::vec3 cross = glm::cross(p1 - p0, p2 - p0);
+    len = glm::length(cross);
+    if (len > 0.0f) geometricNormal = cross / len;
+  }
   glm::vec3 shadingNormal = geometricNormal;
-  if (!g.normals.empty()) {
+  if (all && !g.normals.empty()) {
     const glm::vec3 n = inst.normalToWorld * (w0 * g.normals[i0] + hit.u * g.normals[i1] + hit.v * g.normals[i2]);
     const float nl = glm::length(n);
     if (nl > 0.0f && std::isfinite(nl)) {
@@ -272,18 +278,23 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit) const {
   if (desc.uvWobble.amplitude != 0.0f && desc.baseTexCoords == TexCoordSource::Mesh)
     uv += w0 * desc.uvWobble.offsetAt(g.positions[i0]) + hit.u * desc.uvWobble.offsetAt(g.positions[i1]) +
           hit.v * desc.uvWobble.offsetAt(g.positions[i2]);
-  if (material.shine != nullptr && desc.stock.shineTexCoords == TexCoordSource::Mesh)
+  if (all && material.shine != nullptr && desc.stock.shineTexCoords == TexCoordSource::Mesh)
     meshUv(desc.stock.shineUvTransform, shineUv, shineUvArea);
-  if (!g.lightmapUvs.empty()) lightmapUv = w0 * g.lightmapUvs[i0] + hit.u * g.lightmapUvs[i1] + hit.v * g.lightmapUvs[i2];
+  if (all && !g.lightmapUvs.empty()) lightmapUv = w0 * g.lightmapUvs[i0] + hit.u * g.lightmapUvs[i1] + hit.v * g.lightmapUvs[i2];
   glm::vec4 vertexColor(1.0f);
   if (!g.colors.empty()) {
-    vertexColor = w0 * g.colors[i0] + hit.u * g.colors[i1] + hit.v * g.colors[i2];
-    // Baked light at the vertices is interpolated in display values, as a raster renderer's
-    // Gouraud shading interpolates its 8-bit vertex colours (linear blending is brighter inside).
-    if (desc.stock.useVertexLight) {
-      const std::array<glm::vec3, 3> display =
-          encodeThree(glm::vec3(g.colors[i0]), glm::vec3(g.colors[i1]), glm::vec3(g.colors[i2]));
-      // The fused multiply-adds spelled out as the compiler contracted w0 a + u b + v c here before.
+    const glm::vec4& c0 = g.colors[i0];
+    const glm::vec4& c1 = g.colors[i1];
+    const glm::vec4& c2 = g.colors[i2];
+    // w0 a + u b + v c in fused multiply-adds spelled out as the compiler contracted them here
+    // (left to it, the contraction changed with `parts`: a layer's colour moved in its last bit).
+    vertexColor.a = std::fma(hit.v, c2.a, std::fma(hit.u, c1.a, w0 * c0.a));
+    if (!desc.stock.useVertexLight) {
+      for (int c = 0; c < 3; ++c) vertexColor[c] = std::fma(hit.v, c2[c], std::fma(w0, c0[c], hit.u * c1[c]));
+    } else if (all) {
+      // Baked light at the vertices is interpolated in display values, as a raster renderer's
+      // Gouraud shading interpolates its 8-bit vertex colours (linear blending is brighter inside).
+      const std::array<glm::vec3, 3> display = encodeThree(glm::vec3(c0), glm::vec3(c1), glm::vec3(c2));
       glm::vec3 mixed;
       for (int c = 0; c < 3; ++c)
         mixed[c] = std::fma(hit.v, display[2][c], std::fma(w0, display[0][c], hit.u * display[1][c]));

@@ -91,6 +91,19 @@ struct TracedCameraRay {
   AdditiveHits additive;    ///< Out: additive surfaces crossed (TraceRequest::additive).
 };
 
+/// How much of a SurfaceHit RenderScene::surfaceAt works out.
+enum class SurfaceParts : uint8_t {
+  All,
+  /// What a see-through layer's colour reads (the hit filter, once per additive surface a camera
+  /// ray crosses): position, uv, emissiveUv, uvArea and vertexColor as baseFactor reads it, and
+  /// the winding normal where the material emits (emission's side), with All's bits. Left out:
+  /// the shading normal (the geometric one), lightmap and shine uvs (0), the winding normal and
+  /// worldArea of a material that does not emit ((0, 0, 1) and 0), and a vertex-lit material's
+  /// baked light (StockLook::useVertexLight: two sRGB curve passes; vertexColor's RGB stays 1,
+  /// of which baseFactor reads only the alpha).
+  LayerColour,
+};
+
 /// Everything the integrator needs about a hit point.
 struct SurfaceHit {
   const RenderInstance* instance = nullptr;
@@ -137,10 +150,10 @@ struct RenderScene {
   /// Any blocking hit (shadow rays).
   bool occluded(const Ray& ray, const TraceRequest& request) const;
   /// Interpolated surface data at a hit from intersect() with the same `overlay` choice.
-  SurfaceHit surfaceAt(const Hit& hit, bool overlay) const;
+  SurfaceHit surfaceAt(const Hit& hit, bool overlay, SurfaceParts parts = SurfaceParts::All) const;
   /// The same, seen along `ray`: a material with TexCoordSource::ReflectionSphere gets its base
   /// uv (and the uv area that picks its mip level) from the ray (world/reflection_texcoords.cpp).
-  SurfaceHit surfaceAt(const Hit& hit, bool overlay, const Ray& ray) const;
+  SurfaceHit surfaceAt(const Hit& hit, bool overlay, const Ray& ray, SurfaceParts parts = SurfaceParts::All) const;
   /// Base colour (texture x baseColor x vertex colour x tint), RGB linear, A = coverage.
   /// footprint: world-space width of the ray's footprint on the surface (picks the mip level;
   /// 0 = full resolution).
