@@ -166,7 +166,10 @@ pa_engine_used_renderer "$log" pathtracer || fail "our module was not the render
 grep -E -q "Received signal|Segmentation|Sys_Error|ERROR:" "$log" && fail "engine reported a crash or error"
 grep -E -q "ERROR: AddressSanitizer|runtime error:" "$checker_log" && fail "sanitizer error"
 [[ $banners -ge $((changes + 1)) ]] || fail "the module was loaded $banners times, expected $((changes + 1))"
-if [[ $threads_second -gt $threads_first ]]; then
+# A thread leaked per map change or vid_restart (40 of them) raises the second half's median by
+# many; one started once partway (a lazily created worker) raises it by one, and its sampling
+# decides which half's median shows it.
+if [[ $threads_second -gt $((threads_first + 1)) ]]; then
   echo "---- thread samples (count, names) ----"; sort -n "$work/threads.txt" | uniq -c
   fail "threads accumulate: median $threads_first in the first half, $threads_second in the second"
 fi
