@@ -31,9 +31,6 @@ struct SlabRay {
   explicit SlabRay(const glm::vec3& o, const glm::vec3& d)
       : origin(o), invDir(1.0f / d.x, 1.0f / d.y, 1.0f / d.z),
         nearX(std::signbit(d.x)), nearY(std::signbit(d.y)), nearZ(std::signbit(d.z)) {}
-  /// The same with the inverse direction already divided out (1 / d per component).
-  SlabRay(const glm::vec3& o, const glm::vec3& d, const glm::vec3& inverse)
-      : origin(o), invDir(inverse), nearX(std::signbit(d.x)), nearY(std::signbit(d.y)), nearZ(std::signbit(d.z)) {}
 };
 
 /// NaN-tolerant max/min: when a is NaN the result is b.

@@ -25,6 +25,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
@@ -127,6 +128,20 @@ template <class Float>
 struct PacketRays {
   Float o[3], d[3], tmin, tmax;
 };
+
+/// The lane traits' loadRays read each Ray as one record of eight floats: origin x y z, tmin,
+/// direction x y z, tmax.
+inline constexpr int kRayRecordFloats = 8;
+static_assert(kRayRecordFloats == 8 && sizeof(Ray) == kRayRecordFloats * sizeof(float) &&
+              offsetof(Ray, origin) == 0 && offsetof(Ray, tmin) == 12 && offsetof(Ray, dir) == 16 &&
+              offsetof(Ray, tmax) == 28);
+
+/// PacketRays from the records' fields, one register per field (field[k]: float k of each
+/// lane's record).
+template <class Float>
+PA_BVH_INLINE PacketRays<Float> packetRaysFromRecords(const Float (&field)[kRayRecordFloats]) {
+  return {{field[0], field[1], field[2]}, {field[4], field[5], field[6]}, field[3], field[7]};
+}
 
 /// Fills p from the rays in r's lanes `lanes` (one octant, finite inverse directions; every
 /// other lane holds a copy of one of them): the divisions and comparisons of BoxRay and RayShear,

@@ -8,7 +8,6 @@
 #include <array>
 #include <bit>
 #include <cmath>
-#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -180,28 +179,27 @@ struct BaselineLanes {
 
   /// Packets: rays[i] in lane i for the lanes given, the first of them in the other lanes.
   static PacketRays<vfloat8> loadRays(const Ray* rays, unsigned lanes) {
-    static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, origin) == 0 && offsetof(Ray, tmin) == 12 &&
-                  offsetof(Ray, dir) == 16 && offsetof(Ray, tmax) == 28);
     const int first = std::countr_zero(lanes);
-    vfloat8 field[8];   // origin x y z, tmin, direction x y z, tmax
+    vfloat8 field[kRayRecordFloats];
 #if defined(__AVX2__)
-    // Each lane's 32-byte record (the first live ray's in idle lanes), one field per gather.
+    // Each lane's record index (the first live ray's in idle lanes) x kRayRecordFloats (8), one
+    // field per gather.
     const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const __m256i bit = _mm256_sllv_epi32(_mm256_set1_epi32(1), lane);
     const __m256i live = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(lanes)), bit), bit);
     const __m256i records = _mm256_slli_epi32(_mm256_blendv_epi8(_mm256_set1_epi32(first), lane, live), 3);
     const float* base = &rays[0].origin.x;
-    for (int k = 0; k < 8; ++k)
+    for (int k = 0; k < kRayRecordFloats; ++k)
       field[k] = _mm256_i32gather_ps(base, _mm256_add_epi32(records, _mm256_set1_epi32(k)), 4);
 #else
-    alignas(32) float soa[8][kWideWidth];
+    alignas(32) float soa[kRayRecordFloats][kWideWidth];
     for (uint32_t lane = 0; lane < kWideWidth; ++lane) {
       const float* record = &rays[lanes >> lane & 1 ? lane : first].origin.x;
-      for (int k = 0; k < 8; ++k) soa[k][lane] = record[k];
+      for (int k = 0; k < kRayRecordFloats; ++k) soa[k][lane] = record[k];
     }
-    for (int k = 0; k < 8; ++k) field[k] = vfloat8::load(soa[k]);
+    for (int k = 0; k < kRayRecordFloats; ++k) field[k] = vfloat8::load(soa[k]);
 #endif
-    return {{field[0], field[1], field[2]}, {field[4], field[5], field[6]}, field[3], field[7]};
+    return packetRaysFromRecords(field);
   }
 
   /// Packets: each ray's origin and direction, in double.

@@ -19,7 +19,6 @@
 // so no AVX-512 instruction can leak into code that runs on other CPUs. In x86-64-v2 builds the
 // file holds only stubs of the 16-wide entry points (wide16Available() is false there).
 #include <bit>
-#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
@@ -195,18 +194,17 @@ struct Avx512Lanes {
   /// 16 lanes, packets: rays[i] in lane i for the lanes given, the first of them in the other
   /// lanes (gathered from the rays' 32-byte records; only those rays are read).
   PA_AVX512_INLINE static PacketRays<Float> loadRays(const Ray* rays, unsigned lanes) {
-    static_assert(kLanes == 16 && sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, origin) == 0 &&
-                  offsetof(Ray, tmin) == 12 && offsetof(Ray, dir) == 16 && offsetof(Ray, tmax) == 28);
+    static_assert(kLanes == 16);
     const int first = std::countr_zero(lanes);
-    const __m512i records = _mm512_mask_blend_epi32(static_cast<__mmask16>(lanes), _mm512_set1_epi32(8 * first),
-                                                    _mm512_slli_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8,
-                                                                                        9, 10, 11, 12, 13, 14, 15),
-                                                                      3));
+    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    // Each lane's record index (the first live ray's in idle lanes) x kRayRecordFloats (8).
+    const __m512i records =
+        _mm512_slli_epi32(_mm512_mask_blend_epi32(static_cast<__mmask16>(lanes), _mm512_set1_epi32(first), lane), 3);
     const float* base = &rays[0].origin.x;
-    Float field[8];   // origin x y z, tmin, direction x y z, tmax
-    for (int k = 0; k < 8; ++k)
+    Float field[kRayRecordFloats];
+    for (int k = 0; k < kRayRecordFloats; ++k)
       field[k] = _mm512_i32gather_ps(_mm512_add_epi32(records, _mm512_set1_epi32(k)), base, 4);
-    return {{field[0], field[1], field[2]}, {field[4], field[5], field[6]}, field[3], field[7]};
+    return packetRaysFromRecords(field);
   }
 
   /// Packets: each ray's origin and direction in double, eight rays per register.
