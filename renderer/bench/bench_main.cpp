@@ -3,6 +3,7 @@
 //         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X]
 //         [--parallel-threshold N] [--width 8|16]
 //         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native]
+//         [--instances N]
 // --embree-robust builds Embree's scene with RTC_SCENE_FLAG_ROBUST (its conservative traversal
 // and watertight-leaning kernels: the like-for-like comparison for our robust traversal).
 // --embree-tree also traces our kernels over a tree built by Embree's rtcBuildBVH (same leaf
@@ -13,6 +14,8 @@
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
 // the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
 // (and process CPU) with N threads for both (one TBB arena; Embree's device also gets N threads).
+// --instances N also traces the same rays through a game frame's two-level scene: the mesh as the
+// static world plus N small movers (instanced_scene.h), our Tlas against Embree's instances.
 // Frames: --frame-reps path-traced frames with 1 and 2 threads, alternating; medians of the wall
 // clock and of the process CPU time, the median per-pair speedup and every wall-clock sample.
 #include <algorithm>
@@ -33,6 +36,7 @@
 #include "renderer/bench/bench_scene.h"
 #include "renderer/bench/embree_tree.h"
 #include "renderer/bench/frame_timing.h"
+#include "renderer/bench/instanced_scene.h"
 #include "renderer/bench/ray_sets.h"
 #include "renderer/bvh/bvh.h"
 #include "renderer/bvh/wide_bvh.h"
@@ -53,13 +57,14 @@ struct Options {
   bool embreeRobust = false;   ///< Embree with RTC_SCENE_FLAG_ROBUST (its conservative traversal).
   bool embreeTree = false;     ///< Also trace our kernels over Embree's tree (embree_tree.h).
   bool avx2 = false;           ///< --isa avx2: our AVX2 kernel against Embree limited to AVX2.
+  uint32_t instances = 0;      ///< --instances N: movers of the two-level scene (0: not traced).
   BvhBuildConfig build;
 };
 
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--width 8|16] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native]\n",
+               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--width 8|16] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native] [--instances N]\n",
                error.c_str());
   std::exit(2);
 }
@@ -95,6 +100,7 @@ Options parseOptions(int argc, char** argv) {
       o.avx2 = isa == "avx2";
       o.build.allowAvx512 = !o.avx2;
     }
+    else if (a == "--instances") o.instances = parseCount(value(), "--instances");
     else if (a == "--frame-reps") o.frameReps = parseCount(value(), "--frame-reps");
     else if (a == "--width") o.build.nodeWidth = parseCount(value(), "--width");
     else if (a == "--bins") o.build.binCount = parseCount(value(), "--bins");
@@ -193,6 +199,34 @@ uint64_t tracePackets(const Blas& blas, const std::vector<Ray>& rays) {
     std::copy_n(rays.begin() + i, n, packet.begin());
     std::fill(packetHits.begin(), packetHits.end(), Hit{});
     hits += std::popcount(blas.intersectPacket(packet, packetHits, (1u << n) - 1, filters));
+  }
+  return hits;
+}
+
+/// The same loops through our two-level scene.
+uint64_t traceClosest(const Tlas& tlas, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  for (Ray r : rays) {
+    Hit h;
+    hits += tlas.intersect(r, h);
+  }
+  return hits;
+}
+uint64_t traceOccluded(const Tlas& tlas, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  for (const Ray& r : rays) hits += tlas.occluded(r);
+  return hits;
+}
+uint64_t tracePackets(const Tlas& tlas, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  std::array<Ray, kMaxPacketRays> packet;
+  std::array<Hit, kMaxPacketRays> packetHits;
+  const std::array<HitFilter, kMaxPacketRays> filters{};
+  for (size_t i = 0; i < rays.size(); i += kMaxPacketRays) {
+    const size_t n = std::min<size_t>(kMaxPacketRays, rays.size() - i);
+    std::copy_n(rays.begin() + i, n, packet.begin());
+    std::fill(packetHits.begin(), packetHits.end(), Hit{});
+    hits += std::popcount(tlas.intersectPacket(packet, packetHits, (1u << n) - 1, 0xffffffffu, filters));
   }
   return hits;
 }
@@ -313,6 +347,48 @@ int run(int argc, char** argv) {
     primarySingle.ours.push_back(threadCpuSeconds([&] { primarySingle.hitsOurs = traceClosest(blas, rays.primary); }));
     primary.embree.push_back(threadCpuSeconds([&] { primary.hitsEmbree = tracePackets(*embree, rays.primary); }));
   }
+  // The two-level scene (--instances): the same rays, interleaved the same way.
+  Pair twoIncoherent, twoShadow, twoPrimary;
+  InstancedScene twoLevel;
+  if (opt.instances > 0) {
+    buildInstancedScene(scene, blas, *embree, device, opt.instances, 11, twoLevel);
+    const testing::EmbreeScene& top = *twoLevel.embreeTop;
+    for (uint32_t rep = 0; rep < opt.reps; ++rep) {
+      twoIncoherent.ours.push_back(threadCpuSeconds([&] { twoIncoherent.hitsOurs = traceClosest(twoLevel.tlas, rays.incoherent); }));
+      twoIncoherent.embree.push_back(threadCpuSeconds([&] { twoIncoherent.hitsEmbree = traceClosest(top, rays.incoherent); }));
+      twoShadow.ours.push_back(threadCpuSeconds([&] { twoShadow.hitsOurs = traceOccluded(twoLevel.tlas, rays.shadow); }));
+      twoShadow.embree.push_back(threadCpuSeconds([&] { twoShadow.hitsEmbree = traceOccluded(top, rays.shadow); }));
+      twoPrimary.ours.push_back(threadCpuSeconds([&] { twoPrimary.hitsOurs = tracePackets(twoLevel.tlas, rays.primary); }));
+      twoPrimary.embree.push_back(threadCpuSeconds([&] { twoPrimary.hitsEmbree = tracePackets(top, rays.primary); }));
+    }
+  }
+  // Mrays/s of ours and Embree and their ratio, from a pair's medians.
+  struct Rate {
+    double ours = 0.0, embree = 0.0;
+    double ratio() const { return embree > 0.0 ? ours / embree : 0.0; }
+  };
+  const auto rate = [](const Pair& p, size_t count) {
+    return p.ours.empty() ? Rate{} : Rate{mrays(count, median(p.ours)), mrays(count, median(p.embree))};
+  };
+  const Rate twoI = rate(twoIncoherent, rays.incoherent.size()), twoS = rate(twoShadow, rays.shadow.size());
+  const Rate twoP = rate(twoPrimary, rays.primary.size());
+  std::string twoLevelJson;
+  if (opt.instances > 0) {
+    char buffer[768];
+    std::snprintf(buffer, sizeof buffer,
+                  "\"instances\": %u, \"mrays_incoherent_two_level_ours\": %.3f, \"mrays_incoherent_two_level_embree\": %.3f, "
+                  "\"incoherent_two_level_ratio\": %.3f, \"mrays_shadow_two_level_ours\": %.3f, "
+                  "\"mrays_shadow_two_level_embree\": %.3f, \"shadow_two_level_ratio\": %.3f, "
+                  "\"mrays_primary_two_level_ours\": %.3f, \"mrays_primary_two_level_embree\": %.3f, "
+                  "\"primary_two_level_ratio\": %.3f, \"hits_two_level_ours\": [%llu, %llu, %llu], "
+                  "\"hits_two_level_embree\": [%llu, %llu, %llu], ",
+                  opt.instances, twoI.ours, twoI.embree, twoI.ratio(), twoS.ours, twoS.embree, twoS.ratio(), twoP.ours,
+                  twoP.embree, twoP.ratio(), (unsigned long long)twoIncoherent.hitsOurs,
+                  (unsigned long long)twoShadow.hitsOurs, (unsigned long long)twoPrimary.hitsOurs,
+                  (unsigned long long)twoIncoherent.hitsEmbree, (unsigned long long)twoShadow.hitsEmbree,
+                  (unsigned long long)twoPrimary.hitsEmbree);
+    twoLevelJson = buffer;
+  }
 
   const double bOurs = median(buildOurs) * 1e3, bEmbree = median(buildEmbree) * 1e3;
   const double bCpuOurs = median(buildCpuOurs) * 1e3, bCpuEmbree = median(buildCpuEmbree) * 1e3;
@@ -357,7 +433,7 @@ int run(int argc, char** argv) {
         "\"mrays_primary_ours\": %.3f, \"mrays_primary_embree\": %.3f, \"primary_ratio\": %.3f, "
         "\"mrays_primary_single_ours\": %.3f, \"primary_single_ratio\": %.3f, "
         "\"hits_incoherent_ours\": %llu, \"hits_incoherent_embree\": %llu, \"hits_shadow_ours\": %llu, "
-        "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, %s"
+        "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, %s%s"
         "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_cpu_ms_1t\": %s, \"frame_cpu_ms_2t\": %s, "
         "\"frame_speedup_2t\": %s, \"frame_samples_ms_1t\": %s, \"frame_samples_ms_2t\": %s, \"frame_note\": \"%s\"}\n",
         scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), ourKernel, opt.embreeRobust ? "true" : "false", bOurs,
@@ -366,6 +442,7 @@ int run(int argc, char** argv) {
         pSingle, pSingle / pEmbree, (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
         (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,
         (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree, embreeTreeJson.c_str(),
+        twoLevelJson.c_str(),
         frame(frames.oneThreadMs).c_str(), frame(frames.twoThreadsMs).c_str(), frame(frames.oneThreadCpuMs).c_str(),
         frame(frames.twoThreadsCpuMs).c_str(), frame(frames.speedup).c_str(), samples(frames.oneThreadSamplesMs).c_str(),
         samples(frames.twoThreadsSamplesMs).c_str(), frames.note.c_str());
@@ -387,6 +464,17 @@ int run(int argc, char** argv) {
     std::printf("Embree's tree in our layout: %zu nodes, %zu packs; hits incoherent %llu shadow %llu\n",
                 embreeTree.nodes.size(), embreeTree.packs.size(), (unsigned long long)incoherentEmbreeTree.hitsOurs,
                 (unsigned long long)shadowEmbreeTree.hitsOurs);
+  }
+  if (opt.instances > 0) {
+    std::printf("two-level scene: the world and %u movers (instances of a %u-triangle sphere)\n", opt.instances,
+                twoLevel.mover.triangleCount());
+    std::printf("%-28s %12.3f %12.3f %8.3f\n", "  incoherent Mrays/s (1t)", twoI.ours, twoI.embree, twoI.ratio());
+    std::printf("%-28s %12.3f %12.3f %8.3f\n", "  shadow Mrays/s (1t)", twoS.ours, twoS.embree, twoS.ratio());
+    std::printf("%-28s %12.3f %12.3f %8.3f\n", "  primary Mrays/s (1t)", twoP.ours, twoP.embree, twoP.ratio());
+    std::printf("  hits ours/embree: incoherent %llu/%llu shadow %llu/%llu primary %llu/%llu\n",
+                (unsigned long long)twoIncoherent.hitsOurs, (unsigned long long)twoIncoherent.hitsEmbree,
+                (unsigned long long)twoShadow.hitsOurs, (unsigned long long)twoShadow.hitsEmbree,
+                (unsigned long long)twoPrimary.hitsOurs, (unsigned long long)twoPrimary.hitsEmbree);
   }
   std::printf("hits ours/embree: incoherent %llu/%llu shadow %llu/%llu primary %llu/%llu\n",
               (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
