@@ -27,16 +27,17 @@ void buildInstancedScene(const BenchScene& scene, const Blas& world, const testi
   const BenchCamera& cam = scene.camera;
   const glm::vec3 right = glm::normalize(glm::cross(cam.forward, cam.up));
   const glm::vec3 up = glm::cross(right, cam.forward);
-  const float tanY = std::tan(0.5f * cam.yfov);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
-  // Each mover stands in front of a surface a camera ray reaches (where players and items are
-  // seen), turned about the up axis.
+  // Each mover stands in front of a surface that a ray from the camera's position reaches, in any
+  // direction (a game frame's players and items are around the viewer, a few of them in view),
+  // turned about the up axis.
   for (uint32_t attempt = 0; out.instances.size() < size_t{movers} + 1; ++attempt) {
-    if (attempt > 100 * (movers + 1)) throw std::runtime_error("--instances: too few camera rays hit the scene");
+    if (attempt > 100 * (movers + 1)) throw std::runtime_error("--instances: too few rays from the camera hit the scene");
     Ray ray;
     ray.origin = cam.origin;
-    ray.dir = glm::normalize(cam.forward + uniform(rng) * tanY * 16.0f / 9.0f * right + uniform(rng) * tanY * up);
+    ray.dir = glm::vec3(uniform(rng), uniform(rng), uniform(rng));
+    if (!(glm::dot(ray.dir, ray.dir) <= 1.0f && glm::dot(ray.dir, ray.dir) > 1e-4f)) continue;
     Hit hit;
     if (!world.intersect(ray, hit) || ray.tmax < 3.0f * radius) continue;
     const glm::vec3 centre = ray.origin + (ray.tmax - 1.5f * radius) * ray.dir;

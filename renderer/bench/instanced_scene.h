@@ -2,7 +2,7 @@
 // A game frame's two-level scene for the bench (--instances N): the scene's mesh as the static
 // world (one instance, identity transform) plus N small movers (closed spheres of a few hundred
 // triangles, each about the size of a player in a Quake III map) standing in front of surfaces
-// the camera sees, as ours (Tlas over Blases) and as Embree's (a scene of instanced scenes).
+// around the camera, a few of them in view, as ours (Tlas over Blases) and as Embree's (a scene of instanced scenes).
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -22,7 +22,7 @@ struct InstancedScene {
 };
 
 /// Builds both over `world` (our Blas of scene.mesh) and `embreeWorld` (Embree's committed scene
-/// of the same mesh), with `movers` movers placed from `seed` where the camera's rays land.
+/// of the same mesh), with `movers` movers placed from `seed` around the camera.
 /// Throws std::runtime_error when no camera ray hits the world.
 void buildInstancedScene(const BenchScene& scene, const Blas& world, const testing::EmbreeScene& embreeWorld,
                          const testing::EmbreeDevice& device, uint32_t movers, uint32_t seed, InstancedScene& out);

@@ -9,10 +9,13 @@
 #include <memory>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <immintrin.h>
 
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -32,6 +35,7 @@ struct PlacedInstance {
   glm::vec3 worldToObjectOffset{0.0f};
   uint32_t mask = 0;
   uint32_t index = 0;   // position in the span given to build()
+  bool identity = false;   // objectToWorld is exactly the identity: rays enter untransformed
 };
 
 bool finiteMatrix(const glm::mat4x3& m) {
@@ -66,6 +70,17 @@ struct BoxGroup {
   IntLanes mask;
 };
 
+/// Bit i set where lane i of `lanes` (all ones or zero, as comparisons give) is set.
+uint32_t laneBits(const IntLanes& lanes) {
+#ifdef __AVX__
+  return static_cast<uint32_t>(_mm256_movemask_ps(std::bit_cast<__m256>(lanes)));
+#else
+  uint32_t bits = 0;
+  for (uint32_t lane = 0; lane < kLanes; ++lane) bits |= static_cast<uint32_t>(lanes[lane] & 1) << lane;
+  return bits;
+#endif
+}
+
 /// A box the ray enters: its entry distance and its instance.
 struct Candidate {
   float entry;
@@ -96,10 +111,51 @@ uint32_t enteredBoxes(std::span<const BoxGroup> groups, const Ray& ray, float tm
     }
     tFar = tFar * bvh_detail::kRobustFarScale;
     const IntLanes entered = (tNear <= tFar) & ((group.mask & static_cast<int32_t>(rayMask)) != 0);
-    for (uint32_t lane = 0; lane < kLanes; ++lane)
-      if (entered[lane]) out[count++] = {tNear[lane], g * kLanes + lane};
+    // The entered lanes as bits (no branch per lane: a ray enters one to three boxes of 64).
+    for (uint32_t bits = laneBits(entered); bits; bits &= bits - 1) {
+      const uint32_t lane = std::countr_zero(bits);
+      out[count++] = {tNear[lane], g * kLanes + lane};
+    }
   }
   return count;
+}
+
+// A packet's kMaxPacketRays lanes are worked on as kHalves vectors of kLanes (the helpers below
+// are inlined, never passed across an ABI boundary, whatever the ISA).
+#pragma GCC diagnostic ignored "-Wpsabi"
+constexpr uint32_t kHalves = kMaxPacketRays / kLanes;
+
+Lanes loadLanes(const float* p) {
+  Lanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+IntLanes loadLanes(const int32_t* p) {
+  IntLanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+void storeLanes(float* p, const Lanes& v) { std::memcpy(p, &v, sizeof v); }
+void storeLanes(int32_t* p, const IntLanes& v) { std::memcpy(p, &v, sizeof v); }
+
+/// All ones in lane i where bit i of `bits` is set.
+IntLanes laneMask(uint32_t bits) {
+  const IntLanes index = {0, 1, 2, 3, 4, 5, 6, 7};
+  return ((IntLanes{} + static_cast<int32_t>(bits)) >> index & 1) != IntLanes{};
+}
+
+/// The smallest / largest lane (two folds, then the last pair).
+float minOf(const Lanes& lanes) {
+  Lanes v = lanes;
+  v = v < __builtin_shuffle(v, IntLanes{4, 5, 6, 7, 0, 1, 2, 3}) ? v : __builtin_shuffle(v, IntLanes{4, 5, 6, 7, 0, 1, 2, 3});
+  v = v < __builtin_shuffle(v, IntLanes{2, 3, 0, 1, 6, 7, 4, 5}) ? v : __builtin_shuffle(v, IntLanes{2, 3, 0, 1, 6, 7, 4, 5});
+  return std::min(v[0], v[1]);
+}
+float maxOf(const Lanes& lanes) {
+  Lanes v = lanes;
+  v = v > __builtin_shuffle(v, IntLanes{4, 5, 6, 7, 0, 1, 2, 3}) ? v : __builtin_shuffle(v, IntLanes{4, 5, 6, 7, 0, 1, 2, 3});
+  v = v > __builtin_shuffle(v, IntLanes{2, 3, 0, 1, 6, 7, 4, 5}) ? v : __builtin_shuffle(v, IntLanes{2, 3, 0, 1, 6, 7, 4, 5});
+  return std::max(v[0], v[1]);
 }
 
 /// Interval bounds of a packet of rays that share one octant (finite inverse directions): a box
@@ -108,78 +164,112 @@ uint32_t enteredBoxes(std::span<const BoxGroup> groups, const Ray& ray, float tm
 struct PacketInterval {
   float oLo[3], oHi[3], iLo[3], iHi[3];
   float tminLo = std::numeric_limits<float>::infinity();
+  float tmaxHi = -std::numeric_limits<float>::infinity();   ///< The rays' largest tmax.
   int nearSide[3] = {0, 0, 0};
   bool valid = false;   ///< False when the rays span octants or run along an axis plane.
 };
 
-/// inverse[axis][lane]: 1 / rays[lane].dir[axis] for the lanes given.
-PacketInterval packetInterval(std::span<const Ray> rays, uint32_t lanes, const float (&inverse)[3][kMaxPacketRays]) {
-  PacketInterval p;
+/// The bits of a group's boxes that some ray of the packet may enter before its tmaxHi and whose mask
+/// matches rayMask. A box is culled only when no origin in [oLo, oHi] along no inverse direction
+/// in [iLo, iHi] enters it: (bound - origin) * inverse bounded over the intervals' corners, as each
+/// ray's slab test rounds it (rounding is monotonic, so the bounds hold for the rounded per-ray
+/// values too).
+uint32_t groupMayEnter(const PacketInterval& p, const BoxGroup& group, uint32_t rayMask) {
+  const auto lesser = [](const Lanes& a, const Lanes& b) { return a < b ? a : b; };
+  const auto greater = [](const Lanes& a, const Lanes& b) { return a > b ? a : b; };
+  Lanes tNear = Lanes{} + p.tminLo, tFar = Lanes{} + p.tmaxHi;
   for (int axis = 0; axis < 3; ++axis) {
-    p.oLo[axis] = p.iLo[axis] = std::numeric_limits<float>::infinity();
-    p.oHi[axis] = p.iHi[axis] = -std::numeric_limits<float>::infinity();
+    const Lanes& nearBound = p.nearSide[axis] ? group.max[axis] : group.min[axis];
+    const Lanes& farBound = p.nearSide[axis] ? group.min[axis] : group.max[axis];
+    const Lanes n0 = nearBound - p.oHi[axis], n1 = nearBound - p.oLo[axis];
+    const Lanes f0 = farBound - p.oHi[axis], f1 = farBound - p.oLo[axis];
+    tNear = greater(tNear, lesser(lesser(n0 * p.iLo[axis], n0 * p.iHi[axis]), lesser(n1 * p.iLo[axis], n1 * p.iHi[axis])));
+    tFar = lesser(tFar, greater(greater(f0 * p.iLo[axis], f0 * p.iHi[axis]), greater(f1 * p.iLo[axis], f1 * p.iHi[axis])));
   }
-  int octant = -1;
-  for (uint32_t r = lanes; r; r &= r - 1) {
-    const Ray& ray = rays[std::countr_zero(r)];
-    const int o = std::signbit(ray.dir.x) | std::signbit(ray.dir.y) << 1 | std::signbit(ray.dir.z) << 2;
-    if (octant >= 0 && o != octant) return p;
-    octant = o;
-    for (int axis = 0; axis < 3; ++axis) {
-      const float inv = inverse[axis][std::countr_zero(r)];
-      if (ray.dir[axis] == 0.0f || !std::isfinite(inv)) return p;
-      p.oLo[axis] = std::min(p.oLo[axis], ray.origin[axis]);
-      p.oHi[axis] = std::max(p.oHi[axis], ray.origin[axis]);
-      p.iLo[axis] = std::min(p.iLo[axis], inv);
-      p.iHi[axis] = std::max(p.iHi[axis], inv);
-    }
-    p.tminLo = std::min(p.tminLo, ray.tmin);
-  }
-  for (int axis = 0; axis < 3; ++axis) p.nearSide[axis] = (octant >> axis) & 1;
-  p.valid = octant >= 0;
-  return p;
-}
-
-/// False only when no ray of the packet can enter the box before tmaxHi: (bound - origin) *
-/// inverse bounded over the intervals' corners, as each ray's slab test rounds it (rounding is
-/// monotonic, so the bounds hold for the rounded per-ray values too).
-bool packetMayEnter(const PacketInterval& p, const Bounds& box, float tmaxHi) {
-  float tNear = p.tminLo, tFar = tmaxHi;
-  for (int axis = 0; axis < 3; ++axis) {
-    const float nearBound = p.nearSide[axis] ? box.max[axis] : box.min[axis];
-    const float farBound = p.nearSide[axis] ? box.min[axis] : box.max[axis];
-    const float n0 = nearBound - p.oHi[axis], n1 = nearBound - p.oLo[axis];
-    const float f0 = farBound - p.oHi[axis], f1 = farBound - p.oLo[axis];
-    tNear = std::max({tNear, std::min({n0 * p.iLo[axis], n0 * p.iHi[axis], n1 * p.iLo[axis], n1 * p.iHi[axis]})});
-    tFar = std::min({tFar, std::max({f0 * p.iLo[axis], f0 * p.iHi[axis], f1 * p.iLo[axis], f1 * p.iHi[axis]})});
-  }
-  return tNear <= tFar * bvh_detail::kRobustFarScale;
+  return laneBits((tNear <= tFar * bvh_detail::kRobustFarScale) & ((group.mask & static_cast<int32_t>(rayMask)) != 0));
 }
 
 /// A packet's rays as lanes (structure of arrays), with their inverse directions and near box
-/// sides; idle lanes hold a ray that enters no box (tmin > tmax).
+/// sides, and which of them can be traced; idle lanes (inactive or untraceable rays) hold a ray
+/// that enters no box (tmin > tmax).
 struct PacketLanes {
   alignas(64) float origin[3][kMaxPacketRays];
   alignas(64) float inverse[3][kMaxPacketRays];
-  alignas(64) int nearSide[3][kMaxPacketRays];   ///< 1: the box's max is the near plane.
+  alignas(64) int32_t nearSide[3][kMaxPacketRays];   ///< 1: the box's max is the near plane.
   alignas(64) float tmin[kMaxPacketRays], tmax[kMaxPacketRays];
+  uint32_t traceable = 0;   ///< The active rays bvh_detail::isTraceableRay accepts (same test, in lanes).
 };
 
-PacketLanes packetLanes(std::span<const Ray> rays, uint32_t traceable) {
+/// The `active` rays of a packet (rays holds at least the highest active one) as lanes.
+PacketLanes packetLanes(std::span<const Ray> rays, uint32_t active) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const Ray idle{};   // read for the inactive lanes, so the loads need no branch
   PacketLanes p;
   alignas(64) float direction[3][kMaxPacketRays];
   for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
-    const bool live = traceable >> lane & 1;
+    const Ray& ray = active >> lane & 1 ? rays[lane] : idle;
     for (int axis = 0; axis < 3; ++axis) {
-      p.origin[axis][lane] = live ? rays[lane].origin[axis] : 0.0f;
-      direction[axis][lane] = live ? rays[lane].dir[axis] : 1.0f;
-      p.nearSide[axis][lane] = std::signbit(direction[axis][lane]);
+      p.origin[axis][lane] = ray.origin[axis];
+      direction[axis][lane] = ray.dir[axis];
     }
-    p.tmin[lane] = live ? rays[lane].tmin : 1.0f;
-    p.tmax[lane] = live ? rays[lane].tmax : 0.0f;
+    p.tmin[lane] = ray.tmin;
+    p.tmax[lane] = ray.tmax;
   }
-  for (int axis = 0; axis < 3; ++axis)
-    for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) p.inverse[axis][lane] = 1.0f / direction[axis][lane];
+  // isTraceableRay: finite origin and direction, a non-zero direction, tmin <= tmax (false
+  // with a NaN).
+  const Lanes kInfs = Lanes{} + kInf;
+  for (uint32_t h = 0; h < kHalves; ++h) {
+    const uint32_t at = h * kLanes;
+    const Lanes tmin = loadLanes(p.tmin + at), tmax = loadLanes(p.tmax + at);
+    IntLanes ok = laneMask(active >> at) & (tmin <= tmax);
+    IntLanes nonZero{};
+    for (int axis = 0; axis < 3; ++axis) {
+      const Lanes o = loadLanes(p.origin[axis] + at), d = loadLanes(direction[axis] + at);
+      ok &= (o < kInfs) & (o > -kInfs) & (d < kInfs) & (d > -kInfs);
+      nonZero |= d != Lanes{};
+    }
+    const IntLanes live = ok & nonZero;
+    p.traceable |= laneBits(live) << at;
+    for (int axis = 0; axis < 3; ++axis) {
+      const Lanes d = live ? loadLanes(direction[axis] + at) : Lanes{} + 1.0f;
+      storeLanes(p.origin[axis] + at, live ? loadLanes(p.origin[axis] + at) : Lanes{});
+      storeLanes(p.inverse[axis] + at, 1.0f / d);
+      storeLanes(p.nearSide[axis] + at, std::bit_cast<IntLanes>(d) >> 31 & 1);   // signbit
+    }
+    storeLanes(p.tmin + at, live ? tmin : Lanes{} + 1.0f);
+    storeLanes(p.tmax + at, live ? tmax : Lanes{});
+  }
+  return p;
+}
+
+/// The interval bounds of the packet's `live` lanes, and their largest tmax.
+PacketInterval packetInterval(const PacketLanes& lanes, uint32_t live) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const IntLanes on[kHalves] = {laneMask(live), laneMask(live >> kLanes)};
+  // Each lane's value where it is live, else `otherwise`, the two halves folded into one.
+  const auto folded = [&](const float* values, float otherwise, bool smallest) {
+    const Lanes a = on[0] ? loadLanes(values) : Lanes{} + otherwise;
+    const Lanes b = on[1] ? loadLanes(values + kLanes) : Lanes{} + otherwise;
+    return smallest ? minOf(a < b ? a : b) : maxOf(a > b ? a : b);
+  };
+  PacketInterval p;
+  bool sameOctant = live != 0, finite = true;
+  for (int axis = 0; axis < 3; ++axis) {
+    p.oLo[axis] = folded(lanes.origin[axis], kInf, true);
+    p.oHi[axis] = folded(lanes.origin[axis], -kInf, false);
+    p.iLo[axis] = folded(lanes.inverse[axis], kInf, true);
+    p.iHi[axis] = folded(lanes.inverse[axis], -kInf, false);
+    // A zero direction component has an infinite inverse: such packets are not bounded.
+    finite = finite && std::fabs(p.iLo[axis]) < kInf && std::fabs(p.iHi[axis]) < kInf;
+    uint32_t near = 0;
+    for (uint32_t h = 0; h < kHalves; ++h)
+      near |= laneBits(loadLanes(lanes.nearSide[axis] + h * kLanes) != IntLanes{}) << (h * kLanes);
+    sameOctant = sameOctant && ((near & live) == 0 || (near & live) == live);
+    p.nearSide[axis] = (near & live) != 0;
+  }
+  p.tminLo = folded(lanes.tmin, kInf, true);
+  p.tmaxHi = folded(lanes.tmax, -kInf, false);
+  p.valid = sameOctant && finite;
   return p;
 }
 
@@ -257,12 +347,14 @@ struct Tlas::Impl {
   }
 
   Ray toObject(const PlacedInstance& inst, const Ray& ray) const {
+    if (inst.identity) return ray;
     Ray r;
     toObject(inst, ray, r);
     return r;
   }
-  /// toObject() written into `out` in place (a packet's rays: a copy of a Ray just built on the
-  /// stack reads its fields back wider than they were written, and stalls).
+  /// toObject() of an instance that is not the identity, written into `out` in place (a packet's
+  /// rays: a copy of a Ray just built on the stack reads its fields back wider than they were
+  /// written, and stalls).
   void toObject(const PlacedInstance& inst, const Ray& ray, Ray& out) const {
     out.origin = inst.worldToObjectLinear * ray.origin + inst.worldToObjectOffset;
     out.tmin = ray.tmin;
@@ -297,7 +389,7 @@ void Tlas::build(std::span<const TlasInstance> instances) {
     const glm::vec3 offset = -(inverse * in.objectToWorld[3]);
     if (!std::isfinite(inverse[0][0] + inverse[1][1] + inverse[2][2] + offset.x + offset.y + offset.z))
       fail(i, ".objectToWorld has a non-finite inverse");
-    placed.push_back({in.blas, inverse, offset, in.mask, static_cast<uint32_t>(i)});
+    placed.push_back({in.blas, inverse, offset, in.mask, static_cast<uint32_t>(i), in.objectToWorld == glm::mat4x3(1.0f)});
   }
   // Refilled in place: a rebuild over as many instances as the last allocates nothing.
   next.instances.clear();
@@ -359,9 +451,8 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
     throw std::invalid_argument("Tlas::intersectPacket: spans shorter than the active rays");
   if (!impl_) return 0;
   const Impl& self = *impl_;
-  uint32_t traceable = 0;
-  for (uint32_t r = active; r; r &= r - 1)
-    if (bvh_detail::isTraceableRay(rays[std::countr_zero(r)])) traceable |= 1u << std::countr_zero(r);
+  const PacketLanes lanes = packetLanes(rays, active);
+  const uint32_t traceable = lanes.traceable;
   uint32_t found = 0;
   if (self.groups.empty() || std::popcount(traceable) < 2) {   // many instances, or one ray: ray by ray
     for (uint32_t r = traceable; r; r &= r - 1) {
@@ -375,29 +466,28 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   // The rays as lanes (idle lanes: a ray along +1 that enters nothing), so the loops below
   // vectorise: the inverse directions are divided once for the packet's interval and the slab
   // tests, and each instance box is tested against all rays at once.
-  const PacketLanes lanes = packetLanes(rays, traceable);
-  const PacketInterval interval = packetInterval(rays, traceable, lanes.inverse);
-  float tmaxHi = -std::numeric_limits<float>::infinity();
-  for (uint32_t r = traceable; r; r &= r - 1) tmaxHi = std::max(tmaxHi, rays[std::countr_zero(r)].tmax);
+  const PacketInterval interval = packetInterval(lanes, traceable);
+  const IntLanes tracedLanes[kHalves] = {laneMask(traceable), laneMask(traceable >> kLanes)};
   std::array<PacketCandidate, kFlatInstances> candidates;
   uint32_t count = 0;
-  for (uint32_t k = 0; k < self.instances.size(); ++k) {
-    if ((self.instances[k].mask & rayMask) == 0) continue;
-    const Bounds& box = self.worldBounds[k];
-    if (interval.valid && !packetMayEnter(interval, box, tmaxHi)) continue;
-    PacketCandidate& c = candidates[count];
-    c.instance = k;
-    slabEntries(lanes, box, c.entry);
-    uint32_t entered = 0;   // in registers, not through c (a chain of stores and reloads)
-    float nearest = std::numeric_limits<float>::infinity();
-    for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
-      const float entry = c.entry[lane];
-      entered |= uint32_t{entry != std::numeric_limits<float>::infinity()} << lane;
-      nearest = std::min(nearest, traceable >> lane & 1 ? entry : std::numeric_limits<float>::infinity());
+  // The packet's interval culls eight boxes at a time; the boxes left are tested ray by ray.
+  const IntLanes noBox{};
+  for (uint32_t g = 0; g < self.groups.size(); ++g) {
+    const BoxGroup& group = self.groups[g];
+    const uint32_t boxes = interval.valid ? groupMayEnter(interval, group, rayMask)
+                                          : laneBits((group.mask & static_cast<int32_t>(rayMask)) != noBox);
+    for (uint32_t b = boxes; b; b &= b - 1) {
+      const uint32_t k = g * kLanes + std::countr_zero(b);
+      PacketCandidate& c = candidates[count];
+      c.instance = k;
+      slabEntries(lanes, self.worldBounds[k], c.entry);
+      const Lanes kInfs = Lanes{} + std::numeric_limits<float>::infinity();
+      const Lanes entryA = loadLanes(c.entry.data()), entryB = loadLanes(c.entry.data() + kLanes);
+      c.rays = (laneBits(entryA != kInfs) | laneBits(entryB != kInfs) << kLanes) & traceable;
+      const Lanes nearA = tracedLanes[0] ? entryA : kInfs, nearB = tracedLanes[1] ? entryB : kInfs;
+      c.nearest = minOf(nearA < nearB ? nearA : nearB);
+      if (c.rays) ++count;
     }
-    c.rays = entered & traceable;
-    c.nearest = nearest;
-    if (c.rays) ++count;
   }
   // Nearest box first (over the packet's rays); each ray enters only while its entry is within
   // its current tmax, as forEachEntered stops a single ray.
@@ -415,6 +505,10 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
     }
     if (!live) continue;
     const PlacedInstance& inst = self.instances[c.instance];
+    if (inst.identity) {   // the static world: its rays as they are (a hit shortens their tmax)
+      found |= inst.blas->intersectPacket(rays, hits, live, filters, inst.index);
+      continue;
+    }
     for (uint32_t r = live; r; r &= r - 1) self.toObject(inst, rays[std::countr_zero(r)], local[std::countr_zero(r)]);
     const uint32_t hitLanes = inst.blas->intersectPacket(local, hits, live, filters, inst.index);
     for (uint32_t r = hitLanes; r; r &= r - 1) rays[std::countr_zero(r)].tmax = local[std::countr_zero(r)].tmax;

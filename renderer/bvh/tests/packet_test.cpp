@@ -6,6 +6,7 @@
 // instanced scenes with flat and hierarchical TLASes, on both node widths and both 8-wide kernels.
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <cmath>
 #include <random>
 #include <utility>
@@ -218,7 +219,8 @@ TEST_P(TlasPackets, SameHitsAsRayByRay) {
   std::vector<TlasInstance> instances(instanceCount);
   for (uint32_t i = 0; i < instanceCount; ++i) {
     instances[i].blas = i % 2 ? &sphereBlas : &soupBlas;
-    instances[i].objectToWorld = i == 0 ? glm::mat4x3(4.0f) : makeRandomTransform(rng, 6.0f);   // a big "world"
+    // A big "world", an untransformed one (traced without a copy of its rays), then movers.
+    instances[i].objectToWorld = i == 0 ? glm::mat4x3(4.0f) : i == 2 ? glm::mat4x3(1.0f) : makeRandomTransform(rng, 6.0f);
     instances[i].mask = i % 5 == 4 ? 2u : 1u;
   }
   Tlas tlas;
@@ -235,6 +237,24 @@ TEST_P(TlasPackets, SameHitsAsRayByRay) {
     hits += expectSameAsOneByOne(cameraTiles({0.5f, 0.5f, 0.5f}, {3.0f, 1.0f, -1.0f}, 32, 32), false, 0xbeefu,
                                  packet, one);
     hits += expectSameAsOneByOne(makeRandomRays(tlas.bounds(), 2048, 7), false, 0xffffu, packet, one);
+    hits += expectSameAsOneByOne(axisPlaneRays(tlas.bounds(), 1024, 29), false, 0xfff7u, packet, one);
+    // Untraceable rays among a camera's: the packet's lanes must leave them out as a ray alone does.
+    std::vector<Ray> mixed = cameraTiles({15.0f, -12.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, 32, 32);
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    for (size_t k = 0; k < mixed.size(); k += 3) {
+      switch (k / 3 % 5) {
+        case 0: mixed[k].dir = glm::vec3(0.0f); break;
+        case 1: mixed[k].dir.y = nan; break;
+        case 2: mixed[k].origin.z = inf; break;
+        case 3: mixed[k].tmin = mixed[k].tmax = nan; break;
+        default: mixed[k].tmin = 2.0f, mixed[k].tmax = 1.0f; break;
+      }
+    }
+    hits += expectSameAsOneByOne(mixed, false, 0xffffu, packet, one);
+    // Rays that end partway (a box beyond the farthest tmax of a packet is culled, none nearer).
+    std::vector<Ray> segments = cameraTiles({15.0f, -12.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, 64, 64);
+    for (size_t k = 0; k < segments.size(); ++k) segments[k].tmax = 14.0f + float(k % 11);
+    hits += expectSameAsOneByOne(segments, false, 0xffffu, packet, one);
     EXPECT_GT(hits, 500u);
   }
 }
