@@ -1,5 +1,6 @@
 #include "renderer/bench/instanced_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -13,9 +14,7 @@ namespace pa::bench {
 
 void buildInstancedScene(const BenchScene& scene, const Blas& world, const testing::EmbreeScene& embreeWorld,
                          const testing::EmbreeDevice& device, uint32_t movers, uint32_t seed, InstancedScene& out) {
-  // A player in a Quake III map: about 56 units tall in a map some 4000 units across.
   const Bounds bounds = scene.mesh.bounds();
-  const float radius = 0.007f * glm::length(bounds.max - bounds.min);
   const testing::TestMesh sphere = testing::makeSphere(400);
   out.mover.build(sphere.input());
   out.embreeMover = std::make_unique<testing::EmbreeScene>(device);
@@ -28,18 +27,34 @@ void buildInstancedScene(const BenchScene& scene, const Blas& world, const testi
   const glm::vec3 right = glm::normalize(glm::cross(cam.forward, cam.up));
   const glm::vec3 up = glm::cross(right, cam.forward);
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
-  // Each mover stands in front of a surface that a ray from the camera's position reaches, in any
-  // direction (a game frame's players and items are around the viewer, a few of them in view),
-  // turned about the up axis.
+  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f), unit(0.0f, 1.0f);
+  // A ray from the camera's position towards a random point of the scene's bounds, traced.
+  const auto placementRay = [&](Ray& ray) {
+    const glm::vec3 target = bounds.min + glm::vec3(unit(rng), unit(rng), unit(rng)) * (bounds.max - bounds.min);
+    ray = Ray{};
+    ray.origin = cam.origin;
+    ray.dir = target - cam.origin;
+    if (!(glm::dot(ray.dir, ray.dir) > 0.0f)) return false;
+    ray.dir = glm::normalize(ray.dir);
+    Hit hit;
+    return world.intersect(ray, hit);
+  };
+  // A mover's size: a twentieth of the median distance such rays travel (a player seen across a
+  // room), whatever the scene's units.
+  std::vector<float> distances;
+  for (int i = 0; i < 257; ++i) {
+    Ray ray;
+    if (placementRay(ray)) distances.push_back(ray.tmax);
+  }
+  if (distances.size() < 16) throw std::runtime_error("--instances: too few rays from the camera hit the scene");
+  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
+  const float radius = 0.05f * distances[distances.size() / 2];
+  // Each mover stands in front of a surface such a ray reaches (a game frame's players and items
+  // are around the viewer, a few of them in view), turned about the up axis.
   for (uint32_t attempt = 0; out.instances.size() < size_t{movers} + 1; ++attempt) {
     if (attempt > 100 * (movers + 1)) throw std::runtime_error("--instances: too few rays from the camera hit the scene");
     Ray ray;
-    ray.origin = cam.origin;
-    ray.dir = glm::vec3(uniform(rng), uniform(rng), uniform(rng));
-    if (!(glm::dot(ray.dir, ray.dir) <= 1.0f && glm::dot(ray.dir, ray.dir) > 1e-4f)) continue;
-    Hit hit;
-    if (!world.intersect(ray, hit) || ray.tmax < 3.0f * radius) continue;
+    if (!placementRay(ray) || ray.tmax < 3.0f * radius) continue;
     const glm::vec3 centre = ray.origin + (ray.tmax - 1.5f * radius) * ray.dir;
     const float angle = std::numbers::pi_v<float> * uniform(rng);
     glm::mat4x3 m(0.0f);
