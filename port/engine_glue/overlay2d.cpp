@@ -20,6 +20,7 @@ constexpr int kMaxSlots = Overlay2D::kViewSlots + kCinematicSlots;
 }  // namespace
 
 void Overlay2D::beginFrame(int width, int height, bool fillsSurface) {
+  flushPics();
   fillsSurface_ = fillsSurface;
   width_ = width;
   height_ = height;
@@ -51,10 +52,14 @@ void Overlay2D::clearIfPending() const {
   if (clipped_) glEnable(GL_SCISSOR_TEST);
 }
 
-void Overlay2D::finishDrawing() { clearIfPending(); }
+void Overlay2D::finishDrawing() {
+  flushPics();
+  clearIfPending();
+}
 
 void Overlay2D::applyRamp(const std::array<uint8_t, 256>& ramp) {
   if (width_ <= 0 || height_ <= 0) return;
+  flushPics();
   clearIfPending();
   rampPixels_.resize(size_t(width_) * size_t(height_) * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -86,12 +91,14 @@ void Overlay2D::applyRamp(const std::array<uint8_t, 256>& ramp) {
 }
 
 void Overlay2D::clip(int x, int y, int w, int h) {
+  flushPics();
   clipped_ = true;
   glEnable(GL_SCISSOR_TEST);
   glScissor(x, height_ - (y + h), std::max(0, w), std::max(0, h));
 }
 
 void Overlay2D::clearClip() {
+  flushPics();
   clipped_ = false;
   glScissor(0, 0, width_, height_);
   glDisable(GL_SCISSOR_TEST);
@@ -107,32 +114,61 @@ void Overlay2D::drawPic(ShaderRegistry& shaders, const Engine& engine, const Ima
                         float t1, float s2, float t2) {
   const ShaderEntry& entry = shaders.resolve(shader);
   if (entry.look.nodraw) return;
+  if (!batch_.quads.empty() && (batch_.shaders != &shaders || batch_.shader != shader || batch_.seconds != seconds))
+    flushPics();
   clearIfPending();
-  if (entry.look.fromScript && std::any_of(entry.look.stages.begin(), entry.look.stages.end(), stageDraws2D)) {
-    drawStages2D(shaders, engine, images, shader, seconds, color_, x, y, w, h, s1, t1, s2, t2);
+  if (batch_.quads.empty()) {
+    // The batch's textures: the same for each of its quads (one shader at one time).
+    batch_.shaders = &shaders;
+    batch_.shader = shader;
+    batch_.seconds = seconds;
+    const std::vector<q3::ShaderStage>& stages = entry.look.stages;
+    batch_.stages = entry.look.fromScript && std::any_of(stages.begin(), stages.end(), stageDraws2D);
+    batch_.textures.clear();
+    if (batch_.stages) {
+      for (size_t i = 0; i < stages.size(); ++i)
+        batch_.textures.push_back(stageDraws2D(stages[i]) ? shaders.stageGlTexture(engine, images, shader, i, seconds) : 0u);
+    } else {
+      batch_.textures.push_back(shaders.glTexture(shader, seconds));
+    }
+  }
+  batch_.quads.push_back({x, y, w, h, s1, t1, s2, t2, color_});
+}
+
+void Overlay2D::flushPics() const {
+  if (batch_.quads.empty()) return;
+  const ShaderLook& look = batch_.shaders->resolve(batch_.shader).look;
+  if (batch_.stages) {
+    drawStages2D(look, batch_.textures, batch_.seconds, batch_.quads);
+    batch_.quads.clear();
     return;
   }
-  glBindTexture(GL_TEXTURE_2D, shaders.glTexture(shader, seconds));
-  const BlendFunc blend = entry.look.blend;
+  glBindTexture(GL_TEXTURE_2D, batch_.textures.front());
+  const BlendFunc blend = look.blend;
   if (blend.blends()) {
     glEnable(GL_BLEND);
     glBlendFunc(blend.src, blend.dst);
   } else {
     glDisable(GL_BLEND);
   }
-  switch (entry.look.alphaTest) {
+  switch (look.alphaTest) {
     case AlphaTest::None: glDisable(GL_ALPHA_TEST); break;
     case AlphaTest::Gt0: glEnable(GL_ALPHA_TEST); glAlphaFunc(GL_GREATER, 0.0f); break;
     case AlphaTest::Lt128: glEnable(GL_ALPHA_TEST); glAlphaFunc(GL_LESS, 0.5f); break;
     case AlphaTest::Ge128: glEnable(GL_ALPHA_TEST); glAlphaFunc(GL_GEQUAL, 0.5f); break;
   }
-  const float r = entry.look.vertexColor ? color_[0] : 1.0f;
-  const float g = entry.look.vertexColor ? color_[1] : 1.0f;
-  const float b = entry.look.vertexColor ? color_[2] : 1.0f;
-  const float a = entry.look.vertexAlpha || entry.look.vertexColor ? color_[3] : 1.0f;
-  glColor4f(r, g, b, a);
-  drawQuad2D(x, y, w, h, s1, t1, s2, t2);
+  glBegin(GL_QUADS);
+  for (const Quad2D& q : batch_.quads) {
+    const float r = look.vertexColor ? q.color[0] : 1.0f;
+    const float g = look.vertexColor ? q.color[1] : 1.0f;
+    const float b = look.vertexColor ? q.color[2] : 1.0f;
+    const float a = look.vertexAlpha || look.vertexColor ? q.color[3] : 1.0f;
+    glColor4f(r, g, b, a);
+    quadVertices(q.x, q.y, q.w, q.h, q.s1, q.t1, q.s2, q.t2);
+  }
+  glEnd();
   glDisable(GL_ALPHA_TEST);
+  batch_.quads.clear();
 }
 
 unsigned Overlay2D::slotTexture(int slot) {
@@ -167,12 +203,14 @@ void Overlay2D::upload(int slot, const uint8_t* rgba, int width, int height) {
 void Overlay2D::uploadRaw(int client, const uint8_t* rgba, int cols, int rows) {
   const int slot = kViewSlots + client;
   if (slot < kViewSlots || slot >= kMaxSlots || rgba == nullptr || cols <= 0 || rows <= 0) return;
+  flushPics();
   upload(slot, rgba, cols, rows);
 }
 
 void Overlay2D::drawRaw(int client, float x, float y, float w, float h) {
   const int slot = kViewSlots + client;
   if (slot < kViewSlots || slot >= kMaxSlots || slotTextures_.empty() || slotTextures_[slot] == 0) return;
+  flushPics();
   clearIfPending();
   glBindTexture(GL_TEXTURE_2D, slotTextures_[slot]);
   glDisable(GL_BLEND);
@@ -182,6 +220,7 @@ void Overlay2D::drawRaw(int client, float x, float y, float w, float h) {
 void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height, float x, float y,
                            float w, float h, bool opaque) {
   if (rgba == nullptr || width <= 0 || height <= 0 || slot < 0 || slot >= kViewSlots) return;
+  flushPics();
   upload(slot, rgba, width, height);
   // An opaque picture over the whole unclipped window replaces every pixel the clear would set
   // (the quad's edges are the viewport's, so it covers every pixel centre).
@@ -212,6 +251,7 @@ void Overlay2D::drawTexelsQuad(float x, float y, float w, float h) {
 std::vector<uint8_t> Overlay2D::readPixelsRGB(int width, int height) const {
   std::vector<uint8_t> pixels(static_cast<size_t>(width) * height * 3);
   if (pixels.empty()) return pixels;
+  flushPics();
   clearIfPending();
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadBuffer(GL_BACK);
@@ -230,6 +270,7 @@ std::vector<uint8_t> Overlay2D::readPixelsRGB(int width, int height) const {
 }
 
 void Overlay2D::release() {
+  batch_.quads.clear();   // their textures go with the context
   for (unsigned& texture : slotTextures_)
     if (texture != 0) glDeleteTextures(1, &texture);
   slotTextures_.clear();

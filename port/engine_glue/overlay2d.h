@@ -2,11 +2,15 @@
 // Draws a frame with OpenGL strictly in the engine's call order: traced 3D views as textured
 // rectangles, then SetColor / DrawStretchPic / DrawStretchRaw 2D quads with their shader's blend
 // mode and alpha test. Coordinates are window pixels, origin top-left (as the engine gives them).
+// Consecutive DrawStretchPics of one shader are drawn together, as the stock renderer batches
+// them (a line of text is one draw, not one per character): on a software GL each draw's state
+// validation and set-up costs CPU. Every other drawing call draws the waiting quads first.
 #include <array>
 #include <cstdint>
 #include <vector>
 
 #include "port/engine_glue/ioq3_abi.h"
+#include "port/engine_glue/overlay_stages.h"
 #include "port/engine_glue/shaders.h"
 
 namespace glue {
@@ -33,7 +37,8 @@ class Overlay2D {
   /// SetColor (nullptr = opaque white).
   void setColor(const float* rgba);
   /// DrawStretchPic: every stage of a scripted shader (see overlay_stages.h), else the image.
-  /// `images` reads the stage images of a scripted shader on its first 2D draw.
+  /// `images` reads the stage images of a scripted shader on its first 2D draw. The quad is
+  /// drawn with the next one of another shader or time, or before any other drawing.
   void drawPic(ShaderRegistry& shaders, const Engine& engine, const ImageSource& images, q3abi::qhandle_t shader,
                double seconds, float x, float y, float w, float h, float s1, float t1, float s2, float t2);
   /// Draws RGBA8 pixels (width*height, top row first) stretched over a rectangle; when not
@@ -66,6 +71,18 @@ class Overlay2D {
   void drawTexelsQuad(float x, float y, float w, float h);
   /// Clears the whole window if beginFrame's clear is still due.
   void clearIfPending() const;
+  /// Draws the DrawStretchPic quads waiting in the batch.
+  void flushPics() const;
+
+  /// DrawStretchPic quads of one shader at one time, waiting to be drawn together.
+  struct PicBatch {
+    ShaderRegistry* shaders = nullptr;
+    q3abi::qhandle_t shader = 0;
+    double seconds = 0.0;
+    bool stages = false;              ///< A scripted shader: drawStages2D.
+    std::vector<unsigned> textures;   ///< Per stage (scripted), else the image's texture.
+    std::vector<Quad2D> quads;
+  };
 
   int width_ = 0;
   int height_ = 0;
@@ -76,6 +93,7 @@ class Overlay2D {
   std::vector<unsigned> slotTextures_;   ///< Views, then kViewSlots + client for cinematics
   std::vector<std::array<int, 2>> slotSizes_;
   std::vector<uint8_t> rampPixels_;   ///< applyRamp's frame copy.
+  mutable PicBatch batch_;
 };
 
 }  // namespace glue

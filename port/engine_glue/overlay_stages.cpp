@@ -74,12 +74,16 @@ q3::UvAffine stageUvTransform2D(const q3::ShaderStage& stage, double seconds) {
   return q3::uvTransformAt(stage.tcMods, seconds);
 }
 
-void drawQuad2D(float x, float y, float w, float h, float s1, float t1, float s2, float t2) {
-  glBegin(GL_QUADS);
+void quadVertices(float x, float y, float w, float h, float s1, float t1, float s2, float t2) {
   glTexCoord2f(s1, t1); glVertex2f(x, y);
   glTexCoord2f(s2, t1); glVertex2f(x + w, y);
   glTexCoord2f(s2, t2); glVertex2f(x + w, y + h);
   glTexCoord2f(s1, t2); glVertex2f(x, y + h);
+}
+
+void drawQuad2D(float x, float y, float w, float h, float s1, float t1, float s2, float t2) {
+  glBegin(GL_QUADS);
+  quadVertices(x, y, w, h, s1, t1, s2, t2);
   glEnd();
 }
 
@@ -87,15 +91,13 @@ bool stageDraws2D(const q3::ShaderStage& stage) {
   return stage.source == q3::TextureSource::Image && !stage.textures.empty();
 }
 
-void drawStages2D(ShaderRegistry& shaders, const Engine& engine, const ImageSource& images, q3abi::qhandle_t shader,
-                  double seconds, const Rgba& setColor, float x, float y, float w, float h, float s1, float t1,
-                  float s2, float t2) {
-  const ShaderEntry& entry = shaders.resolve(shader);
-  const std::vector<q3::ShaderStage>& stages = entry.look.stages;
-  for (size_t i = 0; i < stages.size(); ++i) {
+void drawStages2D(const ShaderLook& look, std::span<const unsigned> stageTextures, double seconds,
+                  std::span<const Quad2D> quads) {
+  const std::vector<q3::ShaderStage>& stages = look.stages;
+  for (size_t i = 0; i < stages.size() && i < stageTextures.size(); ++i) {
     const q3::ShaderStage& stage = stages[i];
     if (!stageDraws2D(stage)) continue;
-    glBindTexture(GL_TEXTURE_2D, shaders.stageGlTexture(engine, images, shader, i, seconds));
+    glBindTexture(GL_TEXTURE_2D, stageTextures[i]);
     if (stage.blends()) {
       glEnable(GL_BLEND);
       glBlendFunc(glBlendFactor(stage.srcBlend), glBlendFactor(stage.dstBlend));
@@ -113,9 +115,13 @@ void drawStages2D(ShaderRegistry& shaders, const Engine& engine, const ImageSour
     const GLfloat matrix[16] = {uv.a, uv.c, 0, 0, uv.b, uv.d, 0, 0, 0, 0, 1, 0, uv.tx, uv.ty, 0, 1};
     glMatrixMode(GL_TEXTURE);
     glLoadMatrixf(matrix);
-    const Rgba color = stageColor2D(stage, setColor, seconds);
-    glColor4f(color[0], color[1], color[2], color[3]);
-    drawQuad2D(x, y, w, h, s1, t1, s2, t2);
+    glBegin(GL_QUADS);
+    for (const Quad2D& q : quads) {
+      const Rgba color = stageColor2D(stage, q.color, seconds);
+      glColor4f(color[0], color[1], color[2], color[3]);
+      quadVertices(q.x, q.y, q.w, q.h, q.s1, q.t1, q.s2, q.t2);
+    }
+    glEnd();
   }
   glMatrixMode(GL_TEXTURE);
   glLoadIdentity();

@@ -4,6 +4,7 @@
 // tcMod texture transform (menu backgrounds, logos, console, HUD effects). Colours and texture
 // transforms are pure functions here; drawStages2D issues the GL calls.
 #include <array>
+#include <span>
 
 #include "port/engine_glue/ioq3_abi.h"
 #include "port/engine_glue/shaders.h"
@@ -27,17 +28,26 @@ Rgba stageColor2D(const q3::ShaderStage& stage, const Rgba& setColor, double sec
 /// which need per-vertex or entity data, are left out).
 q3::UvAffine stageUvTransform2D(const q3::ShaderStage& stage, double seconds);
 
+/// A quad's four vertices inside glBegin(GL_QUADS) / glEnd.
+void quadVertices(float x, float y, float w, float h, float s1, float t1, float s2, float t2);
+
 /// One textured quad in window pixels with texture coordinates s1,t1 - s2,t2 (current GL state).
 void drawQuad2D(float x, float y, float w, float h, float s1, float t1, float s2, float t2);
+
+/// A DrawStretchPic rectangle held for a batch: window pixels, texture coordinates, and the
+/// SetColor colour in force when it was drawn.
+struct Quad2D {
+  float x, y, w, h, s1, t1, s2, t2;
+  Rgba color;
+};
 
 /// True when the stage draws an image in 2D (not a lightmap stage, not a video).
 bool stageDraws2D(const q3::ShaderStage& stage);
 
-/// Draws every 2D-drawable stage of `shader`'s script over the rectangle (window pixels,
-/// texture coordinates s1,t1 - s2,t2). The GL context must be current with the 2D projection.
-/// `images` reads a stage's images on its first draw.
-void drawStages2D(ShaderRegistry& shaders, const Engine& engine, const ImageSource& images, q3abi::qhandle_t shader,
-                  double seconds, const Rgba& setColor, float x, float y, float w, float h, float s1, float t1,
-                  float s2, float t2);
+/// Draws every 2D-drawable stage of a scripted shader (`look`) over the quads, stage by stage as
+/// the stock renderer draws a batch of one shader: stage i with texture `stageTextures[i]`, each
+/// quad in its own colour. The GL context must be current with the 2D projection.
+void drawStages2D(const ShaderLook& look, std::span<const unsigned> stageTextures, double seconds,
+                  std::span<const Quad2D> quads);
 
 }  // namespace glue
