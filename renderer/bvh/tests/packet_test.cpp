@@ -117,8 +117,8 @@ TEST_P(BlasPackets, SameHitsAsRayByRay) {
   for (const auto& [source, minimumHits] : meshes) {
     TestMesh m = source;
     if (param.filtered) {
-      m.masked.assign(m.triangleCount(), 0);
-      for (uint32_t i = 0; i < m.triangleCount(); i += 2) m.masked[i] = 1;
+      m.rules.assign(m.triangleCount(), HitRule::Opaque);
+      for (uint32_t i = 0; i < m.triangleCount(); i += 2) m.rules[i] = HitRule::Filtered;
     }
     BvhBuildConfig config;
     config.nodeWidth = param.nodeWidth;

@@ -35,8 +35,8 @@ Bounds padded(const TestMesh& m) {
 void expectMatchesReference(TestMesh m, const BvhBuildConfig& config, uint32_t seed, bool masked) {
   if (!wide16Available()) GTEST_SKIP() << "no AVX-512 on this CPU";
   if (masked) {
-    m.masked.assign(m.triangleCount(), 0);
-    for (uint32_t i = 0; i < m.triangleCount(); i += 2) m.masked[i] = 1;
+    m.rules.assign(m.triangleCount(), HitRule::Opaque);
+    for (uint32_t i = 0; i < m.triangleCount(); i += 2) m.rules[i] = HitRule::Filtered;
   }
   const TriangleMesh mesh = makeTriangleMesh(m.input());
   const BinaryBvh binary = buildBinaryBvh(mesh, config);

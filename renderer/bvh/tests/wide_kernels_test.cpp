@@ -32,8 +32,8 @@ std::vector<WideKernel> availableKernels() {
 /// triangle may differ only on an exact tie, which traversal order decides).
 void expectKernelsMatchReference(TestMesh m, uint32_t seed, bool masked) {
   if (masked) {
-    m.masked.assign(m.triangleCount(), 0);
-    for (uint32_t i = 0; i < m.triangleCount(); i += 2) m.masked[i] = 1;
+    m.rules.assign(m.triangleCount(), HitRule::Opaque);
+    for (uint32_t i = 0; i < m.triangleCount(); i += 2) m.rules[i] = HitRule::Filtered;
   }
   const TriangleMesh mesh = makeTriangleMesh(m.input());
   const BinaryBvh binary = buildBinaryBvh(mesh, BvhBuildConfig{});
