@@ -111,6 +111,7 @@ struct Packet {
   Float ox, oy, oz, idx, idy, idz, tmin;
   Float sx, sy, sz;                        ///< RayShear::sx, sy, sz per ray.
   Float cull;                              ///< cullSign of each ray's HitFilter::cull.
+  bool cullsAFace = false;                 ///< Some ray's HitFilter::cull is not None.
   typename L::PacketPlane plane;           ///< What L::planeDistancesOverRays needs of the rays.
   PacketBounds box;
   bool sharedOrigin = false;               ///< Every live ray starts at box.oLo (camera rays).
@@ -397,7 +398,7 @@ PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c,
     PackEdges<Float> e;
     unsigned accepted = testTriangleAgainstRays<L>(pack, lane, p.axes[c], p, rays, e);
     if (!accepted) continue;
-    if (pack.oneSidedBits >> lane & 1) {   // the rays that cull the face they see skip it
+    if (p.cullsAFace && (pack.oneSidedBits >> lane & 1)) {   // the rays that cull the face they see skip it
       accepted = afterFaceCull(accepted, ~0u, e.det, p.cull);
       if (!accepted) continue;
     }
@@ -558,7 +559,11 @@ PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* allRays,
     const PacketRays<Float> all = L::loadRays(rays, active);
     const unsigned traceable = active & traceableLanes(all);
     alignas(4 * L::kWidth) float culls[L::kWidth] = {};   // cullSign of each lane's filter
-    for (unsigned r = active; r; r &= r - 1) culls[std::countr_zero(r)] = cullSign(filters[std::countr_zero(r)].cull);
+    bool cullsAFace = false;
+    for (unsigned r = active; r; r &= r - 1) {
+      culls[std::countr_zero(r)] = cullSign(filters[std::countr_zero(r)].cull);
+      cullsAFace = cullsAFace || filters[std::countr_zero(r)].cull != FaceCull::None;
+    }
     unsigned packetable = traceable & finiteInverseLanes(all);
     for (unsigned r = traceable & ~packetable; r; r &= r - 1) {
       const int index = std::countr_zero(r);
@@ -579,6 +584,7 @@ PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* allRays,
       // Lanes outside the packet must hold one of its rays: reload where other rays share them.
       finishPacket(octant == active ? all : L::loadRays(rays, octant), octant, packet);
       packet.cull = Float::load(culls);
+      packet.cullsAFace = cullsAFace;
       for (unsigned r = traversePacket(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
         const int lane = std::countr_zero(r);
         rays[lane].tmax = packet.tmax[lane];

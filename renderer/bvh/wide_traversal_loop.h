@@ -81,11 +81,13 @@ struct TriangleRay {
   RayShear shear;
   Float ox, oy, oz, sx, sy, sz;
   Float cull;   ///< cullSign(HitFilter::cull): one-sided lanes with det x cull < 0 are skipped.
+  bool cullsAFace;   ///< HitFilter::cull is not None (shadow rays skip the cull's operations).
   typename L::PlaneRay plane;
 
   PA_BVH_KERNEL TriangleRay(const Ray& ray, FaceCull faceCull)
       : shear(ray.dir), ox(ray.origin[shear.kx]), oy(ray.origin[shear.ky]), oz(ray.origin[shear.kz]),
-        sx(shear.sx), sy(shear.sy), sz(shear.sz), cull(cullSign(faceCull)), plane(ray) {}
+        sx(shear.sx), sy(shear.sy), sz(shear.sz), cull(cullSign(faceCull)), cullsAFace(faceCull != FaceCull::None),
+        plane(ray) {}
 };
 
 /// The lanes of `lanes` to keep after face culling: one-sided lanes (oneSidedBits) whose det
@@ -178,8 +180,10 @@ PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, 
   PackEdges<Float> e;
   unsigned lanes = testPackEdges<L>(pack, triRay, e);
   if (!lanes) return false;
-  lanes = afterFaceCull(lanes, pack.oneSidedBits, e.det, triRay.cull);
-  if (!lanes) return false;
+  if (triRay.cullsAFace) {
+    lanes = afterFaceCull(lanes, pack.oneSidedBits, e.det, triRay.cull);
+    if (!lanes) return false;
+  }
   if constexpr (L::kLaneByLaneHits) {
     return L::template acceptLaneByLane<kAnyHit>(pack, lanes, e, triRay.plane, ray.tmin, tmax, hit, filter,
                                                  instanceId);
