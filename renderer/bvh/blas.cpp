@@ -110,7 +110,7 @@ void Blas::reserveLike(const Blas& example) {
   const size_t triangles = other.mesh.triangleCount();
   reserveAtLeast(impl.mesh.positions, other.mesh.positions.capacity());
   reserveAtLeast(impl.mesh.indices, other.mesh.indices.capacity());
-  reserveAtLeast(impl.mesh.masked, other.mesh.masked.capacity());
+  reserveAtLeast(impl.mesh.rules, other.mesh.rules.capacity());
   reserveAtLeast(impl.mesh.degenerate, other.mesh.degenerate.capacity());
   reserveAtLeast(impl.binary.nodes, other.binary.nodes.capacity());
   reserveAtLeast(impl.binary.primIndices, other.binary.primIndices.capacity());

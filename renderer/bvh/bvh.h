@@ -39,12 +39,21 @@ struct BvhBuildConfig {
 /// Most rays one packet query (Blas::intersectPacket, Tlas::intersectPacket) traces.
 inline constexpr uint32_t kMaxPacketRays = 16;
 
-/// Triangle mesh input. Indices are 3 per triangle; masked (optional, one byte per
-/// triangle, non-zero = alpha-tested) selects the triangles whose hits go through the HitFilter.
+/// What a hit on one triangle needs before it counts (BlasInput::rules).
+enum class HitRule : uint8_t {
+  Opaque = 0,     ///< Every hit counts.
+  Filtered = 1,   ///< Each candidate hit goes through the ray's HitFilter callback (alpha test).
+  /// Opaque on one face only: rays whose HitFilter::cull names a face skip hits on that face in
+  /// the traversal kernels (no callback); other rays take every hit, as Opaque.
+  OneSided = 2,
+};
+
+/// Triangle mesh input. Indices are 3 per triangle; rules (optional: empty = all Opaque) holds
+/// one HitRule per triangle.
 struct BlasInput {
   std::span<const glm::vec3> positions;
   std::span<const uint32_t> indices;
-  std::span<const uint8_t> masked;
+  std::span<const HitRule> rules;
 };
 
 /// Bottom-level acceleration structure over one triangle mesh.

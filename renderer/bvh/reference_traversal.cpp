@@ -15,6 +15,7 @@ template <bool kAnyHit>
 bool traceReference(const TriangleMesh& mesh, const BinaryBvh& bvh, const Ray& ray, float& tmax, Hit& hit,
                     const HitFilter& filter, uint32_t instanceId) {
   const RayShear shear(ray.dir);
+  const float cull = cullSign(filter.cull);
   bool found = false;
   traverseBinary(bvh, ray, tmax, [&](uint32_t first, uint32_t count) {
     for (uint32_t k = first; k < first + count; ++k) {
@@ -24,7 +25,8 @@ bool traceReference(const TriangleMesh& mesh, const BinaryBvh& bvh, const Ray& r
       if (!intersectTriangleWatertight(ray.origin, ray.dir, shear, ray.tmin, tmax, mesh.vertex(tri, 0),
                                        mesh.vertex(tri, 1), mesh.vertex(tri, 2), th))
         continue;
-      if (mesh.isMasked(tri) && !filter(instanceId, tri, th.u, th.v)) continue;
+      if (mesh.isOneSided(tri) && th.det * cull < 0.0f) continue;   // the face the ray culls
+      if (mesh.isFiltered(tri) && !filter(instanceId, tri, th.u, th.v)) continue;
       found = true;
       if constexpr (kAnyHit) return true;
       tmax = th.t;

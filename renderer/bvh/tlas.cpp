@@ -36,7 +36,18 @@ struct PlacedInstance {
   uint32_t mask = 0;
   uint32_t index = 0;   // position in the span given to build()
   bool identity = false;   // objectToWorld is exactly the identity: rays enter untransformed
+  // The transform's determinant is negative: a world-space winding is the opposite object-space
+  // one (cross(M a, M b) = det(M) M^-T cross(a, b)), so the faces a ray culls swap.
+  bool mirrored = false;
 };
+
+/// The filter a ray takes into an instance: its face culling seen from object space.
+HitFilter objectSpaceFilter(const PlacedInstance& inst, const HitFilter& filter) {
+  if (!inst.mirrored || filter.cull == FaceCull::None) return filter;
+  HitFilter flipped = filter;
+  flipped.cull = filter.cull == FaceCull::Back ? FaceCull::Front : FaceCull::Back;
+  return flipped;
+}
 
 bool finiteMatrix(const glm::mat4x3& m) {
   for (int c = 0; c < 4; ++c)
@@ -389,7 +400,8 @@ void Tlas::build(std::span<const TlasInstance> instances) {
     const glm::vec3 offset = -(inverse * in.objectToWorld[3]);
     if (!std::isfinite(inverse[0][0] + inverse[1][1] + inverse[2][2] + offset.x + offset.y + offset.z))
       fail(i, ".objectToWorld has a non-finite inverse");
-    placed.push_back({in.blas, inverse, offset, in.mask, static_cast<uint32_t>(i), in.objectToWorld == glm::mat4x3(1.0f)});
+    placed.push_back({in.blas, inverse, offset, in.mask, static_cast<uint32_t>(i),
+                      in.objectToWorld == glm::mat4x3(1.0f), det < 0.0f});
   }
   // Refilled in place: a rebuild over as many instances as the last allocates nothing.
   next.instances.clear();
@@ -434,7 +446,7 @@ bool Tlas::intersect(Ray& ray, Hit& hit, uint32_t rayMask, const HitFilter& filt
   // ray.tmax shrinks with each hit: forEachEntered reads it before entering the next instance.
   self.forEachEntered(ray, rayMask, [&](const PlacedInstance& inst) {
     Ray local = self.toObject(inst, ray);
-    if (inst.blas->intersect(local, hit, filter, inst.index)) {
+    if (inst.blas->intersect(local, hit, objectSpaceFilter(inst, filter), inst.index)) {
       ray.tmax = local.tmax;
       found = true;
     }
@@ -495,6 +507,8 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
     return a.nearest < b.nearest || (a.nearest == b.nearest && a.instance < b.instance);
   });
   std::array<Ray, kMaxPacketRays> local;
+  std::array<HitFilter, kMaxPacketRays> mirroredFilters;   // filled at the first mirrored instance
+  bool haveMirroredFilters = false;
   for (uint32_t i = 0; i < count; ++i) {
     const PacketCandidate& c = candidates[i];
     uint32_t live = 0;
@@ -510,7 +524,16 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
       continue;
     }
     for (uint32_t r = live; r; r &= r - 1) self.toObject(inst, rays[std::countr_zero(r)], local[std::countr_zero(r)]);
-    const uint32_t hitLanes = inst.blas->intersectPacket(local, hits, live, filters, inst.index);
+    std::span<const HitFilter> instanceFilters = filters;
+    if (inst.mirrored) {
+      if (!haveMirroredFilters) {
+        for (uint32_t r = traceable; r; r &= r - 1)
+          mirroredFilters[std::countr_zero(r)] = objectSpaceFilter(inst, filters[std::countr_zero(r)]);
+        haveMirroredFilters = true;
+      }
+      instanceFilters = mirroredFilters;
+    }
+    const uint32_t hitLanes = inst.blas->intersectPacket(local, hits, live, instanceFilters, inst.index);
     for (uint32_t r = hitLanes; r; r &= r - 1) rays[std::countr_zero(r)].tmax = local[std::countr_zero(r)].tmax;
     found |= hitLanes;
   }
@@ -522,7 +545,7 @@ bool Tlas::occluded(const Ray& ray, uint32_t rayMask, const HitFilter& filter) c
   bool found = false;
   const Impl& self = *impl_;
   self.forEachEntered(ray, rayMask, [&](const PlacedInstance& inst) {
-    found = inst.blas->occluded(self.toObject(inst, ray), filter, inst.index);
+    found = inst.blas->occluded(self.toObject(inst, ray), objectSpaceFilter(inst, filter), inst.index);
     return found;
   });
   return found;

@@ -44,9 +44,13 @@ void validateBlasInput(const BlasInput& input) {
       throw std::invalid_argument("BlasInput.indices[" + std::to_string(i) + "] = " +
                                   std::to_string(input.indices[i]) + " is out of range (" +
                                   std::to_string(input.positions.size()) + " positions)");
-  if (!input.masked.empty() && input.masked.size() != input.indices.size() / 3)
-    throw std::invalid_argument("BlasInput.masked has " + std::to_string(input.masked.size()) +
+  if (!input.rules.empty() && input.rules.size() != input.indices.size() / 3)
+    throw std::invalid_argument("BlasInput.rules has " + std::to_string(input.rules.size()) +
                                 " entries for " + std::to_string(input.indices.size() / 3) + " triangles");
+  for (size_t i = 0; i < input.rules.size(); ++i)
+    if (static_cast<uint8_t>(input.rules[i]) > static_cast<uint8_t>(HitRule::OneSided))
+      throw std::invalid_argument("BlasInput.rules[" + std::to_string(i) + "] = " +
+                                  std::to_string(static_cast<int>(input.rules[i])) + " is not a HitRule");
 }
 
 TriangleMesh makeTriangleMesh(const BlasInput& input) {
@@ -59,7 +63,7 @@ TriangleMesh makeTriangleMesh(const BlasInput& input) {
 void assignTriangleMesh(const BlasInput& input, TriangleMesh& mesh) {
   assignReusing(mesh.positions, input.positions.begin(), input.positions.end());
   assignReusing(mesh.indices, input.indices.begin(), input.indices.end());
-  assignReusing(mesh.masked, input.masked.begin(), input.masked.end());
+  assignReusing(mesh.rules, input.rules.begin(), input.rules.end());
   computeDegenerate(mesh);
 }
 

@@ -16,16 +16,20 @@ namespace pa::bvh_detail {
 struct TriangleMesh {
   std::vector<glm::vec3> positions;
   std::vector<uint32_t> indices;
-  std::vector<uint8_t> masked;       ///< Empty, or one flag per triangle.
+  std::vector<HitRule> rules;        ///< Empty (all Opaque), or one rule per triangle.
   std::vector<uint8_t> degenerate;   ///< One flag per triangle.
 
   uint32_t triangleCount() const { return static_cast<uint32_t>(indices.size() / 3); }
-  bool isMasked(uint32_t tri) const { return !masked.empty() && masked[tri] != 0; }
+  HitRule rule(uint32_t tri) const { return rules.empty() ? HitRule::Opaque : rules[tri]; }
+  /// Hits on the triangle go through the HitFilter callback.
+  bool isFiltered(uint32_t tri) const { return rule(tri) == HitRule::Filtered; }
+  /// Rays that cull a face skip the triangle's hits on that face.
+  bool isOneSided(uint32_t tri) const { return rule(tri) == HitRule::OneSided; }
   glm::vec3 vertex(uint32_t tri, int corner) const { return positions[indices[3 * tri + corner]]; }
 };
 
 /// Throws std::invalid_argument naming the field when input cannot be built (non-finite
-/// positions, index count not a multiple of 3, out-of-range indices, masked size mismatch).
+/// positions, index count not a multiple of 3, out-of-range indices, rules size mismatch or unknown rule).
 void validateBlasInput(const BlasInput& input);
 
 /// Copies and validates input (validateBlasInput).

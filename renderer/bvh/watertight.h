@@ -9,6 +9,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "renderer/core/ray.h"
+
 namespace pa::bvh_detail {
 
 /// Per-ray constants of the watertight test.
@@ -44,10 +46,20 @@ inline float planeHitDistance(const glm::vec3& origin, const glm::vec3& dir, con
   return static_cast<float>(num / denom);
 }
 
-/// Result of a successful triangle test: distance and barycentrics of v1 (u) and v2 (v).
+/// Result of a successful triangle test: distance and barycentrics of v1 (u) and v2 (v), and
+/// the test's det (the sum of the edge functions, never 0 on a hit): det > 0 where the ray sees
+/// the front face, dot(cross(v1 - v0, v2 - v0), dir) < 0 (edge functions in sheared space, whose
+/// axis order keeps the winding: det = -dot(n, dir) / |dir[kz]| up to rounding).
 struct TriangleHit {
   float t, u, v;
+  float det = 0.0f;
 };
+
+/// FaceCull as the factor of the watertight det: a one-sided triangle's hit is skipped where
+/// det x cullSign < 0 (Back: det < 0, the back face; Front: det > 0; None: never).
+inline float cullSign(FaceCull cull) {
+  return cull == FaceCull::Back ? 1.0f : cull == FaceCull::Front ? -1.0f : 0.0f;
+}
 
 /// Tests one triangle; true when hit at t in [tmin, tmax]. Degenerate triangles
 /// (det == 0) never hit. Both faces are hit.
@@ -74,7 +86,7 @@ inline bool intersectTriangleWatertight(const glm::vec3& origin, const glm::vec3
   const float az = s.sz * a[s.kz], bz = s.sz * b[s.kz], cz = s.sz * c[s.kz];
   const float rcp = 1.0f / det;
   const float tSheared = (u * az + v * bz + w * cz) * rcp;
-  out = {planeHitDistance(origin, dir, v0, v1, v2, tSheared), v * rcp, w * rcp};
+  out = {planeHitDistance(origin, dir, v0, v1, v2, tSheared), v * rcp, w * rcp, det};
   return out.t >= tmin && out.t <= tmax;
 }
 

@@ -40,7 +40,8 @@ struct alignas(4 * kLanes) TrianglePackOf {
   float v[3][3][kLanes];
   uint32_t prim[kLanes];
   uint32_t validBits = 0;    ///< Lanes holding a real, non-degenerate triangle.
-  uint32_t maskedBits = 0;   ///< Lanes whose hits go through the HitFilter.
+  uint32_t maskedBits = 0;   ///< Lanes whose hits go through the HitFilter (HitRule::Filtered).
+  uint32_t oneSidedBits = 0; ///< Lanes of HitRule::OneSided triangles (culled by HitFilter::cull).
 };
 
 /// The 8-wide layout's pack (kPackWidth triangles).
@@ -107,7 +108,8 @@ Pack makePack(const TriangleMesh& mesh, std::span<const uint32_t> tris) {
     pack.prim[lane] = padding ? kInvalidId : tri;
     if (padding) continue;
     if (!mesh.degenerate[tri]) pack.validBits |= 1u << lane;
-    if (mesh.isMasked(tri)) pack.maskedBits |= 1u << lane;
+    if (mesh.isFiltered(tri)) pack.maskedBits |= 1u << lane;
+    if (mesh.isOneSided(tri)) pack.oneSidedBits |= 1u << lane;
   }
   return pack;
 }

@@ -110,6 +110,8 @@ struct Packet {
   using Float = typename L::Float;
   Float ox, oy, oz, idx, idy, idz, tmin;
   Float sx, sy, sz;                        ///< RayShear::sx, sy, sz per ray.
+  Float cull;                              ///< cullSign of each ray's HitFilter::cull.
+  bool cullsAFace = false;                 ///< Some ray's HitFilter::cull is not None.
   typename L::PacketPlane plane;           ///< What L::planeDistancesOverRays needs of the rays.
   PacketBounds box;
   bool sharedOrigin = false;               ///< Every live ray starts at box.oLo (camera rays).
@@ -380,7 +382,8 @@ PA_BVH_INLINE unsigned trianglesPacketMayCross(const Pack& pack, const Packet<L>
 
 /// A pack's triangles against the rays in `rays` (shear class c), triangle by triangle in the
 /// order the single-ray kernel accepts them (lane order): a ray takes a hit within [tmin, its
-/// current tmax] that its filter accepts (alpha-masked triangles only). Returns the rays that
+/// current tmax] on a face it does not cull (one-sided triangles) that its filter accepts
+/// (filtered triangles only). Returns the rays that
 /// took a hit; their tmax (lanes of tmax) and nearest hits are updated.
 template <class L, class Pack>
 PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c, unsigned rays,
@@ -395,6 +398,10 @@ PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c,
     PackEdges<Float> e;
     unsigned accepted = testTriangleAgainstRays<L>(pack, lane, p.axes[c], p, rays, e);
     if (!accepted) continue;
+    if (p.cullsAFace && (pack.oneSidedBits >> lane & 1)) {   // the rays that cull the face they see skip it
+      accepted = afterFaceCull(accepted, ~0u, e.det, p.cull);
+      if (!accepted) continue;
+    }
     const Float rcp = Float(1.0f) / e.det;
     const Float t = L::planeDistancesOverRays(pack, lane, p.plane, accepted, e.tScaled * rcp);
     accepted &= static_cast<unsigned>(((t >= p.tmin) & (t <= tmax)).mask());
@@ -437,7 +444,7 @@ PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, 
       for (unsigned r = classRays; r; r &= r - 1) {
         const int lane = std::countr_zero(r);
         const Ray& ray = rays[lane];
-        if (testLeaf<L, false>(bvh, ref, TriangleRay<L>(ray), ray, p.tmax[lane], hits[lane],
+        if (testLeaf<L, false>(bvh, ref, TriangleRay<L>(ray, filters[lane].cull), ray, p.tmax[lane], hits[lane],
                                filters[lane], instanceId))
           hitAlone |= 1u << lane;
       }
@@ -551,6 +558,12 @@ PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* allRays,
     const HitFilter* filters = allFilters + base;
     const PacketRays<Float> all = L::loadRays(rays, active);
     const unsigned traceable = active & traceableLanes(all);
+    alignas(4 * L::kWidth) float culls[L::kWidth] = {};   // cullSign of each lane's filter
+    bool cullsAFace = false;
+    for (unsigned r = active; r; r &= r - 1) {
+      culls[std::countr_zero(r)] = cullSign(filters[std::countr_zero(r)].cull);
+      cullsAFace = cullsAFace || filters[std::countr_zero(r)].cull != FaceCull::None;
+    }
     unsigned packetable = traceable & finiteInverseLanes(all);
     for (unsigned r = traceable & ~packetable; r; r &= r - 1) {
       const int index = std::countr_zero(r);
@@ -570,6 +583,8 @@ PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* allRays,
       Packet<L> packet;
       // Lanes outside the packet must hold one of its rays: reload where other rays share them.
       finishPacket(octant == active ? all : L::loadRays(rays, octant), octant, packet);
+      packet.cull = Float::load(culls);
+      packet.cullsAFace = cullsAFace;
       for (unsigned r = traversePacket(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
         const int lane = std::countr_zero(r);
         rays[lane].tmax = packet.tmax[lane];

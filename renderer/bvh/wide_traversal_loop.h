@@ -73,18 +73,30 @@ PA_BVH_INLINE unsigned testChildren(const BoxRay<L>& r, const Node& node, float 
   return static_cast<unsigned>((tNear <= tFar).mask());
 }
 
-/// Per-ray constants of the watertight pack test and of the accurate plane distance.
+/// Per-ray constants of the watertight pack test, of the face culling of one-sided triangles
+/// and of the accurate plane distance.
 template <class L>
 struct TriangleRay {
   using Float = typename L::Float;
   RayShear shear;
   Float ox, oy, oz, sx, sy, sz;
+  Float cull;   ///< cullSign(HitFilter::cull): one-sided lanes with det x cull < 0 are skipped.
+  bool cullsAFace;   ///< HitFilter::cull is not None (shadow rays skip the cull's operations).
   typename L::PlaneRay plane;
 
-  PA_BVH_KERNEL explicit TriangleRay(const Ray& ray)
+  PA_BVH_KERNEL TriangleRay(const Ray& ray, FaceCull faceCull)
       : shear(ray.dir), ox(ray.origin[shear.kx]), oy(ray.origin[shear.ky]), oz(ray.origin[shear.kz]),
-        sx(shear.sx), sy(shear.sy), sz(shear.sz), plane(ray) {}
+        sx(shear.sx), sy(shear.sy), sz(shear.sz), cull(cullSign(faceCull)), cullsAFace(faceCull != FaceCull::None),
+        plane(ray) {}
 };
+
+/// The lanes of `lanes` to keep after face culling: one-sided lanes (oneSidedBits) whose det
+/// (crossedEdges' det: > 0 on the front face) times cull is negative are dropped. Costs a
+/// multiply and a compare on values the watertight test already has.
+template <class Float>
+PA_BVH_INLINE unsigned afterFaceCull(unsigned lanes, unsigned oneSidedBits, Float det, Float cull) {
+  return lanes & ~(oneSidedBits & static_cast<unsigned>((det * cull < Float(0.0f)).mask()));
+}
 
 /// Final lane results of one pack test.
 template <uint32_t kWidth>
@@ -159,7 +171,7 @@ PA_BVH_INLINE unsigned testPackEdges(const Pack& pack, const TriangleRay<L>& r, 
 }
 
 /// Tests one pack's triangles against [ray.tmin, tmax] and accepts its hits in lane order (as
-/// acceptPackHits): the accurate distances of all candidate lanes in SIMD, or lane by lane where
+/// acceptPackHits), one-sided lanes seen from the face the ray culls skipped first: the accurate distances of all candidate lanes in SIMD, or lane by lane where
 /// L::kLaneByLaneHits (L::acceptLaneByLane).
 template <class L, bool kAnyHit, class Pack>
 PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, const Ray& ray, float& tmax, Hit& hit,
@@ -168,6 +180,10 @@ PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, 
   PackEdges<Float> e;
   unsigned lanes = testPackEdges<L>(pack, triRay, e);
   if (!lanes) return false;
+  if (triRay.cullsAFace) {
+    lanes = afterFaceCull(lanes, pack.oneSidedBits, e.det, triRay.cull);
+    if (!lanes) return false;
+  }
   if constexpr (L::kLaneByLaneHits) {
     return L::template acceptLaneByLane<kAnyHit>(pack, lanes, e, triRay.plane, ray.tmin, tmax, hit, filter,
                                                  instanceId);
@@ -239,7 +255,7 @@ PA_BVH_INLINE bool traverse(const typename L::Bvh& bvh, const Ray& ray, float& t
                             Hit& hit, const HitFilter& filter, uint32_t instanceId) {
   if (bvh.empty()) return false;
   const BoxRay<L> boxRay(ray);
-  const TriangleRay<L> triRay(ray);
+  const TriangleRay<L> triRay(ray, filter.cull);
   TraversalStack<!kAnyHit, L::kWidth> stack;
   uint32_t current = 0;
   bool found = false;

@@ -28,11 +28,22 @@ struct Hit {
   bool valid() const { return prim != kInvalidId; }
 };
 
-/// Decides whether a candidate hit on an alpha-masked triangle counts (alpha test).
-/// Called during traversal only for triangles flagged as masked; ctx is caller data.
+/// Which face of one-sided triangles (BlasInput::rules, HitRule::OneSided) a ray skips. The
+/// front face is the one whose vertices p0, p1, p2 the ray sees counter-clockwise:
+/// dot(cross(p1 - p0, p2 - p0), dir) < 0 (in world space for Tlas queries).
+enum class FaceCull : uint8_t {
+  None,    ///< Both faces are hit (shadow rays; the default).
+  Back,    ///< Hits on the back face are skipped (camera and bounce rays).
+  Front,   ///< Hits on the front face are skipped (the Tlas's view of Back on a mirrored instance).
+};
+
+/// Per-ray hit rules: the callback that decides candidate hits on filtered triangles (alpha
+/// test; called during traversal only for HitRule::Filtered triangles; ctx is caller data), and
+/// the face of one-sided triangles the ray skips without a call.
 struct HitFilter {
   bool (*accept)(const void* ctx, uint32_t instance, uint32_t prim, float u, float v) = nullptr;
   const void* ctx = nullptr;
+  FaceCull cull = FaceCull::None;   ///< Face of HitRule::OneSided triangles skipped by the kernels.
   bool operator()(uint32_t instance, uint32_t prim, float u, float v) const {
     return accept == nullptr || accept(ctx, instance, prim, u, v);
   }

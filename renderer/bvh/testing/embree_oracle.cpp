@@ -3,6 +3,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <glm/geometric.hpp>
+
 namespace pa::testing {
 namespace {
 
@@ -25,6 +27,25 @@ RTCRayHit toRtc(const Ray& r, uint32_t mask) {
 }
 
 }  // namespace
+
+/// A mesh whose one-sided triangles' back faces the filter functions reject.
+struct EmbreeScene::CulledMesh {
+  TestMesh mesh;
+
+  /// Embree intersect and occluded filter: clears valid[i] for back-face hits on one-sided triangles.
+  static void reject(const RTCFilterFunctionNArguments* args) {
+    const auto& self = *static_cast<const CulledMesh*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+      if (args->valid[i] != -1) continue;
+      const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+      if (self.mesh.rules.empty() || self.mesh.rules[prim] != HitRule::OneSided) continue;
+      const glm::vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                          RTCRayN_dir_z(args->ray, args->N, i));
+      const auto vertex = [&](int c) { return self.mesh.positions[self.mesh.indices[3 * prim + c]]; };
+      if (glm::dot(glm::cross(vertex(1) - vertex(0), vertex(2) - vertex(0)), dir) > 0.0f) args->valid[i] = 0;
+    }
+  }
+};
 
 EmbreeDevice::EmbreeDevice(const std::string& config) {
   device_ = rtcNewDevice(config.empty() ? nullptr : config.c_str());
@@ -49,7 +70,7 @@ EmbreeScene::EmbreeScene(const EmbreeDevice& device, const EmbreeSceneOptions& o
 
 EmbreeScene::~EmbreeScene() { rtcReleaseScene(scene_); }
 
-uint32_t EmbreeScene::addMesh(const TestMesh& mesh) {
+uint32_t EmbreeScene::addMesh(const TestMesh& mesh, bool cullBackFaces) {
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                         3 * sizeof(float), mesh.positions.size()));
@@ -57,6 +78,12 @@ uint32_t EmbreeScene::addMesh(const TestMesh& mesh) {
   auto* ix = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                             3 * sizeof(uint32_t), mesh.triangleCount()));
   std::memcpy(ix, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+  if (cullBackFaces) {
+    culledMeshes_.push_back(std::make_unique<CulledMesh>(CulledMesh{mesh}));
+    rtcSetGeometryUserData(geom, culledMeshes_.back().get());
+    rtcSetGeometryIntersectFilterFunction(geom, &CulledMesh::reject);
+    rtcSetGeometryOccludedFilterFunction(geom, &CulledMesh::reject);
+  }
   rtcCommitGeometry(geom);
   const uint32_t id = rtcAttachGeometry(scene_, geom);
   rtcReleaseGeometry(geom);

@@ -47,8 +47,11 @@ class EmbreeScene {
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 
-  /// Adds a triangle mesh (data copied into Embree buffers); returns its geometry id.
-  uint32_t addMesh(const TestMesh& mesh);
+  /// Adds a triangle mesh (data copied into Embree buffers); returns its geometry id. With
+  /// cullBackFaces, hits on its HitRule::OneSided triangles seen from behind
+  /// (dot(cross(v1 - v0, v2 - v0), dir) > 0, in the scene's space) are rejected by Embree filter
+  /// functions: the oracle of rays with HitFilter::cull = Back in a flat scene.
+  uint32_t addMesh(const TestMesh& mesh, bool cullBackFaces = false);
   /// Adds an instance of a committed scene; returns its geometry id.
   uint32_t addInstance(const EmbreeScene& scene, const glm::mat4x3& objectToWorld, uint32_t mask = 0xffffffffu);
   /// Builds the acceleration structure (in the caller's TBB arena).
@@ -65,8 +68,10 @@ class EmbreeScene {
   RTCScene get() const { return scene_; }
 
  private:
+  struct CulledMesh;
   RTCDevice device_;
   RTCScene scene_ = nullptr;
+  std::vector<std::unique_ptr<CulledMesh>> culledMeshes_;   ///< Filter functions' data.
   bool hasInstances_ = false;
 };
 

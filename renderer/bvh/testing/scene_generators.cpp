@@ -38,10 +38,10 @@ void TestMesh::append(const TestMesh& other) {
   const auto base = static_cast<uint32_t>(positions.size());
   positions.insert(positions.end(), other.positions.begin(), other.positions.end());
   for (uint32_t i : other.indices) indices.push_back(base + i);
-  if (!masked.empty() || !other.masked.empty()) {
-    masked.resize(triangleCount() - other.triangleCount(), 0);
-    if (other.masked.empty()) masked.resize(triangleCount(), 0);
-    else masked.insert(masked.end(), other.masked.begin(), other.masked.end());
+  if (!rules.empty() || !other.rules.empty()) {
+    rules.resize(triangleCount() - other.triangleCount(), HitRule::Opaque);
+    if (other.rules.empty()) rules.resize(triangleCount(), HitRule::Opaque);
+    else rules.insert(rules.end(), other.rules.begin(), other.rules.end());
   }
 }
 

@@ -17,10 +17,10 @@ namespace pa::testing {
 struct TestMesh {
   std::vector<glm::vec3> positions;
   std::vector<uint32_t> indices;
-  std::vector<uint8_t> masked;   ///< Empty, or one flag per triangle.
+  std::vector<HitRule> rules;   ///< Empty (all Opaque), or one rule per triangle.
 
   /// View for Blas::build.
-  BlasInput input() const { return {positions, indices, masked}; }
+  BlasInput input() const { return {positions, indices, rules}; }
   /// Number of triangles.
   uint32_t triangleCount() const { return static_cast<uint32_t>(indices.size() / 3); }
   /// Bounds of all vertices.

@@ -98,8 +98,10 @@ TEST(Blas, RejectsBadInput) {
   Blas blas;
   EXPECT_THROW(blas.build({p, outOfRange, {}}), std::invalid_argument);
   EXPECT_THROW(blas.build({p, notTriples, {}}), std::invalid_argument);
-  std::vector<uint8_t> wrongMask = {1, 0};
-  EXPECT_THROW(blas.build({p, ok, wrongMask}), std::invalid_argument);
+  std::vector<HitRule> wrongCount = {HitRule::Filtered, HitRule::Opaque};
+  EXPECT_THROW(blas.build({p, ok, wrongCount}), std::invalid_argument);
+  std::vector<HitRule> unknown = {static_cast<HitRule>(3)};
+  EXPECT_THROW(blas.build({p, ok, unknown}), std::invalid_argument);
   p[1].y = kNaN;
   EXPECT_THROW(blas.build({p, ok, {}}), std::invalid_argument);
   p[1].y = kInf;
@@ -187,7 +189,7 @@ TEST(Blas, EmptyMeshNeverHits) {
 
 TEST(Blas, MaskedTrianglesGoThroughFilter) {
   testing::TestMesh m = twoTriangles();
-  m.masked = {1, 0};   // the near triangle is alpha tested
+  m.rules = {HitRule::Filtered, HitRule::Opaque};   // the near triangle is alpha tested
   Blas blas;
   blas.build(m.input());
   auto rejectAll = [](const void*, uint32_t, uint32_t, float, float) { return false; };

@@ -1,6 +1,7 @@
 // Embree 3 as the oracle: the same random rays against the same scenes give the same closest
 // hits (t within 1e-4 relative, same triangle except at shared edges/vertices) and the same
-// any-hit answers, for every layout this CPU traverses (8-wide, and 16-wide with AVX-512).
+// any-hit answers, for every layout this CPU traverses (8-wide, and 16-wide with AVX-512); and
+// with one-sided triangles whose back faces the rays cull (Embree filter functions as oracle).
 #include <random>
 #include <span>
 #include <string>
@@ -128,6 +129,34 @@ TEST(EmbreeOracle, RandomTriangleSoup) { checkMesh(makeTriangleSoup(100000, 1), 
 TEST(EmbreeOracle, LongThinTriangles) { checkMesh(makeThinTriangles(50000, 2), 12); }
 
 TEST(EmbreeOracle, TessellatedSphere) { checkMesh(makeSphere(20000), 13); }
+
+/// A Blas traced by rays that cull back faces (HitFilter::cull = Back).
+struct BackFaceCulling {
+  const Blas& blas;
+  bool intersect(Ray& r, Hit& h) const { return blas.intersect(r, h, HitFilter{nullptr, nullptr, FaceCull::Back}); }
+  bool occluded(const Ray& r) const { return blas.occluded(r, HitFilter{nullptr, nullptr, FaceCull::Back}); }
+};
+
+/// One-sided triangles (two in three) among opaque ones, rays culling back faces: Embree's
+/// filter functions reject back-face hits by the world winding, as the renderer's callback did.
+TEST(EmbreeOracle, OneSidedTrianglesCulledByFace) {
+  TestMesh mesh = makeTriangleSoup(100000, 15);
+  mesh.append(makeSphere(20000, glm::vec3(0.3f, -0.2f, 0.1f), 0.5f));   // closed: back faces behind front ones
+  mesh.rules.assign(mesh.triangleCount(), HitRule::OneSided);
+  for (uint32_t t = 0; t < mesh.triangleCount(); t += 3) mesh.rules[t] = HitRule::Opaque;
+  EmbreeDevice device;
+  EmbreeScene embree(device);
+  embree.addMesh(mesh, true);
+  embree.commit();
+  for (const uint32_t width : availableNodeWidths()) {
+    SCOPED_TRACE("node width " + std::to_string(width));
+    BvhBuildConfig config;
+    config.nodeWidth = width;
+    Blas blas;
+    blas.build(mesh.input(), config);
+    expectAgreement(runOracle(BackFaceCulling{blas}, embree, mesh.bounds(), 16));
+  }
+}
 
 /// Our Tlas with Blas instances vs Embree instances of one scene.
 struct TlasAdapter {

@@ -238,8 +238,8 @@ TEST(Presplit, SameHitsThroughTheHitFilter) {
   // filter is a pure function of (prim, u, v), so the answers must not change.
   TestMesh m = makeThinTriangles(20000, 54);
   m.append(makeTriangleSoup(10000, 55, 0.2f));
-  m.masked.assign(m.triangleCount(), 0);
-  for (uint32_t t = 0; t < m.triangleCount(); t += 2) m.masked[t] = 1;
+  m.rules.assign(m.triangleCount(), HitRule::Opaque);
+  for (uint32_t t = 0; t < m.triangleCount(); t += 2) m.rules[t] = HitRule::Filtered;
   const HitFilter filter{[](const void*, uint32_t, uint32_t prim, float u, float v) { return prim % 4 == 0 || u < v; },
                          nullptr};
   Blas plain, split;

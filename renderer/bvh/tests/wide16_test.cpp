@@ -1,5 +1,5 @@
 // The 16-wide layout (wide16_bvh.h) against the scalar reference traversal: same hit distances
-// bit for bit and the same occlusion answers, with and without alpha-masked triangles, with
+// bit for bit and the same occlusion answers, with and without alpha-masked (and one-sided) triangles, with
 // small and multi-pack leaves; its structure (every triangle in exactly one leaf, boxes that
 // contain their triangles, per-octant orders that are permutations); and a Blas on it against a
 // Blas on the 8-wide layout, after a build and after a refit. Skipped on CPUs without AVX-512.
@@ -35,14 +35,15 @@ Bounds padded(const TestMesh& m) {
 void expectMatchesReference(TestMesh m, const BvhBuildConfig& config, uint32_t seed, bool masked) {
   if (!wide16Available()) GTEST_SKIP() << "no AVX-512 on this CPU";
   if (masked) {
-    m.masked.assign(m.triangleCount(), 0);
-    for (uint32_t i = 0; i < m.triangleCount(); i += 2) m.masked[i] = 1;
+    m.rules.assign(m.triangleCount(), HitRule::Opaque);
+    for (uint32_t i = 0; i < m.triangleCount(); ++i)   // and one-sided triangles, back faces culled
+      m.rules[i] = i % 2 == 0 ? HitRule::Filtered : i % 4 == 1 ? HitRule::OneSided : HitRule::Opaque;
   }
   const TriangleMesh mesh = makeTriangleMesh(m.input());
   const BinaryBvh binary = buildBinaryBvh(mesh, config);
   Wide16Bvh wide;
   collapseToWide16(binary, mesh, wide);
-  const HitFilter filter = masked ? HitFilter{rejectSome, nullptr} : HitFilter{};
+  const HitFilter filter = masked ? HitFilter{rejectSome, nullptr, FaceCull::Back} : HitFilter{};
   const Tracer wideTracer{[&](Ray& r, Hit& h) {
                             const bool hit = intersectWide16(wide, r, h, filter, 7);
                             EXPECT_TRUE(!hit || h.instance == 7u) << "hit reports instance " << h.instance;

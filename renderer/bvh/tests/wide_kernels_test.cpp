@@ -1,6 +1,6 @@
 // Every traversal kernel this CPU can run (WideKernel::Baseline and, on AVX-512 machines,
 // WideKernel::Avx512) against the scalar reference traversal: same hit distances bit for bit,
-// same occlusion answers, with and without alpha-masked triangles.
+// same occlusion answers, with and without alpha-masked (and one-sided) triangles.
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -32,13 +32,14 @@ std::vector<WideKernel> availableKernels() {
 /// triangle may differ only on an exact tie, which traversal order decides).
 void expectKernelsMatchReference(TestMesh m, uint32_t seed, bool masked) {
   if (masked) {
-    m.masked.assign(m.triangleCount(), 0);
-    for (uint32_t i = 0; i < m.triangleCount(); i += 2) m.masked[i] = 1;
+    m.rules.assign(m.triangleCount(), HitRule::Opaque);
+    for (uint32_t i = 0; i < m.triangleCount(); ++i)   // and one-sided triangles, back faces culled
+      m.rules[i] = i % 2 == 0 ? HitRule::Filtered : i % 4 == 1 ? HitRule::OneSided : HitRule::Opaque;
   }
   const TriangleMesh mesh = makeTriangleMesh(m.input());
   const BinaryBvh binary = buildBinaryBvh(mesh, BvhBuildConfig{});
   WideBvh wide = collapseToWide(binary, mesh);
-  const HitFilter filter = masked ? HitFilter{rejectSome, nullptr} : HitFilter{};
+  const HitFilter filter = masked ? HitFilter{rejectSome, nullptr, FaceCull::Back} : HitFilter{};
   Bounds region = m.bounds();
   region.min -= glm::vec3(0.5f);
   region.max += glm::vec3(0.5f);

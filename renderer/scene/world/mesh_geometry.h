@@ -58,11 +58,11 @@ struct MeshGeometry {
   MaterialId materialOf(uint32_t prim) const { return materials.empty() ? kNoId : materials[prim]; }
 };
 
-/// A committed mesh: geometry, the triangle flags that route hits through the HitFilter,
-/// and its bottom-level BVH.
+/// A committed mesh: geometry, the triangles' hit rules (which hits go through the HitFilter
+/// callback, which are culled by face in the BVH) and its bottom-level BVH.
 struct MeshRecord {
   MeshGeometry geometry;
-  std::vector<uint8_t> filtered;   ///< Per triangle: non-zero = hits go through the HitFilter.
+  std::vector<HitRule> rules;   ///< Per triangle (materialHitRule of its materials).
   Blas blas;
   bool built = false;
   /// Changes (to a value unique within its SceneStore) whenever a commit changes the positions.

@@ -141,6 +141,10 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
   return true;
 }
 
+/// The face of one-sided triangles a kind of ray skips, as acceptCandidate would: shadow rays
+/// take both faces, camera and bounce rays not the back one.
+FaceCull faceCullFor(RayKind kind) { return kind == RayKind::Shadow ? FaceCull::None : FaceCull::Back; }
+
 uint32_t rayMaskFor(RayKind kind) {
   switch (kind) {
     case RayKind::Camera: return kMaskCamera;
@@ -152,8 +156,9 @@ uint32_t rayMaskFor(RayKind kind) {
 
 }  // namespace
 
-bool materialNeedsFilter(const MaterialDesc& m) {
-  return m.alphaMode != AlphaMode::Opaque || !m.twoSided || !m.castsShadows || !m.visible || m.sky;
+HitRule materialHitRule(const MaterialDesc& m) {
+  if (m.alphaMode != AlphaMode::Opaque || !m.castsShadows || !m.visible || m.sky) return HitRule::Filtered;
+  return m.twoSided ? HitRule::Opaque : HitRule::OneSided;
 }
 
 glm::vec3 AdditiveHits::sumBefore(float t) const {
@@ -174,7 +179,7 @@ bool RenderScene::intersect(Ray& ray, Hit& hit, const TraceRequest& request) con
   const auto& instances = instancesFor(*this, request.overlay);
   if (instances.empty()) return false;
   const FilterContext ctx{this, request.overlay, &ray, &request};
-  const HitFilter filter{&acceptCandidate, &ctx};
+  const HitFilter filter{&acceptCandidate, &ctx, faceCullFor(request.kind)};
   const Tlas& tlas = request.overlay ? overlayTlas : worldTlas;
   return tlas.intersect(ray, hit, rayMaskFor(request.kind), filter);
 }
@@ -206,7 +211,7 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
       hits[i] = Hit{};
       requests[i].overlay = overlayPass;
       contexts[i] = FilterContext{this, overlayPass, &packet[i], &requests[i]};
-      filters[i] = HitFilter{&acceptCandidate, &contexts[i]};
+      filters[i] = HitFilter{&acceptCandidate, &contexts[i], faceCullFor(RayKind::Camera)};
     }
     const Tlas& tlas = overlayPass ? overlayTlas : worldTlas;
     const uint32_t found = tlas.intersectPacket(packet, hits, remaining, rayMaskFor(RayKind::Camera), filters);
@@ -225,7 +230,7 @@ bool RenderScene::occluded(const Ray& shadowRay, const TraceRequest& request) co
   if (world.empty()) return false;
   Ray ray = shadowRay;
   const FilterContext ctx{this, false, &ray, &request};
-  const HitFilter filter{&acceptCandidate, &ctx};
+  const HitFilter filter{&acceptCandidate, &ctx, faceCullFor(request.kind)};
   return worldTlas.occluded(ray, rayMaskFor(RayKind::Shadow), filter);
 }
 

@@ -30,15 +30,17 @@ struct MaterialRecord {
   const Texture* emissive = nullptr;
   const Texture* lightmap = nullptr;
   const Texture* shine = nullptr;   ///< StockLook::shineTexture.
-  bool filtered = false;   ///< Hits on it must go through the HitFilter.
+  HitRule rule = HitRule::Opaque;   ///< How the BVH treats hits on it (materialHitRule).
   bool emits = false;      ///< Non-zero emission (collected as area light).
   /// Camera rays see seenEmission in place of emission (MaterialDesc::seenEmission >= 0).
   bool seenApart = false;
 };
 
-/// True when a material needs the HitFilter (anything but an opaque, visible, two-sided,
-/// shadow-casting, non-sky surface).
-bool materialNeedsFilter(const MaterialDesc& m);
+/// How the BVH treats hits on a material: Opaque for an opaque, visible, two-sided,
+/// shadow-casting, non-sky surface; OneSided for the same but one-sided (camera and bounce rays
+/// skip its back face in the kernels: HitFilter::cull); Filtered (the HitFilter callback) for
+/// anything else.
+HitRule materialHitRule(const MaterialDesc& m);
 
 /// A placed mesh as seen by rays.
 struct RenderInstance {

@@ -168,8 +168,8 @@ void SceneStore::reserveMeshLike(MeshId id, MeshId example) {
   if (model.record) {
     slot.pending.reserveLike(model.record->geometry);
     record.geometry.reserveLike(model.record->geometry);
-    if (model.record->filtered.capacity() > record.filtered.capacity())
-      record.filtered.reserve(model.record->filtered.capacity());
+    if (model.record->rules.capacity() > record.rules.capacity())
+      record.rules.reserve(model.record->rules.capacity());
     record.blas.reserveLike(model.record->blas);
   }
   record.geometry.reserveLike(model.pending);
@@ -356,13 +356,16 @@ void SceneStore::validateReferences() const {
 }
 
 void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
-  // Meshes used by an instance whose override material needs the filter: filter every triangle.
-  std::vector<uint8_t>& overrideFiltered = overrideFilteredScratch_;
-  overrideFiltered.assign(meshes_.size(), 0);
+  // A triangle's rule must hold for every instance of its mesh: where the mesh's own material
+  // and the instances' override materials disagree, the callback decides (Filtered).
+  const auto agree = [](HitRule a, HitRule b) { return a == b ? a : HitRule::Filtered; };
+  std::vector<std::optional<HitRule>>& overrideRule = overrideRuleScratch_;
+  overrideRule.assign(meshes_.size(), std::nullopt);
   for (const auto& inst : instances_) {
-    if (inst && inst->materialOverride != kNoId && materials[inst->materialOverride].filtered) {
-      overrideFiltered[inst->mesh] = 1;
-    }
+    if (!inst || inst->materialOverride == kNoId) continue;
+    const HitRule rule = materials[inst->materialOverride].rule;
+    std::optional<HitRule>& meshRule = overrideRule[inst->mesh];
+    meshRule = meshRule ? agree(*meshRule, rule) : rule;
   }
   std::vector<MeshJob>& jobs = meshJobs_;
   jobs.clear();
@@ -388,15 +391,16 @@ void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
       geometryChanged = true;
     }
     const MeshGeometry& g = rec.geometry;
-    auto filteredFlag = [&](uint32_t t) -> uint8_t {
+    auto ruleOf = [&](uint32_t t) -> HitRule {
       const MaterialId m = g.materialOf(t);
-      return overrideFiltered[id] || (m != kNoId && materials[m].filtered) ? 1 : 0;
+      const HitRule own = m != kNoId ? materials[m].rule : HitRule::Opaque;   // the default: grey, two-sided
+      return overrideRule[id] ? agree(own, *overrideRule[id]) : own;
     };
-    bool flagsChanged = rec.filtered.size() != g.triangleCount();
-    for (uint32_t t = 0; t < g.triangleCount() && !flagsChanged; ++t) flagsChanged = rec.filtered[t] != filteredFlag(t);
+    bool flagsChanged = rec.rules.size() != g.triangleCount();
+    for (uint32_t t = 0; t < g.triangleCount() && !flagsChanged; ++t) flagsChanged = rec.rules[t] != ruleOf(t);
     if (flagsChanged) {
-      rec.filtered.resize(g.triangleCount());
-      for (uint32_t t = 0; t < g.triangleCount(); ++t) rec.filtered[t] = filteredFlag(t);
+      rec.rules.resize(g.triangleCount());
+      for (uint32_t t = 0; t < g.triangleCount(); ++t) rec.rules[t] = ruleOf(t);
     }
     if (!rec.built || flagsChanged || (geometryChanged && !canRefit)) {
       jobs.push_back({&rec, false});
@@ -409,7 +413,7 @@ void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
     if (jobs[i].refit) {
       rec.blas.refit(rec.geometry.positions);
     } else {
-      rec.blas.build({rec.geometry.positions, rec.geometry.indices, rec.filtered});
+      rec.blas.build({rec.geometry.positions, rec.geometry.indices, rec.rules});
     }
     rec.built = true;
   });
@@ -455,7 +459,7 @@ void SceneStore::commit(RenderScene& scene) {
     r.emissive = texturePtr(d.emissiveTexture);
     r.lightmap = texturePtr(d.stock.lightmapTexture);
     r.shine = texturePtr(d.stock.shineTexture);
-    r.filtered = materialNeedsFilter(d);
+    r.rule = materialHitRule(d);
     r.emits = d.emission.x > 0.0f || d.emission.y > 0.0f || d.emission.z > 0.0f;
     r.seenApart = d.seenEmission.x >= 0.0f && d.seenEmission.y >= 0.0f && d.seenEmission.z >= 0.0f;
     return r;

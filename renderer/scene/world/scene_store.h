@@ -116,7 +116,9 @@ class SceneStore {
     bool refit;
   };
   std::vector<MeshJob> meshJobs_;                ///< buildMeshes' list (memory kept between commits).
-  std::vector<uint8_t> overrideFilteredScratch_;   ///< buildMeshes' per-mesh override flags.
+  /// buildMeshes' per mesh: the hit rule all override materials of its instances agree on
+  /// (HitRule::Filtered where they differ), or no value where no instance overrides.
+  std::vector<std::optional<HitRule>> overrideRuleScratch_;
   std::vector<TlasInstance> worldTlasInputs_;      ///< commit()'s TLAS inputs (memory kept).
   std::vector<TlasInstance> overlayTlasInputs_;
   std::vector<LightDesc> lightScratch_;            ///< attachLights()' live lights (memory kept).
