@@ -118,7 +118,9 @@ TEST_P(HitRuleKernels, OneSidedSquareFromFrontAndBehind) {
       Ray alone = rays[lane];
       Hit hit;
       EXPECT_EQ(blas.intersect(alone, hit, filters[lane]), expected[lane]);
-      if (expected[lane]) EXPECT_NEAR(hit.t, 1.0f, 1e-6f);
+      if (expected[lane]) {
+        EXPECT_NEAR(hit.t, 1.0f, 1e-6f);
+      }
       EXPECT_EQ(blas.occluded(rays[lane], filters[lane]), expected[lane]);
     }
     // Two packets: the rays from above, then those from below (a packet takes one octant).
@@ -127,7 +129,9 @@ TEST_P(HitRuleKernels, OneSidedSquareFromFrontAndBehind) {
       std::array<Hit, kMaxPacketRays> hits;
       const uint32_t found = blas.intersectPacket(packet, hits, active, filters);
       for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane)
-        if (active >> lane & 1) EXPECT_EQ(found >> lane & 1, uint32_t{expected[lane]}) << "packet lane " << lane;
+        if (active >> lane & 1) {
+          EXPECT_EQ(found >> lane & 1, uint32_t{expected[lane]}) << "packet lane " << lane;
+        }
     }
   }
 }

@@ -96,7 +96,9 @@ TEST(SceneHitRules, OneSidedSquaresByRayKind) {
           Hit hit;
           const bool expected = expectedHit(kind, fromAbove, mirrored);
           EXPECT_EQ(scene.intersect(traced, hit, request), expected);
-          if (expected) EXPECT_EQ(hit.instance, mirrored ? 1u : 0u);
+          if (expected) {
+            EXPECT_EQ(hit.instance, mirrored ? 1u : 0u);
+          }
           EXPECT_EQ(scene.occluded(ray, request), expected);
         }
       }
