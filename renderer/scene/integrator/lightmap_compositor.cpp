@@ -129,10 +129,12 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
     const Hit& hit = segment.hit;
     const float tHit = segment.found ? hit.t : kInfinity;
     if (depth == 0) overlay = segment.found && segment.onOverlay;
-    const glm::vec3 dir = glm::normalize(ray.dir);
+    // glm::normalize(ray.dir) (which is ray.dir x (1 / length)) with the length kept for the fog.
+    const float dirLength = glm::length(ray.dir);
+    const glm::vec3 dir = ray.dir * (1.0f / dirLength);
     // Fog along this segment; a camera ray measures it by eye-space depth, as stock does.
     const float eyeDepthScale = depth == 0 ? glm::dot(dir, camera.forward()) : 1.0f;
-    const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir) * eyeDepthScale, true);
+    const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, dirLength * eyeDepthScale, true);
     layers.appendBefore(*segment.additive, tHit);
     if (fog.transmittance() < 1.0f && displayFogCount < displayFog.size()) {
       displayFog[displayFogCount++] = {radiance, 1.0f - fog.transmittance(), fog.layerColor()};

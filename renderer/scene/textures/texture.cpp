@@ -192,7 +192,7 @@ std::array<uint32_t, 2> texelPair(int i, int n, bool repeat) {
 
 }  // namespace
 
-glm::vec2 Texture::wrapped(glm::vec2 uv) const {
+[[gnu::always_inline]] inline glm::vec2 Texture::wrapped(glm::vec2 uv) const {
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = {0.0f, 0.0f};
   // Keep coordinates in a range where float -> int conversion is exact and safe.
   if (wrap_ == TextureWrap::Repeat) return uv - glm::floor(uv);
