@@ -1,6 +1,7 @@
 #include "port/engine_glue/stock_look.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <glm/common.hpp>
@@ -105,6 +106,17 @@ void premultiplyBlendedEffects(ShaderRegistry& shaders, GeometryBatch& batch) {
 }
 
 float byteToLinear(float byte) {
+  // Whole bytes (grid light, entity and shader colours: three per model vertex per frame in the
+  // lightmap preset) from a table of the same values, without powf; 0 and fractions computed.
+  static const std::array<float, 256> kWholeBytes = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = pa::srgbToLinearClamped(static_cast<float>(i) / 255.0f);
+    return t;
+  }();
+  if (byte >= 1.0f && byte <= 255.0f) {
+    const int whole = static_cast<int>(byte);
+    if (static_cast<float>(whole) == byte) return kWholeBytes[size_t(whole)];
+  }
   return pa::srgbToLinearClamped(byte / 255.0f);
 }
 

@@ -143,6 +143,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.cameraPackets = options.cameraPackets;
     settings.restir = options.restir;
     settings.bakedLightAtPathEnd = options.bakedPathEnd;
+    settings.motionVectors = false;   // no output reads them
     const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);
 
     const bool showProgress = !options.quiet && (options.progress || ::isatty(::fileno(log)));

@@ -80,17 +80,27 @@ bool sameFirstHit(const PixelAccumulator& history, const PixelSample& sample, In
   return std::isfinite(sample.depth) && std::abs(sample.depth - mean) <= 0.05 * mean;
 }
 
+/// What a frame writes of the G-buffer: the ids always, the motion when something reads it
+/// (the temporal stage, TAAU, FrameView::motion), the previous depth and normal for the
+/// temporal stage only.
+struct GBufferWrites {
+  bool motion = true;
+  bool previousSurface = true;
+};
+
 /// Asks the cache for the film's and the G-buffer's storage of pixels [x0, x1) x [y0, y1) of an
 /// image `width` pixels wide, ahead of that block's samples (core/prefetch.h).
-void prefetchBlock(const Film& film, const temporal::GBuffer& gbuffer, uint32_t width, uint32_t x0, uint32_t y0,
-                   uint32_t x1, uint32_t y1) {
+void prefetchBlock(const Film& film, const temporal::GBuffer& gbuffer, GBufferWrites writes, uint32_t width,
+                   uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1) {
   const size_t n = x1 - x0;
   for (uint32_t y = y0; y < y1; ++y) {
     film.prefetchPixels(x0, y, x1 - x0);
     const size_t i = size_t{y} * width + x0;
     prefetchForWrite(std::span(gbuffer.instance).subspan(i, n));
     prefetchForWrite(std::span(gbuffer.material).subspan(i, n));
+    if (!writes.motion) continue;
     prefetchForWrite(std::span(gbuffer.motion).subspan(i, n));
+    if (!writes.previousSurface) continue;
     prefetchForWrite(std::span(gbuffer.previousDepth).subspan(i, n));
     prefetchForWrite(std::span(gbuffer.previousNormal).subspan(i, n));
   }
@@ -231,6 +241,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   const bool temporalOn = settings.temporal && !settings.accumulate && settings.integrator != Integrator::Lightmap;
   if (!temporalOn || !im.temporalLast || !sameTemporalEstimate(settings, im.lastSettings)) im.temporal.reset();
   im.temporalLast = temporalOn;
+  // The motion only where something reads it; the previous depth and normal for the temporal stage.
+  const GBufferWrites gbufferWrites{temporalOn || settings.taau || settings.motionVectors, temporalOn};
   const bool restirOn = settings.restir && settings.integrator != Integrator::Lightmap;
   if (!restirOn || !im.restirLast) im.resampler.reset();
   im.restirLast = restirOn;
@@ -288,14 +300,15 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
         const uint32_t x1 = std::min(x0 + kTileSize, settings.width);
         const uint32_t y1 = std::min(y0 + kTileSize, settings.height);
         // Blocks of 4x4 pixels: each sample's camera rays of a block are traced as one packet.
-        prefetchBlock(film, gbuffer, settings.width, x0, y0, std::min(x0 + kBlockSide, x1), std::min(y0 + kBlockSide, y1));
+        prefetchBlock(film, gbuffer, gbufferWrites, settings.width, x0, y0, std::min(x0 + kBlockSide, x1),
+                      std::min(y0 + kBlockSide, y1));
         for (uint32_t by = y0; by < y1; by += kBlockSide) {
           for (uint32_t bx = x0; bx < x1; bx += kBlockSide) {
             {   // the next block's storage, while this one is traced
               const bool rowEnds = bx + kBlockSide >= x1;
               const uint32_t nx = rowEnds ? x0 : bx + kBlockSide, ny = rowEnds ? by + kBlockSide : by;
               if (ny < y1)
-                prefetchBlock(film, gbuffer, settings.width, nx, ny, std::min(nx + kBlockSide, x1),
+                prefetchBlock(film, gbuffer, gbufferWrites, settings.width, nx, ny, std::min(nx + kBlockSide, x1),
                               std::min(ny + kBlockSide, y1));
             }
             struct PixelState {
@@ -308,13 +321,16 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
             uint32_t count = 0;
             for (uint32_t y = by; y < std::min(by + kBlockSide, y1); ++y)
               for (uint32_t x = bx; x < std::min(bx + kBlockSide, x1); ++x) {
+                PixelState& p = pixels[count++];
+                p = {x, y, sampling::hashCombine(seedHash, y * settings.width + x)};
+                if (!restartOverlayPixels && !restartSeenPixels) continue;   // no pixel restarts
                 // Last frame's first hit (the G-buffer is written by this frame's first sample below).
                 const size_t i = size_t{y} * settings.width + x;
                 const bool showedEdit =
                     restartSeenPixels && seen.seenAt(gbuffer.instance[i], gbuffer.material[i], scenePortals);
-                pixels[count++] = {x, y, sampling::hashCombine(seedHash, y * settings.width + x), false,
-                                   (restartOverlayPixels && film.overlayAt(x, y)) || showedEdit, false,
-                                   gbuffer.instance[i], gbuffer.material[i]};
+                p.coveredBefore = (restartOverlayPixels && film.overlayAt(x, y)) || showedEdit;
+                p.lastInstance = gbuffer.instance[i];
+                p.lastMaterial = gbuffer.material[i];
               }
             std::array<TracedCameraRay, kBlockSide * kBlockSide> traced;
             std::array<glm::vec2, kBlockSide * kBlockSide> jitters;   // this sample's, per pixel
@@ -341,9 +357,12 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                     traceSample(scene, rays, settings, static_cast<float>(p.x) + jitter.x,
                                 static_cast<float>(p.y) + jitter.y, sampler, settings.cameraPackets ? &traced[i] : nullptr,
                                 useResampled ? &resampled : nullptr);
-                if (s == 0) {
+                if (s == 0 && !gbufferWrites.motion) {
+                  gbuffer.writeIds(size_t{p.y} * settings.width + p.x, sample);
+                } else if (s == 0) {
                   gbuffer.write(size_t{p.y} * settings.width + p.x, sample, static_cast<float>(p.x) + jitter.x,
-                                static_cast<float>(p.y) + jitter.y, motions, previousCamera);
+                                static_cast<float>(p.y) + jitter.y, motions, previousCamera,
+                                gbufferWrites.previousSurface);
                 }
                 p.overlaySeen = p.overlaySeen || sample.overlay;
                 if (singleSample) {
@@ -454,7 +473,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   view.depth = film.depth();
   view.variance = film.variance();
   view.rgba8 = film.rgba8();
-  view.motion = gbuffer.motion;
+  if (gbufferWrites.motion) view.motion = gbuffer.motion;
   view.instance = gbuffer.instance;
   view.material = gbuffer.material;
   if (temporalOn) view.historyLength = im.temporal.historyLength();

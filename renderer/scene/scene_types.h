@@ -468,6 +468,10 @@ struct RenderSettings {
   bool taau = false;
   uint32_t outputWidth = 0;    ///< TAAU's output width; 0 = width.
   uint32_t outputHeight = 0;   ///< TAAU's output height; 0 = height.
+  /// Fill FrameView::motion. False: a frame whose motion nothing in the renderer reads (no
+  /// temporal stage, no TAAU) leaves it out and hands FrameView::motion out empty; the instance
+  /// and material ids are written either way. Does not reset accumulation.
+  bool motionVectors = true;
 };
 
 }  // namespace pa

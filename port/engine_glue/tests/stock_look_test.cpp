@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <map>
 
 #include <glm/geometric.hpp>
@@ -23,6 +24,17 @@ namespace glue {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
+
+TEST(StockLook, ByteToLinearIsTheClampedCurveToTheBit) {
+  // Whole bytes come from a table: the same bits as the curve, and so do 0, -0 and fractions.
+  const auto same = [](float byte) {
+    const float expected = pa::srgbToLinearClamped(byte / 255.0f), got = byteToLinear(byte);
+    return std::memcmp(&expected, &got, sizeof(float)) == 0;
+  };
+  for (int b = 0; b < 256; ++b) EXPECT_TRUE(same(static_cast<float>(b))) << b;
+  for (const float byte : {-0.0f, -3.0f, 0.5f, 1.25f, 127.5f, 254.999f, 255.0f, 256.0f, 300.0f, 1e9f})
+    EXPECT_TRUE(same(byte)) << byte;
+}
 
 TEST(EntityLighting, ColorShiftKeepsHueWhenSaturating) {
   EXPECT_EQ(colorShiftLight({10, 20, 30}, 2), glm::vec3(40, 80, 120));

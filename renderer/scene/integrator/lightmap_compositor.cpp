@@ -101,7 +101,15 @@ glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels&
 PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                                   float px, float py, const sampling::PixelSampler& sampler,
                                   const TracedCameraRay* traced) {
-  PixelSample out;
+  // The sample's AOVs (PixelSample's defaults until set), the sample built from them at the end
+  // with every member given: GCC zero-fills a default PixelSample first with `rep stos`.
+  glm::vec3 albedoAov(0.0f), normalAov(0.0f), position(0.0f);
+  glm::vec2 bary(0.0f);
+  float depthAov = kInfinity;
+  bool overlay = false;
+  InstanceId instance = kNoId;
+  MaterialId material = kNoId;
+  uint32_t prim = 0;
   Ray ray = traced ? traced->ray : camera.generate(px, py);
   glm::vec3 radiance(0.0f);
   // 1, unless more fog layers cross the path than displayFog holds: those dim what lies behind.
@@ -120,11 +128,13 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
                         segment);
     const Hit& hit = segment.hit;
     const float tHit = segment.found ? hit.t : kInfinity;
-    if (depth == 0) out.overlay = segment.found && segment.onOverlay;
-    const glm::vec3 dir = glm::normalize(ray.dir);
+    if (depth == 0) overlay = segment.found && segment.onOverlay;
+    // glm::normalize(ray.dir) (which is ray.dir x (1 / length)) with the length kept for the fog.
+    const float dirLength = glm::length(ray.dir);
+    const glm::vec3 dir = ray.dir * (1.0f / dirLength);
     // Fog along this segment; a camera ray measures it by eye-space depth, as stock does.
     const float eyeDepthScale = depth == 0 ? glm::dot(dir, camera.forward()) : 1.0f;
-    const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir) * eyeDepthScale, true);
+    const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, dirLength * eyeDepthScale, true);
     layers.appendBefore(*segment.additive, tHit);
     if (fog.transmittance() < 1.0f && displayFogCount < displayFog.size()) {
       displayFog[displayFogCount++] = {radiance, 1.0f - fog.transmittance(), fog.layerColor()};
@@ -134,8 +144,11 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
     }
     const SurfaceHit s = segment.found ? scene.surfaceAt(hit, segment.onOverlay, ray) : SurfaceHit{};
     if (!segment.found || s.material->desc.sky) {
-      radiance += beta * scene.sky.radiance(dir);
-      trace::recordSkyAovs(scene, dir, out);
+      const glm::vec3 sky = scene.sky.radiance(dir);
+      radiance += beta * sky;
+      albedoAov = glm::min(sky, glm::vec3(1.0f));   // as trace::recordSkyAovs
+      normalAov = glm::vec3(0.0f);
+      depthAov = kInfinity;
       break;
     }
     if (const PortalDesc* portal = trace::portalEntered(scene, s, dir)) {
@@ -151,7 +164,16 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
     const float footprint = coneWidth / std::max(trace::kMinCosForFootprint, front ? facing : -facing);
     StockTexels texels = stockTexels(scene, s, footprint);
     const glm::vec3 lit = litSurface(scene, s, texels, footprint);
-    trace::recordSurfaceAovs(scene, s, hit.t, texels.albedo, ns, depth > 0, out);
+    albedoAov = texels.albedo;   // as trace::recordSurfaceAovs
+    normalAov = ns;
+    depthAov = hit.t;
+    if (depth == 0) {   // reprojection ids only when no portal lies between the hit and the camera
+      instance = s.instance != nullptr ? s.instance->id : kNoId;
+      material = trace::materialIdOf(scene, s);
+      position = s.position;
+      prim = s.prim;
+      bary = s.bary;
+    }
     const glm::vec3 le = scene.emission(s, front);
     if (le != glm::vec3(0.0f)) layers.append({le, glm::vec3(1.0f)});   // a glow stage adds in display values
     radiance += beta * lit;
@@ -161,9 +183,18 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
     const DisplayFog& f = displayFog[i];
     radiance = f.radianceInFront + blendInDisplaySpace(radiance - f.radianceInFront, f.opacity, f.color);
   }
-  out.radiance = layers.over(radiance);   // see-through layers over the fogged surface
-  out.emission = out.radiance;            // no Monte Carlo noise at all
-  return out;
+  const glm::vec3 composed = layers.over(radiance);   // see-through layers over the fogged surface
+  return PixelSample{.radiance = composed,
+                     .emission = composed,   // no Monte Carlo noise at all
+                     .albedo = albedoAov,
+                     .normal = normalAov,
+                     .depth = depthAov,
+                     .overlay = overlay,
+                     .instance = instance,
+                     .material = material,
+                     .position = position,
+                     .prim = prim,
+                     .bary = bary};
 }
 
 }  // namespace pa

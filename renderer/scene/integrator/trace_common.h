@@ -103,6 +103,11 @@ inline void recordSkyAovs(const RenderScene& scene, const glm::vec3& dir, PixelS
   out.depth = kInfinity;
 }
 
+/// The index of a hit's material in scene.materials (kNoId: the default material).
+inline MaterialId materialIdOf(const RenderScene& scene, const SurfaceHit& s) {
+  return s.material == &scene.defaultMaterial ? kNoId : static_cast<MaterialId>(s.material - scene.materials.data());
+}
+
 /// The AOVs of a camera path's first seen surface; reprojection ids only when no portal lies
 /// between it and the camera (through a portal the hit does not move with the camera's view).
 inline void recordSurfaceAovs(const RenderScene& scene, const SurfaceHit& s, float t, const glm::vec3& albedo,
@@ -112,7 +117,7 @@ inline void recordSurfaceAovs(const RenderScene& scene, const SurfaceHit& s, flo
   out.depth = t;
   if (throughPortal) return;
   out.instance = s.instance != nullptr ? s.instance->id : kNoId;
-  out.material = s.material == &scene.defaultMaterial ? kNoId : static_cast<MaterialId>(s.material - scene.materials.data());
+  out.material = materialIdOf(scene, s);
   out.position = s.position;
   out.prim = s.prim;
   out.bary = s.bary;

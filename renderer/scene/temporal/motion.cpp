@@ -153,12 +153,13 @@ void GBuffer::resize(uint32_t w, uint32_t h) {
 }
 
 void GBuffer::write(size_t i, const PixelSample& sample, float px, float py, const InstanceMotion& motions,
-                    const CameraRays* previousCamera) {
-  instance[i] = sample.instance;
-  material[i] = sample.material;
+                    const CameraRays* previousCamera, bool previousSurface) {
+  writeIds(i, sample);
   motion[i] = glm::vec2(kNoMotion);
-  previousDepth[i] = std::numeric_limits<float>::infinity();
-  previousNormal[i] = glm::vec3(0.0f);
+  if (previousSurface) {
+    previousDepth[i] = std::numeric_limits<float>::infinity();
+    previousNormal[i] = glm::vec3(0.0f);
+  }
   if (sample.instance == kNoId || previousCamera == nullptr) return;
   glm::vec3 point = sample.position;
   glm::vec3 normal = sample.normal;
@@ -166,6 +167,7 @@ void GBuffer::write(size_t i, const PixelSample& sample, float px, float py, con
   float previousX = 0.0f, previousY = 0.0f;
   if (!previousCamera->project(point, previousX, previousY)) return;
   motion[i] = glm::vec2(previousX - px, previousY - py);
+  if (!previousSurface) return;
   previousDepth[i] = glm::length(point - previousCamera->origin());
   const float length = glm::length(normal);
   previousNormal[i] = length > 0.0f ? normal / length : glm::vec3(0.0f);

@@ -85,9 +85,15 @@ struct GBuffer {
   /// Sizes every array (contents unspecified until written).
   void resize(uint32_t w, uint32_t h);
   /// Writes pixel i from a camera sample taken at film position (px, py): its instance and
-  /// material and, where the hit has a previous position (InstanceMotion::toPrevious), its motion.
+  /// material and, where the hit has a previous position (InstanceMotion::toPrevious), its motion;
+  /// with `previousSurface`, also previousDepth and previousNormal (read by the temporal stage).
   void write(size_t i, const PixelSample& sample, float px, float py, const InstanceMotion& motions,
-             const CameraRays* previousCamera);
+             const CameraRays* previousCamera, bool previousSurface = true);
+  /// Writes only pixel i's instance and material (a frame whose motion nothing reads).
+  void writeIds(size_t i, const PixelSample& sample) {
+    instance[i] = sample.instance;
+    material[i] = sample.material;
+  }
 };
 
 }  // namespace pa::temporal

@@ -192,17 +192,17 @@ std::array<uint32_t, 2> texelPair(int i, int n, bool repeat) {
 
 }  // namespace
 
+[[gnu::always_inline]] inline glm::vec2 Texture::wrapped(glm::vec2 uv) const {
+  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = {0.0f, 0.0f};
+  // Keep coordinates in a range where float -> int conversion is exact and safe.
+  if (wrap_ == TextureWrap::Repeat) return uv - glm::floor(uv);
+  return glm::clamp(uv, glm::vec2(-1.0f), glm::vec2(2.0f));
+}
+
 template <bool Stored>
 glm::vec4 Texture::sampleLevel(uint32_t levelIndex, glm::vec2 uv) const {
   const MipLevel& level = levels_[std::min<size_t>(levelIndex, levels_.size() - 1)];
-  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = {0.0f, 0.0f};
-  // Keep coordinates in a range where float -> int conversion is exact and safe.
   const bool repeat = wrap_ == TextureWrap::Repeat;
-  if (repeat) {
-    uv -= glm::floor(uv);
-  } else {
-    uv = glm::clamp(uv, glm::vec2(-1.0f), glm::vec2(2.0f));
-  }
   const float px = uv.x * static_cast<float>(level.width) - 0.5f;
   const float py = uv.y * static_cast<float>(level.height) - 0.5f;
   const float fx0 = std::floor(px);
@@ -257,17 +257,18 @@ glm::vec4 Texture::sampleLevel(uint32_t levelIndex, glm::vec2 uv) const {
 template <bool Stored>
 glm::vec4 Texture::sampleAs(glm::vec2 uv, float lod) const {
   const float maxLevel = static_cast<float>(levels_.size() - 1);
-  if (!(lod > 0.0f)) return sampleLevel<Stored>(0, uv);
-  if (lod >= maxLevel) return sampleLevel<Stored>(static_cast<uint32_t>(maxLevel), uv);
+  const glm::vec2 at = wrapped(uv);
+  if (!(lod > 0.0f)) return sampleLevel<Stored>(0, at);
+  if (lod >= maxLevel) return sampleLevel<Stored>(static_cast<uint32_t>(maxLevel), at);
   const float base = std::floor(lod);
   const float t = lod - base;
   const auto l = static_cast<uint32_t>(base);
-  return glm::mix(sampleLevel<Stored>(l, uv), sampleLevel<Stored>(l + 1, uv), t);
+  return glm::mix(sampleLevel<Stored>(l, at), sampleLevel<Stored>(l + 1, at), t);
 }
 
 glm::vec4 Texture::sample(glm::vec2 uv, float lod) const { return sampleAs<false>(uv, lod); }
 
-glm::vec4 Texture::sampleFull(glm::vec2 uv) const { return sampleLevel<false>(0, uv); }
+glm::vec4 Texture::sampleFull(glm::vec2 uv) const { return sampleLevel<false>(0, wrapped(uv)); }
 
 glm::vec4 Texture::sampleStored(glm::vec2 uv, float lod) const { return sampleAs<true>(uv, lod); }
 

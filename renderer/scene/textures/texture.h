@@ -57,6 +57,10 @@ class Texture {
   glm::vec4 texel(uint32_t level, uint32_t x, uint32_t y) const;
 
  private:
+  /// uv as every level's lookup takes it: NaN or infinite -> 0, then wrapped into [0, 1]
+  /// (repeat) or clamped to [-1, 2]; done once per lookup, for both levels of a trilinear one.
+  glm::vec2 wrapped(glm::vec2 uv) const;
+  /// Bilinear lookup in one level at a wrapped() uv.
   template <bool Stored>
   glm::vec4 sampleLevel(uint32_t level, glm::vec2 uv) const;
   template <bool Stored>

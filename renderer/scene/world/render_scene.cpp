@@ -8,6 +8,10 @@
 #include <glm/geometric.hpp>
 #include <glm/mat3x2.hpp>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
 #include "renderer/scene/integrator/display_composite.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
 
@@ -28,6 +32,17 @@ const std::vector<RenderInstance>& instancesFor(const RenderScene& scene, bool o
 }
 
 glm::vec3 toWorld(const glm::mat4x3& m, const glm::vec3& p) { return m * glm::vec4(p, 1.0f); }
+
+/// v / d: one division of three lanes instead of three (each lane is divided as alone).
+glm::vec3 divided(const glm::vec3& v, float d) {
+#if defined(__SSE2__)
+  alignas(16) float q[4];
+  _mm_store_ps(q, _mm_div_ps(_mm_setr_ps(v.x, v.y, v.z, 0.0f), _mm_set1_ps(d)));
+  return {q[0], q[1], q[2]};
+#else
+  return v / d;
+#endif
+}
 
 void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color,
                     const glm::vec3& transmit) {
@@ -169,12 +184,6 @@ glm::vec3 AdditiveHits::sumBefore(float t) const {
   return sum;
 }
 
-const MaterialRecord& RenderScene::materialOf(const RenderInstance& instance, uint32_t prim) const {
-  MaterialId id = instance.materialOverride;
-  if (id == kNoId) id = instance.mesh->geometry.materialOf(prim);
-  return id < materials.size() ? materials[id] : defaultMaterial;
-}
-
 bool RenderScene::intersect(Ray& ray, Hit& hit, const TraceRequest& request) const {
   const auto& instances = instancesFor(*this, request.overlay);
   if (instances.empty()) return false;
@@ -252,7 +261,7 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, SurfaceParts 
   if (all || material.emits) {
     const glm::vec3 cross = glm::cross(p1 - p0, p2 - p0);
     len = glm::length(cross);
-    if (len > 0.0f) geometricNormal = cross / len;
+    if (len > 0.0f) geometricNormal = divided(cross, len);
   }
   glm::vec3 shadingNormal = geometricNormal;
   if (all && !g.normals.empty()) {
@@ -260,7 +269,8 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, SurfaceParts 
     const float nl = glm::length(n);
     if (nl > 0.0f && std::isfinite(nl)) {
       // Keep the interpolated normal on the winding normal's side.
-      shadingNormal = glm::dot(n, geometricNormal) >= 0.0f ? n / nl : -n / nl;
+      const glm::vec3 unit = divided(n, nl);   // -n / nl is -(n / nl) to the bit
+      shadingNormal = glm::dot(n, geometricNormal) >= 0.0f ? unit : -unit;
     }
   }
   const MaterialDesc& desc = material.desc;

@@ -142,7 +142,11 @@ struct RenderScene {
   Bounds bounds;
 
   /// Material of triangle `prim` of an instance (override, mesh material or default).
-  const MaterialRecord& materialOf(const RenderInstance& instance, uint32_t prim) const;
+  const MaterialRecord& materialOf(const RenderInstance& instance, uint32_t prim) const {
+    MaterialId id = instance.materialOverride;
+    if (id == kNoId) id = instance.mesh->geometry.materialOf(prim);
+    return id < materials.size() ? materials[id] : defaultMaterial;
+  }
   /// Closest hit; on a hit shortens ray.tmax and fills hit.
   bool intersect(Ray& ray, Hit& hit, const TraceRequest& request) const;
   /// Closest hits of up to kMaxPacketRays camera rays traced together: for each, what

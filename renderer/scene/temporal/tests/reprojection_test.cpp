@@ -5,6 +5,7 @@
 #include <cmath>
 #include <algorithm>
 #include <cstring>
+#include <tuple>
 #include <vector>
 
 #include "motion_checks.h"
@@ -273,6 +274,82 @@ TEST(TemporalAccumulation, MovingCameraSameImageWithOneAndTwoThreads) {
   const auto one = run(1), two = run(2);
   ASSERT_EQ(one.size(), two.size());
   EXPECT_EQ(std::memcmp(one.data(), two.data(), one.size() * sizeof(glm::vec3)), 0);
+}
+
+/// Bytes of a span, for comparing frames bit for bit.
+template <typename T>
+std::vector<uint8_t> bytesOf(std::span<const T> v) {
+  std::vector<uint8_t> out(v.size_bytes());
+  if (!v.empty()) std::memcpy(out.data(), v.data(), out.size());
+  return out;
+}
+
+TEST(Reprojection, FrameWithoutMotionVectorsWritesTheIdsAndTheNextFrameIsAlike) {
+  // motionVectors off (the game's lightmap preset without TAAU): no motion handed out, the same
+  // picture and ids; the next frame, with motion, moves as if every frame had had it.
+  const auto build = [](Renderer& r, InstanceDesc& moving, InstanceId& id) {
+    const MaterialId grey = r.addMaterial(test::diffuse(0.5f));
+    test::addMesh(r, test::quad({-6, -6, 0}, {12, 0, 0}, {0, 12, 0}), grey);
+    test::MeshArrays box = test::quad({-0.5f, -0.5f, 0.01f}, {1, 0, 0}, {0, 1, 0});
+    box.setMaterial(grey);
+    moving = InstanceDesc{r.addMesh(box.desc())};
+    id = r.addInstance(moving);
+    r.commit();
+  };
+  Renderer with({2}), without({2});
+  InstanceDesc movingWith, movingWithout;
+  InstanceId idWith = kNoId, idWithout = kNoId;
+  build(with, movingWith, idWith);
+  build(without, movingWithout, idWithout);
+  RenderSettings s = settingsFor(Integrator::Lightmap, 64, 1);
+  s.accumulate = false;
+  s.pixelCentres = true;
+  const Camera top = lookAt({0, 0, 10}, {0, 0, 0}, 40.0f);
+  const FrameView a = with.render(top, s);
+  const std::vector<uint8_t> radianceA = bytesOf(a.radiance), instanceA = bytesOf(a.instance),
+                             materialA = bytesOf(a.material);
+  EXPECT_FALSE(a.motion.empty());
+  s.motionVectors = false;
+  const FrameView b = without.render(top, s);
+  EXPECT_TRUE(b.motion.empty());
+  EXPECT_EQ(bytesOf(b.radiance), radianceA);
+  EXPECT_EQ(bytesOf(b.instance), instanceA);
+  EXPECT_EQ(bytesOf(b.material), materialA);
+
+  for (auto [r, moving, id] : {std::tuple{&with, &movingWith, idWith}, std::tuple{&without, &movingWithout, idWithout}}) {
+    moving->objectToWorld[3] = glm::vec3(0.0f, 1.0f, 0.0f);
+    r->setInstance(id, *moving);
+    r->commit();
+  }
+  s.motionVectors = true;
+  const FrameView next = with.render(top, s);
+  const std::vector<uint8_t> motion = bytesOf(next.motion), radiance = bytesOf(next.radiance);
+  const FrameView nextWithout = without.render(top, s);
+  EXPECT_EQ(bytesOf(nextWithout.motion), motion);
+  EXPECT_EQ(bytesOf(nextWithout.radiance), radiance);
+  test::expectMotionOnlyOn(nextWithout, idWithout, test::pixelsPerUnitAt10(64), 30, 1000);
+}
+
+TEST(TemporalAccumulation, MotionVectorsOffChangesNoTemporalFrame) {
+  // The temporal stage reads the motion and the previous depth and normal: they are written for
+  // it whatever motionVectors says.
+  const auto run = [](bool motionVectors) {
+    Renderer r({2});
+    buildLitScene(r);
+    RenderSettings s = settingsFor(Integrator::Path, 40, 1, 2);
+    s.accumulate = false;
+    s.denoise = true;
+    s.temporal = true;
+    s.motionVectors = motionVectors;
+    FrameView f;
+    for (uint32_t frame = 0; frame < 4; ++frame) {
+      s.seed = frame;
+      f = r.render(lookAt({0.1f * static_cast<float>(frame), -6, 2}, {0, 0, 1}, 50.0f), s);
+      EXPECT_FALSE(f.motion.empty());
+    }
+    return bytesOf(f.radiance);
+  };
+  EXPECT_EQ(run(false), run(true));
 }
 
 }  // namespace
