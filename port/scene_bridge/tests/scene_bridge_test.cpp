@@ -111,7 +111,7 @@ TEST(SceneBridge, LightmapImageNamedByAShaderIsDrawnUnbrightened) {
 TEST(SceneBridge, BakedLightScaleDoublesTheLitTextureInDisplayValues) {
   // A display with one overbright bit: shift 1 (x2) and texture x light doubled, clamped at
   // white: 32 -> 64 -> 128 displayed; 100 -> 200 -> 400 clamps at 255.
-  for (const auto [value, shown] : {std::pair<uint8_t, int>{32, 128}, std::pair<uint8_t, int>{100, 255}}) {
+  for (const auto& [value, shown] : {std::pair<uint8_t, int>{32, 128}, std::pair<uint8_t, int>{100, 255}}) {
     UploadOptions options;
     options.lightmapShift = 1;
     options.bakedLightScale = 2.0f;
