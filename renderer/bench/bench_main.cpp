@@ -149,15 +149,9 @@ struct Pair {
 
 /// Checksum-carrying tracing loops (the hit counts are printed so the work cannot be elided
 /// and both sides can be seen to agree).
-uint64_t traceClosest(const Blas& blas, const std::vector<Ray>& rays) {
-  uint64_t hits = 0;
-  for (Ray r : rays) {
-    Hit h;
-    hits += blas.intersect(r, h);
-  }
-  return hits;
-}
-uint64_t traceClosest(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
+/// Closest hits and occlusion through a Blas, a Tlas or an Embree scene (the same calls).
+template <class Scene>
+uint64_t traceClosest(const Scene& scene, const std::vector<Ray>& rays) {
   uint64_t hits = 0;
   for (Ray r : rays) {
     Hit h;
@@ -165,12 +159,8 @@ uint64_t traceClosest(const testing::EmbreeScene& scene, const std::vector<Ray>&
   }
   return hits;
 }
-uint64_t traceOccluded(const Blas& blas, const std::vector<Ray>& rays) {
-  uint64_t hits = 0;
-  for (const Ray& r : rays) hits += blas.occluded(r);
-  return hits;
-}
-uint64_t traceOccluded(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
+template <class Scene>
+uint64_t traceOccluded(const Scene& scene, const std::vector<Ray>& rays) {
   uint64_t hits = 0;
   for (const Ray& r : rays) hits += scene.occluded(r);
   return hits;
@@ -188,8 +178,10 @@ uint64_t traceOccluded(const bvh_detail::WideBvh& bvh, const std::vector<Ray>& r
   for (const Ray& r : rays) hits += bvh_detail::isTraceableRay(r) && bvh_detail::occludedWide(bvh, r, {}, 0);
   return hits;
 }
-/// Our packet query over 16 consecutive rays at a time (the primary rays come in 4x4 tiles).
-uint64_t tracePackets(const Blas& blas, const std::vector<Ray>& rays) {
+/// Our packet query over 16 consecutive rays at a time (the primary rays come in 4x4 tiles):
+/// query(packet, hits, active, filters) is a Blas's or a Tlas's intersectPacket.
+template <class Query>
+uint64_t tracePacketsWith(const std::vector<Ray>& rays, Query&& query) {
   uint64_t hits = 0;
   std::array<Ray, kMaxPacketRays> packet;
   std::array<Hit, kMaxPacketRays> packetHits;
@@ -198,37 +190,19 @@ uint64_t tracePackets(const Blas& blas, const std::vector<Ray>& rays) {
     const size_t n = std::min<size_t>(kMaxPacketRays, rays.size() - i);
     std::copy_n(rays.begin() + i, n, packet.begin());
     std::fill(packetHits.begin(), packetHits.end(), Hit{});
-    hits += std::popcount(blas.intersectPacket(packet, packetHits, (1u << n) - 1, filters));
+    hits += std::popcount(query(packet, packetHits, (1u << n) - 1, filters));
   }
   return hits;
 }
-
-/// The same loops through our two-level scene.
-uint64_t traceClosest(const Tlas& tlas, const std::vector<Ray>& rays) {
-  uint64_t hits = 0;
-  for (Ray r : rays) {
-    Hit h;
-    hits += tlas.intersect(r, h);
-  }
-  return hits;
-}
-uint64_t traceOccluded(const Tlas& tlas, const std::vector<Ray>& rays) {
-  uint64_t hits = 0;
-  for (const Ray& r : rays) hits += tlas.occluded(r);
-  return hits;
+uint64_t tracePackets(const Blas& blas, const std::vector<Ray>& rays) {
+  return tracePacketsWith(rays, [&](auto& packet, auto& hits, uint32_t active, const auto& filters) {
+    return blas.intersectPacket(packet, hits, active, filters);
+  });
 }
 uint64_t tracePackets(const Tlas& tlas, const std::vector<Ray>& rays) {
-  uint64_t hits = 0;
-  std::array<Ray, kMaxPacketRays> packet;
-  std::array<Hit, kMaxPacketRays> packetHits;
-  const std::array<HitFilter, kMaxPacketRays> filters{};
-  for (size_t i = 0; i < rays.size(); i += kMaxPacketRays) {
-    const size_t n = std::min<size_t>(kMaxPacketRays, rays.size() - i);
-    std::copy_n(rays.begin() + i, n, packet.begin());
-    std::fill(packetHits.begin(), packetHits.end(), Hit{});
-    hits += std::popcount(tlas.intersectPacket(packet, packetHits, (1u << n) - 1, 0xffffffffu, filters));
-  }
-  return hits;
+  return tracePacketsWith(rays, [&](auto& packet, auto& hits, uint32_t active, const auto& filters) {
+    return tlas.intersectPacket(packet, hits, active, 0xffffffffu, filters);
+  });
 }
 
 uint64_t tracePackets(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
