@@ -109,10 +109,19 @@ std::vector<uint32_t> availableNodeWidths() {
   return widths;
 }
 
-void checkMesh(const TestMesh& mesh, uint32_t seed) {
+/// A Blas traced by rays that cull back faces (HitFilter::cull = Back).
+struct BackFaceCulling {
+  const Blas& blas;
+  bool intersect(Ray& r, Hit& h) const { return blas.intersect(r, h, HitFilter{nullptr, nullptr, FaceCull::Back}); }
+  bool occluded(const Ray& r) const { return blas.occluded(r, HitFilter{nullptr, nullptr, FaceCull::Back}); }
+};
+
+/// Our Blas over `mesh` on every layout against Embree's; with `cullBackFaces`, rays cull back
+/// faces on both sides (our HitFilter::cull, Embree's filter functions by the world winding).
+void checkMesh(const TestMesh& mesh, uint32_t seed, bool cullBackFaces = false) {
   EmbreeDevice device;
   EmbreeScene embree(device);
-  embree.addMesh(mesh);
+  embree.addMesh(mesh, cullBackFaces);
   embree.commit();
   for (const uint32_t width : availableNodeWidths()) {
     SCOPED_TRACE("node width " + std::to_string(width));
@@ -120,7 +129,8 @@ void checkMesh(const TestMesh& mesh, uint32_t seed) {
     config.nodeWidth = width;
     Blas blas;
     blas.build(mesh.input(), config);
-    expectAgreement(runOracle(blas, embree, mesh.bounds(), seed));
+    if (cullBackFaces) expectAgreement(runOracle(BackFaceCulling{blas}, embree, mesh.bounds(), seed));
+    else expectAgreement(runOracle(blas, embree, mesh.bounds(), seed));
   }
 }
 
@@ -130,13 +140,6 @@ TEST(EmbreeOracle, LongThinTriangles) { checkMesh(makeThinTriangles(50000, 2), 1
 
 TEST(EmbreeOracle, TessellatedSphere) { checkMesh(makeSphere(20000), 13); }
 
-/// A Blas traced by rays that cull back faces (HitFilter::cull = Back).
-struct BackFaceCulling {
-  const Blas& blas;
-  bool intersect(Ray& r, Hit& h) const { return blas.intersect(r, h, HitFilter{nullptr, nullptr, FaceCull::Back}); }
-  bool occluded(const Ray& r) const { return blas.occluded(r, HitFilter{nullptr, nullptr, FaceCull::Back}); }
-};
-
 /// One-sided triangles (two in three) among opaque ones, rays culling back faces: Embree's
 /// filter functions reject back-face hits by the world winding, as the renderer's callback did.
 TEST(EmbreeOracle, OneSidedTrianglesCulledByFace) {
@@ -144,18 +147,7 @@ TEST(EmbreeOracle, OneSidedTrianglesCulledByFace) {
   mesh.append(makeSphere(20000, glm::vec3(0.3f, -0.2f, 0.1f), 0.5f));   // closed: back faces behind front ones
   mesh.rules.assign(mesh.triangleCount(), HitRule::OneSided);
   for (uint32_t t = 0; t < mesh.triangleCount(); t += 3) mesh.rules[t] = HitRule::Opaque;
-  EmbreeDevice device;
-  EmbreeScene embree(device);
-  embree.addMesh(mesh, true);
-  embree.commit();
-  for (const uint32_t width : availableNodeWidths()) {
-    SCOPED_TRACE("node width " + std::to_string(width));
-    BvhBuildConfig config;
-    config.nodeWidth = width;
-    Blas blas;
-    blas.build(mesh.input(), config);
-    expectAgreement(runOracle(BackFaceCulling{blas}, embree, mesh.bounds(), 16));
-  }
+  checkMesh(mesh, 16, true);
 }
 
 /// Our Tlas with Blas instances vs Embree instances of one scene.
