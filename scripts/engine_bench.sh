@@ -82,8 +82,8 @@ done
 # Results keyed "DEMO:RENDERER"; "-" where a run failed.
 declare -A fps frames seconds breakdown
 # The r_pt_stats lines of a log averaged field by field: "name=value ..." (empty without any).
-average_stats() {
-  grep -a '^pathtracer: stats ' "$1" | awk '{
+average_stats() {  # empty for a log without stats lines (opengl1's), not a failure
+  { grep -a '^pathtracer: stats ' "$1" || true; } | awk '{
       for (i = 4; i <= NF; i++) { split($i, kv, "="); if (!(kv[1] in sum)) order[++n] = kv[1]; sum[kv[1]] += kv[2] }
       lines++
     }
