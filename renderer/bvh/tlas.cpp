@@ -1,7 +1,8 @@
 // Tlas: the instances' world bounds, tested all at once in 8-lane groups when there are at most
 // kFlatInstances of them (a game frame's movers, items and effect batches), else through a binary
 // BVH over them. Either way instances are entered nearest box first; each transforms the ray into
-// object space (without normalising the direction, so t stays the world-space t) and traces its Blas.
+// object space (without normalising the direction, so t stays the world-space t; an instance placed
+// by the identity, the static world, takes the ray as it is) and traces its Blas.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -474,10 +475,8 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
     return found;
   }
   // Which rays enter which instance box (each ray's own slab test, as forEachEntered's), after
-  // the packet's interval test has culled the boxes no ray can enter.
-  // The rays as lanes (idle lanes: a ray along +1 that enters nothing), so the loops below
-  // vectorise: the inverse directions are divided once for the packet's interval and the slab
-  // tests, and each instance box is tested against all rays at once.
+  // the packet's interval test has culled the boxes no ray can enter; both over the lanes built
+  // above (inverse directions divided once), each box against all rays at once.
   const PacketInterval interval = packetInterval(lanes, traceable);
   const IntLanes tracedLanes[kHalves] = {laneMask(traceable), laneMask(traceable >> kLanes)};
   std::array<PacketCandidate, kFlatInstances> candidates;
