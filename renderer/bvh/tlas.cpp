@@ -16,14 +16,13 @@
 #include <string>
 #include <vector>
 
-#include <immintrin.h>
-
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
 #include "renderer/bvh/binary_bvh.h"
 #include "renderer/bvh/binary_traversal.h"
 #include "renderer/bvh/bvh.h"
+#include "renderer/bvh/simd.h"
 #include "renderer/bvh/slab_test.h"
 #include "renderer/bvh/triangle_mesh.h"
 
@@ -82,16 +81,9 @@ struct BoxGroup {
   IntLanes mask;
 };
 
-/// Bit i set where lane i of `lanes` (all ones or zero, as comparisons give) is set.
-uint32_t laneBits(const IntLanes& lanes) {
-#ifdef __AVX__
-  return static_cast<uint32_t>(_mm256_movemask_ps(std::bit_cast<__m256>(lanes)));
-#else
-  uint32_t bits = 0;
-  for (uint32_t lane = 0; lane < kLanes; ++lane) bits |= static_cast<uint32_t>(lanes[lane] & 1) << lane;
-  return bits;
-#endif
-}
+/// Bit i set where lane i of `lanes` (all ones or zero, as comparisons give) is set
+/// (simd::vfloat8::mask, the kernels' movemask).
+uint32_t laneBits(const IntLanes& lanes) { return static_cast<uint32_t>(std::bit_cast<simd::vfloat8>(lanes).mask()); }
 
 /// A box the ray enters: its entry distance and its instance.
 struct Candidate {
@@ -150,11 +142,8 @@ IntLanes loadLanes(const int32_t* p) {
 void storeLanes(float* p, const Lanes& v) { std::memcpy(p, &v, sizeof v); }
 void storeLanes(int32_t* p, const IntLanes& v) { std::memcpy(p, &v, sizeof v); }
 
-/// All ones in lane i where bit i of `bits` is set.
-IntLanes laneMask(uint32_t bits) {
-  const IntLanes index = {0, 1, 2, 3, 4, 5, 6, 7};
-  return ((IntLanes{} + static_cast<int32_t>(bits)) >> index & 1) != IntLanes{};
-}
+/// All ones in lane i where bit i of `bits` is set (simd::laneMask; bits above the eighth ignored).
+IntLanes laneMask(uint32_t bits) { return std::bit_cast<IntLanes>(simd::laneMask(bits & 0xffu)); }
 
 /// The smallest / largest lane (two folds, then the last pair).
 float minOf(const Lanes& lanes) {
