@@ -1,8 +1,9 @@
-// Tlas: the instances' world bounds, tested all at once in 8-lane groups when there are at most
-// kFlatInstances of them (a game frame's movers, items and effect batches), else through a binary
-// BVH over them. Either way instances are entered nearest box first; each transforms the ray into
-// object space (without normalising the direction, so t stays the world-space t; an instance placed
-// by the identity, the static world, takes the ray as it is) and traces its Blas.
+// Tlas: the instances' world bounds in an implicit 8-wide tree of 8-lane box groups (instances
+// in Morton order of their boxes' centres, 8 to a group; each level above bounds 8 groups of the
+// level below), tested a group at a time for a ray and for a packet of rays. Instances are
+// entered nearest box first; each transforms the ray into object space (without normalising the
+// direction, so t stays the world-space t; an instance placed by the identity, the static world,
+// takes the ray as it is) and traces its Blas.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -19,8 +20,6 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
-#include "renderer/bvh/binary_bvh.h"
-#include "renderer/bvh/binary_traversal.h"
 #include "renderer/bvh/bvh.h"
 #include "renderer/bvh/simd.h"
 #include "renderer/bvh/slab_test.h"
@@ -66,12 +65,17 @@ Bounds transformBounds(const glm::mat4x3& m, const Bounds& b) {
   return out;
 }
 
-/// Instance counts up to this are tested without a hierarchy (8 groups of 8 lanes).
-constexpr size_t kFlatInstances = 64;
-
 using Lanes = float __attribute__((vector_size(32)));
 using IntLanes = int32_t __attribute__((vector_size(32)));
 constexpr uint32_t kLanes = 8;
+
+/// Levels of the instance tree at most, the boxes of its root level at most (kLanes groups), the
+/// instances it holds at most, and the traversal stack that takes (the root level's boxes, then
+/// each group entered replaces itself by at most kLanes groups of the level below).
+constexpr uint32_t kMaxLevels = 7;
+constexpr uint32_t kRootLanes = kLanes * kLanes;
+constexpr uint64_t kMaxInstances = uint64_t{kRootLanes} << (3 * (kMaxLevels - 1));
+constexpr uint32_t kStackSize = kRootLanes + (kLanes - 1) * (kMaxLevels - 1);
 
 /// Eight instance boxes, one per lane ([axis] = x, y, z), and which ray masks reach each lane
 /// (0 for unused lanes).
@@ -85,43 +89,58 @@ struct BoxGroup {
 /// (simd::vfloat8::mask, the kernels' movemask).
 uint32_t laneBits(const IntLanes& lanes) { return static_cast<uint32_t>(std::bit_cast<simd::vfloat8>(lanes).mask()); }
 
-/// A box the ray enters: its entry distance and its instance.
-struct Candidate {
-  float entry;
-  uint32_t instance;
-};
-
-/// The boxes of `groups` that the ray enters within [tmin, tmax] and whose mask matches, with
-/// their entry distances: bvh_detail::slabEntry's operations lane by lane (same values).
-uint32_t enteredBoxes(std::span<const BoxGroup> groups, const Ray& ray, float tmax, uint32_t rayMask,
-                      std::array<Candidate, kFlatInstances>& out) {
-  const bvh_detail::SlabRay slab(ray.origin, ray.dir);
-  const int nearSide[3] = {slab.nearX, slab.nearY, slab.nearZ};
-  const float origin[3] = {slab.origin.x, slab.origin.y, slab.origin.z};
-  const float invDir[3] = {slab.invDir.x, slab.invDir.y, slab.invDir.z};
-  uint32_t count = 0;
-  for (uint32_t g = 0; g < groups.size(); ++g) {
-    const BoxGroup& group = groups[g];
-    Lanes tNear = Lanes{} + ray.tmin;
-    Lanes tFar = Lanes{} + tmax;
-    // Innermost axis first, as slabEntry nests maxKeep(nx, maxKeep(ny, maxKeep(nz, tmin))).
-    for (int axis = 2; axis >= 0; --axis) {
-      const Lanes& nearBound = nearSide[axis] ? group.max[axis] : group.min[axis];
-      const Lanes& farBound = nearSide[axis] ? group.min[axis] : group.max[axis];
-      const Lanes n = (nearBound - origin[axis]) * invDir[axis];
-      const Lanes f = (farBound - origin[axis]) * invDir[axis];
-      tNear = n > tNear ? n : tNear;
-      tFar = f < tFar ? f : tFar;
-    }
-    tFar = tFar * bvh_detail::kRobustFarScale;
-    const IntLanes entered = (tNear <= tFar) & ((group.mask & static_cast<int32_t>(rayMask)) != 0);
-    // The entered lanes as bits (no branch per lane: a ray enters one to three boxes of 64).
-    for (uint32_t bits = laneBits(entered); bits; bits &= bits - 1) {
-      const uint32_t lane = std::countr_zero(bits);
-      out[count++] = {tNear[lane], g * kLanes + lane};
+/// A ray's slab-test terms, per axis, as groupEntries reads them.
+struct RaySlab {
+  int nearSide[3];
+  float origin[3];
+  float invDir[3];
+  explicit RaySlab(const Ray& ray) {
+    const bvh_detail::SlabRay slab(ray.origin, ray.dir);
+    const int near[3] = {slab.nearX, slab.nearY, slab.nearZ};
+    for (int axis = 0; axis < 3; ++axis) {
+      nearSide[axis] = near[axis];
+      origin[axis] = slab.origin[axis];
+      invDir[axis] = slab.invDir[axis];
     }
   }
-  return count;
+};
+
+/// The lanes of `group` that the ray enters within [tmin, tmax] and whose mask matches rayMask,
+/// as bits, with each lane's entry distance in `entry`: bvh_detail::slabEntry's operations lane
+/// by lane (same values).
+uint32_t groupEntries(const BoxGroup& group, const RaySlab& ray, float tmin, float tmax, uint32_t rayMask,
+                      float (&entry)[kLanes]) {
+  Lanes tNear = Lanes{} + tmin;
+  Lanes tFar = Lanes{} + tmax;
+  // Innermost axis first, as slabEntry nests maxKeep(nx, maxKeep(ny, maxKeep(nz, tmin))).
+  for (int axis = 2; axis >= 0; --axis) {
+    const Lanes& nearBound = ray.nearSide[axis] ? group.max[axis] : group.min[axis];
+    const Lanes& farBound = ray.nearSide[axis] ? group.min[axis] : group.max[axis];
+    const Lanes n = (nearBound - ray.origin[axis]) * ray.invDir[axis];
+    const Lanes f = (farBound - ray.origin[axis]) * ray.invDir[axis];
+    tNear = n > tNear ? n : tNear;
+    tFar = f < tFar ? f : tFar;
+  }
+  tFar = tFar * bvh_detail::kRobustFarScale;
+  std::memcpy(entry, &tNear, sizeof entry);
+  return laneBits((tNear <= tFar) & ((group.mask & static_cast<int32_t>(rayMask)) != 0));
+}
+
+/// A box a ray enters: its entry distance, its level, and its index there (lane index % kLanes of
+/// group index / kLanes; at level 0 the instance, above it the group of the level below).
+struct Pending {
+  float entry;
+  uint32_t level, index;
+};
+
+/// Lane `lane`'s box of a group.
+Bounds laneBox(const BoxGroup& group, uint32_t lane) {
+  Bounds box;
+  for (int axis = 0; axis < 3; ++axis) {
+    box.min[axis] = group.min[axis][lane];
+    box.max[axis] = group.max[axis][lane];
+  }
+  return box;
 }
 
 // A packet's kMaxPacketRays lanes are worked on as kHalves vectors of kLanes (the helpers below
@@ -293,57 +312,111 @@ void slabEntries(const PacketLanes& p, const Bounds& box, std::array<float, kMax
   }
 }
 
-/// An instance some rays of a packet enter: each ray's entry distance (inf: not entered).
+/// A box some rays of a packet enter (its index at its level, as Pending's): each ray's entry
+/// distance (inf: not entered), the rays that enter, and the nearest entry among them.
 struct PacketCandidate {
   float nearest;
-  uint32_t instance;
+  uint32_t index;
   uint32_t rays;
   std::array<float, kMaxPacketRays> entry;
 };
 
-/// Removes and returns the nearest candidate (the first of equal ones).
-Candidate takeNearest(std::array<Candidate, kFlatInstances>& candidates, uint32_t& count) {
-  uint32_t best = 0;
-  for (uint32_t i = 1; i < count; ++i)
-    if (candidates[i].entry < candidates[best].entry) best = i;
-  const Candidate nearest = candidates[best];
-  for (uint32_t i = best + 1; i < count; ++i) candidates[i - 1] = candidates[i];
-  --count;
-  return nearest;
+/// A group the packet walk has yet to enter: the rays that entered its box, with their entries.
+struct PacketPending {
+  uint32_t level, group;
+  uint32_t rays;
+  std::array<float, kMaxPacketRays> entry;
+};
+
+/// The rays of `candidates` whose entry is within their current tmax (widened as slabEntry widens
+/// the far bound): the others found a nearer hit since.
+uint32_t raysWithin(uint32_t candidates, const std::array<float, kMaxPacketRays>& entry, std::span<const Ray> rays) {
+  uint32_t within = 0;
+  for (uint32_t r = candidates; r; r &= r - 1) {
+    const int lane = std::countr_zero(r);
+    if (!(entry[lane] > rays[lane].tmax * bvh_detail::kRobustFarScale)) within |= 1u << lane;
+  }
+  return within;
+}
+
+/// Spreads the low 10 bits of v to every third bit (a Morton code's axis).
+uint32_t spreadBits(uint32_t v) {
+  v &= 0x3ffu;
+  v = (v | v << 16) & 0x030000ffu;
+  v = (v | v << 8) & 0x0300f00fu;
+  v = (v | v << 4) & 0x030c30c3u;
+  v = (v | v << 2) & 0x09249249u;
+  return v;
+}
+
+/// The Morton code of a box's centre on a 1024^3 grid over `scene`.
+uint32_t mortonCode(const Bounds& box, const Bounds& scene) {
+  uint32_t code = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float extent = scene.max[axis] - scene.min[axis];
+    const float at = extent > 0.0f ? (box.center()[axis] - scene.min[axis]) / extent * 1024.0f : 0.0f;
+    const uint32_t cell = at >= 1023.0f ? 1023u : at > 0.0f ? static_cast<uint32_t>(at) : 0u;   // NaN: 0
+    code |= spreadBits(cell) << (2 - axis);
+  }
+  return code;
 }
 
 }  // namespace
 
 struct Tlas::Impl {
-  std::vector<PlacedInstance> instances;   // only instances with geometry, in BVH leaf order source
-  bvh_detail::BinaryBvh bvh;               // built when there are more than kFlatInstances
-  std::vector<BoxGroup> groups;            // the instances' boxes, 8 to a group, when at most kFlatInstances
-  std::vector<Bounds> worldBounds;         // the instances' boxes (the BVH's input beyond kFlatInstances)
-  bvh_detail::BinaryBuildScratch scratch;  // the BVH builder's memory, kept between builds
+  std::vector<PlacedInstance> instances;   // the instances with geometry, in Morton order of their boxes
+  std::vector<Bounds> worldBounds;         // their world boxes, in the same order
+  // The instance tree: levels[0] bounds the instances 8 to a group, levels[levelCount - 1] is
+  // the root level (at most kLanes groups, tested one after the other); lane j of group g bounds
+  // group 8g + j of the level below.
+  std::array<std::vector<BoxGroup>, kMaxLevels> levels;
+  uint32_t levelCount = 0;
   std::vector<PlacedInstance> validated;   // build()'s inputs with their inverses, one per input
+  std::vector<uint32_t> kept;              // build scratch: the inputs with geometry
+  std::vector<Bounds> unsortedBounds;      // build scratch: the world boxes of `kept`
+  std::vector<uint64_t> keys;              // build scratch: Morton code << 32 | position in `kept`
   Bounds bounds;
 
-  /// Visits the instances whose boxes the ray enters, nearest box first, while their entry is
-  /// within the ray's current tmax; visit(instance) returns true to stop.
+  /// Visits the instances whose boxes the ray enters, nearest box first among the root level's
+  /// and then within each group entered, while their entry is within the ray's current tmax;
+  /// visit(instance) returns true to stop.
   template <typename Visit>
   void forEachEntered(const Ray& ray, uint32_t rayMask, Visit&& visit) const {
-    if (groups.empty()) {
-      bvh_detail::traverseBinary(bvh, ray, ray.tmax, [&](uint32_t first, uint32_t count) {
-        for (uint32_t k = first; k < first + count; ++k) {
-          const PlacedInstance& inst = instances[bvh.primIndices[k]];
-          if ((inst.mask & rayMask) != 0 && visit(inst)) return true;
+    if (levelCount == 0) return;
+    const RaySlab slab(ray);
+    std::array<Pending, kStackSize> stack;
+    uint32_t depth = 0;
+    // Enters `groupCount` groups of `level` from `firstGroup`: visits the instances their boxes
+    // hold (level 0) or stacks the groups below, nearest on top. True when visit() stopped.
+    const auto enter = [&](uint32_t level, uint32_t firstGroup, uint32_t groupCount) {
+      std::array<Pending, kRootLanes> entered;   // nearest first
+      uint32_t count = 0;
+      for (uint32_t g = firstGroup; g < firstGroup + groupCount; ++g) {
+        float entry[kLanes];
+        for (uint32_t bits = groupEntries(levels[level][g], slab, ray.tmin, ray.tmax, rayMask, entry); bits;
+             bits &= bits - 1) {
+          const uint32_t lane = std::countr_zero(bits);
+          uint32_t at = count++;
+          for (; at > 0 && entered[at - 1].entry > entry[lane]; --at) entered[at] = entered[at - 1];
+          entered[at] = {entry[lane], level, g * kLanes + lane};
+        }
+      }
+      if (level == 0) {
+        for (uint32_t i = 0; i < count; ++i) {
+          // Every other box starts beyond the hit found (the far bound widened as slabEntry widens it).
+          if (entered[i].entry > ray.tmax * bvh_detail::kRobustFarScale) break;
+          if (visit(instances[entered[i].index])) return true;
         }
         return false;
-      });
-      return;
-    }
-    std::array<Candidate, kFlatInstances> candidates;
-    uint32_t count = enteredBoxes(groups, ray, ray.tmax, rayMask, candidates);
-    while (count > 0) {
-      const Candidate next = takeNearest(candidates, count);
-      // Every other box starts beyond the hit found (the far bound widened as slabEntry widens it).
-      if (next.entry > ray.tmax * bvh_detail::kRobustFarScale) return;
-      if (visit(instances[next.instance])) return;
+      }
+      for (uint32_t i = count; i-- > 0;) stack[depth++] = entered[i];
+      return false;
+    };
+    if (enter(levelCount - 1, 0, static_cast<uint32_t>(levels[levelCount - 1].size()))) return;
+    while (depth > 0) {
+      const Pending node = stack[--depth];
+      if (node.entry > ray.tmax * bvh_detail::kRobustFarScale) continue;   // nothing nearer inside
+      if (enter(node.level - 1, node.index, 1)) return;
     }
   }
 
@@ -375,6 +448,7 @@ void Tlas::build(std::span<const TlasInstance> instances) {
   const auto fail = [](size_t i, const char* what) {
     throw std::invalid_argument("TlasInstance[" + std::to_string(i) + "]" + what);
   };
+  if (instances.size() > kMaxInstances) throw std::invalid_argument("Tlas: more instances than it can hold");
   if (!impl_) impl_ = std::make_unique<Impl>();
   Impl& next = *impl_;
   std::vector<PlacedInstance>& placed = next.validated;   // each input with its inverse
@@ -394,38 +468,60 @@ void Tlas::build(std::span<const TlasInstance> instances) {
                       in.objectToWorld == glm::mat4x3(1.0f), det < 0.0f});
   }
   // Refilled in place: a rebuild over as many instances as the last allocates nothing.
-  next.instances.clear();
-  next.worldBounds.clear();
-  next.groups.clear();
+  next.kept.clear();
+  next.unsortedBounds.clear();
   next.bounds = Bounds{};
   for (size_t i = 0; i < instances.size(); ++i) {
     const TlasInstance& in = instances[i];
     const Bounds objectBounds = in.blas->bounds();
     if (objectBounds.empty()) continue;   // no geometry: never hit
-    next.instances.push_back(placed[i]);
-    next.worldBounds.push_back(transformBounds(in.objectToWorld, objectBounds));
-    next.bounds.extend(next.worldBounds.back());
+    next.kept.push_back(static_cast<uint32_t>(i));
+    next.unsortedBounds.push_back(transformBounds(in.objectToWorld, objectBounds));
+    next.bounds.extend(next.unsortedBounds.back());
   }
-  const std::vector<Bounds>& worldBounds = next.worldBounds;
-  if (worldBounds.size() <= kFlatInstances) {
-    next.bvh.nodes.clear();
-    next.bvh.primIndices.clear();
-    next.bvh.nodeCount = next.bvh.leafCount = 0;
-    next.groups.resize((worldBounds.size() + kLanes - 1) / kLanes);
-    for (BoxGroup& group : next.groups) group = BoxGroup{};   // unused lanes: mask 0
-    for (size_t i = 0; i < worldBounds.size(); ++i) {
-      BoxGroup& group = next.groups[i / kLanes];
+  // Instances in Morton order of their boxes' centres (equal codes in input order).
+  next.keys.clear();
+  for (uint32_t k = 0; k < next.kept.size(); ++k)
+    next.keys.push_back(uint64_t{mortonCode(next.unsortedBounds[k], next.bounds)} << 32 | k);
+  std::sort(next.keys.begin(), next.keys.end());
+  next.instances.clear();
+  next.worldBounds.clear();
+  for (const uint64_t key : next.keys) {
+    const uint32_t k = static_cast<uint32_t>(key);
+    next.instances.push_back(placed[next.kept[k]]);
+    next.worldBounds.push_back(next.unsortedBounds[k]);
+  }
+  // Level 0 bounds the instances, each level above the groups of the one below, 8 to a group.
+  next.levelCount = 0;
+  size_t items = next.worldBounds.size(), itemsBelow = 0;
+  while (items > 0) {
+    std::vector<BoxGroup>& level = next.levels[next.levelCount];
+    level.assign((items + kLanes - 1) / kLanes, BoxGroup{});   // unused lanes: mask 0
+    for (size_t i = 0; i < items; ++i) {
+      Bounds box;
+      uint32_t mask = 0;
+      if (next.levelCount == 0) {
+        box = next.worldBounds[i];
+        mask = next.instances[i].mask;
+      } else {
+        const BoxGroup& below = next.levels[next.levelCount - 1][i];
+        for (uint32_t lane = 0; lane < kLanes && i * kLanes + lane < itemsBelow; ++lane) {
+          box.extend(laneBox(below, lane));
+          mask |= static_cast<uint32_t>(below.mask[lane]);
+        }
+      }
+      BoxGroup& group = level[i / kLanes];
       const size_t lane = i % kLanes;
       for (int axis = 0; axis < 3; ++axis) {
-        group.min[axis][lane] = worldBounds[i].min[axis];
-        group.max[axis][lane] = worldBounds[i].max[axis];
+        group.min[axis][lane] = box.min[axis];
+        group.max[axis][lane] = box.max[axis];
       }
-      group.mask[lane] = static_cast<int32_t>(next.instances[i].mask);
+      group.mask[lane] = static_cast<int32_t>(mask);
     }
-  } else {
-    BvhBuildConfig config;
-    config.maxLeafTriangles = 1;
-    bvh_detail::buildBinaryBvh(worldBounds, config, next.scratch, next.bvh);
+    ++next.levelCount;
+    if (level.size() <= kLanes) break;
+    itemsBelow = items;
+    items = level.size();
   }
 }
 
@@ -456,60 +552,28 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   const PacketLanes lanes = packetLanes(rays, active);
   const uint32_t traceable = lanes.traceable;
   uint32_t found = 0;
-  if (self.groups.empty() || std::popcount(traceable) < 2) {   // many instances, or one ray: ray by ray
+  if (self.levelCount == 0 || std::popcount(traceable) < 2) {   // at most one ray: as a ray alone
     for (uint32_t r = traceable; r; r &= r - 1) {
       const int lane = std::countr_zero(r);
       if (intersect(rays[lane], hits[lane], rayMask, filters[lane])) found |= 1u << lane;
     }
     return found;
   }
-  // Which rays enter which instance box (each ray's own slab test, as forEachEntered's), after
-  // the packet's interval test has culled the boxes no ray can enter; both over the lanes built
-  // above (inverse directions divided once), each box against all rays at once.
+  // The tree is walked with the whole packet: at each group the packet's interval culls the boxes
+  // no ray can enter, then each box left is tested ray by ray (each ray's own slab test, as
+  // forEachEntered's, over the lanes built above: inverse directions divided once). Groups are
+  // entered nearest first; a ray goes on into a box only while its entry is within its current
+  // tmax, as forEachEntered stops a single ray.
   const PacketInterval interval = packetInterval(lanes, traceable);
-  const IntLanes tracedLanes[kHalves] = {laneMask(traceable), laneMask(traceable >> kLanes)};
-  std::array<PacketCandidate, kFlatInstances> candidates;
-  uint32_t count = 0;
-  // The packet's interval culls eight boxes at a time; the boxes left are tested ray by ray.
-  const IntLanes noBox{};
-  for (uint32_t g = 0; g < self.groups.size(); ++g) {
-    const BoxGroup& group = self.groups[g];
-    const uint32_t boxes = interval.valid ? groupMayEnter(interval, group, rayMask)
-                                          : laneBits((group.mask & static_cast<int32_t>(rayMask)) != noBox);
-    for (uint32_t b = boxes; b; b &= b - 1) {
-      const uint32_t k = g * kLanes + std::countr_zero(b);
-      PacketCandidate& c = candidates[count];
-      c.instance = k;
-      slabEntries(lanes, self.worldBounds[k], c.entry);
-      const Lanes kInfs = Lanes{} + std::numeric_limits<float>::infinity();
-      const Lanes entryA = loadLanes(c.entry.data()), entryB = loadLanes(c.entry.data() + kLanes);
-      c.rays = (laneBits(entryA != kInfs) | laneBits(entryB != kInfs) << kLanes) & traceable;
-      const Lanes nearA = tracedLanes[0] ? entryA : kInfs, nearB = tracedLanes[1] ? entryB : kInfs;
-      c.nearest = minOf(nearA < nearB ? nearA : nearB);
-      if (c.rays) ++count;
-    }
-  }
-  // Nearest box first (over the packet's rays); each ray enters only while its entry is within
-  // its current tmax, as forEachEntered stops a single ray.
-  std::sort(candidates.begin(), candidates.begin() + count, [](const PacketCandidate& a, const PacketCandidate& b) {
-    return a.nearest < b.nearest || (a.nearest == b.nearest && a.instance < b.instance);
-  });
+  std::array<PacketPending, kStackSize> stack;
+  uint32_t depth = 0;
   std::array<Ray, kMaxPacketRays> local;
   std::array<HitFilter, kMaxPacketRays> mirroredFilters;   // filled at the first mirrored instance
   bool haveMirroredFilters = false;
-  for (uint32_t i = 0; i < count; ++i) {
-    const PacketCandidate& c = candidates[i];
-    uint32_t live = 0;
-    for (uint32_t r = c.rays; r; r &= r - 1) {
-      const int lane = std::countr_zero(r);
-      if (c.entry[lane] > rays[lane].tmax * bvh_detail::kRobustFarScale) continue;
-      live |= 1u << lane;
-    }
-    if (!live) continue;
-    const PlacedInstance& inst = self.instances[c.instance];
+  const auto traceInstance = [&](const PlacedInstance& inst, uint32_t live) {
     if (inst.identity) {   // the static world: its rays as they are (a hit shortens their tmax)
       found |= inst.blas->intersectPacket(rays, hits, live, filters, inst.index);
-      continue;
+      return;
     }
     for (uint32_t r = live; r; r &= r - 1) self.toObject(inst, rays[std::countr_zero(r)], local[std::countr_zero(r)]);
     std::span<const HitFilter> instanceFilters = filters;
@@ -524,6 +588,57 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
     const uint32_t hitLanes = inst.blas->intersectPacket(local, hits, live, instanceFilters, inst.index);
     for (uint32_t r = hitLanes; r; r &= r - 1) rays[std::countr_zero(r)].tmax = local[std::countr_zero(r)].tmax;
     found |= hitLanes;
+  };
+  const Lanes kInfs = Lanes{} + std::numeric_limits<float>::infinity();
+  const IntLanes noBox{};
+  std::array<PacketCandidate, kRootLanes> entered;
+  std::array<uint8_t, kRootLanes> order;   // `entered` nearest first over the packet's rays
+  // Enters `groupCount` groups of `level` from `firstGroup` with the `live` rays: traces the
+  // instances their boxes hold (level 0) or stacks the groups below, nearest on top.
+  const auto enter = [&](uint32_t level, uint32_t firstGroup, uint32_t groupCount, uint32_t live) {
+    const IntLanes liveLanes[kHalves] = {laneMask(live), laneMask(live >> kLanes)};
+    uint32_t count = 0;
+    for (uint32_t g = firstGroup; g < firstGroup + groupCount; ++g) {
+      const BoxGroup& group = self.levels[level][g];
+      const uint32_t boxes = interval.valid ? groupMayEnter(interval, group, rayMask)
+                                            : laneBits((group.mask & static_cast<int32_t>(rayMask)) != noBox);
+      for (uint32_t b = boxes; b; b &= b - 1) {
+        const uint32_t lane = std::countr_zero(b);
+        PacketCandidate& c = entered[count];
+        c.index = g * kLanes + lane;
+        slabEntries(lanes, laneBox(group, lane), c.entry);
+        const Lanes entryA = loadLanes(c.entry.data()), entryB = loadLanes(c.entry.data() + kLanes);
+        c.rays = (laneBits(entryA != kInfs) | laneBits(entryB != kInfs) << kLanes) & live;
+        const Lanes nearA = liveLanes[0] ? entryA : kInfs, nearB = liveLanes[1] ? entryB : kInfs;
+        c.nearest = minOf(nearA < nearB ? nearA : nearB);
+        if (!c.rays) continue;
+        uint32_t at = count++;   // equal ones in the order found
+        for (; at > 0 && entered[order[at - 1]].nearest > c.nearest; --at) order[at] = order[at - 1];
+        order[at] = static_cast<uint8_t>(&c - entered.data());
+      }
+    }
+    if (level == 0) {
+      for (uint32_t i = 0; i < count; ++i) {
+        const PacketCandidate& c = entered[order[i]];
+        const uint32_t entering = raysWithin(c.rays, c.entry, rays);
+        if (entering) traceInstance(self.instances[c.index], entering);
+      }
+      return;
+    }
+    for (uint32_t i = count; i-- > 0;) {
+      const PacketCandidate& c = entered[order[i]];
+      PacketPending& next = stack[depth++];
+      next.level = level - 1;
+      next.group = c.index;
+      next.rays = c.rays;
+      next.entry = c.entry;
+    }
+  };
+  enter(self.levelCount - 1, 0, static_cast<uint32_t>(self.levels[self.levelCount - 1].size()), traceable);
+  while (depth > 0) {
+    const PacketPending& node = stack[--depth];
+    const uint32_t live = raysWithin(node.rays, node.entry, rays);
+    if (live) enter(node.level, node.group, 1, live);   // reads the node before stacking over it
   }
   return found;
 }

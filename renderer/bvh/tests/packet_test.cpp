@@ -269,7 +269,8 @@ TEST_P(TlasPackets, SameHitsAsRayByRay) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(InstanceCounts, TlasPackets, ::testing::Values(1u, 9u, 64u, 65u));
+// One to four levels of instance groups (1, 9..64, 65..512, 600).
+INSTANTIATE_TEST_SUITE_P(InstanceCounts, TlasPackets, ::testing::Values(1u, 9u, 64u, 65u, 600u));
 
 TEST(Packets, ShortSpansAreRejected) {
   Blas blas;

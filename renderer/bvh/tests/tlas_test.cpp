@@ -1,7 +1,7 @@
 // The Tlas against a brute-force loop over its instances, each in a Tlas of its own (the same
 // object-space transform, so the same float operations): the same closest hit (t, instance,
-// triangle, barycentrics) and the same occlusion, with few instances (tested all at once) and
-// many (through the hierarchy), masks included.
+// triangle, barycentrics) and the same occlusion, with one to four levels of instance groups,
+// masks included.
 #include <limits>
 #include <random>
 #include <span>
@@ -88,9 +88,10 @@ TEST_P(TlasAgainstBruteForce, SameClosestHitsAndOcclusion) {
   EXPECT_GT(hits, rays.size() / 50);   // the comparison saw hits, not only misses
 }
 
-// 1..64 instances are tested without a hierarchy (partly filled 8-lane groups included); 65 and
-// more go through the binary BVH.
-INSTANTIATE_TEST_SUITE_P(InstanceCounts, TlasAgainstBruteForce, ::testing::Values(1u, 7u, 8u, 9u, 64u, 65u, 200u));
+// One group of 8 lanes (1..8 instances, partly filled included), two levels (9..64), three (65..512)
+// and four (600: groups of groups of groups).
+INSTANTIATE_TEST_SUITE_P(InstanceCounts, TlasAgainstBruteForce,
+                         ::testing::Values(1u, 7u, 8u, 9u, 64u, 65u, 200u, 512u, 600u));
 
 }  // namespace
 }  // namespace pa
