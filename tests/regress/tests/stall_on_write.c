@@ -2,7 +2,8 @@
 // (capture_repeat_test.sh). When the engine opens a file for writing whose path contains
 // PA_STALL_ON_WRITE (e.g. "frame_0060", a screenshot), the call sleeps PA_STALL_MS milliseconds
 // (default 4000) before it returns: the engine's wall clock jumps while the demo clock of a
-// timedemo does not, as on a machine that another job stalls. A capture must not change.
+// timedemo does not, as on a machine that another job stalls. A capture must not change. Each
+// stall prints a line to stderr (the engine's log).
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <stdio.h>
@@ -22,6 +23,7 @@ FILE* fopen(const char* path, const char* mode) {
     const long stall = ms != NULL && *ms != '\0' ? strtol(ms, NULL, 10) : 4000;
     const struct timespec duration = {stall / 1000, (stall % 1000) * 1000000L};
     nanosleep(&duration, NULL);
+    fprintf(stderr, "pa_stall_on_write: stalled %ld ms at %s\n", stall, path);
   }
   return file;
 }
