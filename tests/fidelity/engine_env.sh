@@ -71,7 +71,11 @@ pa_tick_screenshots_cfg() {
 # timedemo under xvfb-run, at most SECONDS, with RENDERER ("pathtracer": MODULE is our .so; or a
 # stock one, MODULE ignored), and writes OUT/PREFIX_NNNN.tga at each command-buffer tick T (also
 # OUT/PREFIX_NNNN.exr where our module writes its film: r_pt_captureExr 1) and OUT/engine.log.
-# Size CAPTURE_WIDTH x CAPTURE_HEIGHT (640x360 by default). Returns 0, 1 (the engine failed or a
+# Size CAPTURE_WIDTH x CAPTURE_HEIGHT (640x360 by default). The HUD leaves out what follows the
+# engine's wall clock rather than the demo, so that a tick is the same picture in every run: console
+# notify lines (shown for con_notifytime seconds of wall-clock time) and the lagometer (its
+# snapshot bars plot "ping", which in demo playback is the wall-clock time since the engine
+# started); engine args come after and may set them back. Returns 0, 1 (the engine failed or a
 # tick is missing), 2 (no such demo file, bad name or ticks) or 77 (engine, game data or
 # xvfb-run missing), with a message.
 pa_capture_demo_ticks() (
@@ -94,7 +98,8 @@ pa_capture_demo_ticks() (
   mkdir -p "$out"
   status=0
   pa_engine_run "$work" "$out/engine.log" "$seconds" "$width" "$height" "$renderer" \
-    +set timedemo 1 +set com_maxfps 0 +set cg_drawFPS 0 "$@" +demo "$demo" +exec capture.cfg || status=$?
+    +set timedemo 1 +set com_maxfps 0 +set cg_drawFPS 0 +set con_notifytime -1 +set cg_lagometer 0 \
+    "$@" +demo "$demo" +exec capture.cfg || status=$?
   cp "$work"/home/baseoa/screenshots/"$prefix"_*.tga "$out/" 2>/dev/null || true
   cp "$work"/home/baseoa/screenshots/"$prefix"_*.exr "$out/" 2>/dev/null || true
   if [[ $status -ne 0 ]]; then echo "engine exited with status $status (log: $out/engine.log)"; exit 1; fi

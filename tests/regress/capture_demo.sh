@@ -10,6 +10,5 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$here/../fidelity/engine_env.sh"
 out="$1"; renderer="$2"; module="$3"; demo="$4"; ticks="$5"; shift 5
-pa_capture_demo_ticks "$out" "$renderer" "$module" "$demo" tick "$ticks" "${CAPTURE_TIMEOUT:-600}" \
-  +set con_notifytime -1 "$@"
+pa_capture_demo_ticks "$out" "$renderer" "$module" "$demo" tick "$ticks" "${CAPTURE_TIMEOUT:-600}" "$@"
 echo "captured $(wc -w <<<"$ticks") frames of $demo with $renderer into $out"
