@@ -120,6 +120,20 @@ std::array<glm::vec3, 3> encodeThree(const glm::vec3& a, const glm::vec3& b, con
   return {glm::vec3(e[0], e[1], e[2]), glm::vec3(e[3], e[4], e[5]), glm::vec3(e[6], e[7], encodeLanes(Lanes{c.z})[0])};
 }
 
+void encodeColors(std::span<const glm::vec4> linear, std::vector<glm::vec3>& display) {
+  display.resize(linear.size());
+  float* out = &display.data()->x;   // glm::vec3 is three packed floats
+  const size_t channels = 3 * linear.size();
+  size_t at = 0;
+  for (; at + 8 <= channels; at += 8) {
+    Lanes in;
+    for (size_t k = 0; k < 8; ++k) in[k] = linear[(at + k) / 3][int((at + k) % 3)];
+    const Lanes e = encodeLanes(in);
+    for (size_t k = 0; k < 8; ++k) out[at + k] = e[k];
+  }
+  for (; at < channels; ++at) out[at] = fastLinearToSrgb(linear[at / 3][int(at % 3)]);
+}
+
 glm::vec3 fastSrgbToLinear(const glm::vec3& c) { return decode(c); }
 
 glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b) {

@@ -6,7 +6,9 @@
 // what a raster renderer's blend stages compose (0.5 + 0.5 adds to white, not to 0.73 encoded).
 #include <array>
 #include <cstdint>
+#include <span>
 #include <utility>
+#include <vector>
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -23,6 +25,9 @@ float fastSrgbToLinear(float c);
 
 /// fastLinearToSrgb of each channel of three colours, in one pass (the same values).
 std::array<glm::vec3, 3> encodeThree(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
+/// fastLinearToSrgb of each channel of each colour's RGB, into `display` (resized to match;
+/// the same values as encodeThree, eight channels at a time).
+void encodeColors(std::span<const glm::vec4> linear, std::vector<glm::vec3>& display);
 /// fastSrgbToLinear of each channel, in one pass (the same values).
 glm::vec3 fastSrgbToLinear(const glm::vec3& c);
 

@@ -71,6 +71,26 @@ TEST(DisplayComposite, ColoursAtOnceEncodeAndDecodeAsOneByOne) {
   }
 }
 
+TEST(DisplayComposite, MeshColoursEncodeAsOneByOne) {
+  // encodeColors (a mesh's vertex colours at commit) gives each RGB channel fastLinearToSrgb's
+  // bits, alpha ignored, for counts whose channels fill eight lanes or leave a tail; the output
+  // is resized to the input, also when it shrinks.
+  std::vector<glm::vec4> colours;
+  for (int k = 0; k < 40; ++k)
+    colours.push_back({static_cast<float>(k) * 0.031f - 0.2f, static_cast<float>(k * k % 17) * 0.07f,
+                       k % 5 == 0 ? std::nanf("") : 1.0f / static_cast<float>(k + 1), -7.0f});
+  colours[3] = {std::numeric_limits<float>::infinity(), -0.0f, 1.0f, 0.0f};
+  const auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  std::vector<glm::vec3> display(100, glm::vec3(9.0f));
+  for (const size_t count : {size_t{40}, size_t{0}, size_t{1}, size_t{2}, size_t{3}, size_t{5}, size_t{8}, size_t{11}}) {
+    encodeColors(std::span<const glm::vec4>(colours.data(), count), display);
+    ASSERT_EQ(display.size(), count);
+    for (size_t i = 0; i < count; ++i)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_TRUE(same(display[i][c], fastLinearToSrgb(colours[i][c]))) << "colour " << i << " channel " << c;
+  }
+}
+
 TEST(DisplayComposite, TableDecodeMatchesTheExactCurve) {
   // Every 64th float in [0, 1] against the powf curve; decodeTwo decodes each channel alike.
   float worst = 0.0f;

@@ -63,6 +63,9 @@ struct MeshGeometry {
 struct MeshRecord {
   MeshGeometry geometry;
   std::vector<HitRule> rules;   ///< Per triangle (materialHitRule of its materials).
+  /// geometry.colors' RGB in display values (fastLinearToSrgb of each channel), encoded at commit
+  /// for vertex-lit surfaces, whose baked light is interpolated in display values.
+  std::vector<glm::vec3> displayColors;
   Blas blas;
   bool built = false;
   /// Changes (to a value unique within its SceneStore) whenever a commit changes the positions.

@@ -309,10 +309,11 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, SurfaceParts 
     } else if (all) {
       // Baked light at the vertices is interpolated in display values, as a raster renderer's
       // Gouraud shading interpolates its 8-bit vertex colours (linear blending is brighter inside).
-      const std::array<glm::vec3, 3> display = encodeThree(glm::vec3(c0), glm::vec3(c1), glm::vec3(c2));
+      // (the mesh's colours encoded at commit: encodeColors)
+      const std::vector<glm::vec3>& display = inst.mesh->displayColors;
       glm::vec3 mixed;
       for (int c = 0; c < 3; ++c)
-        mixed[c] = std::fma(hit.v, display[2][c], std::fma(w0, display[0][c], hit.u * display[1][c]));
+        mixed[c] = std::fma(hit.v, display[i2][c], std::fma(w0, display[i0][c], hit.u * display[i1][c]));
       const glm::vec3 light = fastSrgbToLinear(mixed);
       vertexColor = glm::vec4(light, vertexColor.a);
     }

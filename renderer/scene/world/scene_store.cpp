@@ -10,6 +10,7 @@
 #include <glm/matrix.hpp>
 #include <tbb/parallel_for.h>
 
+#include "renderer/scene/integrator/display_composite.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
 #include "renderer/scene/sampling/warp.h"
 
@@ -410,6 +411,7 @@ void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
   }
   tbb::parallel_for(size_t{0}, jobs.size(), [&](size_t i) {
     MeshRecord& rec = *jobs[i].record;
+    encodeColors(rec.geometry.colors, rec.displayColors);
     if (jobs[i].refit) {
       rec.blas.refit(rec.geometry.positions);
     } else {
