@@ -12,7 +12,7 @@ bool bakedLightAt(const SurfaceHit& s, glm::vec3& light) {
   const MaterialRecord& m = *s.material;
   if (m.emits) return false;
   if (m.desc.stock.useVertexLight) {
-    light = encodeTwo(glm::clamp(glm::vec3(s.vertexColor), 0.0f, 1.0f), glm::vec3(0.0f)).first;
+    light = glm::clamp(glm::vec3(s.vertexColor), 0.0f, 1.0f);   // display values already
   } else if (m.lightmap != nullptr && m.lightmap->srgb()) {
     light = glm::clamp(glm::vec3(m.lightmap->sampleStored(s.lightmapUv, 0.0f)), 0.0f, 1.0f);
   } else if (m.lightmap != nullptr) {

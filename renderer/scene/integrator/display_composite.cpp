@@ -142,6 +142,12 @@ glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b) {
   return {d[0], d[1], d[2]};
 }
 
+glm::vec3 displayProductWithDisplay(const glm::vec3& a, const glm::vec3& bDisplay) {
+  const Lanes e = encodeLanes(Lanes{a.x, a.y, a.z});
+  const Lanes d = decodeLanes(Lanes{e[0] * bDisplay.x, e[1] * bDisplay.y, e[2] * bDisplay.z});
+  return {d[0], d[1], d[2]};
+}
+
 std::pair<glm::vec3, glm::vec3> encodeTwo(const glm::vec3& a, const glm::vec3& b) {
   const Lanes e = encodeLanes(Lanes{a.x, a.y, a.z, b.x, b.y, b.z});
   return {{e[0], e[1], e[2]}, {e[3], e[4], e[5]}};

@@ -35,6 +35,8 @@ glm::vec3 fastSrgbToLinear(const glm::vec3& c);
 /// decode(encode(a) * encode(b)) (the stock texture x lightmap multiply of 8-bit values; the
 /// linear product lin(a) lin(b) is up to 13x darker where the sRGB curve is linear, near black).
 glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b);
+/// displayProduct of a linear colour and one already in display values: decode(encode(a) * b).
+glm::vec3 displayProductWithDisplay(const glm::vec3& a, const glm::vec3& bDisplay);
 
 /// fastLinearToSrgb of each channel of two colours, in one pass.
 std::pair<glm::vec3, glm::vec3> encodeTwo(const glm::vec3& a, const glm::vec3& b);

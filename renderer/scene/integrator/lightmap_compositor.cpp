@@ -62,8 +62,7 @@ StockTexels stockTexels(const RenderScene& scene, const SurfaceHit& s, float foo
     encodeBase = true;
   }
   if (m.desc.stock.useVertexLight) {
-    t.baked = glm::vec3(s.vertexColor);
-    encodeBaked = true;
+    t.baked = glm::clamp(glm::vec3(s.vertexColor), 0.0f, 1.0f);   // display values already
   } else if (m.lightmap != nullptr && m.lightmap->srgb()) {
     t.baked = glm::clamp(glm::vec3(m.lightmap->sampleStored(s.lightmapUv, 0.0f)), 0.0f, 1.0f);
   } else if (m.lightmap != nullptr) {
@@ -89,7 +88,12 @@ glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels&
   glm::vec3 lit = product;
   if (m.shine != nullptr) {   // the shine stage over the lit base, in display values too
     glm::vec4 shine = scene.shineColor(s, footprint);
-    if (m.desc.stock.shineVertexColor) shine = glm::vec4(displayProduct(glm::vec3(shine), glm::vec3(s.vertexColor)), shine.a);
+    if (m.desc.stock.shineVertexColor) {   // a vertex-lit surface's vertex colour is in display values
+      const glm::vec3 vertex(s.vertexColor);
+      shine = glm::vec4(m.desc.stock.useVertexLight ? displayProductWithDisplay(glm::vec3(shine), vertex)
+                                                    : displayProduct(glm::vec3(shine), vertex),
+                        shine.a);
+    }
     const float redrawn = m.desc.stock.shineMaskedByBaseAlpha ? std::clamp(t.baseAlpha, 0.0f, 1.0f) : 0.0f;
     lit = composeShine(lit, shine, m.desc.stock.shineBlend, redrawn);
   }

@@ -311,11 +311,8 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, SurfaceParts 
       // Gouraud shading interpolates its 8-bit vertex colours (linear blending is brighter inside).
       // (the mesh's colours encoded at commit: encodeColors)
       const std::vector<glm::vec3>& display = inst.mesh->displayColors;
-      glm::vec3 mixed;
       for (int c = 0; c < 3; ++c)
-        mixed[c] = std::fma(hit.v, display[i2][c], std::fma(w0, display[i0][c], hit.u * display[i1][c]));
-      const glm::vec3 light = fastSrgbToLinear(mixed);
-      vertexColor = glm::vec4(light, vertexColor.a);
+        vertexColor[c] = std::fma(hit.v, display[i2][c], std::fma(w0, display[i0][c], hit.u * display[i1][c]));
     }
   }
   glm::vec2 emissiveUv = uv;

@@ -101,8 +101,8 @@ enum class SurfaceParts : uint8_t {
   /// the winding normal where the material emits (emission's side), with All's bits. Left out:
   /// the shading normal (the geometric one), lightmap and shine uvs (0), the winding normal and
   /// worldArea of a material that does not emit ((0, 0, 1) and 0), and a vertex-lit material's
-  /// baked light (StockLook::useVertexLight: two sRGB curve passes; vertexColor's RGB stays 1,
-  /// of which baseFactor reads only the alpha).
+  /// baked light (StockLook::useVertexLight: vertexColor's RGB stays 1, of which baseFactor reads
+  /// only the alpha).
   LayerColour,
 };
 
@@ -120,6 +120,8 @@ struct SurfaceHit {
   glm::vec2 lightmapUv{0.0f};
   glm::vec2 shineUv{0.0f};              ///< Shine texture uv (StockLook::shineTexCoords) after shineUvTransform.
   float shineUvArea = 0.0f;             ///< Triangle area in shine uv space (mip level).
+  /// The interpolated vertex colour (linear); with StockLook::useVertexLight its RGB is the baked
+  /// light in display values instead (interpolated in display values, as Gouraud shading does).
   glm::vec4 vertexColor{1.0f};
   float worldArea = 0.0f;               ///< Triangle area in world space.
   float uvArea = 0.0f;                  ///< Triangle area in (transformed) uv space.
