@@ -1,15 +1,15 @@
 #include "port/engine_glue/overlay2d.h"
 
+#include <SDL.h>
 #include <GL/gl.h>
+#include <GL/glext.h>
 
 #include <algorithm>
+#include <cstdlib>
 
 #include "port/engine_glue/overlay_stages.h"
+#include "port/engine_glue/picture_upscale.h"
 #include "port/engine_glue/shaders.h"
-
-#ifndef GL_CLAMP_TO_EDGE
-#define GL_CLAMP_TO_EDGE 0x812F
-#endif
 
 namespace glue {
 namespace {
@@ -221,13 +221,14 @@ void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height,
                            float w, float h, bool opaque) {
   if (rgba == nullptr || width <= 0 || height <= 0 || slot < 0 || slot >= kViewSlots) return;
   flushPics();
-  upload(slot, rgba, width, height);
   // An opaque picture over the whole unclipped window replaces every pixel the clear would set
   // (the quad's edges are the viewport's, so it covers every pixel centre).
   if (opaque && fillsSurface_ && !clipped_ && x == 0.0f && y == 0.0f && w == static_cast<float>(width_) &&
       h == static_cast<float>(height_))
     clearPending_ = false;
   clearIfPending();
+  if (opaque && copyPicture(rgba, width, height, x, y, w, h)) return;
+  upload(slot, rgba, width, height);
   if (opaque) {
     glDisable(GL_BLEND);
   } else {
@@ -246,6 +247,73 @@ void Overlay2D::drawTexelsQuad(float x, float y, float w, float h) {
   glColor4f(1, 1, 1, 1);
   drawQuad2D(x, y, w, h, 0, 0, 1, 1);
   glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+}
+
+bool Overlay2D::copyAvailable() {
+  if (copyState_ != 0) return copyState_ > 0;
+  copyState_ = -1;
+  const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+  const bool core = version != nullptr && std::atoi(version) >= 3;
+  if (!core && !SDL_GL_ExtensionSupported("GL_ARB_framebuffer_object")) return false;
+  copy_.genFramebuffers = SDL_GL_GetProcAddress("glGenFramebuffers");
+  copy_.deleteFramebuffers = SDL_GL_GetProcAddress("glDeleteFramebuffers");
+  copy_.bindFramebuffer = SDL_GL_GetProcAddress("glBindFramebuffer");
+  copy_.framebufferTexture2D = SDL_GL_GetProcAddress("glFramebufferTexture2D");
+  copy_.checkFramebufferStatus = SDL_GL_GetProcAddress("glCheckFramebufferStatus");
+  copy_.blitFramebuffer = SDL_GL_GetProcAddress("glBlitFramebuffer");
+  if (copy_.genFramebuffers == nullptr || copy_.deleteFramebuffers == nullptr || copy_.bindFramebuffer == nullptr ||
+      copy_.framebufferTexture2D == nullptr || copy_.checkFramebufferStatus == nullptr ||
+      copy_.blitFramebuffer == nullptr)
+    return false;
+  copyState_ = 1;
+  return true;
+}
+
+bool Overlay2D::copyPicture(const uint8_t* rgba, int width, int height, float x, float y, float w, float h) {
+  if (clipped_) return false;
+  const int ix = static_cast<int>(x), iy = static_cast<int>(y);
+  const int iw = static_cast<int>(w), ih = static_cast<int>(h);
+  if (static_cast<float>(ix) != x || static_cast<float>(iy) != y || static_cast<float>(iw) != w ||
+      static_cast<float>(ih) != h)
+    return false;
+  if (ix < 0 || iy < 0 || iw <= 0 || ih <= 0 || ix + iw > width_ || iy + ih > height_) return false;
+  const bool sameSize = iw == width && ih == height;
+  if (!sameSize && (iw != 2 * width || ih != 2 * height)) return false;
+  if (!copyAvailable()) return false;
+  const auto bindFramebuffer = reinterpret_cast<PFNGLBINDFRAMEBUFFERPROC>(copy_.bindFramebuffer);
+  if (copySize_[0] != iw || copySize_[1] != ih) {
+    if (copyTexture_ == 0) glGenTextures(1, &copyTexture_);
+    glBindTexture(GL_TEXTURE_2D, copyTexture_);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    // Unsized GL_RGBA with BGRA data: Mesa keeps the bytes as they are (B8G8R8A8, the window's
+    // order), so neither the upload nor the blit converts.
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, iw, ih, 0, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, nullptr);
+    if (copyFramebuffer_ == 0) reinterpret_cast<PFNGLGENFRAMEBUFFERSPROC>(copy_.genFramebuffers)(1, &copyFramebuffer_);
+    bindFramebuffer(GL_READ_FRAMEBUFFER, copyFramebuffer_);
+    reinterpret_cast<PFNGLFRAMEBUFFERTEXTURE2DPROC>(copy_.framebufferTexture2D)(
+        GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, copyTexture_, 0);
+    const GLenum status = reinterpret_cast<PFNGLCHECKFRAMEBUFFERSTATUSPROC>(copy_.checkFramebufferStatus)(GL_READ_FRAMEBUFFER);
+    bindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+      copyState_ = -1;
+      return false;
+    }
+    copySize_ = {iw, ih};
+    copyPixels_.resize(size_t(iw) * size_t(ih) * 4);
+  }
+  if (sameSize) copyRgbaToBgra(rgba, width, height, copyPixels_.data());
+  else upscale2xRgbaToBgra(rgba, width, height, copyPixels_.data(), upscaleRows_);
+  glBindTexture(GL_TEXTURE_2D, copyTexture_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, iw, ih, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, copyPixels_.data());
+  // Texture row 0 is the picture's top row; GL counts window rows from the bottom, so the copy
+  // runs from the rectangle's top edge down (as the window stores its rows: no flip for Mesa).
+  bindFramebuffer(GL_READ_FRAMEBUFFER, copyFramebuffer_);
+  reinterpret_cast<PFNGLBLITFRAMEBUFFERPROC>(copy_.blitFramebuffer)(
+      0, 0, iw, ih, ix, height_ - iy, ix + iw, height_ - (iy + ih), GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  bindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  return true;
 }
 
 std::vector<uint8_t> Overlay2D::readPixelsRGB(int width, int height) const {
@@ -275,6 +343,13 @@ void Overlay2D::release() {
     if (texture != 0) glDeleteTextures(1, &texture);
   slotTextures_.clear();
   slotSizes_.clear();
+  if (copyFramebuffer_ != 0 && copy_.deleteFramebuffers != nullptr)
+    reinterpret_cast<PFNGLDELETEFRAMEBUFFERSPROC>(copy_.deleteFramebuffers)(1, &copyFramebuffer_);
+  if (copyTexture_ != 0) glDeleteTextures(1, &copyTexture_);
+  copyFramebuffer_ = copyTexture_ = 0;
+  copySize_ = {0, 0};
+  copy_ = {};
+  copyState_ = 0;
 }
 
 }  // namespace glue
