@@ -255,6 +255,10 @@ bool Overlay2D::copyAvailable() {
   const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
   const bool core = version != nullptr && std::atoi(version) >= 3;
   if (!core && !SDL_GL_ExtensionSupported("GL_ARB_framebuffer_object")) return false;
+  // A blit into a multisampled window is an error (GL 3.0): such a window keeps the quad.
+  GLint sampleBuffers = 0;
+  glGetIntegerv(GL_SAMPLE_BUFFERS, &sampleBuffers);
+  if (sampleBuffers != 0) return false;
   copy_.genFramebuffers = SDL_GL_GetProcAddress("glGenFramebuffers");
   copy_.deleteFramebuffers = SDL_GL_GetProcAddress("glDeleteFramebuffers");
   copy_.bindFramebuffer = SDL_GL_GetProcAddress("glBindFramebuffer");
