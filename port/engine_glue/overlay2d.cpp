@@ -5,6 +5,7 @@
 #include <GL/glext.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdlib>
 
 #include "port/engine_glue/overlay_stages.h"
@@ -61,9 +62,24 @@ void Overlay2D::applyRamp(const std::array<uint8_t, 256>& ramp) {
   if (width_ <= 0 || height_ <= 0) return;
   flushPics();
   clearIfPending();
-  rampPixels_.resize(size_t(width_) * size_t(height_) * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (prepareCopy(width_, height_)) {
+    // Read in the window's byte order (no conversion), mapped into the copy with the rows
+    // turned top-first, and copied back.
+    glReadPixels(0, 0, width_, height_, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, copyPixels_.data());
+    const size_t row = size_t(width_) * 4;
+    for (int y = 0; y < height_ / 2; ++y)
+      std::swap_ranges(copyPixels_.begin() + ptrdiff_t(size_t(y) * row), copyPixels_.begin() + ptrdiff_t(size_t(y + 1) * row),
+                       copyPixels_.begin() + ptrdiff_t(size_t(height_ - 1 - y) * row));
+    for (size_t i = 0; i < copyPixels_.size(); i += 4)
+      for (size_t c = 0; c < 3; ++c) copyPixels_[i + c] = ramp[copyPixels_[i + c]];
+    if (clipped_) glDisable(GL_SCISSOR_TEST);
+    blitCopy(0, 0);
+    if (clipped_) glEnable(GL_SCISSOR_TEST);
+    return;
+  }
+  rampPixels_.resize(size_t(width_) * size_t(height_) * 4);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rampPixels_.data());
   for (size_t i = 0; i < rampPixels_.size(); i += 4)
     for (size_t c = 0; c < 3; ++c) rampPixels_[i + c] = ramp[rampPixels_[i + c]];
@@ -273,6 +289,46 @@ bool Overlay2D::copyAvailable() {
   return true;
 }
 
+bool Overlay2D::prepareCopy(int width, int height) {
+  if (!copyAvailable()) return false;
+  if (copySize_[0] == width && copySize_[1] == height) return true;
+  const auto bindFramebuffer = reinterpret_cast<PFNGLBINDFRAMEBUFFERPROC>(copy_.bindFramebuffer);
+  if (copyTexture_ == 0) glGenTextures(1, &copyTexture_);
+  glBindTexture(GL_TEXTURE_2D, copyTexture_);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  // Unsized GL_RGBA with BGRA data: Mesa keeps the bytes as they are (B8G8R8A8, the window's
+  // order), so neither the upload nor the blit converts.
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, nullptr);
+  if (copyFramebuffer_ == 0) reinterpret_cast<PFNGLGENFRAMEBUFFERSPROC>(copy_.genFramebuffers)(1, &copyFramebuffer_);
+  bindFramebuffer(GL_READ_FRAMEBUFFER, copyFramebuffer_);
+  reinterpret_cast<PFNGLFRAMEBUFFERTEXTURE2DPROC>(copy_.framebufferTexture2D)(
+      GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, copyTexture_, 0);
+  const GLenum status = reinterpret_cast<PFNGLCHECKFRAMEBUFFERSTATUSPROC>(copy_.checkFramebufferStatus)(GL_READ_FRAMEBUFFER);
+  bindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    copyState_ = -1;
+    return false;
+  }
+  copySize_ = {width, height};
+  copyPixels_.resize(size_t(width) * size_t(height) * 4);
+  return true;
+}
+
+void Overlay2D::blitCopy(int x, int y) {
+  const int w = copySize_[0], h = copySize_[1];
+  glBindTexture(GL_TEXTURE_2D, copyTexture_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, copyPixels_.data());
+  // Texture row 0 is the picture's top row; GL counts window rows from the bottom, so the copy
+  // runs from the rectangle's top edge down (as the window stores its rows: no flip for Mesa).
+  const auto bindFramebuffer = reinterpret_cast<PFNGLBINDFRAMEBUFFERPROC>(copy_.bindFramebuffer);
+  bindFramebuffer(GL_READ_FRAMEBUFFER, copyFramebuffer_);
+  reinterpret_cast<PFNGLBLITFRAMEBUFFERPROC>(copy_.blitFramebuffer)(
+      0, 0, w, h, x, height_ - y, x + w, height_ - (y + h), GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  bindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+}
+
 bool Overlay2D::copyPicture(const uint8_t* rgba, int width, int height, float x, float y, float w, float h) {
   if (clipped_) return false;
   const int ix = static_cast<int>(x), iy = static_cast<int>(y);
@@ -283,40 +339,10 @@ bool Overlay2D::copyPicture(const uint8_t* rgba, int width, int height, float x,
   if (ix < 0 || iy < 0 || iw <= 0 || ih <= 0 || ix + iw > width_ || iy + ih > height_) return false;
   const bool sameSize = iw == width && ih == height;
   if (!sameSize && (iw != 2 * width || ih != 2 * height)) return false;
-  if (!copyAvailable()) return false;
-  const auto bindFramebuffer = reinterpret_cast<PFNGLBINDFRAMEBUFFERPROC>(copy_.bindFramebuffer);
-  if (copySize_[0] != iw || copySize_[1] != ih) {
-    if (copyTexture_ == 0) glGenTextures(1, &copyTexture_);
-    glBindTexture(GL_TEXTURE_2D, copyTexture_);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    // Unsized GL_RGBA with BGRA data: Mesa keeps the bytes as they are (B8G8R8A8, the window's
-    // order), so neither the upload nor the blit converts.
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, iw, ih, 0, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, nullptr);
-    if (copyFramebuffer_ == 0) reinterpret_cast<PFNGLGENFRAMEBUFFERSPROC>(copy_.genFramebuffers)(1, &copyFramebuffer_);
-    bindFramebuffer(GL_READ_FRAMEBUFFER, copyFramebuffer_);
-    reinterpret_cast<PFNGLFRAMEBUFFERTEXTURE2DPROC>(copy_.framebufferTexture2D)(
-        GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, copyTexture_, 0);
-    const GLenum status = reinterpret_cast<PFNGLCHECKFRAMEBUFFERSTATUSPROC>(copy_.checkFramebufferStatus)(GL_READ_FRAMEBUFFER);
-    bindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-      copyState_ = -1;
-      return false;
-    }
-    copySize_ = {iw, ih};
-    copyPixels_.resize(size_t(iw) * size_t(ih) * 4);
-  }
+  if (!prepareCopy(iw, ih)) return false;
   if (sameSize) copyRgbaToBgra(rgba, width, height, copyPixels_.data());
   else upscale2xRgbaToBgra(rgba, width, height, copyPixels_.data(), upscaleRows_);
-  glBindTexture(GL_TEXTURE_2D, copyTexture_);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, iw, ih, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, copyPixels_.data());
-  // Texture row 0 is the picture's top row; GL counts window rows from the bottom, so the copy
-  // runs from the rectangle's top edge down (as the window stores its rows: no flip for Mesa).
-  bindFramebuffer(GL_READ_FRAMEBUFFER, copyFramebuffer_);
-  reinterpret_cast<PFNGLBLITFRAMEBUFFERPROC>(copy_.blitFramebuffer)(
-      0, 0, iw, ih, ix, height_ - iy, ix + iw, height_ - (iy + ih), GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  bindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  blitCopy(ix, iy);
   return true;
 }
 

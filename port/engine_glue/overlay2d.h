@@ -60,7 +60,7 @@ class Overlay2D {
   /// Draws over the whole window again.
   void clearClip();
   /// Maps every colour byte of the frame (the beginFrame size from the bottom-left) through
-  /// `ramp` (a gamma ramp applied in software): read back, mapped, drawn again.
+  /// `ramp` (a gamma ramp applied in software): read back, mapped, copied (or drawn) again.
   void applyRamp(const std::array<uint8_t, 256>& ramp);
   /// Reads the back buffer as RGB8 rows, top row first.
   std::vector<uint8_t> readPixelsRGB(int width, int height) const;
@@ -79,6 +79,10 @@ class Overlay2D {
   };
   /// Loads CopyFunctions once per context; false when the context has no framebuffer blits.
   bool copyAvailable();
+  /// Sizes the copy's texture (and copyPixels_) to width x height; false without framebuffer blits.
+  bool prepareCopy(int width, int height);
+  /// Uploads copyPixels_ (BGRA, top row first) and copies it to the window at (x, y), top-left.
+  void blitCopy(int x, int y);
   /// Copies an opaque picture into the window rectangle (its size, or twice its size with the
   /// bilinear stretch); false when the context or the rectangle does not allow it.
   bool copyPicture(const uint8_t* rgba, int width, int height, float x, float y, float w, float h);
