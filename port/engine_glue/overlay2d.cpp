@@ -1,15 +1,16 @@
 #include "port/engine_glue/overlay2d.h"
 
+#include <SDL.h>
 #include <GL/gl.h>
+#include <GL/glext.h>
 
 #include <algorithm>
+#include <cstddef>
+#include <cstdlib>
 
 #include "port/engine_glue/overlay_stages.h"
+#include "port/engine_glue/picture_upscale.h"
 #include "port/engine_glue/shaders.h"
-
-#ifndef GL_CLAMP_TO_EDGE
-#define GL_CLAMP_TO_EDGE 0x812F
-#endif
 
 namespace glue {
 namespace {
@@ -61,9 +62,24 @@ void Overlay2D::applyRamp(const std::array<uint8_t, 256>& ramp) {
   if (width_ <= 0 || height_ <= 0) return;
   flushPics();
   clearIfPending();
-  rampPixels_.resize(size_t(width_) * size_t(height_) * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (prepareCopy(width_, height_)) {
+    // Read in the window's byte order (no conversion), mapped into the copy with the rows
+    // turned top-first, and copied back.
+    glReadPixels(0, 0, width_, height_, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, copyPixels_.data());
+    const size_t row = size_t(width_) * 4;
+    for (int y = 0; y < height_ / 2; ++y)
+      std::swap_ranges(copyPixels_.begin() + ptrdiff_t(size_t(y) * row), copyPixels_.begin() + ptrdiff_t(size_t(y + 1) * row),
+                       copyPixels_.begin() + ptrdiff_t(size_t(height_ - 1 - y) * row));
+    for (size_t i = 0; i < copyPixels_.size(); i += 4)
+      for (size_t c = 0; c < 3; ++c) copyPixels_[i + c] = ramp[copyPixels_[i + c]];
+    if (clipped_) glDisable(GL_SCISSOR_TEST);
+    blitCopy(0, 0);
+    if (clipped_) glEnable(GL_SCISSOR_TEST);
+    return;
+  }
+  rampPixels_.resize(size_t(width_) * size_t(height_) * 4);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rampPixels_.data());
   for (size_t i = 0; i < rampPixels_.size(); i += 4)
     for (size_t c = 0; c < 3; ++c) rampPixels_[i + c] = ramp[rampPixels_[i + c]];
@@ -221,13 +237,14 @@ void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height,
                            float w, float h, bool opaque) {
   if (rgba == nullptr || width <= 0 || height <= 0 || slot < 0 || slot >= kViewSlots) return;
   flushPics();
-  upload(slot, rgba, width, height);
   // An opaque picture over the whole unclipped window replaces every pixel the clear would set
   // (the quad's edges are the viewport's, so it covers every pixel centre).
   if (opaque && fillsSurface_ && !clipped_ && x == 0.0f && y == 0.0f && w == static_cast<float>(width_) &&
       h == static_cast<float>(height_))
     clearPending_ = false;
   clearIfPending();
+  if (opaque && copyPicture(rgba, width, height, x, y, w, h)) return;
+  upload(slot, rgba, width, height);
   if (opaque) {
     glDisable(GL_BLEND);
   } else {
@@ -246,6 +263,87 @@ void Overlay2D::drawTexelsQuad(float x, float y, float w, float h) {
   glColor4f(1, 1, 1, 1);
   drawQuad2D(x, y, w, h, 0, 0, 1, 1);
   glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+}
+
+bool Overlay2D::copyAvailable() {
+  if (copyState_ != 0) return copyState_ > 0;
+  copyState_ = -1;
+  const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+  const bool core = version != nullptr && std::atoi(version) >= 3;
+  if (!core && !SDL_GL_ExtensionSupported("GL_ARB_framebuffer_object")) return false;
+  // A blit into a multisampled window is an error (GL 3.0): such a window keeps the quad.
+  GLint sampleBuffers = 0;
+  glGetIntegerv(GL_SAMPLE_BUFFERS, &sampleBuffers);
+  if (sampleBuffers != 0) return false;
+  copy_.genFramebuffers = SDL_GL_GetProcAddress("glGenFramebuffers");
+  copy_.deleteFramebuffers = SDL_GL_GetProcAddress("glDeleteFramebuffers");
+  copy_.bindFramebuffer = SDL_GL_GetProcAddress("glBindFramebuffer");
+  copy_.framebufferTexture2D = SDL_GL_GetProcAddress("glFramebufferTexture2D");
+  copy_.checkFramebufferStatus = SDL_GL_GetProcAddress("glCheckFramebufferStatus");
+  copy_.blitFramebuffer = SDL_GL_GetProcAddress("glBlitFramebuffer");
+  if (copy_.genFramebuffers == nullptr || copy_.deleteFramebuffers == nullptr || copy_.bindFramebuffer == nullptr ||
+      copy_.framebufferTexture2D == nullptr || copy_.checkFramebufferStatus == nullptr ||
+      copy_.blitFramebuffer == nullptr)
+    return false;
+  copyState_ = 1;
+  return true;
+}
+
+bool Overlay2D::prepareCopy(int width, int height) {
+  if (!copyAvailable()) return false;
+  if (copySize_[0] == width && copySize_[1] == height) return true;
+  const auto bindFramebuffer = reinterpret_cast<PFNGLBINDFRAMEBUFFERPROC>(copy_.bindFramebuffer);
+  if (copyTexture_ == 0) glGenTextures(1, &copyTexture_);
+  glBindTexture(GL_TEXTURE_2D, copyTexture_);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  // Unsized GL_RGBA with BGRA data: Mesa keeps the bytes as they are (B8G8R8A8, the window's
+  // order), so neither the upload nor the blit converts.
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, nullptr);
+  if (copyFramebuffer_ == 0) reinterpret_cast<PFNGLGENFRAMEBUFFERSPROC>(copy_.genFramebuffers)(1, &copyFramebuffer_);
+  bindFramebuffer(GL_READ_FRAMEBUFFER, copyFramebuffer_);
+  reinterpret_cast<PFNGLFRAMEBUFFERTEXTURE2DPROC>(copy_.framebufferTexture2D)(
+      GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, copyTexture_, 0);
+  const GLenum status = reinterpret_cast<PFNGLCHECKFRAMEBUFFERSTATUSPROC>(copy_.checkFramebufferStatus)(GL_READ_FRAMEBUFFER);
+  bindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    copyState_ = -1;
+    return false;
+  }
+  copySize_ = {width, height};
+  copyPixels_.resize(size_t(width) * size_t(height) * 4);
+  return true;
+}
+
+void Overlay2D::blitCopy(int x, int y) {
+  const int w = copySize_[0], h = copySize_[1];
+  glBindTexture(GL_TEXTURE_2D, copyTexture_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, copyPixels_.data());
+  // Texture row 0 is the picture's top row; GL counts window rows from the bottom, so the copy
+  // runs from the rectangle's top edge down (as the window stores its rows: no flip for Mesa).
+  const auto bindFramebuffer = reinterpret_cast<PFNGLBINDFRAMEBUFFERPROC>(copy_.bindFramebuffer);
+  bindFramebuffer(GL_READ_FRAMEBUFFER, copyFramebuffer_);
+  reinterpret_cast<PFNGLBLITFRAMEBUFFERPROC>(copy_.blitFramebuffer)(
+      0, 0, w, h, x, height_ - y, x + w, height_ - (y + h), GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  bindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+}
+
+bool Overlay2D::copyPicture(const uint8_t* rgba, int width, int height, float x, float y, float w, float h) {
+  if (clipped_) return false;
+  const int ix = static_cast<int>(x), iy = static_cast<int>(y);
+  const int iw = static_cast<int>(w), ih = static_cast<int>(h);
+  if (static_cast<float>(ix) != x || static_cast<float>(iy) != y || static_cast<float>(iw) != w ||
+      static_cast<float>(ih) != h)
+    return false;
+  if (ix < 0 || iy < 0 || iw <= 0 || ih <= 0 || ix + iw > width_ || iy + ih > height_) return false;
+  const bool sameSize = iw == width && ih == height;
+  if (!sameSize && (iw != 2 * width || ih != 2 * height)) return false;
+  if (!prepareCopy(iw, ih)) return false;
+  if (sameSize) copyRgbaToBgra(rgba, width, height, copyPixels_.data());
+  else upscale2xRgbaToBgra(rgba, width, height, copyPixels_.data(), upscaleRows_);
+  blitCopy(ix, iy);
+  return true;
 }
 
 std::vector<uint8_t> Overlay2D::readPixelsRGB(int width, int height) const {
@@ -275,6 +373,13 @@ void Overlay2D::release() {
     if (texture != 0) glDeleteTextures(1, &texture);
   slotTextures_.clear();
   slotSizes_.clear();
+  if (copyFramebuffer_ != 0 && copy_.deleteFramebuffers != nullptr)
+    reinterpret_cast<PFNGLDELETEFRAMEBUFFERSPROC>(copy_.deleteFramebuffers)(1, &copyFramebuffer_);
+  if (copyTexture_ != 0) glDeleteTextures(1, &copyTexture_);
+  copyFramebuffer_ = copyTexture_ = 0;
+  copySize_ = {0, 0};
+  copy_ = {};
+  copyState_ = 0;
 }
 
 }  // namespace glue

@@ -5,6 +5,10 @@
 // Consecutive DrawStretchPics of one shader are drawn together, as the stock renderer batches
 // them (a line of text is one draw, not one per character): on a software GL each draw's state
 // validation and set-up costs CPU. Every other drawing call draws the waiting quads first.
+// An opaque view picture of the rectangle's size or half of it is stretched on the CPU
+// (picture_upscale.h) and copied into the window with glBlitFramebuffer, which Mesa's llvmpipe
+// executes as a memory copy when the pixels are in the window's byte order; a textured quad
+// would run a fragment program per window pixel.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -56,7 +60,7 @@ class Overlay2D {
   /// Draws over the whole window again.
   void clearClip();
   /// Maps every colour byte of the frame (the beginFrame size from the bottom-left) through
-  /// `ramp` (a gamma ramp applied in software): read back, mapped, drawn again.
+  /// `ramp` (a gamma ramp applied in software): read back, mapped, copied (or drawn) again.
   void applyRamp(const std::array<uint8_t, 256>& ramp);
   /// Reads the back buffer as RGB8 rows, top row first.
   std::vector<uint8_t> readPixelsRGB(int width, int height) const;
@@ -64,6 +68,24 @@ class Overlay2D {
   void release();
 
  private:
+  /// Framebuffer-object entry points of the context (SDL_GL_GetProcAddress), when it has them.
+  struct CopyFunctions {
+    void* genFramebuffers = nullptr;
+    void* deleteFramebuffers = nullptr;
+    void* bindFramebuffer = nullptr;
+    void* framebufferTexture2D = nullptr;
+    void* checkFramebufferStatus = nullptr;
+    void* blitFramebuffer = nullptr;
+  };
+  /// Loads CopyFunctions once per context; false when the context has no framebuffer blits.
+  bool copyAvailable();
+  /// Sizes the copy's texture (and copyPixels_) to width x height; false without framebuffer blits.
+  bool prepareCopy(int width, int height);
+  /// Uploads copyPixels_ (BGRA, top row first) and copies it to the window at (x, y), top-left.
+  void blitCopy(int x, int y);
+  /// Copies an opaque picture into the window rectangle (its size, or twice its size with the
+  /// bilinear stretch); false when the context or the rectangle does not allow it.
+  bool copyPicture(const uint8_t* rgba, int width, int height, float x, float y, float w, float h);
   unsigned slotTexture(int slot);
   /// Replaces a slot's pixels (re-creating its texture only when the size changes).
   void upload(int slot, const uint8_t* rgba, int width, int height);
@@ -93,6 +115,13 @@ class Overlay2D {
   std::vector<unsigned> slotTextures_;   ///< Views, then kViewSlots + client for cinematics
   std::vector<std::array<int, 2>> slotSizes_;
   std::vector<uint8_t> rampPixels_;   ///< applyRamp's frame copy.
+  int copyState_ = 0;                 ///< Picture copies: 0 not tried yet, 1 available, -1 not.
+  unsigned copyTexture_ = 0;          ///< The BGRA picture the copy reads (window rectangle size).
+  unsigned copyFramebuffer_ = 0;      ///< Read framebuffer holding copyTexture_.
+  std::array<int, 2> copySize_{0, 0};
+  CopyFunctions copy_;
+  std::vector<uint8_t> copyPixels_;     ///< The stretched picture, BGRA.
+  std::vector<uint16_t> upscaleRows_;   ///< upscale2xRgbaToBgra's working row.
   mutable PicBatch batch_;
 };
 
