@@ -10,6 +10,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "renderer/scene/taau/lanes.h"
+
 namespace pa::temporal {
 namespace {
 
@@ -24,6 +26,8 @@ constexpr float kChangeClampSigmas = 3.0f;
 constexpr float kChangeClampRelative = 0.2f;
 /// Least total bilinear weight of the valid taps for a history to count.
 constexpr float kMinTapWeight = 1e-3f;
+/// Zero border of the rejection planes: the test's radius.
+constexpr size_t kRejectPad = kRejectRadius;
 /// Rows per parallel task.
 constexpr uint32_t kRowGrain = 4;
 
@@ -89,6 +93,15 @@ void TemporalFilter::accumulate(const FrameInputs& frame, std::span<glm::vec3> r
     signal_.assign(n, glm::vec3(0.0f));
     signalLuminance_.assign(n, 0.0f);
     reprojected_.assign(n, Reprojected{});
+    // The border stays zero; kCount more floats let a row's last block of lanes read past the
+    // end of the last padded row.
+    reject_.pad = kRejectPad;
+    reject_.stride = frame.width + 2 * kRejectPad;
+    const size_t planeSize = reject_.stride * (frame.height + 2 * kRejectPad) + taau::lanes::kCount;
+    for (std::vector<float>* plane : {&reject_.change, &reject_.mean, &reject_.variance, &reject_.count})
+      plane->assign(planeSize, 0.0f);
+    const size_t lanesWide = (size_t{frame.width} + taau::lanes::kCount - 1) / taau::lanes::kCount * taau::lanes::kCount;
+    rejected_.assign(lanesWide * frame.height, 0);
   }
   if (n == 0) return;
   parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { prepareRows(frame, radiance, y0, y1); });
@@ -135,6 +148,8 @@ void TemporalFilter::reprojectRows(const FrameInputs& frame, uint32_t y0, uint32
       const size_t i = size_t{y} * frame.width + x;
       Reprojected& out = reprojected_[i];
       out = Reprojected{};
+      const size_t terms = reject_.at(x, y);
+      reject_.change[terms] = reject_.mean[terms] = reject_.variance[terms] = reject_.count[terms] = 0.0f;
       const glm::vec2 motion = g.motion[i];
       if (!haveHistory_ || !std::isfinite(signalLuminance_[i]) || !std::isfinite(motion.x) ||
           !std::isfinite(motion.y)) {
@@ -194,15 +209,51 @@ void TemporalFilter::reprojectRows(const FrameInputs& frame, uint32_t y0, uint32
       out.moment2 *= inverse;
       out.length *= inverse;
       out.variance = std::max(0.0f, out.moment2 - out.moment1 * out.moment1);
-      out.changeBound = kChangeClampSigmas * std::sqrt(out.variance) + kChangeClampRelative * std::abs(out.moment1) + 1e-6f;
+      if (!(out.length > 0.0f)) continue;
+      // The largest luminance change this pixel adds to its neighbours' rejection tests.
+      const float changeBound =
+          kChangeClampSigmas * std::sqrt(out.variance) + kChangeClampRelative * std::abs(out.moment1) + 1e-6f;
+      reject_.change[terms] = std::clamp(signalLuminance_[i] - out.moment1, -changeBound, changeBound);
+      reject_.mean[terms] = out.moment1;
+      reject_.variance[terms] = out.variance;
+      reject_.count[terms] = 1.0f;
     }
+  }
+}
+
+void TemporalFilter::rejectRow(uint32_t y, int32_t* out) const {
+  // This frame's luminance minus the history's mean, over the neighbours that have a history, is
+  // noise around 0 while the lighting holds. Each neighbour's change is clamped to 3 of its own
+  // standard deviations plus 20% of its history (a Huber-like mean): a few fireflies in the
+  // neighbourhood must not drop 25 histories, while a change the whole neighbourhood shares still
+  // shows. kCount pixels at a time; neighbours without history (or outside the frame) add zeros,
+  // which leaves every sum as adding only the others would.
+  namespace lanes = taau::lanes;
+  for (uint32_t x = 0; x < width_; x += lanes::kCount) {
+    lanes::F change = lanes::splat(0.0f), historySum = change, varianceSum = change, count = change;
+    for (int dy = -kRejectRadius; dy <= kRejectRadius; ++dy) {
+      const size_t row = reject_.at(x, y) + dy * static_cast<std::ptrdiff_t>(reject_.stride);
+      for (int dx = -kRejectRadius; dx <= kRejectRadius; ++dx) {
+        const size_t j = row + dx;
+        change += lanes::load(reject_.change.data() + j);
+        historySum += lanes::load(reject_.mean.data() + j);
+        varianceSum += lanes::load(reject_.variance.data() + j);
+        count += lanes::load(reject_.count.data() + j);
+      }
+    }
+    const lanes::F meanChange = change / count;   // count >= 1 where the pixel has a history
+    const lanes::F tolerance = config_.rejectSigmas * lanes::sqrt(varianceSum / count / count) +
+                               config_.rejectRelative * lanes::abs(historySum / count) + 1e-6f;
+    lanes::store(out + x, lanes::abs(meanChange) > tolerance);
   }
 }
 
 void TemporalFilter::blendRows(const FrameInputs& frame, std::span<glm::vec3> radiance, uint32_t y0, uint32_t y1) {
   const GBuffer& g = *frame.gbuffer;
-  const int width = static_cast<int>(frame.width), height = static_cast<int>(frame.height);
+  const size_t rejectedStride = (size_t{frame.width} + taau::lanes::kCount - 1) / taau::lanes::kCount * taau::lanes::kCount;
   for (uint32_t y = y0; y < y1; ++y) {
+    int32_t* rejected = rejected_.data() + y * rejectedStride;
+    rejectRow(y, rejected);
     for (uint32_t x = 0; x < frame.width; ++x) {
       const size_t i = size_t{y} * frame.width + x;
       State& out = state_[i];
@@ -215,33 +266,8 @@ void TemporalFilter::blendRows(const FrameInputs& frame, std::span<glm::vec3> ra
         continue;
       }
       Reprojected history = reprojected_[i];
-      if (history.length >= static_cast<float>(config_.minLengthForVariance)) {
-        // Rejection: this frame's luminance minus the history's mean, over the neighbours that
-        // have a history, is noise around 0 while the lighting holds. Each neighbour's change is
-        // first clamped to 3 of its own standard deviations plus 20% of its history (a Huber-like
-        // mean): a few fireflies in the neighbourhood must not drop 25 histories, while a change
-        // the whole neighbourhood shares still shows.
-        float change = 0.0f, historySum = 0.0f, varianceSum = 0.0f, count = 0.0f;
-        for (int dy = -kRejectRadius; dy <= kRejectRadius; ++dy) {
-          const int py = static_cast<int>(y) + dy;
-          if (py < 0 || py >= height) continue;
-          for (int dx = -kRejectRadius; dx <= kRejectRadius; ++dx) {
-            const int px = static_cast<int>(x) + dx;
-            if (px < 0 || px >= width) continue;
-            const size_t j = size_t(py) * frame.width + size_t(px);
-            const Reprojected& r = reprojected_[j];
-            if (!(r.length > 0.0f)) continue;
-            change += std::clamp(signalLuminance_[j] - r.moment1, -r.changeBound, r.changeBound);
-            historySum += r.moment1;
-            varianceSum += r.variance;
-            count += 1.0f;
-          }
-        }
-        const float meanChange = change / count;   // count >= 1: the pixel itself
-        const float tolerance = config_.rejectSigmas * std::sqrt(varianceSum / count / count) +
-                                config_.rejectRelative * std::abs(historySum / count) + 1e-6f;
-        if (std::abs(meanChange) > tolerance) history = Reprojected{};
-      }
+      // Rejection (rejectRow): the neighbourhood's luminance changes say the lighting changed.
+      if (history.length >= static_cast<float>(config_.minLengthForVariance) && rejected[x] != 0) history = Reprojected{};
       glm::vec3 color = signal_[i];
       float moment1 = l, moment2 = l * l, length = 1.0f;
       float meanShare = 1.0f;   // variance of the blended colour per unit of one sample's variance

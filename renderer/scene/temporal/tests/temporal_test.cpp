@@ -221,5 +221,40 @@ TEST(TemporalFilter, SameResultWithOneAndTwoThreads) {
   for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], two[i]) << i;
 }
 
+TEST(TemporalFilter, RejectionRowsAtEveryWidth) {
+  // The rejection test sums 5 x 5 neighbourhoods kCount pixels at a time: at every width (not
+  // only multiples of the lane count, borders included) a steady image keeps every history, a
+  // ramp too, and a light dimmed to a third over the whole frame drops every one.
+  for (uint32_t width = 1; width <= 21; ++width) {
+    for (const bool ramp : {false, true}) {
+      Synthetic f(width, 6, 5.0f);
+      for (uint32_t y = 0; y < f.height; ++y)
+        for (uint32_t x = 0; x < width; ++x)
+          f.radiance[size_t{y} * width + x] = glm::vec3(ramp ? 0.2f + 0.05f * static_cast<float>(x + y) : 0.5f);
+      TemporalFilter filter;
+      for (int frame = 0; frame < 8; ++frame) {
+        std::vector<glm::vec3> r = f.radiance;
+        filter.accumulate(f.inputs(), r);
+        filter.endFrame();
+      }
+      std::vector<glm::vec3> steady = f.radiance;
+      filter.accumulate(f.inputs(), steady);
+      for (size_t i = 0; i < steady.size(); ++i) {
+        ASSERT_EQ(filter.historyLength()[i], 9.0f) << "width " << width << " pixel " << i;
+        EXPECT_NEAR(steady[i].g, f.radiance[i].g, 1e-6f);
+      }
+      filter.endFrame();
+      std::vector<glm::vec3> dimmed = f.radiance;
+      for (glm::vec3& c : dimmed) c /= 3.0f;
+      const std::vector<glm::vec3> expected = dimmed;
+      filter.accumulate(f.inputs(), dimmed);
+      for (size_t i = 0; i < dimmed.size(); ++i) {
+        ASSERT_EQ(filter.historyLength()[i], 1.0f) << "width " << width << " pixel " << i;
+        EXPECT_EQ(dimmed[i], expected[i]);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace pa::temporal
