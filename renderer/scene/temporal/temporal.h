@@ -31,6 +31,7 @@ struct Config {
   float rejectSigmas = 3.0f;        ///< Standard errors of the neighbourhood's mean change that drop a history.
   float rejectRelative = 0.1f;      ///< ... plus this fraction of the neighbourhood's history luminance.
   uint32_t minLengthForVariance = 4;   ///< Shorter histories get the denoiser's spatial variance estimate.
+  bool rowLanes = true;   ///< Reprojects 8 (4 without AVX) pixels at a time; false: one by one (the same bits).
 };
 
 /// This frame's inputs (width * height each, row-major from the top row), as the film resolves them.
@@ -96,6 +97,11 @@ class TemporalFilter {
   };
   void prepareRows(const FrameInputs& frame, std::span<const glm::vec3> radiance, uint32_t y0, uint32_t y1);
   void reprojectRows(const FrameInputs& frame, uint32_t y0, uint32_t y1);
+  /// reprojectRows() for one pixel (any position).
+  void reprojectPixel(const FrameInputs& frame, uint32_t x, uint32_t y);
+  /// reprojectRows() for the kCount pixels of row y from x on (x > 0, x + kCount < width, 0 < y
+  /// < height - 1, with a history).
+  void reprojectLanes(const FrameInputs& frame, uint32_t x, uint32_t y);
   void blendRows(const FrameInputs& frame, std::span<glm::vec3> radiance, uint32_t y0, uint32_t y1);
   /// Per pixel of row y, whether the rejection test drops its history (-1) or not (0), into `out`
   /// (width rounded up to whole lanes).
