@@ -1,5 +1,7 @@
 #include "renderer/scene/denoise/denoiser.h"
 
+#include "renderer/scene/denoise/weight_lanes.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -27,30 +29,12 @@ constexpr uint32_t kMaxIterations = 10;
 constexpr float kDepthRelativeSlack = 0.005f;
 /// Keeps the luminance weight finite where the noise estimate is zero.
 constexpr float kLuminanceEpsilon = 1e-6f;
-/// Weight exponents are clamped here (e^-80 ~ 2e-35: nothing); NaN exponents land here too.
-constexpr float kMinExponent = -80.0f;
 /// Taps of the 3 x 3 à-trous kernel (B-spline (1, 2, 1) / 4) and of the variance blur.
 constexpr float kKernel[3] = {0.25f, 0.5f, 0.25f};
 /// Rows per parallel task.
 constexpr uint32_t kRowGrain = 4;
 
-float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
-
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-/// e^x for x <= 0 without branches (so that loops over it vectorise): 2^(x log2 e) from an
-/// exponent-bit shift and a degree-5 polynomial of the fraction (relative error < 2e-7).
-/// Exponents below kMinExponent, and NaN, count as kMinExponent.
-inline float negativeExp(float x) {
-  x = x > kMinExponent ? x : kMinExponent;
-  x = x < 0.0f ? x : 0.0f;
-  const float t = x * 1.44269504f;
-  const float whole = std::floor(t);
-  const float f = t - whole;   // [0, 1)
-  const float p =
-      1.0f + f * (0.69314718f + f * (0.24022652f + f * (0.05550411f + f * (0.00961813f + f * 0.00133336f))));
-  return std::bit_cast<float>(std::bit_cast<int32_t>(p) + (static_cast<int32_t>(whole) << 23));
-}
 
 /// Depth change per pixel between `here` and the neighbour on the side with the smaller change
 /// (the side on the same surface at an edge); 0 with no usable neighbour.
@@ -99,7 +83,9 @@ void Denoiser::resize(uint32_t width, uint32_t height) {
   for (Plane* plane : {&normalX_, &normalY_, &normalZ_, &depth_, &depthDx_, &depthDy_, &gives_, &takes_, &ownVariance_,
                        &current_.red, &current_.green, &current_.blue, &current_.variance, &next_.red,
                        &next_.green, &next_.blue, &next_.variance}) {
-    plane->data.assign(size, 0.0f);   // the border stays zero: gives = 0 there
+    // The border stays zero (gives = 0 there); kCount more floats let a row's last block of
+    // lanes read past the end of the last padded row.
+    plane->data.assign(size + lanes::kCount, 0.0f);
     plane->stride = stride;
     plane->pad = pad_;
   }
@@ -130,7 +116,7 @@ void Denoiser::apply(const Guides& guides, std::span<glm::vec3> radiance, std::s
   parallelRows(height, [&](uint32_t y0, uint32_t y1) { prepareRows(guides, radiance, y0, y1); });
   if (!guides.historyLength.empty() || guides.samplesPerPixel < kMinSamplesForPixelVariance) {
     parallelRows(height, [&](uint32_t y0, uint32_t y1) { estimateVarianceRows(y0, y1); });
-    std::swap(current_, next_);
+    std::swap(current_.variance, next_.variance);   // the colour planes stay as they are
   }
   for (uint32_t i = 0; i < config_.iterations; ++i) {
     parallelRows(height, [&](uint32_t y0, uint32_t y1) { filterRows(1u << i, y0, y1); });
@@ -176,7 +162,7 @@ void Denoiser::prepareRows(const Guides& guides, std::span<const glm::vec3> radi
     float *gives = gives_.row(row), *takes = takes_.row(row), *own = ownVariance_.row(row);
     float *r = current_.red.row(row), *g = current_.green.row(row), *b = current_.blue.row(row);
     float* variance = current_.variance.row(row);
-    for (uint32_t x = 0; x < width; ++x) {
+    const auto pixel = [&](uint32_t x) {
       const size_t i = size_t{y} * width + x;
       nx[x] = ny[x] = nz[x] = depth[x] = dx[x] = dy[x] = gives[x] = takes[x] = own[x] = 0.0f;
       r[x] = g[x] = b[x] = variance[x] = 0.0f;
@@ -186,7 +172,7 @@ void Denoiser::prepareRows(const Guides& guides, std::span<const glm::vec3> radi
       const float normalLength = finite(normal) ? glm::length(normal) : 0.0f;
       const bool geometry = std::isfinite(z) && z > 0.0f && finite(albedo) && normalLength > 1e-6f &&
                             std::max({albedo.x, albedo.y, albedo.z}) >= kMinAlbedo;
-      if (!geometry) continue;   // sky, black albedo or broken guides: passes through
+      if (!geometry) return;   // sky, black albedo or broken guides: passes through
       nx[x] = normal.x / normalLength;
       ny[x] = normal.y / normalLength;
       nz[x] = normal.z / normalLength;
@@ -194,7 +180,7 @@ void Denoiser::prepareRows(const Guides& guides, std::span<const glm::vec3> radi
       dx[x] = oneSidedSlope(z, x > 0 ? depthAt(x - 1, y) : none, x + 1 < width ? depthAt(x + 1, y) : none);
       dy[x] = oneSidedSlope(z, y > 0 ? depthAt(x, y - 1) : none, y + 1 < guides.height ? depthAt(x, y + 1) : none);
       takes[x] = 1.0f;
-      if (!finite(radiance[i])) continue;   // a hole: filled from its neighbours, never used by them
+      if (!finite(radiance[i])) return;   // a hole: filled from its neighbours, never used by them
       gives[x] = 1.0f;
       const glm::vec3 factor = demodulationFactor(albedo);
       const glm::vec3 demodulated = (radiance[i] - emissionAt(guides, i)) / factor;
@@ -208,193 +194,277 @@ void Denoiser::prepareRows(const Guides& guides, std::span<const glm::vec3> radi
         const float v = guides.variance[i] / (scale * scale);
         variance[x] = std::isfinite(v) && v > 0.0f ? v : 0.0f;
       }
+    };
+    // Interior pixels (both row neighbours inside the row) kCount at a time, the others one by one:
+    // the same operations in the same order, so the same bits.
+    uint32_t x = 0;
+    if (width > lanes::kCount + 1) {
+      pixel(0);
+      for (x = 1; x + lanes::kCount < width; x += lanes::kCount) prepareLanes(guides, radiance, x, y);
     }
+    for (; x < width; ++x) pixel(x);
   }
+}
+
+void Denoiser::prepareLanes(const Guides& guides, std::span<const glm::vec3> radiance, uint32_t x, uint32_t y) {
+  using lanes::F;
+  using lanes::I;
+  const uint32_t width = guides.width;
+  const size_t i = size_t{y} * width + x;
+  const int row = static_cast<int>(y);
+  const F zero = lanes::splat(0.0f), one = lanes::splat(1.0f), none = lanes::splat(std::numeric_limits<float>::infinity());
+  const I channel = lanes::kIota * 3;
+  const auto gather3 = [&](const glm::vec3* v, F& a, F& b, F& c) {
+    const float* base = &v[i].x;
+    a = lanes::gather(base, channel);
+    b = lanes::gather(base + 1, channel);
+    c = lanes::gather(base + 2, channel);
+  };
+  const auto allFinite = [](F a, F b, F c) { return lanes::finite(a) & lanes::finite(b) & lanes::finite(c); };
+  const F z = lanes::load(guides.depth.data() + i);
+  F albedoR, albedoG, albedoB, normalX, normalY, normalZ;
+  gather3(guides.albedo.data(), albedoR, albedoG, albedoB);
+  gather3(guides.normal.data(), normalX, normalY, normalZ);
+  const I normalFinite = allFinite(normalX, normalY, normalZ);
+  const F normalLength =
+      lanes::select(normalFinite, lanes::sqrt(normalX * normalX + normalY * normalY + normalZ * normalZ), zero);
+  const F largest = lanes::select(albedoR < albedoG, albedoG, albedoR);
+  const I geometry = lanes::finite(z) & (z > 0.0f) & allFinite(albedoR, albedoG, albedoB) & (normalLength > 1e-6f) &
+                     (lanes::select(largest < albedoB, albedoB, largest) >= kMinAlbedo);
+  // Depth change per pixel towards the neighbour with the smaller change (oneSidedSlope).
+  const auto slope = [&](F before, F after) {
+    const I hasBefore = lanes::finite(before) & (before > 0.0f);
+    const I hasAfter = lanes::finite(after) & (after > 0.0f);
+    const F slopeBefore = z - before, slopeAfter = after - z;
+    const F both = lanes::select(absolute(slopeBefore) < absolute(slopeAfter), slopeBefore, slopeAfter);
+    return lanes::select(hasBefore & hasAfter, both,
+                         lanes::select(hasBefore, slopeBefore, lanes::select(hasAfter, slopeAfter, zero)));
+  };
+  const F above = y > 0 ? lanes::load(guides.depth.data() + i - width) : none;
+  const F below = y + 1 < guides.height ? lanes::load(guides.depth.data() + i + width) : none;
+  F radianceR, radianceG, radianceB, emissionR = zero, emissionG = zero, emissionB = zero;
+  gather3(radiance.data(), radianceR, radianceG, radianceB);
+  if (!guides.emission.empty()) {
+    gather3(guides.emission.data(), emissionR, emissionG, emissionB);
+    const I emissionFinite = allFinite(emissionR, emissionG, emissionB);
+    emissionR = lanes::select(emissionFinite, emissionR, zero);
+    emissionG = lanes::select(emissionFinite, emissionG, zero);
+    emissionB = lanes::select(emissionFinite, emissionB, zero);
+  }
+  const I gives = geometry & allFinite(radianceR, radianceG, radianceB);
+  const F factorR = maxOf(albedoR, lanes::splat(kMinAlbedo)), factorG = maxOf(albedoG, lanes::splat(kMinAlbedo)),
+          factorB = maxOf(albedoB, lanes::splat(kMinAlbedo));
+  I own;
+  if (guides.historyLength.empty()) {
+    own = lanes::splat(int32_t{guides.samplesPerPixel >= kMinSamplesForPixelVariance ? -1 : 0});
+  } else {
+    own = lanes::load(guides.historyLength.data() + i) >= 4.0f;
+  }
+  own &= gives;
+  const F scale = luminance(factorR, factorG, factorB);
+  const F v = lanes::load(guides.variance.data() + i) / (scale * scale);
+  const auto keep = [](I mask, F value) { return lanes::select(mask, value, lanes::splat(0.0f)); };
+  lanes::store(normalX_.row(row) + x, keep(geometry, normalX / normalLength));
+  lanes::store(normalY_.row(row) + x, keep(geometry, normalY / normalLength));
+  lanes::store(normalZ_.row(row) + x, keep(geometry, normalZ / normalLength));
+  lanes::store(depth_.row(row) + x, keep(geometry, z));
+  lanes::store(depthDx_.row(row) + x,
+               keep(geometry, slope(lanes::load(guides.depth.data() + i - 1), lanes::load(guides.depth.data() + i + 1))));
+  lanes::store(depthDy_.row(row) + x, keep(geometry, slope(above, below)));
+  lanes::store(takes_.row(row) + x, keep(geometry, one));
+  lanes::store(gives_.row(row) + x, keep(gives, one));
+  lanes::store(ownVariance_.row(row) + x, keep(own, one));
+  lanes::store(current_.red.row(row) + x, keep(gives, (radianceR - emissionR) / factorR));
+  lanes::store(current_.green.row(row) + x, keep(gives, (radianceG - emissionG) / factorG));
+  lanes::store(current_.blue.row(row) + x, keep(gives, (radianceB - emissionB) / factorB));
+  lanes::store(current_.variance.row(row) + x, keep(own & lanes::finite(v) & (v > 0.0f), v));
 }
 
 namespace {
 
-/// One neighbour offset's rows: the guides and signal at (x + dx, y + dy) for x = 0, 1, ...
-struct Tap {
+/// The guides of a row for the tap loops (padded planes: x + dx in [-pad, width + pad)).
+struct GuideRows {
   const float* nx;
   const float* ny;
   const float* nz;
   const float* depth;
   const float* gives;
-  const float* red;
-  const float* green;
-  const float* blue;
-  const float* variance;
-  float offsetX, offsetY;   // (dx, dy) in pixels
-  float kernel;             // spatial weight of the tap
 };
 
-/// The centre pixels' row of guides and what the taps' weights need from it.
-struct Centre {
-  const float* nx;
-  const float* ny;
-  const float* nz;
-  const float* depth;
-  const float* depthDx;
-  const float* depthDy;
-  const float* luminance;           // demodulated luminance
-  const float* inverseTolerance;    // 1 / luminance tolerance; 0 = no luminance weight
+/// The centre pixels' guides at x (kCount of them) and what the taps' weights need from them.
+struct CentreLanes {
+  lanes::F nx, ny, nz, depth, depthDx, depthDy, luminance;
+  lanes::F inverseTolerance;   // 1 / luminance tolerance; 0 = no luminance weight
 };
 
-/// Running sums of one row's weighted taps.
-struct Sums {
-  float* red;
-  float* green;
-  float* blue;
-  float* weight;
-  float* variance;   // weighted sum of variance (w^2) or of luminance^2 (moments)
-};
-
-/// Edge-stopping weight of tap t at pixel x of a row: normal, depth and (where the centre's
-/// inverseTolerance > 0) luminance; luminanceQ is the tap's luminance.
-inline float tapWeight(const Centre& c, const Tap& t, int x, float luminanceQ, float sigmaNormal, float sigmaDepth) {
-  const float dot = c.nx[x] * t.nx[x] + c.ny[x] * t.ny[x] + c.nz[x] * t.nz[x];
-  const float expected = std::abs(c.depthDx[x] * t.offsetX) + std::abs(c.depthDy[x] * t.offsetY);
-  const float exponent = sigmaNormal * (dot - 1.0f) -
-                         std::abs(c.depth[x] - t.depth[x]) / (sigmaDepth * expected + kDepthRelativeSlack * c.depth[x]) -
-                         std::abs(c.luminance[x] - luminanceQ) * c.inverseTolerance[x];
-  return t.kernel * t.gives[x] * negativeExp(exponent);
-}
-
-// The two loops below carry no dependence between pixels (each x reads and writes only entry
-// x of the sums, which never overlap the inputs): ivdep lets them vectorise.
-
-/// Adds one tap of the à-trous filter to a row's sums (colour, weight, w^2 variance).
-void addFilterTap(const Centre& c, const Tap& t, const Sums& sums, int width, float sigmaNormal, float sigmaDepth) {
-#pragma GCC ivdep
-  for (int x = 0; x < width; ++x) {
-    const float w = tapWeight(c, t, x, luminance(t.red[x], t.green[x], t.blue[x]), sigmaNormal, sigmaDepth);
-    sums.red[x] += w * t.red[x];
-    sums.green[x] += w * t.green[x];
-    sums.blue[x] += w * t.blue[x];
-    sums.weight[x] += w;
-    sums.variance[x] += w * w * t.variance[x];
-  }
-}
-
-/// Adds one tap of the spatial variance estimate: moments of luminance (red = sum of l,
-/// variance = sum of l^2) with geometric weights only.
-void addMomentTap(const Centre& c, const Tap& t, const Sums& sums, int width, float sigmaNormal, float sigmaDepth) {
-#pragma GCC ivdep
-  for (int x = 0; x < width; ++x) {
-    const float l = luminance(t.red[x], t.green[x], t.blue[x]);
-    const float w = tapWeight(c, t, x, l, sigmaNormal, sigmaDepth);
-    sums.red[x] += w * l;
-    sums.weight[x] += w;
-    sums.variance[x] += w * l * l;
-  }
+/// Edge-stopping weight (without the kernel and the `gives` mask) of the tap at offset
+/// (offsetX, offsetY), whose guides at the centre's pixels are (nx, ny, nz, depth) and whose
+/// luminance is luminanceQ: normal, depth and (where inverseTolerance > 0) luminance.
+inline lanes::F tapExp(const CentreLanes& c, lanes::F nx, lanes::F ny, lanes::F nz, lanes::F depth,
+                       lanes::F luminanceQ, float offsetX, float offsetY, float sigmaNormal, float sigmaDepth) {
+  const lanes::F dot = c.nx * nx + c.ny * ny + c.nz * nz;
+  const lanes::F expected = absolute(c.depthDx * offsetX) + absolute(c.depthDy * offsetY);
+  const lanes::F exponent = sigmaNormal * (dot - 1.0f) -
+                            absolute(c.depth - depth) / (sigmaDepth * expected + kDepthRelativeSlack * c.depth) -
+                            absolute(c.luminance - luminanceQ) * c.inverseTolerance;
+  return negativeExp(exponent);
 }
 
 }  // namespace
 
 Denoiser::RowScratch& Denoiser::RowScratch::sized(uint32_t width) {
-  for (std::vector<float>* v : {&red, &green, &blue, &weight, &variance, &luminance, &inverseTolerance})
-    v->assign(width, 0.0f);
+  const size_t lanesWide = (size_t{width} + lanes::kCount - 1) / lanes::kCount * lanes::kCount;
+  for (std::vector<float>* v : {&red, &green, &blue, &weight, &variance}) v->resize(lanesWide);
   return *this;
 }
 
-template <typename Body>
-void Denoiser::forEachRow(uint32_t y0, uint32_t y1, Body&& body) {
-  const int width = static_cast<int>(width_);
-  RowScratch& scratch = rowScratch_.local();
-  for (uint32_t y = y0; y < y1; ++y) {
-    const int row = static_cast<int>(y);
-    scratch.sized(width_);
-    const float *r = current_.red.row(row), *g = current_.green.row(row), *b = current_.blue.row(row);
-    for (int x = 0; x < width; ++x) scratch.luminance[x] = luminance(r[x], g[x], b[x]);
-    const Centre centre{normalX_.row(row), normalY_.row(row),          normalZ_.row(row),
-                        depth_.row(row),   depthDx_.row(row),          depthDy_.row(row),
-                        scratch.luminance.data(), scratch.inverseTolerance.data()};
-    const Sums sums{scratch.red.data(), scratch.green.data(), scratch.blue.data(), scratch.weight.data(),
-                    scratch.variance.data()};
-    const auto tapAt = [this, row](int dx, int dy, float kernel) {
-      const int q = row + dy;
-      return Tap{normalX_.row(q) + dx,     normalY_.row(q) + dx,       normalZ_.row(q) + dx,
-                 depth_.row(q) + dx,       gives_.row(q) + dx,         current_.red.row(q) + dx,
-                 current_.green.row(q) + dx, current_.blue.row(q) + dx, current_.variance.row(q) + dx,
-                 static_cast<float>(dx),   static_cast<float>(dy),     kernel};
-    };
-    body(row, centre, sums, tapAt, scratch);
-  }
-}
+// The two row filters below take kCount pixels at a time (the last block of a row reaches past
+// its end into the padding, which every plane has room for, and is stored only into the row
+// scratch). Each pixel adds its taps in the same order as a pixel-by-pixel loop would, with the
+// same operations: the sums are that loop's bit for bit.
 
 void Denoiser::estimateVarianceRows(uint32_t y0, uint32_t y1) {
   const int width = static_cast<int>(width_);
-  forEachRow(y0, y1, [&](int row, const Centre& centre, const Sums& sums, const auto& tapAt, RowScratch&) {
-    // The centre's inverseTolerance stays 0 (as sized): geometric weights only.
-    for (int dy = -kVarianceRadius; dy <= kVarianceRadius; ++dy)
-      for (int dx = -kVarianceRadius; dx <= kVarianceRadius; ++dx)
-        addMomentTap(centre, tapAt(dx, dy, 1.0f), sums, width, config_.sigmaNormal, config_.sigmaDepth);
+  RowScratch& scratch = rowScratch_.local().sized(width_);
+  const float sigmaNormal = config_.sigmaNormal, sigmaDepth = config_.sigmaDepth;
+  for (uint32_t y = y0; y < y1; ++y) {
+    const int row = static_cast<int>(y);
+    GuideRows taps[2 * kVarianceRadius + 1];
+    const float *red[2 * kVarianceRadius + 1], *green[2 * kVarianceRadius + 1], *blue[2 * kVarianceRadius + 1];
+    for (int dy = -kVarianceRadius; dy <= kVarianceRadius; ++dy) {
+      const int q = row + dy, k = dy + kVarianceRadius;
+      taps[k] = GuideRows{normalX_.row(q), normalY_.row(q), normalZ_.row(q), depth_.row(q), gives_.row(q)};
+      red[k] = current_.red.row(q);
+      green[k] = current_.green.row(q);
+      blue[k] = current_.blue.row(q);
+    }
+    const GuideRows& centre = taps[kVarianceRadius];
+    const float *depthDx = depthDx_.row(row), *depthDy = depthDy_.row(row);
+    for (int x = 0; x < width; x += lanes::kCount) {
+      const lanes::F centreRed = lanes::load(red[kVarianceRadius] + x);
+      const lanes::F centreGreen = lanes::load(green[kVarianceRadius] + x);
+      const lanes::F centreBlue = lanes::load(blue[kVarianceRadius] + x);
+      // The centre's inverseTolerance is 0: geometric weights only.
+      const CentreLanes c{lanes::load(centre.nx + x),    lanes::load(centre.ny + x),
+                          lanes::load(centre.nz + x),    lanes::load(centre.depth + x),
+                          lanes::load(depthDx + x),      lanes::load(depthDy + x),
+                          luminance(centreRed, centreGreen, centreBlue), lanes::splat(0.0f)};
+      lanes::F sum = lanes::splat(0.0f), weight = sum, squares = sum;
+      for (int dy = -kVarianceRadius; dy <= kVarianceRadius; ++dy) {
+        const int k = dy + kVarianceRadius;
+        const GuideRows& t = taps[k];
+        for (int dx = -kVarianceRadius; dx <= kVarianceRadius; ++dx) {
+          const int at = x + dx;
+          const lanes::F l = luminance(lanes::load(red[k] + at), lanes::load(green[k] + at), lanes::load(blue[k] + at));
+          const lanes::F w = 1.0f * lanes::load(t.gives + at) *
+                             tapExp(c, lanes::load(t.nx + at), lanes::load(t.ny + at), lanes::load(t.nz + at),
+                                    lanes::load(t.depth + at), l, static_cast<float>(dx), static_cast<float>(dy),
+                                    sigmaNormal, sigmaDepth);
+          sum += w * l;
+          weight += w;
+          squares += w * l * l;
+        }
+      }
+      lanes::store(scratch.red.data() + x, sum);
+      lanes::store(scratch.weight.data() + x, weight);
+      lanes::store(scratch.variance.data() + x, squares);
+    }
     const float* gives = gives_.row(row);
     const float* own = ownVariance_.row(row);
     const float* given = current_.variance.row(row);
     float* out = next_.variance.row(row);
     for (int x = 0; x < width; ++x) {
-      const float inverse = 1.0f / std::max(sums.weight[x], 1e-30f);
-      const float mean = sums.red[x] * inverse;
-      const float variance = sums.variance[x] * inverse - mean * mean;
+      const float inverse = 1.0f / std::max(scratch.weight[x], 1e-30f);
+      const float mean = scratch.red[x] * inverse;
+      const float variance = scratch.variance[x] * inverse - mean * mean;
       const float estimated = (gives[x] > 0.0f) & (variance > 0.0f) ? variance : 0.0f;
       out[x] = own[x] > 0.0f ? given[x] : estimated;
     }
-    std::copy_n(current_.red.row(row), width, next_.red.row(row));
-    std::copy_n(current_.green.row(row), width, next_.green.row(row));
-    std::copy_n(current_.blue.row(row), width, next_.blue.row(row));
-  });
+  }
 }
 
 void Denoiser::filterRows(uint32_t step, uint32_t y0, uint32_t y1) {
   const int width = static_cast<int>(width_);
   const int s = static_cast<int>(step);
-  forEachRow(y0, y1, [&](int row, const Centre& centre, const Sums& sums, const auto& tapAt, RowScratch& scratch) {
-    // Noise of each pixel: 3 x 3 blur of the variance over valid pixels, as a luminance tolerance.
-    {
-      float* blurWeight = scratch.weight.data();
-      float* blurred = scratch.variance.data();
+  RowScratch& scratch = rowScratch_.local().sized(width_);
+  const float sigmaNormal = config_.sigmaNormal, sigmaDepth = config_.sigmaDepth;
+  const float sigmaLuminance = config_.sigmaLuminance;
+  for (uint32_t y = y0; y < y1; ++y) {
+    const int row = static_cast<int>(y);
+    GuideRows taps[3];
+    const float *red[3], *green[3], *blue[3], *variance[3], *near[3], *nearVariance[3];
+    for (int dy = -1; dy <= 1; ++dy) {
+      const int q = row + dy * s;
+      taps[dy + 1] = GuideRows{normalX_.row(q), normalY_.row(q), normalZ_.row(q), depth_.row(q), gives_.row(q)};
+      red[dy + 1] = current_.red.row(q);
+      green[dy + 1] = current_.green.row(q);
+      blue[dy + 1] = current_.blue.row(q);
+      variance[dy + 1] = current_.variance.row(q);
+      near[dy + 1] = gives_.row(row + dy);   // the variance blur's rows: step 1
+      nearVariance[dy + 1] = current_.variance.row(row + dy);
+    }
+    const GuideRows& centre = taps[1];
+    const float *depthDx = depthDx_.row(row), *depthDy = depthDy_.row(row);
+    for (int x = 0; x < width; x += lanes::kCount) {
+      // Noise of each pixel: 3 x 3 blur of the variance over valid pixels, as a luminance tolerance.
+      lanes::F blurWeight = lanes::splat(0.0f), blurred = blurWeight;
       for (int dy = -1; dy <= 1; ++dy) {
-        const float* gives = gives_.row(row + dy);
-        const float* variance = current_.variance.row(row + dy);
         for (int dx = -1; dx <= 1; ++dx) {
           const float k = kKernel[dx + 1] * kKernel[dy + 1];
-          for (int x = 0; x < width; ++x) {
-            blurWeight[x] += k * gives[x + dx];
-            blurred[x] += k * gives[x + dx] * variance[x + dx];
-          }
+          const lanes::F gives = lanes::load(near[dy + 1] + x + dx);
+          blurWeight += k * gives;
+          blurred += k * gives * lanes::load(nearVariance[dy + 1] + x + dx);
         }
       }
-      const float* gives = gives_.row(row);
-      float* inverseTolerance = scratch.inverseTolerance.data();
-      for (int x = 0; x < width; ++x) {
-        const float sigma =
-            config_.sigmaLuminance * std::sqrt(std::max(blurred[x], 0.0f) / std::max(blurWeight[x], 1e-30f));
-        // A hole (gives = 0) has no luminance of its own yet: only geometry decides.
-        inverseTolerance[x] = gives[x] / (sigma + kLuminanceEpsilon);
-        blurWeight[x] = 0.0f;
-        blurred[x] = 0.0f;
+      const lanes::F sigma =
+          sigmaLuminance * lanes::sqrt(maxOf(blurred, lanes::splat(0.0f)) / maxOf(blurWeight, lanes::splat(1e-30f)));
+      const lanes::F centreRed = lanes::load(red[1] + x);
+      const lanes::F centreGreen = lanes::load(green[1] + x);
+      const lanes::F centreBlue = lanes::load(blue[1] + x);
+      // A hole (gives = 0) has no luminance of its own yet: only geometry decides.
+      const CentreLanes c{lanes::load(centre.nx + x), lanes::load(centre.ny + x),
+                          lanes::load(centre.nz + x), lanes::load(centre.depth + x),
+                          lanes::load(depthDx + x),   lanes::load(depthDy + x),
+                          luminance(centreRed, centreGreen, centreBlue),
+                          lanes::load(centre.gives + x) / (sigma + kLuminanceEpsilon)};
+      lanes::F sumRed = lanes::splat(0.0f), sumGreen = sumRed, sumBlue = sumRed, weight = sumRed, sumVariance = sumRed;
+      for (int dy = -1; dy <= 1; ++dy) {
+        const GuideRows& t = taps[dy + 1];
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int at = x + dx * s;
+          const lanes::F r = lanes::load(red[dy + 1] + at), g = lanes::load(green[dy + 1] + at),
+                         b = lanes::load(blue[dy + 1] + at);
+          const lanes::F w = kKernel[dx + 1] * kKernel[dy + 1] * lanes::load(t.gives + at) *
+                             tapExp(c, lanes::load(t.nx + at), lanes::load(t.ny + at), lanes::load(t.nz + at),
+                                    lanes::load(t.depth + at), luminance(r, g, b), static_cast<float>(dx * s),
+                                    static_cast<float>(dy * s), sigmaNormal, sigmaDepth);
+          sumRed += w * r;
+          sumGreen += w * g;
+          sumBlue += w * b;
+          weight += w;
+          sumVariance += w * w * lanes::load(variance[dy + 1] + at);
+        }
       }
+      lanes::store(scratch.red.data() + x, sumRed);
+      lanes::store(scratch.green.data() + x, sumGreen);
+      lanes::store(scratch.blue.data() + x, sumBlue);
+      lanes::store(scratch.weight.data() + x, weight);
+      lanes::store(scratch.variance.data() + x, sumVariance);
     }
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-        addFilterTap(centre, tapAt(dx * s, dy * s, kKernel[dx + 1] * kKernel[dy + 1]), sums, width,
-                     config_.sigmaNormal, config_.sigmaDepth);
     const float* takes = takes_.row(row);
     float* outRed = next_.red.row(row);
     float* outGreen = next_.green.row(row);
     float* outBlue = next_.blue.row(row);
     float* outVariance = next_.variance.row(row);
     for (int x = 0; x < width; ++x) {
-      const bool filtered = (takes[x] > 0.0f) & (sums.weight[x] > 0.0f);
-      const float inverse = 1.0f / std::max(sums.weight[x], 1e-30f);
-      outRed[x] = filtered ? sums.red[x] * inverse : 0.0f;
-      outGreen[x] = filtered ? sums.green[x] * inverse : 0.0f;
-      outBlue[x] = filtered ? sums.blue[x] * inverse : 0.0f;
-      outVariance[x] = filtered ? sums.variance[x] * inverse * inverse : 0.0f;
+      const bool filtered = (takes[x] > 0.0f) & (scratch.weight[x] > 0.0f);
+      const float inverse = 1.0f / std::max(scratch.weight[x], 1e-30f);
+      outRed[x] = filtered ? scratch.red[x] * inverse : 0.0f;
+      outGreen[x] = filtered ? scratch.green[x] * inverse : 0.0f;
+      outBlue[x] = filtered ? scratch.blue[x] * inverse : 0.0f;
+      outVariance[x] = filtered ? scratch.variance[x] * inverse * inverse : 0.0f;
     }
-  });
+  }
 }
 
 }  // namespace pa::denoise

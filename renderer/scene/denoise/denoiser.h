@@ -73,18 +73,16 @@ class Denoiser {
     Plane red, green, blue, variance;
   };
 
-  /// Per-row sums and per-pixel terms of one task (no allocation per pixel).
+  /// Per-row sums of one task (no allocation per pixel).
   struct RowScratch {
-    std::vector<float> red, green, blue, weight, variance, luminance, inverseTolerance;
-    RowScratch& sized(uint32_t width);   ///< Zeroes every array at `width` entries.
+    std::vector<float> red, green, blue, weight, variance;
+    RowScratch& sized(uint32_t width);   ///< Sizes every array to `width` rounded up to whole lanes.
   };
 
   void resize(uint32_t width, uint32_t height);
   void prepareRows(const Guides& guides, std::span<const glm::vec3> radiance, uint32_t y0, uint32_t y1);
-  /// Runs body(row, centre, sums, tapAt, scratch) for each row in [y0, y1): the centre's guides and
-  /// demodulated luminance, zeroed sums and tapAt(dx, dy, kernel) reading the current signal.
-  template <typename Body>
-  void forEachRow(uint32_t y0, uint32_t y1, Body&& body);
+  /// prepareRows() for the kCount pixels of row y from x on (interior: x > 0, x + kCount < width).
+  void prepareLanes(const Guides& guides, std::span<const glm::vec3> radiance, uint32_t x, uint32_t y);
   void estimateVarianceRows(uint32_t y0, uint32_t y1);
   void filterRows(uint32_t step, uint32_t y0, uint32_t y1);
 

@@ -31,6 +31,7 @@ struct Config {
   float rejectSigmas = 3.0f;        ///< Standard errors of the neighbourhood's mean change that drop a history.
   float rejectRelative = 0.1f;      ///< ... plus this fraction of the neighbourhood's history luminance.
   uint32_t minLengthForVariance = 4;   ///< Shorter histories get the denoiser's spatial variance estimate.
+  bool rowLanes = true;   ///< Reprojects 8 (4 without AVX) pixels at a time; false: one by one (the same bits).
 };
 
 /// This frame's inputs (width * height each, row-major from the top row), as the film resolves them.
@@ -83,11 +84,28 @@ class TemporalFilter {
     glm::vec3 color{0.0f};
     float moment1 = 0.0f, moment2 = 0.0f, length = 0.0f;
     float variance = 0.0f;      ///< moment2 - moment1^2, at least 0.
-    float changeBound = 0.0f;   ///< Largest luminance change this pixel adds to the rejection test.
+  };
+  /// What each pixel adds to its neighbours' rejection tests, one plane per term with a zero
+  /// border of kRejectPad pixels (a pixel without history adds zeros): its luminance change
+  /// clamped to the bound of temporal.cpp, its history's mean and variance, and 1 for the count.
+  struct RejectTerms {
+    std::vector<float> change, mean, variance, count;
+    size_t stride = 0;
+    size_t pad = 0;
+    /// Index of pixel (x, y) in each plane.
+    size_t at(uint32_t x, uint32_t y) const { return (y + pad) * stride + x + pad; }
   };
   void prepareRows(const FrameInputs& frame, std::span<const glm::vec3> radiance, uint32_t y0, uint32_t y1);
   void reprojectRows(const FrameInputs& frame, uint32_t y0, uint32_t y1);
+  /// reprojectRows() for one pixel (any position).
+  void reprojectPixel(const FrameInputs& frame, uint32_t x, uint32_t y);
+  /// reprojectRows() for the kCount pixels of row y from x on (x > 0, x + kCount < width, 0 < y
+  /// < height - 1, with a history).
+  void reprojectLanes(const FrameInputs& frame, uint32_t x, uint32_t y);
   void blendRows(const FrameInputs& frame, std::span<glm::vec3> radiance, uint32_t y0, uint32_t y1);
+  /// Per pixel of row y, whether the rejection test drops its history (-1) or not (0), into `out`
+  /// (width rounded up to whole lanes).
+  void rejectRow(uint32_t y, int32_t* out) const;
 
   Config config_;
   uint32_t width_ = 0, height_ = 0;
@@ -98,6 +116,8 @@ class TemporalFilter {
   std::vector<glm::vec3> signal_;       // this frame's demodulated radiance
   std::vector<float> signalLuminance_;  // its luminance (NaN = not accumulated)
   std::vector<Reprojected> reprojected_;
+  RejectTerms reject_;
+  std::vector<int32_t> rejected_;   // rejectRow's answers, each row rounded up to whole lanes
 };
 
 }  // namespace pa::temporal

@@ -1,12 +1,16 @@
 // pa-denoise-timing: median wall-clock time of one Denoiser::apply on a synthetic 1-spp-like
 // frame (every pixel geometry: the worst case) with a given thread count, plus the variance
-// reduction on its noisy planes. A measurement tool, not a test.
-//   pa-denoise-timing [width height threads repeats iterations]   (defaults: 640 360 1 15 5)
+// reduction on its noisy planes and a hash of the output's bytes (to compare builds). A
+// measurement tool, not a test.
+//   pa-denoise-timing [width height threads repeats iterations history]   (defaults: 640 360 1 15 5 0)
+// history 1: as after temporal accumulation in the game, a history-length guide (the left half's
+// pixels 8 frames, carrying a per-pixel variance; the rest 1 frame, estimated spatially).
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include <tbb/task_arena.h>
@@ -33,6 +37,17 @@ double leftHalfVariance(const std::vector<glm::vec3>& img, uint32_t width, uint3
   return squares / n - (sum / n) * (sum / n);
 }
 
+/// FNV-1a over the bytes of the image.
+uint64_t hashBytes(const std::vector<glm::vec3>& img) {
+  uint64_t h = 1469598103934665603ull;
+  for (const glm::vec3& v : img) {
+    unsigned char bytes[sizeof v];
+    std::memcpy(bytes, &v, sizeof v);
+    for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
+  }
+  return h;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -42,12 +57,13 @@ int main(int argc, char** argv) {
   const uint32_t repeats = std::max(1u, argOr(argc, argv, 4, 15));
   pa::denoise::Config config;
   config.iterations = argOr(argc, argv, 5, config.iterations);
+  const bool history = argOr(argc, argv, 6, 0) != 0;
 
   // Left half: a floor receding in depth; right half: a wall with another normal; noise
   // multiplies the radiance by (1 + 0.9 u), u uniform in [-1, 1) (about a 1-spp direct frame).
   const size_t n = size_t{width} * height;
   std::vector<glm::vec3> noisy(n), albedo(n, glm::vec3(0.5f)), normal(n);
-  std::vector<float> depth(n), variance(n, 0.0f);
+  std::vector<float> depth(n), variance(n, 0.0f), length(n, 1.0f);
   uint32_t state = 1u;
   for (uint32_t y = 0; y < height; ++y) {
     for (uint32_t x = 0; x < width; ++x) {
@@ -58,9 +74,14 @@ int main(int argc, char** argv) {
       normal[i] = floor ? glm::vec3(0, 0, 1) : glm::vec3(-1, 0, 0);
       depth[i] = floor ? 2.0f + 0.05f * static_cast<float>(y) : 20.0f;
       noisy[i] = glm::vec3(floor ? 0.25f : 0.1f) * (1.0f + 0.9f * u);
+      if (floor) {
+        length[i] = 8.0f;
+        variance[i] = 0.01f * (1.5f + u);
+      }
     }
   }
-  const pa::denoise::Guides guides{width, height, albedo, normal, depth, variance, 1, {}};
+  pa::denoise::Guides guides{width, height, albedo, normal, depth, variance, 1, {}, {}};
+  if (history) guides.historyLength = length;
 
   tbb::task_arena arena(static_cast<int>(threads));
   pa::denoise::Denoiser denoiser(config);
@@ -78,9 +99,9 @@ int main(int argc, char** argv) {
   std::sort(ms.begin(), ms.end());
   const double before = leftHalfVariance(noisy, width, height);
   const double after = leftHalfVariance(image, width, height);
-  std::printf("%ux%u threads %u iterations %u: median %.2f ms (min %.2f, max %.2f, %u runs); "
-              "plane variance %.3g -> %.3g (%.1fx lower)\n",
-              width, height, threads, config.iterations, ms[ms.size() / 2], ms.front(), ms.back(), repeats, before,
-              after, before / after);
+  std::printf("%ux%u threads %u iterations %u history %d: median %.2f ms (min %.2f, max %.2f, %u runs); "
+              "plane variance %.3g -> %.3g (%.1fx lower); output hash %016llx\n",
+              width, height, threads, config.iterations, history ? 1 : 0, ms[ms.size() / 2], ms.front(), ms.back(), repeats, before,
+              after, before / after, static_cast<unsigned long long>(hashBytes(image)));
   return 0;
 }

@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <vector>
 
 #include <tbb/task_arena.h>
@@ -219,6 +221,83 @@ TEST(TemporalFilter, SameResultWithOneAndTwoThreads) {
   const auto one = run(1), two = run(2);
   ASSERT_EQ(one.size(), two.size());
   for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], two[i]) << i;
+}
+
+TEST(TemporalFilter, RejectionRowsAtEveryWidth) {
+  // The rejection test sums 5 x 5 neighbourhoods kCount pixels at a time: at every width (not
+  // only multiples of the lane count, borders included) a steady image keeps every history, a
+  // ramp too, and a light dimmed to a third over the whole frame drops every one.
+  for (uint32_t width = 1; width <= 21; ++width) {
+    for (const bool ramp : {false, true}) {
+      Synthetic f(width, 6, 5.0f);
+      for (uint32_t y = 0; y < f.height; ++y)
+        for (uint32_t x = 0; x < width; ++x)
+          f.radiance[size_t{y} * width + x] = glm::vec3(ramp ? 0.2f + 0.05f * static_cast<float>(x + y) : 0.5f);
+      TemporalFilter filter;
+      for (int frame = 0; frame < 8; ++frame) {
+        std::vector<glm::vec3> r = f.radiance;
+        filter.accumulate(f.inputs(), r);
+        filter.endFrame();
+      }
+      std::vector<glm::vec3> steady = f.radiance;
+      filter.accumulate(f.inputs(), steady);
+      for (size_t i = 0; i < steady.size(); ++i) {
+        ASSERT_EQ(filter.historyLength()[i], 9.0f) << "width " << width << " pixel " << i;
+        EXPECT_NEAR(steady[i].g, f.radiance[i].g, 1e-6f);
+      }
+      filter.endFrame();
+      std::vector<glm::vec3> dimmed = f.radiance;
+      for (glm::vec3& c : dimmed) c /= 3.0f;
+      const std::vector<glm::vec3> expected = dimmed;
+      filter.accumulate(f.inputs(), dimmed);
+      for (size_t i = 0; i < dimmed.size(); ++i) {
+        ASSERT_EQ(filter.historyLength()[i], 1.0f) << "width " << width << " pixel " << i;
+        EXPECT_EQ(dimmed[i], expected[i]);
+      }
+    }
+  }
+}
+
+TEST(TemporalFilter, RowLanesGiveTheSameBitsAsPixelByPixel) {
+  // Reprojection kCount pixels at a time against one by one, on frames with every case: motion
+  // that varies per pixel (bilinear taps, taps off the frame, the 3 x 3 fallback at material and
+  // depth edges), disocclusion, sky, a NaN pixel, tilted normals; widths around the lane count.
+  for (uint32_t width : {1u, 7u, 8u, 9u, 10u, 17u, 21u, 40u}) {
+    const uint32_t height = 9;
+    Synthetic f(width, height, 5.0f);
+    TemporalFilter lanes, single([] {
+      Config c;
+      c.rowLanes = false;
+      return c;
+    }());
+    for (uint32_t frame = 0; frame < 12; ++frame) {
+      for (uint32_t y = 0; y < height; ++y) {
+        for (uint32_t x = 0; x < width; ++x) {
+          const size_t i = size_t{y} * width + x;
+          const float u = noise(static_cast<uint32_t>(i), frame);
+          f.radiance[i] = glm::vec3(0.3f + u, 0.5f * u + 0.1f, 0.2f);
+          f.depth[i] = (y == 0 && x % 3 == 0) ? std::numeric_limits<float>::infinity()
+                                               : 4.0f + 0.1f * static_cast<float>(x) + (x > width / 2 ? 3.0f : 0.0f);
+          f.normal[i] = x % 4 == 1 ? glm::normalize(glm::vec3(0.3f, 0.1f, 1.0f)) : glm::vec3(0, 0, 1);
+          f.gbuffer.material[i] = (x + frame) % 5 == 0 ? 1 : 0;
+          f.gbuffer.instance[i] = (y * 7 + x + frame) % 11 == 0 ? 2 : 0;
+          f.gbuffer.motion[i] = glm::vec2(0.6f * static_cast<float>(static_cast<int>(y % 5) - 2) + 0.13f * u,
+                                          (x % 6 == 5) ? std::numeric_limits<float>::quiet_NaN() : -0.35f * u);
+          f.gbuffer.previousDepth[i] = f.depth[i] * (1.0f + 0.2f * (u - 0.5f));
+          f.gbuffer.previousNormal[i] = f.normal[i];
+        }
+      }
+      if (frame % 4 == 3) f.radiance[size_t{height / 2} * width + width / 2] = glm::vec3(std::nanf(""));
+      std::vector<glm::vec3> a = f.radiance, b = f.radiance;
+      lanes.accumulate(f.inputs(), a);
+      single.accumulate(f.inputs(), b);
+      ASSERT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)), 0) << width << " frame " << frame;
+      ASSERT_EQ(std::memcmp(lanes.variance().data(), single.variance().data(), a.size() * sizeof(float)), 0);
+      ASSERT_EQ(std::memcmp(lanes.historyLength().data(), single.historyLength().data(), a.size() * sizeof(float)), 0);
+      lanes.endFrame();
+      single.endFrame();
+    }
+  }
 }
 
 }  // namespace
