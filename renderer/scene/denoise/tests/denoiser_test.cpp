@@ -31,7 +31,7 @@ struct Frame {
         normal(size_t{w} * h, glm::vec3(0, 0, 1)), emission(size_t{w} * h, glm::vec3(0.0f)), depth(size_t{w} * h, 5.0f),
         variance(size_t{w} * h, 0.0f) {}
   size_t at(uint32_t x, uint32_t y) const { return size_t{y} * width + x; }
-  Guides guides() const { return Guides{width, height, albedo, normal, depth, variance, samplesPerPixel, emission}; }
+  Guides guides() const { return Guides{width, height, albedo, normal, depth, variance, samplesPerPixel, emission, {}}; }
   std::vector<glm::vec3> denoised(const Config& config = {}) const {
     std::vector<glm::vec3> out = radiance;
     Denoiser denoiser(config);
