@@ -174,6 +174,9 @@ void SceneStore::reserveMeshLike(MeshId id, MeshId example) {
     record.blas.reserveLike(model.record->blas);
   }
   record.geometry.reserveLike(model.pending);
+  // The colours' display copy (encoded at commit) takes as many as either colour array holds.
+  const size_t colors = std::max(record.geometry.colors.capacity(), slot.pending.colors.capacity());
+  if (colors > record.displayColors.capacity()) record.displayColors.reserve(colors);
 }
 
 InstanceId SceneStore::addInstance(const InstanceDesc& instance) {
@@ -411,6 +414,8 @@ void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
   }
   tbb::parallel_for(size_t{0}, jobs.size(), [&](size_t i) {
     MeshRecord& rec = *jobs[i].record;
+    // As large as the colours' own arrays have been: grows (allocates) only when they did.
+    rec.displayColors.reserve(rec.geometry.colors.capacity());
     encodeColors(rec.geometry.colors, rec.displayColors);
     if (jobs[i].refit) {
       rec.blas.refit(rec.geometry.positions);
