@@ -8,6 +8,7 @@
 #include <iterator>
 
 #include "port/engine_glue/engine.h"
+#include "port/engine_glue/window_gl_attributes.h"
 
 namespace glue {
 namespace {
@@ -61,12 +62,7 @@ void Window::open(const VideoModeRequest& request, q3abi::glconfig_t& config) {
     height = haveDesktop ? desktop.h : 720;
   }
 
-  SDL_GL_SetAttribute(SDL_GL_RED_SIZE, 8);
-  SDL_GL_SetAttribute(SDL_GL_GREEN_SIZE, 8);
-  SDL_GL_SetAttribute(SDL_GL_BLUE_SIZE, 8);
-  SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
-  SDL_GL_SetAttribute(SDL_GL_STENCIL_SIZE, 8);
-  SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
+  requestWindowGlAttributes();
   Uint32 flags = SDL_WINDOW_OPENGL | SDL_WINDOW_SHOWN;
   if (request.fullscreen) flags |= SDL_WINDOW_FULLSCREEN;
   window_ = SDL_CreateWindow("OpenArena (PathArena path tracer)", SDL_WINDOWPOS_CENTERED,

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "port/engine_glue/picture_upscale.h"
+#include "port/engine_glue/window_gl_attributes.h"
 
 namespace {
 
@@ -62,12 +63,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "SDL_Init: %s\n", SDL_GetError());
     return 77;
   }
-  SDL_GL_SetAttribute(SDL_GL_RED_SIZE, 8);
-  SDL_GL_SetAttribute(SDL_GL_GREEN_SIZE, 8);
-  SDL_GL_SetAttribute(SDL_GL_BLUE_SIZE, 8);
-  SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
-  SDL_GL_SetAttribute(SDL_GL_STENCIL_SIZE, 8);
-  SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
+  glue::requestWindowGlAttributes();
   SDL_Window* window = SDL_CreateWindow("pa-present-bench", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
                                         kWindowWidth, kWindowHeight, SDL_WINDOW_OPENGL | SDL_WINDOW_SHOWN);
   SDL_GLContext context = window != nullptr ? SDL_GL_CreateContext(window) : nullptr;

@@ -115,11 +115,6 @@ float fastLinearToSrgb(float c) { return encodeLanes(Lanes{c})[0]; }
 
 float fastSrgbToLinear(float c) { return decodeLanes(Lanes{c})[0]; }
 
-std::array<glm::vec3, 3> encodeThree(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
-  const Lanes e = encodeLanes(Lanes{a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y});
-  return {glm::vec3(e[0], e[1], e[2]), glm::vec3(e[3], e[4], e[5]), glm::vec3(e[6], e[7], encodeLanes(Lanes{c.z})[0])};
-}
-
 void encodeColors(std::span<const glm::vec4> linear, std::vector<glm::vec3>& display) {
   display.resize(linear.size());
   float* out = &display.data()->x;   // glm::vec3 is three packed floats

@@ -23,10 +23,8 @@ float fastLinearToSrgb(float c);
 /// pa::srgbToLinear of c clamped to [0, 1] without powf (largest difference 1.8e-7, tested).
 float fastSrgbToLinear(float c);
 
-/// fastLinearToSrgb of each channel of three colours, in one pass (the same values).
-std::array<glm::vec3, 3> encodeThree(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
 /// fastLinearToSrgb of each channel of each colour's RGB, into `display` (resized to match;
-/// the same values as encodeThree, eight channels at a time).
+/// the same values, eight channels at a time).
 void encodeColors(std::span<const glm::vec4> linear, std::vector<glm::vec3>& display);
 /// fastSrgbToLinear of each channel, in one pass (the same values).
 glm::vec3 fastSrgbToLinear(const glm::vec3& c);

@@ -50,23 +50,24 @@ TEST(DisplayComposite, FastSrgbCurveMatchesTheExactOne) {
 }
 
 TEST(DisplayComposite, ColoursAtOnceEncodeAndDecodeAsOneByOne) {
-  // encodeThree and the colour decode give each channel exactly the single-value functions' bits
-  // (vertex light is interpolated through them), over [-0.5, 1.5] with NaN and infinities.
+  // encodeColors (vertex light, encoded at commit and interpolated in display values) and the
+  // colour decode give each channel exactly the single-value functions' bits, over [-0.5, 1.5]
+  // with NaN and infinities.
   std::vector<float> values;
   for (int k = -5000; k <= 15000; ++k) values.push_back(static_cast<float>(k) * 1e-4f + 1e-7f * static_cast<float>(k % 7));
   values.insert(values.end(), {std::nanf(""), std::numeric_limits<float>::infinity(),
                                -std::numeric_limits<float>::infinity(), 0.0f, -0.0f, 1.0f});
   const auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
-  for (size_t i = 0; i + 9 <= values.size(); i += 9) {
-    const float* v = &values[i];
-    const glm::vec3 colours[3] = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}};
-    const std::array<glm::vec3, 3> encoded = encodeThree(colours[0], colours[1], colours[2]);
-    for (int k = 0; k < 3; ++k) {
-      const glm::vec3 decoded = fastSrgbToLinear(colours[k]);
-      for (int c = 0; c < 3; ++c) {
-        ASSERT_TRUE(same(encoded[k][c], fastLinearToSrgb(colours[k][c]))) << colours[k][c];
-        ASSERT_TRUE(same(decoded[c], fastSrgbToLinear(colours[k][c]))) << colours[k][c];
-      }
+  std::vector<glm::vec4> colours;
+  for (size_t i = 0; i + 3 <= values.size(); i += 3) colours.push_back({values[i], values[i + 1], values[i + 2], 1.0f});
+  std::vector<glm::vec3> encoded;
+  encodeColors(colours, encoded);
+  ASSERT_EQ(encoded.size(), colours.size());
+  for (size_t k = 0; k < colours.size(); ++k) {
+    const glm::vec3 decoded = fastSrgbToLinear(glm::vec3(colours[k]));
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_TRUE(same(encoded[k][c], fastLinearToSrgb(colours[k][c]))) << colours[k][c];
+      ASSERT_TRUE(same(decoded[c], fastSrgbToLinear(colours[k][c]))) << colours[k][c];
     }
   }
 }
