@@ -72,8 +72,11 @@ TEST(Fireflies, EmissionSkyOtherSurfacesAndDimNoiseAreLeftAlone) {
   EXPECT_EQ(f.radiance[f.at(3, 3)], glm::vec3(50.1f));
   for (uint32_t y = 0; y < 16; ++y) {
     EXPECT_EQ(f.radiance[f.at(10, y)], glm::vec3(0.3f)) << y;   // sky receives nothing
-    for (uint32_t x = 0; x < 10; ++x)
-      if (y >= 12) EXPECT_EQ(f.radiance[f.at(x, y)], glm::vec3(0.1f)) << x << "," << y;   // nor the other wall
+    for (uint32_t x = 0; x < 10; ++x) {
+      if (y >= 12) {
+        EXPECT_EQ(f.radiance[f.at(x, y)], glm::vec3(0.1f)) << x << "," << y;   // nor the other wall
+      }
+    }
   }
   // The receivers are the plane's pixels of the window: columns 7-9, rows 9-11 (9 of them).
   EXPECT_NEAR(f.radiance[f.at(7, 9)].r, 0.1f + (8.0f - 0.4f) / 9.0f, 1e-5f);
