@@ -11,17 +11,18 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <span>
 #include <vector>
 
 #include <tbb/task_arena.h>
 
 #include "renderer/scene/denoise/denoiser.h"
+#include "renderer/scene/tools/timing_tool.h"
+
+using pa::timing::argOr;
+using pa::timing::hashBytes;
 
 namespace {
-
-uint32_t argOr(int argc, char** argv, int i, uint32_t fallback) {
-  return argc > i ? static_cast<uint32_t>(std::strtoul(argv[i], nullptr, 10)) : fallback;
-}
 
 /// Green-channel variance of the frame's left half (a plane at constant light).
 double leftHalfVariance(const std::vector<glm::vec3>& img, uint32_t width, uint32_t height) {
@@ -35,17 +36,6 @@ double leftHalfVariance(const std::vector<glm::vec3>& img, uint32_t width, uint3
     }
   }
   return squares / n - (sum / n) * (sum / n);
-}
-
-/// FNV-1a over the bytes of the image.
-uint64_t hashBytes(const std::vector<glm::vec3>& img) {
-  uint64_t h = 1469598103934665603ull;
-  for (const glm::vec3& v : img) {
-    unsigned char bytes[sizeof v];
-    std::memcpy(bytes, &v, sizeof v);
-    for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
-  }
-  return h;
 }
 
 }  // namespace
@@ -102,6 +92,6 @@ int main(int argc, char** argv) {
   std::printf("%ux%u threads %u iterations %u history %d: median %.2f ms (min %.2f, max %.2f, %u runs); "
               "plane variance %.3g -> %.3g (%.1fx lower); output hash %016llx\n",
               width, height, threads, config.iterations, history ? 1 : 0, ms[ms.size() / 2], ms.front(), ms.back(), repeats, before,
-              after, before / after, static_cast<unsigned long long>(hashBytes(image)));
+              after, before / after, static_cast<unsigned long long>(hashBytes(pa::timing::kHashStart, std::span<const glm::vec3>(image))));
   return 0;
 }

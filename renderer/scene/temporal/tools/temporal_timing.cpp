@@ -17,25 +17,10 @@
 #include <tbb/task_arena.h>
 
 #include "renderer/scene/temporal/temporal.h"
+#include "renderer/scene/tools/timing_tool.h"
 
-namespace {
-
-uint32_t argOr(int argc, char** argv, int i, uint32_t fallback) {
-  return argc > i ? static_cast<uint32_t>(std::strtoul(argv[i], nullptr, 10)) : fallback;
-}
-
-/// FNV-1a over the bytes of the arrays.
-template <typename T>
-uint64_t hashBytes(uint64_t h, std::span<const T> values) {
-  for (const T& v : values) {
-    unsigned char bytes[sizeof v];
-    std::memcpy(bytes, &v, sizeof v);
-    for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
-  }
-  return h;
-}
-
-}  // namespace
+using pa::timing::argOr;
+using pa::timing::hashBytes;
 
 int main(int argc, char** argv) {
   const uint32_t width = std::max(16u, argOr(argc, argv, 1, 640));
@@ -89,7 +74,7 @@ int main(int argc, char** argv) {
     }
   });
   std::sort(ms.begin(), ms.end());
-  uint64_t hash = 1469598103934665603ull;
+  uint64_t hash = pa::timing::kHashStart;
   hash = hashBytes(hash, std::span<const glm::vec3>(radiance));
   hash = hashBytes(hash, filter.variance());
   hash = hashBytes(hash, filter.historyLength());
