@@ -1,7 +1,11 @@
 // Tlas: the instances' world bounds in an implicit 8-wide tree of 8-lane box groups (instances
 // in Morton order of their boxes' centres, 8 to a group; each level above bounds 8 groups of the
 // level below), tested a group at a time for a ray and for a packet of rays. Instances are
-// entered nearest box first; each transforms the ray into object space (without normalising the
+// entered nearest box first, except that shadow rays take the static world (the identity
+// instance with the largest box) before walking the tree: one it blocks needs no walk. (Closest
+// hits keep the nearest-box order: where two instances meet at the same distance, a decal and
+// the floor under it, the one entered last is kept, so the order decides what a ray sees.)
+// Each instance transforms the ray into object space (without normalising the
 // direction, so t stays the world-space t; an instance placed by the identity, the static world,
 // takes the ray as it is) and traces its Blas.
 #include <algorithm>
@@ -376,12 +380,22 @@ struct Tlas::Impl {
   std::vector<Bounds> unsortedBounds;      // build scratch: the world boxes of `kept`
   std::vector<uint64_t> keys;              // build scratch: Morton code << 32 | position in `kept`
   Bounds bounds;
+  // The static world: the instance placed by the identity with the largest box (also in the
+  // tree), which shadow rays trace before walking the tree.
+  bool haveWorld = false;
+  PlacedInstance world;
+
+  /// True when the world takes rays of rayMask.
+  bool worldTakes(uint32_t rayMask) const { return haveWorld && (world.mask & rayMask) != 0; }
+  /// True when `inst` is the world (which a walk that traced it first skips).
+  bool isWorld(const PlacedInstance& inst) const { return haveWorld && inst.index == world.index; }
 
   /// Visits the instances whose boxes the ray enters, nearest box first among the root level's
   /// and then within each group entered, while their entry is within the ray's current tmax;
-  /// visit(instance) returns true to stop.
+  /// visit(instance) returns true to stop. With worldFirst the world is visited before the rest.
   template <typename Visit>
-  void forEachEntered(const Ray& ray, uint32_t rayMask, Visit&& visit) const {
+  void forEachEntered(const Ray& ray, uint32_t rayMask, Visit&& visit, bool worldFirst = false) const {
+    if (worldFirst && worldTakes(rayMask) && visit(world)) return;
     if (levelCount == 0) return;
     const RaySlab slab(ray);
     std::array<Pending, kStackSize> stack;
@@ -405,7 +419,9 @@ struct Tlas::Impl {
         for (uint32_t i = 0; i < count; ++i) {
           // Every other box starts beyond the hit found (the far bound widened as slabEntry widens it).
           if (entered[i].entry > ray.tmax * bvh_detail::kRobustFarScale) break;
-          if (visit(instances[entered[i].index])) return true;
+          const PlacedInstance& inst = instances[entered[i].index];
+          if (worldFirst && isWorld(inst)) continue;
+          if (visit(inst)) return true;
         }
         return false;
       }
@@ -478,6 +494,16 @@ void Tlas::build(std::span<const TlasInstance> instances) {
     next.kept.push_back(static_cast<uint32_t>(i));
     next.unsortedBounds.push_back(transformBounds(in.objectToWorld, objectBounds));
     next.bounds.extend(next.unsortedBounds.back());
+  }
+  next.haveWorld = false;
+  size_t worldAt = next.kept.size();
+  for (size_t k = 0; k < next.kept.size(); ++k)
+    if (placed[next.kept[k]].identity &&
+        (worldAt == next.kept.size() || next.unsortedBounds[k].halfArea() > next.unsortedBounds[worldAt].halfArea()))
+      worldAt = k;
+  if (worldAt < next.kept.size()) {
+    next.haveWorld = true;
+    next.world = placed[next.kept[worldAt]];
   }
   // Instances in Morton order of their boxes' centres (equal codes in input order).
   next.keys.clear();
@@ -647,10 +673,13 @@ bool Tlas::occluded(const Ray& ray, uint32_t rayMask, const HitFilter& filter) c
   if (!impl_ || !bvh_detail::isTraceableRay(ray)) return false;
   bool found = false;
   const Impl& self = *impl_;
-  self.forEachEntered(ray, rayMask, [&](const PlacedInstance& inst) {
-    found = inst.blas->occluded(self.toObject(inst, ray), objectSpaceFilter(inst, filter), inst.index);
-    return found;
-  });
+  self.forEachEntered(
+      ray, rayMask,
+      [&](const PlacedInstance& inst) {
+        found = inst.blas->occluded(self.toObject(inst, ray), objectSpaceFilter(inst, filter), inst.index);
+        return found;
+      },
+      true);
   return found;
 }
 
