@@ -25,6 +25,7 @@ struct FilterContext {
   bool overlay;
   const Ray* ray;
   const TraceRequest* request;
+  TriangleMemo* layerMemo = nullptr;   ///< Shared by a packet's rays: the layers they cross.
 };
 
 const std::vector<RenderInstance>& instancesFor(const RenderScene& scene, bool overlay) {
@@ -120,7 +121,7 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
         hit.v = v;
         hit.prim = prim;
         hit.instance = instanceIndex;
-        const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay, *ctx.ray, SurfaceParts::LayerColour);
+        const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay, *ctx.ray, SurfaceParts::LayerColour, ctx.layerMemo);
         const glm::vec3 d = ctx.ray->dir;
         const float t = glm::dot(s.position - ctx.ray->origin, d) / glm::dot(d, d);
         const glm::vec4 base = ctx.scene->baseColor(s, 0.0f);
@@ -200,6 +201,7 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
   std::array<TraceRequest, kMaxPacketRays> requests;
   std::array<FilterContext, kMaxPacketRays> contexts;
   std::array<HitFilter, kMaxPacketRays> filters;
+  TriangleMemo layerMemo;   // the packet's rays mostly cross the same layers
   for (uint32_t i = 0; i < count; ++i) {
     TracedCameraRay& r = rays[i];
     r.found = r.onOverlay = false;
@@ -219,7 +221,7 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
       packet[i] = rays[i].ray;
       hits[i] = Hit{};
       requests[i].overlay = overlayPass;
-      contexts[i] = FilterContext{this, overlayPass, &packet[i], &requests[i]};
+      contexts[i] = FilterContext{this, overlayPass, &packet[i], &requests[i], &layerMemo};
       filters[i] = HitFilter{&acceptCandidate, &contexts[i], faceCullFor(RayKind::Camera)};
     }
     const Tlas& tlas = overlayPass ? overlayTlas : worldTlas;
