@@ -472,6 +472,10 @@ struct RenderSettings {
   /// temporal stage, no TAAU) leaves it out and hands FrameView::motion out empty; the instance
   /// and material ids are written either way. Does not reset accumulation.
   bool motionVectors = true;
+  /// Fill FrameView::normal with the shading normal. False: a Lightmap frame without the
+  /// denoiser (nothing else there reads normals) skips interpolating it and holds the winding
+  /// normal there instead; the picture is the same. Does not reset accumulation.
+  bool normalAov = true;
 };
 
 }  // namespace pa

@@ -99,11 +99,6 @@ Lanes decodeTableLanes(Lanes c) {
   return lo + f * (hi - lo);
 }
 
-glm::vec3 encode(const glm::vec3& linear) {
-  const Lanes e = encodeLanes(Lanes{linear.x, linear.y, linear.z});
-  return {e[0], e[1], e[2]};
-}
-
 glm::vec3 decode(const glm::vec3& display) {
   const Lanes d = decodeLanes(Lanes{display.x, display.y, display.z});
   return {d[0], d[1], d[2]};
@@ -156,8 +151,7 @@ std::pair<glm::vec3, glm::vec3> decodeTwo(const glm::vec3& a, const glm::vec3& b
 }
 
 glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend blend, float baseRedrawn) {
-  const glm::vec3 dst = encode(base);
-  const glm::vec3 src = encode(glm::vec3(shine));
+  const auto [dst, src] = encodeTwo(base, glm::vec3(shine));
   glm::vec3 out = dst;
   switch (blend) {
     case LayerBlend::Add: out = dst + src; break;
@@ -202,10 +196,24 @@ void DisplayComposite::append(const Layer& layer) {
 
 glm::vec3 DisplayComposite::over(const glm::vec3& behind) const {
   if (count_ == 0) return behind;
-  glm::vec3 display = encode(behind);
+  // Every colour encoded first, eight channels a call (each lane as encoded alone): `behind`'s
+  // three, then each layer's.
+  std::array<float, 3 * (kCapacity + 1) + 7> encoded{};
+  const uint32_t channels = 3 * (count_ + 1);
+  for (uint32_t at = 0; at < channels; at += 8) {
+    Lanes in{};
+    for (uint32_t k = 0; k < 8 && at + k < channels; ++k) {
+      const uint32_t c = at + k;
+      in[k] = c < 3 ? behind[int(c)] : layers_[c / 3 - 1].color[int(c % 3)];
+    }
+    const Lanes e = encodeLanes(in);
+    for (uint32_t k = 0; k < 8; ++k) encoded[at + k] = e[k];
+  }
+  glm::vec3 display(encoded[0], encoded[1], encoded[2]);
   for (uint32_t i = count_; i-- > 0;) {
     const Stored& layer = layers_[i];
-    display = glm::clamp(display * glm::max(layer.transmit, glm::vec3(0.0f)) + encode(layer.color), 0.0f, 1.0f);
+    const glm::vec3 color(encoded[3 * i + 3], encoded[3 * i + 4], encoded[3 * i + 5]);
+    display = glm::clamp(display * glm::max(layer.transmit, glm::vec3(0.0f)) + color, 0.0f, 1.0f);
   }
   return decode(display);
 }

@@ -7,9 +7,9 @@ namespace pa {
 
 PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                         float px, float py, const sampling::PixelSampler& sampler, const TracedCameraRay* traced,
-                        const ResampledLight* resampled) {
+                        const ResampledLight* resampled, TriangleMemo* memo) {
   if (settings.integrator == Integrator::Lightmap)
-    return composeLightmapSample(scene, camera, settings, px, py, sampler, traced);
+    return composeLightmapSample(scene, camera, settings, px, py, sampler, traced, memo);
   return tracePathSample(scene, camera, settings, px, py, sampler, traced, resampled);
 }
 

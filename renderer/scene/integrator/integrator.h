@@ -27,9 +27,12 @@ struct ResampledLight {
 /// RenderScene::intersectCameraPacket): the sample starts from its hit instead of tracing it.
 /// `resampled`, when given, is the direct light of the first hit when that is diffuse or glossy:
 /// BSDF-sampled rays from there then count only lights the light sampler cannot pick.
+/// `memo`, when given, is the calling thread's RenderScene::TriangleMemo (same result, less work
+/// where consecutive samples end on one triangle; the Lightmap compositor uses it).
 PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                         float px, float py, const sampling::PixelSampler& sampler,
-                        const TracedCameraRay* traced = nullptr, const ResampledLight* resampled = nullptr);
+                        const TracedCameraRay* traced = nullptr, const ResampledLight* resampled = nullptr,
+                        TriangleMemo* memo = nullptr);
 
 /// Dimension groups of the sampler used per path vertex (group = kGroupsPerVertex * depth + k).
 inline constexpr uint32_t kGroupsPerVertex = 4;

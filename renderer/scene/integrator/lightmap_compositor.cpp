@@ -104,7 +104,7 @@ glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels&
 
 PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                                   float px, float py, const sampling::PixelSampler& sampler,
-                                  const TracedCameraRay* traced) {
+                                  const TracedCameraRay* traced, TriangleMemo* memo) {
   // The sample's AOVs (PixelSample's defaults until set), the sample built from them at the end
   // with every member given: GCC zero-fills a default PixelSample first with `rep stos`.
   glm::vec3 albedoAov(0.0f), normalAov(0.0f), position(0.0f);
@@ -121,6 +121,8 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
   float coneWidth = 0.0f;
   const float coneSpread = camera.pixelSpreadAngle();
   const uint32_t maxDepth = settings.maxBounces + trace::kExtraDeltaBounces;   // portal crossings
+  // The shading normal only for the normal AOV (the denoiser's, or one asked for).
+  const SurfaceParts parts = settings.normalAov || settings.denoise ? SurfaceParts::All : SurfaceParts::NoShadingNormal;
   DisplayComposite layers;   // see-through layers, composed in display values at the end
   std::array<DisplayFog, 8> displayFog;
   uint32_t displayFogCount = 0;
@@ -146,7 +148,7 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
       radiance += beta * fog.glow();
       beta *= fog.transmittance();
     }
-    const SurfaceHit s = segment.found ? scene.surfaceAt(hit, segment.onOverlay, ray) : SurfaceHit{};
+    const SurfaceHit s = segment.found ? scene.surfaceAt(hit, segment.onOverlay, ray, parts, memo) : SurfaceHit{};
     if (!segment.found || s.material->desc.sky) {
       const glm::vec3 sky = scene.sky.radiance(dir);
       radiance += beta * sky;

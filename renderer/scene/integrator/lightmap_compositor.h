@@ -15,8 +15,9 @@ namespace pa {
 
 /// One Lightmap-preset camera sample through film position (px, py) (see traceSample).
 /// Deterministic: no light is sampled; the sampler seeds only stochastic transparency.
+/// `memo` (may be null): the thread's TriangleMemo for RenderScene::surfaceAt.
 PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                                   float px, float py, const sampling::PixelSampler& sampler,
-                                  const TracedCameraRay* traced);
+                                  const TracedCameraRay* traced, TriangleMemo* memo = nullptr);
 
 }  // namespace pa

@@ -1,6 +1,7 @@
 // RenderScene::surfaceAt with SurfaceParts::LayerColour (what the hit filter reads of each
 // additive layer a camera ray crosses) against SurfaceParts::All: the members a layer's colour
-// reads have the same bits, the rest is left out.
+// reads have the same bits, the rest is left out. SurfaceParts::NoShadingNormal and a
+// TriangleMemo give All's bits (the memo whatever triangles and parts came before).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -40,8 +41,9 @@ LayerMesh layerSphere() {
   return m;
 }
 
-TEST(SurfaceParts, LayerColourHasTheBitsOfAllInWhatALayerReads) {
-  SceneStore store;
+/// Three spheres of additive materials: vertex-lit, tinted by vertex colours with an emissive
+/// uv of its own, and environment mapped with a one-sided glow (the scene points into `store`).
+RenderScene layerScene(SceneStore& store) {
   std::vector<uint8_t> pixels;
   for (int i = 0; i < 8 * 8; ++i) pixels.insert(pixels.end(), {uint8_t(31 * i), uint8_t(255 - 3 * i), uint8_t(7 * i), uint8_t(4 * i)});
   const TextureId texture = store.addTexture({8, 8, pixels});   // sRGB, mipmapped
@@ -71,7 +73,12 @@ TEST(SurfaceParts, LayerColourHasTheBitsOfAllInWhatALayerReads) {
     const glm::mat4 place = glm::rotate(glm::translate(glm::mat4(1.0f), {4.0f, 1.0f, -2.0f}), 0.7f, glm::vec3(0.3f, 1.0f, 0.2f));
     store.addInstance({store.addMesh(mesh.desc()), glm::mat4x3(place)});
   }
-  const RenderScene scene = store.commit();
+  return store.commit();
+}
+
+TEST(SurfaceParts, LayerColourHasTheBitsOfAllInWhatALayerReads) {
+  SceneStore store;
+  const RenderScene scene = layerScene(store);
   ASSERT_EQ(scene.world.size(), 3u);
 
   Ray ray;
@@ -124,6 +131,63 @@ TEST(SurfaceParts, LayerColourHasTheBitsOfAllInWhatALayerReads) {
     }
   }
   EXPECT_GT(checked, 300u);
+}
+
+/// Every member of two surface hits has the same bits, the shading normal aside.
+void expectSameBitsButShadingNormal(const SurfaceHit& a, const SurfaceHit& b) {
+  EXPECT_EQ(a.instance, b.instance);
+  EXPECT_EQ(a.material, b.material);
+  EXPECT_EQ(a.prim, b.prim);
+  EXPECT_TRUE(sameBits(a.bary, b.bary));
+  EXPECT_TRUE(sameBits(a.position, b.position));
+  EXPECT_TRUE(sameBits(a.geometricNormal, b.geometricNormal));
+  EXPECT_TRUE(sameBits(a.uv, b.uv));
+  EXPECT_TRUE(sameBits(a.emissiveUv, b.emissiveUv));
+  EXPECT_TRUE(sameBits(a.lightmapUv, b.lightmapUv));
+  EXPECT_TRUE(sameBits(a.shineUv, b.shineUv));
+  EXPECT_TRUE(sameBits(a.shineUvArea, b.shineUvArea));
+  EXPECT_TRUE(sameBits(a.vertexColor, b.vertexColor));
+  EXPECT_TRUE(sameBits(a.worldArea, b.worldArea));
+  EXPECT_TRUE(sameBits(a.uvArea, b.uvArea));
+}
+
+TEST(SurfaceParts, NoShadingNormalAndTheTriangleMemoKeepAllsBits) {
+  SceneStore store;
+  const RenderScene scene = layerScene(store);
+  ASSERT_EQ(scene.world.size(), 3u);
+  Ray ray;
+  ray.origin = {-3.0f, 0.5f, 2.0f};
+  ray.dir = glm::normalize(glm::vec3(1.0f, 0.1f, -0.4f));
+  TriangleMemo memo;
+  uint32_t checked = 0, shaded = 0;
+  for (uint32_t instance = 0; instance < 3; ++instance) {
+    const uint32_t triangles = scene.world[instance].mesh->geometry.triangleCount();
+    // Each triangle twice in a row (the memo kept), then one visited before (the memo refilled).
+    for (const uint32_t prim : {0u, 0u, 5u, 5u, 0u, 17u, triangles - 1, 5u}) {
+      for (const glm::vec2 bary : {glm::vec2(0.1f, 0.2f), glm::vec2(0.33f, 0.61f), glm::vec2(0.7f, 0.05f)}) {
+        Hit hit;
+        hit.instance = instance;
+        hit.prim = prim;
+        hit.u = bary.x;
+        hit.v = bary.y;
+        SCOPED_TRACE(testing::Message() << "instance " << instance << ", prim " << prim);
+        for (const SurfaceParts parts : {SurfaceParts::All, SurfaceParts::NoShadingNormal, SurfaceParts::LayerColour}) {
+          const SurfaceHit alone = scene.surfaceAt(hit, false, ray, parts);
+          const SurfaceHit remembered = scene.surfaceAt(hit, false, ray, parts, &memo);
+          expectSameBitsButShadingNormal(alone, remembered);
+          EXPECT_TRUE(sameBits(alone.shadingNormal, remembered.shadingNormal));
+        }
+        const SurfaceHit all = scene.surfaceAt(hit, false, ray);
+        const SurfaceHit shown = scene.surfaceAt(hit, false, ray, SurfaceParts::NoShadingNormal, &memo);
+        expectSameBitsButShadingNormal(all, shown);
+        EXPECT_EQ(shown.shadingNormal, shown.geometricNormal);
+        shaded += all.shadingNormal != all.geometricNormal;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 72u);
+  EXPECT_GT(shaded, 60u);   // the spheres' normals are their own, not the winding one
 }
 
 }  // namespace

@@ -11,8 +11,9 @@
 
 namespace pa {
 
-SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, const Ray& ray, SurfaceParts parts) const {
-  SurfaceHit s = surfaceAt(hit, overlayHit, parts);
+SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, const Ray& ray, SurfaceParts parts,
+                                  TriangleMemo* memo) const {
+  SurfaceHit s = surfaceAt(hit, overlayHit, parts, memo);
   if (s.material == nullptr || s.instance == nullptr) return s;
   const MaterialDesc& desc = s.material->desc;
   const bool baseReflects = desc.baseTexCoords == TexCoordSource::ReflectionSphere;

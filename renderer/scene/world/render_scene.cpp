@@ -25,6 +25,7 @@ struct FilterContext {
   bool overlay;
   const Ray* ray;
   const TraceRequest* request;
+  TriangleMemo* layerMemo = nullptr;   ///< Shared by a packet's rays: the layers they cross.
 };
 
 const std::vector<RenderInstance>& instancesFor(const RenderScene& scene, bool overlay) {
@@ -120,7 +121,7 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
         hit.v = v;
         hit.prim = prim;
         hit.instance = instanceIndex;
-        const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay, *ctx.ray, SurfaceParts::LayerColour);
+        const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay, *ctx.ray, SurfaceParts::LayerColour, ctx.layerMemo);
         const glm::vec3 d = ctx.ray->dir;
         const float t = glm::dot(s.position - ctx.ray->origin, d) / glm::dot(d, d);
         const glm::vec4 base = ctx.scene->baseColor(s, 0.0f);
@@ -200,6 +201,7 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
   std::array<TraceRequest, kMaxPacketRays> requests;
   std::array<FilterContext, kMaxPacketRays> contexts;
   std::array<HitFilter, kMaxPacketRays> filters;
+  TriangleMemo layerMemo;   // the packet's rays mostly cross the same layers
   for (uint32_t i = 0; i < count; ++i) {
     TracedCameraRay& r = rays[i];
     r.found = r.onOverlay = false;
@@ -219,7 +221,7 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
       packet[i] = rays[i].ray;
       hits[i] = Hit{};
       requests[i].overlay = overlayPass;
-      contexts[i] = FilterContext{this, overlayPass, &packet[i], &requests[i]};
+      contexts[i] = FilterContext{this, overlayPass, &packet[i], &requests[i], &layerMemo};
       filters[i] = HitFilter{&acceptCandidate, &contexts[i], faceCullFor(RayKind::Camera)};
     }
     const Tlas& tlas = overlayPass ? overlayTlas : worldTlas;
@@ -243,58 +245,78 @@ bool RenderScene::occluded(const Ray& shadowRay, const TraceRequest& request) co
   return worldTlas.occluded(ray, rayMaskFor(RayKind::Shadow), filter);
 }
 
-SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, SurfaceParts parts) const {
-  const RenderInstance& inst = instancesFor(*this, overlayHit)[hit.instance];
+namespace {
+
+/// The triangle's part of surfaceAt (TriangleMemo's members) for `parts`.
+[[gnu::always_inline]] inline void triangleOf(const RenderScene& scene, const RenderInstance& inst, uint32_t prim,
+                                              SurfaceParts parts, TriangleMemo& t) {
   const MeshGeometry& g = inst.mesh->geometry;
-  const MaterialRecord& material = materialOf(inst, hit.prim);
-  const uint32_t i0 = g.indices[3 * size_t{hit.prim}];
-  const uint32_t i1 = g.indices[3 * size_t{hit.prim} + 1];
-  const uint32_t i2 = g.indices[3 * size_t{hit.prim} + 2];
-  const float w0 = 1.0f - hit.u - hit.v;
-  const glm::vec3 p0 = toWorld(inst.objectToWorld, g.positions[i0]);
-  const glm::vec3 p1 = toWorld(inst.objectToWorld, g.positions[i1]);
-  const glm::vec3 p2 = toWorld(inst.objectToWorld, g.positions[i2]);
+  const MaterialRecord& material = scene.materialOf(inst, prim);
+  t.instance = &inst;
+  t.prim = prim;
+  t.parts = parts;
+  t.material = &material;
+  t.i0 = g.indices[3 * size_t{prim}];
+  t.i1 = g.indices[3 * size_t{prim} + 1];
+  t.i2 = g.indices[3 * size_t{prim} + 2];
+  t.p0 = toWorld(inst.objectToWorld, g.positions[t.i0]);
+  t.p1 = toWorld(inst.objectToWorld, g.positions[t.i1]);
+  t.p2 = toWorld(inst.objectToWorld, g.positions[t.i2]);
   // A layer's colour reads the winding normal only for the side its glow shows on.
-  const bool all = parts == SurfaceParts::All;
-  float len = 0.0f;
-  glm::vec3 geometricNormal(0.0f, 0.0f, 1.0f);
+  const bool all = parts != SurfaceParts::LayerColour;
+  t.len = 0.0f;
+  t.geometricNormal = glm::vec3(0.0f, 0.0f, 1.0f);
   if (all || material.emits) {
-    const glm::vec3 cross = glm::cross(p1 - p0, p2 - p0);
-    len = glm::length(cross);
-    if (len > 0.0f) geometricNormal = divided(cross, len);
+    const glm::vec3 cross = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
+    t.len = glm::length(cross);
+    if (t.len > 0.0f) t.geometricNormal = divided(cross, t.len);
   }
-  glm::vec3 shadingNormal = geometricNormal;
-  if (all && !g.normals.empty()) {
+  // The triangle's area in mesh uvs through an affine transform's linear part.
+  const auto uvArea = [&](const glm::mat3x2& transform) {
+    if (g.uvs.empty()) return 0.0f;
+    const glm::mat2 linear(transform[0], transform[1]);
+    const glm::vec2 d1 = linear * (g.uvs[t.i1] - g.uvs[t.i0]);
+    const glm::vec2 d2 = linear * (g.uvs[t.i2] - g.uvs[t.i0]);
+    return 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
+  };
+  const MaterialDesc& desc = material.desc;
+  t.uvArea = uvArea(desc.uvTransform);
+  t.shineUvArea = all && material.shine != nullptr && desc.stock.shineTexCoords == TexCoordSource::Mesh
+                      ? uvArea(desc.stock.shineUvTransform)
+                      : 0.0f;
+}
+
+/// surfaceAt's interpolation at a hit on the triangle `t` holds.
+[[gnu::always_inline]] inline SurfaceHit surfaceOn(const Hit& hit, const TriangleMemo& t, SurfaceParts parts) {
+  const RenderInstance& inst = *t.instance;
+  const MeshGeometry& g = inst.mesh->geometry;
+  const MaterialRecord& material = *t.material;
+  const uint32_t i0 = t.i0, i1 = t.i1, i2 = t.i2;
+  const float w0 = 1.0f - hit.u - hit.v;
+  const bool all = parts != SurfaceParts::LayerColour;
+  glm::vec3 shadingNormal = t.geometricNormal;
+  if (parts == SurfaceParts::All && !g.normals.empty()) {
     const glm::vec3 n = inst.normalToWorld * (w0 * g.normals[i0] + hit.u * g.normals[i1] + hit.v * g.normals[i2]);
     const float nl = glm::length(n);
     if (nl > 0.0f && std::isfinite(nl)) {
       // Keep the interpolated normal on the winding normal's side.
       const glm::vec3 unit = divided(n, nl);   // -n / nl is -(n / nl) to the bit
-      shadingNormal = glm::dot(n, geometricNormal) >= 0.0f ? unit : -unit;
+      shadingNormal = glm::dot(n, t.geometricNormal) >= 0.0f ? unit : -unit;
     }
   }
   const MaterialDesc& desc = material.desc;
-  // Mesh uvs through an affine transform: the point's uv and the triangle's uv-space area.
-  auto meshUv = [&](const glm::mat3x2& t, glm::vec2& uvOut, float& areaOut) {
-    if (g.uvs.empty()) {
-      uvOut = t * glm::vec3(0.0f, 0.0f, 1.0f);
-      return;
-    }
+  // Mesh uvs through an affine transform.
+  auto meshUv = [&](const glm::mat3x2& transform) -> glm::vec2 {
+    if (g.uvs.empty()) return transform * glm::vec3(0.0f, 0.0f, 1.0f);
     const glm::vec2 uv = w0 * g.uvs[i0] + hit.u * g.uvs[i1] + hit.v * g.uvs[i2];
-    uvOut = t * glm::vec3(uv, 1.0f);
-    const glm::mat2 linear(t[0], t[1]);
-    const glm::vec2 d1 = linear * (g.uvs[i1] - g.uvs[i0]);
-    const glm::vec2 d2 = linear * (g.uvs[i2] - g.uvs[i0]);
-    areaOut = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
+    return transform * glm::vec3(uv, 1.0f);
   };
-  glm::vec2 uv(0.0f), shineUv(0.0f), lightmapUv(0.0f);
-  float uvArea = 0.0f, shineUvArea = 0.0f;
-  meshUv(desc.uvTransform, uv, uvArea);
+  glm::vec2 uv = meshUv(desc.uvTransform), shineUv(0.0f), lightmapUv(0.0f);
   if (desc.uvWobble.amplitude != 0.0f && desc.baseTexCoords == TexCoordSource::Mesh)
     uv += w0 * desc.uvWobble.offsetAt(g.positions[i0]) + hit.u * desc.uvWobble.offsetAt(g.positions[i1]) +
           hit.v * desc.uvWobble.offsetAt(g.positions[i2]);
   if (all && material.shine != nullptr && desc.stock.shineTexCoords == TexCoordSource::Mesh)
-    meshUv(desc.stock.shineUvTransform, shineUv, shineUvArea);
+    shineUv = meshUv(desc.stock.shineUvTransform);
   if (all && !g.lightmapUvs.empty()) lightmapUv = w0 * g.lightmapUvs[i0] + hit.u * g.lightmapUvs[i1] + hit.v * g.lightmapUvs[i2];
   glm::vec4 vertexColor(1.0f);
   if (!g.colors.empty()) {
@@ -315,28 +337,37 @@ SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, SurfaceParts 
         vertexColor[c] = std::fma(hit.v, display[i2][c], std::fma(w0, display[i0][c], hit.u * display[i1][c]));
     }
   }
-  glm::vec2 emissiveUv = uv;
-  if (desc.emissiveOwnUv) {
-    float area = 0.0f;
-    meshUv(desc.emissiveUvTransform, emissiveUv, area);
-  }
+  const glm::vec2 emissiveUv = desc.emissiveOwnUv ? meshUv(desc.emissiveUvTransform) : uv;
   // Every member from its value, none first filled with its default: GCC fills a default
   // SurfaceHit with `rep stos`, which took a tenth of this function's time.
   return SurfaceHit{.instance = &inst,
                     .material = &material,
                     .prim = hit.prim,
                     .bary = {hit.u, hit.v},
-                    .position = w0 * p0 + hit.u * p1 + hit.v * p2,
-                    .geometricNormal = geometricNormal,
+                    .position = w0 * t.p0 + hit.u * t.p1 + hit.v * t.p2,
+                    .geometricNormal = t.geometricNormal,
                     .shadingNormal = shadingNormal,
                     .uv = uv,
                     .emissiveUv = emissiveUv,
                     .lightmapUv = lightmapUv,
                     .shineUv = shineUv,
-                    .shineUvArea = shineUvArea,
+                    .shineUvArea = t.shineUvArea,
                     .vertexColor = vertexColor,
-                    .worldArea = 0.5f * len,
-                    .uvArea = uvArea};
+                    .worldArea = 0.5f * t.len,
+                    .uvArea = t.uvArea};
+}
+
+}  // namespace
+
+SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, SurfaceParts parts, TriangleMemo* memo) const {
+  const RenderInstance& inst = instancesFor(*this, overlayHit)[hit.instance];
+  if (memo == nullptr) {
+    TriangleMemo t;
+    triangleOf(*this, inst, hit.prim, parts, t);
+    return surfaceOn(hit, t, parts);
+  }
+  if (memo->instance != &inst || memo->prim != hit.prim || memo->parts != parts) triangleOf(*this, inst, hit.prim, parts, *memo);
+  return surfaceOn(hit, *memo, parts);
 }
 
 glm::vec3 RenderScene::windingNormal(const RenderInstance& inst, uint32_t prim) const {

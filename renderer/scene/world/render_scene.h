@@ -104,6 +104,26 @@ enum class SurfaceParts : uint8_t {
   /// baked light (StockLook::useVertexLight: vertexColor's RGB stays 1, of which baseFactor reads
   /// only the alpha).
   LayerColour,
+  /// All but the shading normal: shadingNormal is the winding normal (geometricNormal), every
+  /// other member as All gives it, with All's bits. What a Lightmap sample reads when nothing
+  /// reads its normal AOV (RenderSettings::normalAov).
+  NoShadingNormal,
+};
+
+/// What RenderScene::surfaceAt works out once per triangle (corners in world space, winding
+/// normal, uv-space areas), kept for the next hit on the same triangle: the camera rays of a
+/// 4x4 packet mostly end on a few. For one thread's consecutive surfaceAt calls while the scene
+/// does not change; surfaceAt gives the same bits with or without one.
+struct TriangleMemo {
+  const RenderInstance* instance = nullptr;   ///< Key (null: holds nothing), with prim and parts.
+  uint32_t prim = 0;
+  SurfaceParts parts = SurfaceParts::All;
+  const MaterialRecord* material = nullptr;
+  uint32_t i0 = 0, i1 = 0, i2 = 0;            ///< The corners' vertex indices.
+  glm::vec3 p0{0.0f}, p1{0.0f}, p2{0.0f};     ///< The corners in world space.
+  glm::vec3 geometricNormal{0.0f, 0.0f, 1.0f};
+  float len = 0.0f;                           ///< Length of the corners' cross product.
+  float uvArea = 0.0f, shineUvArea = 0.0f;
 };
 
 /// Everything the integrator needs about a hit point.
@@ -158,10 +178,13 @@ struct RenderScene {
   /// Any blocking hit (shadow rays).
   bool occluded(const Ray& ray, const TraceRequest& request) const;
   /// Interpolated surface data at a hit from intersect() with the same `overlay` choice.
-  SurfaceHit surfaceAt(const Hit& hit, bool overlay, SurfaceParts parts = SurfaceParts::All) const;
+  /// `memo`, when given, keeps the triangle's part for the next call on the same triangle.
+  SurfaceHit surfaceAt(const Hit& hit, bool overlay, SurfaceParts parts = SurfaceParts::All,
+                       TriangleMemo* memo = nullptr) const;
   /// The same, seen along `ray`: a material with TexCoordSource::ReflectionSphere gets its base
   /// uv (and the uv area that picks its mip level) from the ray (world/reflection_texcoords.cpp).
-  SurfaceHit surfaceAt(const Hit& hit, bool overlay, const Ray& ray, SurfaceParts parts = SurfaceParts::All) const;
+  SurfaceHit surfaceAt(const Hit& hit, bool overlay, const Ray& ray, SurfaceParts parts = SurfaceParts::All,
+                       TriangleMemo* memo = nullptr) const;
   /// Base colour (texture x baseColor x vertex colour x tint), RGB linear, A = coverage.
   /// footprint: world-space width of the ray's footprint on the surface (picks the mip level;
   /// 0 = full resolution).
