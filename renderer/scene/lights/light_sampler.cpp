@@ -131,18 +131,18 @@ template <class Group>
     falloff = 1.0f / maxLanes(nearest * nearest, Lanes{} + 1e-8f);
   }
   Lanes weight = load(g.strength) * falloff;
-  weight = (range > 0.0f) & (nearest > range) ? Lanes{} : weight;
+  weight = ((range > 0.0f) & (nearest > range)) ? Lanes{} : weight;
   if (g.anySpot) {
     // Spot lights without radius: the cone's smooth edge toward the point.
     const Lanes c = (tx * load(g.dx) + ty * load(g.dy) + tz * load(g.dz)) / centre;
     const Lanes lo = load(g.cosOuter), hi = load(g.cosInner);
     const Lanes t = (c - lo) / (hi - lo);
     const Lanes smooth = c <= lo ? Lanes{} : c >= hi ? Lanes{} + 1.0f : t * t * (3.0f - 2.0f * t);
-    weight = (load(g.spot) != 0.0f) & (centre > 0.0f) ? weight * smooth : weight;
+    weight = ((load(g.spot) != 0.0f) & (centre > 0.0f)) ? weight * smooth : weight;
   }
   if (hemisphere) weight = below ? Lanes{} : weight;
   // Only positive finite weights (NaN fails both comparisons).
-  out = (weight > 0.0f) & (weight <= std::numeric_limits<float>::max()) ? weight : Lanes{};
+  out = ((weight > 0.0f) & (weight <= std::numeric_limits<float>::max())) ? weight : Lanes{};
   return true;
 }
 
