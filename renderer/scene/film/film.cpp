@@ -7,6 +7,7 @@
 #include <string>
 
 #include "renderer/core/prefetch.h"
+#include "renderer/scene/integrator/display_composite.h"
 #include "renderer/scene/sampling/warp.h"
 #include "renderer/scene/textures/texture.h"
 
@@ -164,6 +165,42 @@ glm::vec3 lightingLook(const glm::vec3& radiance, const glm::vec3& emission, con
   return out;
 }
 
+void lightingLookRows(std::span<const glm::vec3> radiance, std::span<const glm::vec3> emission,
+                      std::span<const glm::vec3> albedo, LightingLook look, std::span<glm::vec3> shown) {
+  if (look == LightingLook::Physical) {
+    std::copy(radiance.begin(), radiance.end(), shown.begin());
+    return;
+  }
+  // lightingLook's steps with its 6 powf per pixel taken a chunk of channels at a time.
+  constexpr float kMinAlbedo = 1.0f / 255.0f;
+  constexpr size_t kChunk = 256;
+  float curve[3 * kChunk], light[3 * kChunk];
+  for (size_t at = 0; at < radiance.size(); at += kChunk) {
+    const size_t m = std::min(kChunk, radiance.size() - at);
+    for (size_t i = 0; i < m; ++i) {
+      const size_t p = at + i;
+      float peak = 0.0f;
+      for (int c = 0; c < 3; ++c) {
+        const size_t k = 3 * i + size_t(c);
+        const bool lit = albedo[p][c] >= kMinAlbedo;
+        light[k] = lit ? std::max(0.0f, radiance[p][c] - emission[p][c]) / albedo[p][c] : 0.0f;
+        curve[k] = lit ? albedo[p][c] : 0.0f;
+        peak = std::max(peak, light[k]);
+      }
+      if (peak > 1.0f)
+        for (int c = 0; c < 3; ++c) light[3 * i + size_t(c)] /= peak;
+    }
+    fastLinearToSrgb(std::span(curve, 3 * m));
+    for (size_t k = 0; k < 3 * m; ++k) curve[k] *= light[k];
+    fastSrgbToLinear(std::span(curve, 3 * m));
+    for (size_t i = 0; i < m; ++i) {
+      const size_t p = at + i;
+      for (int c = 0; c < 3; ++c)
+        shown[p][c] = albedo[p][c] >= kMinAlbedo ? emission[p][c] + curve[3 * i + size_t(c)] : radiance[p][c];
+    }
+  }
+}
+
 void Film::resolveMeanRows(uint32_t rowBegin, uint32_t rowEnd) {
   for (size_t i = size_t{rowBegin} * width_; i < size_t{rowEnd} * width_; ++i) {
     const PixelAccumulator& p = pixels_[i];
@@ -259,10 +296,9 @@ void Film::encodeRows(uint32_t rowBegin, uint32_t rowEnd, float exposure, Tonema
   glm::vec3 shown[kChunk];
   for (size_t at = 0; at < count; at += kChunk) {
     const size_t m = std::min(kChunk, count - at);
-    for (size_t i = 0; i < m; ++i) {
-      const size_t p = begin + at + i;
-      shown[i] = lightingLook(radiance_[p], emission_[p], albedo_[p], look);
-    }
+    lightingLookRows(std::span<const glm::vec3>(radiance_).subspan(begin + at, m),
+                     std::span<const glm::vec3>(emission_).subspan(begin + at, m),
+                     std::span<const glm::vec3>(albedo_).subspan(begin + at, m), look, std::span(shown, m));
     encodeWith(encoder_, std::span<const glm::vec3>(shown, m), exposure, op,
                std::span<uint8_t>(rgba8_).subspan((begin + at) * 4, m * 4));
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 
 #include <glm/common.hpp>
 
@@ -109,6 +110,31 @@ glm::vec3 decode(const glm::vec3& display) {
 float fastLinearToSrgb(float c) { return encodeLanes(Lanes{c})[0]; }
 
 float fastSrgbToLinear(float c) { return decodeLanes(Lanes{c})[0]; }
+
+namespace {
+
+/// Applies `curve` to each value in place, eight at a time (the last few through a padded register).
+template <class Curve>
+void applyLanes(std::span<float> values, Curve curve) {
+  size_t at = 0;
+  for (; at + 8 <= values.size(); at += 8) {
+    Lanes v;
+    std::memcpy(&v, values.data() + at, sizeof v);
+    v = curve(v);
+    std::memcpy(values.data() + at, &v, sizeof v);
+  }
+  if (at == values.size()) return;
+  Lanes v{};
+  std::memcpy(&v, values.data() + at, (values.size() - at) * sizeof(float));
+  v = curve(v);
+  std::memcpy(values.data() + at, &v, (values.size() - at) * sizeof(float));
+}
+
+}  // namespace
+
+void fastLinearToSrgb(std::span<float> values) { applyLanes(values, encodeLanes); }
+
+void fastSrgbToLinear(std::span<float> values) { applyLanes(values, decodeLanes); }
 
 void encodeColors(std::span<const glm::vec4> linear, std::vector<glm::vec3>& display) {
   display.resize(linear.size());

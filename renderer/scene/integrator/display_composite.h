@@ -23,6 +23,11 @@ float fastLinearToSrgb(float c);
 /// pa::srgbToLinear of c clamped to [0, 1] without powf (largest difference 1.8e-7, tested).
 float fastSrgbToLinear(float c);
 
+/// fastLinearToSrgb of each value, in place (eight at a time).
+void fastLinearToSrgb(std::span<float> values);
+/// fastSrgbToLinear of each value, in place (eight at a time).
+void fastSrgbToLinear(std::span<float> values);
+
 /// fastLinearToSrgb of each channel of each colour's RGB, into `display` (resized to match;
 /// the same values, eight channels at a time).
 void encodeColors(std::span<const glm::vec4> linear, std::vector<glm::vec3>& display);

@@ -216,7 +216,13 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     BsdfSample bs;
     if (!bsdf.sample(wo, glm::vec3(uBsdf.x, uBsdf.y, uBsdf.z), bs)) break;
     beta *= bs.weight;
-    prev = {bs.delta, bs.pdf, s.position, ns, useResampled};
+    // Member by member: a braced temporary was copied back in 16-byte loads over the narrower
+    // stores that built it (a store-forwarding stall every scattering).
+    prev.delta = bs.delta;
+    prev.bsdfPdf = bs.pdf;
+    prev.position = s.position;
+    prev.normal = ns;
+    prev.resampled = useResampled;
     if (!bs.delta) {
       ++scatterCount;
       coneSpread = std::max(coneSpread, bs.glossy ? 0.1f : 0.5f);

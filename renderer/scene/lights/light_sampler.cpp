@@ -63,6 +63,89 @@ Lanes sqrtLanes(Lanes v) {
 #endif
 }
 
+/// Lane masks of Lanes comparisons (-1 where true).
+using LaneMask = int __attribute__((vector_size(32)));
+
+/// Bit i set where lane i of m is true.
+uint32_t bitsOf(LaneMask m) {
+#if defined(__AVX__)
+  return uint32_t(_mm256_movemask_ps(reinterpret_cast<__m256>(m)));
+#else
+  uint32_t bits = 0;
+  for (int i = 0; i < 8; ++i) bits |= m[i] != 0 ? 1u << i : 0u;
+  return bits;
+#endif
+}
+
+/// w[0] + ... + w[7] in double, added lane by lane from 0: what a group of lamps adds to the
+/// running sum of the groups before it (a weight of 0 changes nothing).
+double groupSum(Lanes w) {
+  double sum = 0.0;
+  for (int lane = 0; lane < 8; ++lane) sum += double{w[lane]};
+  return sum;
+}
+
+/// The lamp of positive weight in a group where the running sum, base plus the group's weights
+/// added lane by lane as groupSum() adds them, first exceeds target (the last one of positive
+/// weight if rounding leaves none); -1 when every weight is 0.
+int laneAbove(const float* w, double base, double target) {
+  double sum = 0.0;
+  int last = -1;
+  for (int lane = 0; lane < 8; ++lane) {
+    if (w[lane] == 0.0f) continue;
+    sum += double{w[lane]};
+    last = lane;
+    if (target < base + sum) break;
+  }
+  return last;
+}
+
+/// The weights (LightSampler::lampWeight's terms) of the eight lamps of a group at p, n; false
+/// (and all 0) when every lamp of the group lies wholly below the tangent plane. The divisions
+/// the group's lamps do not need are skipped; each lane's arithmetic is the same.
+template <class Group>
+[[gnu::always_inline]] inline bool groupWeights(const Group& g, const glm::vec3& p, const glm::vec3& n, Lanes& out) {
+  const Lanes x = load(g.x), y = load(g.y), z = load(g.z), radius = load(g.radius);
+  const Lanes tx = p.x - x, ty = p.y - y, tz = p.z - z;   // light -> point
+  // Nothing to reflect where the whole light lies on or below the tangent plane.
+  const bool hemisphere = n != glm::vec3(0.0f);
+  LaneMask below{};
+  if (hemisphere) {
+    below = -(tx * n.x + ty * n.y + tz * n.z) + radius <= 0.0f;
+    if ((~bitsOf(below) & g.live) == 0) {
+      out = Lanes{};
+      return false;
+    }
+  }
+  const Lanes centre = sqrtLanes(tx * tx + ty * ty + tz * tz);
+  const Lanes nearest = maxLanes(centre - radius, Lanes{} + 1e-3f);
+  const Lanes range = load(g.range);
+  Lanes falloff;
+  if (g.anyLinear && g.anyInverseSquare) {
+    const Lanes inverseSquare = 1.0f / maxLanes(nearest * nearest, Lanes{} + 1e-8f);
+    const Lanes linearFalloff = maxLanes(1.0f - nearest / range, Lanes{});
+    falloff = load(g.linear) != 0.0f ? linearFalloff : inverseSquare;
+  } else if (g.anyLinear) {
+    falloff = maxLanes(1.0f - nearest / range, Lanes{});
+  } else {
+    falloff = 1.0f / maxLanes(nearest * nearest, Lanes{} + 1e-8f);
+  }
+  Lanes weight = load(g.strength) * falloff;
+  weight = ((range > 0.0f) & (nearest > range)) ? Lanes{} : weight;
+  if (g.anySpot) {
+    // Spot lights without radius: the cone's smooth edge toward the point.
+    const Lanes c = (tx * load(g.dx) + ty * load(g.dy) + tz * load(g.dz)) / centre;
+    const Lanes lo = load(g.cosOuter), hi = load(g.cosInner);
+    const Lanes t = (c - lo) / (hi - lo);
+    const Lanes smooth = c <= lo ? Lanes{} : c >= hi ? Lanes{} + 1.0f : t * t * (3.0f - 2.0f * t);
+    weight = ((load(g.spot) != 0.0f) & (centre > 0.0f)) ? weight * smooth : weight;
+  }
+  if (hemisphere) weight = below ? Lanes{} : weight;
+  // Only positive finite weights (NaN fails both comparisons).
+  out = ((weight > 0.0f) & (weight <= std::numeric_limits<float>::max())) ? weight : Lanes{};
+  return true;
+}
+
 /// Summed area of the sky windows.
 double windowArea(std::span<const glm::vec3> windows) {
   double area = 0.0;
@@ -194,6 +277,9 @@ void LightSampler::buildTables(const Sky& sky, const Bounds& sceneBounds, std::s
     g.spot[lane] = l.type == LightType::Spot && l.radius == 0.0f ? 1.0f : 0.0f;
     g.dx[lane] = l.direction.x, g.dy[lane] = l.direction.y, g.dz[lane] = l.direction.z;
     g.cosOuter[lane] = l.cosOuterAngle, g.cosInner[lane] = l.cosInnerAngle;
+    g.live |= 1u << lane;
+    (l.falloff == Falloff::Linear ? g.anyLinear : g.anyInverseSquare) = true;
+    g.anySpot = g.anySpot || g.spot[lane] != 0.0f;
   }
   emissiveTree_.rebuild(emitters);
   if ((!emissiveTree_.empty() || !localLights_.empty()) && localPower > 0.0) {
@@ -316,50 +402,21 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
   return out.pdf > 0.0f;
 }
 
-void LightSampler::lampWeights(uint32_t group, const glm::vec3& p, const glm::vec3& n, float* out) const {
-  // lampWeight (localLightWeight, distanceFalloff, spotFactor) for eight lamps at once.
-  const LampGroup& g = lampGroups_[group];
-  const Lanes x = load(g.x), y = load(g.y), z = load(g.z), radius = load(g.radius);
-  const Lanes tx = p.x - x, ty = p.y - y, tz = p.z - z;   // light -> point
-  const Lanes centre = sqrtLanes(tx * tx + ty * ty + tz * tz);
-  const Lanes nearest = maxLanes(centre - radius, Lanes{} + 1e-3f);
-  const Lanes range = load(g.range), linear = load(g.linear);
-  const Lanes inverseSquare = 1.0f / maxLanes(nearest * nearest, Lanes{} + 1e-8f);
-  const Lanes linearFalloff = maxLanes(1.0f - nearest / range, Lanes{});
-  Lanes weight = load(g.strength) * (linear != 0.0f ? linearFalloff : inverseSquare);
-  weight = (range > 0.0f) & (nearest > range) ? Lanes{} : weight;
-  // Spot lights without radius: the cone's smooth edge toward the point.
-  const Lanes c = (tx * load(g.dx) + ty * load(g.dy) + tz * load(g.dz)) / centre;
-  const Lanes lo = load(g.cosOuter), hi = load(g.cosInner);
-  const Lanes t = (c - lo) / (hi - lo);
-  const Lanes smooth = c <= lo ? Lanes{} : c >= hi ? Lanes{} + 1.0f : t * t * (3.0f - 2.0f * t);
-  weight = (load(g.spot) != 0.0f) & (centre > 0.0f) ? weight * smooth : weight;
-  // Nothing to reflect where the whole light lies on or below the tangent plane.
-  if (n != glm::vec3(0.0f)) weight = (-(tx * n.x + ty * n.y + tz * n.z) + radius <= 0.0f) ? Lanes{} : weight;
-  // Only positive finite weights (NaN fails both comparisons).
-  weight = (weight > 0.0f) & (weight <= std::numeric_limits<float>::max()) ? weight : Lanes{};
-  std::memcpy(out, &weight, sizeof weight);
-}
-
 LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm::vec3& n, LampPrefix* prefix) const {
+  // The running sum over the lamps is kept per group (groupSum): one addition chains the groups.
   LocalSplit split;
   double lamps = 0.0;
-  alignas(32) float w[8];
   const uint32_t buffered = prefix != nullptr ? std::min<uint32_t>(lampGroups_.size(), kBufferedLamps / 8) : 0;
   uint32_t g = 0;
+  Lanes w;
   for (; g < buffered; ++g) {
-    float* weight = prefix->weight + 8 * g;
-    lampWeights(g, p, n, weight);
-    for (uint32_t lane = 0; lane < 8; ++lane) {
-      lamps += weight[lane];
-      prefix->running[8 * g + lane] = lamps;
-    }
+    if (groupWeights(lampGroups_[g], p, n, w)) lamps += groupSum(w);
+    std::memcpy(prefix->weight + 8 * g, &w, sizeof w);
+    prefix->groupEnd[g] = lamps;
   }
   if (prefix != nullptr) prefix->count = 8 * buffered;
-  for (; g < lampGroups_.size(); ++g) {
-    lampWeights(g, p, n, w);
-    for (float wi : w) lamps += wi;
-  }
+  for (; g < lampGroups_.size(); ++g)
+    if (groupWeights(lampGroups_[g], p, n, w)) lamps += groupSum(w);
   const double triangles = emissiveTree_.empty() ? 0.0 : double{emissiveTree_.importance(p, n)};
   split.lampWeight = lamps;
   const double total = lamps + triangles;
@@ -370,43 +427,46 @@ LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm:
 
 bool LightSampler::pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total,
                                   const LampPrefix* prefix, uint32_t& index, float& probability) const {
-  // Inverts the running sum of the weights localSplit() summed: stored ones by binary search,
-  // the rest recomputed (nothing is kept per sample).
+  // Inverts the running sum of the weights localSplit() summed: the group by binary search over
+  // the stored group ends, the lamp by walking that group; beyond the stored groups the weights
+  // are recomputed (nothing is kept per sample).
   if (!(total > 0.0)) return false;
   const double target = double(u) * total;
-  double running = 0.0;
+  double base = 0.0;
   float chosenWeight = 0.0f;
   uint32_t g = 0;
   if (prefix != nullptr && prefix->count > 0) {
-    const uint32_t count = prefix->count;
-    // The first running sum above the target ends at a lamp of positive weight (zero weights
-    // leave the sum as it is), the lamp a walk over the weights stops at.
-    const uint32_t k = uint32_t(std::upper_bound(prefix->running, prefix->running + count, target) - prefix->running);
-    if (k < count) {
-      index = localLights_[k];
-      probability = float(double(prefix->weight[k]) / total);
+    const uint32_t groups = prefix->count / 8;
+    // The first group whose end exceeds the target holds a lamp of positive weight (groups of
+    // zero weight end where the one before did), the lamp a walk over the weights stops at.
+    g = uint32_t(std::upper_bound(prefix->groupEnd, prefix->groupEnd + groups, target) - prefix->groupEnd);
+    if (g < groups) {
+      const int lane = laneAbove(prefix->weight + 8 * g, g > 0 ? prefix->groupEnd[g - 1] : 0.0, target);
+      if (lane < 0) return false;   // cannot happen: the group's end exceeds the one before
+      index = localLights_[8 * g + uint32_t(lane)];
+      probability = float(double(prefix->weight[8 * g + uint32_t(lane)]) / total);
       return probability > 0.0f;
     }
     // Beyond the stored lamps: the last stored one of positive weight catches rounding at the top end.
-    for (uint32_t j = count; j-- > 0;) {
+    for (uint32_t j = prefix->count; j-- > 0;) {
       if (prefix->weight[j] == 0.0f) continue;
       index = localLights_[j];
       chosenWeight = prefix->weight[j];
       break;
     }
-    running = prefix->running[count - 1];
-    g = count / 8;
+    base = prefix->groupEnd[groups - 1];
   }
   alignas(32) float w[8];
-  for (; g < lampGroups_.size() && !(target < running); ++g) {
-    lampWeights(g, p, n, w);
-    for (uint32_t lane = 0; lane < 8; ++lane) {
-      if (w[lane] == 0.0f) continue;
-      index = localLights_[8 * g + lane];   // the last light with weight catches rounding at the top end
-      chosenWeight = w[lane];
-      running += w[lane];
-      if (target < running) break;
-    }
+  for (; g < lampGroups_.size(); ++g) {
+    Lanes weights;
+    if (!groupWeights(lampGroups_[g], p, n, weights)) continue;
+    std::memcpy(w, &weights, sizeof w);
+    const int lane = laneAbove(w, base, target);
+    if (lane < 0) continue;
+    index = localLights_[8 * g + uint32_t(lane)];   // the last light with weight catches rounding at the top end
+    chosenWeight = w[lane];
+    base += groupSum(weights);
+    if (target < base) break;
   }
   if (!(chosenWeight > 0.0f)) return false;
   probability = float(double(chosenWeight) / total);

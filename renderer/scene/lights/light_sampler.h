@@ -135,13 +135,14 @@ class LightSampler {
     float emissive = 0.0f;     ///< Probability of the triangles (1 - that of the lamps).
     double lampWeight = 0.0;   ///< Summed lamp weights at p (their normaliser).
   };
-  /// The weights of the first kBufferedLamps lamps at a shading point and their running sums,
-  /// kept on the stack by sample() so that choosing a lamp does not recompute them.
+  /// The weights of the first kBufferedLamps lamps at a shading point and the running sum at the
+  /// end of each group of eight, kept on the stack by sample() so that choosing a lamp does not
+  /// recompute them.
   static constexpr uint32_t kBufferedLamps = 512;
   struct LampPrefix {
-    float weight[kBufferedLamps];     ///< lampWeights() of lamp k (localLights_ order).
-    double running[kBufferedLamps];   ///< weight[0] + ... + weight[k], summed as localSplit() sums.
-    uint32_t count = 0;               ///< Lamps stored (whole groups, at most kBufferedLamps).
+    float weight[kBufferedLamps];          ///< Weight of lamp k (localLights_ order) at the point.
+    double groupEnd[kBufferedLamps / 8];   ///< weight[0] + ... + weight[8g + 7], summed as localSplit() sums.
+    uint32_t count = 0;                    ///< Lamps stored (whole groups, at most kBufferedLamps).
   };
   /// How the local entry divides at p, n; stores the lamps' weights into `prefix` when not null.
   LocalSplit localSplit(const glm::vec3& p, const glm::vec3& n, LampPrefix* prefix = nullptr) const;
@@ -175,14 +176,14 @@ class LightSampler {
   LightTree emissiveTree_;             ///< Over triangles_ (same indices).
   std::vector<uint32_t> localLights_;   ///< Indices into analytic_ of the point and spot lights that carry power.
   /// localLights_ eight to a group as structure of arrays (padding lanes carry no light): their
-  /// weights at a shading point are computed eight per instruction (lampWeights).
+  /// weights at a shading point are computed eight per instruction.
   struct LampGroup {
     alignas(32) float x[8], y[8], z[8], radius[8], strength[8], range[8], linear[8];
     alignas(32) float spot[8], dx[8], dy[8], dz[8], cosOuter[8], cosInner[8];
+    uint32_t live = 0;   ///< Bit per lane that holds a lamp.
+    bool anyLinear = false, anyInverseSquare = false, anySpot = false;   ///< Which terms its lamps need.
   };
   std::vector<LampGroup> lampGroups_;
-  /// The weights (lampWeight) of the eight lamps of group g at p, n.
-  void lampWeights(uint32_t g, const glm::vec3& p, const glm::vec3& n, float* out) const;
   sampling::AliasTable table_;
   std::vector<uint32_t> environmentEntries_;   ///< Table entries of the suns and the sky.
   sampling::AliasTable environmentTable_;      ///< Over environmentEntries_, the same proportions.

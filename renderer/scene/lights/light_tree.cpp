@@ -88,7 +88,10 @@ LightBounds boundsUnion(const LightBounds& a, const LightBounds& b) {
   return u;
 }
 
-float lightImportance(const LightBounds& b, const glm::vec3& p, const glm::vec3& n) {
+namespace {
+
+/// lightImportance(), inlined where both children of a node are weighed (their work overlaps).
+[[gnu::always_inline]] inline float importanceOf(const LightBounds& b, const glm::vec3& p, const glm::vec3& n) {
   if (!(b.power > 0.0f)) return 0.0f;
   const glm::vec3 centre = b.bounds.center();
   const glm::vec3 halfDiagonal = 0.5f * (b.bounds.max - b.bounds.min);
@@ -134,6 +137,10 @@ float lightImportance(const LightBounds& b, const glm::vec3& p, const glm::vec3&
   }
   return std::isfinite(importance) ? std::max(importance, 0.0f) : 0.0f;
 }
+
+}  // namespace
+
+float lightImportance(const LightBounds& b, const glm::vec3& p, const glm::vec3& n) { return importanceOf(b, p, n); }
 
 LightTree::LightTree(std::span<const LightBounds> lights) { rebuild(lights); }
 
@@ -236,8 +243,8 @@ uint32_t LightTree::build(std::span<const LightBounds> lights, std::span<uint32_
 
 float LightTree::firstChildProbability(const Node& node, const glm::vec3& p, const glm::vec3& n) const {
   const auto self = static_cast<uint32_t>(&node - nodes_.data());
-  const float first = lightImportance(nodes_[self + 1].bounds, p, n);
-  const float second = lightImportance(nodes_[node.secondChild].bounds, p, n);
+  const float first = importanceOf(nodes_[self + 1].bounds, p, n);
+  const float second = importanceOf(nodes_[node.secondChild].bounds, p, n);
   const float total = first + second;
   // Both bounds tighter than the parent's and neither reaches p: nothing below contributes, so
   // any choice is unbiased; halving keeps the pmf summing to 1 wherever the root reaches p.

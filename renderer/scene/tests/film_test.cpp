@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "renderer/core/srgb.h"
 
@@ -140,6 +141,33 @@ TEST(Film, DisplaySpaceLightingShowsLightAsALightMapTexel) {
 
 namespace pa {
 namespace {
+
+TEST(Film, LightingLookRowsFollowLightingLook) {
+  // The film's chunked look (sRGB curves without powf, eight values at a time) against the
+  // per-pixel one: 1003 pixels (chunks of 256 and a partial register at the end) with dark,
+  // over-bright, emissive and albedo-less channels.
+  constexpr size_t kPixels = 1003;
+  std::vector<glm::vec3> radiance(kPixels), emission(kPixels), albedo(kPixels), shown(kPixels);
+  uint32_t state = 12345u;
+  const auto unit = [&] {
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) / float(1u << 24);
+  };
+  for (size_t i = 0; i < kPixels; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      albedo[i][c] = i % 11 == 0 && c == 1 ? 0.5f / 255.0f : unit();
+      emission[i][c] = i % 5 == 0 ? 0.5f * unit() : 0.0f;
+      radiance[i][c] = emission[i][c] + albedo[i][c] * (i % 7 == 0 ? 4.0f * unit() : unit());
+    }
+  }
+  lightingLookRows(radiance, emission, albedo, LightingLook::DisplaySpace, shown);
+  for (size_t i = 0; i < kPixels; ++i) {
+    const glm::vec3 exact = lightingLook(radiance[i], emission[i], albedo[i], LightingLook::DisplaySpace);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(shown[i][c], exact[c], 1e-6f + 1e-6f * exact[c]) << i << " " << c;
+  }
+  lightingLookRows(radiance, emission, albedo, LightingLook::Physical, shown);
+  EXPECT_EQ(shown, radiance);
+}
 
 TEST(SrgbByteEncoder, EveryFloatEncodesAsTheExactCurve) {
   // lround(clamp(linearToSrgb(x)) x 255) over every 64th float in [0, 1.25], plus the edges.
