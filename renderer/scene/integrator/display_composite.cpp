@@ -138,16 +138,8 @@ void fastSrgbToLinear(std::span<float> values) { applyLanes(values, decodeLanes)
 
 void encodeColors(std::span<const glm::vec4> linear, std::vector<glm::vec3>& display) {
   display.resize(linear.size());
-  float* out = &display.data()->x;   // glm::vec3 is three packed floats
-  const size_t channels = 3 * linear.size();
-  size_t at = 0;
-  for (; at + 8 <= channels; at += 8) {
-    Lanes in;
-    for (size_t k = 0; k < 8; ++k) in[k] = linear[(at + k) / 3][int((at + k) % 3)];
-    const Lanes e = encodeLanes(in);
-    for (size_t k = 0; k < 8; ++k) out[at + k] = e[k];
-  }
-  for (; at < channels; ++at) out[at] = fastLinearToSrgb(linear[at / 3][int(at % 3)]);
+  for (size_t i = 0; i < linear.size(); ++i) display[i] = glm::vec3(linear[i]);
+  fastLinearToSrgb(std::span<float>(&display.data()->x, 3 * display.size()));   // three packed floats each
 }
 
 glm::vec3 fastSrgbToLinear(const glm::vec3& c) { return decode(c); }
@@ -224,17 +216,11 @@ glm::vec3 DisplayComposite::over(const glm::vec3& behind) const {
   if (count_ == 0) return behind;
   // Every colour encoded first, eight channels a call (each lane as encoded alone): `behind`'s
   // three, then each layer's.
-  std::array<float, 3 * (kCapacity + 1) + 7> encoded{};
-  const uint32_t channels = 3 * (count_ + 1);
-  for (uint32_t at = 0; at < channels; at += 8) {
-    Lanes in{};
-    for (uint32_t k = 0; k < 8 && at + k < channels; ++k) {
-      const uint32_t c = at + k;
-      in[k] = c < 3 ? behind[int(c)] : layers_[c / 3 - 1].color[int(c % 3)];
-    }
-    const Lanes e = encodeLanes(in);
-    for (uint32_t k = 0; k < 8; ++k) encoded[at + k] = e[k];
-  }
+  std::array<float, 3 * (kCapacity + 1)> encoded;
+  for (int c = 0; c < 3; ++c) encoded[size_t(c)] = behind[c];
+  for (uint32_t i = 0; i < count_; ++i)
+    for (int c = 0; c < 3; ++c) encoded[3 * (i + 1) + uint32_t(c)] = layers_[i].color[c];
+  fastLinearToSrgb(std::span<float>(encoded.data(), 3 * (count_ + 1)));
   glm::vec3 display(encoded[0], encoded[1], encoded[2]);
   for (uint32_t i = count_; i-- > 0;) {
     const Stored& layer = layers_[i];
