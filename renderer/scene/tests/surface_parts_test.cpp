@@ -76,14 +76,29 @@ RenderScene layerScene(SceneStore& store) {
   return store.commit();
 }
 
+/// The ray both tests look along (the reflecting sphere's uvs come from it).
+Ray viewRay() {
+  Ray ray;
+  ray.origin = {-3.0f, 0.5f, 2.0f};
+  ray.dir = glm::normalize(glm::vec3(1.0f, 0.1f, -0.4f));
+  return ray;
+}
+
+/// A hit on triangle `prim` of world instance `instance` at barycentrics `bary`.
+Hit hitAt(uint32_t instance, uint32_t prim, glm::vec2 bary) {
+  Hit hit;
+  hit.instance = instance;
+  hit.prim = prim;
+  hit.u = bary.x;
+  hit.v = bary.y;
+  return hit;
+}
+
 TEST(SurfaceParts, LayerColourHasTheBitsOfAllInWhatALayerReads) {
   SceneStore store;
   const RenderScene scene = layerScene(store);
   ASSERT_EQ(scene.world.size(), 3u);
-
-  Ray ray;
-  ray.origin = {-3.0f, 0.5f, 2.0f};
-  ray.dir = glm::normalize(glm::vec3(1.0f, 0.1f, -0.4f));
+  const Ray ray = viewRay();
   uint32_t checked = 0;
   for (uint32_t instance = 0; instance < 3; ++instance) {
     const bool litByVertices = instance == 0;
@@ -91,11 +106,7 @@ TEST(SurfaceParts, LayerColourHasTheBitsOfAllInWhatALayerReads) {
     const uint32_t triangles = scene.world[instance].mesh->geometry.triangleCount();
     for (uint32_t prim = 0; prim < triangles; prim += 3) {
       for (const glm::vec2 bary : {glm::vec2(0.1f, 0.2f), glm::vec2(0.33f, 0.61f), glm::vec2(0.7f, 0.05f)}) {
-        Hit hit;
-        hit.instance = instance;
-        hit.prim = prim;
-        hit.u = bary.x;
-        hit.v = bary.y;
+        const Hit hit = hitAt(instance, prim, bary);
         for (const bool alongRay : {false, true}) {
           const SurfaceHit all = alongRay ? scene.surfaceAt(hit, false, ray) : scene.surfaceAt(hit, false);
           const SurfaceHit layer = alongRay ? scene.surfaceAt(hit, false, ray, SurfaceParts::LayerColour)
@@ -155,9 +166,7 @@ TEST(SurfaceParts, NoShadingNormalAndTheTriangleMemoKeepAllsBits) {
   SceneStore store;
   const RenderScene scene = layerScene(store);
   ASSERT_EQ(scene.world.size(), 3u);
-  Ray ray;
-  ray.origin = {-3.0f, 0.5f, 2.0f};
-  ray.dir = glm::normalize(glm::vec3(1.0f, 0.1f, -0.4f));
+  const Ray ray = viewRay();
   TriangleMemo memo;
   uint32_t checked = 0, shaded = 0;
   for (uint32_t instance = 0; instance < 3; ++instance) {
@@ -165,11 +174,7 @@ TEST(SurfaceParts, NoShadingNormalAndTheTriangleMemoKeepAllsBits) {
     // Each triangle twice in a row (the memo kept), then one visited before (the memo refilled).
     for (const uint32_t prim : {0u, 0u, 5u, 5u, 0u, 17u, triangles - 1, 5u}) {
       for (const glm::vec2 bary : {glm::vec2(0.1f, 0.2f), glm::vec2(0.33f, 0.61f), glm::vec2(0.7f, 0.05f)}) {
-        Hit hit;
-        hit.instance = instance;
-        hit.prim = prim;
-        hit.u = bary.x;
-        hit.v = bary.y;
+        const Hit hit = hitAt(instance, prim, bary);
         SCOPED_TRACE(testing::Message() << "instance " << instance << ", prim " << prim);
         for (const SurfaceParts parts : {SurfaceParts::All, SurfaceParts::NoShadingNormal, SurfaceParts::LayerColour}) {
           const SurfaceHit alone = scene.surfaceAt(hit, false, ray, parts);
