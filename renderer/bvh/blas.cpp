@@ -2,6 +2,7 @@
 // A rebuild reuses the previous build's memory (mesh copy, binary nodes, and, from the second
 // build on, the builder's scratch arrays), so meshes rebuilt every frame do not page-fault
 // fresh memory on each build.
+#include <algorithm>
 #include <bit>
 #include <stdexcept>
 
@@ -85,9 +86,13 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
   }
   // A Blas built once (static geometry) does not hold on to the scratch arrays; one that is
   // rebuilt is likely to be rebuilt again (dynamic geometry) and keeps them.
+  // A Blas that keeps its memory also makes room for a refit's triangle boxes, so that its
+  // first refit in play allocates nothing either.
   if (++impl.builds == 1 && !impl.keepsBuildMemory) {
     impl.scratch.release();
     impl.collapseWorkspace = bvh_detail::CollapseWorkspace{};
+  } else if (impl.triangleBoxes.capacity() < impl.mesh.triangleCount()) {
+    impl.triangleBoxes.reserve(impl.mesh.triangleCount());
   }
 }
 
@@ -107,7 +112,9 @@ void Blas::reserveLike(const Blas& example) {
   impl.keepsBuildMemory = true;
   if (!example.impl_) return;
   const Impl& other = *example.impl_;
-  const size_t triangles = other.mesh.triangleCount();
+  // The most triangles the example has held (its per-triangle arrays keep their capacity), not
+  // only what it holds now: a pooled slot may show a smaller mesh at the moment.
+  const size_t triangles = std::max<size_t>(other.mesh.triangleCount(), other.mesh.degenerate.capacity());
   reserveAtLeast(impl.mesh.positions, other.mesh.positions.capacity());
   reserveAtLeast(impl.mesh.indices, other.mesh.indices.capacity());
   reserveAtLeast(impl.mesh.rules, other.mesh.rules.capacity());
@@ -117,9 +124,10 @@ void Blas::reserveLike(const Blas& example) {
   impl.scratch.memory.reserve(bvh_detail::binaryBuildScratchBytes(triangles));
   reserveAtLeast(impl.scratch.renumberStack, 2 * triangles + 1);   // the depth-first stack: at most the depth
   const auto width = other.nodeWidth;
-  impl.collapseWorkspace.plan.reserve(other.binary.nodes.size(), width);
-  reserveAtLeast(impl.collapseWorkspace.leaves, other.binary.leafCount);
-  reserveAtLeast(impl.collapseWorkspace.firstPack, other.binary.leafCount);
+  impl.collapseWorkspace.plan.reserve(other.binary.nodes.capacity(), width);
+  const size_t leaves = std::max<size_t>(other.binary.leafCount, other.collapseWorkspace.leaves.capacity());
+  reserveAtLeast(impl.collapseWorkspace.leaves, leaves);
+  reserveAtLeast(impl.collapseWorkspace.firstPack, leaves);
   reserveAtLeast(impl.wide.nodes, other.wide.nodes.capacity());
   reserveAtLeast(impl.wide.packs, other.wide.packs.capacity());
   reserveAtLeast(impl.wide16.nodes, other.wide16.nodes.capacity());
