@@ -6,6 +6,17 @@
 
 namespace glue {
 
+bool unlitModelStage(const ShaderLook& look) {
+  if (!look.fromScript) return false;   // an implicit model shader is rgbGen lightingDiffuse
+  switch (look.rgbGen) {
+    case q3::RgbGen::Default:
+    case q3::RgbGen::Identity:
+    case q3::RgbGen::IdentityLighting:
+    case q3::RgbGen::Const: return true;
+    default: return false;   // lit (lightingDiffuse, vertex), tinted by the entity, or waving
+  }
+}
+
 pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,
                                MaterialUse use, uint32_t layer, const ImageTextures& texture) {
   pa::MaterialDesc desc;
@@ -17,10 +28,15 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
     const unsigned dst = look.blend.dst;
     const auto factors = layerFactors(look.blend);
     const bool plainAdd = look.blend.src == 1 && dst == 1;
-    if (stockLayers && factors && look.blend.blends() && !plainAdd && !isAlphaBlend(look.blend) &&
+    // The traced presets sum their see-through layers' light and keep nothing of what is behind
+    // them, so there only the additive family (dst GL_ONE) takes its source factor.
+    const bool factorLayer = stockLayers || dst == 1;
+    if (factorLayer && factors && look.blend.blends() && !plainAdd && !isAlphaBlend(look.blend) &&
         filterAsDarkening(look.blend) == Darkening::None) {
       // Any other blend of the layer's own colour and alpha (gl_one gl_src_alpha explosions,
-      // gl_src_alpha gl_one glows), composed in display values as the framebuffer does.
+      // gl_src_alpha gl_one glows), composed in display values as the framebuffer does: over
+      // black, the traced presets add what the framebuffer would (the health sphere's pulsing
+      // alpha, not its texture at full strength).
       desc.alphaMode = pa::AlphaMode::Additive;
       desc.stock.layerBlend = pa::LayerBlend::Factors;
       desc.stock.layerSrcFactor = factors->first;
@@ -78,6 +94,18 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
   if (entry.isDefault) desc.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
   applyReflectionLook(look, desc);
   if (layer == 0 && entry.shineImage) applyShineLook(look, texture(entry.shineImage, look.shine->clamp, false), desc);
+  if (use == MaterialUse::Model && !entry.isDefault && unlitModelStage(look) &&
+      (desc.alphaMode == pa::AlphaMode::Opaque || desc.alphaMode == pa::AlphaMode::Mask) && desc.visible && !desc.mirror) {
+    // The stock renderer draws such a stage at its texture's own colour whatever light falls on
+    // it (the health items' chrome crosses): camera rays see that colour, and the surface
+    // reflects nothing and lights nothing (no emitter to sample).
+    desc.emissiveTexture = desc.baseTexture;
+    desc.emissiveOwnUv = false;   // read where the base is read (its environment-mapped uvs too)
+    desc.seenEmission = glm::vec3(desc.baseColor);
+    desc.emission = glm::vec3(0.0f);
+    desc.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, desc.baseColor.a);
+    desc.specular = 0.0f;
+  }
   return desc;
 }
 

@@ -23,6 +23,11 @@ enum class MaterialUse : uint8_t { Model, Effect, StockEffect, StockModel };
 /// noPicmip), made on first use.
 using ImageTextures = std::function<pa::TextureId(const std::shared_ptr<const Image>& image, bool clamp, bool noPicmip)>;
 
+/// True for a model stage the stock renderer draws at its texture's colour whatever the light
+/// (a scripted stage whose rgbGen is identity, identityLighting, const or left out); the traced
+/// presets show it so, as an unlit surface.
+bool unlitModelStage(const ShaderLook& look);
+
 /// The still look (no animation) of stage `layer` (0 = the shader's first) of a shader drawn as
 /// `use` with `image`.
 pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,

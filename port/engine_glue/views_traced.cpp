@@ -212,8 +212,7 @@ void ViewRenderer::Impl::placeModelEntities(const ViewContext& ctx, const SceneF
     const glm::vec3 viewer = viewerInModel(e, ctx.viewer.origin);
     fillSlot(key, glm::vec3(e.origin[0], e.origin[1], e.origin[2]), shaders,
              ctx.lightmapLook ? MaterialUse::StockModel : MaterialUse::Model, entityTransform(e), mask, onTop,
-             ctx.seconds - e.shaderTime, {e.shaderTexCoord[0], e.shaderTexCoord[1]},
-             ctx.lightmapLook ? &viewer : nullptr);
+             ctx.seconds - e.shaderTime, {e.shaderTexCoord[0], e.shaderTexCoord[1]}, &viewer);
   }
 }
 

@@ -558,10 +558,60 @@ TEST(StageLayers, ModelStagesBlendedByTheirOwnAlphaAreFactorLayersInTheLightmapP
   EXPECT_FALSE(over.stock.useVertexLight);
   EXPECT_TRUE(over.vertexColorTints);
   EXPECT_EQ(describeStage(glass, glass.look, nullptr, MaterialUse::Model, 0, textures).alphaMode, pa::AlphaMode::Blend);
-  // The traced presets keep models' additive stages plain additive.
+  // The traced presets weigh the additive family by its source factor too (the sphere's pulsing
+  // alpha and its specular alpha), and keep plain additive stages plain.
   const pa::MaterialDesc traced = describeStage(entry, entry.look, nullptr, MaterialUse::Model, 0, textures);
   EXPECT_EQ(traced.alphaMode, pa::AlphaMode::Additive);
-  EXPECT_EQ(traced.stock.layerBlend, pa::LayerBlend::Add);
+  EXPECT_EQ(traced.stock.layerBlend, pa::LayerBlend::Factors);
+  EXPECT_EQ(traced.stock.layerSrcFactor, pa::BlendFactor::SrcAlpha);
+  EXPECT_EQ(traced.stock.layerDstFactor, pa::BlendFactor::One);
+  EXPECT_FALSE(traced.castsShadows);
+  EXPECT_TRUE(describeStage(entry, entry.look.layers[0], nullptr, MaterialUse::Model, 1, textures).vertexAlphaTints);
+  const q3::ShaderScript glows = q3::parseShaderScript(
+      "g\n{\n { map g.tga\n blendfunc add }\n}\nx\n{\n { map x.tga\n blendfunc gl_one gl_src_alpha }\n}\n", "g.shader");
+  ShaderEntry glow, explosion;
+  glow.look = lookOfShader(glows.shaders.at(0));
+  explosion.look = lookOfShader(glows.shaders.at(1));
+  const pa::MaterialDesc plain = describeStage(glow, glow.look, nullptr, MaterialUse::Effect, 0, textures);
+  EXPECT_EQ(plain.alphaMode, pa::AlphaMode::Additive);
+  EXPECT_EQ(plain.stock.layerBlend, pa::LayerBlend::Add);
+  // What keeps part of the framebuffer (dst not GL_ONE) is not a sum of light: not drawn there.
+  EXPECT_FALSE(describeStage(explosion, explosion.look, nullptr, MaterialUse::Effect, 0, textures).visible);
+  EXPECT_EQ(describeStage(explosion, explosion.look, nullptr, MaterialUse::StockEffect, 0, textures).stock.layerBlend,
+            pa::LayerBlend::Factors);
+}
+
+TEST(StageLayers, UnlitModelStagesShowTheirTextureInTheTracedPresets) {
+  // OpenArena's medium health cross: an environment-mapped stage with no rgbGen, which the stock
+  // renderer draws at the texture's colour; a lightingDiffuse stage stays lit.
+  const q3::ShaderScript script = q3::parseShaderScript(
+      "mediumCross\n{\n { map c.tga\n tcGen environment }\n { map y.tga\n blendfunc add\n tcGen environment }\n}\n"
+      "lit\n{\n { map l.tga\n rgbGen lightingDiffuse }\n}\n"
+      "tinted\n{\n { map t.tga\n rgbGen const ( 0.5 0.25 1 ) }\n}\n",
+      "fx.shader");
+  const ImageTextures textures = [](const std::shared_ptr<const Image>&, bool, bool) { return pa::TextureId(7); };
+  ShaderEntry cross, lit, tinted;
+  cross.look = lookOfShader(script.shaders.at(0));
+  lit.look = lookOfShader(script.shaders.at(1));
+  tinted.look = lookOfShader(script.shaders.at(2));
+  EXPECT_TRUE(unlitModelStage(cross.look));
+  EXPECT_FALSE(unlitModelStage(lit.look));
+  ShaderLook implicit;   // a model's texture with no script: lit by the light grid
+  EXPECT_FALSE(unlitModelStage(implicit));
+  const pa::MaterialDesc shown = describeStage(cross, cross.look, nullptr, MaterialUse::Model, 0, textures);
+  EXPECT_EQ(shown.emissiveTexture, pa::TextureId(7));
+  EXPECT_EQ(shown.seenEmission, glm::vec3(1.0f));
+  EXPECT_EQ(shown.emission, glm::vec3(0.0f));   // lights nothing: no emitter to sample
+  EXPECT_EQ(shown.baseColor, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));   // reflects nothing
+  EXPECT_EQ(shown.specular, 0.0f);
+  EXPECT_EQ(shown.baseTexCoords, pa::TexCoordSource::ReflectionSphere);   // the emission is read there too
+  EXPECT_FALSE(shown.emissiveOwnUv);
+  const pa::MaterialDesc constant = describeStage(tinted, tinted.look, nullptr, MaterialUse::Model, 0, textures);
+  EXPECT_GT(constant.seenEmission.z, constant.seenEmission.x);   // the const colour, linear
+  EXPECT_EQ(describeStage(lit, lit.look, nullptr, MaterialUse::Model, 0, textures).seenEmission, glm::vec3(-1.0f));
+  // The lightmap preset and effects keep their own looks.
+  EXPECT_EQ(describeStage(cross, cross.look, nullptr, MaterialUse::StockModel, 0, textures).seenEmission, glm::vec3(-1.0f));
+  EXPECT_EQ(describeStage(cross, cross.look, nullptr, MaterialUse::Effect, 0, textures).seenEmission, glm::vec3(-1.0f));
 }
 
 }  // namespace
