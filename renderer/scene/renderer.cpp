@@ -346,6 +346,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                   traced[i].randomBits = cameraRayBits(sampling::PixelSampler(pixels[i].seed, firstSample + s));
                 }
                 scene.intersectCameraPacket(std::span(traced.data(), count));
+                // The Lightmap look fogs only surfaces inside a fog volume: most packets end outside all.
+                if (settings.integrator == Integrator::Lightmap) scene.markFogFreeEnds(std::span(traced.data(), count));
               }
               for (uint32_t i = 0; i < count; ++i) {
                 PixelState& p = pixels[i];
