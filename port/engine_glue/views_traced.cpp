@@ -352,6 +352,7 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   rs.spreadFireflies = settings.fireflies;   // with the denoiser or temporal accumulation only
   rs.motionVectors = false;   // the picture reads none (the renderer works it out for its own stages)
   rs.normalAov = false;       // nor the normals (the denoiser asks for its own)
+  rs.surfaceAovs = false;     // nor albedo and normal planes
   // The stock look has no tone curve: colours are clamped, as opengl1's framebuffer does. The
   // traced presets show the light they find as the lightmap shows its texels (r_pt_look stock).
   if (ctx.lightmapLook || settings.stockLook) rs.tonemap = pa::Tonemap::Clamp;

@@ -145,6 +145,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.bakedLightAtPathEnd = options.bakedPathEnd;
     settings.motionVectors = false;   // no output reads them
     settings.normalAov = options.exrOut.has_value();   // the EXR's normal layer
+    settings.surfaceAovs = options.exrOut.has_value();   // its albedo and normal layers
     const Camera view = toRendererCamera(camera, static_cast<float>(settings.width) / settings.height);
 
     const bool showProgress = !options.quiet && (options.progress || ::isatty(::fileno(log)));

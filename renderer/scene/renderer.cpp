@@ -253,12 +253,15 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   const bool unchangedOrSeenOnly =
       !im.worldChanged || (settings.accumulateThroughEdits && !im.seenSinceRender.everything);
   const bool keep = settings.accumulate && im.haveLast && unchangedOrSeenOnly && sameCamera(camera, im.lastCamera) &&
-                    sameEstimate(settings, im.lastSettings);
+                    sameEstimate(settings, im.lastSettings) && im.film.canResume();
   // A frame of one sample per pixel that is not accumulated and that nothing filters afterwards
   // (as the game's lightmap preset): each sample is its pixel's resolved value, written without
   // the accumulators.
   const bool singleSample = !settings.accumulate && settings.samplesPerPixel == 1 && !settings.denoise && !temporalOn;
-  if (singleSample) im.film.beginSingleSampleFrame();
+  // Such a frame's emission, albedo and normal planes are read only by the lighting look there,
+  // and by the caller through FrameView when it asks for them.
+  const bool filmAovs = !singleSample || settings.surfaceAovs || settings.lightingLook != LightingLook::Physical;
+  if (singleSample) im.film.beginSingleSampleFrame(filmAovs);
   else if (!keep) im.film.reset();
   else im.film.resumeAccumulation();
   // Camera-only overlays changed (the first-person weapon moved): the pixels they covered last
@@ -346,6 +349,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                   traced[i].randomBits = cameraRayBits(sampling::PixelSampler(pixels[i].seed, firstSample + s));
                 }
                 scene.intersectCameraPacket(std::span(traced.data(), count));
+                // The Lightmap look fogs only surfaces inside a fog volume: most packets end outside all.
+                if (settings.integrator == Integrator::Lightmap) scene.markFogFreeEnds(std::span(traced.data(), count));
               }
               for (uint32_t i = 0; i < count; ++i) {
                 PixelState& p = pixels[i];
@@ -469,8 +474,10 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   view.height = film.height();
   view.accumulatedFrames = film.frames();
   view.radiance = film.radiance();
-  view.albedo = film.albedo();
-  view.normal = film.normal();
+  if (filmAovs) {
+    view.albedo = film.albedo();
+    view.normal = film.normal();
+  }
   view.depth = film.depth();
   view.variance = film.variance();
   view.rgba8 = film.rgba8();

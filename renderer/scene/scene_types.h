@@ -476,6 +476,12 @@ struct RenderSettings {
   /// denoiser (nothing else there reads normals) skips interpolating it and holds the winding
   /// normal there instead; the picture is the same. Does not reset accumulation.
   bool normalAov = true;
+  /// Fill FrameView::albedo and FrameView::normal. False: a frame of one sample per pixel that
+  /// nothing filters (no accumulate, denoise or temporal stage) with the Physical lighting look
+  /// writes only radiance, depth and variance per pixel and hands those two out empty; the next
+  /// frame that accumulates starts again rather than resume from it. Other frames fill them
+  /// anyway. Does not reset accumulation.
+  bool surfaceAovs = true;
 };
 
 }  // namespace pa

@@ -94,8 +94,10 @@ void Film::reset() {
   accumulatorsStale_ = false;
 }
 
-void Film::beginSingleSampleFrame() {
+void Film::beginSingleSampleFrame(bool aovs) {
   frames_ = 0;
+  // A frame without AOVs after one with them (or the reverse) keeps the accumulators stale.
+  aovsWritten_ = aovs;
   accumulatorsStale_ = true;
 }
 
@@ -104,9 +106,11 @@ void Film::writeSample(uint32_t x, uint32_t y, const PixelSample& s) {
   const auto [r, e] = countedLight(s);
   // 0 + v as the sums, which start at +0, give: a -0 resolves to +0 there too.
   radiance_[i] = glm::vec3(0.0f) + r;
-  emission_[i] = glm::vec3(0.0f) + e;
-  albedo_[i] = glm::vec3(0.0f) + s.albedo;
-  normal_[i] = glm::vec3(0.0f) + s.normal;
+  if (aovsWritten_) {
+    emission_[i] = glm::vec3(0.0f) + e;
+    albedo_[i] = glm::vec3(0.0f) + s.albedo;
+    normal_[i] = glm::vec3(0.0f) + s.normal;
+  }
   depth_[i] = std::isfinite(s.depth) ? 0.0f + s.depth : std::numeric_limits<float>::infinity();
   variance_[i] = 0.0f;   // one sample
 }
@@ -114,8 +118,9 @@ void Film::writeSample(uint32_t x, uint32_t y, const PixelSample& s) {
 void Film::prefetchPixels(uint32_t x, uint32_t y, uint32_t n) const {
   const size_t i = size_t{y} * width_ + x;
   if (accumulatorsStale_) {
-    for (const std::vector<glm::vec3>* v : {&radiance_, &emission_, &albedo_, &normal_})
-      prefetchForWrite(std::span(*v).subspan(i, n));
+    prefetchForWrite(std::span(radiance_).subspan(i, n));
+    if (aovsWritten_)
+      for (const std::vector<glm::vec3>* v : {&emission_, &albedo_, &normal_}) prefetchForWrite(std::span(*v).subspan(i, n));
     prefetchForWrite(std::span(depth_).subspan(i, n));
     prefetchForWrite(std::span(variance_).subspan(i, n));
   } else {
@@ -126,6 +131,7 @@ void Film::prefetchPixels(uint32_t x, uint32_t y, uint32_t n) const {
 
 void Film::resumeAccumulation() {
   if (!accumulatorsStale_) return;
+  if (!aovsWritten_) throw std::logic_error("Film::resumeAccumulation: the last frame left its AOVs out");
   accumulatorsStale_ = false;
   // Each resolved value is its one sample as add() counted it: adding it again gives the same sums.
   for (size_t i = 0; i < pixels_.size(); ++i) {

@@ -134,10 +134,17 @@ class Film {
   void setOverlayAt(uint32_t x, uint32_t y, bool overlay) { overlay_[size_t{y} * width_ + x] = overlay ? 1 : 0; }
   /// Starts a frame of one sample per pixel written straight into the resolved buffers
   /// (writeSample) instead of the accumulators; a later frame that keeps accumulating rebuilds
-  /// them from those buffers first (resumeAccumulation).
-  void beginSingleSampleFrame();
-  /// The resolved values of pixel (x, y) for one sample: what add() then resolveMeanRows give.
+  /// them from those buffers first (resumeAccumulation). Without `aovs`, writeSample leaves the
+  /// emission, albedo and normal buffers as they were (nothing reads them this frame: no
+  /// denoiser, temporal stage or lighting look) and the accumulators cannot be rebuilt
+  /// (canResume() is false until the next reset).
+  void beginSingleSampleFrame(bool aovs = true);
+  /// The resolved values of pixel (x, y) for one sample: what add() then resolveMeanRows give
+  /// (radiance, depth and variance only in a single-sample frame without AOVs).
   void writeSample(uint32_t x, uint32_t y, const PixelSample& s);
+  /// True unless the last single-sample frame left the AOV buffers out: resumeAccumulation can
+  /// rebuild the accumulators (otherwise the next accumulating frame must reset()).
+  bool canResume() const { return !accumulatorsStale_ || aovsWritten_; }
   /// Asks the cache for the storage of pixels [x, x + n) of row y ahead of their samples
   /// (writeSample's buffers in a single-sample frame, the accumulators otherwise).
   void prefetchPixels(uint32_t x, uint32_t y, uint32_t n) const;
@@ -183,6 +190,7 @@ class Film {
   std::vector<uint8_t> rgba8_;
   std::vector<uint8_t> overlay_;   ///< Per pixel: overlayAt.
   bool accumulatorsStale_ = false;   ///< The last frame was written by writeSample.
+  bool aovsWritten_ = true;            ///< ... with the emission, albedo and normal buffers.
   SrgbByteEncoder encoder_;
 };
 

@@ -140,7 +140,10 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
     const glm::vec3 dir = ray.dir * (1.0f / dirLength);
     // Fog along this segment; a camera ray measures it by eye-space depth, as stock does.
     const float eyeDepthScale = depth == 0 ? glm::dot(dir, camera.forward()) : 1.0f;
-    const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, dirLength * eyeDepthScale, true);
+    // No fog where the map has none, or where no volume holds the packet's hits (markFogFreeEnds).
+    const bool fogFree = scene.fogs.empty() || (depth == 0 && traced != nullptr && traced->fogFreeEnd);
+    const FogSegment fog =
+        fogFree ? FogSegment() : FogSegment(scene.fogs, ray.origin, ray.dir, tHit, dirLength * eyeDepthScale, true);
     layers.appendBefore(*segment.additive, tHit);
     if (fog.transmittance() < 1.0f && displayFogCount < displayFog.size()) {
       displayFog[displayFogCount++] = {radiance, 1.0f - fog.transmittance(), fog.layerColor()};

@@ -69,6 +69,34 @@ bool fogInterval(const FogVolume& volume, const glm::vec3& origin, const glm::ve
   return t0 < t1;
 }
 
+// A volume that holds a finite end p = origin + tEnd dir has, for each of its planes, p inside
+// (entering planes: p lies past their crossing; parallel ones: the origin is inside) or at most
+// endSlack dot(n, dir) <= endSlack |dir| beyond it (leaving planes: their exit t + endSlack >=
+// tEnd); fogInterval's rounding moves that by a few float steps of |w| + |origin| + |p|.
+float fogEndAllowance(const glm::vec3& lo, const glm::vec3& hi, float maxT, float maxDir) {
+  const glm::vec3 far = glm::max(glm::abs(lo), glm::abs(hi));
+  const float end = far.x + far.y + far.z;   // bounds |end| (L1); |origin| <= |end| + tEnd |dir|
+  return 2.0f * kEndSlack * std::max(1.0f, maxT) * maxDir + 1e-4f * (1.0f + 2.0f * end + maxT * maxDir);
+}
+
+bool fogMayHoldEndsIn(std::span<const FogVolume> volumes, const glm::vec3& lo, const glm::vec3& hi, float allowance) {
+  const glm::vec3 centre = 0.5f * (lo + hi), half = 0.5f * (hi - lo);
+  for (const FogVolume& volume : volumes) {
+    bool ruledOut = false;
+    for (const glm::vec4& plane : volume.planes) {
+      const glm::vec3 n(plane);
+      // The box's nearest point to the plane's inside, less a float step of the box for rounding.
+      const float nearest = glm::dot(n, centre) - glm::dot(glm::abs(n), half) * 1.0001f;
+      if (nearest - plane.w > allowance + 1e-4f * std::fabs(plane.w)) {
+        ruledOut = true;
+        break;
+      }
+    }
+    if (!ruledOut) return true;
+  }
+  return false;
+}
+
 FogSegment::FogSegment(std::span<const FogVolume> volumes, const glm::vec3& origin, const glm::vec3& dir, float tEnd,
                        float lengthScale, bool endInsideOnly)
     : lengthScale_(lengthScale) {

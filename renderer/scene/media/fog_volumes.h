@@ -42,6 +42,20 @@ float fogOpacity(float length, float depthForOpaque);
 bool fogInterval(const FogVolume& volume, const glm::vec3& origin, const glm::vec3& dir, float tEnd, float& t0,
                  float& t1);
 
+/// How far beyond one of its volume's planes the finite end of a segment origin + t dir, t in
+/// [0, tEnd], may lie while FogSegment's endInsideOnly still counts that volume as holding it,
+/// for every segment that ends in the box [lo, hi] with tEnd <= maxT and |dir| (L1) <= maxDir:
+/// the end slack (at most 1e-4 max(1, tEnd) |dir|) twice over, plus 1e-4 of |origin| + |end|
+/// (L1) for fogInterval's rounding (hundreds of times it).
+float fogEndAllowance(const glm::vec3& lo, const glm::vec3& hi, float maxT, float maxDir);
+
+/// False when no volume can hold any segment end in the box [lo, hi] whose fogEndAllowance is
+/// at most `allowance` (as FogSegment's endInsideOnly counts it): each volume has a plane the
+/// whole box lies beyond by more than that (+ 1e-4 of the plane's distance). Then FogSegment
+/// of each such segment with endInsideOnly is empty; true says nothing. One test per plane up to
+/// the first that rules a volume out, for a packet of segments at once.
+bool fogMayHoldEndsIn(std::span<const FogVolume> volumes, const glm::vec3& lo, const glm::vec3& hi, float allowance);
+
 /// The stock renderer's fog blend, done on display (sRGB-encoded) values as its framebuffer
 /// blend does: lin((1 - opacity) * srgb(min(behind, 1)) + opacity * srgb(min(color, 1))).
 /// The Lightmap integrator composites camera-ray fog this way.
@@ -54,6 +68,8 @@ class FogSegment {
   /// Volumes beyond kCapacity along one segment are ignored (the nearest are kept).
   static constexpr uint32_t kCapacity = 8;
 
+  /// A segment through no fog (transmittance 1, no glow).
+  FogSegment() = default;
   /// Clips origin + t * dir, t in [0, tEnd] (tEnd may be infinite) against every volume.
   /// `lengthScale` multiplies the distances inside (|dir| for non-unit directions; the
   /// Lightmap integrator's camera rays also fold in the eye-space depth factor).

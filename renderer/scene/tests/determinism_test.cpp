@@ -138,6 +138,45 @@ TEST(Determinism, SingleSampleFramesWrittenDirectlyEqualAccumulatedOnes) {
   }
 }
 
+TEST(Determinism, SingleSampleFramesWithoutSurfaceAovsShowTheSamePicture) {
+  // RenderSettings::surfaceAovs false: a one-sample frame that nothing filters leaves the albedo,
+  // normal and emission planes out; what it hands out (radiance, depth, variance, rgba8) is the
+  // same bytes, albedo and normal come out empty, and a frame that then accumulates starts again
+  // (as a fresh renderer's first) instead of resuming from planes it did not write.
+  for (const Integrator integrator : {Integrator::Lightmap, Integrator::Direct}) {
+    RenderSettings with = settingsFor(integrator, 30, 1, 2);
+    with.accumulate = false;
+    with.tonemap = Tonemap::Clamp;
+    RenderSettings without = with;
+    without.surfaceAovs = false;
+    Renderer a({2}), b({2}), c({2});
+    buildScene(a);
+    buildScene(b);
+    buildScene(c);
+    for (int frame = 0; frame < 2; ++frame) {
+      const FrameView full = a.render(camera(), with);
+      const FrameView lean = b.render(camera(), without);
+      EXPECT_TRUE(lean.albedo.empty());
+      EXPECT_TRUE(lean.normal.empty());
+      ASSERT_EQ(full.albedo.size(), size_t{30 * 30});
+      const auto same = [](auto x, auto y) {
+        return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size_bytes()) == 0;
+      };
+      EXPECT_TRUE(same(full.radiance, lean.radiance)) << "integrator " << static_cast<int>(integrator);
+      EXPECT_TRUE(same(full.depth, lean.depth));
+      EXPECT_TRUE(same(full.variance, lean.variance));
+      EXPECT_TRUE(same(full.rgba8, lean.rgba8));
+    }
+    RenderSettings accumulated = with;
+    accumulated.accumulate = true;
+    without.accumulate = true;   // surfaceAovs is moot when accumulating: every plane is filled
+    const FrameView resumed = b.render(camera(), without);
+    EXPECT_EQ(resumed.accumulatedFrames, 1u);
+    EXPECT_EQ(frameBytes(resumed), frameBytes(c.render(camera(), accumulated)))
+        << "integrator " << static_cast<int>(integrator);
+  }
+}
+
 TEST(Determinism, AccumulationResetsOnCameraSettingsAndSceneChanges) {
   Renderer r({2});
   buildScene(r);

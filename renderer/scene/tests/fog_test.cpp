@@ -1,6 +1,11 @@
 // Fog volumes: the opacity curve, ray clipping, and known answers through pa::Renderer in
 // every integrator (camera rays, eye-space depth in the Lightmap look, shadow rays, glow).
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -92,6 +97,105 @@ TEST(FogVolume, SegmentComposesVolumesFrontToBack) {
   EXPECT_FLOAT_EQ(segment.transmittanceTo(0.5f), 1.0f);
 }
 
+/// What FogSegment's endInsideOnly counts, from fogInterval alone: the volume holds the end of
+/// origin + t dir, t in [0, tEnd] (within the end slack of 1e-4 tEnd; an infinite end when the
+/// ray never leaves).
+bool holdsEnd(const FogVolume& v, const glm::vec3& origin, const glm::vec3& dir, float tEnd) {
+  float t0 = 0, t1 = 0;
+  if (!fogInterval(v, origin, dir, tEnd, t0, t1)) return false;
+  return std::isfinite(tEnd) ? t1 + 1e-4f * std::max(1.0f, tEnd) >= tEnd : std::isinf(t1);
+}
+
+/// fogMayHoldEndsIn for the ends of a set of segments, as RenderScene::markFogFreeEnds asks it.
+bool mayHoldAny(std::span<const FogVolume> volumes, std::span<const glm::vec3> origins, std::span<const glm::vec3> dirs,
+                std::span<const float> tEnds) {
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  float maxT = 0.0f, maxDir = 0.0f;
+  for (size_t i = 0; i < origins.size(); ++i) {
+    lo = glm::min(lo, origins[i] + tEnds[i] * dirs[i]);
+    hi = glm::max(hi, origins[i] + tEnds[i] * dirs[i]);
+    maxT = std::max(maxT, tEnds[i]);
+    maxDir = std::max(maxDir, std::fabs(dirs[i].x) + std::fabs(dirs[i].y) + std::fabs(dirs[i].z));
+  }
+  return fogMayHoldEndsIn(volumes, lo, hi, fogEndAllowance(lo, hi, maxT, maxDir));
+}
+
+TEST(FogVolume, EndTestRulesOutVolumesThatCannotHoldTheEnds) {
+  FogVolumeDesc boxDesc;
+  const std::vector<glm::vec4> unitBox = boxPlanes({0, 0, 0}, {1, 1, 1});
+  boxDesc.planes = unitBox;
+  const std::vector<FogVolume> one = {makeFogVolume(boxDesc, "box")};
+  const auto may = [&](const glm::vec3& origin, const glm::vec3& dir, float tEnd) {
+    return mayHoldAny(one, std::span(&origin, 1), std::span(&dir, 1), std::span(&tEnd, 1));
+  };
+  EXPECT_TRUE(may({-5, 0.5f, 0.5f}, {1, 0, 0}, 5.5f));    // ends inside
+  EXPECT_TRUE(may({-5, 0.5f, 0.5f}, {1, 0, 0}, 6.0f));    // ends on the far side
+  EXPECT_FALSE(may({-5, 0.5f, 0.5f}, {1, 0, 0}, 8.0f));   // passes through, ends beyond
+  EXPECT_FALSE(may({-5, 0.5f, 0.5f}, {1, 0, 0}, 2.0f));   // stops before it
+  EXPECT_FALSE(fogMayHoldEndsIn({}, {0, 0, 0}, {1, 1, 1}, 1.0f));   // no volumes
+
+  // Packets of 16 rays from one origin toward ends scattered about a spot near the boundaries of
+  // a box far from the origin (as in a map) and of a slanted wedge, from near and far, with unit
+  // and longer directions: when the test rules the volume out, no ray of the packet ends in it
+  // (as fogInterval and FogSegment count it), and it rules out most packets clearly outside.
+  const std::vector<glm::vec4> farBoxPlanes = boxPlanes({2000, -3000, 100}, {2300, -2800, 180});
+  const std::vector<glm::vec4> wedgePlanes = {{0.2f, 0.98f, 0, 40}, {0.3f, -0.95f, 0, 10}, {-1, 0, 0, 0},
+                                              {0, 0, 1, 50},        {0, 0, -1, 50},         {0.99f, 0.14f, 0.0f, 300}};
+  FogVolumeDesc farBox;
+  farBox.planes = farBoxPlanes;
+  FogVolumeDesc wedge;
+  wedge.planes = wedgePlanes;
+  uint32_t state = 12345;
+  const auto next = [&state] {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<float>(state >> 8) / 16777216.0f;
+  };
+  uint32_t ruledOut = 0, clearlyOutside = 0, held = 0, rays = 0;
+  for (const FogVolumeDesc* desc : {&farBox, &wedge}) {
+    const std::vector<FogVolume> volumes = {makeFogVolume(*desc, "volume")};
+    const FogVolume& v = volumes[0];
+    const glm::vec3 lo = desc == &farBox ? glm::vec3(2000, -3000, 100) : glm::vec3(-10, -60, -60);
+    const glm::vec3 hi = desc == &farBox ? glm::vec3(2300, -2800, 180) : glm::vec3(320, 60, 60);
+    for (int packet = 0; packet < 4000; ++packet) {
+      const glm::vec3 size = hi - lo;
+      glm::vec3 spot = lo + glm::vec3(next() * 1.4f - 0.2f, next() * 1.4f - 0.2f, next() * 1.4f - 0.2f) * size;
+      if (packet % 2 == 0) {   // on a face of the box, within a unit either side
+        const int axis = packet / 2 % 3;
+        spot[axis] = (next() < 0.5f ? lo[axis] : hi[axis]) + (next() - 0.5f) * 2.0f;
+      }
+      const glm::vec3 origin = spot + glm::vec3(next() - 0.5f, next() - 0.5f, next() - 0.5f) *
+                                          (packet % 4 < 2 ? 200.0f : 8000.0f);
+      const float spread = packet % 3 == 0 ? 0.01f : 3.0f;   // tight packets and wide ones
+      std::array<glm::vec3, 16> origins, dirs;
+      std::array<float, 16> tEnds;
+      bool anyHeld = false, allOutside = true;
+      for (int i = 0; i < 16; ++i) {
+        const glm::vec3 end = spot + glm::vec3(next() - 0.5f, next() - 0.5f, next() - 0.5f) * spread;
+        const float scale = packet % 5 == 0 ? 1.0f : 0.25f + 4.0f * next();
+        origins[i] = origin;
+        dirs[i] = glm::normalize(end - origin) * scale;
+        tEnds[i] = glm::length(end - origin) / scale;
+        const bool holds = holdsEnd(v, origins[i], dirs[i], tEnds[i]);
+        EXPECT_EQ(FogSegment(volumes, origins[i], dirs[i], tEnds[i], 1.0f, true).empty(), !holds);
+        anyHeld = anyHeld || holds;
+        held += holds;
+        ++rays;
+        bool outside = false;
+        for (const glm::vec4& plane : v.planes)
+          outside = outside || glm::dot(glm::vec3(plane), origins[i] + tEnds[i] * dirs[i]) - plane.w > 10.0f;
+        allOutside = allOutside && outside;
+      }
+      const bool mayHold = mayHoldAny(volumes, origins, dirs, tEnds);
+      ASSERT_TRUE(mayHold || !anyHeld) << "packet " << packet;
+      ruledOut += !mayHold;
+      clearlyOutside += allOutside;
+    }
+  }
+  EXPECT_GT(held, rays / 20);
+  EXPECT_GT(clearlyOutside, 2000u);
+  EXPECT_GE(ruledOut, clearlyOutside * 9 / 10);
+}
+
 TEST(FogVolume, DisplaySpaceBlendMixesEncodedValues) {
   const glm::vec3 out = blendInDisplaySpace({srgbToLinear(0.2f), 4.0f, 0.0f}, 0.25f, glm::vec3(srgbToLinear(0.6f)));
   EXPECT_NEAR(out.r, srgbToLinear(0.75f * 0.2f + 0.25f * 0.6f), 1e-6f);
@@ -176,6 +280,33 @@ TEST(FogVolume, LightmapLookFogsOnlySurfacesInsideTheVolume) {
   scene.setFog({-5, -100, -100}, {10, 100, 100}, {0, 0, 0}, 20.0f);
   EXPECT_NEAR(centrePixel(scene.render(Integrator::Lightmap, 1.0f)).g, srgbToLinear(1.0f - expectedOpacity(10.0f, 20.0f)),
               1e-3f);
+}
+
+TEST(FogVolume, LightmapPacketsOutsideEveryVolumeSkipTheClippingWithTheSameImage) {
+  // A fog box around part of the wall (its corner in view): packets of camera rays whose hits all
+  // lie clearly outside it skip FogSegment (RenderScene::markFogFreeEnds); rays traced one by one
+  // clip every segment. Both give the same bits, fogged pixels and clear ones alike.
+  WallScene scene;
+  scene.setFog({8, -100, -100}, {12, 1.5f, 2.5f}, {0.2f, 0.4f, 0.9f}, 6.0f);
+  scene.renderer.commit();
+  RenderSettings s = settingsFor(Integrator::Lightmap, 48, 1, 0);
+  s.accumulate = false;
+  s.pixelCentres = true;
+  const Camera camera = lookAt({0, 0, 0}, {1, 0, 0}, 60.0f);
+  s.cameraPackets = true;
+  const std::vector<glm::vec3> packets(scene.renderer.render(camera, s).radiance.begin(),
+                                       scene.renderer.render(camera, s).radiance.end());
+  s.cameraPackets = false;
+  const FrameView single = scene.renderer.render(camera, s);
+  ASSERT_EQ(packets.size(), single.radiance.size());
+  uint32_t fogged = 0, clear = 0, differ = 0;
+  for (size_t i = 0; i < packets.size(); ++i) {
+    differ += std::memcmp(&packets[i], &single.radiance[i], sizeof(glm::vec3)) != 0;
+    (packets[i].r < 0.99f ? fogged : clear) += 1;
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_GT(fogged, 200u);
+  EXPECT_GT(clear, 200u);
 }
 
 TEST(FogVolume, ViewFromInsideGlowsUpToTheBoundaryExceptInTheStockLook) {

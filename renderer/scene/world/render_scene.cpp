@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x2.hpp>
@@ -207,6 +208,7 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
     r.found = r.onOverlay = false;
     r.hit = Hit{};
     r.additive.count = 0;
+    r.fogFreeEnd = false;
     requests[i].kind = RayKind::Camera;
     requests[i].randomBits = r.randomBits;
     requests[i].additive = &r.additive;
@@ -235,6 +237,29 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
     }
     remaining &= ~found;
   }
+}
+
+void RenderScene::markFogFreeEnds(std::span<TracedCameraRay> rays) const {
+  if (fogs.empty() || rays.empty()) return;
+  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+  float maxT = 0.0f, maxDir = 0.0f;
+  bool allHit = true;
+  for (const TracedCameraRay& r : rays) {
+    allHit = allHit && r.found;   // a miss ends nowhere: left to FogSegment
+    const glm::vec3 end = r.ray.origin + r.hit.t * r.ray.dir;
+    lo = glm::min(lo, end);
+    hi = glm::max(hi, end);
+    maxT = std::max(maxT, r.hit.t);
+    maxDir = std::max(maxDir, std::fabs(r.ray.dir.x) + std::fabs(r.ray.dir.y) + std::fabs(r.ray.dir.z));
+  }
+  // An infinite or NaN end anywhere fails these: no ray is marked then.
+  if (!allHit || !(maxT < std::numeric_limits<float>::infinity() && maxDir < std::numeric_limits<float>::infinity()))
+    return;
+  if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z && hi.x - lo.x < std::numeric_limits<float>::infinity() &&
+        hi.y - lo.y < std::numeric_limits<float>::infinity() && hi.z - lo.z < std::numeric_limits<float>::infinity()))
+    return;
+  if (fogMayHoldEndsIn(fogs, lo, hi, fogEndAllowance(lo, hi, maxT, maxDir))) return;
+  for (TracedCameraRay& r : rays) r.fogFreeEnd = true;
 }
 
 bool RenderScene::occluded(const Ray& shadowRay, const TraceRequest& request) const {

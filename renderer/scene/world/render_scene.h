@@ -91,6 +91,8 @@ struct TracedCameraRay {
   bool found = false;       ///< Out: something was hit.
   bool onOverlay = false;   ///< Out: the hit is on a drawOnTop instance.
   AdditiveHits additive;    ///< Out: additive surfaces crossed (TraceRequest::additive).
+  /// Out (RenderScene::markFogFreeEnds): no fog volume holds the hit; false from intersectCameraPacket.
+  bool fogFreeEnd = false;
 };
 
 /// How much of a SurfaceHit RenderScene::surfaceAt works out.
@@ -175,6 +177,10 @@ struct RenderScene {
   /// intersect() with RayKind::Camera and its additive collection gives, drawOnTop instances
   /// first (as the integrator's camera query), the same hit per ray as one by one.
   void intersectCameraPacket(std::span<TracedCameraRay> rays) const;
+  /// Sets fogFreeEnd on every ray of a packet traced by intersectCameraPacket when every ray hit
+  /// something and no fog volume can hold any of the hits (fogMayHoldEndsIn over the hits' box):
+  /// their segments' FogSegment with endInsideOnly is empty (the Lightmap look's camera rays).
+  void markFogFreeEnds(std::span<TracedCameraRay> rays) const;
   /// Any blocking hit (shadow rays).
   bool occluded(const Ray& ray, const TraceRequest& request) const;
   /// Interpolated surface data at a hit from intersect() with the same `overlay` choice.
