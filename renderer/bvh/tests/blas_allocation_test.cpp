@@ -1,6 +1,6 @@
 // Blases that dynamic meshes use in play allocate nothing once reserved: reserveLike and a
 // rebuild keep the memory that the next build and the first refit need. Its own program: it
-// counts every operator new of the process.
+// counts every operator new of the process (plain and aligned).
 #include <atomic>
 #include <cstdlib>
 #include <new>
@@ -22,6 +22,15 @@ void* operator new(std::size_t bytes) {
 }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+// Over-aligned arrays (the wide layouts' nodes and packs) come through the aligned forms.
+void* operator new(std::size_t bytes, std::align_val_t alignment) {
+  allocations.fetch_add(1, std::memory_order_relaxed);
+  const auto align = static_cast<std::size_t>(alignment);
+  if (void* p = std::aligned_alloc(align, (bytes + align - 1) / align * align + (bytes == 0 ? align : 0))) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 
 namespace pa {
 namespace {
