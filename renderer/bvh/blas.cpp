@@ -42,6 +42,28 @@ struct Blas::Impl {
     bvh_detail::collapseToWide(binary, mesh, wide, &collapseWorkspace);   // reuses the previous layout's memory
     if (!allowAvx512) wide.kernel = bvh_detail::WideKernel::Baseline;
   }
+
+  /// Makes room for the most that any collapse of `binary` can write: a refit plans the collapse
+  /// again over the moved boxes and may choose other leaves (more nodes, more small packs), so
+  /// what one collapse used is no bound for the next. Each leaf slot holds at least one binary
+  /// leaf; a 16-wide leaf of more than 8 references takes at most one pack per 8 of them, an
+  /// 8-wide leaf one pack per 8 and one for the rest.
+  void reserveCollapseRoom() {
+    const size_t leaves = binary.leafCount, references = binary.primIndices.size();
+    const auto atLeast = [](auto& v, size_t n) {
+      if (n > v.capacity()) v.reserve(n);
+    };
+    atLeast(collapseWorkspace.leaves, leaves);
+    atLeast(collapseWorkspace.firstPack, leaves);
+    if (nodeWidth == 16) {
+      atLeast(wide16.nodes, leaves + 1);
+      atLeast(wide16.smallPacks, leaves);
+      atLeast(wide16.packs, references / 8 + 1);
+    } else {
+      atLeast(wide.nodes, leaves + 1);
+      atLeast(wide.packs, leaves + references / 8 + 1);
+    }
+  }
 };
 
 namespace {
@@ -91,8 +113,9 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
   if (++impl.builds == 1 && !impl.keepsBuildMemory) {
     impl.scratch.release();
     impl.collapseWorkspace = bvh_detail::CollapseWorkspace{};
-  } else if (impl.triangleBoxes.capacity() < impl.mesh.triangleCount()) {
-    impl.triangleBoxes.reserve(impl.mesh.triangleCount());
+  } else {
+    if (impl.triangleBoxes.capacity() < impl.mesh.triangleCount()) impl.triangleBoxes.reserve(impl.mesh.triangleCount());
+    impl.reserveCollapseRoom();   // and for the collapses its refits make
   }
 }
 
