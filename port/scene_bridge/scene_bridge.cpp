@@ -104,6 +104,21 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   desc.alphaCutoff = m.alphaCutoff;
   desc.alphaInvert = m.alphaInvert;
   desc.opacity = m.opacity;
+  if (m.alphaMode == q3::WorldAlphaMode::Additive) {
+    // The stage's source factor, as the framebuffer blends it (destination GL_ONE).
+    switch (m.additiveSource) {
+      case q3::BlendFactor::SrcAlpha:   // flames: the texture x its own alpha
+        desc.stock.layerBlend = LayerBlend::Factors;
+        desc.stock.layerSrcFactor = BlendFactor::SrcAlpha;
+        desc.stock.layerDstFactor = BlendFactor::One;
+        break;
+      case q3::BlendFactor::DstColor:   // team decals: what is behind x (1 + the texture)
+        desc.stock.layerBlend = LayerBlend::MultiplyAdd;
+        break;
+      default: break;   // One (and rarer factors): the texture added
+    }
+    desc.layerAlphaTest = m.additiveAlphaTest;
+  }
   desc.stock.lightmapTexture =
       q3::lightmapPageOf(lightmap, handles.lightmaps.size()) >= 0 ? handles.lightmaps[size_t(lightmap)] : kNoId;
   desc.stock.useVertexLight = m.vertexLit || desc.stock.lightmapTexture == kNoId;

@@ -240,6 +240,9 @@ struct MaterialDesc {
   /// radiance multiplier of emissiveTexture. Negative = `emission`. Light sampling and rays
   /// after a scattering always use `emission`.
   glm::vec3 seenEmission{-1.0f};
+  /// Additive: texels whose alpha fails the alpha test (alphaCutoff, alphaInvert, as Mask tests
+  /// coverage) add nothing and keep what is behind (Quake's alphaFunc on a blended stage).
+  bool layerAlphaTest = false;
   bool vertexColorTints = true;         ///< The vertex colour's RGB multiplies the base (unless stock.useVertexLight).
   bool vertexAlphaTints = true;         ///< The vertex colour's alpha multiplies the base's alpha.
   bool mirror = false;                  ///< Perfect specular reflection (mirrors, portals seen as mirrors).

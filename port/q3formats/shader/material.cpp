@@ -63,6 +63,10 @@ bool isImageStage(const ShaderStage& s) {
   return s.source == TextureSource::Image && !s.textures.empty();
 }
 
+/// The cutoff of an alpha test as `alpha >= cutoff` (or `<` when inverted) tests it: GT0 keeps any
+/// alpha above zero, the smallest being one 8-bit step (a cutoff of 0 would keep every texel).
+float alphaTestCutoff(AlphaTest test) { return test == AlphaTest::Gt0 ? 1.0f / 255.0f : 0.5f; }
+
 AlphaMode blendMode(const ShaderStage& s) {
   if (!s.blends()) return AlphaMode::Opaque;
   const BlendFactor src = s.srcBlend, dst = s.dstBlend;
@@ -232,8 +236,16 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
     const ShaderStage& tested = (first.alphaTest == AlphaTest::None && base) ? *base : first;
     if (tested.alphaTest != AlphaTest::None && m.alphaMode == AlphaMode::Opaque) {
       m.alphaMode = AlphaMode::Mask;
-      m.alphaCutoff = tested.alphaTest == AlphaTest::Gt0 ? 0.0f : 0.5f;
+      m.alphaCutoff = alphaTestCutoff(tested.alphaTest);
       m.alphaInvert = tested.alphaTest == AlphaTest::Lt128;
+    }
+    if (m.alphaMode == AlphaMode::Additive) {
+      m.additiveSource = first.srcBlend;
+      if (first.alphaTest != AlphaTest::None) {   // the test discards fragments before they blend
+        m.additiveAlphaTest = true;
+        m.alphaCutoff = alphaTestCutoff(first.alphaTest);
+        m.alphaInvert = first.alphaTest == AlphaTest::Lt128;
+      }
     }
   }
 

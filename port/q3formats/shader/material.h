@@ -90,6 +90,11 @@ struct MaterialInfo {
   AlphaMode alphaMode = AlphaMode::Opaque;
   float alphaCutoff = 0.5f;               ///< Mask: threshold in [0,1]
   bool alphaInvert = false;               ///< Mask with LT128: keep texels below the cutoff
+  /// Additive: the first stage's source factor (its destination factor is GL_ONE): One adds the
+  /// stage's colour, SrcAlpha its colour x alpha (flames), DstColor what is behind x the colour
+  /// (team decals: dst x (1 + src)).
+  BlendFactor additiveSource = BlendFactor::One;
+  bool additiveAlphaTest = false;         ///< Additive with alphaFunc: texels failing it (alphaCutoff, alphaInvert) add nothing
   LightingMode lighting = LightingMode::Lightmap;
   std::string lightmapImage;              ///< the lightmap stage's own image (q3map2's external
                                           ///< "maps/<map>/lm_NNNN"); "" for $lightmap or none

@@ -140,6 +140,8 @@ class SceneAssembler {
     m.alphaMode = alphaModeOf(info.alphaMode);
     m.alphaCutoff = info.alphaCutoff;
     m.alphaInvert = info.alphaInvert;
+    m.additiveSource = info.additiveSource;
+    m.additiveAlphaTest = info.additiveAlphaTest;
     m.twoSided = info.twoSided;
     m.sky = info.sky || (m.surfaceFlags & kSurfSky) != 0;
     m.fog = info.fogVolume;

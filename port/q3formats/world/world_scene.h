@@ -76,8 +76,12 @@ struct WorldMaterial {
   int32_t baseTexture = -1;      ///< Index into WorldScene::textures (-1 = none: white).
   glm::vec4 baseColor{1.0f};     ///< Linear RGBA multiplier of the base texture (rgbGen/alphaGen const).
   WorldAlphaMode alphaMode = WorldAlphaMode::Opaque;
-  float alphaCutoff = 0.5f;      ///< Mask: GT0 -> ~0, GE128/LT128 -> 0.5.
-  bool alphaInvert = false;      ///< Mask: LT128 (alpha < 0.5 is kept).
+  float alphaCutoff = 0.5f;      ///< Mask (and additiveAlphaTest): GT0 -> 1/255, GE128/LT128 -> 0.5.
+  bool alphaInvert = false;      ///< Mask (and additiveAlphaTest): LT128 (alpha < 0.5 is kept).
+  /// Additive: the first stage's source factor (destination GL_ONE): One adds the texture,
+  /// SrcAlpha the texture x its alpha, DstColor multiplies what is behind by 1 + the texture.
+  BlendFactor additiveSource = BlendFactor::One;
+  bool additiveAlphaTest = false;  ///< Additive with alphaFunc: texels failing the test add nothing.
   float opacity = 1.0f;          ///< Blend: overall opacity.
 
   glm::vec3 emission{0.0f};      ///< Linear emitted colour in [0,1] (q3map_lightImage/average texture colour).

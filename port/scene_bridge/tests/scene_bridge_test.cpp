@@ -184,6 +184,33 @@ TEST(SceneBridge, EnvironmentBaseReadsTheReflectionSphere) {
   EXPECT_FLOAT_EQ(desc.uvTransform[0][0], 0.5f);   // tcMod scale applies after the lookup
 }
 
+TEST(SceneBridge, AdditiveStagesBlendByTheirSourceFactor) {
+  q3::WorldScene scene = wallScene(64, false);
+  WorldHandles handles;
+  q3::WorldMaterial& m = scene.materials[0];
+  m.alphaMode = q3::WorldAlphaMode::Additive;
+  // gl_one gl_one: the texture added.
+  MaterialDesc desc = materialDesc(scene, handles, 0, 0);
+  EXPECT_EQ(desc.alphaMode, AlphaMode::Additive);
+  EXPECT_EQ(desc.stock.layerBlend, LayerBlend::Add);
+  EXPECT_FALSE(desc.layerAlphaTest);
+  // gl_src_alpha gl_one (flames): the texture x its alpha.
+  m.additiveSource = q3::BlendFactor::SrcAlpha;
+  desc = materialDesc(scene, handles, 0, 0);
+  EXPECT_EQ(desc.stock.layerBlend, LayerBlend::Factors);
+  EXPECT_EQ(desc.stock.layerSrcFactor, BlendFactor::SrcAlpha);
+  EXPECT_EQ(desc.stock.layerDstFactor, BlendFactor::One);
+  // gl_dst_color gl_one with alphaFunc GE128 (team decals): dst x (1 + src) where the test passes.
+  m.additiveSource = q3::BlendFactor::DstColor;
+  m.additiveAlphaTest = true;
+  m.alphaCutoff = 0.5f;
+  desc = materialDesc(scene, handles, 0, 0);
+  EXPECT_EQ(desc.stock.layerBlend, LayerBlend::MultiplyAdd);
+  EXPECT_TRUE(desc.layerAlphaTest);
+  EXPECT_FLOAT_EQ(desc.alphaCutoff, 0.5f);
+  EXPECT_FALSE(desc.alphaInvert);
+}
+
 TEST(SceneBridge, VertexLitSurfacesUseVertexColoursAsBakedLight) {
   Renderer renderer;
   showSkyAndFog(uploadWorld(wallScene(128, true), renderer), renderer);

@@ -108,6 +108,16 @@ glm::vec3 additiveThroughFog(const AdditiveHits& additive, float tHit, const Fog
   return sum;
 }
 
+/// The linear multiplier of what lies behind the see-through layers in front of tHit: their
+/// `transmit` product is a multiplier of display values (a team decal's dst x (1 + src)), taken
+/// to linear radiance through the display's 2.2 power; 1 where no layer keeps a share of it.
+glm::vec3 layersTransmittance(const AdditiveHits& additive, float tHit) {
+  const glm::vec3 display = additive.transmitBefore(tHit);
+  if (display == glm::vec3(1.0f)) return display;
+  const glm::vec3 d = glm::max(display, glm::vec3(0.0f));
+  return {std::pow(d.x, 2.2f), std::pow(d.y, 2.2f), std::pow(d.z, 2.2f)};
+}
+
 }  // namespace
 
 PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
@@ -143,6 +153,7 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     const glm::vec3 dir = glm::normalize(ray.dir);
     const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir), false);
     gather(clampContribution(beta * additiveThroughFog(*segment.additive, tHit, fog), viewDepth, settings.radianceClamp));
+    if (segment.additive->count != 0) beta *= layersTransmittance(*segment.additive, tHit);
     if (fog.transmittance() < 1.0f) {
       // The glow is the look of lit haze: seen along camera and mirror chains, never a light
       // source after a scattering (the map's lights already lit it; counting it would light twice).

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
+#include <tuple>
 
 #include "renderer/scene/textures/texture.h"
 #include "scene_builders.h"
@@ -117,6 +119,50 @@ TEST(Materials, LayerBlendsComposeInDisplayValuesInTheLightmapPreset) {
     Layers layers(coloured(0.2f, 0.2f, 0.2f), layer);
     EXPECT_NEAR(linearToSrgb(layers.centre().g), std::min(display, 1.0f), 1e-4f) << int(blend);
   }
+}
+
+TEST(Materials, AlphaTestedLayersAddOnlyWhereTheTestPasses) {
+  // A red additive layer over grey, its texture's alpha 127 or 128 against GE128 (and LT128):
+  // where the test fails the layer is discarded, as alphaFunc discards the fragment, in every preset.
+  for (const auto& [alpha, invert, shows] : std::initializer_list<std::tuple<uint8_t, bool, bool>>{
+           {uint8_t{128}, false, true}, {uint8_t{127}, false, false}, {uint8_t{127}, true, true}, {uint8_t{128}, true, false}}) {
+    MaterialDesc layer = coloured(0.3f, 0.0f, 0.0f);
+    layer.alphaMode = AlphaMode::Additive;
+    layer.layerAlphaTest = true;
+    layer.alphaInvert = invert;
+    Layers layers(coloured(0.2f, 0.2f, 0.2f), MaterialDesc{});
+    layers.renderer.setMaterial(1, withTexture(layers.renderer, layer, alpha));
+    layers.renderer.commit();
+    Layers bare(coloured(0.2f, 0.2f, 0.2f), MaterialDesc{.castsShadows = false, .visible = false});
+    for (const Integrator integrator : {Integrator::Lightmap, Integrator::Path}) {
+      const glm::vec3 c = layers.centre(integrator), behind = bare.centre(integrator);
+      EXPECT_NEAR(c.g, behind.g, 1e-5f) << int{alpha} << " invert " << invert << " integrator " << int(integrator);
+      if (shows) {
+        EXPECT_GT(c.r, behind.r + 0.1f) << int{alpha} << " invert " << invert << " integrator " << int(integrator);
+      } else {
+        EXPECT_NEAR(c.r, behind.r, 1e-5f) << int{alpha} << " invert " << invert << " integrator " << int(integrator);
+      }
+    }
+  }
+}
+
+TEST(Materials, MultiplyAddLayersBrightenWhatIsBehindInThePathPreset) {
+  // dst x (1 + src) on display values (a team decal, gl_dst_color gl_one): the traced presets
+  // multiply the linear light from behind by (1 + src)^2.2; over black it adds nothing.
+  const float s = linearToSrgb(0.25f);
+  const float gain = std::pow(1.0f + s, 2.2f);
+  MaterialDesc decal = coloured(0.25f, 0.25f, 0.25f);
+  decal.alphaMode = AlphaMode::Additive;
+  decal.stock.layerBlend = LayerBlend::MultiplyAdd;
+  MaterialDesc glowing = coloured(0.0f, 0.0f, 0.0f);   // the surface behind shows 0.1 of its own
+  glowing.emission = {0.1f, 0.1f, 0.1f};
+  Layers lit(glowing, decal);
+  EXPECT_NEAR(lit.centre(Integrator::Path).g, 0.1f * gain, 1e-4f);
+  Layers dark(coloured(0.0f, 0.0f, 0.0f), decal);
+  EXPECT_NEAR(dark.centre(Integrator::Path).g, 0.0f, 1e-6f);
+  // Without the layer the surface shows its 0.1.
+  Layers bare(glowing, MaterialDesc{.castsShadows = false, .visible = false});
+  EXPECT_NEAR(bare.centre(Integrator::Path).g, 0.1f, 1e-4f);
 }
 
 TEST(Materials, FactorBlendsComposeInDisplayValues) {

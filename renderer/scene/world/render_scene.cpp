@@ -126,6 +126,7 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
         const glm::vec3 d = ctx.ray->dir;
         const float t = glm::dot(s.position - ctx.ray->origin, d) / glm::dot(d, d);
         const glm::vec4 base = ctx.scene->baseColor(s, 0.0f);
+        if (m.layerAlphaTest && (m.alphaInvert ? base.a >= m.alphaCutoff : base.a < m.alphaCutoff)) return false;
         glm::vec3 added = glm::vec3(base) + ctx.scene->emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
         glm::vec3 transmit(1.0f);
         switch (m.stock.layerBlend) {
@@ -176,6 +177,14 @@ uint32_t rayMaskFor(RayKind kind) {
 HitRule materialHitRule(const MaterialDesc& m) {
   if (m.alphaMode != AlphaMode::Opaque || !m.castsShadows || !m.visible || m.sky) return HitRule::Filtered;
   return m.twoSided ? HitRule::Opaque : HitRule::OneSided;
+}
+
+glm::vec3 AdditiveHits::transmitBefore(float t) const {
+  glm::vec3 product(1.0f);
+  for (uint32_t i = 0; i < count; ++i) {
+    if (entries[i].t < t) product *= entries[i].transmit;
+  }
+  return product;
 }
 
 glm::vec3 AdditiveHits::sumBefore(float t) const {

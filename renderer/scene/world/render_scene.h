@@ -71,6 +71,8 @@ struct AdditiveHits {
   std::array<Entry, kCapacity> entries;   ///< First `count` are valid.
   /// Sum of the colours of entries closer than t.
   glm::vec3 sumBefore(float t) const;
+  /// Product of the `transmit` multipliers (display values) of entries closer than t.
+  glm::vec3 transmitBefore(float t) const;
 };
 
 /// Options of one ray query.

@@ -66,7 +66,30 @@ TEST(Material, AlphaTestedFoliageIsMaskAndTwoSided) {
   auto inv = material("f { { map a.tga alphaFunc LT128 } }");
   EXPECT_TRUE(inv.alphaInvert);
   auto gt0 = material("f { { map a.tga alphaFunc GT0 } }");
-  EXPECT_FLOAT_EQ(gt0.alphaCutoff, 0.0f);
+  // GT0 keeps alpha above zero: a texel of alpha 0 fails, one of 1/255 passes (alpha >= cutoff).
+  EXPECT_GT(gt0.alphaCutoff, 0.0f);
+  EXPECT_LE(gt0.alphaCutoff, 1.0f / 255.0f);
+}
+
+TEST(Material, AdditiveStagesKeepTheirSourceFactorAndAlphaTest) {
+  const MaterialInfo add = material("a { { map a.tga blendFunc add } }");
+  EXPECT_EQ(add.additiveSource, BlendFactor::One);
+  EXPECT_FALSE(add.additiveAlphaTest);
+  EXPECT_EQ(material("a { { map a.tga blendFunc GL_SRC_ALPHA GL_ONE } }").additiveSource, BlendFactor::SrcAlpha);
+  // The team decal of oasago2 (pak6-patch088's am_proto2.shader).
+  const MaterialInfo decal = material(
+      "textures/proto2/reda_dcl { polygonoffset cull none { map textures/proto2/reda_dcl.tga alphafunc GE128 "
+      "blendFunc GL_DST_COLOR GL_ONE } }");
+  EXPECT_EQ(decal.alphaMode, AlphaMode::Additive);
+  EXPECT_EQ(decal.additiveSource, BlendFactor::DstColor);
+  EXPECT_TRUE(decal.additiveAlphaTest);
+  EXPECT_FLOAT_EQ(decal.alphaCutoff, 0.5f);
+  EXPECT_FALSE(decal.alphaInvert);
+  const MaterialInfo gt0 = material("a { { map a.tga alphaFunc GT0 blendFunc add } }");
+  EXPECT_TRUE(gt0.additiveAlphaTest);
+  EXPECT_GT(gt0.alphaCutoff, 0.0f);
+  // An opaque first stage keeps its source factor out of it.
+  EXPECT_FALSE(material("a { { map a.tga alphaFunc GE128 } }").additiveAlphaTest);
 }
 
 TEST(Material, BlendModesOfTheFirstStage) {
