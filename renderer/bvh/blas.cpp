@@ -29,6 +29,7 @@ struct Blas::Impl {
   std::vector<Bounds> triangleBoxes;        // a refit's triangle boxes (kept: refits repeat)
   uint32_t builds = 0;
   bool keepsBuildMemory = false;   // reserveLike: the first build keeps its scratch too
+  bool planKept = false;           // collapseWorkspace.plan is the collapse plan of this tree
 
   /// Converts binary into the layout of nodeWidth (the other layout is emptied); allowAvx512
   /// false keeps the 8-wide layout on its baseline kernel.
@@ -43,27 +44,6 @@ struct Blas::Impl {
     if (!allowAvx512) wide.kernel = bvh_detail::WideKernel::Baseline;
   }
 
-  /// Makes room for the most that any collapse of `binary` can write: a refit plans the collapse
-  /// again over the moved boxes and may choose other leaves (more nodes, more small packs), so
-  /// what one collapse used is no bound for the next. Each leaf slot holds at least one binary
-  /// leaf; a 16-wide leaf of more than 8 references takes at most one pack per 8 of them, an
-  /// 8-wide leaf one pack per 8 and one for the rest.
-  void reserveCollapseRoom() {
-    const size_t leaves = binary.leafCount, references = binary.primIndices.size();
-    const auto atLeast = [](auto& v, size_t n) {
-      if (n > v.capacity()) v.reserve(n);
-    };
-    atLeast(collapseWorkspace.leaves, leaves);
-    atLeast(collapseWorkspace.firstPack, leaves);
-    if (nodeWidth == 16) {
-      atLeast(wide16.nodes, leaves + 1);
-      atLeast(wide16.smallPacks, leaves);
-      atLeast(wide16.packs, references / 8 + 1);
-    } else {
-      atLeast(wide.nodes, leaves + 1);
-      atLeast(wide.packs, leaves + references / 8 + 1);
-    }
-  }
 };
 
 namespace {
@@ -113,10 +93,10 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
   if (++impl.builds == 1 && !impl.keepsBuildMemory) {
     impl.scratch.release();
     impl.collapseWorkspace = bvh_detail::CollapseWorkspace{};
-  } else {
-    if (impl.triangleBoxes.capacity() < impl.mesh.triangleCount()) impl.triangleBoxes.reserve(impl.mesh.triangleCount());
-    impl.reserveCollapseRoom();   // and for the collapses its refits make
+  } else if (impl.triangleBoxes.capacity() < impl.mesh.triangleCount()) {
+    impl.triangleBoxes.reserve(impl.mesh.triangleCount());
   }
+  impl.planKept = impl.builds > 1 || impl.keepsBuildMemory;   // the workspace holds this tree's plan
 }
 
 namespace {
@@ -165,7 +145,12 @@ void Blas::refit(std::span<const glm::vec3> positions) {
   std::vector<Bounds>& triBounds = impl_->triangleBoxes;
   bvh_detail::triangleBounds(impl_->mesh, triBounds);
   bvh_detail::refitBinaryBvh(impl_->binary, triBounds);
+  // A refit moves boxes, not the tree: a kept plan (the build's) gives the same wide tree, whose
+  // arrays are already the right size; planning again over the moved boxes could choose more
+  // nodes or small packs than the build did, and allocate.
+  impl_->collapseWorkspace.keepPlan = impl_->planKept;
   impl_->collapse();   // the build's layout and kernel
+  impl_->collapseWorkspace.keepPlan = false;
   impl_->bounds = Bounds{};
   for (const Bounds& b : triBounds) impl_->bounds.extend(b);
 }

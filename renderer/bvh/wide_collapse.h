@@ -97,6 +97,9 @@ struct CollapseLeafSlot {
 /// (dynamic meshes), so that a collapse of a same-sized tree allocates nothing.
 struct CollapseWorkspace {
   OptimalCollapse plan;
+  /// True: collapse along `plan` as it is (made for this binary tree's topology; a refit moves
+  /// only its boxes) instead of planning again.
+  bool keepPlan = false;
   std::vector<CollapseLeafSlot> leaves;
   std::vector<uint32_t> firstPack;   ///< Per leaf slot: its first pack in its pool.
 };
@@ -120,7 +123,7 @@ class WideCollapser {
                 CollapseWorkspace& workspace)
       : binary_(binary), mesh_(mesh), plan_(workspace.plan), out_(out), leaves_(workspace.leaves),
         first_(workspace.firstPack) {
-    workspace.plan.plan(binary, costs);
+    if (!workspace.keepPlan) workspace.plan.plan(binary, costs);
   }
 
   void run() {

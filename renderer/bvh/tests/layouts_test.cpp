@@ -107,6 +107,15 @@ TEST(Refit, EqualsRebuild) {
   uint32_t hits = 0;
   expectIdenticalHits(tracer(refitted), tracer(rebuilt), rays, hits);
   EXPECT_GT(hits, rays.size() / 10);
+  // A rebuilt Blas keeps its collapse plan and refits along it (the wide tree of the build with
+  // moved boxes): the same hits too.
+  Blas kept;
+  kept.build(base.input());
+  kept.build(base.input());
+  kept.refit(moved.positions);
+  uint32_t keptHits = 0;
+  expectIdenticalHits(tracer(kept), tracer(rebuilt), rays, keptHits);
+  EXPECT_EQ(keptHits, hits);
   std::vector<glm::vec3> wrongCount(3);
   EXPECT_THROW(refitted.refit(wrongCount), std::invalid_argument);
 }
