@@ -113,6 +113,8 @@ void Blas::reserveLike(const Blas& example) {
   if (!impl_) impl_ = std::make_unique<Impl>();
   Impl& impl = *impl_;
   impl.keepsBuildMemory = true;
+  // Reserving may reallocate the plan's arrays (their contents go): the next refit plans again.
+  impl.planKept = false;
   if (!example.impl_) return;
   const Impl& other = *example.impl_;
   // The most triangles the example has held (its per-triangle arrays keep their capacity), not

@@ -120,6 +120,32 @@ TEST(Refit, EqualsRebuild) {
   EXPECT_THROW(refitted.refit(wrongCount), std::invalid_argument);
 }
 
+/// A kept Blas reserved like a much larger one afterwards (a pooled slot): the reservation may
+/// reallocate the collapse plan's arrays, so the next refit must not collapse along the old plan.
+TEST(Refit, AfterReservingLikeALargerBlasEqualsRebuild) {
+  const TestMesh small = makeSphere(2000);
+  const TestMesh large = makeSphere(60000);
+  TestMesh moved = small;
+  for (glm::vec3& p : moved.positions) p += 0.2f * glm::vec3(std::sin(3.0f * p.y), 0.0f, std::cos(2.0f * p.x));
+  Blas example;
+  example.build(large.input());
+  example.build(large.input());
+  Blas slot, rebuilt;
+  slot.build(small.input());
+  slot.build(small.input());   // keeps its memory and its plan
+  slot.reserveLike(example);
+  slot.refit(moved.positions);
+  rebuilt.build(moved.input());
+  const std::vector<Ray> rays = makeRandomRays({glm::vec3(-2.0f), glm::vec3(2.0f)}, 100000, 36);
+  auto tracer = [](const Blas& blas) {
+    return Tracer{[&blas](Ray& r, Hit& h) { return blas.intersect(r, h); },
+                  [&blas](const Ray& r) { return blas.occluded(r); }};
+  };
+  uint32_t hits = 0;
+  expectIdenticalHits(tracer(slot), tracer(rebuilt), rays, hits);
+  EXPECT_GT(hits, rays.size() / 10);
+}
+
 /// BvhBuildConfig::allowAvx512 = false (the AVX2 kernel, as on CPUs without AVX-512) answers
 /// exactly as the default, after a build and after a refit (which keeps the build's kernel).
 TEST(Build, KernelChoiceGivesIdenticalHits) {
