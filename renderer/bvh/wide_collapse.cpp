@@ -8,6 +8,8 @@
 namespace pa::bvh_detail {
 
 void OptimalCollapse::reserve(size_t nodes, uint32_t width) {
+  binary_ = nullptr;   // the arrays below may be reallocated without their contents
+  plannedNodes_ = 0;
   subtreeCost_.ensure(nodes * width);
   leavesBelow_.ensure(nodes);
   leftSlots_.ensure(nodes * width);
@@ -20,6 +22,7 @@ void OptimalCollapse::reserve(size_t nodes, uint32_t width) {
 void OptimalCollapse::plan(const BinaryBvh& binary, const CollapseCosts& costs) {
   if (costs.width < 2 || costs.width > 64) throw std::invalid_argument("collapse width must be in [2, 64]");
   binary_ = &binary;
+  plannedNodes_ = 0;   // set when the plan is complete
   width_ = costs.width;
   const size_t n = binary.nodes.size();
   const uint32_t w = width_;
@@ -106,6 +109,7 @@ void OptimalCollapse::plan(const BinaryBvh& binary, const CollapseCosts& costs) 
     }
     distributedLeftW_[i] = distributedLeft[w];   // for children(): n's own wide node
   }
+  plannedNodes_ = binary.nodeCount;
 }
 
 void OptimalCollapse::collect(uint32_t n, uint32_t slots, uint32_t* out, uint32_t& count) const {

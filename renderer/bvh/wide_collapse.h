@@ -55,8 +55,11 @@ class OptimalCollapse {
   void trianglesBelow(uint32_t n, std::span<uint32_t> out, uint32_t& count) const;
   /// Triangle count below binary node n.
   uint32_t triangleCount(uint32_t n) const { return count_[n]; }
-  /// Makes room for planning a tree of `nodes` binary nodes at `width` without allocating.
+  /// Makes room for planning a tree of `nodes` binary nodes at `width` without allocating; the
+  /// plan held so far is dropped (its arrays may be reallocated).
   void reserve(size_t nodes, uint32_t width);
+  /// Whether this holds a plan made for `binary` (the same tree object, of the same node count).
+  bool plannedFor(const BinaryBvh& binary) const { return binary_ == &binary && plannedNodes_ == binary.nodeCount; }
 
  private:
   /// An array that only grows (default-initialised, no zero fill): the largest arrays of the plan.
@@ -77,6 +80,7 @@ class OptimalCollapse {
   void collect(uint32_t n, uint32_t slots, uint32_t* out, uint32_t& count) const;
 
   const BinaryBvh* binary_ = nullptr;
+  uint32_t plannedNodes_ = 0;       // binary_->nodeCount when planned; 0: no plan held
   uint32_t width_ = 0;
   GrowOnly<float> subtreeCost_;     // [n * width + j - 1]: best cost of n's subtree in <= j slots
   GrowOnly<uint32_t> leavesBelow_;  // [n]: binary leaves below n
@@ -123,7 +127,7 @@ class WideCollapser {
                 CollapseWorkspace& workspace)
       : binary_(binary), mesh_(mesh), plan_(workspace.plan), out_(out), leaves_(workspace.leaves),
         first_(workspace.firstPack) {
-    if (!workspace.keepPlan) workspace.plan.plan(binary, costs);
+    if (!workspace.keepPlan || !workspace.plan.plannedFor(binary)) workspace.plan.plan(binary, costs);
   }
 
   void run() {
