@@ -188,13 +188,21 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   m.surfaceParms = shader.surfaceParms;
   const auto& stages = shader.stages;
 
-  // Base stage: the first image stage that is not an environment reflection.
+  // Base stage: the first image stage that is not an environment reflection nor a `detail`
+  // texture (a tiled noise filter over the surface: the texture may come after it, as in
+  // lightmap, detail, texture-as-filter walls), else the first that is not a reflection.
   const ShaderStage* base = nullptr;
   for (const auto& s : stages)
-    if (isImageStage(s) && s.tcGen != TcGen::Environment) {
+    if (isImageStage(s) && s.tcGen != TcGen::Environment && !s.detail) {
       base = &s;
       break;
     }
+  if (!base)
+    for (const auto& s : stages)
+      if (isImageStage(s) && s.tcGen != TcGen::Environment) {
+        base = &s;
+        break;
+      }
   if (!base)
     for (const auto& s : stages)
       if (isImageStage(s)) {
@@ -268,9 +276,11 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
     m.lightColor = *shader.lightColor;
     m.hasLightColor = true;
   }
-  // Later stages that multiply the base texel for texel (self-multiplied metal, stains).
+  // Later stages that multiply the base texel for texel (self-multiplied metal, stains), and
+  // detail filters before the base (they multiply the frame whatever their order).
   if (base) {
-    for (const auto* s = base + 1; s < stages.data() + stages.size(); ++s) {
+    for (const auto* s = stages.data(); s < stages.data() + stages.size(); ++s) {
+      if (s == base || (s < base && !s->detail)) continue;
       if (!isImageStage(*s) || !s->blends()) continue;
       const bool texelForTexel = s->tcGen == base->tcGen && sameTcMods(s->tcMods, base->tcMods);
       // On uvs of its own: only plain image stages (not the lightmap image, not a reflection).

@@ -26,6 +26,31 @@ TEST(Material, LightmappedWallIsOpaqueWithItsTexture) {
   EXPECT_FALSE(m.invisible);
 }
 
+TEST(Material, DetailStageBeforeTheTextureIsNoBase) {
+  // oacmpdm3's walls (z_oacmp-volume1-v3.pk3): the lightmap, a detail filter on its own uvs, then
+  // the texture as a filter: stock shows lightmap x 2 detail x texture.
+  auto m = material(R"(textures/oacmp_egyptsoc_wall/stone04a {
+    { map $lightmap
+      rgbGen identity
+      tcGen lightmap }
+    { map gfx/fx/detail/d_stone.tga
+      blendfunc gl_dst_color gl_src_color
+      tcMod scale 8 8
+      detail }
+    { map textures/oacmp_egyptsoc_wall/stone04a.tga
+      blendfunc filter } })");
+  EXPECT_EQ(m.baseTexture, "textures/oacmp_egyptsoc_wall/stone04a.tga");
+  EXPECT_EQ(m.lighting, LightingMode::Lightmap);
+  EXPECT_EQ(m.alphaMode, AlphaMode::Opaque);
+  ASSERT_EQ(m.baseModulations.size(), 1u);
+  EXPECT_EQ(m.baseModulations[0].texture, "gfx/fx/detail/d_stone.tga");
+  EXPECT_FLOAT_EQ(m.baseModulations[0].scale, 2.0f);
+  EXPECT_TRUE(m.baseModulations[0].meanOnly);
+  // A shader whose only plain image stage is a detail one keeps it as the base.
+  auto onlyDetail = material("d { { map $lightmap } { map d.tga blendfunc gl_dst_color gl_src_color detail } }");
+  EXPECT_EQ(onlyDetail.baseTexture, "d.tga");
+}
+
 TEST(Material, Q3map2ExternalLightmapStageIsTheLightmap) {
   // q3map2 replaces $lightmap by the image it wrote beside the map (non-128 lightmap sizes).
   auto m = material(R"(maps/ext/textures/w_1a2b3c4d { { map textures/w.tga rgbGen identity }
