@@ -43,7 +43,6 @@ struct Blas::Impl {
     bvh_detail::collapseToWide(binary, mesh, wide, &collapseWorkspace);   // reuses the previous layout's memory
     if (!allowAvx512) wide.kernel = bvh_detail::WideKernel::Baseline;
   }
-
 };
 
 namespace {
