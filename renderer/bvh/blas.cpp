@@ -29,7 +29,6 @@ struct Blas::Impl {
   std::vector<Bounds> triangleBoxes;        // a refit's triangle boxes (kept: refits repeat)
   uint32_t builds = 0;
   bool keepsBuildMemory = false;   // reserveLike: the first build keeps its scratch too
-  bool planKept = false;           // collapseWorkspace.plan is the collapse plan of this tree
 
   /// Converts binary into the layout of nodeWidth (the other layout is emptied); allowAvx512
   /// false keeps the 8-wide layout on its baseline kernel.
@@ -95,7 +94,6 @@ void Blas::build(const BlasInput& input, const BvhBuildConfig& config) {
   } else if (impl.triangleBoxes.capacity() < impl.mesh.triangleCount()) {
     impl.triangleBoxes.reserve(impl.mesh.triangleCount());
   }
-  impl.planKept = impl.builds > 1 || impl.keepsBuildMemory;   // the workspace holds this tree's plan
 }
 
 namespace {
@@ -112,8 +110,6 @@ void Blas::reserveLike(const Blas& example) {
   if (!impl_) impl_ = std::make_unique<Impl>();
   Impl& impl = *impl_;
   impl.keepsBuildMemory = true;
-  // Reserving may reallocate the plan's arrays (their contents go): the next refit plans again.
-  impl.planKept = false;
   if (!example.impl_) return;
   const Impl& other = *example.impl_;
   // The most triangles the example has held (its per-triangle arrays keep their capacity), not
@@ -146,10 +142,11 @@ void Blas::refit(std::span<const glm::vec3> positions) {
   std::vector<Bounds>& triBounds = impl_->triangleBoxes;
   bvh_detail::triangleBounds(impl_->mesh, triBounds);
   bvh_detail::refitBinaryBvh(impl_->binary, triBounds);
-  // A refit moves boxes, not the tree: a kept plan (the build's) gives the same wide tree, whose
-  // arrays are already the right size; planning again over the moved boxes could choose more
-  // nodes or small packs than the build did, and allocate.
-  impl_->collapseWorkspace.keepPlan = impl_->planKept;
+  // A refit moves boxes, not the tree: the build's plan, where the workspace still holds it (a
+  // Blas that keeps its memory; not after a release or a reserveLike, which drop it), gives the
+  // same wide tree, whose arrays are already the right size; planning again over the moved boxes
+  // could choose more nodes or small packs than the build did, and allocate.
+  impl_->collapseWorkspace.keepPlan = true;
   impl_->collapse();   // the build's layout and kernel
   impl_->collapseWorkspace.keepPlan = false;
   impl_->bounds = Bounds{};

@@ -101,8 +101,9 @@ struct CollapseLeafSlot {
 /// (dynamic meshes), so that a collapse of a same-sized tree allocates nothing.
 struct CollapseWorkspace {
   OptimalCollapse plan;
-  /// True: collapse along `plan` as it is (made for this binary tree's topology; a refit moves
-  /// only its boxes) instead of planning again.
+  /// True: collapse along `plan` as it is, where it was made for this binary tree (plannedFor;
+  /// a refit moves only its boxes), instead of planning again. A rebuild must plan again: its
+  /// new tree may have the old one's node count.
   bool keepPlan = false;
   std::vector<CollapseLeafSlot> leaves;
   std::vector<uint32_t> firstPack;   ///< Per leaf slot: its first pack in its pool.

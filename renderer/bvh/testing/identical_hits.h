@@ -18,6 +18,13 @@ struct Tracer {
   std::function<bool(const Ray&)> occluded;
 };
 
+/// The Tracer of a structure with intersect(ray, hit) and occluded(ray) (a Blas), which must
+/// outlive it.
+template <class Traceable>
+Tracer tracerOf(const Traceable& t) {
+  return Tracer{[&t](Ray& r, Hit& h) { return t.intersect(r, h); }, [&t](const Ray& r) { return t.occluded(r); }};
+}
+
 /// Same hit or miss, same t bit for bit and instance, same barycentrics when the triangle is the
 /// same (it may differ only on an exact tie); any hit over the whole ray exactly when there is a
 /// closest hit, the same any-hit answer half way to the hit and just short of it, and occlusion

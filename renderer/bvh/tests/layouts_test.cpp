@@ -100,12 +100,8 @@ TEST(Refit, EqualsRebuild) {
   EXPECT_EQ(refitted.bounds().min, rebuilt.bounds().min);
   EXPECT_EQ(refitted.bounds().max, rebuilt.bounds().max);
   const std::vector<Ray> rays = makeRandomRays({glm::vec3(-2.0f), glm::vec3(2.0f)}, 200000, 35);
-  auto tracer = [](const Blas& blas) {
-    return Tracer{[&blas](Ray& r, Hit& h) { return blas.intersect(r, h); },
-                  [&blas](const Ray& r) { return blas.occluded(r); }};
-  };
   uint32_t hits = 0;
-  expectIdenticalHits(tracer(refitted), tracer(rebuilt), rays, hits);
+  expectIdenticalHits(tracerOf(refitted), tracerOf(rebuilt), rays, hits);
   EXPECT_GT(hits, rays.size() / 10);
   // A rebuilt Blas keeps its collapse plan and refits along it (the wide tree of the build with
   // moved boxes): the same hits too.
@@ -114,7 +110,7 @@ TEST(Refit, EqualsRebuild) {
   kept.build(base.input());
   kept.refit(moved.positions);
   uint32_t keptHits = 0;
-  expectIdenticalHits(tracer(kept), tracer(rebuilt), rays, keptHits);
+  expectIdenticalHits(tracerOf(kept), tracerOf(rebuilt), rays, keptHits);
   EXPECT_EQ(keptHits, hits);
   std::vector<glm::vec3> wrongCount(3);
   EXPECT_THROW(refitted.refit(wrongCount), std::invalid_argument);
@@ -137,12 +133,8 @@ TEST(Refit, AfterReservingLikeALargerBlasEqualsRebuild) {
   slot.refit(moved.positions);
   rebuilt.build(moved.input());
   const std::vector<Ray> rays = makeRandomRays({glm::vec3(-2.0f), glm::vec3(2.0f)}, 100000, 36);
-  auto tracer = [](const Blas& blas) {
-    return Tracer{[&blas](Ray& r, Hit& h) { return blas.intersect(r, h); },
-                  [&blas](const Ray& r) { return blas.occluded(r); }};
-  };
   uint32_t hits = 0;
-  expectIdenticalHits(tracer(slot), tracer(rebuilt), rays, hits);
+  expectIdenticalHits(tracerOf(slot), tracerOf(rebuilt), rays, hits);
   EXPECT_GT(hits, rays.size() / 10);
 }
 
@@ -157,19 +149,15 @@ TEST(Build, KernelChoiceGivesIdenticalHits) {
   Blas best, baseline;
   best.build(base.input());
   baseline.build(base.input(), avx2Only);
-  auto tracer = [](const Blas& blas) {
-    return Tracer{[&blas](Ray& r, Hit& h) { return blas.intersect(r, h); },
-                  [&blas](const Ray& r) { return blas.occluded(r); }};
-  };
   Bounds region = base.bounds();
   region.min -= glm::vec3(0.5f);
   region.max += glm::vec3(0.5f);
   uint32_t hits = 0;
-  expectIdenticalHits(tracer(best), tracer(baseline), makeRandomRays(region, 50000, 53), hits);
+  expectIdenticalHits(tracerOf(best), tracerOf(baseline), makeRandomRays(region, 50000, 53), hits);
   EXPECT_GT(hits, 1000u);
   best.refit(moved.positions);
   baseline.refit(moved.positions);
-  expectIdenticalHits(tracer(best), tracer(baseline), makeRandomRays(region, 50000, 54), hits);
+  expectIdenticalHits(tracerOf(best), tracerOf(baseline), makeRandomRays(region, 50000, 54), hits);
   EXPECT_GT(hits, 1000u);
 }
 

@@ -155,17 +155,13 @@ TEST(Wide16, BlasAnswersAsTheEightWideOne) {
   b.build(base.input(), eight);
   EXPECT_EQ(a.nodeWidth(), 16u);
   EXPECT_EQ(b.nodeWidth(), 8u);
-  auto tracer = [](const Blas& blas) {
-    return Tracer{[&blas](Ray& r, Hit& h) { return blas.intersect(r, h); },
-                  [&blas](const Ray& r) { return blas.occluded(r); }};
-  };
   uint32_t hits = 0;
-  expectIdenticalHits(tracer(a), tracer(b), makeRandomRays(padded(base), 50000, 67), hits);
+  expectIdenticalHits(tracerOf(a), tracerOf(b), makeRandomRays(padded(base), 50000, 67), hits);
   EXPECT_GT(hits, 1000u);
   a.refit(moved.positions);
   b.refit(moved.positions);
   EXPECT_EQ(a.nodeWidth(), 16u);
-  expectIdenticalHits(tracer(a), tracer(b), makeRandomRays(padded(base), 50000, 68), hits);
+  expectIdenticalHits(tracerOf(a), tracerOf(b), makeRandomRays(padded(base), 50000, 68), hits);
   EXPECT_GT(hits, 1000u);
 }
 
