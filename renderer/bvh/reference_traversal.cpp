@@ -26,7 +26,7 @@ bool traceReference(const TriangleMesh& mesh, const BinaryBvh& bvh, const Ray& r
                                        mesh.vertex(tri, 1), mesh.vertex(tri, 2), th))
         continue;
       if (mesh.isOneSided(tri) && th.det * cull < 0.0f) continue;   // the face the ray culls
-      if (mesh.isFiltered(tri) && !filter(instanceId, tri, th.u, th.v)) continue;
+      if (mesh.isFiltered(tri) && !filter(instanceId, tri, th.u, th.v, th.t)) continue;
       found = true;
       if constexpr (kAnyHit) return true;
       tmax = th.t;

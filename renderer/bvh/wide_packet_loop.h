@@ -408,12 +408,13 @@ PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c,
     if (!accepted) continue;
     const Float u = e.u * rcp, v = e.v * rcp;
     if (pack.maskedBits >> lane & 1) {
-      alignas(4 * L::kWidth) float us[L::kWidth], vs[L::kWidth];
+      alignas(4 * L::kWidth) float us[L::kWidth], vs[L::kWidth], ts[L::kWidth];
       u.store(us);
       v.store(vs);
+      t.store(ts);
       for (unsigned r = accepted; r; r &= r - 1) {
         const int ray = std::countr_zero(r);
-        if (!filters[ray](instanceId, pack.prim[lane], us[ray], vs[ray])) accepted &= ~(1u << ray);
+        if (!filters[ray](instanceId, pack.prim[lane], us[ray], vs[ray], ts[ray])) accepted &= ~(1u << ray);
       }
       if (!accepted) continue;
     }

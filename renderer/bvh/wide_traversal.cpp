@@ -165,7 +165,7 @@ struct BaselineLanes {
       const float t = planeHitDistance(r.origin, r.dir, vertex(0), vertex(1), vertex(2), tScaled[lane] * rcp);
       if (!(t >= tmin && t <= tmax)) continue;
       const float u = bu[lane] * rcp, v = bv[lane] * rcp;
-      if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], u, v)) continue;
+      if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], u, v, t)) continue;
       if constexpr (kAnyHit) {
         return true;
       } else {

@@ -67,7 +67,7 @@ inline bool acceptPackHits(const Pack& pack, unsigned lanes, const float* t, con
   for (; lanes; lanes &= lanes - 1) {
     const int lane = std::countr_zero(lanes);
     if (!(t[lane] <= tmax)) continue;   // a nearer hit earlier in this pack
-    if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], u[lane], v[lane])) continue;
+    if ((pack.maskedBits >> lane & 1) && !filter(instanceId, pack.prim[lane], u[lane], v[lane], t[lane])) continue;
     if constexpr (kAnyHit) {
       return true;
     } else {

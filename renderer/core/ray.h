@@ -38,14 +38,15 @@ enum class FaceCull : uint8_t {
 };
 
 /// Per-ray hit rules: the callback that decides candidate hits on filtered triangles (alpha
-/// test; called during traversal only for HitRule::Filtered triangles; ctx is caller data), and
-/// the face of one-sided triangles the ray skips without a call.
+/// test; called during traversal only for HitRule::Filtered triangles, with the candidate's
+/// barycentrics u, v and its distance t along the ray, within [tmin, tmax]; ctx is caller data),
+/// and the face of one-sided triangles the ray skips without a call.
 struct HitFilter {
-  bool (*accept)(const void* ctx, uint32_t instance, uint32_t prim, float u, float v) = nullptr;
+  bool (*accept)(const void* ctx, uint32_t instance, uint32_t prim, float u, float v, float t) = nullptr;
   const void* ctx = nullptr;
   FaceCull cull = FaceCull::None;   ///< Face of HitRule::OneSided triangles skipped by the kernels.
-  bool operator()(uint32_t instance, uint32_t prim, float u, float v) const {
-    return accept == nullptr || accept(ctx, instance, prim, u, v);
+  bool operator()(uint32_t instance, uint32_t prim, float u, float v, float t) const {
+    return accept == nullptr || accept(ctx, instance, prim, u, v, t);
   }
 };
 

@@ -1,4 +1,5 @@
 // Known-answer tests of the Blas / Tlas API.
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -192,7 +193,7 @@ TEST(Blas, MaskedTrianglesGoThroughFilter) {
   m.rules = {HitRule::Filtered, HitRule::Opaque};   // the near triangle is alpha tested
   Blas blas;
   blas.build(m.input());
-  auto rejectAll = [](const void*, uint32_t, uint32_t, float, float) { return false; };
+  auto rejectAll = [](const void*, uint32_t, uint32_t, float, float, float) { return false; };
   HitFilter reject{+rejectAll, nullptr};
   Ray ray{{0.25f, 0.25f, -1.0f}, 0.0f, {0, 0, 1}, kInf};
   Hit hit;
@@ -201,11 +202,11 @@ TEST(Blas, MaskedTrianglesGoThroughFilter) {
   Ray shortRay{{0.25f, 0.25f, -1.0f}, 0.0f, {0, 0, 1}, 2.0f};
   EXPECT_FALSE(blas.occluded(shortRay, reject));
   EXPECT_TRUE(blas.occluded(shortRay));
-  // The filter sees the candidate's ids and barycentrics.
-  struct Seen { uint32_t instance = 0, prim = 0; float u = 0, v = 0; } seen;
-  auto record = [](const void* ctx, uint32_t instance, uint32_t prim, float u, float v) {
+  // The filter sees the candidate's ids, barycentrics and distance.
+  struct Seen { uint32_t instance = 0, prim = 0; float u = 0, v = 0, t = 0; } seen;
+  auto record = [](const void* ctx, uint32_t instance, uint32_t prim, float u, float v, float t) {
     auto* s = const_cast<Seen*>(static_cast<const Seen*>(ctx));
-    *s = {instance, prim, u, v};
+    *s = {instance, prim, u, v, t};
     return true;
   };
   Ray again{{0.25f, 0.5f, -1.0f}, 0.0f, {0, 0, 1}, kInf};
@@ -215,6 +216,7 @@ TEST(Blas, MaskedTrianglesGoThroughFilter) {
   EXPECT_EQ(seen.prim, 0u);
   EXPECT_FLOAT_EQ(seen.u, 0.25f);
   EXPECT_FLOAT_EQ(seen.v, 0.5f);
+  EXPECT_EQ(seen.t, hit.t);   // the distance the accepted hit then has
 }
 
 TEST(Tlas, InstancesTransformMaskAndWorldT) {
@@ -240,6 +242,42 @@ TEST(Tlas, InstancesTransformMaskAndWorldT) {
   EXPECT_FALSE(tlas.occluded(masked, 0x4u));
   EXPECT_TRUE(tlas.occluded(masked, 0x1u));
   EXPECT_FLOAT_EQ(tlas.bounds().max.z, 14.0f);
+}
+
+TEST(Tlas, FilterSeesWorldDistancesInScaledInstances) {
+  testing::TestMesh m = twoTriangles();
+  m.rules = {HitRule::Filtered, HitRule::Filtered};
+  Blas blas;
+  blas.build(m.input());
+  glm::mat4x3 moved(2.0f);   // scaled by 2, at z = 10: the triangles at world z = 10 and 14
+  moved[3] = glm::vec3(0, 0, 10);
+  const std::vector<TlasInstance> instances = {{&blas, moved, 0x1u}};
+  Tlas tlas;
+  tlas.build(instances);
+  // Rejects every candidate and records its distance.
+  auto record = [](const void* ctx, uint32_t, uint32_t prim, float, float, float t) {
+    (*const_cast<std::array<float, 2>*>(static_cast<const std::array<float, 2>*>(ctx)))[prim] = t;
+    return false;
+  };
+  std::array<float, 2> seen{};
+  Ray ray{{0.5f, 0.5f, 20.0f}, 0.0f, {0, 0, -0.5f}, kInf};   // a direction of length 1/2
+  Hit hit;
+  EXPECT_FALSE(tlas.intersect(ray, hit, ~0u, HitFilter{+record, &seen}));
+  EXPECT_FLOAT_EQ(seen[1], 12.0f);
+  EXPECT_FLOAT_EQ(seen[0], 20.0f);
+  std::array<Ray, 4> rays;
+  std::array<Hit, 4> hits;
+  std::array<std::array<float, 2>, 4> seenByRay{};
+  std::array<HitFilter, 4> filters;
+  for (uint32_t i = 0; i < 4; ++i) {
+    rays[i] = Ray{{0.1f + 0.1f * float(i), 0.2f, 20.0f}, 0.0f, {0, 0, -0.5f}, kInf};
+    filters[i] = HitFilter{+record, &seenByRay[i]};
+  }
+  EXPECT_EQ(tlas.intersectPacket(rays, hits, 0xfu, ~0u, filters), 0u);
+  for (const auto& s : seenByRay) {
+    EXPECT_FLOAT_EQ(s[1], 12.0f);
+    EXPECT_FLOAT_EQ(s[0], 20.0f);
+  }
 }
 
 TEST(Tlas, RejectsBadInstances) {

@@ -82,7 +82,7 @@ struct CallLog {
   bool accept = false;
   std::vector<uint32_t> prims;
 };
-bool logCall(const void* ctx, uint32_t, uint32_t prim, float, float) {
+bool logCall(const void* ctx, uint32_t, uint32_t prim, float, float, float) {
   auto& log = *static_cast<CallLog*>(const_cast<void*>(ctx));
   log.prims.push_back(prim);
   return log.accept;

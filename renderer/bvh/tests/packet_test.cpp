@@ -25,7 +25,7 @@ namespace {
 
 /// Per-ray alpha test stand-in: the ray's lane (ctx) changes which hits count, so a kernel that
 /// gave one ray another ray's filter would be caught.
-bool rejectByLane(const void* ctx, uint32_t, uint32_t prim, float u, float) {
+bool rejectByLane(const void* ctx, uint32_t, uint32_t prim, float u, float, float) {
   const auto lane = static_cast<uint32_t>(reinterpret_cast<uintptr_t>(ctx));
   return (prim + lane) % 3 != 0 && u <= 0.7f;
 }

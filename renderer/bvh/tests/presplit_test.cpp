@@ -240,7 +240,7 @@ TEST(Presplit, SameHitsThroughTheHitFilter) {
   m.append(makeTriangleSoup(10000, 55, 0.2f));
   m.rules.assign(m.triangleCount(), HitRule::Opaque);
   for (uint32_t t = 0; t < m.triangleCount(); t += 2) m.rules[t] = HitRule::Filtered;
-  const HitFilter filter{[](const void*, uint32_t, uint32_t prim, float u, float v) { return prim % 4 == 0 || u < v; },
+  const HitFilter filter{[](const void*, uint32_t, uint32_t prim, float u, float v, float) { return prim % 4 == 0 || u < v; },
                          nullptr};
   Blas plain, split;
   BvhBuildConfig on;

@@ -23,7 +23,7 @@ namespace {
 using namespace pa::bvh_detail;
 
 /// Alpha test stand-in (as in wide_kernels_test): depends on the triangle and the barycentrics.
-bool rejectSome(const void*, uint32_t, uint32_t prim, float u, float) { return prim % 3 != 0 && u <= 0.6f; }
+bool rejectSome(const void*, uint32_t, uint32_t prim, float u, float, float) { return prim % 3 != 0 && u <= 0.6f; }
 
 Bounds padded(const TestMesh& m) {
   Bounds region = m.bounds();

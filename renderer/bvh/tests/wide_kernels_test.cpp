@@ -19,7 +19,7 @@ using namespace pa::bvh_detail;
 
 /// Alpha test stand-in: rejects hits on triangles whose index is a multiple of 3, and hits
 /// with u > 0.6 (so the decision depends on the barycentrics the kernel computed).
-bool rejectSome(const void*, uint32_t, uint32_t prim, float u, float) { return prim % 3 != 0 && u <= 0.6f; }
+bool rejectSome(const void*, uint32_t, uint32_t prim, float u, float, float) { return prim % 3 != 0 && u <= 0.6f; }
 
 std::vector<WideKernel> availableKernels() {
   std::vector<WideKernel> kernels;

@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x2.hpp>
@@ -26,7 +27,6 @@ struct FilterContext {
   bool overlay;
   const Ray* ray;
   const TraceRequest* request;
-  TriangleMemo* layerMemo = nullptr;   ///< Shared by a packet's rays: the layers they cross.
 };
 
 const std::vector<RenderInstance>& instancesFor(const RenderScene& scene, bool overlay) {
@@ -86,7 +86,79 @@ glm::vec3 blendFactor(BlendFactor factor, const glm::vec3& src, float a) {
   return glm::vec3(1.0f);
 }
 
-bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, float u, float v) {
+/// Records an additive triangle the traversal met (first report of a triangle only); when full,
+/// a nearer candidate takes the farthest one's place.
+void recordCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& c) {
+  for (uint32_t i = 0; i < hits.candidateCount; ++i) {
+    const AdditiveHits::Candidate& held = hits.candidates[i];
+    if (held.instance == c.instance && held.prim == c.prim && held.overlay == c.overlay) return;   // reported twice
+  }
+  if (hits.candidateCount < AdditiveHits::kCandidateCapacity) {
+    hits.candidates[hits.candidateCount++] = c;
+    return;
+  }
+  auto farthest = std::max_element(hits.candidates.begin(), hits.candidates.end(),
+                                   [](const auto& a, const auto& b) { return a.t < b.t; });
+  if (farthest->t > c.t) *farthest = c;
+}
+
+/// The layer of candidate `c` seen along `ray`: its colour and what it lets through, recorded in
+/// `hits` (recordAdditive); nothing where it faces away (one-sided) or fails its alpha test.
+void evaluateLayer(const RenderScene& scene, const AdditiveHits::Candidate& c, const Ray& ray, TriangleMemo* memo,
+                   AdditiveHits& hits) {
+  const RenderInstance& inst = instancesFor(scene, c.overlay)[c.instance];
+  const MaterialDesc& m = scene.materialOf(inst, c.prim).desc;
+  if (!m.twoSided && glm::dot(scene.windingNormal(inst, c.prim), ray.dir) > 0.0f) return;
+  Hit hit;
+  hit.t = c.t;
+  hit.u = c.u;
+  hit.v = c.v;
+  hit.prim = c.prim;
+  hit.instance = c.instance;
+  const SurfaceHit s = scene.surfaceAt(hit, c.overlay, ray, SurfaceParts::LayerColour, memo);
+  const glm::vec3 d = ray.dir;
+  const glm::vec4 base = scene.baseColor(s, 0.0f);
+  if (m.layerAlphaTest && (m.alphaInvert ? base.a >= m.alphaCutoff : base.a < m.alphaCutoff)) return;
+  glm::vec3 added = glm::vec3(base) + scene.emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
+  glm::vec3 transmit(1.0f);
+  switch (m.stock.layerBlend) {
+    case LayerBlend::Add: break;
+    case LayerBlend::Over: transmit = glm::vec3(1.0f - std::clamp(base.a, 0.0f, 1.0f)); break;
+    case LayerBlend::Multiply: transmit = displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+    case LayerBlend::MultiplyInverse:
+      transmit = glm::max(1.0f - displayValue(glm::vec3(base)), glm::vec3(0.0f));
+      added = glm::vec3(0.0f);
+      break;
+    case LayerBlend::MultiplyAdd: transmit = 1.0f + displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+    case LayerBlend::Modulate2x: transmit = 2.0f * displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+    case LayerBlend::Factors: {
+      // The layer adds encode(added) x srcFactor in display values: back to linear.
+      const glm::vec3 src = glm::min(displayValue(added), glm::vec3(1.0f));
+      const float a = std::clamp(base.a, 0.0f, 1.0f);
+      const glm::vec3 shown = src * blendFactor(m.stock.layerSrcFactor, src, a);
+      added = {srgbToLinear(shown.x), srgbToLinear(shown.y), srgbToLinear(shown.z)};
+      transmit = blendFactor(m.stock.layerDstFactor, src, a);
+      break;
+    }
+  }
+  recordAdditive(hits, c.t, c.instance, c.prim, added, transmit);
+}
+
+/// Works out the layers of the candidates nearer than `tEnd` (the ray's closest hit, or
+/// infinity) and empties the candidates. `memos`: a few triangles' parts kept for the next calls
+/// (a packet's rays cross the same few layers).
+void resolveLayers(const RenderScene& scene, AdditiveHits& hits, const Ray& ray, float tEnd,
+                   std::span<TriangleMemo> memos) {
+  for (uint32_t i = 0; i < hits.candidateCount; ++i) {
+    const AdditiveHits::Candidate& c = hits.candidates[i];
+    if (!(c.t < tEnd)) continue;   // behind the closest hit: never shown
+    TriangleMemo* memo = memos.empty() ? nullptr : &memos[(c.prim * 0x9e3779b1u ^ c.instance) % memos.size()];
+    evaluateLayer(scene, c, ray, memo, hits);
+  }
+  hits.candidateCount = 0;
+}
+
+bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, float u, float v, float t) {
   const auto& ctx = *static_cast<const FilterContext*>(opaque);
   const auto& instances = instancesFor(*ctx.scene, ctx.overlay);
   if (instanceIndex >= instances.size()) return true;
@@ -102,7 +174,8 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
   }
   if (m.alphaMode == AlphaMode::Opaque && (m.twoSided || kind == RayKind::Shadow)) return true;
 
-  if (!m.twoSided && kind != RayKind::Shadow && glm::dot(ctx.scene->windingNormal(inst, prim), ctx.ray->dir) > 0.0f) {
+  if (!m.twoSided && kind != RayKind::Shadow && m.alphaMode != AlphaMode::Additive &&
+      glm::dot(ctx.scene->windingNormal(inst, prim), ctx.ray->dir) > 0.0f) {
     return false;
   }
   switch (m.alphaMode) {
@@ -115,44 +188,10 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
       const uint32_t bits = sampling::hashCombine(sampling::hashCombine(ctx.request->randomBits, instanceIndex), prim);
       return sampling::toUnitFloat(bits) < coverage;
     }
-    case AlphaMode::Additive: {
-      if (ctx.request->additive != nullptr) {
-        Hit hit;
-        hit.u = u;
-        hit.v = v;
-        hit.prim = prim;
-        hit.instance = instanceIndex;
-        const SurfaceHit s = ctx.scene->surfaceAt(hit, ctx.overlay, *ctx.ray, SurfaceParts::LayerColour, ctx.layerMemo);
-        const glm::vec3 d = ctx.ray->dir;
-        const float t = glm::dot(s.position - ctx.ray->origin, d) / glm::dot(d, d);
-        const glm::vec4 base = ctx.scene->baseColor(s, 0.0f);
-        if (m.layerAlphaTest && (m.alphaInvert ? base.a >= m.alphaCutoff : base.a < m.alphaCutoff)) return false;
-        glm::vec3 added = glm::vec3(base) + ctx.scene->emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
-        glm::vec3 transmit(1.0f);
-        switch (m.stock.layerBlend) {
-          case LayerBlend::Add: break;
-          case LayerBlend::Over: transmit = glm::vec3(1.0f - std::clamp(base.a, 0.0f, 1.0f)); break;
-          case LayerBlend::Multiply: transmit = displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
-          case LayerBlend::MultiplyInverse:
-            transmit = glm::max(1.0f - displayValue(glm::vec3(base)), glm::vec3(0.0f));
-            added = glm::vec3(0.0f);
-            break;
-          case LayerBlend::MultiplyAdd: transmit = 1.0f + displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
-          case LayerBlend::Modulate2x: transmit = 2.0f * displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
-          case LayerBlend::Factors: {
-            // The layer adds encode(added) x srcFactor in display values: back to linear.
-            const glm::vec3 src = glm::min(displayValue(added), glm::vec3(1.0f));
-            const float a = std::clamp(base.a, 0.0f, 1.0f);
-            const glm::vec3 shown = src * blendFactor(m.stock.layerSrcFactor, src, a);
-            added = {srgbToLinear(shown.x), srgbToLinear(shown.y), srgbToLinear(shown.z)};
-            transmit = blendFactor(m.stock.layerDstFactor, src, a);
-            break;
-          }
-        }
-        recordAdditive(*ctx.request->additive, t, instanceIndex, prim, added, transmit);
-      }
+    case AlphaMode::Additive:
+      // Worked out once the closest hit is known (resolveLayers): only those in front show.
+      if (ctx.request->additive != nullptr) recordCandidate(*ctx.request->additive, {t, instanceIndex, prim, u, v, ctx.overlay});
       return false;
-    }
     case AlphaMode::Opaque:
       break;
   }
@@ -201,7 +240,10 @@ bool RenderScene::intersect(Ray& ray, Hit& hit, const TraceRequest& request) con
   const FilterContext ctx{this, request.overlay, &ray, &request};
   const HitFilter filter{&acceptCandidate, &ctx, faceCullFor(request.kind)};
   const Tlas& tlas = request.overlay ? overlayTlas : worldTlas;
-  return tlas.intersect(ray, hit, rayMaskFor(request.kind), filter);
+  const bool found = tlas.intersect(ray, hit, rayMaskFor(request.kind), filter);
+  if (request.additive != nullptr && request.additive->candidateCount != 0)   // one ray: no memo helps
+    resolveLayers(*this, *request.additive, ray, found ? hit.t : std::numeric_limits<float>::infinity(), {});
+  return found;
 }
 
 void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
@@ -211,12 +253,12 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
   std::array<TraceRequest, kMaxPacketRays> requests;
   std::array<FilterContext, kMaxPacketRays> contexts;
   std::array<HitFilter, kMaxPacketRays> filters;
-  TriangleMemo layerMemo;   // the packet's rays mostly cross the same layers
   for (uint32_t i = 0; i < count; ++i) {
     TracedCameraRay& r = rays[i];
     r.found = r.onOverlay = false;
     r.hit = Hit{};
     r.additive.count = 0;
+    r.additive.candidateCount = 0;
     r.fogFreeEnd = false;
     requests[i].kind = RayKind::Camera;
     requests[i].randomBits = r.randomBits;
@@ -232,7 +274,7 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
       packet[i] = rays[i].ray;
       hits[i] = Hit{};
       requests[i].overlay = overlayPass;
-      contexts[i] = FilterContext{this, overlayPass, &packet[i], &requests[i], &layerMemo};
+      contexts[i] = FilterContext{this, overlayPass, &packet[i], &requests[i]};
       filters[i] = HitFilter{&acceptCandidate, &contexts[i], faceCullFor(RayKind::Camera)};
     }
     const Tlas& tlas = overlayPass ? overlayTlas : worldTlas;
@@ -245,6 +287,14 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
       rays[i].onOverlay = overlayPass;
     }
     remaining &= ~found;
+  }
+  // The layers in front of each ray's hit, ray by ray; the packet's rays mostly cross the same
+  // few layers, whose triangles' parts the memos keep.
+  std::array<TriangleMemo, 8> layerMemos;
+  for (uint32_t i = 0; i < count; ++i) {
+    TracedCameraRay& r = rays[i];
+    if (r.additive.candidateCount == 0) continue;
+    resolveLayers(*this, r.additive, r.ray, r.found ? r.hit.t : std::numeric_limits<float>::infinity(), layerMemos);
   }
 }
 

@@ -57,9 +57,13 @@ struct RenderInstance {
 /// Which rays a query traces (selects the instance mask and material rules).
 enum class RayKind : uint8_t { Camera, Bounce, Shadow };
 
-/// Additive surfaces crossed by a ray (they add colour and never stop rays).
+/// Additive surfaces crossed by a ray (they add colour and never stop rays). The hit filter
+/// records each additive triangle the traversal meets as a candidate; once the ray's closest
+/// hit is known, the query works out the layers of the candidates in front of it (entries).
 struct AdditiveHits {
   static constexpr uint32_t kCapacity = 16;
+  /// Candidates held while the ray is traversed; beyond it the nearest are kept.
+  static constexpr uint32_t kCandidateCapacity = 32;
   struct Entry {
     float t;
     uint32_t instance;
@@ -67,8 +71,18 @@ struct AdditiveHits {
     glm::vec3 color;      ///< Linear colour added.
     glm::vec3 transmit;   ///< Display-value multiplier of what is behind (StockLook::layerBlend).
   };
+  /// An additive triangle met by the traversal, its layer not yet worked out.
+  struct Candidate {
+    float t;
+    uint32_t instance;
+    uint32_t prim;
+    float u, v;
+    bool overlay;   ///< On a drawOnTop instance (RenderScene::overlay).
+  };
   uint32_t count = 0;
   std::array<Entry, kCapacity> entries;   ///< First `count` are valid.
+  uint32_t candidateCount = 0;
+  std::array<Candidate, kCandidateCapacity> candidates;   ///< First `candidateCount` are valid.
   /// Sum of the colours of entries closer than t.
   glm::vec3 sumBefore(float t) const;
   /// Product of the `transmit` multipliers (display values) of entries closer than t.
@@ -100,8 +114,8 @@ struct TracedCameraRay {
 /// How much of a SurfaceHit RenderScene::surfaceAt works out.
 enum class SurfaceParts : uint8_t {
   All,
-  /// What a see-through layer's colour reads (the hit filter, once per additive surface a camera
-  /// ray crosses): position, uv, emissiveUv, uvArea and vertexColor as baseFactor reads it, and
+  /// What a see-through layer's colour reads (once per additive surface a camera ray crosses in
+  /// front of its hit): position, uv, emissiveUv, uvArea and vertexColor as baseFactor reads it, and
   /// the winding normal where the material emits (emission's side), with All's bits. Left out:
   /// the shading normal (the geometric one), lightmap and shine uvs (0), the winding normal and
   /// worldArea of a material that does not emit ((0, 0, 1) and 0), and a vertex-lit material's
