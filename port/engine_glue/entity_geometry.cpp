@@ -110,7 +110,7 @@ bool appendEffect(const q3abi::refEntity_t& e, const Viewer& viewer, GeometryBat
 }
 
 void appendPolys(const std::vector<ScenePoly>& polys, const std::vector<q3abi::polyVert_t>& verts,
-                 GeometryBatch& out) {
+                 const Viewer& viewer, const std::function<bool(int32_t shader)>& isDecal, GeometryBatch& out) {
   for (const ScenePoly& poly : polys) {
     if (poly.numVerts < 3 || size_t(poly.firstVert) + poly.numVerts > verts.size()) continue;
     const auto base = static_cast<uint32_t>(out.positions.size());
@@ -118,8 +118,10 @@ void appendPolys(const std::vector<ScenePoly>& polys, const std::vector<q3abi::p
     glm::vec3 normal = glm::cross(vec(v[2].xyz) - vec(v[0].xyz), vec(v[1].xyz) - vec(v[0].xyz));
     const float length = glm::length(normal);
     normal = length > 1e-12f ? normal / length : glm::vec3(0, 0, 1);
+    const float lift = isDecal && isDecal(poly.shader) ? kDecalLift : 0.0f;
     for (uint32_t i = 0; i < poly.numVerts; ++i) {
-      out.positions.push_back(vec(v[i].xyz));
+      const glm::vec3 corner = vec(v[i].xyz);
+      out.positions.push_back(lift > 0.0f ? corner + (viewer.origin - corner) * lift : corner);
       out.normals.push_back(normal);
       out.uvs.emplace_back(v[i].st[0], v[i].st[1]);
       out.colors.emplace_back(pa::srgbByteToLinear(v[i].modulate[0]), pa::srgbByteToLinear(v[i].modulate[1]),

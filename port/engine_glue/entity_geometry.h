@@ -5,6 +5,7 @@
 // handle that draws them (resolved to renderer materials by the caller).
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -75,9 +76,17 @@ glm::vec4 entityColor(const q3abi::refEntity_t& entity);
 /// lightning). Returns false for kinds that have no geometry (portal surfaces, models).
 bool appendEffect(const q3abi::refEntity_t& entity, const Viewer& viewer, GeometryBatch& out);
 
-/// Appends polygons (triangle fans) added with AddPolyToScene.
+/// How far a decal polygon (a shader with polygonOffset: impact marks) is moved towards the
+/// viewer, as a fraction of its distance: the stock renderer's depth offset. Marks lie in the
+/// plane of the wall they mark; without it the wall and the mark meet the camera ray at the same
+/// distance and rounding decides which one shows, pixel by pixel.
+inline constexpr float kDecalLift = 1e-3f;
+
+/// Appends polygons (triangle fans) added with AddPolyToScene. The corners of polygons whose
+/// shader `isDecal` names move towards `viewer` by kDecalLift of their distance (which leaves
+/// where they appear from there unchanged).
 void appendPolys(const std::vector<ScenePoly>& polys, const std::vector<q3abi::polyVert_t>& verts,
-                 GeometryBatch& out);
+                 const Viewer& viewer, const std::function<bool(int32_t shader)>& isDecal, GeometryBatch& out);
 
 /// The viewer's left and up directions in an entity's model space (deformVertexes autosprite).
 struct SpriteAxes {

@@ -107,6 +107,7 @@ ShaderLook lookOfShader(const q3::ShaderDef& shader) {
   look.nodraw = shader.has(q3::SurfaceParm::NoDraw);
   look.translucent = shader.has(q3::SurfaceParm::Trans);
   look.noPicmip = shader.noPicmip || shader.noMipmaps;
+  look.polygonOffset = shader.polygonOffset;
   look.surfaceLight = shader.surfaceLight;
   for (const q3::Deform& deform : shader.deforms)
     look.autosprite = look.autosprite || deform.kind == q3::DeformKind::AutoSprite;

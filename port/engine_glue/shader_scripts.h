@@ -67,6 +67,7 @@ struct ShaderLook {
   bool nodraw = false;               ///< surfaceparm nodraw or no drawable stage.
   bool translucent = false;          ///< surfaceparm trans.
   bool noPicmip = false;             ///< nopicmip: r_picmip leaves its images alone.
+  bool polygonOffset = false;        ///< polygonOffset: a decal drawn over the surface it lies on.
   float surfaceLight = 0.0f;         ///< q3map_surfacelight (emission, for the path tracer).
   bool fromScript = false;
   /// Every stage as written (2D draws them all in order, as the stock renderer does).

@@ -260,7 +260,8 @@ void ViewRenderer::Impl::drawEffects(const ViewContext& ctx, const SceneFrame& s
     batch.triangleShaderTimes.resize(before, 0.0f);   // an entity's shader clock runs shaderTime behind
     batch.triangleShaderTimes.resize(batch.triangles(), e.shaderTime);
   }
-  appendPolys(scene.polys(), scene.polyVerts(), batch);
+  appendPolys(scene.polys(), scene.polyVerts(), ctx.viewer,
+              [&](int32_t shader) { return shaders.resolve(shader).look.polygonOffset; }, batch);
   if (ctx.withWorld) {
     const std::vector<bool>& brushPlaced = scratch.brushPlaced;
     map.worldSprites.append(

@@ -83,13 +83,39 @@ TEST(EntityGeometry, PolygonsBecomeTriangleFansWithTheirColours) {
   }
   ASSERT_TRUE(scene.addPolys(3, 5, verts, 1));
   GeometryBatch batch;
-  appendPolys(scene.polys(), scene.polyVerts(), batch);
+  appendPolys(scene.polys(), scene.polyVerts(), Viewer{}, {}, batch);
   EXPECT_EQ(batch.triangles(), 3u);
+  EXPECT_EQ(batch.positions[4], glm::vec3(4, 16, 0));   // where the game put it
   EXPECT_EQ(batch.indices[3], 0u);   // every triangle starts at the first vertex
   EXPECT_EQ(batch.triangleShaders[2], 3);
   EXPECT_FLOAT_EQ(batch.colors[0].r, 1.0f);
   EXPECT_FLOAT_EQ(batch.colors[0].g, 0.0f);
   EXPECT_NEAR(batch.colors[0].a, 128.0f / 255.0f, 1e-6f);
+}
+
+TEST(EntityGeometry, DecalPolygonsMoveTowardsTheViewerAlongTheirSightLines) {
+  // Two quads in the wall plane x = 100, seen from the origin: a mark (shader 7, polygonOffset)
+  // and another polygon (shader 8).
+  SceneFrame scene;
+  q3abi::polyVert_t verts[4]{};
+  const float corners[4][3] = {{100, -10, -10}, {100, 10, -10}, {100, 10, 10}, {100, -10, 10}};
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 3; ++k) verts[i].xyz[k] = corners[i][k];
+  ASSERT_TRUE(scene.addPolys(7, 4, verts, 1));
+  ASSERT_TRUE(scene.addPolys(8, 4, verts, 1));
+  GeometryBatch batch;
+  const Viewer viewer{{0, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  appendPolys(scene.polys(), scene.polyVerts(), viewer, [](int32_t shader) { return shader == 7; }, batch);
+  ASSERT_EQ(batch.positions.size(), 8u);
+  for (int i = 0; i < 4; ++i) {
+    const glm::vec3 wall(corners[i][0], corners[i][1], corners[i][2]);
+    const glm::vec3 mark = batch.positions[size_t(i)];
+    EXPECT_EQ(batch.positions[size_t(i) + 4], wall);   // not a decal: left where it is
+    // In front of the wall by kDecalLift of its distance, on the same line of sight.
+    EXPECT_NEAR(glm::length(mark), (1.0f - kDecalLift) * glm::length(wall), 1e-4f);
+    EXPECT_NEAR(glm::length(glm::cross(glm::normalize(mark), glm::normalize(wall))), 0.0f, 1e-6f);
+    EXPECT_LT(mark.x, 100.0f - 0.09f);
+  }
 }
 
 TEST(EntityGeometry, AutospriteSurfacesBecomeViewerFacingQuads) {
