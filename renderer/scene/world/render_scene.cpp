@@ -109,12 +109,7 @@ void evaluateLayer(const RenderScene& scene, const AdditiveHits::Candidate& c, c
   const RenderInstance& inst = instancesFor(scene, c.overlay)[c.instance];
   const MaterialDesc& m = scene.materialOf(inst, c.prim).desc;
   if (!m.twoSided && glm::dot(scene.windingNormal(inst, c.prim), ray.dir) > 0.0f) return;
-  Hit hit;
-  hit.t = c.t;
-  hit.u = c.u;
-  hit.v = c.v;
-  hit.prim = c.prim;
-  hit.instance = c.instance;
+  const Hit hit{c.t, c.u, c.v, c.prim, c.instance};
   const SurfaceHit s = scene.surfaceAt(hit, c.overlay, ray, SurfaceParts::LayerColour, memo);
   const glm::vec3 d = ray.dir;
   const glm::vec4 base = scene.baseColor(s, 0.0f);
