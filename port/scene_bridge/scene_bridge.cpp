@@ -239,6 +239,12 @@ WorldHandles uploadWorld(const q3::WorldScene& scene, Renderer& renderer, const 
       const uint32_t base = uint32_t(positions.size());
       positions.insert(positions.end(), mesh.positions.begin(), mesh.positions.end());
       normals.insert(normals.end(), mesh.normals.begin(), mesh.normals.end());
+      if (scene.materials[mesh.material].decal) {   // off the wall it lies on, towards its front
+        for (size_t i = base; i < positions.size(); ++i) {
+          const float length = glm::length(normals[i]);
+          if (length > 0.0f && std::isfinite(length)) positions[i] += normals[i] * (kWorldDecalLift / length);
+        }
+      }
       uvs.insert(uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
       lightmapUvs.insert(lightmapUvs.end(), mesh.lightmapUvs.begin(), mesh.lightmapUvs.end());
       for (const glm::vec4& c : mesh.colors) {

@@ -20,6 +20,12 @@
 
 namespace pa::bridge {
 
+/// How far world surfaces of a shader with polygonOffset (map decals) move along their normal,
+/// in map units: decals often lie in the plane of the wall they mark, where rounding would decide
+/// pixel by pixel which of the two a camera ray meets first; stock draws them over it with its
+/// depth offset. 0.1 unit is far beyond that rounding and too little to see.
+inline constexpr float kWorldDecalLift = 0.1f;
+
 /// Knobs of uploadWorld.
 struct UploadOptions {
   /// Add the map's analytic lights (scene.lights: light entities, q3map_sun, and the lights

@@ -143,6 +143,7 @@ class SceneAssembler {
     m.additiveSource = info.additiveSource;
     m.additiveAlphaTest = info.additiveAlphaTest;
     m.twoSided = info.twoSided;
+    m.decal = info.polygonOffset;
     m.sky = info.sky || (m.surfaceFlags & kSurfSky) != 0;
     m.fog = info.fogVolume;
     m.mirror = info.portal;

@@ -211,6 +211,39 @@ TEST(SceneBridge, AdditiveStagesBlendByTheirSourceFactor) {
   EXPECT_FALSE(desc.alphaInvert);
 }
 
+TEST(SceneBridge, MapDecalsInTheWallsPlaneShowOnEveryPixel) {
+  // A red additive decal (polygonOffset) with the wall's very corners: stock draws it over the
+  // wall with its depth offset; here it moves off the wall along its normal, so every camera
+  // ray meets it in front (without that, rounding decides, or a tie hides it).
+  q3::WorldScene scene = wallScene(16, false);   // a dark grey wall
+  q3::WorldMaterial decal = scene.materials[0];
+  decal.shaderName = "textures/test/decal";
+  decal.alphaMode = q3::WorldAlphaMode::Additive;
+  decal.baseColor = glm::vec4(0.5f, 0.0f, 0.0f, 1.0f);
+  decal.decal = true;
+  scene.materials.push_back(decal);
+  q3::WorldMesh mesh = scene.models[0].meshes[0];
+  mesh.material = 1;
+  scene.models[0].meshes.push_back(mesh);
+  Renderer renderer;
+  showSkyAndFog(uploadWorld(scene, renderer), renderer);
+  renderer.commit();
+  q3::WorldCamera spawn;   // a slanted view of the wall
+  spawn.eye = {300, 120, 40};
+  spawn.forward = glm::normalize(glm::vec3(-1.0f, -0.3f, -0.1f));
+  spawn.left = glm::normalize(glm::cross(glm::vec3(0, 0, 1), spawn.forward));
+  spawn.up = glm::cross(spawn.forward, spawn.left);
+  RenderSettings settings;
+  settings.width = 32;
+  settings.height = 32;
+  settings.integrator = Integrator::Lightmap;
+  settings.maxBounces = 0;
+  const FrameView frame = renderer.render(cameraFromSpawn(spawn, 1.0f, 40.0f), settings);
+  size_t withoutDecal = 0;
+  for (const glm::vec3& r : frame.radiance) withoutDecal += r.r < r.g + 0.1f ? 1 : 0;
+  EXPECT_EQ(withoutDecal, 0u) << "of " << frame.radiance.size() << " pixels";
+}
+
 TEST(SceneBridge, VertexLitSurfacesUseVertexColoursAsBakedLight) {
   Renderer renderer;
   showSkyAndFog(uploadWorld(wallScene(128, true), renderer), renderer);
