@@ -28,9 +28,9 @@ stock_frames="$(for f in $frames; do printf '%d ' $((f + stock_offset)); done)"
 min_psnr="${FIDELITY_MIN_PSNR:-28.5}"
 min_ssim="${FIDELITY_MIN_SSIM:-0.92}"
 min_psnr_recorded="${FIDELITY_MIN_PSNR_RECORDED:-19.5}"
-min_ssim_recorded="${FIDELITY_MIN_SSIM_RECORDED:-0.78}"
+min_ssim_recorded="${FIDELITY_MIN_SSIM_RECORDED:-0.85}"
 min_mean_psnr="${FIDELITY_MIN_MEAN_PSNR:-29.8}"
-min_mean_ssim="${FIDELITY_MIN_MEAN_SSIM:-0.925}"
+min_mean_ssim="${FIDELITY_MIN_MEAN_SSIM:-0.94}"
 # One C-library seed for every run (tests/regress pa_fixed_rand.so, FIDELITY_FIXED_RAND): the
 # game's random effects (explosion rotations, smoke, brass) then repeat run to run, and the module
 # draws from rand() at start as opengl1 does, so both renderers see the same ones.
