@@ -92,8 +92,8 @@ struct WorldMaterial {
   bool visible = true;           ///< False for nodraw / hint / skip surfaces (kept only when they emit).
   bool castsShadows = true;      ///< False for sky, trans-only additive, nodraw.
   bool sky = false;              ///< surfaceparm sky: a window to the sky box.
-  bool fog = false;
-  bool decal = false;            ///< polygonOffset: drawn over the surface it lies on.              ///< surfaceparm fog: the boundary of a fog volume.
+  bool fog = false;              ///< surfaceparm fog: the boundary of a fog volume.
+  bool decal = false;            ///< polygonOffset: drawn over the surface it lies on.
   bool mirror = false;           ///< portal / mirror surface.
   bool vertexLit = false;        ///< Baked light comes from vertex colours (no lightmap stage).
   float specular = 0.0f;         ///< Env-mapped (tcGen environment) stage strength in [0,1].
