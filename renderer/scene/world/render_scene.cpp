@@ -46,6 +46,21 @@ glm::vec3 divided(const glm::vec3& v, float d) {
 #endif
 }
 
+/// Adds `item` to the first `count` of `held` unless `reported` finds it there already (a
+/// triangle reported twice); when all are taken, it replaces the farthest (by t) if nearer: the
+/// farther ones are the likeliest to lie behind the hit.
+template <class Item, size_t N, class SameTriangle>
+void keepNearest(std::array<Item, N>& held, uint32_t& count, const Item& item, SameTriangle reported) {
+  for (uint32_t i = 0; i < count; ++i)
+    if (reported(held[i])) return;
+  if (count < N) {
+    held[count++] = item;
+    return;
+  }
+  auto farthest = std::max_element(held.begin(), held.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
+  if (farthest->t > item.t) *farthest = item;
+}
+
 void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color,
                     const glm::vec3& transmit) {
   // A layer that adds nothing and keeps what is behind is no layer (the black margins of sprite
@@ -54,17 +69,8 @@ void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t pri
   if (glm::all(glm::lessThan(color, glm::vec3(kNothing))) &&
       glm::all(glm::lessThan(glm::abs(transmit - 1.0f), glm::vec3(kNothing))))
     return;
-  for (uint32_t i = 0; i < hits.count; ++i) {
-    if (hits.entries[i].instance == instance && hits.entries[i].prim == prim) return;   // reported twice
-  }
-  if (hits.count < AdditiveHits::kCapacity) {
-    hits.entries[hits.count++] = {t, instance, prim, color, transmit};
-    return;
-  }
-  // Full: keep the closest ones (farther ones are the likeliest to lie behind the hit).
-  auto farthest = std::max_element(hits.entries.begin(), hits.entries.end(),
-                                   [](const auto& a, const auto& b) { return a.t < b.t; });
-  if (farthest->t > t) *farthest = {t, instance, prim, color, transmit};
+  keepNearest(hits.entries, hits.count, {t, instance, prim, color, transmit},
+              [&](const AdditiveHits::Entry& e) { return e.instance == instance && e.prim == prim; });
 }
 
 /// sRGB-encoded value of a non-negative linear colour (above 1 too: the dynamic-light pass).
@@ -89,17 +95,9 @@ glm::vec3 blendFactor(BlendFactor factor, const glm::vec3& src, float a) {
 /// Records an additive triangle the traversal met (first report of a triangle only); when full,
 /// a nearer candidate takes the farthest one's place.
 void recordCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& c) {
-  for (uint32_t i = 0; i < hits.candidateCount; ++i) {
-    const AdditiveHits::Candidate& held = hits.candidates[i];
-    if (held.instance == c.instance && held.prim == c.prim && held.overlay == c.overlay) return;   // reported twice
-  }
-  if (hits.candidateCount < AdditiveHits::kCandidateCapacity) {
-    hits.candidates[hits.candidateCount++] = c;
-    return;
-  }
-  auto farthest = std::max_element(hits.candidates.begin(), hits.candidates.end(),
-                                   [](const auto& a, const auto& b) { return a.t < b.t; });
-  if (farthest->t > c.t) *farthest = c;
+  keepNearest(hits.candidates, hits.candidateCount, c, [&](const AdditiveHits::Candidate& held) {
+    return held.instance == c.instance && held.prim == c.prim && held.overlay == c.overlay;
+  });
 }
 
 /// The layer of candidate `c` seen along `ray`: its colour and what it lets through, recorded in
