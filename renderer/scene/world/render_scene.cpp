@@ -14,8 +14,8 @@
 #include <immintrin.h>
 #endif
 
-#include "renderer/scene/integrator/display_composite.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
+#include "renderer/scene/world/see_through_layers.h"
 
 namespace pa {
 
@@ -44,111 +44,6 @@ glm::vec3 divided(const glm::vec3& v, float d) {
 #else
   return v / d;
 #endif
-}
-
-/// Adds `item` to the first `count` of `held` unless `reported` finds it there already (a
-/// triangle reported twice); when all are taken, it replaces the farthest (by t) if nearer: the
-/// farther ones are the likeliest to lie behind the hit.
-template <class Item, size_t N, class SameTriangle>
-void keepNearest(std::array<Item, N>& held, uint32_t& count, const Item& item, SameTriangle reported) {
-  for (uint32_t i = 0; i < count; ++i)
-    if (reported(held[i])) return;
-  if (count < N) {
-    held[count++] = item;
-    return;
-  }
-  auto farthest = std::max_element(held.begin(), held.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
-  if (farthest->t > item.t) *farthest = item;
-}
-
-void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color,
-                    const glm::vec3& transmit) {
-  // A layer that adds nothing and keeps what is behind is no layer (the black margins of sprite
-  // quads): it takes no slot from the ones that show.
-  constexpr float kNothing = 1e-5f;
-  if (glm::all(glm::lessThan(color, glm::vec3(kNothing))) &&
-      glm::all(glm::lessThan(glm::abs(transmit - 1.0f), glm::vec3(kNothing))))
-    return;
-  keepNearest(hits.entries, hits.count, {t, instance, prim, color, transmit},
-              [&](const AdditiveHits::Entry& e) { return e.instance == instance && e.prim == prim; });
-}
-
-/// sRGB-encoded value of a non-negative linear colour (above 1 too: the dynamic-light pass).
-glm::vec3 displayValue(const glm::vec3& linear) {
-  const glm::vec3 c = glm::max(linear, glm::vec3(0.0f));
-  return {linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)};
-}
-
-/// A blend factor's value for a layer of display colour `src` and alpha `a`.
-glm::vec3 blendFactor(BlendFactor factor, const glm::vec3& src, float a) {
-  switch (factor) {
-    case BlendFactor::Zero: return glm::vec3(0.0f);
-    case BlendFactor::One: return glm::vec3(1.0f);
-    case BlendFactor::SrcColor: return src;
-    case BlendFactor::OneMinusSrcColor: return glm::vec3(1.0f) - src;
-    case BlendFactor::SrcAlpha: return glm::vec3(a);
-    case BlendFactor::OneMinusSrcAlpha: return glm::vec3(1.0f - a);
-  }
-  return glm::vec3(1.0f);
-}
-
-/// Records an additive triangle the traversal met (first report of a triangle only); when full,
-/// a nearer candidate takes the farthest one's place.
-void recordCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& c) {
-  keepNearest(hits.candidates, hits.candidateCount, c, [&](const AdditiveHits::Candidate& held) {
-    return held.instance == c.instance && held.prim == c.prim && held.overlay == c.overlay;
-  });
-}
-
-/// The layer of candidate `c` seen along `ray`: its colour and what it lets through, recorded in
-/// `hits` (recordAdditive); nothing where it faces away (one-sided) or fails its alpha test.
-void evaluateLayer(const RenderScene& scene, const AdditiveHits::Candidate& c, const Ray& ray, TriangleMemo* memo,
-                   AdditiveHits& hits) {
-  const RenderInstance& inst = instancesFor(scene, c.overlay)[c.instance];
-  const MaterialDesc& m = scene.materialOf(inst, c.prim).desc;
-  if (!m.twoSided && glm::dot(scene.windingNormal(inst, c.prim), ray.dir) > 0.0f) return;
-  const Hit hit{c.t, c.u, c.v, c.prim, c.instance};
-  const SurfaceHit s = scene.surfaceAt(hit, c.overlay, ray, SurfaceParts::LayerColour, memo);
-  const glm::vec3 d = ray.dir;
-  const glm::vec4 base = scene.baseColor(s, 0.0f);
-  if (m.layerAlphaTest && (m.alphaInvert ? base.a >= m.alphaCutoff : base.a < m.alphaCutoff)) return;
-  glm::vec3 added = glm::vec3(base) + scene.emission(s, glm::dot(s.geometricNormal, d) < 0.0f);
-  glm::vec3 transmit(1.0f);
-  switch (m.stock.layerBlend) {
-    case LayerBlend::Add: break;
-    case LayerBlend::Over: transmit = glm::vec3(1.0f - std::clamp(base.a, 0.0f, 1.0f)); break;
-    case LayerBlend::Multiply: transmit = displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
-    case LayerBlend::MultiplyInverse:
-      transmit = glm::max(1.0f - displayValue(glm::vec3(base)), glm::vec3(0.0f));
-      added = glm::vec3(0.0f);
-      break;
-    case LayerBlend::MultiplyAdd: transmit = 1.0f + displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
-    case LayerBlend::Modulate2x: transmit = 2.0f * displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
-    case LayerBlend::Factors: {
-      // The layer adds encode(added) x srcFactor in display values: back to linear.
-      const glm::vec3 src = glm::min(displayValue(added), glm::vec3(1.0f));
-      const float a = std::clamp(base.a, 0.0f, 1.0f);
-      const glm::vec3 shown = src * blendFactor(m.stock.layerSrcFactor, src, a);
-      added = {srgbToLinear(shown.x), srgbToLinear(shown.y), srgbToLinear(shown.z)};
-      transmit = blendFactor(m.stock.layerDstFactor, src, a);
-      break;
-    }
-  }
-  recordAdditive(hits, c.t, c.instance, c.prim, added, transmit);
-}
-
-/// Works out the layers of the candidates nearer than `tEnd` (the ray's closest hit, or
-/// infinity) and empties the candidates. `memos`: a few triangles' parts kept for the next calls
-/// (a packet's rays cross the same few layers).
-void resolveLayers(const RenderScene& scene, AdditiveHits& hits, const Ray& ray, float tEnd,
-                   std::span<TriangleMemo> memos) {
-  for (uint32_t i = 0; i < hits.candidateCount; ++i) {
-    const AdditiveHits::Candidate& c = hits.candidates[i];
-    if (!(c.t < tEnd)) continue;   // behind the closest hit: never shown
-    TriangleMemo* memo = memos.empty() ? nullptr : &memos[(c.prim * 0x9e3779b1u ^ c.instance) % memos.size()];
-    evaluateLayer(scene, c, ray, memo, hits);
-  }
-  hits.candidateCount = 0;
 }
 
 bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, float u, float v, float t) {
@@ -183,7 +78,8 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
     }
     case AlphaMode::Additive:
       // Worked out once the closest hit is known (resolveLayers): only those in front show.
-      if (ctx.request->additive != nullptr) recordCandidate(*ctx.request->additive, {t, instanceIndex, prim, u, v, ctx.overlay});
+      if (ctx.request->additive != nullptr)
+        recordLayerCandidate(*ctx.request->additive, {t, instanceIndex, prim, u, v, ctx.overlay});
       return false;
     case AlphaMode::Opaque:
       break;
@@ -234,8 +130,8 @@ bool RenderScene::intersect(Ray& ray, Hit& hit, const TraceRequest& request) con
   const HitFilter filter{&acceptCandidate, &ctx, faceCullFor(request.kind)};
   const Tlas& tlas = request.overlay ? overlayTlas : worldTlas;
   const bool found = tlas.intersect(ray, hit, rayMaskFor(request.kind), filter);
-  if (request.additive != nullptr && request.additive->candidateCount != 0)   // one ray: no memo helps
-    resolveLayers(*this, *request.additive, ray, found ? hit.t : std::numeric_limits<float>::infinity(), {});
+  if (request.additive != nullptr && request.additive->candidateCount != 0)
+    resolveRayLayers(*this, *request.additive, ray, found ? hit.t : std::numeric_limits<float>::infinity());
   return found;
 }
 
@@ -281,14 +177,8 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
     }
     remaining &= ~found;
   }
-  // The layers in front of each ray's hit, ray by ray; the packet's rays mostly cross the same
-  // few layers, whose triangles' parts the memos keep.
-  std::array<TriangleMemo, 8> layerMemos;
-  for (uint32_t i = 0; i < count; ++i) {
-    TracedCameraRay& r = rays[i];
-    if (r.additive.candidateCount == 0) continue;
-    resolveLayers(*this, r.additive, r.ray, r.found ? r.hit.t : std::numeric_limits<float>::infinity(), layerMemos);
-  }
+  // The layers in front of each ray's hit: the packet's rays mostly cross the same few layers.
+  resolvePacketLayers(*this, rays.first(count));
 }
 
 void RenderScene::markFogFreeEnds(std::span<TracedCameraRay> rays) const {

@@ -80,7 +80,9 @@ struct AdditiveHits {
     bool overlay;   ///< On a drawOnTop instance (RenderScene::overlay).
   };
   uint32_t count = 0;
-  std::array<Entry, kCapacity> entries;   ///< First `count` are valid.
+  /// First `count` are valid; once a query returns, in drawing order: by t, coincident ones by
+  /// instance, then the later primitive first (a shader's later stage is the nearer layer).
+  std::array<Entry, kCapacity> entries;
   uint32_t candidateCount = 0;
   std::array<Candidate, kCandidateCapacity> candidates;   ///< First `candidateCount` are valid.
   /// Sum of the colours of entries closer than t.

@@ -1,0 +1,155 @@
+// See-through layers (world/see_through_layers.h): the candidates and layers a ray keeps do not
+// depend on the order the traversal met them in, and a camera packet gives every ray the layers
+// it gets alone, bit for bit, in drawing order, also when more layers than fit cross it, many of
+// them coincident (a shader's stages drawn as copies of one triangle).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <tuple>
+#include <vector>
+
+#include "renderer/scene/world/scene_store.h"
+#include "renderer/scene/world/see_through_layers.h"
+#include "scene_builders.h"
+
+namespace pa {
+namespace {
+
+using Candidate = AdditiveHits::Candidate;
+
+bool candidateBefore(const Candidate& a, const Candidate& b) {
+  return std::tie(a.t, a.overlay, a.instance, a.prim) < std::tie(b.t, b.overlay, b.instance, b.prim);
+}
+
+TEST(SeeThroughLayers, CandidatesKeptAreTheNearestWhateverTheOrderTheyCameIn) {
+  // 48 triangles at 10 distances (ties, also across the cut), on both instance tables: more
+  // than the 32 kept.
+  std::vector<Candidate> all;
+  for (uint32_t i = 0; i < 48; ++i)
+    all.push_back({1.0f + static_cast<float>(i % 10), i % 5, 100 + i, 0.25f, 0.25f, i % 3 == 0});
+  std::vector<Candidate> expected = all;
+  std::sort(expected.begin(), expected.end(), candidateBefore);
+  expected.resize(AdditiveHits::kCandidateCapacity);
+  std::vector<uint32_t> order(all.size());
+  std::iota(order.begin(), order.end(), 0u);
+  for (int arrangement = 0; arrangement < 4; ++arrangement) {
+    SCOPED_TRACE(arrangement);
+    if (arrangement == 1) std::reverse(order.begin(), order.end());
+    if (arrangement >= 2) std::rotate(order.begin(), order.begin() + 17 * arrangement % 48, order.end());
+    AdditiveHits hits;
+    for (const uint32_t i : order) {
+      recordLayerCandidate(hits, all[i]);
+      recordLayerCandidate(hits, all[i]);   // reported twice: kept once
+    }
+    ASSERT_EQ(hits.candidateCount, AdditiveHits::kCandidateCapacity);
+    std::vector<Candidate> kept(hits.candidates.begin(), hits.candidates.begin() + hits.candidateCount);
+    std::sort(kept.begin(), kept.end(), candidateBefore);
+    for (size_t k = 0; k < kept.size(); ++k) {
+      EXPECT_EQ(kept[k].t, expected[k].t) << k;
+      EXPECT_EQ(kept[k].instance, expected[k].instance) << k;
+      EXPECT_EQ(kept[k].prim, expected[k].prim) << k;
+      EXPECT_EQ(kept[k].overlay, expected[k].overlay) << k;
+    }
+  }
+}
+
+/// In front of an opaque wall at z = -10: 20 coincident additive squares at z = -4 (one mesh,
+/// the stages of one shader: textured, vertex-coloured, several blends), and 4 single squares at
+/// other distances; 24 layers where 16 fit.
+struct LayeredWall {
+  SceneStore store;
+  RenderScene scene;
+  LayeredWall() {
+    std::vector<uint8_t> pixels;
+    for (uint32_t i = 0; i < 16; ++i) {
+      const uint8_t v = static_cast<uint8_t>(40 + 13 * i);
+      pixels.insert(pixels.end(), {v, static_cast<uint8_t>(255 - v), 90, static_cast<uint8_t>(60 + 9 * i)});
+    }
+    TextureDesc texture;
+    texture.width = texture.height = 4;
+    texture.rgba8 = pixels;
+    const TextureId tex = store.addTexture(texture);
+    test::addMesh(store, test::quad({-50, -50, -10}, {100, 0, 0}, {0, 100, 0}), store.addMaterial(test::diffuse(0.5f)));
+    const LayerBlend blends[] = {LayerBlend::Add, LayerBlend::Over, LayerBlend::Multiply, LayerBlend::MultiplyAdd};
+    test::MeshArrays stages;
+    for (uint32_t s = 0; s < 20; ++s) {
+      const test::MeshArrays q = test::quad({-2, -2, -4}, {4, 0, 0}, {0, 4, 0});
+      const uint32_t base = static_cast<uint32_t>(stages.positions.size());
+      for (size_t k = 0; k < q.positions.size(); ++k) {
+        stages.positions.push_back(q.positions[k]);
+        stages.uvs.push_back(q.uvs[k] * (1.0f + 0.3f * static_cast<float>(s)));
+        stages.colors.emplace_back(0.2f + 0.04f * static_cast<float>(s), 0.5f, 0.9f - 0.03f * static_cast<float>(s),
+                                   0.3f + 0.1f * static_cast<float>(k));
+      }
+      for (const uint32_t i : q.indices) stages.indices.push_back(base + i);
+      MaterialDesc m;
+      m.alphaMode = AlphaMode::Additive;
+      m.baseTexture = tex;
+      m.baseColor = glm::vec4(0.3f + 0.02f * static_cast<float>(s));
+      m.stock.layerBlend = blends[s % 4];
+      const MaterialId id = store.addMaterial(m);
+      stages.materials.insert(stages.materials.end(), {id, id});
+    }
+    store.addInstance({store.addMesh(stages.desc())});
+    for (int k = 0; k < 4; ++k) {
+      MaterialDesc glow;
+      glow.alphaMode = AlphaMode::Additive;
+      glow.baseColor = glm::vec4(0.05f * static_cast<float>(k + 1));
+      glow.twoSided = k % 2 == 0;
+      test::addMesh(store, test::quad({-3, -3, -2.0f - 1.7f * static_cast<float>(k)}, {6, 0, 0}, {0, 6, 0}),
+                    store.addMaterial(glow));
+    }
+    scene = store.commit();
+  }
+};
+
+bool sameBits(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+TEST(SeeThroughLayers, PacketGivesEveryRayTheLayersItGetsAlone) {
+  const LayeredWall wall;
+  std::array<TracedCameraRay, kMaxPacketRays> packet;
+  for (uint32_t i = 0; i < kMaxPacketRays; ++i) {
+    packet[i].ray.origin = glm::vec3(0.0f);
+    packet[i].ray.dir = glm::vec3(-0.3f + 0.04f * static_cast<float>(i % 4) + 0.003f * static_cast<float>(i),
+                                  -0.25f + 0.05f * static_cast<float>(i / 4), -1.0f);
+    if (i == 5) packet[i].ray.dir = glm::vec3(0.6f, 0.1f, -1.0f);   // beside the stages: fewer layers
+  }
+  std::array<TracedCameraRay, kMaxPacketRays> alone = packet;
+  wall.scene.intersectCameraPacket(packet);
+  uint32_t full = 0;
+  for (uint32_t i = 0; i < kMaxPacketRays; ++i) {
+    SCOPED_TRACE(i);
+    TraceRequest request;
+    request.kind = RayKind::Camera;
+    AdditiveHits hits;
+    request.additive = &hits;
+    Hit hit;
+    ASSERT_TRUE(wall.scene.intersect(alone[i].ray, hit, request));
+    ASSERT_TRUE(packet[i].found);
+    EXPECT_EQ(packet[i].hit.t, hit.t);
+    const AdditiveHits& p = packet[i].additive;
+    ASSERT_EQ(p.count, hits.count);
+    full += p.count == AdditiveHits::kCapacity;
+    for (uint32_t k = 0; k < p.count; ++k) {
+      EXPECT_EQ(p.entries[k].t, hits.entries[k].t) << k;
+      EXPECT_EQ(p.entries[k].instance, hits.entries[k].instance) << k;
+      EXPECT_EQ(p.entries[k].prim, hits.entries[k].prim) << k;
+      EXPECT_TRUE(sameBits(p.entries[k].color, hits.entries[k].color)) << k;
+      EXPECT_TRUE(sameBits(p.entries[k].transmit, hits.entries[k].transmit)) << k;
+      if (k > 0) {   // drawing order: by distance, coincident stages the later one nearer
+        const AdditiveHits::Entry& a = p.entries[k - 1];
+        const AdditiveHits::Entry& b = p.entries[k];
+        EXPECT_TRUE(a.t < b.t || (a.t == b.t && (a.instance < b.instance || (a.instance == b.instance && a.prim > b.prim))))
+            << k;
+      }
+    }
+  }
+  EXPECT_GE(full, 12u);   // most rays cross more layers than fit
+}
+
+}  // namespace
+}  // namespace pa

@@ -1,0 +1,312 @@
+#include "renderer/scene/world/see_through_layers.h"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <cstdint>
+#include <tuple>
+
+#include <glm/geometric.hpp>
+
+#include "renderer/core/srgb.h"
+
+namespace pa {
+
+namespace {
+
+const std::vector<RenderInstance>& instancesFor(const RenderScene& scene, bool overlay) {
+  return overlay ? scene.overlay : scene.world;
+}
+
+/// Where a new item goes among the first `count` of `held`: nowhere if `reported` finds its
+/// triangle there already (reported twice); else a free slot; when all are taken, the slot of the
+/// last of them in the order `before` (`before(held)`: the new item comes before `held`) if the
+/// new one comes before it, so the nearest are kept whatever the order they came in. The caller
+/// fills the slot member by member (a whole item built first and copied waits on its own stores).
+template <class Item, size_t N, class SameTriangle, class Before, class Order>
+Item* slotFor(std::array<Item, N>& held, uint32_t& count, SameTriangle reported, Before before, Order order) {
+  for (uint32_t i = 0; i < count; ++i)
+    if (reported(held[i])) return nullptr;
+  if (count < N) return &held[count++];
+  Item* last = &*std::max_element(held.begin(), held.end(), order);
+  return before(*last) ? last : nullptr;
+}
+
+bool drawnBefore(const AdditiveHits::Entry& a, const AdditiveHits::Entry& b);
+
+void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color,
+                    const glm::vec3& transmit) {
+  // A layer that adds nothing and keeps what is behind is no layer (the black margins of sprite
+  // quads): it takes no slot from the ones that show.
+  constexpr float kNothing = 1e-5f;
+  if (glm::all(glm::lessThan(color, glm::vec3(kNothing))) &&
+      glm::all(glm::lessThan(glm::abs(transmit - 1.0f), glm::vec3(kNothing))))
+    return;
+  using Entry = AdditiveHits::Entry;
+  Entry* slot = slotFor(
+      hits.entries, hits.count, [&](const Entry& e) { return e.instance == instance && e.prim == prim; },
+      [&](const Entry& held) { return drawnBefore(Entry{t, instance, prim, {}, {}}, held); }, drawnBefore);
+  if (slot == nullptr) return;
+  slot->t = t;
+  slot->instance = instance;
+  slot->prim = prim;
+  slot->color = color;
+  slot->transmit = transmit;
+}
+
+/// sRGB-encoded value of a non-negative linear colour (above 1 too: the dynamic-light pass).
+glm::vec3 displayValue(const glm::vec3& linear) {
+  const glm::vec3 c = glm::max(linear, glm::vec3(0.0f));
+  return {linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)};
+}
+
+/// A blend factor's value for a layer of display colour `src` and alpha `a`.
+glm::vec3 blendFactor(BlendFactor factor, const glm::vec3& src, float a) {
+  switch (factor) {
+    case BlendFactor::Zero: return glm::vec3(0.0f);
+    case BlendFactor::One: return glm::vec3(1.0f);
+    case BlendFactor::SrcColor: return src;
+    case BlendFactor::OneMinusSrcColor: return glm::vec3(1.0f) - src;
+    case BlendFactor::SrcAlpha: return glm::vec3(a);
+    case BlendFactor::OneMinusSrcAlpha: return glm::vec3(1.0f - a);
+  }
+  return glm::vec3(1.0f);
+}
+
+/// Records the layer of material `m` whose base colour (baseColor at full resolution) and
+/// emission a ray saw at distance t: what it adds and lets through (StockLook::layerBlend);
+/// nothing where it fails its alpha test.
+void recordLayer(const MaterialDesc& m, const glm::vec4& base, const glm::vec3& emission, float t, uint32_t instance,
+                 uint32_t prim, AdditiveHits& hits) {
+  if (m.layerAlphaTest && (m.alphaInvert ? base.a >= m.alphaCutoff : base.a < m.alphaCutoff)) return;
+  glm::vec3 added = glm::vec3(base) + emission;
+  glm::vec3 transmit(1.0f);
+  switch (m.stock.layerBlend) {
+    case LayerBlend::Add: break;
+    case LayerBlend::Over: transmit = glm::vec3(1.0f - std::clamp(base.a, 0.0f, 1.0f)); break;
+    case LayerBlend::Multiply: transmit = displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+    case LayerBlend::MultiplyInverse:
+      transmit = glm::max(1.0f - displayValue(glm::vec3(base)), glm::vec3(0.0f));
+      added = glm::vec3(0.0f);
+      break;
+    case LayerBlend::MultiplyAdd: transmit = 1.0f + displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+    case LayerBlend::Modulate2x: transmit = 2.0f * displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
+    case LayerBlend::Factors: {
+      // The layer adds encode(added) x srcFactor in display values: back to linear.
+      const glm::vec3 src = glm::min(displayValue(added), glm::vec3(1.0f));
+      const float a = std::clamp(base.a, 0.0f, 1.0f);
+      const glm::vec3 shown = src * blendFactor(m.stock.layerSrcFactor, src, a);
+      added = {srgbToLinear(shown.x), srgbToLinear(shown.y), srgbToLinear(shown.z)};
+      transmit = blendFactor(m.stock.layerDstFactor, src, a);
+      break;
+    }
+  }
+  recordAdditive(hits, t, instance, prim, added, transmit);
+}
+
+/// One ray crossing an additive triangle in front of its closest hit.
+struct Crossing {
+  float t, u, v;
+  const Ray* ray;
+  AdditiveHits* hits;
+};
+
+/// What every crossing of one triangle reads: its material, corners' uvs, colours and wobble,
+/// its winding (one-sided layers, emission's side).
+struct LayerTriangle {
+  const RenderInstance* instance;
+  const MaterialRecord* material;
+  uint32_t prim;
+  bool oneSided, hasUvs, hasColors, wobbles;
+  glm::vec3 winding;          ///< Unnormalised winding normal (world space).
+  glm::vec3 emittingNormal;   ///< Unit winding normal, (0, 0, 1) when degenerate.
+  glm::vec2 uv[3];
+  glm::vec4 color[3];
+  glm::vec2 wobble[3];        ///< UvWobble::offsetAt the corners.
+};
+
+LayerTriangle layerTriangle(const RenderScene& scene, const RenderInstance& inst, uint32_t prim) {
+  const MeshGeometry& g = inst.mesh->geometry;
+  const MaterialRecord& material = scene.materialOf(inst, prim);
+  const MaterialDesc& desc = material.desc;
+  LayerTriangle tri{};
+  tri.instance = &inst;
+  tri.material = &material;
+  tri.prim = prim;
+  const uint32_t corner[3] = {g.indices[3 * size_t{prim}], g.indices[3 * size_t{prim} + 1], g.indices[3 * size_t{prim} + 2]};
+  tri.oneSided = !desc.twoSided;
+  if (tri.oneSided || material.emits) {
+    tri.winding = scene.windingNormal(inst, prim);
+    const float len = glm::length(tri.winding);
+    tri.emittingNormal = len > 0.0f ? tri.winding / len : glm::vec3(0.0f, 0.0f, 1.0f);
+  }
+  tri.hasUvs = !g.uvs.empty();
+  tri.hasColors = !g.colors.empty();
+  tri.wobbles = desc.uvWobble.amplitude != 0.0f;
+  for (int k = 0; k < 3; ++k) {
+    if (tri.hasUvs) tri.uv[k] = g.uvs[corner[k]];
+    if (tri.hasColors) tri.color[k] = g.colors[corner[k]];
+    if (tri.wobbles) tri.wobble[k] = desc.uvWobble.offsetAt(g.positions[corner[k]]);
+  }
+  return tri;
+}
+
+/// The layers of one triangle for each of its crossings, recorded in the crossing's hits.
+void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint32_t instance, bool overlay,
+                       std::span<const Crossing> crossings) {
+  const MaterialRecord& material = *tri.material;
+  const MaterialDesc& m = material.desc;
+  if (m.baseTexCoords != TexCoordSource::Mesh) {   // uvs that depend on the ray: surfaceAt works them out
+    for (const Crossing& c : crossings) {
+      if (tri.oneSided && glm::dot(tri.winding, c.ray->dir) > 0.0f) continue;
+      const SurfaceHit s = scene.surfaceAt(Hit{c.t, c.u, c.v, tri.prim, instance}, overlay, *c.ray, SurfaceParts::LayerColour);
+      recordLayer(m, scene.baseColor(s, 0.0f), scene.emission(s, glm::dot(s.geometricNormal, c.ray->dir) < 0.0f), c.t,
+                  instance, tri.prim, *c.hits);
+    }
+    return;
+  }
+  const glm::vec4 tint = tri.instance->tint;
+  // baseFactor's vertex colour: its RGB only where it tints the base.
+  const bool colorTints = !m.stock.useVertexLight && m.vertexColorTints;
+  for (const Crossing& c : crossings) {
+    const glm::vec3& d = c.ray->dir;
+    if (tri.oneSided && glm::dot(tri.winding, d) > 0.0f) continue;
+    const float w0 = 1.0f - c.u - c.v;
+    // surfaceAt's uvs, vertex colour and emissive uv (SurfaceParts::LayerColour), as it forms them.
+    glm::vec2 meshUv(0.0f);
+    if (tri.hasUvs) meshUv = w0 * tri.uv[0] + c.u * tri.uv[1] + c.v * tri.uv[2];
+    glm::vec2 uv = m.uvTransform * glm::vec3(meshUv, 1.0f);
+    if (tri.wobbles) uv += w0 * tri.wobble[0] + c.u * tri.wobble[1] + c.v * tri.wobble[2];
+    glm::vec4 vertex(1.0f);
+    if (tri.hasColors) {
+      const glm::vec4 &c0 = tri.color[0], &c1 = tri.color[1], &c2 = tri.color[2];
+      vertex.a = std::fma(c.v, c2.a, std::fma(c.u, c1.a, w0 * c0.a));
+      if (colorTints)
+        for (int k = 0; k < 3; ++k) vertex[k] = std::fma(c.v, c2[k], std::fma(w0, c0[k], c.u * c1[k]));
+    }
+    if (!m.vertexAlphaTints) vertex.a = 1.0f;
+    glm::vec4 base = m.baseColor * vertex * tint;
+    if (material.base != nullptr) base *= material.base->sampleFull(uv);
+    glm::vec3 emission(0.0f);
+    if (material.emits && (m.twoSided || glm::dot(tri.emittingNormal, d) < 0.0f)) {
+      emission = m.emission;
+      if (material.emissive != nullptr) {
+        const glm::vec2 emissiveUv = m.emissiveOwnUv ? m.emissiveUvTransform * glm::vec3(meshUv, 1.0f) : uv;
+        emission *= glm::vec3(material.emissive->sampleFull(emissiveUv));
+      }
+    }
+    recordLayer(m, base, emission, c.t, instance, tri.prim, *c.hits);
+  }
+}
+
+/// The order layers are drawn in: by distance, coincident ones (a shader's stages drawn as copies
+/// of one triangle, later stages on later primitives) in stage order (the later stage nearer).
+bool drawnBefore(const AdditiveHits::Entry& a, const AdditiveHits::Entry& b) {
+  if (a.t != b.t) return a.t < b.t;
+  if (a.instance != b.instance) return a.instance < b.instance;
+  return a.prim > b.prim;
+}
+
+/// Sorts the entries into drawing order (insertion sort: a few, often in order already).
+void sortEntries(AdditiveHits& hits) {
+  for (uint32_t i = 1; i < hits.count; ++i) {
+    const AdditiveHits::Entry e = hits.entries[i];
+    uint32_t j = i;
+    for (; j > 0 && drawnBefore(e, hits.entries[j - 1]); --j) hits.entries[j] = hits.entries[j - 1];
+    hits.entries[j] = e;
+  }
+}
+
+}  // namespace
+
+void recordLayerCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& c) {
+  using Candidate = AdditiveHits::Candidate;
+  const auto nearer = [](const Candidate& a, const Candidate& b) {
+    return std::tie(a.t, a.overlay, a.instance, a.prim) < std::tie(b.t, b.overlay, b.instance, b.prim);
+  };
+  Candidate* slot = slotFor(
+      hits.candidates, hits.candidateCount,
+      [&](const Candidate& held) { return held.instance == c.instance && held.prim == c.prim && held.overlay == c.overlay; },
+      [&](const Candidate& held) { return nearer(c, held); }, nearer);
+  if (slot == nullptr) return;
+  slot->t = c.t;
+  slot->instance = c.instance;
+  slot->prim = c.prim;
+  slot->u = c.u;
+  slot->v = c.v;
+  slot->overlay = c.overlay;
+}
+
+void resolveRayLayers(const RenderScene& scene, AdditiveHits& hits, const Ray& ray, float tEnd) {
+  for (uint32_t i = 0; i < hits.candidateCount; ++i) {
+    const AdditiveHits::Candidate& c = hits.candidates[i];
+    if (!(c.t < tEnd)) continue;   // behind the closest hit: never shown
+    const RenderInstance& inst = instancesFor(scene, c.overlay)[c.instance];
+    const Crossing crossing{c.t, c.u, c.v, &ray, &hits};
+    evaluateCrossings(scene, layerTriangle(scene, inst, c.prim), c.instance, c.overlay, {&crossing, 1});
+  }
+  hits.candidateCount = 0;
+  sortEntries(hits);
+}
+
+void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> rays) {
+  // The rays' candidates in front of their hits grouped by triangle (a hash of the triangle to
+  // its group), then each group's crossings worked out together.
+  constexpr uint32_t kMaxPending = kMaxPacketRays * AdditiveHits::kCandidateCapacity;
+  constexpr uint32_t kSlotBits = 10;   // twice kMaxPending slots
+  static_assert((1u << kSlotBits) >= 2 * kMaxPending);
+  std::array<uint16_t, 1u << kSlotBits> slots{};   // group + 1; 0: empty
+  std::array<const AdditiveHits::Candidate*, kMaxPending> groupKey;
+  std::array<uint16_t, kMaxPending + 1> groupStart{};
+  struct Pending {
+    const AdditiveHits::Candidate* candidate;
+    uint16_t ray, group;
+  };
+  std::array<Pending, kMaxPending> pending;
+  uint32_t count = 0, groups = 0;
+  const uint32_t rayCount = static_cast<uint32_t>(std::min<size_t>(rays.size(), kMaxPacketRays));
+  for (uint32_t r = 0; r < rayCount; ++r) {
+    const TracedCameraRay& ray = rays[r];
+    const float tEnd = ray.found ? ray.hit.t : std::numeric_limits<float>::infinity();
+    for (uint32_t i = 0; i < ray.additive.candidateCount; ++i) {
+      const AdditiveHits::Candidate& c = ray.additive.candidates[i];
+      if (!(c.t < tEnd)) continue;   // behind the closest hit: never shown
+      const uint64_t key = (uint64_t{c.instance} << 33) ^ (uint64_t{c.prim} << 1) ^ uint64_t{c.overlay};
+      uint32_t slot = static_cast<uint32_t>((key * 0x9e3779b97f4a7c15ull) >> (64 - kSlotBits));
+      while (slots[slot] != 0) {
+        const AdditiveHits::Candidate& held = *groupKey[slots[slot] - 1u];
+        if (held.instance == c.instance && held.prim == c.prim && held.overlay == c.overlay) break;
+        slot = (slot + 1) & ((1u << kSlotBits) - 1);
+      }
+      if (slots[slot] == 0) {
+        groupKey[groups] = &c;
+        slots[slot] = static_cast<uint16_t>(++groups);
+      }
+      const uint16_t group = static_cast<uint16_t>(slots[slot] - 1u);
+      ++groupStart[group + 1u];
+      pending[count++] = {&c, static_cast<uint16_t>(r), group};
+    }
+  }
+  for (uint32_t g = 0; g < groups; ++g) groupStart[g + 1] += groupStart[g];
+  // Each group's crossings together, in ray order (a ray crosses a triangle once).
+  std::array<Crossing, kMaxPending> crossings;
+  std::array<uint16_t, kMaxPending> filled;
+  std::copy(groupStart.begin(), groupStart.begin() + groups, filled.begin());
+  for (uint32_t i = 0; i < count; ++i) {
+    const Pending& p = pending[i];
+    TracedCameraRay& ray = rays[p.ray];
+    crossings[filled[p.group]++] = {p.candidate->t, p.candidate->u, p.candidate->v, &ray.ray, &ray.additive};
+  }
+  for (uint32_t g = 0; g < groups; ++g) {
+    const AdditiveHits::Candidate& key = *groupKey[g];
+    const RenderInstance& inst = instancesFor(scene, key.overlay)[key.instance];
+    evaluateCrossings(scene, layerTriangle(scene, inst, key.prim), key.instance, key.overlay,
+                      {crossings.data() + groupStart[g], size_t{groupStart[g + 1]} - groupStart[g]});
+  }
+  for (uint32_t r = 0; r < rayCount; ++r) {
+    rays[r].additive.candidateCount = 0;
+    sortEntries(rays[r].additive);
+  }
+}
+
+}  // namespace pa
