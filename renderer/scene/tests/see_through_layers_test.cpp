@@ -1,7 +1,8 @@
 // See-through layers (world/see_through_layers.h): the candidates and layers a ray keeps do not
-// depend on the order the traversal met them in, and a camera packet gives every ray the layers
-// it gets alone, bit for bit, in drawing order, also when more layers than fit cross it, many of
-// them coincident (a shader's stages drawn as copies of one triangle).
+// depend on the order the traversal met them in, a triangle reported twice is one layer, and a
+// camera packet gives every ray the layers it gets alone, bit for bit, in drawing order, also
+// when more layers than fit cross it, many of them coincident (a shader's stages drawn as copies
+// of one triangle).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -41,10 +42,7 @@ TEST(SeeThroughLayers, CandidatesKeptAreTheNearestWhateverTheOrderTheyCameIn) {
     if (arrangement == 1) std::reverse(order.begin(), order.end());
     if (arrangement >= 2) std::rotate(order.begin(), order.begin() + 17 * arrangement % 48, order.end());
     AdditiveHits hits;
-    for (const uint32_t i : order) {
-      recordLayerCandidate(hits, all[i]);
-      recordLayerCandidate(hits, all[i]);   // reported twice: kept once
-    }
+    for (const uint32_t i : order) recordLayerCandidate(hits, all[i]);
     ASSERT_EQ(hits.candidateCount, AdditiveHits::kCandidateCapacity);
     std::vector<Candidate> kept(hits.candidates.begin(), hits.candidates.begin() + hits.candidateCount);
     std::sort(kept.begin(), kept.end(), candidateBefore);
@@ -106,6 +104,39 @@ struct LayeredWall {
     scene = store.commit();
   }
 };
+
+TEST(SeeThroughLayers, ATriangleReportedTwiceIsOneLayer) {
+  const LayeredWall wall;
+  Ray ray;
+  ray.origin = glm::vec3(0.0f);
+  ray.dir = glm::vec3(0.1f, 0.05f, -1.0f);
+  for (const bool packet : {false, true}) {
+    SCOPED_TRACE(packet ? "packet" : "one ray");
+    // Stage 3 of the coincident squares and the square at z = -2, each reported twice.
+    const std::vector<Candidate> reported = {{4.0f, 1, 6, 0.3f, 0.2f, false}, {2.0f, 2, 0, 0.4f, 0.5f, false},
+                                             {4.0f, 1, 6, 0.3f, 0.2f, false}, {2.0f, 2, 0, 0.4f, 0.5f, false}};
+    std::array<TracedCameraRay, 2> rays;
+    for (TracedCameraRay& r : rays) {
+      r.ray = ray;
+      r.found = true;
+      r.hit.t = 10.0f;
+      for (const Candidate& c : reported) recordLayerCandidate(r.additive, c);
+      ASSERT_EQ(r.additive.candidateCount, 4u);
+    }
+    if (packet) {
+      resolvePacketLayers(wall.scene, rays);
+    } else {
+      for (TracedCameraRay& r : rays) resolveRayLayers(wall.scene, r.additive, r.ray, r.hit.t);
+    }
+    for (const TracedCameraRay& r : rays) {
+      ASSERT_EQ(r.additive.count, 2u);
+      EXPECT_EQ(r.additive.entries[0].instance, 2u);
+      EXPECT_EQ(r.additive.entries[1].instance, 1u);
+      EXPECT_EQ(r.additive.entries[1].prim, 6u);
+      EXPECT_EQ(r.additive.candidateCount, 0u);
+    }
+  }
+}
 
 bool sameBits(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 

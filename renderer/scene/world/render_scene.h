@@ -82,9 +82,12 @@ struct AdditiveHits {
   uint32_t count = 0;
   /// First `count` are valid; once a query returns, in drawing order: by t, coincident ones by
   /// instance, then the later primitive first (a shader's later stage is the nearer layer).
+  /// (While the layers are worked out, a full array is a heap with the last of them first.)
   std::array<Entry, kCapacity> entries;
   uint32_t candidateCount = 0;
-  std::array<Candidate, kCandidateCapacity> candidates;   ///< First `candidateCount` are valid.
+  /// First `candidateCount` are valid; a triangle the traversal reports twice may be held twice
+  /// (the layers are worked out once per triangle).
+  std::array<Candidate, kCandidateCapacity> candidates;
   /// Sum of the colours of entries closer than t.
   glm::vec3 sumBefore(float t) const;
   /// Product of the `transmit` multipliers (display values) of entries closer than t.

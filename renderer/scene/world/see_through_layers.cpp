@@ -18,18 +18,28 @@ const std::vector<RenderInstance>& instancesFor(const RenderScene& scene, bool o
   return overlay ? scene.overlay : scene.world;
 }
 
-/// Where a new item goes among the first `count` of `held`: nowhere if `reported` finds its
-/// triangle there already (reported twice); else a free slot; when all are taken, the slot of the
-/// last of them in the order `before` (`before(held)`: the new item comes before `held`) if the
-/// new one comes before it, so the nearest are kept whatever the order they came in. The caller
-/// fills the slot member by member (a whole item built first and copied waits on its own stores).
-template <class Item, size_t N, class SameTriangle, class Before, class Order>
-Item* slotFor(std::array<Item, N>& held, uint32_t& count, SameTriangle reported, Before before, Order order) {
-  for (uint32_t i = 0; i < count; ++i)
-    if (reported(held[i])) return nullptr;
-  if (count < N) return &held[count++];
-  Item* last = &*std::max_element(held.begin(), held.end(), order);
-  return before(*last) ? last : nullptr;
+/// Keeps the first N items in `order` (a strict total order) of those offered, whatever the order
+/// they come in: `fill` writes the new item into a free slot; when all are taken, the array is a
+/// heap with the last item in `order` at its root, and `fill` replaces the root if `before(root)`
+/// (the new item comes before it), which then sinks to its place. `fill` writes member by member
+/// (a whole item built first and copied waits on its own stores).
+template <class Item, size_t N, class Before, class Order, class Fill>
+void keepFirst(std::array<Item, N>& held, uint32_t& count, Before before, Order order, Fill fill) {
+  if (count < N) {
+    fill(held[count++]);
+    if (count == N) std::make_heap(held.begin(), held.end(), order);
+    return;
+  }
+  if (!before(held[0])) return;
+  fill(held[0]);
+  for (size_t i = 0;;) {
+    size_t last = i;
+    for (const size_t child : {2 * i + 1, 2 * i + 2})
+      if (child < N && order(held[last], held[child])) last = child;
+    if (last == i) return;
+    std::swap(held[i], held[last]);
+    i = last;
+  }
 }
 
 bool drawnBefore(const AdditiveHits::Entry& a, const AdditiveHits::Entry& b);
@@ -43,15 +53,15 @@ void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t pri
       glm::all(glm::lessThan(glm::abs(transmit - 1.0f), glm::vec3(kNothing))))
     return;
   using Entry = AdditiveHits::Entry;
-  Entry* slot = slotFor(
-      hits.entries, hits.count, [&](const Entry& e) { return e.instance == instance && e.prim == prim; },
-      [&](const Entry& held) { return drawnBefore(Entry{t, instance, prim, {}, {}}, held); }, drawnBefore);
-  if (slot == nullptr) return;
-  slot->t = t;
-  slot->instance = instance;
-  slot->prim = prim;
-  slot->color = color;
-  slot->transmit = transmit;
+  keepFirst(
+      hits.entries, hits.count, [&](const Entry& held) { return drawnBefore(Entry{t, instance, prim, {}, {}}, held); },
+      drawnBefore, [&](Entry& slot) {
+        slot.t = t;
+        slot.instance = instance;
+        slot.prim = prim;
+        slot.color = color;
+        slot.transmit = transmit;
+      });
 }
 
 /// sRGB-encoded value of a non-negative linear colour (above 1 too: the dynamic-light pass).
@@ -151,6 +161,13 @@ LayerTriangle layerTriangle(const RenderScene& scene, const RenderInstance& inst
   return tri;
 }
 
+/// True when a ray's layers are all taken by ones drawn before a layer at distance t of the
+/// triangle (instance, prim): that layer would not be kept, so it need not be worked out.
+bool crowdedOut(const AdditiveHits& hits, float t, uint32_t instance, uint32_t prim) {
+  return hits.count == AdditiveHits::kCapacity &&
+         !drawnBefore(AdditiveHits::Entry{t, instance, prim, {}, {}}, hits.entries[0]);   // the heap's root: the last
+}
+
 /// The layers of one triangle for each of its crossings, recorded in the crossing's hits.
 void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint32_t instance, bool overlay,
                        std::span<const Crossing> crossings) {
@@ -159,6 +176,7 @@ void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint3
   if (m.baseTexCoords != TexCoordSource::Mesh) {   // uvs that depend on the ray: surfaceAt works them out
     for (const Crossing& c : crossings) {
       if (tri.oneSided && glm::dot(tri.winding, c.ray->dir) > 0.0f) continue;
+      if (crowdedOut(*c.hits, c.t, instance, tri.prim)) continue;
       const SurfaceHit s = scene.surfaceAt(Hit{c.t, c.u, c.v, tri.prim, instance}, overlay, *c.ray, SurfaceParts::LayerColour);
       recordLayer(m, scene.baseColor(s, 0.0f), scene.emission(s, glm::dot(s.geometricNormal, c.ray->dir) < 0.0f), c.t,
                   instance, tri.prim, *c.hits);
@@ -171,6 +189,7 @@ void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint3
   for (const Crossing& c : crossings) {
     const glm::vec3& d = c.ray->dir;
     if (tri.oneSided && glm::dot(tri.winding, d) > 0.0f) continue;
+    if (crowdedOut(*c.hits, c.t, instance, tri.prim)) continue;
     const float w0 = 1.0f - c.u - c.v;
     // surfaceAt's uvs, vertex colour and emissive uv (SurfaceParts::LayerColour), as it forms them.
     glm::vec2 meshUv(0.0f);
@@ -199,6 +218,10 @@ void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint3
   }
 }
 
+bool sameTriangle(const AdditiveHits::Candidate& a, const AdditiveHits::Candidate& b) {
+  return a.prim == b.prim && a.instance == b.instance && a.overlay == b.overlay;
+}
+
 /// The order layers are drawn in: by distance, coincident ones (a shader's stages drawn as copies
 /// of one triangle, later stages on later primitives) in stage order (the later stage nearer).
 bool drawnBefore(const AdditiveHits::Entry& a, const AdditiveHits::Entry& b) {
@@ -224,23 +247,26 @@ void recordLayerCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& c) 
   const auto nearer = [](const Candidate& a, const Candidate& b) {
     return std::tie(a.t, a.overlay, a.instance, a.prim) < std::tie(b.t, b.overlay, b.instance, b.prim);
   };
-  Candidate* slot = slotFor(
-      hits.candidates, hits.candidateCount,
-      [&](const Candidate& held) { return held.instance == c.instance && held.prim == c.prim && held.overlay == c.overlay; },
-      [&](const Candidate& held) { return nearer(c, held); }, nearer);
-  if (slot == nullptr) return;
-  slot->t = c.t;
-  slot->instance = c.instance;
-  slot->prim = c.prim;
-  slot->u = c.u;
-  slot->v = c.v;
-  slot->overlay = c.overlay;
+  keepFirst(
+      hits.candidates, hits.candidateCount, [&](const Candidate& held) { return nearer(c, held); }, nearer,
+      [&](Candidate& slot) {
+        slot.t = c.t;
+        slot.instance = c.instance;
+        slot.prim = c.prim;
+        slot.u = c.u;
+        slot.v = c.v;
+        slot.overlay = c.overlay;
+      });
 }
 
 void resolveRayLayers(const RenderScene& scene, AdditiveHits& hits, const Ray& ray, float tEnd) {
   for (uint32_t i = 0; i < hits.candidateCount; ++i) {
     const AdditiveHits::Candidate& c = hits.candidates[i];
     if (!(c.t < tEnd)) continue;   // behind the closest hit: never shown
+    if (std::any_of(hits.candidates.begin(), hits.candidates.begin() + i, [&](const AdditiveHits::Candidate& e) {
+          return sameTriangle(e, c);
+        }))
+      continue;   // reported twice
     const RenderInstance& inst = instancesFor(scene, c.overlay)[c.instance];
     const Crossing crossing{c.t, c.u, c.v, &ray, &hits};
     evaluateCrossings(scene, layerTriangle(scene, inst, c.prim), c.instance, c.overlay, {&crossing, 1});
@@ -258,6 +284,13 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
   std::array<uint16_t, 1u << kSlotBits> slots{};   // group + 1; 0: empty
   std::array<const AdditiveHits::Candidate*, kMaxPending> groupKey;
   std::array<uint16_t, kMaxPending + 1> groupStart{};
+  std::array<uint8_t, kMaxPending> groupLastRay;   // the last ray added to each group
+  struct GroupAt {
+    float t;   // the group's nearest crossing
+    uint16_t group;
+  };
+  std::array<GroupAt, kMaxPending> nearestFirst;
+  constexpr uint8_t kNoRay = 0xff;
   struct Pending {
     const AdditiveHits::Candidate* candidate;
     uint16_t ray, group;
@@ -274,15 +307,19 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
       const uint64_t key = (uint64_t{c.instance} << 33) ^ (uint64_t{c.prim} << 1) ^ uint64_t{c.overlay};
       uint32_t slot = static_cast<uint32_t>((key * 0x9e3779b97f4a7c15ull) >> (64 - kSlotBits));
       while (slots[slot] != 0) {
-        const AdditiveHits::Candidate& held = *groupKey[slots[slot] - 1u];
-        if (held.instance == c.instance && held.prim == c.prim && held.overlay == c.overlay) break;
+        if (sameTriangle(*groupKey[slots[slot] - 1u], c)) break;
         slot = (slot + 1) & ((1u << kSlotBits) - 1);
       }
       if (slots[slot] == 0) {
         groupKey[groups] = &c;
+        groupLastRay[groups] = kNoRay;
+        nearestFirst[groups] = {c.t, static_cast<uint16_t>(groups)};
         slots[slot] = static_cast<uint16_t>(++groups);
       }
       const uint16_t group = static_cast<uint16_t>(slots[slot] - 1u);
+      if (groupLastRay[group] == r) continue;   // reported twice
+      groupLastRay[group] = static_cast<uint8_t>(r);
+      nearestFirst[group].t = std::min(nearestFirst[group].t, c.t);
       ++groupStart[group + 1u];
       pending[count++] = {&c, static_cast<uint16_t>(r), group};
     }
@@ -297,7 +334,12 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
     TracedCameraRay& ray = rays[p.ray];
     crossings[filled[p.group]++] = {p.candidate->t, p.candidate->u, p.candidate->v, &ray.ray, &ray.additive};
   }
-  for (uint32_t g = 0; g < groups; ++g) {
+  // Nearest groups first: a ray whose layers fill up with near ones skips the far ones
+  // (crowdedOut; the same layers are kept in any order).
+  std::sort(nearestFirst.begin(), nearestFirst.begin() + groups,
+            [](const GroupAt& a, const GroupAt& b) { return a.t < b.t || (a.t == b.t && a.group < b.group); });
+  for (uint32_t k = 0; k < groups; ++k) {
+    const uint32_t g = nearestFirst[k].group;
     const AdditiveHits::Candidate& key = *groupKey[g];
     const RenderInstance& inst = instancesFor(scene, key.overlay)[key.instance];
     evaluateCrossings(scene, layerTriangle(scene, inst, key.prim), key.instance, key.overlay,

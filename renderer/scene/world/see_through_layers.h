@@ -7,9 +7,10 @@
 
 namespace pa {
 
-/// Adds an additive triangle the traversal met to hits.candidates (a triangle reported twice is
-/// kept once); when all are taken, the nearest are kept, ties broken by (overlay, instance,
-/// prim), so the set kept does not depend on the order the triangles were met in.
+/// Adds an additive triangle the traversal met to hits.candidates; when all are taken, the
+/// nearest are kept, ties broken by (overlay, instance, prim), so the set kept does not depend on
+/// the order the triangles were met in. A triangle reported twice is held twice and its layer
+/// worked out once (resolveRayLayers, resolvePacketLayers).
 void recordLayerCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& candidate);
 
 /// Works out the layers of one ray's candidates nearer than `tEnd` (its closest hit, or
