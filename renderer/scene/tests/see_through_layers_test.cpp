@@ -180,6 +180,19 @@ TEST(SeeThroughLayers, PacketGivesEveryRayTheLayersItGetsAlone) {
     }
   }
   EXPECT_GE(full, 12u);   // most rays cross more layers than fit
+  // Those keep the first 16 in drawing order: the squares at z = -2 and -3.7, then the last 14
+  // of the 20 coincident stages (19 down to 6); stages 0-5 and the two squares behind are left out.
+  for (uint32_t i = 0; i < kMaxPacketRays; ++i) {
+    const AdditiveHits& p = packet[i].additive;
+    if (p.count != AdditiveHits::kCapacity) continue;
+    SCOPED_TRACE(i);
+    EXPECT_EQ(p.entries[0].instance, 2u);
+    EXPECT_EQ(p.entries[1].instance, 3u);
+    for (uint32_t k = 2; k < p.count; ++k) {
+      EXPECT_EQ(p.entries[k].instance, 1u) << k;
+      EXPECT_EQ(p.entries[k].prim / 2, 19 - (k - 2)) << k;   // two triangles a stage
+    }
+  }
 }
 
 }  // namespace
