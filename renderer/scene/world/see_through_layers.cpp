@@ -230,8 +230,13 @@ bool drawnBefore(const AdditiveHits::Entry& a, const AdditiveHits::Entry& b) {
   return a.prim > b.prim;
 }
 
-/// Sorts the entries into drawing order (insertion sort: a few, often in order already).
+/// Sorts the entries into drawing order: a full array is a heap (keepFirst), the others are in
+/// the order recorded (insertion sort: a few, often in order already).
 void sortEntries(AdditiveHits& hits) {
+  if (hits.count == AdditiveHits::kCapacity) {
+    std::sort_heap(hits.entries.begin(), hits.entries.end(), drawnBefore);
+    return;
+  }
   for (uint32_t i = 1; i < hits.count; ++i) {
     const AdditiveHits::Entry e = hits.entries[i];
     uint32_t j = i;
@@ -276,6 +281,10 @@ void resolveRayLayers(const RenderScene& scene, AdditiveHits& hits, const Ray& r
 }
 
 void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> rays) {
+  const uint32_t rayCount = static_cast<uint32_t>(std::min<size_t>(rays.size(), kMaxPacketRays));
+  if (std::all_of(rays.begin(), rays.begin() + rayCount,
+                  [](const TracedCameraRay& r) { return r.additive.candidateCount == 0; }))
+    return;   // nothing crossed (most packets): no tables to clear
   // The rays' candidates in front of their hits grouped by triangle (a hash of the triangle to
   // its group), then each group's crossings worked out together.
   constexpr uint32_t kMaxPending = kMaxPacketRays * AdditiveHits::kCandidateCapacity;
@@ -283,7 +292,8 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
   static_assert((1u << kSlotBits) >= 2 * kMaxPending);
   std::array<uint16_t, 1u << kSlotBits> slots{};   // group + 1; 0: empty
   std::array<const AdditiveHits::Candidate*, kMaxPending> groupKey;
-  std::array<uint16_t, kMaxPending + 1> groupStart{};
+  std::array<uint16_t, kMaxPending + 1> groupStart;   // zeroed as the groups are made
+  groupStart[0] = 0;
   std::array<uint8_t, kMaxPending> groupLastRay;   // the last ray added to each group
   struct GroupAt {
     float t;   // the group's nearest crossing
@@ -297,7 +307,6 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
   };
   std::array<Pending, kMaxPending> pending;
   uint32_t count = 0, groups = 0;
-  const uint32_t rayCount = static_cast<uint32_t>(std::min<size_t>(rays.size(), kMaxPacketRays));
   for (uint32_t r = 0; r < rayCount; ++r) {
     const TracedCameraRay& ray = rays[r];
     const float tEnd = ray.found ? ray.hit.t : std::numeric_limits<float>::infinity();
@@ -312,6 +321,7 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
       }
       if (slots[slot] == 0) {
         groupKey[groups] = &c;
+        groupStart[groups + 1] = 0;
         groupLastRay[groups] = kNoRay;
         nearestFirst[groups] = {c.t, static_cast<uint16_t>(groups)};
         slots[slot] = static_cast<uint16_t>(++groups);
