@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <cstdint>
+#include <limits>
 #include <tuple>
 
 #include <glm/geometric.hpp>
@@ -42,8 +42,15 @@ void keepFirst(std::array<Item, N>& held, uint32_t& count, Before before, Order 
   }
 }
 
-bool drawnBefore(const AdditiveHits::Entry& a, const AdditiveHits::Entry& b);
+/// The order layers are drawn in: by distance, coincident ones (a shader's stages drawn as copies
+/// of one triangle, later stages on later primitives) in stage order (the later stage nearer).
+bool drawnBefore(const AdditiveHits::Entry& a, const AdditiveHits::Entry& b) {
+  if (a.t != b.t) return a.t < b.t;
+  if (a.instance != b.instance) return a.instance < b.instance;
+  return a.prim > b.prim;
+}
 
+/// Keeps a layer's colour and what it lets through among the ray's first 16 in drawing order.
 void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color,
                     const glm::vec3& transmit) {
   // A layer that adds nothing and keeps what is behind is no layer (the black margins of sprite
@@ -135,6 +142,7 @@ struct LayerTriangle {
   glm::vec2 wobble[3];        ///< UvWobble::offsetAt the corners.
 };
 
+/// The parts of triangle `prim` of `inst` that its layers read.
 LayerTriangle layerTriangle(const RenderScene& scene, const RenderInstance& inst, uint32_t prim) {
   const MeshGeometry& g = inst.mesh->geometry;
   const MaterialRecord& material = scene.materialOf(inst, prim);
@@ -218,17 +226,11 @@ void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint3
   }
 }
 
+/// Two candidates of one triangle (a triangle the traversal reported twice).
 bool sameTriangle(const AdditiveHits::Candidate& a, const AdditiveHits::Candidate& b) {
   return a.prim == b.prim && a.instance == b.instance && a.overlay == b.overlay;
 }
 
-/// The order layers are drawn in: by distance, coincident ones (a shader's stages drawn as copies
-/// of one triangle, later stages on later primitives) in stage order (the later stage nearer).
-bool drawnBefore(const AdditiveHits::Entry& a, const AdditiveHits::Entry& b) {
-  if (a.t != b.t) return a.t < b.t;
-  if (a.instance != b.instance) return a.instance < b.instance;
-  return a.prim > b.prim;
-}
 
 /// Sorts the entries into drawing order: a full array is a heap (keepFirst), the others are in
 /// the order recorded (insertion sort: a few, often in order already).
