@@ -10,7 +10,6 @@
 #include <cstring>
 #include <limits>
 #include <numeric>
-#include <tuple>
 #include <vector>
 
 #include "renderer/scene/world/scene_store.h"
@@ -22,8 +21,12 @@ namespace {
 
 using Candidate = AdditiveHits::Candidate;
 
+/// Nearest first; ties in drawing order (the later primitive of an instance first).
 bool candidateBefore(const Candidate& a, const Candidate& b) {
-  return std::tie(a.t, a.overlay, a.instance, a.prim) < std::tie(b.t, b.overlay, b.instance, b.prim);
+  if (a.t != b.t) return a.t < b.t;
+  if (a.overlay != b.overlay) return a.overlay < b.overlay;
+  if (a.instance != b.instance) return a.instance < b.instance;
+  return a.prim > b.prim;
 }
 
 TEST(SeeThroughLayers, CandidatesKeptAreTheNearestWhateverTheOrderTheyCameIn) {
@@ -55,10 +58,11 @@ TEST(SeeThroughLayers, CandidatesKeptAreTheNearestWhateverTheOrderTheyCameIn) {
   }
 }
 
-/// In front of an opaque wall at z = -10: 20 coincident additive squares at z = -4 (one mesh,
+/// In front of an opaque wall at z = -10: 36 coincident additive squares at z = -4 (one mesh,
 /// the stages of one shader: textured, vertex-coloured, several blends), and 4 single squares at
-/// other distances; 24 layers where 16 fit.
+/// other distances; 40 layers where 32 fit.
 struct LayeredWall {
+  static constexpr uint32_t kStages = 36;
   SceneStore store;
   RenderScene scene;
   LayeredWall() {
@@ -74,13 +78,13 @@ struct LayeredWall {
     test::addMesh(store, test::quad({-50, -50, -10}, {100, 0, 0}, {0, 100, 0}), store.addMaterial(test::diffuse(0.5f)));
     const LayerBlend blends[] = {LayerBlend::Add, LayerBlend::Over, LayerBlend::Multiply, LayerBlend::MultiplyAdd};
     test::MeshArrays stages;
-    for (uint32_t s = 0; s < 20; ++s) {
+    for (uint32_t s = 0; s < kStages; ++s) {
       const test::MeshArrays q = test::quad({-2, -2, -4}, {4, 0, 0}, {0, 4, 0});
       const uint32_t base = static_cast<uint32_t>(stages.positions.size());
       for (size_t k = 0; k < q.positions.size(); ++k) {
         stages.positions.push_back(q.positions[k]);
         stages.uvs.push_back(q.uvs[k] * (1.0f + 0.3f * static_cast<float>(s)));
-        stages.colors.emplace_back(0.2f + 0.04f * static_cast<float>(s), 0.5f, 0.9f - 0.03f * static_cast<float>(s),
+        stages.colors.emplace_back(0.2f + 0.04f * static_cast<float>(s), 0.5f, 0.9f - 0.02f * static_cast<float>(s),
                                    0.3f + 0.1f * static_cast<float>(k));
       }
       for (const uint32_t i : q.indices) stages.indices.push_back(base + i);
@@ -180,8 +184,8 @@ TEST(SeeThroughLayers, PacketGivesEveryRayTheLayersItGetsAlone) {
     }
   }
   EXPECT_GE(full, 12u);   // most rays cross more layers than fit
-  // Those keep the first 16 in drawing order: the squares at z = -2 and -3.7, then the last 14
-  // of the 20 coincident stages (19 down to 6); stages 0-5 and the two squares behind are left out.
+  // Those keep the first 32 in drawing order: the squares at z = -2 and -3.7, then the last 30
+  // of the 36 coincident stages (35 down to 6); stages 0-5 and the two squares behind are left out.
   for (uint32_t i = 0; i < kMaxPacketRays; ++i) {
     const AdditiveHits& p = packet[i].additive;
     if (p.count != AdditiveHits::kCapacity) continue;
@@ -190,7 +194,7 @@ TEST(SeeThroughLayers, PacketGivesEveryRayTheLayersItGetsAlone) {
     EXPECT_EQ(p.entries[1].instance, 3u);
     for (uint32_t k = 2; k < p.count; ++k) {
       EXPECT_EQ(p.entries[k].instance, 1u) << k;
-      EXPECT_EQ(p.entries[k].prim / 2, 19 - (k - 2)) << k;   // two triangles a stage
+      EXPECT_EQ(p.entries[k].prim / 2, LayeredWall::kStages - 1 - (k - 2)) << k;   // two triangles a stage
     }
   }
 }

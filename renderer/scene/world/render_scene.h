@@ -61,8 +61,9 @@ enum class RayKind : uint8_t { Camera, Bounce, Shadow };
 /// records each additive triangle the traversal meets as a candidate; once the ray's closest
 /// hit is known, the query works out the layers of the candidates in front of it (entries).
 struct AdditiveHits {
-  static constexpr uint32_t kCapacity = 16;
-  /// Candidates held while the ray is traversed; beyond it the nearest are kept.
+  static constexpr uint32_t kCapacity = 32;
+  /// Candidates held while the ray is traversed; beyond it the nearest are kept (ties in drawing
+  /// order). Each one's layer has room among the entries.
   static constexpr uint32_t kCandidateCapacity = 32;
   struct Entry {
     float t;
@@ -82,7 +83,6 @@ struct AdditiveHits {
   uint32_t count = 0;
   /// First `count` are valid; once a query returns, in drawing order: by t, coincident ones by
   /// instance, then the later primitive first (a shader's later stage is the nearer layer).
-  /// (While the layers are worked out, a full array is a heap with the last of them first.)
   std::array<Entry, kCapacity> entries;
   uint32_t candidateCount = 0;
   /// First `candidateCount` are valid; a triangle the traversal reports twice may be held twice

@@ -4,7 +4,6 @@
 #include <array>
 #include <cstdint>
 #include <limits>
-#include <tuple>
 
 #include <glm/geometric.hpp>
 
@@ -50,7 +49,8 @@ bool drawnBefore(const AdditiveHits::Entry& a, const AdditiveHits::Entry& b) {
   return a.prim > b.prim;
 }
 
-/// Keeps a layer's colour and what it lets through among the ray's first 16 in drawing order.
+/// Keeps a layer's colour and what it lets through among the ray's first kCapacity in drawing
+/// order (more can come only from a ray traced twice: the drawOnTop instances, then the world).
 void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color,
                     const glm::vec3& transmit) {
   // A layer that adds nothing and keeps what is behind is no layer (the black margins of sprite
@@ -169,13 +169,6 @@ LayerTriangle layerTriangle(const RenderScene& scene, const RenderInstance& inst
   return tri;
 }
 
-/// True when a ray's layers are all taken by ones drawn before a layer at distance t of the
-/// triangle (instance, prim): that layer would not be kept, so it need not be worked out.
-bool crowdedOut(const AdditiveHits& hits, float t, uint32_t instance, uint32_t prim) {
-  return hits.count == AdditiveHits::kCapacity &&
-         !drawnBefore(AdditiveHits::Entry{t, instance, prim, {}, {}}, hits.entries[0]);   // the heap's root: the last
-}
-
 /// The layers of one triangle for each of its crossings, recorded in the crossing's hits.
 void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint32_t instance, bool overlay,
                        std::span<const Crossing> crossings) {
@@ -184,7 +177,6 @@ void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint3
   if (m.baseTexCoords != TexCoordSource::Mesh) {   // uvs that depend on the ray: surfaceAt works them out
     for (const Crossing& c : crossings) {
       if (tri.oneSided && glm::dot(tri.winding, c.ray->dir) > 0.0f) continue;
-      if (crowdedOut(*c.hits, c.t, instance, tri.prim)) continue;
       const SurfaceHit s = scene.surfaceAt(Hit{c.t, c.u, c.v, tri.prim, instance}, overlay, *c.ray, SurfaceParts::LayerColour);
       recordLayer(m, scene.baseColor(s, 0.0f), scene.emission(s, glm::dot(s.geometricNormal, c.ray->dir) < 0.0f), c.t,
                   instance, tri.prim, *c.hits);
@@ -197,7 +189,6 @@ void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint3
   for (const Crossing& c : crossings) {
     const glm::vec3& d = c.ray->dir;
     if (tri.oneSided && glm::dot(tri.winding, d) > 0.0f) continue;
-    if (crowdedOut(*c.hits, c.t, instance, tri.prim)) continue;
     const float w0 = 1.0f - c.u - c.v;
     // surfaceAt's uvs, vertex colour and emissive uv (SurfaceParts::LayerColour), as it forms them.
     glm::vec2 meshUv(0.0f);
@@ -251,8 +242,12 @@ void sortEntries(AdditiveHits& hits) {
 
 void recordLayerCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& c) {
   using Candidate = AdditiveHits::Candidate;
+  // Nearest first, ties in drawing order (drawnBefore): the candidates kept are the layers drawn first.
   const auto nearer = [](const Candidate& a, const Candidate& b) {
-    return std::tie(a.t, a.overlay, a.instance, a.prim) < std::tie(b.t, b.overlay, b.instance, b.prim);
+    if (a.t != b.t) return a.t < b.t;
+    if (a.overlay != b.overlay) return a.overlay < b.overlay;
+    if (a.instance != b.instance) return a.instance < b.instance;
+    return a.prim > b.prim;
   };
   keepFirst(
       hits.candidates, hits.candidateCount, [&](const Candidate& held) { return nearer(c, held); }, nearer,
@@ -297,11 +292,6 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
   std::array<uint16_t, kMaxPending + 1> groupStart;   // zeroed as the groups are made
   groupStart[0] = 0;
   std::array<uint8_t, kMaxPending> groupLastRay;   // the last ray added to each group
-  struct GroupAt {
-    float t;   // the group's nearest crossing
-    uint16_t group;
-  };
-  std::array<GroupAt, kMaxPending> nearestFirst;
   constexpr uint8_t kNoRay = 0xff;
   struct Pending {
     const AdditiveHits::Candidate* candidate;
@@ -325,13 +315,11 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
         groupKey[groups] = &c;
         groupStart[groups + 1] = 0;
         groupLastRay[groups] = kNoRay;
-        nearestFirst[groups] = {c.t, static_cast<uint16_t>(groups)};
         slots[slot] = static_cast<uint16_t>(++groups);
       }
       const uint16_t group = static_cast<uint16_t>(slots[slot] - 1u);
       if (groupLastRay[group] == r) continue;   // reported twice
       groupLastRay[group] = static_cast<uint8_t>(r);
-      nearestFirst[group].t = std::min(nearestFirst[group].t, c.t);
       ++groupStart[group + 1u];
       pending[count++] = {&c, static_cast<uint16_t>(r), group};
     }
@@ -346,12 +334,7 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
     TracedCameraRay& ray = rays[p.ray];
     crossings[filled[p.group]++] = {p.candidate->t, p.candidate->u, p.candidate->v, &ray.ray, &ray.additive};
   }
-  // Nearest groups first: a ray whose layers fill up with near ones skips the far ones
-  // (crowdedOut; the same layers are kept in any order).
-  std::sort(nearestFirst.begin(), nearestFirst.begin() + groups,
-            [](const GroupAt& a, const GroupAt& b) { return a.t < b.t || (a.t == b.t && a.group < b.group); });
-  for (uint32_t k = 0; k < groups; ++k) {
-    const uint32_t g = nearestFirst[k].group;
+  for (uint32_t g = 0; g < groups; ++g) {
     const AdditiveHits::Candidate& key = *groupKey[g];
     const RenderInstance& inst = instancesFor(scene, key.overlay)[key.instance];
     evaluateCrossings(scene, layerTriangle(scene, inst, key.prim), key.instance, key.overlay,
