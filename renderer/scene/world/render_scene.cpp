@@ -77,7 +77,7 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
       return sampling::toUnitFloat(bits) < coverage;
     }
     case AlphaMode::Additive:
-      // Worked out once the closest hit is known (resolveLayers): only those in front show.
+      // Worked out once the closest hit is known (see_through_layers.h): only those in front show.
       if (ctx.request->additive != nullptr)
         recordLayerCandidate(*ctx.request->additive, {t, instanceIndex, prim, u, v, ctx.overlay});
       return false;
