@@ -193,15 +193,8 @@ void DisplayComposite::appendBefore(const AdditiveHits& hits, float t) {
   uint32_t n = 0;
   for (uint32_t i = 0; i < std::min(hits.count, AdditiveHits::kCapacity); ++i)
     if (hits.entries[i].t < t) order[n++] = i;
-  // Coincident layers (a shader's stages drawn as copies of one triangle, later stages on later
-  // primitives) are drawn in stage order: the later stage is the nearer layer.
-  std::sort(order.begin(), order.begin() + n, [&](uint32_t a, uint32_t b) {
-    const AdditiveHits::Entry& x = hits.entries[a];
-    const AdditiveHits::Entry& y = hits.entries[b];
-    if (x.t != y.t) return x.t < y.t;
-    if (x.instance != y.instance) return x.instance < y.instance;
-    return x.prim > y.prim;
-  });
+  std::sort(order.begin(), order.begin() + n,
+            [&](uint32_t a, uint32_t b) { return AdditiveHits::drawnBefore(hits.entries[a], hits.entries[b]); });
   for (uint32_t k = 0; k < n; ++k) {
     const AdditiveHits::Entry& e = hits.entries[order[k]];
     append({e.color, e.transmit});

@@ -29,10 +29,6 @@ struct FilterContext {
   const TraceRequest* request;
 };
 
-const std::vector<RenderInstance>& instancesFor(const RenderScene& scene, bool overlay) {
-  return overlay ? scene.overlay : scene.world;
-}
-
 glm::vec3 toWorld(const glm::mat4x3& m, const glm::vec3& p) { return m * glm::vec4(p, 1.0f); }
 
 /// v / d: one division of three lanes instead of three (each lane is divided as alone).
@@ -48,7 +44,7 @@ glm::vec3 divided(const glm::vec3& v, float d) {
 
 bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, float u, float v, float t) {
   const auto& ctx = *static_cast<const FilterContext*>(opaque);
-  const auto& instances = instancesFor(*ctx.scene, ctx.overlay);
+  const auto& instances = ctx.scene->instancesOf(ctx.overlay);
   if (instanceIndex >= instances.size()) return true;
   const RenderInstance& inst = instances[instanceIndex];
   if (prim >= inst.mesh->geometry.triangleCount()) return true;
@@ -124,7 +120,7 @@ glm::vec3 AdditiveHits::sumBefore(float t) const {
 }
 
 bool RenderScene::intersect(Ray& ray, Hit& hit, const TraceRequest& request) const {
-  const auto& instances = instancesFor(*this, request.overlay);
+  const auto& instances = instancesOf(request.overlay);
   if (instances.empty()) return false;
   const FilterContext ctx{this, request.overlay, &ray, &request};
   const HitFilter filter{&acceptCandidate, &ctx, faceCullFor(request.kind)};
@@ -156,7 +152,7 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
   uint32_t remaining = (1u << count) - 1;   // count <= kMaxPacketRays < 32
   // drawOnTop instances first; the rays that miss them go on into the world.
   for (const bool overlayPass : {true, false}) {
-    const auto& instances = instancesFor(*this, overlayPass);
+    const auto& instances = instancesOf(overlayPass);
     if (instances.empty() || remaining == 0) continue;
     for (uint32_t r = remaining; r; r &= r - 1) {
       const int i = std::countr_zero(r);
@@ -327,7 +323,7 @@ namespace {
 }  // namespace
 
 SurfaceHit RenderScene::surfaceAt(const Hit& hit, bool overlayHit, SurfaceParts parts, TriangleMemo* memo) const {
-  const RenderInstance& inst = instancesFor(*this, overlayHit)[hit.instance];
+  const RenderInstance& inst = instancesOf(overlayHit)[hit.instance];
   if (memo == nullptr) {
     TriangleMemo t;
     triangleOf(*this, inst, hit.prim, parts, t);

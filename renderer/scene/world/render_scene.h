@@ -92,6 +92,13 @@ struct AdditiveHits {
   glm::vec3 sumBefore(float t) const;
   /// Product of the `transmit` multipliers (display values) of entries closer than t.
   glm::vec3 transmitBefore(float t) const;
+  /// The order layers are drawn in: by distance, coincident ones (a shader's stages drawn as
+  /// copies of one triangle, later stages on later primitives) in stage order (the later nearer).
+  static bool drawnBefore(const Entry& a, const Entry& b) {
+    if (a.t != b.t) return a.t < b.t;
+    if (a.instance != b.instance) return a.instance < b.instance;
+    return a.prim > b.prim;
+  }
 };
 
 /// Options of one ray query.
@@ -186,6 +193,8 @@ struct RenderScene {
   LightSampler lights;
   Bounds bounds;
 
+  /// The instances traced by world (false) or drawOnTop (true) queries.
+  const std::vector<RenderInstance>& instancesOf(bool drawOnTop) const { return drawOnTop ? overlay : world; }
   /// Material of triangle `prim` of an instance (override, mesh material or default).
   const MaterialRecord& materialOf(const RenderInstance& instance, uint32_t prim) const {
     MaterialId id = instance.materialOverride;

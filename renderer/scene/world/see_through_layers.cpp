@@ -13,10 +13,6 @@ namespace pa {
 
 namespace {
 
-const std::vector<RenderInstance>& instancesFor(const RenderScene& scene, bool overlay) {
-  return overlay ? scene.overlay : scene.world;
-}
-
 /// Keeps the first N items in `order` (a strict total order) of those offered, whatever the order
 /// they come in: `fill` writes the new item into a free slot; when all are taken, the array is a
 /// heap with the last item in `order` at its root, and `fill` replaces the root if `before(root)`
@@ -41,13 +37,6 @@ void keepFirst(std::array<Item, N>& held, uint32_t& count, Before before, Order 
   }
 }
 
-/// The order layers are drawn in: by distance, coincident ones (a shader's stages drawn as copies
-/// of one triangle, later stages on later primitives) in stage order (the later stage nearer).
-bool drawnBefore(const AdditiveHits::Entry& a, const AdditiveHits::Entry& b) {
-  if (a.t != b.t) return a.t < b.t;
-  if (a.instance != b.instance) return a.instance < b.instance;
-  return a.prim > b.prim;
-}
 
 /// Keeps a layer's colour and what it lets through among the ray's first kCapacity in drawing
 /// order (more can come only from a ray traced twice: the drawOnTop instances, then the world).
@@ -60,9 +49,10 @@ void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t pri
       glm::all(glm::lessThan(glm::abs(transmit - 1.0f), glm::vec3(kNothing))))
     return;
   using Entry = AdditiveHits::Entry;
+  const Entry key{t, instance, prim, {}, {}};
   keepFirst(
-      hits.entries, hits.count, [&](const Entry& held) { return drawnBefore(Entry{t, instance, prim, {}, {}}, held); },
-      drawnBefore, [&](Entry& slot) {
+      hits.entries, hits.count, [&](const Entry& held) { return AdditiveHits::drawnBefore(key, held); },
+      AdditiveHits::drawnBefore, [&](Entry& slot) {
         slot.t = t;
         slot.instance = instance;
         slot.prim = prim;
@@ -227,13 +217,14 @@ bool sameTriangle(const AdditiveHits::Candidate& a, const AdditiveHits::Candidat
 /// the order recorded (insertion sort: a few, often in order already).
 void sortEntries(AdditiveHits& hits) {
   if (hits.count == AdditiveHits::kCapacity) {
-    std::sort_heap(hits.entries.begin(), hits.entries.end(), drawnBefore);
+    std::sort_heap(hits.entries.begin(), hits.entries.end(), AdditiveHits::drawnBefore);
     return;
   }
   for (uint32_t i = 1; i < hits.count; ++i) {
     const AdditiveHits::Entry e = hits.entries[i];
     uint32_t j = i;
-    for (; j > 0 && drawnBefore(e, hits.entries[j - 1]); --j) hits.entries[j] = hits.entries[j - 1];
+    for (; j > 0 && AdditiveHits::drawnBefore(e, hits.entries[j - 1]); --j)
+      hits.entries[j] = hits.entries[j - 1];
     hits.entries[j] = e;
   }
 }
@@ -242,7 +233,8 @@ void sortEntries(AdditiveHits& hits) {
 
 void recordLayerCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& c) {
   using Candidate = AdditiveHits::Candidate;
-  // Nearest first, ties in drawing order (drawnBefore): the candidates kept are the layers drawn first.
+  // Nearest first, ties in drawing order (AdditiveHits::drawnBefore): the candidates kept are
+  // the layers drawn first.
   const auto nearer = [](const Candidate& a, const Candidate& b) {
     if (a.t != b.t) return a.t < b.t;
     if (a.overlay != b.overlay) return a.overlay < b.overlay;
@@ -269,7 +261,7 @@ void resolveRayLayers(const RenderScene& scene, AdditiveHits& hits, const Ray& r
           return sameTriangle(e, c);
         }))
       continue;   // reported twice
-    const RenderInstance& inst = instancesFor(scene, c.overlay)[c.instance];
+    const RenderInstance& inst = scene.instancesOf(c.overlay)[c.instance];
     const Crossing crossing{c.t, c.u, c.v, &ray, &hits};
     evaluateCrossings(scene, layerTriangle(scene, inst, c.prim), c.instance, c.overlay, {&crossing, 1});
   }
@@ -336,7 +328,7 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
   }
   for (uint32_t g = 0; g < groups; ++g) {
     const AdditiveHits::Candidate& key = *groupKey[g];
-    const RenderInstance& inst = instancesFor(scene, key.overlay)[key.instance];
+    const RenderInstance& inst = scene.instancesOf(key.overlay)[key.instance];
     evaluateCrossings(scene, layerTriangle(scene, inst, key.prim), key.instance, key.overlay,
                       {crossings.data() + groupStart[g], size_t{groupStart[g + 1]} - groupStart[g]});
   }
