@@ -31,7 +31,7 @@ run() {
     sleep 0.05
   done
   wait "$bench" || status=$?
-  frames="$(awk -v p="${preset%%:*}" '$1 == p && NF == 5 { print $2; exit }' "$log")"
+  frames="$(awk -v p="$preset" '$1 == p && NF == 5 { print $2; exit }' "$log")"   # the row is named by the whole preset
   if [[ $status -eq 77 ]]; then rm -f "$log"; echo "skipped: engine or game data missing" >&2; exit 77; fi
   if [[ $status -ne 0 || -z "$frames" || -z "$pid" ]]; then
     cat "$log" >&2; rm -f "$log"; echo "engine_bench failed" >&2; exit 1

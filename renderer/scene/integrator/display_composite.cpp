@@ -189,7 +189,8 @@ glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend
 }
 
 void DisplayComposite::appendBefore(const AdditiveHits& hits, float t) {
-  std::array<uint32_t, AdditiveHits::kCapacity> order{};
+  if (hits.count == 0) return;
+  std::array<uint32_t, AdditiveHits::kCapacity> order;   // the first n are set
   uint32_t n = 0;
   for (uint32_t i = 0; i < std::min(hits.count, AdditiveHits::kCapacity); ++i)
     if (hits.entries[i].t < t) order[n++] = i;

@@ -68,8 +68,9 @@ class FogSegment {
   /// Volumes beyond kCapacity along one segment are ignored (the nearest are kept).
   static constexpr uint32_t kCapacity = 8;
 
-  /// A segment through no fog (transmittance 1, no glow).
-  FogSegment() = default;
+  /// A segment through no fog (transmittance 1, no glow). User-provided, so that `FogSegment()`
+  /// leaves the unused crossings unset instead of zeroing them for every camera ray.
+  FogSegment() {}
   /// Clips origin + t * dir, t in [0, tEnd] (tEnd may be infinite) against every volume.
   /// `lengthScale` multiplies the distances inside (|dir| for non-unit directions; the
   /// Lightmap integrator's camera rays also fold in the eye-space depth factor).
