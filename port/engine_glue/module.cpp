@@ -92,8 +92,9 @@ void Module::beginRegistration(q3abi::glconfig_t* config) {
   ensureWindow(config);
   drawLikeTheStockRendererStart();
   updateDisplayRamp();
-  if (!views_) views_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);
-  if (!modelViews_) modelViews_ = std::make_unique<ViewRenderer>(engine_, settings_.tracer(engine_).threads);
+  const TracerSettings tracer = settings_.tracer(engine_);
+  if (!views_) views_ = std::make_unique<ViewRenderer>(engine_, tracer.threads, tracer.avx2Kernels);
+  if (!modelViews_) modelViews_ = std::make_unique<ViewRenderer>(engine_, tracer.threads, tracer.avx2Kernels);
   views_->setPicture(picture());
   modelViews_->setPicture(picture());
   scripts_.load(engine_);

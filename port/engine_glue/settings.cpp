@@ -105,6 +105,9 @@ void Settings::registerCvars(const Engine& engine) {
                             "screenshot NAME also writes NAME.exr: the world view's linear radiance (R, G, B) "
                             "and the variance of each pixel's mean luminance (variance.Y)");
   if (captureExr_ != nullptr) ri.Cvar_CheckRange(captureExr_, 0, 1, 1);
+  isa_ = engine.cvar("r_pt_isa", "auto", CVAR_ARCHIVE | CVAR_LATCH,
+                     "Ray kernels: auto (the fastest this CPU has) | avx2 (the AVX2 kernels and 8-wide BVH "
+                     "on a CPU with AVX-512, to measure what CPUs without it run); applies after vid_restart");
   clamp_ = engine.cvar("r_pt_clamp", "-1", 0,
                        "Clamp of each sample's radiance (0 = none, an unbiased mean); -1 = the preset's "
                        "(reference none, the others 10)");
@@ -232,6 +235,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.stockLook = look_ == nullptr || look_->string == nullptr || normalizeName(look_->string) != "filmic";
   out.captureExr = captureExr_ != nullptr && captureExr_->integer != 0;
   if (clamp_ != nullptr && std::isfinite(clamp_->value)) out.radianceClamp = clamp_->value < 0.0f ? -1.0f : clamp_->value;
+  out.avx2Kernels = isa_ != nullptr && isa_->string != nullptr && normalizeName(isa_->string) == "avx2";
   return out;
 }
 

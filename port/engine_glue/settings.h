@@ -45,6 +45,9 @@ struct TracerSettings {
   bool fireflies = true;     ///< r_pt_fireflies: spread fireflies before the denoiser (denoise/fireflies.h)
   bool captureExr = false;   ///< r_pt_captureExr: screenshots also write the world view's film as EXR
   float radianceClamp = -1.0f;   ///< r_pt_clamp: per-sample radiance clamp (0 = none); < 0 = the preset's
+  /// r_pt_isa avx2: the BVHs keep the AVX2 kernels and 8-wide layout on a CPU with AVX-512 (to
+  /// measure what CPUs without it run); auto: the fastest this CPU has. Latched (vid_restart).
+  bool avx2Kernels = false;
 };
 
 /// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,
@@ -131,6 +134,7 @@ class Settings {
   q3abi::cvar_t* fireflies_ = nullptr;
   q3abi::cvar_t* captureExr_ = nullptr;
   q3abi::cvar_t* clamp_ = nullptr;
+  q3abi::cvar_t* isa_ = nullptr;
 };
 
 }  // namespace glue

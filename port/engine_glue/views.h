@@ -69,7 +69,8 @@ struct TracedPicture {
 /// Owns the path tracer and what it knows of the world.
 class ViewRenderer {
  public:
-  ViewRenderer(const Engine& engine, int threads);
+  /// `threads` = r_pt_threads (0: all cores); `avx2Kernels` = r_pt_isa avx2 (RendererConfig::bvh).
+  ViewRenderer(const Engine& engine, int threads, bool avx2Kernels);
   ~ViewRenderer();
   ViewRenderer(const ViewRenderer&) = delete;
   ViewRenderer& operator=(const ViewRenderer&) = delete;

@@ -88,7 +88,8 @@ void pinThreadPoolLibrary(const Engine& engine) {
 
 bool ViewRenderer::available() { return true; }
 
-ViewRenderer::ViewRenderer(const Engine& engine, int threads) : impl_(new Impl(engine, threads)) {
+ViewRenderer::ViewRenderer(const Engine& engine, int threads, bool avx2Kernels)
+    : impl_(new Impl(engine, threads, avx2Kernels)) {
   pinThreadPoolLibrary(engine);
   impl_->startMap();
 }

@@ -127,7 +127,7 @@ void validateSettings(const RenderSettings& s) {
 }  // namespace
 
 struct Renderer::Impl {
-  explicit Impl(const RendererConfig& c) : config(c), arena(arenaConcurrency(c.threads)) {}
+  explicit Impl(const RendererConfig& c) : config(c), arena(arenaConcurrency(c.threads)) { store.setBvhConfig(c.bvh); }
 
   RendererConfig config;
   tbb::task_arena arena;

@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "renderer/bvh/bvh.h"
 #include "renderer/scene/scene_types.h"
 
 namespace pa {
@@ -13,6 +14,9 @@ namespace pa {
 /// Renderer-wide configuration fixed at construction.
 struct RendererConfig {
   uint32_t threads = 0;   ///< Worker threads for builds and rendering; 0 = all cores.
+  /// How meshes' BVHs are built and which kernels trace them: allowAvx512 false keeps the AVX2
+  /// kernels and 8-wide layout that CPUs without AVX-512 run, to measure them on one that has it.
+  BvhBuildConfig bvh{};
 };
 
 /// Where one render() call's time went (milliseconds, wall clock on the calling thread).

@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "renderer/scene/world/scene_store.h"
 #include "scene_builders.h"
 
 namespace pa {
@@ -331,6 +332,31 @@ TEST(Determinism, CameraPacketsGiveTheSameImageAsRayByRay) {
       FrameView f;
       for (int frame = 0; frame < 2; ++frame) f = r.render(camera(), s);
       images[packets].assign(f.radiance.begin(), f.radiance.end());
+    }
+    EXPECT_TRUE(bitIdentical(images[0], images[1])) << "integrator " << static_cast<int>(integrator);
+  }
+}
+
+TEST(Determinism, Avx2KernelsGiveTheSameImage) {
+  // RendererConfig::bvh with allowAvx512 false (the glue's r_pt_isa avx2): the meshes' BVHs take
+  // the 8-wide layout and AVX2 kernels whatever the CPU has, and trace the same image.
+  BvhBuildConfig avx2;
+  avx2.allowAvx512 = false;
+  SceneStore store;
+  store.setBvhConfig(avx2);
+  test::addMesh(store, test::quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}), store.addMaterial(MaterialDesc{}));
+  const RenderScene scene = store.commit();
+  ASSERT_EQ(scene.world.size(), 1u);
+  EXPECT_EQ(scene.world[0].mesh->blas.nodeWidth(), 8u);
+  for (const Integrator integrator : {Integrator::Lightmap, Integrator::Direct, Integrator::Path}) {
+    std::vector<glm::vec3> images[2];
+    for (const bool avx2Only : {false, true}) {
+      RendererConfig config{.threads = 2};
+      config.bvh.allowAvx512 = !avx2Only;
+      Renderer r(config);
+      buildSceneWithCameraRules(r);
+      const FrameView f = r.render(camera(), settingsFor(integrator, 50, 2, 3));
+      images[avx2Only].assign(f.radiance.begin(), f.radiance.end());
     }
     EXPECT_TRUE(bitIdentical(images[0], images[1])) << "integrator " << static_cast<int>(integrator);
   }

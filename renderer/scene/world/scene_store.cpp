@@ -420,7 +420,7 @@ void SceneStore::buildMeshes(const std::vector<MaterialRecord>& materials) {
     if (jobs[i].refit) {
       rec.blas.refit(rec.geometry.positions);
     } else {
-      rec.blas.build({rec.geometry.positions, rec.geometry.indices, rec.rules});
+      rec.blas.build({rec.geometry.positions, rec.geometry.indices, rec.rules}, bvhConfig_);
     }
     rec.built = true;
   });

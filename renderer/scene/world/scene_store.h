@@ -63,6 +63,8 @@ class SceneStore {
   bool lastCommitOnlyCameraOverlays() const { return lastCommitOnlyCameraOverlays_; }
   /// What the last commit changed that camera rays see (seen_changes.h).
   const SeenChanges& lastCommitSeenChanges() const { return lastSeen_; }
+  /// How meshes' BVHs are built from the next commit on (RendererConfig::bvh).
+  void setBvhConfig(const BvhBuildConfig& config) { bvhConfig_ = config; }
   /// Validates cross references, builds acceleration structures and light tables into a new
   /// RenderScene. Run inside the renderer's task arena. Throws SceneError (leaving the
   /// store unchanged) when an instance uses a removed mesh or an id is out of range.
@@ -79,6 +81,7 @@ class SceneStore {
   void attachEnvironmentVisibility(RenderScene& scene);
 
  private:
+  BvhBuildConfig bvhConfig_{};
   struct MeshSlot {
     std::unique_ptr<MeshRecord> record;        ///< Committed data (null before the first commit).
     MeshGeometry pending;                      ///< Data for the next commit when hasPending (memory kept).
