@@ -235,7 +235,13 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.stockLook = look_ == nullptr || look_->string == nullptr || normalizeName(look_->string) != "filmic";
   out.captureExr = captureExr_ != nullptr && captureExr_->integer != 0;
   if (clamp_ != nullptr && std::isfinite(clamp_->value)) out.radianceClamp = clamp_->value < 0.0f ? -1.0f : clamp_->value;
-  out.avx2Kernels = isa_ != nullptr && isa_->string != nullptr && normalizeName(isa_->string) == "avx2";
+  if (isa_ != nullptr && isa_->string != nullptr) {
+    const std::string isa = normalizeName(isa_->string);
+    out.avx2Kernels = isa == "avx2";
+    if (isa != "avx2" && isa != "auto" && isa_->modified)
+      engine.warn(std::string("r_pt_isa '") + isa_->string + "' unknown: auto used (auto or avx2)");
+    isa_->modified = 0;
+  }
   return out;
 }
 
