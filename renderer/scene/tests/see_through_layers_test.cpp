@@ -142,6 +142,44 @@ TEST(SeeThroughLayers, ATriangleReportedTwiceIsOneLayer) {
   }
 }
 
+TEST(SeeThroughLayers, ASecondPassOverFullLayersKeepsTheFirstInDrawingOrder) {
+  // A ray traced twice into one AdditiveHits (the drawOnTop instances, then the world: as
+  // trace::traceClosest does): the first pass fills all 32 entries with coincident stages, the
+  // second brings squares in front of and behind them. The layers kept are the first 32 of all
+  // in drawing order, as one pass over every layer would keep.
+  const LayeredWall wall;
+  Ray ray;
+  ray.origin = glm::vec3(0.0f);
+  ray.dir = glm::vec3(0.1f, 0.05f, -1.0f);
+  constexpr float kHit = 10.0f;
+  std::vector<Candidate> first, second;
+  for (uint32_t stage = 0; stage < AdditiveHits::kCandidateCapacity; ++stage)
+    first.push_back({4.0f, 1, 2 * stage, 0.25f, 0.25f, false});
+  for (uint32_t k = 0; k < 4; ++k) second.push_back({2.0f + 1.7f * static_cast<float>(k), 2 + k, 0, 0.3f, 0.3f, false});
+  const auto resolved = [&](const std::vector<std::vector<Candidate>>& passes) {
+    AdditiveHits hits;
+    for (const std::vector<Candidate>& pass : passes) {
+      for (const Candidate& c : pass) recordLayerCandidate(hits, c);
+      resolveRayLayers(wall.scene, hits, ray, kHit);
+    }
+    return std::vector<AdditiveHits::Entry>(hits.entries.begin(), hits.entries.begin() + hits.count);
+  };
+  const std::vector<AdditiveHits::Entry> stages = resolved({first});
+  ASSERT_EQ(stages.size(), AdditiveHits::kCapacity);
+  std::vector<AdditiveHits::Entry> expected = resolved({second});
+  ASSERT_EQ(expected.size(), 4u);
+  expected.insert(expected.end(), stages.begin(), stages.end());
+  std::sort(expected.begin(), expected.end(), AdditiveHits::drawnBefore);
+  expected.resize(AdditiveHits::kCapacity);
+  const std::vector<AdditiveHits::Entry> kept = resolved({first, second});
+  ASSERT_EQ(kept.size(), expected.size());
+  for (size_t k = 0; k < kept.size(); ++k) {
+    EXPECT_EQ(kept[k].t, expected[k].t) << k;
+    EXPECT_EQ(kept[k].instance, expected[k].instance) << k;
+    EXPECT_EQ(kept[k].prim, expected[k].prim) << k;
+  }
+}
+
 bool sameBits(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 TEST(SeeThroughLayers, PacketGivesEveryRayTheLayersItGetsAlone) {

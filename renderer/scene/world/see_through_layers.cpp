@@ -37,7 +37,6 @@ void keepFirst(std::array<Item, N>& held, uint32_t& count, Before before, Order 
   }
 }
 
-
 /// Keeps a layer's colour and what it lets through among the ray's first kCapacity in drawing
 /// order (more can come only from a ray traced twice: the drawOnTop instances, then the world).
 void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t prim, const glm::vec3& color,
@@ -212,7 +211,6 @@ bool sameTriangle(const AdditiveHits::Candidate& a, const AdditiveHits::Candidat
   return a.prim == b.prim && a.instance == b.instance && a.overlay == b.overlay;
 }
 
-
 /// Sorts the entries into drawing order: a full array is a heap (keepFirst), the others are in
 /// the order recorded (insertion sort: a few, often in order already).
 void sortEntries(AdditiveHits& hits) {
@@ -254,6 +252,10 @@ void recordLayerCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& c) 
 }
 
 void resolveRayLayers(const RenderScene& scene, AdditiveHits& hits, const Ray& ray, float tEnd) {
+  // A full array left by an earlier pass of the same ray (trace::traceClosest's drawOnTop pass) is
+  // in drawing order (sortEntries); keepFirst takes a full array for a heap with the last at its root.
+  if (hits.count == AdditiveHits::kCapacity)
+    std::make_heap(hits.entries.begin(), hits.entries.end(), AdditiveHits::drawnBefore);
   for (uint32_t i = 0; i < hits.candidateCount; ++i) {
     const AdditiveHits::Candidate& c = hits.candidates[i];
     if (!(c.t < tEnd)) continue;   // behind the closest hit: never shown

@@ -8,8 +8,9 @@
 namespace pa {
 
 /// Adds an additive triangle the traversal met to hits.candidates; when all are taken, the
-/// nearest are kept, ties broken by (overlay, instance, prim), so the set kept does not depend on
-/// the order the triangles were met in. A triangle reported twice is held twice and its layer
+/// nearest are kept, ties broken by table (world first), instance, then the later primitive first
+/// (AdditiveHits::drawnBefore's order), so the set kept does not depend on the order the
+/// triangles were met in. A triangle reported twice is held twice and its layer
 /// worked out once (resolveRayLayers, resolvePacketLayers).
 void recordLayerCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& candidate);
 
