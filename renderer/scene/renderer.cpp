@@ -15,6 +15,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include "renderer/core/prefetch.h"
 #include "renderer/scene/denoise/denoiser.h"
@@ -157,10 +158,23 @@ struct Renderer::Impl {
   double commitMsSinceRender = 0.0;   // commit() time to report with the next render
   Camera lastCamera;
   RenderSettings lastSettings;
+  // startRender's work: the task and what it renders and returns.
+  tbb::task_group inFlight;
+  bool rendering = false;
+  Camera startedCamera;
+  RenderSettings startedSettings;
+  FrameView startedView;
 };
 
 Renderer::Renderer(const RendererConfig& config) : impl_(std::make_unique<Impl>(config)) {}
-Renderer::~Renderer() = default;
+Renderer::~Renderer() {
+  if (!impl_->rendering) return;
+  try {
+    finishRender();   // its tasks read the scene and film about to be destroyed
+  } catch (...) {
+    // A failed render has nothing left to clean up.
+  }
+}
 
 MeshId Renderer::addMesh(const MeshDesc& mesh) { return impl_->store.addMesh(mesh); }
 void Renderer::updateMesh(MeshId id, const MeshDesc& mesh) { impl_->store.updateMesh(id, mesh); }
@@ -199,6 +213,34 @@ void Renderer::commit() {
   im.sceneChanged = true;
   im.commitMsSinceRender += millisecondsSince(start);
 }
+
+void Renderer::startRender(const Camera& camera, const RenderSettings& settings) {
+  Impl& im = *impl_;
+  if (im.rendering) throw SceneError("startRender: the last startRender was not finished");
+  validateSettings(settings);   // before anything runs: the caller hears of bad settings at once
+  im.startedCamera = camera;
+  im.startedSettings = settings;
+  im.startedView = FrameView{};
+  im.rendering = true;
+  // Enqueued: the arena's worker threads take it while the caller goes on (spawned work would
+  // wait in the caller's own task pool).
+  im.arena.enqueue(im.inFlight.defer([this] {
+    Impl& d = *impl_;
+    commit();
+    d.startedView = render(d.startedCamera, d.startedSettings);
+  }));
+}
+
+FrameView Renderer::finishRender() {
+  Impl& im = *impl_;
+  if (!im.rendering) throw SceneError("finishRender: no render was started");
+  // The caller joins the arena and works on the render's tasks until it is done.
+  im.rendering = false;
+  im.arena.execute([&] { im.inFlight.wait(); });
+  return im.startedView;
+}
+
+bool Renderer::rendering() const { return impl_->rendering; }
 
 void Renderer::resetAccumulation() {
   impl_->film.reset();

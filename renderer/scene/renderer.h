@@ -117,6 +117,16 @@ class Renderer {
   /// nothing and returns an empty view. Sees the scene as of the last commit().
   FrameView render(const Camera& camera, const RenderSettings& settings);
 
+  /// commit() and render(camera, settings) on the renderer's threads: returns at once, so that
+  /// the caller can do other work meanwhile. Until finishRender() returns, call no other method
+  /// and read no view of an earlier render.
+  void startRender(const Camera& camera, const RenderSettings& settings);
+  /// Waits for the render startRender() began (the calling thread helps with its work) and
+  /// returns its frame, as render() would have; rethrows what commit() or render() threw.
+  FrameView finishRender();
+  /// A render started by startRender() has not been finished.
+  bool rendering() const;
+
   /// Forgets the accumulated frames (next render starts a new mean).
   void resetAccumulation();
 
