@@ -55,7 +55,7 @@ capture() {
   mkdir -p "$work/home/baseoa/demos"
   cp "$demo" "$work/home/baseoa/demos/pa_capture.dm_71"
   cfg="$(pa_engine_cfg "$work" capture)"
-  printf 'set r_pt_preset lightmap\nwait %d\n' "$((start - lead))" >"$cfg"
+  printf 'set r_pt_preset lightmap\nset r_pt_pipeline 0\nwait %d\n' "$((start - lead))" >"$cfg"
   while [[ $# -ge 2 ]]; do printf 'set %s %s\n' "$1" "$2" >>"$cfg"; shift 2; done
   previous=$((start - lead))
   for tick in $ticks; do

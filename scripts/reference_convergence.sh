@@ -33,7 +33,7 @@ run() {   # run NAME CFG_BODY [engine args]: one engine run of the cfg, screensh
   local name="$1" cfg_body="$2"
   shift 2
   pa_engine_prepare "$work/$name" "$module"
-  printf '%b' "$cfg_body" >"$(pa_engine_cfg "$work/$name" ref)"
+  printf 'set r_pt_pipeline 0\n%b' "$cfg_body" >"$(pa_engine_cfg "$work/$name" ref)"
   pa_engine_run "$work/$name" "$out/$name.log" "${REFERENCE_TIMEOUT:-1800}" 640 360 pathtracer \
     +set sv_pure 0 +set cg_drawGun 1 +set cg_draw2D 1 +set cg_bobup 0 +set cg_bobpitch 0 \
     +set cg_bobroll 0 +set con_notifytime -1 +set r_pt_preset reference +set r_pt_stats 1 "$@" \

@@ -107,20 +107,22 @@ void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
 void Module::printFrameStats(int nowMs) const {
   const FrameStats& s = stats_;
   const double n = s.frames;
+  // The game's thread: what ran on it (a pipelined view's tracing ran beside it, waited for in waitMs).
   const double accounted = s.world.sceneMs + s.world.commitMs + s.world.resampleMs + s.world.traceMs + s.world.temporalMs + s.world.denoiseMs +
-                           s.world.resolveMs + s.world.taauMs + s.uploadMs + s.modelViewMs + s.overlay2dMs + s.presentMs;
+                           s.world.resolveMs + s.world.taauMs + s.uploadMs + s.modelViewMs + s.overlay2dMs + s.presentMs -
+                           s.offThreadMs + s.waitMs;
   // One line of name=value pairs (per-frame means) that scripts/engine_bench.sh parses.
   engine_.print(q3abi::PRINT_ALL,
                 "pathtracer: stats %s fps=%.1f frame_ms=%.2f world_views=%.2f scene_ms=%.2f commit_ms=%.2f "
                 "trace_ms=%.2f temporal_ms=%.2f denoise_ms=%.2f resolve_ms=%.2f upload_ms=%.2f model_views=%.2f model_view_ms=%.2f "
                 "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u anim_ms=%.3f anim_updates=%.2f resample_ms=%.2f "
-                "taau_ms=%.2f scale=%.3f allocations=%.2f\n",
+                "taau_ms=%.2f scale=%.3f allocations=%.2f wait_ms=%.2f\n",
                 presetName(settings_.tracer(engine_).preset), 1000.0 * n / std::max(1, nowMs - s.sinceMs),
                 s.frameMs / n, s.views / n, s.world.sceneMs / n, s.world.commitMs / n, s.world.traceMs / n,
                 s.world.temporalMs / n, s.world.denoiseMs / n, s.world.resolveMs / n, s.uploadMs / n, s.modelViews / n, s.modelViewMs / n,
                 s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n, s.accumulated,
                 s.world.animationMs / n, s.world.animationUpdates / n, s.world.resampleMs / n, s.world.taauMs / n, s.scale,
-                static_cast<double>(allocationCount() - s.allocationsAtStart) / n);
+                static_cast<double>(allocationCount() - s.allocationsAtStart) / n, s.waitMs / n);
 }
 
 void Module::clearScene() { scene_.clear(); }
@@ -151,45 +153,126 @@ void Module::renderScene(const q3abi::refdef_t* view) {
   if (!noWorld && !world_) throw DropError("RenderScene: no world loaded");
   if (view->width <= 0 || view->height <= 0 || view->width > 16384 || view->height > 16384) return;
   if (!std::isfinite(view->fov_x) || !std::isfinite(view->fov_y)) return;
-  ViewRenderer* const views = noWorld ? modelViews_.get() : views_.get();
-  if (views != nullptr) {
+  TracerSettings tracer = settings_.tracer(engine_);
+  if (tracer.targetFps > 0.0f) tracer.resolutionScale = resolution_.scale();
+  const int start = engine_.milliseconds();
+  if (!noWorld && views_ != nullptr) {
+    stats_.scale = tracer.resolutionScale;
+    renderWorldView(*view, tracer);
+  } else if (noWorld && modelViews_ != nullptr) {
     std::optional<TracedPicture> picture;
-    const int start = engine_.milliseconds();
     const Clock::time_point began = Clock::now();
     try {
-      TracerSettings tracer = settings_.tracer(engine_);
-      if (tracer.targetFps > 0.0f) tracer.resolutionScale = resolution_.scale();
-      if (!noWorld) stats_.scale = tracer.resolutionScale;
-      picture = views->render(*view, scene_, tracer, shaders_, models_, noWorld ? nullptr : world_.get());
+      picture = modelViews_->render(*view, scene_, tracer, shaders_, models_, nullptr);
     } catch (const std::exception& error) {
       // Keep playing (2D still works); say it a few times, not every frame.
       if (renderFailures_++ < 3) engine_.warn(std::string("RenderScene: ") + error.what());
     }
-    traceMsThisFrame_ += engine_.milliseconds() - start;
-    if (noWorld) {
-      stats_.modelViews += 1;
-      stats_.modelViewMs += millisecondsSince(began);
-    } else {
-      stats_.views += 1;
-      if (picture) {
-        addTimings(stats_.world, picture->timings);
-        stats_.accumulated = picture->accumulatedFrames;
-        if (settings_.tracer(engine_).captureExr) filmCapture_.assign(*picture);
-      }
-    }
+    stats_.modelViews += 1;
+    stats_.modelViewMs += millisecondsSince(began);
     if (picture) {
       const ScopeTimer upload(stats_.uploadMs);
       // The world view keeps texture 0; model views of the frame take the next ones in turn.
-      const int slot = noWorld ? 1 + std::min(modelViewsThisFrame_++, Overlay2D::kViewSlots - 2) : 0;
-      overlay_.drawPixels(slot, picture->rgba, picture->width, picture->height,
-                          static_cast<float>(view->x), static_cast<float>(view->y),
-                          static_cast<float>(view->width), static_cast<float>(view->height),
-                          !noWorld);
-      if (!noWorld) drawFlares(*view, *picture);
+      const int slot = 1 + std::min(modelViewsThisFrame_++, Overlay2D::kViewSlots - 2);
+      overlay_.drawPixels(slot, picture->rgba, picture->width, picture->height, static_cast<float>(view->x),
+                          static_cast<float>(view->y), static_cast<float>(view->width),
+                          static_cast<float>(view->height), false);
     }
   }
+  traceMsThisFrame_ += engine_.milliseconds() - start;
   // The next view holds only what is added after this one (as in the stock renderer).
   scene_.clear();
+}
+
+void Module::renderWorldView(const q3abi::refdef_t& view, const TracerSettings& tracer) {
+  const uint64_t frame = framesEnded_;
+  bool secondView = false;   // a world view started earlier in this frame
+  bool shown = false;        // this frame shows a world picture already
+  if (views_->started()) {
+    secondView = startedFrame_ == frame;
+    std::optional<TracedPicture> picture = finishWorldView();
+    // The view started in the last frame is what this frame shows; an older one (frames without
+    // a world view between) is dropped.
+    if (picture && (secondView || startedFrame_ + 1 == frame)) {
+      showWorldView(startedView_, *picture);
+      shown = true;
+    } else if (picture) {
+      shownFrame_ = UINT64_MAX;   // the dropped picture took the shown one's bytes
+    }
+  }
+  // Pipelined only where the last frame showed a world view (this frame then shows its picture or
+  // that of the view started then) and no frame must hold its own: a second world view in a frame,
+  // video frames, the film for EXR screenshots.
+  const bool shownLastFrame = shownFrame_ != UINT64_MAX && shownFrame_ + 1 == frame && shownPicture_.rgba != nullptr;
+  const bool pipeline = tracer.pipeline && !secondView && !pendingVideo_ && !tracer.captureExr && (shown || shownLastFrame);
+  if (pipeline) {
+    if (!shown) {   // the first pipelined frame shows the last frame's picture again
+      const ScopeTimer upload(stats_.uploadMs);
+      overlay_.drawPixels(0, shownPicture_.rgba, shownPicture_.width, shownPicture_.height,
+                          static_cast<float>(shownView_.x), static_cast<float>(shownView_.y),
+                          static_cast<float>(shownView_.width), static_cast<float>(shownView_.height), true);
+      redrawFlares(shownView_);
+      shownFrame_ = frame;
+    }
+    try {
+      views_->start(view, scene_, tracer, shaders_, models_, world_.get());
+      startedView_ = view;
+      startedFrame_ = frame;
+    } catch (const std::exception& error) {
+      if (renderFailures_++ < 3) engine_.warn(std::string("RenderScene: ") + error.what());
+    }
+    return;
+  }
+  std::optional<TracedPicture> picture;
+  try {
+    picture = views_->render(view, scene_, tracer, shaders_, models_, world_.get());
+  } catch (const std::exception& error) {
+    // Keep playing (2D still works); say it a few times, not every frame.
+    if (renderFailures_++ < 3) engine_.warn(std::string("RenderScene: ") + error.what());
+  }
+  stats_.views += 1;
+  if (!picture) return;
+  countWorldView(*picture, false);
+  showWorldView(view, *picture);
+}
+
+std::optional<TracedPicture> Module::finishWorldView() {
+  std::optional<TracedPicture> picture;
+  const Clock::time_point began = Clock::now();
+  try {
+    picture = views_->finish();
+  } catch (const std::exception& error) {
+    if (renderFailures_++ < 3) engine_.warn(std::string("RenderScene: ") + error.what());
+  }
+  stats_.waitMs += millisecondsSince(began);
+  stats_.views += 1;
+  if (picture) countWorldView(*picture, true);
+  return picture;
+}
+
+void Module::countWorldView(const TracedPicture& picture, bool offThread) {
+  addTimings(stats_.world, picture.timings);
+  if (offThread) {
+    const ViewTimings& t = picture.timings;
+    stats_.offThreadMs +=
+        t.commitMs + t.resampleMs + t.traceMs + t.temporalMs + t.denoiseMs + t.resolveMs + t.taauMs;
+  }
+  stats_.accumulated = picture.accumulatedFrames;
+  if (settings_.tracer(engine_).captureExr) filmCapture_.assign(picture);
+}
+
+void Module::showWorldView(const q3abi::refdef_t& view, const TracedPicture& picture) {
+  {
+    const ScopeTimer upload(stats_.uploadMs);
+    // The world view keeps texture 0.
+    overlay_.drawPixels(0, picture.rgba, picture.width, picture.height, static_cast<float>(view.x),
+                        static_cast<float>(view.y), static_cast<float>(view.width), static_cast<float>(view.height),
+                        true);
+  }
+  drawFlares(view, picture);
+  shownView_ = view;
+  shownFrame_ = framesEnded_;
+  shownPicture_ = picture;
 }
 
 void Module::drawFlares(const q3abi::refdef_t& view, const TracedPicture& picture) {
@@ -219,7 +302,11 @@ void Module::drawFlares(const q3abi::refdef_t& view, const TracedPicture& pictur
     return picture.depth[size_t(py) * size_t(w) + size_t(px)];
   };
   flareTracker_.update(flareView, worldFlares_, settings.flare, depthAt, flareQuads_);
-  if (flareQuads_.empty()) return;
+  redrawFlares(view);
+}
+
+void Module::redrawFlares(const q3abi::refdef_t& view) {
+  if (flareQuads_.empty() || worldFlares_.empty() || !settings_.picture(engine_).flares) return;
   const ImageSource images = [this](const std::string& name) { return images_.load(engine_, name); };
   const double shaderSeconds = view.time * 0.001;
   overlay_.clip(view.x, view.y, view.width, view.height);

@@ -30,8 +30,10 @@ void Module::shutdown(bool destroyWindow) {
   removeCommands();
   pendingShots_.clear();
   scene_.clear();
+  if (views_) views_->clearWorld();   // first: a world view may still be traced
+  shownFrame_ = UINT64_MAX;           // nothing of this world is shown again
+  flareQuads_.clear();
   world_.reset();
-  if (views_) views_->clearWorld();
   if (modelViews_) modelViews_->clearWorld();   // its materials name this registration's shaders
   models_.clear();
   fonts_.clear();

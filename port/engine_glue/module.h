@@ -59,6 +59,11 @@ struct FrameStats {
   double modelViewMs = 0.0;    ///< Views without the world, all of their phases.
   double overlay2dMs = 0.0;    ///< 2D calls (DrawStretchPic, DrawStretchRaw, cinematics).
   double presentMs = 0.0;      ///< Screenshots, video frames and the buffer swap.
+  /// World views traced while the game went on (r_pt_pipeline): their scene set-up is on the
+  /// game's thread, the rest (`world` but sceneMs) on the renderer's, and waitMs is how long the
+  /// game's thread waited for them.
+  double offThreadMs = 0.0;
+  double waitMs = 0.0;         ///< See offThreadMs.
   double frameMs = 0.0;        ///< BeginFrame to BeginFrame of the next frame (engine and game included).
   uint32_t accumulated = 0;    ///< Frames in the last world view's picture.
   float scale = 0.0f;          ///< r_pt_scale of the last world view (dynamic resolution's choice with r_pt_fps).
@@ -141,6 +146,16 @@ class Module {
   /// r_flares: the map's flares over a traced view of the world, tested against its depth and
   /// drawn with the flare shader (flares.h).
   void drawFlares(const q3abi::refdef_t& view, const TracedPicture& picture);
+  /// The flare quads of the last drawFlares again (a world picture shown a second time).
+  void redrawFlares(const q3abi::refdef_t& view);
+  /// A view of the world: traced in this frame, or (r_pt_pipeline) started here and shown in the next.
+  void renderWorldView(const q3abi::refdef_t& view, const TracerSettings& tracer);
+  /// The picture of the world view started last (waiting for it); counts its time in stats_.
+  std::optional<TracedPicture> finishWorldView();
+  /// Counts a world view's phases in stats_ (`offThread`: traced while the game went on).
+  void countWorldView(const TracedPicture& picture, bool offThread);
+  /// Draws a world view's picture and its flares; it is the frame's shown world view.
+  void showWorldView(const q3abi::refdef_t& view, const TracedPicture& picture);
 
   Engine engine_;
   Settings settings_;
@@ -162,6 +177,14 @@ class Module {
   FlareTracker flareTracker_;           ///< Their fade state from view to view of the world.
   std::vector<FlareQuad> flareQuads_;   ///< This view's flare quads (capacity kept).
   q3abi::qhandle_t flareShader_ = 0;    ///< "flareShader", registered with the world.
+  /// r_pt_pipeline: the world view started (traced while the game goes on) and its frame.
+  q3abi::refdef_t startedView_{};
+  uint64_t startedFrame_ = 0;
+  /// The world view shown last, its frame, and its picture (rgba valid until views_ hands out
+  /// another picture: a started view does not touch it).
+  q3abi::refdef_t shownView_{};
+  uint64_t shownFrame_ = UINT64_MAX;
+  TracedPicture shownPicture_;
   std::vector<ScreenshotRequest> pendingShots_;
   FilmCapture filmCapture_;   ///< r_pt_captureExr: the last world view of the last frame, for screenshots.
   /// The display's gamma ramp (r_gamma; stock sets it on the display, we map the finished frame).

@@ -105,6 +105,11 @@ void Settings::registerCvars(const Engine& engine) {
                             "screenshot NAME also writes NAME.exr: the world view's linear radiance (R, G, B) "
                             "and the variance of each pixel's mean luminance (variance.Y)");
   if (captureExr_ != nullptr) ri.Cvar_CheckRange(captureExr_, 0, 1, 1);
+  pipeline_ = engine.cvar("r_pt_pipeline", "1", CVAR_ARCHIVE,
+                          "1: the world view is traced while the game goes on and shown in the next frame, "
+                          "under that frame's HUD (more fps, one frame of delay) | 0: each frame shows its own "
+                          "world view (frames recorded as video always do)");
+  if (pipeline_ != nullptr) ri.Cvar_CheckRange(pipeline_, 0, 1, 1);
   isa_ = engine.cvar("r_pt_isa", "auto", CVAR_ARCHIVE | CVAR_LATCH,
                      "Ray kernels: auto (the fastest this CPU has) | avx2 (the AVX2 kernels and 8-wide BVH "
                      "on a CPU with AVX-512, to measure what CPUs without it run); applies after vid_restart");
@@ -234,6 +239,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.fireflies = fireflies_ == nullptr || fireflies_->integer != 0;
   out.stockLook = look_ == nullptr || look_->string == nullptr || normalizeName(look_->string) != "filmic";
   out.captureExr = captureExr_ != nullptr && captureExr_->integer != 0;
+  out.pipeline = pipeline_ == nullptr || pipeline_->integer != 0;
   if (clamp_ != nullptr && std::isfinite(clamp_->value)) out.radianceClamp = clamp_->value < 0.0f ? -1.0f : clamp_->value;
   if (isa_ != nullptr && isa_->string != nullptr) {
     const std::string isa = normalizeName(isa_->string);

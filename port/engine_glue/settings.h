@@ -44,6 +44,9 @@ struct TracerSettings {
   bool stockLook = true;
   bool fireflies = true;     ///< r_pt_fireflies: spread fireflies before the denoiser (denoise/fireflies.h)
   bool captureExr = false;   ///< r_pt_captureExr: screenshots also write the world view's film as EXR
+  /// r_pt_pipeline: the world view is traced while the game goes on and shown one frame later
+  /// (the HUD of that frame over it); false: each frame shows its own world view
+  bool pipeline = true;
   float radianceClamp = -1.0f;   ///< r_pt_clamp: per-sample radiance clamp (0 = none); < 0 = the preset's
   /// r_pt_isa avx2: the BVHs keep the AVX2 kernels and 8-wide layout on a CPU with AVX-512 (to
   /// measure what CPUs without it run); auto: the fastest this CPU has. Latched (vid_restart).
@@ -133,6 +136,7 @@ class Settings {
   q3abi::cvar_t* look_ = nullptr;
   q3abi::cvar_t* fireflies_ = nullptr;
   q3abi::cvar_t* captureExr_ = nullptr;
+  q3abi::cvar_t* pipeline_ = nullptr;
   q3abi::cvar_t* clamp_ = nullptr;
   q3abi::cvar_t* isa_ = nullptr;
 };

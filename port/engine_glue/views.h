@@ -89,6 +89,16 @@ class ViewRenderer {
   std::optional<TracedPicture> render(const q3abi::refdef_t& view, const SceneFrame& scene,
                                       const TracerSettings& settings, ShaderRegistry& shaders,
                                       const ModelRegistry& models, const World* world);
+  /// What render() does, with the tracing left running on the renderer's threads: the scene is
+  /// set up here, and finish() waits for the picture. Any other call first waits for it and
+  /// drops it.
+  void start(const q3abi::refdef_t& view, const SceneFrame& scene, const TracerSettings& settings,
+             ShaderRegistry& shaders, const ModelRegistry& models, const World* world);
+  /// A view start() began is being traced or waits for finish().
+  bool started() const;
+  /// The picture of the view start() began (waiting for it); nullopt when none was started
+  /// or when this build has no tracer. Throws what tracing threw.
+  std::optional<TracedPicture> finish();
   /// True when this build traces views (pa::Renderer linked in).
   static bool available();
 

@@ -94,17 +94,22 @@ ViewRenderer::ViewRenderer(const Engine& engine, int threads, bool avx2Kernels)
   impl_->startMap();
 }
 
-ViewRenderer::~ViewRenderer() = default;
+ViewRenderer::~ViewRenderer() { impl_->dropStartedView(); }   // its tasks read the map state
 
-void ViewRenderer::clearWorld() { impl_->startMap(); }
+void ViewRenderer::clearWorld() {
+  impl_->dropStartedView();
+  impl_->startMap();
+}
 
 void ViewRenderer::setPicture(const PictureSettings& picture) {
+  impl_->dropStartedView();
   if (picture.picmip != impl_->pictureSettings.picmip || picture.intensity != impl_->pictureSettings.intensity)
     impl_->map.textures.clear();   // entity textures are made again at the new detail
   impl_->pictureSettings = picture;
 }
 
 void ViewRenderer::shadersChanged() {
+  impl_->dropStartedView();
   // Remapped shaders resolve to other entries: rebuild entity materials lazily.
   impl_->map.materials.clear();
   impl_->map.moving.clear();
@@ -112,6 +117,7 @@ void ViewRenderer::shadersChanged() {
 }
 
 void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScripts, ImageCache& images) {
+  impl_->dropStartedView();
   impl_->startMap();
   impl_->loadMap(world, moduleScripts, images);
 }
@@ -120,6 +126,41 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view, c
                                                   const TracerSettings& settings, ShaderRegistry& shaders,
                                                   const ModelRegistry& models, const World* world) {
   Impl& d = *impl_;
+  d.dropStartedView();
+  const pa::RenderSettings renderSettings = d.prepareView(view, scene, settings, shaders, models, world);
+  d.renderer->commit();
+  return d.picture(d.renderer->render(d.started.ctx.camera, renderSettings), d.started);
+}
+
+void ViewRenderer::start(const q3abi::refdef_t& view, const SceneFrame& scene, const TracerSettings& settings,
+                         ShaderRegistry& shaders, const ModelRegistry& models, const World* world) {
+  Impl& d = *impl_;
+  d.dropStartedView();
+  const pa::RenderSettings renderSettings = d.prepareView(view, scene, settings, shaders, models, world);
+  d.renderer->startRender(d.started.ctx.camera, renderSettings);
+}
+
+bool ViewRenderer::started() const { return impl_->renderer->rendering(); }
+
+std::optional<TracedPicture> ViewRenderer::finish() {
+  Impl& d = *impl_;
+  if (!d.renderer->rendering()) return std::nullopt;
+  return d.picture(d.renderer->finishRender(), d.started);
+}
+
+void ViewRenderer::Impl::dropStartedView() {
+  if (!renderer || !renderer->rendering()) return;
+  try {
+    (void)renderer->finishRender();
+  } catch (const std::exception& error) {
+    engine.warn(std::string("RenderScene: ") + error.what());
+  }
+}
+
+pa::RenderSettings ViewRenderer::Impl::prepareView(const q3abi::refdef_t& view, const SceneFrame& scene,
+                                                   const TracerSettings& settings, ShaderRegistry& shaders,
+                                                   const ModelRegistry& models, const World* world) {
+  Impl& d = *this;
   const auto start = Clock::now();
   const ViewContext ctx = d.beginView(view, settings, world);
   // The world's effects use 2D-registered shaders too; HUD model views show models only.
@@ -133,14 +174,11 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t& view, c
   const double animationMs = d.showWorldLook(ctx, scene.entities(), view.time);
   d.drawStockDlights(scene.lights(), ctx.withWorld && ctx.lightmapLook);
   d.map.fog.show(ctx.withWorld, *d.renderer);
-  const double sceneMs = millisecondsSince(start);
-  d.renderer->commit();
-  const pa::FrameView frame = d.renderer->render(ctx.camera, d.renderSettings(ctx, view, settings));
-  const ViewTimings timings{sceneMs, frame.timings.commitMs, frame.timings.traceMs, frame.timings.temporalMs,
-                            frame.timings.denoiseMs, frame.timings.resolveMs, animationMs,
-                            double(d.animationUpdates + (ctx.withWorld ? d.map.worldAnimation.lastUpdates() : 0)),
-                            frame.timings.resampleMs, frame.timings.taauMs};
-  return d.picture(ctx, frame, timings);
+  d.started.ctx = ctx;
+  d.started.sceneMs = millisecondsSince(start);
+  d.started.animationMs = animationMs;
+  d.started.animationUpdates = double(d.animationUpdates + (ctx.withWorld ? d.map.worldAnimation.lastUpdates() : 0));
+  return d.renderSettings(ctx, view, settings);
 }
 
 ViewContext ViewRenderer::Impl::beginView(const q3abi::refdef_t& view, const TracerSettings& settings,
@@ -362,8 +400,12 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   return rs;
 }
 
-TracedPicture ViewRenderer::Impl::picture(const ViewContext& ctx, const pa::FrameView& frame,
-                                          const ViewTimings& timings) {
+TracedPicture ViewRenderer::Impl::picture(const pa::FrameView& frame, const StartedView& glue) {
+  const ViewContext& ctx = glue.ctx;
+  const ViewTimings timings{glue.sceneMs,         frame.timings.commitMs, frame.timings.traceMs,
+                            frame.timings.temporalMs, frame.timings.denoiseMs, frame.timings.resolveMs,
+                            glue.animationMs,     glue.animationUpdates,  frame.timings.resampleMs,
+                            frame.timings.taauMs};
   std::vector<uint8_t>& rgba = scratch.picture;
   rgba.assign(frame.output.begin(), frame.output.end());
   if (!ctx.withWorld && frame.depth.size() * 4 == rgba.size()) {

@@ -140,6 +140,14 @@ struct ViewContext {
   double seconds = 0.0;        ///< The view's stock shader time.
 };
 
+/// What the glue measured and set up for the view being traced (render, start).
+struct StartedView {
+  ViewContext ctx;               ///< The view's context.
+  double sceneMs = 0.0;          ///< ViewTimings::sceneMs.
+  double animationMs = 0.0;      ///< ViewTimings::animationMs.
+  double animationUpdates = 0.0; ///< ViewTimings::animationUpdates.
+};
+
 /// ViewRenderer's state by lifetime, and its passes.
 struct ViewRenderer::Impl {
   /// Holds the engine; `threads` = r_pt_threads (0: all cores), `avx2Kernels` = r_pt_isa avx2.
@@ -163,6 +171,14 @@ struct ViewRenderer::Impl {
 
   // ---- reused from view to view
   ViewScratch scratch;                      ///< Working buffers (keep their capacity).
+  StartedView started;                      ///< The view last set up (prepareView).
+
+  /// Waits for a view start() began and drops its picture (saying why if it failed): whatever
+  /// changes the renderer or the map state does this first.
+  void dropStartedView();
+  /// Every pass of a view up to the renderer's commit; fills `started`; returns the view's settings.
+  pa::RenderSettings prepareView(const q3abi::refdef_t& view, const SceneFrame& scene, const TracerSettings& settings,
+                                 ShaderRegistry& shaders, const ModelRegistry& models, const World* world);
 
   /// A new renderer and an empty map state (constructor, map change).
   void startMap();
@@ -189,7 +205,7 @@ struct ViewRenderer::Impl {
   pa::RenderSettings renderSettings(const ViewContext& ctx, const q3abi::refdef_t& view,
                                     const TracerSettings& settings);
   /// The traced frame as the picture handed out (see-through background for model-only views).
-  TracedPicture picture(const ViewContext& ctx, const pa::FrameView& frame, const ViewTimings& timings);
+  TracedPicture picture(const pa::FrameView& frame, const StartedView& glue);
 
   // ---- the world's look (views_traced_world.cpp)
   /// Hides the static copies of the autosprite world surfaces (drawn per view instead).

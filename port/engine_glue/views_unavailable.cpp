@@ -29,4 +29,13 @@ std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t&, const 
   return std::nullopt;
 }
 
+void ViewRenderer::start(const q3abi::refdef_t& view, const SceneFrame& scene, const TracerSettings& settings,
+                         ShaderRegistry& shaders, const ModelRegistry& models, const World* world) {
+  (void)render(view, scene, settings, shaders, models, world);
+}
+
+bool ViewRenderer::started() const { return false; }
+
+std::optional<TracedPicture> ViewRenderer::finish() { return std::nullopt; }
+
 }  // namespace glue

@@ -23,7 +23,7 @@ trap 'rm -rf "$work"' EXIT
 if [[ "$renderer" == pathtracer ]]; then pa_engine_prepare "$work" "$module"; else pa_engine_prepare "$work"; fi
 [[ -n "${CAPTURE_GAME_FILES:-}" ]] && cp -r "$CAPTURE_GAME_FILES"/. "$work/home/baseoa/"
 cfg="$(pa_engine_cfg "$work" view)"
-printf 'wait 60\nnoclip\n' >"$cfg"
+printf 'set r_pt_pipeline 0\nwait 60\nnoclip\n' >"$cfg"
 n=0
 for view in "${views[@]}"; do
   [[ "$view" =~ ^-?[0-9.]+\ -?[0-9.]+\ -?[0-9.]+\ -?[0-9.]+$ ]] || { echo "bad view '$view' (X Y Z YAW)"; exit 2; }

@@ -6,7 +6,8 @@
 #   pa_engine_cfg WORK NAME          -> prints the path of WORK's NAME.cfg (the engine execs it)
 #   pa_tick_screenshots_cfg CFG PREFIX TICKS -> CFG takes screenshot PREFIX_NNNN at each tick, then quits
 #   pa_capture_demo_ticks OUT RENDERER MODULE DEMO PREFIX TICKS SECONDS [engine args...]
-#        -> OUT/PREFIX_NNNN.tga (.exr) at each tick of a timedemo of DEMO, and OUT/engine.log
+#        -> OUT/PREFIX_NNNN.tga (.exr) at each tick of a timedemo of DEMO, and OUT/engine.log;
+#        r_pt_pipeline is PA_CAPTURE_PIPELINE (default 0: each tick shows its own world view)
 #   pa_engine_run WORK LOG SECONDS WIDTH HEIGHT RENDERER [engine args...]
 #        RENDERER is "pathtracer" (our module) or a stock name such as "opengl1".
 #        Returns the engine's exit status (124 on timeout). The X screen is WIDTHxHEIGHT unless
@@ -95,6 +96,9 @@ pa_capture_demo_ticks() (
   fi
   [[ "$demo" =~ ^[A-Za-z0-9_.-]+$ ]] || { echo "bad demo name: $demo"; exit 2; }
   pa_tick_screenshots_cfg "$(pa_engine_cfg "$work" capture)" "$prefix" "$ticks" || exit 2
+  # Each tick shows its own frame's world view (r_pt_pipeline would show the frame before's):
+  # set in the cfg, as the engine takes at most 32 "+" commands on its command line.
+  sed -i "1i set r_pt_pipeline ${PA_CAPTURE_PIPELINE:-0}" "$(pa_engine_cfg "$work" capture)"
   mkdir -p "$out"
   status=0
   pa_engine_run "$work" "$out/engine.log" "$seconds" "$width" "$height" "$renderer" \
