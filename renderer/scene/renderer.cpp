@@ -379,6 +379,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                 p.lastMaterial = gbuffer.material[i];
               }
             std::array<TracedCameraRay, kBlockSide * kBlockSide> traced;
+            // The Lightmap look composes see-through layers in display values (DisplayComposite).
+            for (TracedCameraRay& r : traced) r.additive.displayValues = settings.integrator == Integrator::Lightmap;
             std::array<glm::vec2, kBlockSide * kBlockSide> jitters;   // this sample's, per pixel
             for (uint32_t s = 0; s < settings.samplesPerPixel; ++s) {
               for (uint32_t i = 0; i < count; ++i)

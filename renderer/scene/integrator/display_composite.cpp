@@ -196,30 +196,31 @@ void DisplayComposite::appendBefore(const AdditiveHits& hits, float t) {
     if (hits.entries[i].t < t) order[n++] = i;
   std::sort(order.begin(), order.begin() + n,
             [&](uint32_t a, uint32_t b) { return AdditiveHits::drawnBefore(hits.entries[a], hits.entries[b]); });
-  for (uint32_t k = 0; k < n; ++k) {
+  const uint32_t first = count_;
+  for (uint32_t k = 0; k < n && count_ < kCapacity; ++k) {
     const AdditiveHits::Entry& e = hits.entries[order[k]];
-    append({e.color, e.transmit});
+    layers_[count_++] = {e.color, e.transmit};
+  }
+  // Linear colours (hits worked out for the traced presets) encoded, eight channels a call.
+  if (hits.displayValues) return;
+  for (uint32_t i = first; i < count_; i += 2) {   // linear colours (the traced presets' hits) encoded
+    const bool pair = i + 1 < count_;
+    const auto [a, b] = encodeTwo(layers_[i].color, pair ? layers_[i + 1].color : glm::vec3(0.0f));
+    layers_[i].color = a;
+    if (pair) layers_[i + 1].color = b;
   }
 }
 
 void DisplayComposite::append(const Layer& layer) {
-  if (count_ < kCapacity) layers_[count_++] = {layer.color, layer.transmit};
+  if (count_ < kCapacity) layers_[count_++] = {encodeTwo(layer.color, glm::vec3(0.0f)).first, layer.transmit};
 }
 
 glm::vec3 DisplayComposite::over(const glm::vec3& behind) const {
   if (count_ == 0) return behind;
-  // Every colour encoded first, eight channels a call (each lane as encoded alone): `behind`'s
-  // three, then each layer's.
-  std::array<float, 3 * (kCapacity + 1)> encoded;
-  for (int c = 0; c < 3; ++c) encoded[size_t(c)] = behind[c];
-  for (uint32_t i = 0; i < count_; ++i)
-    for (int c = 0; c < 3; ++c) encoded[3 * (i + 1) + uint32_t(c)] = layers_[i].color[c];
-  fastLinearToSrgb(std::span<float>(encoded.data(), 3 * (count_ + 1)));
-  glm::vec3 display(encoded[0], encoded[1], encoded[2]);
+  glm::vec3 display = encodeTwo(behind, glm::vec3(0.0f)).first;
   for (uint32_t i = count_; i-- > 0;) {
     const Stored& layer = layers_[i];
-    const glm::vec3 color(encoded[3 * i + 3], encoded[3 * i + 4], encoded[3 * i + 5]);
-    display = glm::clamp(display * glm::max(layer.transmit, glm::vec3(0.0f)) + color, 0.0f, 1.0f);
+    display = glm::clamp(display * glm::max(layer.transmit, glm::vec3(0.0f)) + layer.color, 0.0f, 1.0f);
   }
   return decode(display);
 }

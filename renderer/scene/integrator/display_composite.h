@@ -74,12 +74,13 @@ class DisplayComposite {
   };
 
   /// Appends the hits closer than `t`, nearest first, behind the layers already held (the
-  /// layers of the ray's next segment lie behind this one's, e.g. through a portal).
+  /// layers of the ray's next segment lie behind this one's, e.g. through a portal). Their
+  /// colours are display values where hits.displayValues, else linear (encoded here).
   void appendBefore(const AdditiveHits& hits, float t);
-  /// Appends one layer behind the layers already held.
+  /// Appends one layer (its linear colour encoded) behind the layers already held.
   void append(const Layer& layer);
   /// The layers, farthest first, blended over the linear colour `behind`:
-  /// display = clamp(display * transmit + encode(color)), returned as linear radiance.
+  /// display = clamp(display * transmit + color's display value), returned as linear radiance.
   glm::vec3 over(const glm::vec3& behind) const;
   /// Number of layers held.
   uint32_t size() const { return count_; }
@@ -87,7 +88,7 @@ class DisplayComposite {
  private:
   /// Layer without member initialisers: the array is not filled for every camera sample.
   struct Stored {
-    glm::vec3 color;
+    glm::vec3 color;   ///< Display value added.
     glm::vec3 transmit;
   };
   std::array<Stored, kCapacity> layers_;   ///< First count_ are set.

@@ -130,6 +130,7 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
   // The path goes on only through portals: every segment is seen directly by the camera.
   for (uint32_t depth = 0;; ++depth) {
     trace::SegmentHit segment;
+    segment.collected.displayValues = true;   // layers in display values (DisplayComposite)
     trace::traceSegment(scene, ray, depth, sampler.bits(kGroupsPerVertex * depth + kGroupRayBits), true, traced,
                         segment);
     const Hit& hit = segment.hit;

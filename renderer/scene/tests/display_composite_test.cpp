@@ -147,6 +147,19 @@ TEST(DisplayComposite, AdditiveLayersAddDisplayValues) {
   EXPECT_NEAR(linearToSrgb(d.over(linear(0.25f)).x), 0.75f, 1e-5f);
 }
 
+TEST(DisplayComposite, DisplayValueHitsAreAddedAsTheyAre) {
+  // Hits worked out in display values (the Lightmap preset's) compose as the same layers given
+  // in linear values: 0.25 + 0.25 over display 0.25 -> 0.75.
+  AdditiveHits shown = hits({{1.0f, {glm::vec3(0.25f), glm::vec3(1.0f)}}, {2.0f, {glm::vec3(0.25f), glm::vec3(1.0f)}}});
+  shown.displayValues = true;
+  DisplayComposite c;
+  c.appendBefore(shown, 10.0f);
+  EXPECT_NEAR(linearToSrgb(c.over(linear(0.25f)).x), 0.75f, 1e-5f);
+  DisplayComposite d;
+  d.appendBefore(hits({{1.0f, {linear(0.25f), glm::vec3(1.0f)}}, {2.0f, {linear(0.25f), glm::vec3(1.0f)}}}), 10.0f);
+  EXPECT_NEAR(c.over(linear(0.25f)).x, d.over(linear(0.25f)).x, 1e-6f);
+}
+
 TEST(DisplayComposite, PremultipliedLayersHideWhatIsBehindInOrder) {
   // Behind 0.8; the far layer (t = 3) covers half with 0.1, the near one (t = 1) adds 0.2:
   // (0.8 * 0.5 + 0.1) + 0.2 = 0.7. The other order gives (0.8 + 0.2) * 0.5 + 0.1 = 0.6.

@@ -12,6 +12,7 @@
 #include <numeric>
 #include <vector>
 
+#include "renderer/core/srgb.h"
 #include "renderer/scene/world/scene_store.h"
 #include "renderer/scene/world/see_through_layers.h"
 #include "scene_builders.h"
@@ -183,9 +184,12 @@ TEST(SeeThroughLayers, ASecondPassOverFullLayersKeepsTheFirstInDrawingOrder) {
 bool sameBits(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 TEST(SeeThroughLayers, PacketGivesEveryRayTheLayersItGetsAlone) {
+  for (const bool display : {false, true}) {   // linear layers (traced presets) and display values (Lightmap)
+  SCOPED_TRACE(display ? "display values" : "linear");
   const LayeredWall wall;
   std::array<TracedCameraRay, kMaxPacketRays> packet;
   for (uint32_t i = 0; i < kMaxPacketRays; ++i) {
+    packet[i].additive.displayValues = display;
     packet[i].ray.origin = glm::vec3(0.0f);
     packet[i].ray.dir = glm::vec3(-0.3f + 0.04f * static_cast<float>(i % 4) + 0.003f * static_cast<float>(i),
                                   -0.25f + 0.05f * static_cast<float>(i / 4), -1.0f);
@@ -199,6 +203,7 @@ TEST(SeeThroughLayers, PacketGivesEveryRayTheLayersItGetsAlone) {
     TraceRequest request;
     request.kind = RayKind::Camera;
     AdditiveHits hits;
+    hits.displayValues = display;
     request.additive = &hits;
     Hit hit;
     ASSERT_TRUE(wall.scene.intersect(alone[i].ray, hit, request));
@@ -233,6 +238,70 @@ TEST(SeeThroughLayers, PacketGivesEveryRayTheLayersItGetsAlone) {
     for (uint32_t k = 2; k < p.count; ++k) {
       EXPECT_EQ(p.entries[k].instance, 1u) << k;
       EXPECT_EQ(p.entries[k].prim / 2, LayeredWall::kStages - 1 - (k - 2)) << k;   // two triangles a stage
+    }
+  }
+  }
+}
+
+TEST(SeeThroughLayers, DisplayValueLayersAreWhatTheFramebufferIsGiven) {
+  // One square over a wall: a 1x1 sRGB texture of bytes (200, 100, 30), vertex colour (linear)
+  // 0.5, 0.25, 1 and alpha 0.6, an instance tint. For the Lightmap preset (displayValues) a layer
+  // adds texture byte / 255 x the vertex colour's display value x the tint's, each factor
+  // modulating in display values as a stock texture unit modulates by its colour. The traced
+  // presets get the linear product.
+  const glm::vec3 texel = glm::vec3(200.0f, 100.0f, 30.0f) / 255.0f;
+  const glm::vec3 vertex(0.5f, 0.25f, 1.0f);
+  const glm::vec4 tint(0.8f, 1.0f, 0.9f, 1.0f);
+  const auto display = [](const glm::vec3& c) { return glm::vec3(linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)); };
+  const auto linear = [](const glm::vec3& c) { return glm::vec3(srgbToLinear(c.x), srgbToLinear(c.y), srgbToLinear(c.z)); };
+  for (const LayerBlend blend : {LayerBlend::Add, LayerBlend::Multiply, LayerBlend::Modulate2x, LayerBlend::Over}) {
+    SCOPED_TRACE(static_cast<int>(blend));
+    SceneStore store;
+    const std::vector<uint8_t> pixel = {200, 100, 30, 255};
+    TextureDesc texture;
+    texture.width = texture.height = 1;
+    texture.rgba8 = pixel;
+    const TextureId tex = store.addTexture(texture);
+    test::addMesh(store, test::quad({-50, -50, -10}, {100, 0, 0}, {0, 100, 0}), store.addMaterial(test::diffuse(0.5f)));
+    test::MeshArrays square = test::quad({-2, -2, -4}, {4, 0, 0}, {0, 4, 0});
+    square.colors.assign(square.positions.size(), glm::vec4(vertex, 0.6f));
+    MaterialDesc m;
+    m.alphaMode = AlphaMode::Additive;
+    m.baseTexture = tex;
+    m.stock.layerBlend = blend;
+    square.setMaterial(store.addMaterial(m));
+    InstanceDesc instance{store.addMesh(square.desc())};
+    instance.tint = tint;
+    store.addInstance(instance);
+    const RenderScene scene = store.commit();
+    for (const bool displayValues : {false, true}) {
+      SCOPED_TRACE(displayValues ? "display values" : "linear");
+      TraceRequest request;
+      AdditiveHits hits;
+      hits.displayValues = displayValues;
+      request.additive = &hits;
+      Ray ray;
+      ray.origin = glm::vec3(0.3f, -0.2f, 0.0f);
+      ray.dir = glm::vec3(0.0f, 0.0f, -1.0f);
+      Hit hit;
+      ASSERT_TRUE(scene.intersect(ray, hit, request));
+      ASSERT_EQ(hits.count, 1u);
+      const AdditiveHits::Entry& e = hits.entries[0];
+      const glm::vec3 shown = displayValues ? texel * display(vertex) * display(glm::vec3(tint))
+                                            : display(linear(texel) * vertex * glm::vec3(tint));
+      const glm::vec3 added = displayValues ? shown : linear(texel) * vertex * glm::vec3(tint);
+      for (int c = 0; c < 3; ++c) {
+        switch (blend) {
+          case LayerBlend::Add: EXPECT_NEAR(e.color[c], added[c], 2e-6f) << c; EXPECT_EQ(e.transmit[c], 1.0f); break;
+          case LayerBlend::Over:
+            EXPECT_NEAR(e.color[c], added[c], 2e-6f) << c;
+            EXPECT_NEAR(e.transmit[c], 0.4f, 1e-6f) << c;   // 1 - the vertex alpha
+            break;
+          case LayerBlend::Multiply: EXPECT_NEAR(e.transmit[c], shown[c], 2e-6f) << c; EXPECT_EQ(e.color[c], 0.0f); break;
+          case LayerBlend::Modulate2x: EXPECT_NEAR(e.transmit[c], 2.0f * shown[c], 4e-6f) << c; break;
+          default: break;
+        }
+      }
     }
   }
 }

@@ -272,4 +272,6 @@ glm::vec4 Texture::sampleFull(glm::vec2 uv) const { return sampleLevel<false>(0,
 
 glm::vec4 Texture::sampleStored(glm::vec2 uv, float lod) const { return sampleAs<true>(uv, lod); }
 
+glm::vec4 Texture::sampleFullStored(glm::vec2 uv) const { return sampleLevel<true>(0, wrapped(uv)); }
+
 }  // namespace pa

@@ -41,6 +41,8 @@ class Texture {
   /// sample() of the stored values, byte / 255, filtered as stored (display values for an sRGB
   /// texture, blended as a raster engine's texture unit blends its 8-bit texels).
   glm::vec4 sampleStored(glm::vec2 uv, float lod) const;
+  /// sampleFull() of the stored values (byte / 255, filtered as stored).
+  glm::vec4 sampleFullStored(glm::vec2 uv) const;
   /// True when the colour channels are stored sRGB-encoded.
   bool srgb() const { return srgb_; }
   /// Mean of all texels (the 1x1 level).

@@ -69,7 +69,7 @@ struct AdditiveHits {
     float t;
     uint32_t instance;
     uint32_t prim;
-    glm::vec3 color;      ///< Linear colour added.
+    glm::vec3 color;      ///< Colour added: linear, or display values (displayValues).
     glm::vec3 transmit;   ///< Display-value multiplier of what is behind (StockLook::layerBlend).
   };
   /// An additive triangle met by the traversal, its layer not yet worked out.
@@ -80,6 +80,11 @@ struct AdditiveHits {
     float u, v;
     bool overlay;   ///< On a drawOnTop instance (RenderScene::overlay).
   };
+  /// Set by whoever traces the ray: the layers are worked out in display values, as a stock
+  /// framebuffer blends them (the Lightmap preset's DisplayComposite): textures filtered as
+  /// stored, multiplied by display-value vertex colours and factors, and `color` the display
+  /// value added. Else (the traced presets) `color` is the linear radiance added.
+  bool displayValues = false;
   uint32_t count = 0;
   /// First `count` are valid; once a query returns, in drawing order: by t, coincident ones by
   /// instance, then the later primitive first (a shader's later stage is the nearer layer).
@@ -88,7 +93,7 @@ struct AdditiveHits {
   /// First `candidateCount` are valid; a triangle the traversal reports twice may be held twice
   /// (the layers are worked out once per triangle).
   std::array<Candidate, kCandidateCapacity> candidates;
-  /// Sum of the colours of entries closer than t.
+  /// Sum of the colours of entries closer than t (linear colours: not displayValues).
   glm::vec3 sumBefore(float t) const;
   /// Product of the `transmit` multipliers (display values) of entries closer than t.
   glm::vec3 transmitBefore(float t) const;

@@ -110,6 +110,40 @@ void recordLayer(const MaterialDesc& m, const glm::vec4& base, const glm::vec3& 
   recordAdditive(hits, t, instance, prim, added, transmit);
 }
 
+/// recordLayer for AdditiveHits::displayValues: `base` is the layer's colour in display values
+/// (its texture as stored x display-value vertex colour and factors) with its linear alpha, as a
+/// stock framebuffer receives it; `emission` (linear) is added to it as recordLayer adds it.
+void recordDisplayLayer(const MaterialDesc& m, const glm::vec4& base, const glm::vec3& emission, float t,
+                        uint32_t instance, uint32_t prim, AdditiveHits& hits) {
+  if (m.layerAlphaTest && (m.alphaInvert ? base.a >= m.alphaCutoff : base.a < m.alphaCutoff)) return;
+  const glm::vec3 src(base);
+  glm::vec3 added = src;
+  if (emission != glm::vec3(0.0f)) {   // an emissive layer (rare): the sum in linear values, shown
+    const glm::vec3 clamped = glm::clamp(src, 0.0f, 1.0f);
+    added = displayValue(glm::vec3(srgbToLinear(clamped.x), srgbToLinear(clamped.y), srgbToLinear(clamped.z)) + emission);
+  }
+  glm::vec3 transmit(1.0f);
+  switch (m.stock.layerBlend) {
+    case LayerBlend::Add: break;
+    case LayerBlend::Over: transmit = glm::vec3(1.0f - std::clamp(base.a, 0.0f, 1.0f)); break;
+    case LayerBlend::Multiply: transmit = glm::max(src, glm::vec3(0.0f)); added = glm::vec3(0.0f); break;
+    case LayerBlend::MultiplyInverse:
+      transmit = glm::max(1.0f - glm::max(src, glm::vec3(0.0f)), glm::vec3(0.0f));
+      added = glm::vec3(0.0f);
+      break;
+    case LayerBlend::MultiplyAdd: transmit = 1.0f + glm::max(src, glm::vec3(0.0f)); added = glm::vec3(0.0f); break;
+    case LayerBlend::Modulate2x: transmit = 2.0f * glm::max(src, glm::vec3(0.0f)); added = glm::vec3(0.0f); break;
+    case LayerBlend::Factors: {
+      const glm::vec3 shown = glm::clamp(added, 0.0f, 1.0f);
+      const float a = std::clamp(base.a, 0.0f, 1.0f);
+      added = shown * blendFactor(m.stock.layerSrcFactor, shown, a);
+      transmit = blendFactor(m.stock.layerDstFactor, shown, a);
+      break;
+    }
+  }
+  recordAdditive(hits, t, instance, prim, added, transmit);
+}
+
 /// One ray crossing an additive triangle in front of its closest hit.
 struct Crossing {
   float t, u, v;
@@ -129,10 +163,13 @@ struct LayerTriangle {
   glm::vec2 uv[3];
   glm::vec4 color[3];
   glm::vec2 wobble[3];        ///< UvWobble::offsetAt the corners.
+  // AdditiveHits::displayValues: the display values of what multiplies the texture.
+  glm::vec3 displayColor[3];  ///< The corners' vertex colours (where they tint the base).
+  glm::vec3 displayFactor;    ///< The material's base colour x the instance's tint.
 };
 
-/// The parts of triangle `prim` of `inst` that its layers read.
-LayerTriangle layerTriangle(const RenderScene& scene, const RenderInstance& inst, uint32_t prim) {
+/// The parts of triangle `prim` of `inst` that its layers read (in display values too with `display`).
+LayerTriangle layerTriangle(const RenderScene& scene, const RenderInstance& inst, uint32_t prim, bool display) {
   const MeshGeometry& g = inst.mesh->geometry;
   const MaterialRecord& material = scene.materialOf(inst, prim);
   const MaterialDesc& desc = material.desc;
@@ -155,6 +192,11 @@ LayerTriangle layerTriangle(const RenderScene& scene, const RenderInstance& inst
     if (tri.hasColors) tri.color[k] = g.colors[corner[k]];
     if (tri.wobbles) tri.wobble[k] = desc.uvWobble.offsetAt(g.positions[corner[k]]);
   }
+  if (display) {
+    tri.displayFactor = displayValue(glm::vec3(desc.baseColor) * glm::vec3(inst.tint));
+    if (tri.hasColors && !desc.stock.useVertexLight && desc.vertexColorTints)
+      for (int k = 0; k < 3; ++k) tri.displayColor[k] = displayValue(glm::vec3(tri.color[k]));
+  }
   return tri;
 }
 
@@ -167,14 +209,20 @@ void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint3
     for (const Crossing& c : crossings) {
       if (tri.oneSided && glm::dot(tri.winding, c.ray->dir) > 0.0f) continue;
       const SurfaceHit s = scene.surfaceAt(Hit{c.t, c.u, c.v, tri.prim, instance}, overlay, *c.ray, SurfaceParts::LayerColour);
-      recordLayer(m, scene.baseColor(s, 0.0f), scene.emission(s, glm::dot(s.geometricNormal, c.ray->dir) < 0.0f), c.t,
-                  instance, tri.prim, *c.hits);
+      const glm::vec4 base = scene.baseColor(s, 0.0f);
+      const glm::vec3 emission = scene.emission(s, glm::dot(s.geometricNormal, c.ray->dir) < 0.0f);
+      if (c.hits->displayValues)
+        recordDisplayLayer(m, glm::vec4(displayValue(glm::vec3(base)), base.a), emission, c.t, instance, tri.prim, *c.hits);
+      else
+        recordLayer(m, base, emission, c.t, instance, tri.prim, *c.hits);
     }
     return;
   }
   const glm::vec4 tint = tri.instance->tint;
   // baseFactor's vertex colour: its RGB only where it tints the base.
   const bool colorTints = !m.stock.useVertexLight && m.vertexColorTints;
+  // A texture read as stored where its bytes are display values; else read linear and encoded.
+  const bool storedTexture = material.base != nullptr && material.base->srgb();
   for (const Crossing& c : crossings) {
     const glm::vec3& d = c.ray->dir;
     if (tri.oneSided && glm::dot(tri.winding, d) > 0.0f) continue;
@@ -188,12 +236,10 @@ void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint3
     if (tri.hasColors) {
       const glm::vec4 &c0 = tri.color[0], &c1 = tri.color[1], &c2 = tri.color[2];
       vertex.a = std::fma(c.v, c2.a, std::fma(c.u, c1.a, w0 * c0.a));
-      if (colorTints)
+      if (colorTints && !c.hits->displayValues)
         for (int k = 0; k < 3; ++k) vertex[k] = std::fma(c.v, c2[k], std::fma(w0, c0[k], c.u * c1[k]));
     }
     if (!m.vertexAlphaTints) vertex.a = 1.0f;
-    glm::vec4 base = m.baseColor * vertex * tint;
-    if (material.base != nullptr) base *= material.base->sampleFull(uv);
     glm::vec3 emission(0.0f);
     if (material.emits && (m.twoSided || glm::dot(tri.emittingNormal, d) < 0.0f)) {
       emission = m.emission;
@@ -202,7 +248,25 @@ void evaluateCrossings(const RenderScene& scene, const LayerTriangle& tri, uint3
         emission *= glm::vec3(material.emissive->sampleFull(emissiveUv));
       }
     }
-    recordLayer(m, base, emission, c.t, instance, tri.prim, *c.hits);
+    if (!c.hits->displayValues) {
+      glm::vec4 base = m.baseColor * vertex * tint;
+      if (material.base != nullptr) base *= material.base->sampleFull(uv);
+      recordLayer(m, base, emission, c.t, instance, tri.prim, *c.hits);
+      continue;
+    }
+    // Display values: texture x vertex colour x factor, each as the framebuffer receives it.
+    glm::vec4 base(tri.displayFactor, m.baseColor.a * vertex.a * tint.a);
+    if (colorTints && tri.hasColors) {
+      const glm::vec3 &c0 = tri.displayColor[0], &c1 = tri.displayColor[1], &c2 = tri.displayColor[2];
+      for (int k = 0; k < 3; ++k) base[k] *= std::fma(c.v, c2[k], std::fma(w0, c0[k], c.u * c1[k]));
+    }
+    if (storedTexture) {
+      base *= material.base->sampleFullStored(uv);
+    } else if (material.base != nullptr) {
+      const glm::vec4 texel = material.base->sampleFull(uv);
+      base *= glm::vec4(displayValue(glm::vec3(texel)), texel.a);
+    }
+    recordDisplayLayer(m, base, emission, c.t, instance, tri.prim, *c.hits);
   }
 }
 
@@ -265,7 +329,8 @@ void resolveRayLayers(const RenderScene& scene, AdditiveHits& hits, const Ray& r
       continue;   // reported twice
     const RenderInstance& inst = scene.instancesOf(c.overlay)[c.instance];
     const Crossing crossing{c.t, c.u, c.v, &ray, &hits};
-    evaluateCrossings(scene, layerTriangle(scene, inst, c.prim), c.instance, c.overlay, {&crossing, 1});
+    evaluateCrossings(scene, layerTriangle(scene, inst, c.prim, hits.displayValues), c.instance, c.overlay,
+                      {&crossing, 1});
   }
   hits.candidateCount = 0;
   sortEntries(hits);
@@ -331,8 +396,10 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
   for (uint32_t g = 0; g < groups; ++g) {
     const AdditiveHits::Candidate& key = *groupKey[g];
     const RenderInstance& inst = scene.instancesOf(key.overlay)[key.instance];
-    evaluateCrossings(scene, layerTriangle(scene, inst, key.prim), key.instance, key.overlay,
-                      {crossings.data() + groupStart[g], size_t{groupStart[g + 1]} - groupStart[g]});
+    const std::span<const Crossing> group{crossings.data() + groupStart[g], size_t{groupStart[g + 1]} - groupStart[g]};
+    // A packet's rays are traced for one preset: all of them want display values or none.
+    evaluateCrossings(scene, layerTriangle(scene, inst, key.prim, group.front().hits->displayValues), key.instance,
+                      key.overlay, group);
   }
   for (uint32_t r = 0; r < rayCount; ++r) {
     rays[r].additive.candidateCount = 0;

@@ -15,7 +15,8 @@ namespace pa {
 void recordLayerCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& candidate);
 
 /// Works out the layers of one ray's candidates nearer than `tEnd` (its closest hit, or
-/// infinity) into hits.entries, and empties the candidates.
+/// infinity) into hits.entries, and empties the candidates; in display values where
+/// hits.displayValues (the texture read as stored, times display-value vertex colours and factors).
 void resolveRayLayers(const RenderScene& scene, AdditiveHits& hits, const Ray& ray, float tEnd);
 
 /// resolveRayLayers for each ray of a packet traced by intersectCameraPacket, with the same
