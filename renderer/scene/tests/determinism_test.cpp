@@ -12,6 +12,7 @@
 namespace pa {
 namespace {
 
+using test::frameBytes;
 using test::lookAt;
 using test::settingsFor;
 
@@ -100,22 +101,6 @@ TEST(Determinism, AccumulatedFramesEqualOneRenderOfTheTotalSpp) {
       EXPECT_NEAR(accumulated[i][c], single[i][c], 1e-6f * std::max(1.0f, single[i][c])) << i;
     }
   }
-}
-
-/// Every buffer of a frame, as bytes (bit-exact comparisons).
-std::vector<uint8_t> frameBytes(const FrameView& f) {
-  std::vector<uint8_t> out;
-  const auto append = [&out](auto span) {
-    const auto* bytes = reinterpret_cast<const uint8_t*>(span.data());
-    out.insert(out.end(), bytes, bytes + span.size_bytes());
-  };
-  append(f.radiance);
-  append(f.albedo);
-  append(f.normal);
-  append(f.depth);
-  append(f.variance);
-  append(f.rgba8);
-  return out;
 }
 
 TEST(Determinism, SingleSampleFramesWrittenDirectlyEqualAccumulatedOnes) {

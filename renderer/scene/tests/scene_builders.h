@@ -122,6 +122,28 @@ inline FrameStats greyStats(const FrameView& f) {
   return s;
 }
 
+/// A frame's buffers as bytes, for bit-exact comparisons: radiance, albedo, normal, depth,
+/// variance and RGBA8; with `history` also the picture shown, the motion and the temporal history.
+inline std::vector<uint8_t> frameBytes(const FrameView& f, bool history = false) {
+  std::vector<uint8_t> out;
+  const auto append = [&out](auto span) {
+    const auto* bytes = reinterpret_cast<const uint8_t*>(span.data());
+    out.insert(out.end(), bytes, bytes + span.size_bytes());
+  };
+  append(f.radiance);
+  append(f.albedo);
+  append(f.normal);
+  append(f.depth);
+  append(f.variance);
+  append(f.rgba8);
+  if (history) {
+    append(f.output);
+    append(f.motion);
+    append(f.historyLength);
+  }
+  return out;
+}
+
 /// 1x1 or larger RGBA8 texture filled with one colour.
 inline std::vector<uint8_t> solidPixels(uint32_t w, uint32_t h, uint8_t r, uint8_t g, uint8_t b, uint8_t a) {
   std::vector<uint8_t> p(size_t{w} * h * 4);

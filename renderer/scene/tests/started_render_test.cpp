@@ -38,23 +38,8 @@ InstanceId buildScene(Renderer& r, MeshId& sphereMesh) {
   return r.addInstance({sphereMesh});
 }
 
-/// Every buffer of a frame, as bytes (bit-exact comparisons).
-std::vector<uint8_t> frameBytes(const FrameView& f) {
-  std::vector<uint8_t> out;
-  const auto append = [&out](auto span) {
-    const auto* bytes = reinterpret_cast<const uint8_t*>(span.data());
-    out.insert(out.end(), bytes, bytes + span.size_bytes());
-  };
-  append(f.radiance);
-  append(f.albedo);
-  append(f.normal);
-  append(f.depth);
-  append(f.variance);
-  append(f.output);
-  append(f.motion);
-  append(f.historyLength);
-  return out;
-}
+/// Every buffer of a frame, the temporal ones too.
+std::vector<uint8_t> frameBytes(const FrameView& f) { return test::frameBytes(f, true); }
 
 /// Frame `i` of a short game-like sequence: the sphere and the camera move every frame.
 void editFrame(Renderer& r, InstanceId sphere, MeshId sphereMesh, int i) {
