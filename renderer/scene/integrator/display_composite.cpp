@@ -201,9 +201,8 @@ void DisplayComposite::appendBefore(const AdditiveHits& hits, float t) {
     const AdditiveHits::Entry& e = hits.entries[order[k]];
     layers_[count_++] = {e.color, e.transmit};
   }
-  // Linear colours (hits worked out for the traced presets) encoded, eight channels a call.
   if (hits.displayValues) return;
-  for (uint32_t i = first; i < count_; i += 2) {   // linear colours (the traced presets' hits) encoded
+  for (uint32_t i = first; i < count_; i += 2) {   // linear colours (the traced presets' hits) encoded, two a call
     const bool pair = i + 1 < count_;
     const auto [a, b] = encodeTwo(layers_[i].color, pair ? layers_[i + 1].color : glm::vec3(0.0f));
     layers_[i].color = a;
