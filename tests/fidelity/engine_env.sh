@@ -35,7 +35,17 @@ pa_engine_cfg() { echo "$1/home/baseoa/$2.cfg"; }
 pa_engine_run() {
   local work="$1" log="$2" seconds="$3" width="$4" height="$5" renderer="$6" status=0
   shift 6
-  local preload=()
+  local preload=() arg plus=14   # the "+" commands below
+  for arg in "$@"; do [[ "$arg" == +* ]] && plus=$((plus + 1)); done
+  # The engine splits its command line into at most 32 lines, the first the text before any
+  # "+" (ioquake3 Com_ParseCommandLine): past 31 "+" commands the rest is glued to the 31st
+  # (a "+demo NAME +exec CFG" so glued fails, and the engine waits in the menu until the
+  # timeout). Refuse instead.
+  if [[ $plus -gt 31 ]]; then
+    echo "pa_engine_run: $plus '+' commands, the engine takes 31: set cvars in the cfg it execs" >"$log"
+    cat "$log" >&2
+    return 2
+  fi
   [[ -n "${PA_ENGINE_PRELOAD:-}" ]] && preload=(env "LD_PRELOAD=$PA_ENGINE_PRELOAD${LD_PRELOAD:+:$LD_PRELOAD}")
   # fs_homepath is given explicitly: screenshots land in WORK/home/baseoa/screenshots.
   HOME="$work/home" timeout "$seconds" xvfb-run -a -s "-screen 0 ${PA_XVFB_SCREEN:-${width}x${height}x24}" "${preload[@]}" "$PA_ENGINE" \
