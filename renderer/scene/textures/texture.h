@@ -80,5 +80,6 @@ class Texture {
   glm::vec4 average_{0.0f};
 };
 
-
 }  // namespace pa
+
+#include "renderer/scene/textures/texture_lookup.h"   // the inline lookups

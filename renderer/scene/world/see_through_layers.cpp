@@ -60,10 +60,14 @@ void recordAdditive(AdditiveHits& hits, float t, uint32_t instance, uint32_t pri
       });
 }
 
-/// sRGB-encoded value of a non-negative linear colour (above 1 too: the dynamic-light pass).
+/// sRGB-encoded value of a non-negative linear colour (above 1 too: the dynamic-light pass). A
+/// channel equal to the one before it is not encoded again (grey and white colours: one powf).
 glm::vec3 displayValue(const glm::vec3& linear) {
   const glm::vec3 c = glm::max(linear, glm::vec3(0.0f));
-  return {linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)};
+  const float x = linearToSrgb(c.x);
+  const float y = c.y == c.x ? x : linearToSrgb(c.y);
+  const float z = c.z == c.y ? y : linearToSrgb(c.z);
+  return {x, y, z};
 }
 
 /// A blend factor's value for a layer of display colour `src` and alpha `a`.
@@ -113,8 +117,10 @@ void recordLayer(const MaterialDesc& m, const glm::vec4& base, const glm::vec3& 
 /// recordLayer for AdditiveHits::displayValues: `base` is the layer's colour in display values
 /// (its texture as stored x display-value vertex colour and factors) with its linear alpha, as a
 /// stock framebuffer receives it; `emission` (linear) is added to it as recordLayer adds it.
-void recordDisplayLayer(const MaterialDesc& m, const glm::vec4& base, const glm::vec3& emission, float t,
-                        uint32_t instance, uint32_t prim, AdditiveHits& hits) {
+/// Inlined into the crossing loop: a call passed `base` through the stack once per crossing.
+[[gnu::always_inline]] inline void recordDisplayLayer(const MaterialDesc& m, const glm::vec4& base,
+                                                      const glm::vec3& emission, float t, uint32_t instance,
+                                                      uint32_t prim, AdditiveHits& hits) {
   if (m.layerAlphaTest && (m.alphaInvert ? base.a >= m.alphaCutoff : base.a < m.alphaCutoff)) return;
   const glm::vec3 src(base);
   glm::vec3 added = src;
@@ -195,7 +201,10 @@ LayerTriangle layerTriangle(const RenderScene& scene, const RenderInstance& inst
   if (display) {
     tri.displayFactor = displayValue(glm::vec3(desc.baseColor) * glm::vec3(inst.tint));
     if (tri.hasColors && !desc.stock.useVertexLight && desc.vertexColorTints)
-      for (int k = 0; k < 3; ++k) tri.displayColor[k] = displayValue(glm::vec3(tri.color[k]));
+      for (int k = 0; k < 3; ++k)   // a sprite's corners share one colour: encoded once
+        tri.displayColor[k] = k > 0 && glm::vec3(tri.color[k]) == glm::vec3(tri.color[k - 1])
+                                  ? tri.displayColor[k - 1]
+                                  : displayValue(glm::vec3(tri.color[k]));
   }
   return tri;
 }
