@@ -190,16 +190,11 @@ glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend
 
 void DisplayComposite::appendBefore(const AdditiveHits& hits, float t) {
   if (hits.count == 0) return;
-  std::array<uint32_t, AdditiveHits::kCapacity> order;   // the first n are set
-  uint32_t n = 0;
-  for (uint32_t i = 0; i < std::min(hits.count, AdditiveHits::kCapacity); ++i)
-    if (hits.entries[i].t < t) order[n++] = i;
-  std::sort(order.begin(), order.begin() + n,
-            [&](uint32_t a, uint32_t b) { return AdditiveHits::drawnBefore(hits.entries[a], hits.entries[b]); });
+  // A query leaves its entries in drawing order (AdditiveHits::entries): nearest first.
   const uint32_t first = count_;
-  for (uint32_t k = 0; k < n && count_ < kCapacity; ++k) {
-    const AdditiveHits::Entry& e = hits.entries[order[k]];
-    layers_[count_++] = {e.color, e.transmit};
+  for (uint32_t i = 0; i < std::min(hits.count, AdditiveHits::kCapacity) && count_ < kCapacity; ++i) {
+    const AdditiveHits::Entry& e = hits.entries[i];
+    if (e.t < t) layers_[count_++] = {e.color, e.transmit};
   }
   if (hits.displayValues) return;
   for (uint32_t i = first; i < count_; i += 2) {   // linear colours (the traced presets' hits) encoded, two a call
@@ -216,7 +211,11 @@ void DisplayComposite::append(const Layer& layer) {
 
 glm::vec3 DisplayComposite::over(const glm::vec3& behind) const {
   if (count_ == 0) return behind;
-  glm::vec3 display = encodeTwo(behind, glm::vec3(0.0f)).first;
+  return overDisplay(encodeTwo(behind, glm::vec3(0.0f)).first);
+}
+
+glm::vec3 DisplayComposite::overDisplay(const glm::vec3& behind) const {
+  glm::vec3 display = behind;
   for (uint32_t i = count_; i-- > 0;) {
     const Stored& layer = layers_[i];
     display = glm::clamp(display * glm::max(layer.transmit, glm::vec3(0.0f)) + layer.color, 0.0f, 1.0f);

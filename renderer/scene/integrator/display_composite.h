@@ -73,7 +73,8 @@ class DisplayComposite {
     glm::vec3 transmit{1.0f};
   };
 
-  /// Appends the hits closer than `t`, nearest first, behind the layers already held (the
+  /// Appends the hits closer than `t` (in drawing order, as a query leaves them: nearest
+  /// first), behind the layers already held (the
   /// layers of the ray's next segment lie behind this one's, e.g. through a portal). Their
   /// colours are display values where hits.displayValues, else linear (encoded here).
   void appendBefore(const AdditiveHits& hits, float t);
@@ -82,6 +83,8 @@ class DisplayComposite {
   /// The layers, farthest first, blended over the linear colour `behind`:
   /// display = clamp(display * transmit + color's display value), returned as linear radiance.
   glm::vec3 over(const glm::vec3& behind) const;
+  /// over() of what lies behind given as its display value in [0, 1] (not encoded again).
+  glm::vec3 overDisplay(const glm::vec3& behind) const;
   /// Number of layers held.
   uint32_t size() const { return count_; }
 

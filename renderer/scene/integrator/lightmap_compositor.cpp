@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
@@ -79,13 +80,17 @@ StockTexels stockTexels(const RenderScene& scene, const SurfaceHit& s, float foo
 
 /// Base colour x baked light of the surface a camera ray ends on (texture x lightmap in 8-bit
 /// values, as stock multiplies them), with its shine stage, in display values as the stock
-/// renderer multiplies and blends its stages; fills t.albedo.
-glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels& t, float footprint) {
+/// renderer multiplies and blends its stages; fills t.albedo. Without a shine stage `display`
+/// is set to the display value it decoded (clamped to [0, 1]).
+glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels& t, float footprint,
+                     std::optional<glm::vec3>& display) {
   const MaterialRecord& m = *s.material;
   // texture x baked light in 8-bit values, as stock (x the display's overbright factor)
-  const auto [product, albedo] = decodeTwo(t.base * t.baked * m.desc.stock.bakedLightScale, t.base);
+  const glm::vec3 productDisplay = t.base * t.baked * m.desc.stock.bakedLightScale;
+  const auto [product, albedo] = decodeTwo(productDisplay, t.base);
   if (!t.albedoKnown) t.albedo = albedo;
   glm::vec3 lit = product;
+  if (m.shine == nullptr) display = glm::clamp(productDisplay, 0.0f, 1.0f);
   if (m.shine != nullptr) {   // the shine stage over the lit base, in display values too
     glm::vec4 shine = scene.shineColor(s, footprint);
     if (m.desc.stock.shineVertexColor) {   // a vertex-lit surface's vertex colour is in display values
@@ -124,6 +129,7 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
   // The shading normal only for the normal AOV (the denoiser's, or one asked for).
   const SurfaceParts parts = settings.normalAov || settings.denoise ? SurfaceParts::All : SurfaceParts::NoShadingNormal;
   DisplayComposite layers;   // see-through layers, composed in display values at the end
+  std::optional<glm::vec3> litDisplay;   // the display value of the lit surface (litSurface)
   std::array<DisplayFog, 8> displayFog;
   uint32_t displayFogCount = 0;
 
@@ -173,7 +179,7 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
     coneWidth += coneSpread * hit.t;
     const float footprint = coneWidth / std::max(trace::kMinCosForFootprint, front ? facing : -facing);
     StockTexels texels = stockTexels(scene, s, footprint);
-    const glm::vec3 lit = litSurface(scene, s, texels, footprint);
+    const glm::vec3 lit = litSurface(scene, s, texels, footprint, litDisplay);
     albedoAov = texels.albedo;   // as trace::recordSurfaceAovs
     normalAov = ns;
     depthAov = hit.t;
@@ -186,6 +192,7 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
     }
     const glm::vec3 le = scene.emission(s, front);
     if (le != glm::vec3(0.0f)) layers.append({le, glm::vec3(1.0f)});   // a glow stage adds in display values
+    if (radiance != glm::vec3(0.0f) || beta != glm::vec3(1.0f)) litDisplay.reset();   // not the radiance alone
     radiance += beta * lit;
     break;
   }
@@ -193,7 +200,10 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
     const DisplayFog& f = displayFog[i];
     radiance = f.radianceInFront + blendInDisplaySpace(radiance - f.radianceInFront, f.opacity, f.color);
   }
-  const glm::vec3 composed = layers.over(radiance);   // see-through layers over the fogged surface
+  // See-through layers over the fogged surface; over the surface's display value where that is
+  // the whole of the radiance (no decode and encode again).
+  const glm::vec3 composed =
+      layers.size() != 0 && litDisplay && displayFogCount == 0 ? layers.overDisplay(*litDisplay) : layers.over(radiance);
   return PixelSample{.radiance = composed,
                      .emission = composed,   // no Monte Carlo noise at all
                      .albedo = albedoAov,

@@ -19,12 +19,14 @@ namespace {
 
 glm::vec3 linear(float display) { return glm::vec3(srgbToLinear(display)); }
 
+/// A query's hits: the layers at their distances, left in drawing order as a query leaves them.
 AdditiveHits hits(std::initializer_list<std::pair<float, DisplayComposite::Layer>> list) {
   AdditiveHits h;
   for (const auto& [t, layer] : list) {
     h.entries[h.count] = {t, h.count, 0, layer.color, layer.transmit};
     ++h.count;
   }
+  std::sort(h.entries.begin(), h.entries.begin() + h.count, AdditiveHits::drawnBefore);
   return h;
 }
 
