@@ -402,7 +402,25 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
     TracedCameraRay& ray = rays[p.ray];
     crossings[filled[p.group]++] = {p.candidate->t, p.candidate->u, p.candidate->v, &ray.ray, &ray.additive};
   }
+  // The groups nearest first (by their first crossing, in drawing order): the rays of a packet
+  // mostly see the same layers in the same order, so each ray's entries come in drawing order and
+  // sortEntries finds them sorted.
+  std::array<uint16_t, kMaxPending> byDistance;
   for (uint32_t g = 0; g < groups; ++g) {
+    const AdditiveHits::Candidate& key = *groupKey[g];
+    uint32_t j = g;
+    for (; j > 0; --j) {
+      const AdditiveHits::Candidate& other = *groupKey[byDistance[j - 1]];
+      const bool before = key.t != other.t ? key.t < other.t
+                          : key.instance != other.instance ? key.instance < other.instance
+                                                           : key.prim > other.prim;
+      if (!before) break;
+      byDistance[j] = byDistance[j - 1];
+    }
+    byDistance[j] = static_cast<uint16_t>(g);
+  }
+  for (uint32_t k = 0; k < groups; ++k) {
+    const uint32_t g = byDistance[k];
     const AdditiveHits::Candidate& key = *groupKey[g];
     const RenderInstance& inst = scene.instancesOf(key.overlay)[key.instance];
     const std::span<const Crossing> group{crossings.data() + groupStart[g], size_t{groupStart[g + 1]} - groupStart[g]};
