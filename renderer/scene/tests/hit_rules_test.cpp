@@ -7,6 +7,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -36,6 +37,46 @@ TEST(SceneHitRules, MaterialRules) {
     f.twoSided = true;
     EXPECT_EQ(materialHitRule(f), HitRule::Filtered) << "two-sided, change " << change;
   }
+}
+
+TEST(SceneHitRules, FilterRulesByKindOfRay) {
+  const auto rule = [](const MaterialDesc& m, RayKind kind) {
+    const FilterRule r = materialFilterRule(m, kind);
+    return std::pair(r.action, r.cullBack);
+  };
+  using A = FilterAction;
+  MaterialDesc m;
+  for (const RayKind kind : {RayKind::Camera, RayKind::Bounce, RayKind::Shadow})
+    EXPECT_EQ(rule(m, kind), std::pair(A::Accept, false));
+  MaterialDesc oneSided = m;
+  oneSided.twoSided = false;
+  EXPECT_EQ(rule(oneSided, RayKind::Camera), std::pair(A::Accept, true));
+  EXPECT_EQ(rule(oneSided, RayKind::Bounce), std::pair(A::Accept, true));
+  EXPECT_EQ(rule(oneSided, RayKind::Shadow), std::pair(A::Accept, false));   // shadows from both faces
+  MaterialDesc mask = oneSided;
+  mask.alphaMode = AlphaMode::Mask;
+  EXPECT_EQ(rule(mask, RayKind::Camera), std::pair(A::Mask, true));
+  EXPECT_EQ(rule(mask, RayKind::Shadow), std::pair(A::Mask, false));
+  MaterialDesc blend = m;
+  blend.alphaMode = AlphaMode::Blend;
+  EXPECT_EQ(rule(blend, RayKind::Bounce), std::pair(A::Blend, false));
+  MaterialDesc additive = oneSided;   // layers work out their own face (see_through_layers)
+  additive.alphaMode = AlphaMode::Additive;
+  EXPECT_EQ(rule(additive, RayKind::Camera), std::pair(A::Additive, false));
+  EXPECT_EQ(rule(additive, RayKind::Shadow), std::pair(A::Reject, false));
+  MaterialDesc sky = additive;   // the sky before anything else
+  sky.sky = true;
+  sky.visible = false;
+  for (const RayKind kind : {RayKind::Camera, RayKind::Bounce, RayKind::Shadow})
+    EXPECT_EQ(rule(sky, kind), std::pair(A::Sky, false));
+  MaterialDesc hidden = m;
+  hidden.visible = false;
+  EXPECT_EQ(rule(hidden, RayKind::Camera), std::pair(A::Reject, false));
+  EXPECT_EQ(rule(hidden, RayKind::Shadow), std::pair(A::Accept, false));   // nodraw still casts
+  hidden.castsShadows = false;
+  hidden.visible = true;
+  EXPECT_EQ(rule(hidden, RayKind::Shadow), std::pair(A::Reject, false));
+  EXPECT_EQ(rule(hidden, RayKind::Camera), std::pair(A::Accept, false));
 }
 
 /// A one-sided square (front towards +z) placed plainly at the origin and mirrored (x -> -x, so

@@ -48,39 +48,34 @@ bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, 
   if (instanceIndex >= instances.size()) return true;
   const RenderInstance& inst = instances[instanceIndex];
   if (prim >= inst.mesh->geometry.triangleCount()) return true;
-  const MaterialDesc& m = ctx.scene->materialOf(inst, prim).desc;
-  const RayKind kind = ctx.request->kind;
-  if (m.sky) return !(kind == RayKind::Shadow && ctx.request->towardEnvironment);
-  if (kind == RayKind::Shadow) {
-    if (!m.castsShadows || m.alphaMode == AlphaMode::Additive) return false;
-  } else if (!m.visible) {
-    return false;
-  }
-  if (m.alphaMode == AlphaMode::Opaque && (m.twoSided || kind == RayKind::Shadow)) return true;
-
-  if (!m.twoSided && kind != RayKind::Shadow && m.alphaMode != AlphaMode::Additive &&
-      glm::dot(ctx.scene->windingNormal(inst, prim), ctx.ray->dir) > 0.0f) {
-    return false;
-  }
-  switch (m.alphaMode) {
-    case AlphaMode::Mask: {
-      const float alpha = ctx.scene->coverageAt(inst, prim, {u, v});
-      return m.alphaInvert ? alpha < m.alphaCutoff : alpha >= m.alphaCutoff;
-    }
-    case AlphaMode::Blend: {
-      const float coverage = std::clamp(ctx.scene->coverageAt(inst, prim, {u, v}) * m.opacity, 0.0f, 1.0f);
-      const uint32_t bits = sampling::hashCombine(sampling::hashCombine(ctx.request->randomBits, instanceIndex), prim);
-      return sampling::toUnitFloat(bits) < coverage;
-    }
-    case AlphaMode::Additive:
+  const MaterialRecord& record = ctx.scene->materialOf(inst, prim);
+  const FilterRule rule = record.filter[static_cast<size_t>(ctx.request->kind)];
+  switch (rule.action) {
+    case FilterAction::Additive:
       // Worked out once the closest hit is known (see_through_layers.h): only those in front show.
       if (ctx.request->additive != nullptr)
         recordLayerCandidate(*ctx.request->additive, {t, instanceIndex, prim, u, v, ctx.overlay});
       return false;
-    case AlphaMode::Opaque:
-      break;
+    case FilterAction::Reject: return false;
+    case FilterAction::Sky: return !(ctx.request->kind == RayKind::Shadow && ctx.request->towardEnvironment);
+    case FilterAction::Accept:
+    case FilterAction::Mask:
+    case FilterAction::Blend: break;
   }
-  return true;
+  if (rule.cullBack && glm::dot(ctx.scene->windingNormal(inst, prim), ctx.ray->dir) > 0.0f) return false;
+  const MaterialDesc& m = record.desc;
+  switch (rule.action) {
+    case FilterAction::Mask: {
+      const float alpha = ctx.scene->coverageAt(inst, prim, {u, v});
+      return m.alphaInvert ? alpha < m.alphaCutoff : alpha >= m.alphaCutoff;
+    }
+    case FilterAction::Blend: {
+      const float coverage = std::clamp(ctx.scene->coverageAt(inst, prim, {u, v}) * m.opacity, 0.0f, 1.0f);
+      const uint32_t bits = sampling::hashCombine(sampling::hashCombine(ctx.request->randomBits, instanceIndex), prim);
+      return sampling::toUnitFloat(bits) < coverage;
+    }
+    default: return true;
+  }
 }
 
 /// The face of one-sided triangles a kind of ray skips, as acceptCandidate would: shadow rays
@@ -97,6 +92,24 @@ uint32_t rayMaskFor(RayKind kind) {
 }
 
 }  // namespace
+
+FilterRule materialFilterRule(const MaterialDesc& m, RayKind kind) {
+  if (m.sky) return {FilterAction::Sky, false};
+  if (kind == RayKind::Shadow) {
+    if (!m.castsShadows || m.alphaMode == AlphaMode::Additive) return {FilterAction::Reject, false};
+  } else if (!m.visible) {
+    return {FilterAction::Reject, false};
+  }
+  if (m.alphaMode == AlphaMode::Opaque && (m.twoSided || kind == RayKind::Shadow)) return {FilterAction::Accept, false};
+  const bool cullBack = !m.twoSided && kind != RayKind::Shadow && m.alphaMode != AlphaMode::Additive;
+  switch (m.alphaMode) {
+    case AlphaMode::Mask: return {FilterAction::Mask, cullBack};
+    case AlphaMode::Blend: return {FilterAction::Blend, cullBack};
+    case AlphaMode::Additive: return {FilterAction::Additive, false};
+    case AlphaMode::Opaque: break;
+  }
+  return {FilterAction::Accept, cullBack};
+}
 
 HitRule materialHitRule(const MaterialDesc& m) {
   if (m.alphaMode != AlphaMode::Opaque || !m.castsShadows || !m.visible || m.sky) return HitRule::Filtered;

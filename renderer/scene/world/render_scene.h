@@ -23,6 +23,26 @@
 
 namespace pa {
 
+/// Which rays a query traces (selects the instance mask and material rules).
+enum class RayKind : uint8_t { Camera, Bounce, Shadow };
+
+/// What the HitFilter callback does with a candidate hit on a material (materialFilterRule).
+enum class FilterAction : uint8_t {
+  Accept,     ///< The hit stands.
+  Reject,     ///< Not seen by this kind of ray.
+  Sky,        ///< A sky window: stops every ray but a shadow ray towards the environment.
+  Mask,       ///< Alpha test against the cutoff.
+  Blend,      ///< Stochastic transparency.
+  Additive,   ///< A see-through layer: recorded as a candidate, never stops the ray.
+};
+
+/// A material's FilterAction for one kind of ray, and whether the back face is skipped first
+/// (one-sided surfaces seen by camera and bounce rays).
+struct FilterRule {
+  FilterAction action = FilterAction::Accept;
+  bool cullBack = false;
+};
+
 /// A material with its textures resolved and its traversal behaviour precomputed.
 struct MaterialRecord {
   MaterialDesc desc;
@@ -31,6 +51,8 @@ struct MaterialRecord {
   const Texture* lightmap = nullptr;
   const Texture* shine = nullptr;   ///< StockLook::shineTexture.
   HitRule rule = HitRule::Opaque;   ///< How the BVH treats hits on it (materialHitRule).
+  /// What the HitFilter callback does with its hits, by RayKind (materialFilterRule).
+  std::array<FilterRule, 3> filter{};
   bool emits = false;      ///< Non-zero emission (collected as area light).
   /// Camera rays see seenEmission in place of emission (MaterialDesc::seenEmission >= 0).
   bool seenApart = false;
@@ -41,6 +63,12 @@ struct MaterialRecord {
 /// skip its back face in the kernels: HitFilter::cull); Filtered (the HitFilter callback) for
 /// anything else.
 HitRule materialHitRule(const MaterialDesc& m);
+
+/// The HitFilter callback's rule for hits of `kind` rays on material `m`: the sky first; hidden
+/// from the kind (shadow rays: no shadow or additive; others: invisible); opaque two-sided
+/// surfaces (and every opaque one for shadow rays) accepted; the back face of one-sided
+/// non-additive surfaces skipped by camera and bounce rays; then by alpha mode.
+FilterRule materialFilterRule(const MaterialDesc& m, RayKind kind);
 
 /// A placed mesh as seen by rays.
 struct RenderInstance {
@@ -54,8 +82,7 @@ struct RenderInstance {
   uint32_t emissiveOffset = kNoId;   ///< Into RenderScene::emissiveLookup (one entry per triangle).
 };
 
-/// Which rays a query traces (selects the instance mask and material rules).
-enum class RayKind : uint8_t { Camera, Bounce, Shadow };
+
 
 /// Additive surfaces crossed by a ray (they add colour and never stop rays). The hit filter
 /// records each additive triangle the traversal meets as a candidate; once the ray's closest

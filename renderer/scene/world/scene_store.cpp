@@ -467,6 +467,8 @@ void SceneStore::commit(RenderScene& scene) {
     r.lightmap = texturePtr(d.stock.lightmapTexture);
     r.shine = texturePtr(d.stock.shineTexture);
     r.rule = materialHitRule(d);
+    for (const RayKind kind : {RayKind::Camera, RayKind::Bounce, RayKind::Shadow})
+      r.filter[static_cast<size_t>(kind)] = materialFilterRule(d, kind);
     r.emits = d.emission.x > 0.0f || d.emission.y > 0.0f || d.emission.z > 0.0f;
     r.seenApart = d.seenEmission.x >= 0.0f && d.seenEmission.y >= 0.0f && d.seenEmission.z >= 0.0f;
     return r;
