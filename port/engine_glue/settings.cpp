@@ -18,6 +18,19 @@ Preset parsePreset(const std::string& name, bool& known) {
   return Preset::Path;
 }
 
+pa::TextureFilter parseTextureMode(const std::string& name, bool& known) {
+  const std::string n = normalizeName(name);
+  known = true;
+  if (n == "gl_nearest") return {pa::MipFilter::None, true};
+  if (n == "gl_linear") return {pa::MipFilter::None, false};
+  if (n == "gl_nearest_mipmap_nearest") return {pa::MipFilter::Nearest, true};
+  if (n == "gl_linear_mipmap_nearest") return {pa::MipFilter::Nearest, false};
+  if (n == "gl_nearest_mipmap_linear") return {pa::MipFilter::Linear, true};
+  if (n == "gl_linear_mipmap_linear") return {pa::MipFilter::Linear, false};
+  known = false;
+  return {pa::MipFilter::Nearest, false};
+}
+
 const char* presetName(Preset preset) {
   switch (preset) {
     case Preset::Lightmap: return "lightmap";
@@ -70,6 +83,9 @@ void Settings::registerCvars(const Engine& engine) {
   mapOverBrightBits_ = engine.cvar("r_mapOverBrightBits", "2", CVAR_LATCH,
                                    "Lightmaps and baked vertex light are brightened by 2^(this - display bits)");
   intensity_ = engine.cvar("r_intensity", "1", CVAR_LATCH, "Multiplies world and model texture colours (>= 1)");
+  textureMode_ = engine.cvar("r_textureMode", "GL_LINEAR_MIPMAP_NEAREST", CVAR_ARCHIVE,
+                             "Texture filtering of the lightmap look: GL_NEAREST, GL_LINEAR, "
+                             "GL_{NEAREST,LINEAR}_MIPMAP_{NEAREST,LINEAR}");
   flares_ = engine.cvar("r_flares", "0", CVAR_ARCHIVE, "Light flares of the map's flare surfaces");
   flareSize_ = engine.cvar("r_flareSize", "40", CVAR_CHEAT, "Flare size in pixels of a 640-wide view");
   flareFade_ = engine.cvar("r_flareFade", "7", CVAR_CHEAT, "Flare fade in or out: full range per 1/this seconds");
@@ -248,6 +264,17 @@ TracerSettings Settings::tracer(const Engine& engine) const {
       engine.warn(std::string("r_pt_isa '") + isa_->string + "' unknown: auto used (auto or avx2)");
     isa_->modified = 0;
   }
+  // Parsed when it changes, as stock applies it (the name outgrows std::string's inline buffer:
+  // parsing it every frame would allocate in the steady state).
+  if (textureMode_ != nullptr && textureMode_->string != nullptr && (textureMode_->modified || !textureFilterRead_)) {
+    bool known = true;
+    textureFilter_ = parseTextureMode(textureMode_->string, known);
+    if (!known)
+      engine.warn(std::string("r_textureMode '") + textureMode_->string + "' unknown: GL_LINEAR_MIPMAP_NEAREST used");
+    textureMode_->modified = 0;
+    textureFilterRead_ = true;
+  }
+  out.textureFilter = textureFilter_;
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include "port/engine_glue/flares.h"
 #include "port/engine_glue/ioq3_abi.h"
 #include "port/engine_glue/window.h"
+#include "renderer/scene/scene_types.h"
 
 namespace glue {
 
@@ -20,6 +21,10 @@ enum class Preset : uint8_t { Lightmap, Direct, Path, Reference };
 Preset parsePreset(const std::string& name, bool& known);
 /// The preset's cvar spelling.
 const char* presetName(Preset preset);
+
+/// Parses a stock r_textureMode value (GL_NEAREST, GL_LINEAR, GL_{NEAREST,LINEAR}_MIPMAP_{NEAREST,
+/// LINEAR}, any case) into the filter it names; the stock default GL_LINEAR_MIPMAP_NEAREST when unknown.
+pa::TextureFilter parseTextureMode(const std::string& name, bool& known);
 
 /// Current path tracer settings, read from the cvars each frame.
 struct TracerSettings {
@@ -51,6 +56,8 @@ struct TracerSettings {
   /// r_pt_isa avx2: the BVHs keep the AVX2 kernels and 8-wide layout on a CPU with AVX-512 (to
   /// measure what CPUs without it run); auto: the fastest this CPU has. Latched (vid_restart).
   bool avx2Kernels = false;
+  /// r_textureMode: how the lightmap look filters world and model textures, as stock's texture units
+  pa::TextureFilter textureFilter{pa::MipFilter::Nearest, false};
 };
 
 /// The stock picture cvars with their stock defaults (tr_init.c): display gamma, texture detail,
@@ -139,6 +146,9 @@ class Settings {
   q3abi::cvar_t* pipeline_ = nullptr;
   q3abi::cvar_t* clamp_ = nullptr;
   q3abi::cvar_t* isa_ = nullptr;
+  q3abi::cvar_t* textureMode_ = nullptr;
+  mutable pa::TextureFilter textureFilter_{pa::MipFilter::Nearest, false};   ///< r_textureMode as last parsed
+  mutable bool textureFilterRead_ = false;
 };
 
 }  // namespace glue

@@ -370,6 +370,7 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   rs.samplesPerPixel = static_cast<uint32_t>(settings.samplesPerPixel);
   // The stock look samples textures at pixel centres, as opengl1 rasterises.
   rs.pixelCentres = ctx.lightmapLook && rs.samplesPerPixel == 1;
+  rs.stockTextureFilter = settings.textureFilter;   // as stock's texture units (r_textureMode)
   rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
   rs.bakedLightAtPathEnd = settings.bakedEnd;
   rs.accumulate = settings.preset == Preset::Reference;

@@ -413,6 +413,20 @@ enum class LightingLook : uint8_t {
   DisplaySpace,
 };
 
+/// How a lookup uses the mip chain, as a raster texture unit's minification modes do.
+enum class MipFilter : uint8_t {
+  Linear,    ///< The two levels around the level of detail, blended (GL_*_MIPMAP_LINEAR).
+  Nearest,   ///< The level nearest the level of detail (GL_*_MIPMAP_NEAREST).
+  None,      ///< Level 0 only (GL_NEAREST, GL_LINEAR).
+};
+
+/// A texture unit's filtering (OpenGL's texture modes, a stock renderer's r_textureMode).
+struct TextureFilter {
+  MipFilter mips = MipFilter::Linear;
+  bool nearestTexels = false;   ///< The texel the point falls in (GL_NEAREST*); else bilinear.
+  bool operator==(const TextureFilter&) const = default;
+};
+
 /// Per-render knobs. The image is a pure function of (scene, camera, seed, frameIndex, spp),
 /// independent of the thread count.
 struct RenderSettings {
@@ -424,6 +438,9 @@ struct RenderSettings {
   /// renderer, so that a one-sample frame shows each texture as a rasteriser shows it and does
   /// not change with the seed.
   bool pixelCentres = false;
+  /// How the Lightmap integrator's surfaces filter their base and shine textures, as a stock
+  /// renderer's texture units do (its r_textureMode). Lightmaps are read bilinearly, as stock does.
+  TextureFilter stockTextureFilter{};
   uint32_t maxBounces = 4;
   /// Direct and Path: a path whose last vertex (after maxBounces scatterings) lies on a surface
   /// with baked light (StockLook: lightmap or vertex light) takes the bake's light there

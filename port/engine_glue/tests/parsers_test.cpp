@@ -99,5 +99,21 @@ TEST(Presets, Names) {
   EXPECT_STREQ(presetName(Preset::Direct), "direct");
 }
 
+TEST(TextureModes, StockNames) {
+  bool known = false;
+  using F = pa::TextureFilter;
+  using M = pa::MipFilter;
+  EXPECT_EQ(parseTextureMode("GL_LINEAR_MIPMAP_NEAREST", known), (F{M::Nearest, false}));
+  EXPECT_TRUE(known);
+  EXPECT_EQ(parseTextureMode("gl_linear_mipmap_linear", known), (F{M::Linear, false}));
+  EXPECT_EQ(parseTextureMode("GL_NEAREST_MIPMAP_LINEAR", known), (F{M::Linear, true}));
+  EXPECT_EQ(parseTextureMode("GL_NEAREST_MIPMAP_NEAREST", known), (F{M::Nearest, true}));
+  EXPECT_EQ(parseTextureMode("GL_NEAREST", known), (F{M::None, true}));
+  EXPECT_EQ(parseTextureMode("GL_LINEAR", known), (F{M::None, false}));
+  EXPECT_TRUE(known);
+  EXPECT_EQ(parseTextureMode("GL_ANISOTROPIC", known), (F{M::Nearest, false}));   // the stock default
+  EXPECT_FALSE(known);
+}
+
 }  // namespace
 }  // namespace glue

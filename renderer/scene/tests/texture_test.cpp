@@ -71,6 +71,47 @@ TEST(Texture, StoredLookupsFilterTheBytesAsStored) {
   EXPECT_NEAR(Texture::fromDesc({1, 1, grey}, "g").sampleStored({0.3f, 0.9f}, 0.0f).b, 0.6f, 1e-6f);
 }
 
+TEST(Texture, TextureUnitFiltersPickLevelsAndTexelsAsOpenGl) {
+  // 4x2 checker of black and white (linear data): levels 4x2 (the checker), 2x1 and 1x1 (grey).
+  std::vector<uint8_t> px;
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) {
+      const uint8_t v = ((x + y) % 2) ? 255 : 0;
+      px.insert(px.end(), {v, v, v, 255});
+    }
+  const Texture t = Texture::fromDesc({4, 2, px, false}, "checker");
+  ASSERT_EQ(t.levelCount(), 3u);
+  constexpr float kHalfByte = 0.5f / 255.0f + 1e-6f;
+  const glm::vec2 black(0.125f, 0.25f);   // a black texel's centre at level 0
+  const TextureFilter nearestMip{MipFilter::Nearest, false};
+  EXPECT_NEAR(t.sample(black, 0.5f, nearestMip).r, 0.0f, 1e-6f);       // level 0 up to 0.5
+  EXPECT_NEAR(t.sample(black, 0.6f, nearestMip).r, 0.5f, kHalfByte);   // then the nearest level: 1
+  EXPECT_NEAR(t.sample(black, 1.5f, nearestMip).r, 0.5f, kHalfByte);   // 1.5 rounds down
+  EXPECT_NEAR(t.sample(black, 1e30f, nearestMip).r, 0.5f, kHalfByte);  // the last level
+  EXPECT_NEAR(t.sample(black, std::nanf(""), nearestMip).r, 0.0f, 1e-6f);
+  EXPECT_NEAR(t.sample(black, 0.5f).r, 0.25f, kHalfByte);   // trilinear blends levels 0 and 1
+  EXPECT_NEAR(t.sample(black, 2.0f, {MipFilter::None, false}).r, 0.0f, 1e-6f);   // level 0 only
+  // Nearest texels: the texel the point falls in, where bilinear blends the neighbour in.
+  const TextureFilter point{MipFilter::None, true};
+  EXPECT_NEAR(t.sample({0.2f, 0.25f}, 0.0f).r, 0.3f, 1e-6f);
+  EXPECT_NEAR(t.sample({0.2f, 0.25f}, 0.0f, point).r, 0.0f, 1e-6f);
+  EXPECT_NEAR(t.sample({1.0f, 0.25f}, 0.0f, point).r, 0.0f, 1e-6f);    // repeat: wraps to texel 0
+  EXPECT_NEAR(t.sample({-0.1f, 0.25f}, 0.0f, point).r, 1.0f, 1e-6f);   // -0.1 == 0.9: texel 3
+  EXPECT_NEAR(t.sample({0.2f, 0.25f}, 0.5f, {MipFilter::Linear, true}).r, 0.25f, kHalfByte);
+  EXPECT_NEAR(t.sampleStored({0.2f, 0.25f}, 0.0f, point).r, 0.0f, 1e-6f);
+  // The default filter is sample() itself, bit for bit.
+  for (const float lod : {0.0f, 0.3f, 1.7f, 5.0f})
+    EXPECT_EQ(t.sample({0.31f, 0.77f}, lod, TextureFilter{}), t.sample({0.31f, 0.77f}, lod));
+  // Clamped, without a mip chain: bilinear at level 0 whatever the filter (as stock reads images
+  // without mipmaps), and the nearest texel at the edge when asked of a mip chain.
+  const std::vector<uint8_t> pair{0, 0, 0, 255, 255, 255, 255, 255};
+  const Texture plain = Texture::fromDesc({2, 1, pair, false, TextureWrap::Clamp, false}, "plain");
+  EXPECT_NEAR(plain.sample({0.5f, 0.5f}, 3.0f, point).r, 0.5f, 1e-6f);
+  const Texture clamped = Texture::fromDesc({2, 1, pair, false, TextureWrap::Clamp, true}, "clamped");
+  EXPECT_NEAR(clamped.sample({5.0f, 0.5f}, 0.0f, point).r, 1.0f, 1e-6f);
+  EXPECT_NEAR(clamped.sample({-5.0f, 0.5f}, 0.0f, point).r, 0.0f, 1e-6f);
+}
+
 TEST(Texture, BilinearRepeatWrapsAndClampHoldsTheEdge) {
   // 2x1: left black, right white.
   const std::vector<uint8_t> px{0, 0, 0, 255, 255, 255, 255, 255};

@@ -186,6 +186,51 @@ glm::vec4 Texture::sampleAs(glm::vec2 uv, float lod) const {
   return glm::mix(sampleLevel<Stored>(l, at), sampleLevel<Stored>(l + 1, at), t);
 }
 
+template <bool Stored>
+glm::vec4 Texture::nearestTexel(uint32_t levelIndex, glm::vec2 uv) const {
+  const MipLevel& level = levels_[std::min<size_t>(levelIndex, levels_.size() - 1)];
+  const auto index = [repeat = wrap_ == TextureWrap::Repeat](float coordinate, uint32_t n) {
+    const int i = static_cast<int>(std::floor(coordinate * static_cast<float>(n)));
+    const int last = static_cast<int>(n) - 1;
+    if (!repeat) return static_cast<uint32_t>(std::clamp(i, 0, last));
+    return static_cast<uint32_t>(i > last ? i - static_cast<int>(n) : (i < 0 ? i + static_cast<int>(n) : i));
+  };
+  const std::array<uint8_t, 4>& t = level.texels[size_t{index(uv.y, level.height)} * level.width + index(uv.x, level.width)];
+  return Stored ? stored(t) : decode(t);
+}
+
+template <bool Stored>
+glm::vec4 Texture::sampleFiltered(glm::vec2 uv, float lod, TextureFilter filter) const {
+  if (levels_.size() == 1) return sampleLevel<Stored>(0, wrapped(uv));   // no mip chain: bilinear
+  if (filter.mips == MipFilter::Linear && !filter.nearestTexels) return sampleAs<Stored>(uv, lod);
+  const glm::vec2 at = wrapped(uv);
+  const auto read = [&](uint32_t level) {
+    return filter.nearestTexels ? nearestTexel<Stored>(level, at) : sampleLevel<Stored>(level, at);
+  };
+  const float maxLevel = static_cast<float>(levels_.size() - 1);
+  switch (filter.mips) {
+    case MipFilter::None: return read(0);
+    case MipFilter::Nearest:
+      // OpenGL: level 0 up to a level of detail of 0.5, then ceil(lod + 0.5) - 1 (the nearest).
+      if (!(lod > 0.5f)) return read(0);
+      return read(static_cast<uint32_t>(std::ceil(std::min(lod, maxLevel) + 0.5f)) - 1u);
+    case MipFilter::Linear: break;
+  }
+  if (!(lod > 0.0f)) return read(0);
+  if (lod >= maxLevel) return read(static_cast<uint32_t>(maxLevel));
+  const float base = std::floor(lod);
+  const auto l = static_cast<uint32_t>(base);
+  return glm::mix(read(l), read(l + 1), lod - base);
+}
+
+glm::vec4 Texture::sample(glm::vec2 uv, float lod, TextureFilter filter) const {
+  return sampleFiltered<false>(uv, lod, filter);
+}
+
+glm::vec4 Texture::sampleStored(glm::vec2 uv, float lod, TextureFilter filter) const {
+  return sampleFiltered<true>(uv, lod, filter);
+}
+
 glm::vec4 Texture::sample(glm::vec2 uv, float lod) const { return sampleAs<false>(uv, lod); }
 
 glm::vec4 Texture::sampleStored(glm::vec2 uv, float lod) const { return sampleAs<true>(uv, lod); }

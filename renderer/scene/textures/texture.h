@@ -43,6 +43,12 @@ class Texture {
   glm::vec4 sampleStored(glm::vec2 uv, float lod) const;
   /// sampleFull() of the stored values (byte / 255, filtered as stored).
   glm::vec4 sampleFullStored(glm::vec2 uv) const;
+  /// sample() with a texture unit's filtering. Level `lod` picks the levels as OpenGL does
+  /// (nearest: level 0 up to 0.5, then the nearest); a texture without a mip chain is read
+  /// bilinearly at level 0 whatever the filter, as stock filters images without mipmaps.
+  glm::vec4 sample(glm::vec2 uv, float lod, TextureFilter filter) const;
+  /// sampleStored() with a texture unit's filtering (as sample(uv, lod, filter)).
+  glm::vec4 sampleStored(glm::vec2 uv, float lod, TextureFilter filter) const;
   /// True when the colour channels are stored sRGB-encoded.
   bool srgb() const { return srgb_; }
   /// Mean of all texels (the 1x1 level).
@@ -67,6 +73,11 @@ class Texture {
   glm::vec4 sampleLevel(uint32_t level, glm::vec2 uv) const;
   template <bool Stored>
   glm::vec4 sampleAs(glm::vec2 uv, float lod) const;
+  /// The texel a point at a wrapped() uv falls in, in one level.
+  template <bool Stored>
+  glm::vec4 nearestTexel(uint32_t level, glm::vec2 uv) const;
+  template <bool Stored>
+  glm::vec4 sampleFiltered(glm::vec2 uv, float lod, TextureFilter filter) const;
   glm::vec4 decode(const std::array<uint8_t, 4>& t) const;   ///< Linear values.
   static glm::vec4 stored(const std::array<uint8_t, 4>& t) {   ///< byte / 255.
     return glm::vec4(t[0], t[1], t[2], t[3]) * (1.0f / 255.0f);

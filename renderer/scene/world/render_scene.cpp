@@ -397,7 +397,7 @@ glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint) const {
   return c;
 }
 
-glm::vec4 RenderScene::shineColor(const SurfaceHit& s, float footprint) const {
+glm::vec4 RenderScene::shineColor(const SurfaceHit& s, float footprint, TextureFilter filter) const {
   const MaterialRecord& m = *s.material;
   if (m.shine == nullptr) return glm::vec4(0.0f);
   float lod = 0.0f;
@@ -405,7 +405,7 @@ glm::vec4 RenderScene::shineColor(const SurfaceHit& s, float footprint) const {
     const float texels = static_cast<float>(m.shine->width()) * static_cast<float>(m.shine->height());
     lod = std::log2(footprint * std::sqrt(s.shineUvArea * texels / s.worldArea));
   }
-  return m.shine->sample(s.shineUv, lod) * glm::vec4(m.desc.stock.shineColor, 1.0f);
+  return m.shine->sample(s.shineUv, lod, filter) * glm::vec4(m.desc.stock.shineColor, 1.0f);
 }
 
 glm::vec3 RenderScene::emission(const SurfaceHit& s, bool frontSide) const {

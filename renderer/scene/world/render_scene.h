@@ -263,7 +263,7 @@ struct RenderScene {
   float baseLod(const SurfaceHit& s, float footprint) const;
   /// Shine colour (shine texture x shineColor, linear RGB, A = texture alpha; 0 when the
   /// material has none), mip level from `footprint` as baseColor's.
-  glm::vec4 shineColor(const SurfaceHit& s, float footprint) const;
+  glm::vec4 shineColor(const SurfaceHit& s, float footprint, TextureFilter filter = {}) const;
   /// Emitted radiance toward the given side (front = the winding normal's side).
   glm::vec3 emission(const SurfaceHit& s, bool frontSide) const;
   /// Emitted radiance as camera rays see it before their first scattering
