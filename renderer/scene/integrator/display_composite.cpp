@@ -70,33 +70,17 @@ Lanes decodeLanes(Lanes c) {
   return c <= 0.04045f ? c * (1.0f / 12.92f) : curve;
 }
 
-// Decoding by table: srgbToLinear at k / kDecodeSteps, linearly interpolated (largest difference
-// from srgbToLinear over [0, 1] 4.8e-7, tested; one 8-bit display step is 3e-4 or more in linear
-// values). Two gathers instead of decodeLanes' chain of about twenty dependent operations.
-constexpr int kDecodeSteps = 1024;
-const std::array<float, kDecodeSteps + 1> kDecodeTable = [] {
-  std::array<float, kDecodeSteps + 1> t{};
-  for (int k = 0; k <= kDecodeSteps; ++k) t[size_t(k)] = srgbToLinear(double(k) / kDecodeSteps);
-  return t;
-}();
-
-/// srgbToLinear of each lane clamped to [0, 1], by kDecodeTable.
+/// srgbToLinear of each lane clamped to [0, 1], by the table of srgb_table.h.
 Lanes decodeTableLanes(Lanes c) {
-  const Lanes s = clampUnit(c) * float(kDecodeSteps);
+  const Lanes s = clampUnit(c) * float(kSrgbTableSteps);
   IntLanes i = __builtin_convertvector(s, IntLanes);   // s >= 0: truncation is floor
-  i = i < kDecodeSteps - 1 ? i : kDecodeSteps - 1;
+  i = i < kSrgbTableSteps - 1 ? i : kSrgbTableSteps - 1;
   const Lanes f = s - __builtin_convertvector(i, Lanes);
-#if defined(__AVX2__)
-  const __m256i index = std::bit_cast<__m256i>(i);
-  const Lanes lo = std::bit_cast<Lanes>(_mm256_i32gather_ps(kDecodeTable.data(), index, 4));
-  const Lanes hi = std::bit_cast<Lanes>(_mm256_i32gather_ps(kDecodeTable.data() + 1, index, 4));
-#else
   Lanes lo, hi;
   for (int k = 0; k < 8; ++k) {
-    lo[k] = kDecodeTable[size_t(i[k])];
-    hi[k] = kDecodeTable[size_t(i[k]) + 1];
+    lo[k] = kSrgbDecodeTable[size_t(i[k])];
+    hi[k] = kSrgbDecodeTable[size_t(i[k]) + 1];
   }
-#endif
   return lo + f * (hi - lo);
 }
 
@@ -161,12 +145,14 @@ std::pair<glm::vec3, glm::vec3> encodeTwo(const glm::vec3& a, const glm::vec3& b
   return {{e[0], e[1], e[2]}, {e[3], e[4], e[5]}};
 }
 
+const std::array<float, kSrgbTableSteps + 1> kSrgbDecodeTable = [] {
+  std::array<float, kSrgbTableSteps + 1> t{};
+  for (int k = 0; k <= kSrgbTableSteps; ++k) t[size_t(k)] = srgbToLinear(double(k) / kSrgbTableSteps);
+  return t;
+}();
+
 float tableSrgbToLinear(float c) { return decodeTableLanes(Lanes{c})[0]; }
 
-std::pair<glm::vec3, glm::vec3> decodeTwo(const glm::vec3& a, const glm::vec3& b) {
-  const Lanes d = decodeTableLanes(Lanes{a.x, a.y, a.z, b.x, b.y, b.z});
-  return {{d[0], d[1], d[2]}, {d[3], d[4], d[5]}};
-}
 
 glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend blend, float baseRedrawn) {
   const auto [dst, src] = encodeTwo(base, glm::vec3(shine));

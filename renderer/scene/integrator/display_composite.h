@@ -13,6 +13,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "renderer/scene/integrator/srgb_table.h"   // decodeTwo
 #include "renderer/scene/scene_types.h"
 #include "renderer/scene/world/render_scene.h"
 
@@ -44,10 +45,9 @@ glm::vec3 displayProductWithDisplay(const glm::vec3& a, const glm::vec3& bDispla
 /// fastLinearToSrgb of each channel of two colours, in one pass.
 std::pair<glm::vec3, glm::vec3> encodeTwo(const glm::vec3& a, const glm::vec3& b);
 /// pa::srgbToLinear of c clamped to [0, 1] by a table of 1025 steps, linearly interpolated
-/// (largest difference 4.8e-7, tested): what decodeTwo computes.
+/// (largest difference 4.8e-7, tested): what decodeTwo (srgb_table.h) computes.
 float tableSrgbToLinear(float c);
-/// tableSrgbToLinear of each channel of two colours, in one pass.
-std::pair<glm::vec3, glm::vec3> decodeTwo(const glm::vec3& a, const glm::vec3& b);
+
 
 /// A shine stage over a lit base, composed as framebuffer blending does (StockLook::shineBlend):
 /// with dst = encode(base) and src = encode(shine.rgb), dst' = clamp(blend(dst, src)) (Add:
