@@ -10,6 +10,17 @@
 namespace pa {
 namespace {
 
+/// A 4x2 checker of black and white texels (linear data), mipmapped, repeating.
+Texture checker4x2() {
+  std::vector<uint8_t> px;
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) {
+      const uint8_t v = ((x + y) % 2) ? 255 : 0;
+      px.insert(px.end(), {v, v, v, 255});
+    }
+  return Texture::fromDesc({4, 2, px, false}, "checker");
+}
+
 TEST(Texture, SrgbDecodeAndLinearData) {
   const std::vector<uint8_t> px = test::solidPixels(1, 1, 128, 255, 0, 64);
   TextureDesc d{1, 1, px};
@@ -23,15 +34,9 @@ TEST(Texture, SrgbDecodeAndLinearData) {
 }
 
 TEST(Texture, MipChainAveragesAndFinerLevelsKeepDetail) {
-  // 4x2 checker of black and white (linear data): every coarser level is 0.5 grey, stored as the
-  // nearest byte (127 or 128: within half a byte step).
-  std::vector<uint8_t> px;
-  for (int y = 0; y < 2; ++y)
-    for (int x = 0; x < 4; ++x) {
-      const uint8_t v = ((x + y) % 2) ? 255 : 0;
-      px.insert(px.end(), {v, v, v, 255});
-    }
-  const Texture t = Texture::fromDesc({4, 2, px, false}, "checker");
+  // Every coarser level of the checker is 0.5 grey, stored as the nearest byte (127 or 128:
+  // within half a byte step).
+  const Texture t = checker4x2();
   ASSERT_EQ(t.levelCount(), 3u);   // 4x2, 2x1, 1x1
   EXPECT_EQ(t.level(1).width, 2u);
   EXPECT_EQ(t.level(1).height, 1u);
@@ -72,14 +77,8 @@ TEST(Texture, StoredLookupsFilterTheBytesAsStored) {
 }
 
 TEST(Texture, TextureUnitFiltersPickLevelsAndTexelsAsOpenGl) {
-  // 4x2 checker of black and white (linear data): levels 4x2 (the checker), 2x1 and 1x1 (grey).
-  std::vector<uint8_t> px;
-  for (int y = 0; y < 2; ++y)
-    for (int x = 0; x < 4; ++x) {
-      const uint8_t v = ((x + y) % 2) ? 255 : 0;
-      px.insert(px.end(), {v, v, v, 255});
-    }
-  const Texture t = Texture::fromDesc({4, 2, px, false}, "checker");
+  // Levels 4x2 (the checker), 2x1 and 1x1 (grey).
+  const Texture t = checker4x2();
   ASSERT_EQ(t.levelCount(), 3u);
   constexpr float kHalfByte = 0.5f / 255.0f + 1e-6f;
   const glm::vec2 black(0.125f, 0.25f);   // a black texel's centre at level 0

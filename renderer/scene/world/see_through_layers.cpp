@@ -4,6 +4,8 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <tuple>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -83,6 +85,26 @@ glm::vec3 blendFactor(BlendFactor factor, const glm::vec3& src, float a) {
   return glm::vec3(1.0f);
 }
 
+/// What a multiplying layer (Multiply, MultiplyInverse, MultiplyAdd, Modulate2x) of display
+/// colour `src` lets through of what is behind it (StockLook::layerBlend); 1 for other blends.
+glm::vec3 multiplyingTransmit(LayerBlend blend, const glm::vec3& src) {
+  const glm::vec3 s = glm::max(src, glm::vec3(0.0f));
+  switch (blend) {
+    case LayerBlend::Multiply: return s;
+    case LayerBlend::MultiplyInverse: return glm::max(1.0f - s, glm::vec3(0.0f));
+    case LayerBlend::MultiplyAdd: return 1.0f + s;
+    case LayerBlend::Modulate2x: return 2.0f * s;
+    default: return glm::vec3(1.0f);
+  }
+}
+
+/// A layer of blend factors (LayerBlend::Factors) showing display colour `shown` in [0, 1] with
+/// coverage `a` in [0, 1]: what it adds in display values (shown x its source factor) and lets
+/// through (its destination factor).
+std::pair<glm::vec3, glm::vec3> factorsLayer(const StockLook& stock, const glm::vec3& shown, float a) {
+  return {shown * blendFactor(stock.layerSrcFactor, shown, a), blendFactor(stock.layerDstFactor, shown, a)};
+}
+
 /// Records the layer of material `m` whose base colour (baseColor at full resolution) and
 /// emission a ray saw at distance t: what it adds and lets through (StockLook::layerBlend);
 /// nothing where it fails its alpha test.
@@ -94,22 +116,18 @@ void recordLayer(const MaterialDesc& m, const glm::vec4& base, const glm::vec3& 
   switch (m.stock.layerBlend) {
     case LayerBlend::Add: break;
     case LayerBlend::Over: transmit = glm::vec3(1.0f - std::clamp(base.a, 0.0f, 1.0f)); break;
-    case LayerBlend::Multiply: transmit = displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
-    case LayerBlend::MultiplyInverse:
-      transmit = glm::max(1.0f - displayValue(glm::vec3(base)), glm::vec3(0.0f));
-      added = glm::vec3(0.0f);
-      break;
-    case LayerBlend::MultiplyAdd: transmit = 1.0f + displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
-    case LayerBlend::Modulate2x: transmit = 2.0f * displayValue(glm::vec3(base)); added = glm::vec3(0.0f); break;
     case LayerBlend::Factors: {
       // The layer adds encode(added) x srcFactor in display values: back to linear.
-      const glm::vec3 src = glm::min(displayValue(added), glm::vec3(1.0f));
-      const float a = std::clamp(base.a, 0.0f, 1.0f);
-      const glm::vec3 shown = src * blendFactor(m.stock.layerSrcFactor, src, a);
+      const auto [shown, through] =
+          factorsLayer(m.stock, glm::min(displayValue(added), glm::vec3(1.0f)), std::clamp(base.a, 0.0f, 1.0f));
       added = {srgbToLinear(shown.x), srgbToLinear(shown.y), srgbToLinear(shown.z)};
-      transmit = blendFactor(m.stock.layerDstFactor, src, a);
+      transmit = through;
       break;
     }
+    default:   // multiplying blends
+      transmit = multiplyingTransmit(m.stock.layerBlend, displayValue(glm::vec3(base)));
+      added = glm::vec3(0.0f);
+      break;
   }
   recordAdditive(hits, t, instance, prim, added, transmit);
 }
@@ -132,20 +150,13 @@ void recordLayer(const MaterialDesc& m, const glm::vec4& base, const glm::vec3& 
   switch (m.stock.layerBlend) {
     case LayerBlend::Add: break;
     case LayerBlend::Over: transmit = glm::vec3(1.0f - std::clamp(base.a, 0.0f, 1.0f)); break;
-    case LayerBlend::Multiply: transmit = glm::max(src, glm::vec3(0.0f)); added = glm::vec3(0.0f); break;
-    case LayerBlend::MultiplyInverse:
-      transmit = glm::max(1.0f - glm::max(src, glm::vec3(0.0f)), glm::vec3(0.0f));
+    case LayerBlend::Factors:
+      std::tie(added, transmit) = factorsLayer(m.stock, glm::clamp(added, 0.0f, 1.0f), std::clamp(base.a, 0.0f, 1.0f));
+      break;
+    default:   // multiplying blends
+      transmit = multiplyingTransmit(m.stock.layerBlend, src);
       added = glm::vec3(0.0f);
       break;
-    case LayerBlend::MultiplyAdd: transmit = 1.0f + glm::max(src, glm::vec3(0.0f)); added = glm::vec3(0.0f); break;
-    case LayerBlend::Modulate2x: transmit = 2.0f * glm::max(src, glm::vec3(0.0f)); added = glm::vec3(0.0f); break;
-    case LayerBlend::Factors: {
-      const glm::vec3 shown = glm::clamp(added, 0.0f, 1.0f);
-      const float a = std::clamp(base.a, 0.0f, 1.0f);
-      added = shown * blendFactor(m.stock.layerSrcFactor, shown, a);
-      transmit = blendFactor(m.stock.layerDstFactor, shown, a);
-      break;
-    }
   }
   recordAdditive(hits, t, instance, prim, added, transmit);
 }
