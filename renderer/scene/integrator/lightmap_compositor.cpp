@@ -33,7 +33,8 @@ struct DisplayFog {
 };
 
 /// dot(a, b) as a chain of fused multiply-adds, x first: the rounding of the Direct/Path
-/// integrator's dot products, so that both measure a hit's texture footprint alike.
+/// integrator's dot products, so that both measure a hit's facing alike (and its footprint, but
+/// for kRasterFootprintScale).
 float fusedDot(const glm::vec3& a, const glm::vec3& b) { return std::fma(a.z, b.z, std::fma(a.y, b.y, a.x * b.x)); }
 
 /// What the stock renderer's texture units read for a surface: the base texture and the baked
