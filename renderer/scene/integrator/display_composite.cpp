@@ -7,10 +7,6 @@
 
 #include <glm/common.hpp>
 
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
-
 #include "renderer/scene/textures/texture.h"
 
 namespace pa {
@@ -68,20 +64,6 @@ Lanes decodeLanes(Lanes c) {
   c = clampUnit(c);
   const Lanes curve = exp2Lanes(log2Lanes((c + 0.055f) * (1.0f / 1.055f)) * 2.4f);
   return c <= 0.04045f ? c * (1.0f / 12.92f) : curve;
-}
-
-/// srgbToLinear of each lane clamped to [0, 1], by the table of srgb_table.h.
-Lanes decodeTableLanes(Lanes c) {
-  const Lanes s = clampUnit(c) * float(kSrgbTableSteps);
-  IntLanes i = __builtin_convertvector(s, IntLanes);   // s >= 0: truncation is floor
-  i = i < kSrgbTableSteps - 1 ? i : kSrgbTableSteps - 1;
-  const Lanes f = s - __builtin_convertvector(i, Lanes);
-  Lanes lo, hi;
-  for (int k = 0; k < 8; ++k) {
-    lo[k] = kSrgbDecodeTable[size_t(i[k])];
-    hi[k] = kSrgbDecodeTable[size_t(i[k]) + 1];
-  }
-  return lo + f * (hi - lo);
 }
 
 glm::vec3 decode(const glm::vec3& display) {
@@ -151,8 +133,7 @@ const std::array<float, kSrgbTableSteps + 1> kSrgbDecodeTable = [] {
   return t;
 }();
 
-float tableSrgbToLinear(float c) { return decodeTableLanes(Lanes{c})[0]; }
-
+float tableSrgbToLinear(float c) { return decodeTwo(glm::vec3(c), glm::vec3(0.0f)).first.x; }
 
 glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend blend, float baseRedrawn) {
   const auto [dst, src] = encodeTwo(base, glm::vec3(shine));

@@ -48,7 +48,6 @@ std::pair<glm::vec3, glm::vec3> encodeTwo(const glm::vec3& a, const glm::vec3& b
 /// (largest difference 4.8e-7, tested): what decodeTwo (srgb_table.h) computes.
 float tableSrgbToLinear(float c);
 
-
 /// A shine stage over a lit base, composed as framebuffer blending does (StockLook::shineBlend):
 /// with dst = encode(base) and src = encode(shine.rgb), dst' = clamp(blend(dst, src)) (Add:
 /// dst + src, Over: dst (1 - a) + src a with a = shine.a, Multiply: dst src, MultiplyInverse:
@@ -73,10 +72,10 @@ class DisplayComposite {
     glm::vec3 transmit{1.0f};
   };
 
-  /// Appends the hits closer than `t` (in drawing order, as a query leaves them: nearest
-  /// first), behind the layers already held (the
-  /// layers of the ray's next segment lie behind this one's, e.g. through a portal). Their
-  /// colours are display values where hits.displayValues, else linear (encoded here).
+  /// Appends the hits closer than `t` (in drawing order, as a query leaves them: nearest first)
+  /// behind the layers already held (the layers of the ray's next segment lie behind this one's,
+  /// e.g. through a portal). Their colours are display values where hits.displayValues, else
+  /// linear (encoded here).
   void appendBefore(const AdditiveHits& hits, float t);
   /// Appends one layer (its linear colour encoded) behind the layers already held.
   void append(const Layer& layer);

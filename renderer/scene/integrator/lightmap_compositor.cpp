@@ -97,8 +97,9 @@ glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels&
   const auto [product, albedo] = decodeTwo(productDisplay, t.base);
   if (!t.albedoKnown) t.albedo = albedo;
   glm::vec3 lit = product;
-  if (m.shine == nullptr) display = glm::clamp(productDisplay, 0.0f, 1.0f);
-  if (m.shine != nullptr) {   // the shine stage over the lit base, in display values too
+  if (m.shine == nullptr) {
+    display = glm::clamp(productDisplay, 0.0f, 1.0f);
+  } else {   // the shine stage over the lit base, in display values too
     glm::vec4 shine = scene.shineColor(s, footprint, filter);
     if (m.desc.stock.shineVertexColor) {   // a vertex-lit surface's vertex colour is in display values
       const glm::vec3 vertex(s.vertexColor);

@@ -174,16 +174,26 @@ glm::vec4 Texture::texel(uint32_t levelIndex, uint32_t x, uint32_t y) const {
   return decode(level.texels.at(size_t{std::min(y, level.height - 1)} * level.width + std::min(x, level.width - 1)));
 }
 
+namespace {
+
+/// The two levels around level of detail `lod` blended (trilinear), each read by `read(level)`:
+/// level 0 up to lod 0, the last level from `maxLevel` on.
+template <class Read>
+glm::vec4 blendLevels(const Read& read, float lod, float maxLevel) {
+  if (!(lod > 0.0f)) return read(0);
+  if (lod >= maxLevel) return read(static_cast<uint32_t>(maxLevel));
+  const float base = std::floor(lod);
+  const auto l = static_cast<uint32_t>(base);
+  return glm::mix(read(l), read(l + 1), lod - base);
+}
+
+}  // namespace
+
 template <bool Stored>
 glm::vec4 Texture::sampleAs(glm::vec2 uv, float lod) const {
-  const float maxLevel = static_cast<float>(levels_.size() - 1);
   const glm::vec2 at = wrapped(uv);
-  if (!(lod > 0.0f)) return sampleLevel<Stored>(0, at);
-  if (lod >= maxLevel) return sampleLevel<Stored>(static_cast<uint32_t>(maxLevel), at);
-  const float base = std::floor(lod);
-  const float t = lod - base;
-  const auto l = static_cast<uint32_t>(base);
-  return glm::mix(sampleLevel<Stored>(l, at), sampleLevel<Stored>(l + 1, at), t);
+  return blendLevels([&](uint32_t level) { return sampleLevel<Stored>(level, at); }, lod,
+                     static_cast<float>(levels_.size() - 1));
 }
 
 template <bool Stored>
@@ -216,11 +226,7 @@ glm::vec4 Texture::sampleFiltered(glm::vec2 uv, float lod, TextureFilter filter)
       return read(static_cast<uint32_t>(std::ceil(std::min(lod, maxLevel) + 0.5f)) - 1u);
     case MipFilter::Linear: break;
   }
-  if (!(lod > 0.0f)) return read(0);
-  if (lod >= maxLevel) return read(static_cast<uint32_t>(maxLevel));
-  const float base = std::floor(lod);
-  const auto l = static_cast<uint32_t>(base);
-  return glm::mix(read(l), read(l + 1), lod - base);
+  return blendLevels(read, lod, maxLevel);
 }
 
 glm::vec4 Texture::sample(glm::vec2 uv, float lod, TextureFilter filter) const {

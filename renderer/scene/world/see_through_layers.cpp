@@ -295,6 +295,15 @@ bool sameTriangle(const AdditiveHits::Candidate& a, const AdditiveHits::Candidat
   return a.prim == b.prim && a.instance == b.instance && a.overlay == b.overlay;
 }
 
+/// Candidates nearest first, ties in drawing order (AdditiveHits::drawnBefore), the world's before
+/// the drawOnTop instances'.
+bool nearerCandidate(const AdditiveHits::Candidate& a, const AdditiveHits::Candidate& b) {
+  if (a.t != b.t) return a.t < b.t;
+  if (a.overlay != b.overlay) return a.overlay < b.overlay;
+  if (a.instance != b.instance) return a.instance < b.instance;
+  return a.prim > b.prim;
+}
+
 /// Sorts the entries into drawing order: a full array is a heap (keepFirst), the others are in
 /// the order recorded (insertion sort: a few, often in order already).
 void sortEntries(AdditiveHits& hits) {
@@ -315,14 +324,8 @@ void sortEntries(AdditiveHits& hits) {
 
 void recordLayerCandidate(AdditiveHits& hits, const AdditiveHits::Candidate& c) {
   using Candidate = AdditiveHits::Candidate;
-  // Nearest first, ties in drawing order (AdditiveHits::drawnBefore): the candidates kept are
-  // the layers drawn first.
-  const auto nearer = [](const Candidate& a, const Candidate& b) {
-    if (a.t != b.t) return a.t < b.t;
-    if (a.overlay != b.overlay) return a.overlay < b.overlay;
-    if (a.instance != b.instance) return a.instance < b.instance;
-    return a.prim > b.prim;
-  };
+  // The candidates kept are the layers drawn first.
+  const auto nearer = [](const Candidate& a, const Candidate& b) { return nearerCandidate(a, b); };
   keepFirst(
       hits.candidates, hits.candidateCount, [&](const Candidate& held) { return nearer(c, held); }, nearer,
       [&](Candidate& slot) {
@@ -418,16 +421,8 @@ void resolvePacketLayers(const RenderScene& scene, std::span<TracedCameraRay> ra
   // sortEntries finds them sorted.
   std::array<uint16_t, kMaxPending> byDistance;
   for (uint32_t g = 0; g < groups; ++g) {
-    const AdditiveHits::Candidate& key = *groupKey[g];
     uint32_t j = g;
-    for (; j > 0; --j) {
-      const AdditiveHits::Candidate& other = *groupKey[byDistance[j - 1]];
-      const bool before = key.t != other.t ? key.t < other.t
-                          : key.instance != other.instance ? key.instance < other.instance
-                                                           : key.prim > other.prim;
-      if (!before) break;
-      byDistance[j] = byDistance[j - 1];
-    }
+    for (; j > 0 && nearerCandidate(*groupKey[g], *groupKey[byDistance[j - 1]]); --j) byDistance[j] = byDistance[j - 1];
     byDistance[j] = static_cast<uint16_t>(g);
   }
   for (uint32_t k = 0; k < groups; ++k) {
