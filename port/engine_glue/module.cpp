@@ -173,7 +173,22 @@ void Module::setWorldVisData(const q3abi::byte*) {
   // The client never calls this (measured); our visibility comes from the BSP itself.
 }
 
-void Module::endRegistration() {}
+void Module::endRegistration() {
+  // Every model, skin and shader of the map is registered now: their materials and textures are
+  // made here, in the loading screen, instead of in the first frame that draws a view.
+  // What fails here fails again, and is reported, where the first view makes them.
+  const TracerSettings tracer = settings_.tracer(engine_);
+  const auto prepare = [&](ViewRenderer* views, bool withWorld) {
+    if (views == nullptr) return;
+    try {
+      views->prepareShaders(shaders_, tracer, withWorld);
+    } catch (const std::exception& error) {
+      engine_.print(q3abi::PRINT_DEVELOPER, "pathtracer: EndRegistration: %s\n", error.what());
+    }
+  };
+  if (world_) prepare(views_.get(), true);
+  prepare(modelViews_.get(), false);
+}
 
 int Module::lerpTag(q3abi::orientation_t* tag, q3abi::qhandle_t model, int startFrame,
                     int endFrame, float frac, const char* tagName) {

@@ -116,6 +116,11 @@ void ViewRenderer::shadersChanged() {
   impl_->map.preparedShaders = 0;
 }
 
+void ViewRenderer::prepareShaders(ShaderRegistry& shaders, const TracerSettings& settings, bool withWorld) {
+  impl_->dropStartedView();
+  impl_->prepareMaterials(shaders, settings.preset == Preset::Lightmap, withWorld && impl_->map.worldScene.has_value());
+}
+
 void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScripts, ImageCache& images) {
   impl_->dropStartedView();
   impl_->startMap();

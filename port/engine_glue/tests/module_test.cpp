@@ -330,6 +330,39 @@ TEST_F(ModuleTest, HudModelViewWorksWithoutAWorld) {
   EXPECT_EQ(fake::engine().lastErrorLevel, -1);
 }
 
+TEST_F(ModuleTest, EndRegistrationMakesTheMaterialsBeforeTheFirstView) {
+  // The stock renderer loads images as they are registered; this module makes its textures and
+  // materials at EndRegistration, in the loading screen, so that the first frame of play does not.
+  fake::engine().files["models/test/skin.tga"] = solidTga(8, 8, 200, 100, 50, 255);
+  fake::engine().setCvar("developer", "1");
+  begin();
+  ASSERT_GT(re_->RegisterShader("models/test/skin"), 0);
+  fake::engine().prints.clear();
+  re_->EndRegistration();
+  EXPECT_TRUE(fake::engine().printed("prepared shaders")) << "no materials made at EndRegistration";
+  EXPECT_EQ(fake::engine().lastErrorLevel, -1);
+  fake::engine().prints.clear();
+  re_->BeginFrame(0);
+  re_->ClearScene();
+  q3abi::refdef_t view{};
+  view.width = view.height = 48;
+  view.fov_x = view.fov_y = 30.0f;
+  view.viewaxis[0][0] = view.viewaxis[1][1] = view.viewaxis[2][2] = 1.0f;
+  view.rdflags = q3abi::RDF_NOWORLDMODEL;
+  re_->RenderScene(&view);
+  re_->EndFrame(nullptr, nullptr);
+  EXPECT_FALSE(fake::engine().printed("prepared shaders")) << "the first view made materials again";
+  // A shader registered during play gets its materials at the next view, as before.
+  fake::engine().files["models/test/late.tga"] = solidTga(8, 8, 10, 20, 30, 255);
+  ASSERT_GT(re_->RegisterShader("models/test/late"), 0);
+  re_->BeginFrame(0);
+  re_->ClearScene();
+  re_->RenderScene(&view);
+  re_->EndFrame(nullptr, nullptr);
+  EXPECT_TRUE(fake::engine().printed("prepared shaders"));
+  EXPECT_EQ(fake::engine().lastErrorLevel, -1);
+}
+
 TEST_F(ModuleTest, WorldViewWithoutAWorldDropsToTheMenu) {
   begin();
   re_->BeginFrame(0);
