@@ -49,6 +49,43 @@ void addTimings(ViewTimings& sum, const ViewTimings& t) {
   sum.taauMs += t.taauMs;
 }
 
+/// The phases of `b` less those of `a` (the ms sums and the views; not the period's bookkeeping).
+FrameStats phasesSince(const FrameStats& a, const FrameStats& b) {
+  FrameStats d;
+  d.views = b.views - a.views;
+  d.modelViews = b.modelViews - a.modelViews;
+  d.world.sceneMs = b.world.sceneMs - a.world.sceneMs;
+  d.world.commitMs = b.world.commitMs - a.world.commitMs;
+  d.world.traceMs = b.world.traceMs - a.world.traceMs;
+  d.world.temporalMs = b.world.temporalMs - a.world.temporalMs;
+  d.world.denoiseMs = b.world.denoiseMs - a.world.denoiseMs;
+  d.world.resolveMs = b.world.resolveMs - a.world.resolveMs;
+  d.world.resampleMs = b.world.resampleMs - a.world.resampleMs;
+  d.world.taauMs = b.world.taauMs - a.world.taauMs;
+  d.uploadMs = b.uploadMs - a.uploadMs;
+  d.modelViewMs = b.modelViewMs - a.modelViewMs;
+  d.overlay2dMs = b.overlay2dMs - a.overlay2dMs;
+  d.presentMs = b.presentMs - a.presentMs;
+  d.offThreadMs = b.offThreadMs - a.offThreadMs;
+  d.waitMs = b.waitMs - a.waitMs;
+  return d;
+}
+
+/// What of a frame (or a period's frames) ran on the game's thread in our phases: a pipelined
+/// view's tracing ran beside it, waited for in waitMs.
+double accountedMs(const FrameStats& s) {
+  return s.world.sceneMs + s.world.commitMs + s.world.resampleMs + s.world.traceMs + s.world.temporalMs +
+         s.world.denoiseMs + s.world.resolveMs + s.world.taauMs + s.uploadMs + s.modelViewMs + s.overlay2dMs +
+         s.presentMs - s.offThreadMs + s.waitMs;
+}
+
+/// Frames at least this long, and at least kSlowFrameFactor times the last period's mean, are
+/// described one by one with r_pt_stats (a hitch a player sees).
+constexpr double kSlowFrameMs = 50.0;
+constexpr double kSlowFrameFactor = 2.0;
+/// At most this many of them a stats period (2 s).
+constexpr int kSlowFramesPerPeriod = 8;
+
 }  // namespace
 
 void Module::beginFrame(int /*stereoFrame*/) {
@@ -59,9 +96,14 @@ void Module::beginFrame(int /*stereoFrame*/) {
   if (frameBegan_ != Clock::time_point{}) {
     const double lastFrameMs = std::chrono::duration<double, std::milli>(now - frameBegan_).count();
     stats_.frameMs += lastFrameMs;
+    stats_.maxFrameMs = std::max(stats_.maxFrameMs, lastFrameMs);
+    if (tracer.printStats && lastFrameMs >= std::max(kSlowFrameMs, kSlowFrameFactor * lastPeriodFrameMs_))
+      printSlowFrame(lastFrameMs);
     resolution_.update(lastFrameMs, tracer.targetFps, tracer.minScale);   // r_pt_fps 0: forgets
   }
   frameBegan_ = now;
+  frameStart_ = stats_;
+  lastFrame_ = FrameStats{};   // a frame that never ends (no window) describes nothing
   modelViewsThisFrame_ = 0;
   if (settings_.gammaChanged()) updateDisplayRamp();
   overlay_.beginFrame(window_.width(), window_.height(), window_.pictureFillsSurface());
@@ -95,9 +137,11 @@ void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
   if (backEndMsec != nullptr) *backEndMsec = now - frameStartMs_ - traceMsThisFrame_;
   stats_.frames += 1;
   framesEnded_ += 1;
+  lastFrame_ = phasesSince(frameStart_, stats_);
   traceMsThisFrame_ = 0;
   if (now - stats_.sinceMs >= 2000) {
     if (settings_.tracer(engine_).printStats && stats_.frames > 0) printFrameStats(now);
+    if (stats_.frames > 0) lastPeriodFrameMs_ = stats_.frameMs / stats_.frames;
     stats_ = FrameStats{};
     stats_.sinceMs = now;
     stats_.allocationsAtStart = allocationCount();
@@ -107,22 +151,33 @@ void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
 void Module::printFrameStats(int nowMs) const {
   const FrameStats& s = stats_;
   const double n = s.frames;
-  // The game's thread: what ran on it (a pipelined view's tracing ran beside it, waited for in waitMs).
-  const double accounted = s.world.sceneMs + s.world.commitMs + s.world.resampleMs + s.world.traceMs + s.world.temporalMs + s.world.denoiseMs +
-                           s.world.resolveMs + s.world.taauMs + s.uploadMs + s.modelViewMs + s.overlay2dMs + s.presentMs -
-                           s.offThreadMs + s.waitMs;
+  const double accounted = accountedMs(s);
   // One line of name=value pairs (per-frame means) that scripts/engine_bench.sh parses.
   engine_.print(q3abi::PRINT_ALL,
                 "pathtracer: stats %s fps=%.1f frame_ms=%.2f world_views=%.2f scene_ms=%.2f commit_ms=%.2f "
                 "trace_ms=%.2f temporal_ms=%.2f denoise_ms=%.2f resolve_ms=%.2f upload_ms=%.2f model_views=%.2f model_view_ms=%.2f "
                 "overlay2d_ms=%.2f present_ms=%.2f engine_ms=%.2f accumulated=%u anim_ms=%.3f anim_updates=%.2f resample_ms=%.2f "
-                "taau_ms=%.2f scale=%.3f allocations=%.2f wait_ms=%.2f\n",
+                "taau_ms=%.2f scale=%.3f allocations=%.2f wait_ms=%.2f max_frame_ms=%.1f\n",
                 presetName(settings_.tracer(engine_).preset), 1000.0 * n / std::max(1, nowMs - s.sinceMs),
                 s.frameMs / n, s.views / n, s.world.sceneMs / n, s.world.commitMs / n, s.world.traceMs / n,
                 s.world.temporalMs / n, s.world.denoiseMs / n, s.world.resolveMs / n, s.uploadMs / n, s.modelViews / n, s.modelViewMs / n,
                 s.overlay2dMs / n, s.presentMs / n, std::max(0.0, s.frameMs - accounted) / n, s.accumulated,
                 s.world.animationMs / n, s.world.animationUpdates / n, s.world.resampleMs / n, s.world.taauMs / n, s.scale,
-                static_cast<double>(allocationCount() - s.allocationsAtStart) / n, s.waitMs / n);
+                static_cast<double>(allocationCount() - s.allocationsAtStart) / n, s.waitMs / n, s.maxFrameMs);
+}
+
+void Module::printSlowFrame(double frameMs) {
+  if (stats_.slowFramesPrinted >= kSlowFramesPerPeriod) return;
+  stats_.slowFramesPrinted += 1;
+  const FrameStats& f = lastFrame_;
+  // A pipelined world view's phases count in the frame that waited for it (the next one).
+  engine_.print(q3abi::PRINT_ALL,
+                "pathtracer: slow frame %llu: %.1f ms: world_views=%d scene_ms=%.1f commit_ms=%.1f trace_ms=%.1f "
+                "denoise_ms=%.1f temporal_ms=%.1f model_views=%d model_view_ms=%.1f upload_ms=%.1f overlay2d_ms=%.1f "
+                "present_ms=%.1f wait_ms=%.1f engine_ms=%.1f\n",
+                static_cast<unsigned long long>(framesEnded_), frameMs, f.views, f.world.sceneMs, f.world.commitMs,
+                f.world.traceMs, f.world.denoiseMs, f.world.temporalMs, f.modelViews, f.modelViewMs, f.uploadMs,
+                f.overlay2dMs, f.presentMs, f.waitMs, std::max(0.0, frameMs - accountedMs(f)));
 }
 
 void Module::clearScene() { scene_.clear(); }

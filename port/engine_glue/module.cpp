@@ -181,7 +181,7 @@ void Module::endRegistration() {
   const auto prepare = [&](ViewRenderer* views, bool withWorld) {
     if (views == nullptr) return;
     try {
-      views->prepareShaders(shaders_, tracer, withWorld);
+      views->prepareForPlay(shaders_, tracer, withWorld);
     } catch (const std::exception& error) {
       engine_.print(q3abi::PRINT_DEVELOPER, "pathtracer: EndRegistration: %s\n", error.what());
     }

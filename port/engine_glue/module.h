@@ -65,6 +65,8 @@ struct FrameStats {
   double offThreadMs = 0.0;
   double waitMs = 0.0;         ///< See offThreadMs.
   double frameMs = 0.0;        ///< BeginFrame to BeginFrame of the next frame (engine and game included).
+  double maxFrameMs = 0.0;     ///< The longest of those frames.
+  int slowFramesPrinted = 0;   ///< Frames over kSlowFrameMs described this period (r_pt_stats).
   uint32_t accumulated = 0;    ///< Frames in the last world view's picture.
   float scale = 0.0f;          ///< r_pt_scale of the last world view (dynamic resolution's choice with r_pt_fps).
   uint64_t allocationsAtStart = 0;   ///< allocationCount() when the period began.
@@ -134,6 +136,8 @@ class Module {
   void updateDisplayRamp();
   /// Prints the r_pt_stats line: per-frame means of stats_ up to `nowMs`.
   void printFrameStats(int nowMs) const;
+  /// Prints a slow frame of `frameMs` with its phases (lastFrame_), r_pt_stats on.
+  void printSlowFrame(double frameMs);
   double seconds() const;
   /// The stock picture cvars with the window's fullscreen state (the display's overbright bits).
   PictureSettings picture() const;
@@ -199,6 +203,9 @@ class Module {
   int traceMsThisFrame_ = 0;
   int modelViewsThisFrame_ = 0;    ///< Views without the world drawn since BeginFrame.
   FrameStats stats_;
+  FrameStats frameStart_;   ///< stats_ at the last BeginFrame: this frame's phases are what it gained since.
+  FrameStats lastFrame_;    ///< The last ended frame's phases (its frameMs known at the next BeginFrame).
+  double lastPeriodFrameMs_ = 0.0;   ///< The mean frame of the last stats period (0: none yet).
   uint64_t framesEnded_ = 0;                ///< EndFrames since the module was loaded.
   uint64_t allocationsMark_ = 0;            ///< allocationCount() at the last pt_allocations.
   uint64_t framesMark_ = 0;                 ///< framesEnded_ at the last pt_allocations.

@@ -84,10 +84,12 @@ class ViewRenderer {
   void clearWorld();
   /// RemapShader happened: materials must be re-resolved.
   void shadersChanged();
-  /// Makes the materials and textures of every shader registered so far, as the first view would
-  /// (EndRegistration: during loading, as the stock renderer loads its images, not in the first
-  /// frame of play). `withWorld`: for the world's views (2D pictures too), else for model views.
-  void prepareShaders(ShaderRegistry& shaders, const TracerSettings& settings, bool withWorld);
+  /// Does what the first view would do once for the whole map (EndRegistration: during loading,
+  /// as the stock renderer loads its images, not in the first frame of play): makes the materials
+  /// and textures of every shader registered so far and, for the world's views (`withWorld`), shows
+  /// the world as the preset looks at it (sky, glowing surfaces) and commits it (the traced
+  /// presets' light structures). Without `withWorld`: for model views (no 2D pictures).
+  void prepareForPlay(ShaderRegistry& shaders, const TracerSettings& settings, bool withWorld);
   /// Traces one view; nullopt when nothing can be drawn (no tracer available).
   /// `world` is null for RDF_NOWORLDMODEL views.
   std::optional<TracedPicture> render(const q3abi::refdef_t& view, const SceneFrame& scene,

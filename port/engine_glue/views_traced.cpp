@@ -116,9 +116,19 @@ void ViewRenderer::shadersChanged() {
   impl_->map.preparedShaders = 0;
 }
 
-void ViewRenderer::prepareShaders(ShaderRegistry& shaders, const TracerSettings& settings, bool withWorld) {
-  impl_->dropStartedView();
-  impl_->prepareMaterials(shaders, settings.preset == Preset::Lightmap, withWorld && impl_->map.worldScene.has_value());
+void ViewRenderer::prepareForPlay(ShaderRegistry& shaders, const TracerSettings& settings, bool withWorld) {
+  Impl& d = *impl_;
+  d.dropStartedView();
+  const bool lightmapLook = settings.preset == Preset::Lightmap;
+  const bool world = withWorld && d.map.worldScene.has_value();
+  d.prepareMaterials(shaders, lightmapLook, world);
+  if (!world) return;
+  d.selectSky(lightmapLook, 0.0);
+  d.selectWorldEmission(lightmapLook);
+  if (lightmapLook)
+    d.renderer->commit();
+  else
+    d.renderer->prepareLights();
 }
 
 void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScripts, ImageCache& images) {

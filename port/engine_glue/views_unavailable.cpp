@@ -18,7 +18,7 @@ void ViewRenderer::loadWorld(const World&, const ShaderScripts&, ImageCache&) {}
 void ViewRenderer::clearWorld() {}
 void ViewRenderer::setPicture(const PictureSettings&) {}
 void ViewRenderer::shadersChanged() {}
-void ViewRenderer::prepareShaders(ShaderRegistry&, const TracerSettings&, bool) {}
+void ViewRenderer::prepareForPlay(ShaderRegistry&, const TracerSettings&, bool) {}
 
 std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t&, const SceneFrame&,
                                                   const TracerSettings&, ShaderRegistry&,

@@ -214,6 +214,21 @@ void Renderer::commit() {
   im.commitMsSinceRender += millisecondsSince(start);
 }
 
+void Renderer::prepareLights() {
+  commit();
+  attachLights();
+}
+
+void Renderer::attachLights() {
+  Impl& im = *impl_;
+  if (im.environmentAttached) return;
+  im.arena.execute([&] {
+    im.store.attachLights(im.scene);
+    im.store.attachEnvironmentVisibility(im.scene);
+  });
+  im.environmentAttached = true;
+}
+
 void Renderer::startRender(const Camera& camera, const RenderSettings& settings) {
   Impl& im = *impl_;
   if (im.rendering) throw SceneError("startRender: the last startRender was not finished");
@@ -262,13 +277,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
     phaseStart = Clock::now();
   };
 
-  if (settings.integrator != Integrator::Lightmap && !im.environmentAttached) {
-    im.arena.execute([&] {   // Lightmap never samples lights
-      im.store.attachLights(im.scene);
-      im.store.attachEnvironmentVisibility(im.scene);
-    });
-    im.environmentAttached = true;
-  }
+  if (settings.integrator != Integrator::Lightmap) attachLights();   // Lightmap never samples lights
   double attachMs = 0.0;
   endPhase(attachMs);
   timings.commitMs += attachMs;

@@ -110,6 +110,11 @@ class Renderer {
   /// Makes all changes since the last commit visible to render(): builds changed BLASes,
   /// rebuilds the TLAS and the light sampling tables; resets accumulation if anything changed.
   void commit();
+  /// commit(), then gathers what the traced integrators need of the committed scene before their
+  /// first render: the light sampling tables and the sun/sky visibility map (cached per map; a
+  /// few hundred milliseconds on a map with open sky). For a loading screen; render() does it
+  /// itself when it has not been done.
+  void prepareLights();
 
   /// Renders one frame of settings.samplesPerPixel samples per pixel and returns the film.
   /// Accumulation continues while camera, settings and scene are unchanged since the last call.
@@ -131,6 +136,8 @@ class Renderer {
   void resetAccumulation();
 
  private:
+  /// The committed scene's light sampling tables and sun/sky visibility map, once per commit.
+  void attachLights();
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

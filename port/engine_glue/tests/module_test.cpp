@@ -7,8 +7,10 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <thread>
 
 #include "fake_engine.h"
 #include "port/q3formats/bsp/tests/external_lightmap_map.h"
@@ -361,6 +363,23 @@ TEST_F(ModuleTest, EndRegistrationMakesTheMaterialsBeforeTheFirstView) {
   re_->EndFrame(nullptr, nullptr);
   EXPECT_TRUE(fake::engine().printed("prepared shaders"));
   EXPECT_EQ(fake::engine().lastErrorLevel, -1);
+}
+
+TEST_F(ModuleTest, StatsDescribeASlowFrameWithItsPhases) {
+  // r_pt_stats: a frame of 50 ms or more (a hitch) is printed with its phases.
+  fake::engine().setCvar("r_pt_stats", "1");
+  begin();
+  re_->BeginFrame(0);
+  re_->EndFrame(nullptr, nullptr);
+  re_->BeginFrame(0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(70));   // the game taking its time
+  re_->EndFrame(nullptr, nullptr);
+  fake::engine().prints.clear();
+  re_->BeginFrame(0);   // the slow frame's length is known when the next one begins
+  re_->EndFrame(nullptr, nullptr);
+  EXPECT_TRUE(fake::engine().printed("pathtracer: slow frame 2: ")) << "no slow frame described";
+  EXPECT_TRUE(fake::engine().printed(" present_ms="));
+  EXPECT_TRUE(fake::engine().printed(" engine_ms="));
 }
 
 TEST_F(ModuleTest, WorldViewWithoutAWorldDropsToTheMenu) {

@@ -84,6 +84,32 @@ TEST(StartedRender, GivesTheFramesOfCommitAndRender) {
   }
 }
 
+TEST(StartedRender, LightsPreparedBeforeTheFirstRenderGiveTheSameFrames) {
+  // A loading screen gathers the lights and the sun/sky visibility map (prepareLights); the
+  // frames that follow are those of a renderer that gathers them in its first render, and
+  // later edits are gathered again.
+  for (const Integrator integrator : {Integrator::Direct, Integrator::Path, Integrator::Lightmap}) {
+    const RenderSettings s = settingsFor(integrator, 16, 1, 2);
+    Renderer plain({2}), prepared({2});
+    MeshId plainMesh = kNoId, preparedMesh = kNoId;
+    const InstanceId plainSphere = buildScene(plain, plainMesh);
+    const InstanceId preparedSphere = buildScene(prepared, preparedMesh);
+    prepared.prepareLights();
+    prepared.prepareLights();   // twice: nothing changed, nothing done
+    for (int i = 0; i < 3; ++i) {
+      if (i > 0) {
+        editFrame(plain, plainSphere, plainMesh, i);
+        editFrame(prepared, preparedSphere, preparedMesh, i);
+      }
+      plain.commit();
+      prepared.commit();
+      const std::vector<uint8_t> expected = frameBytes(plain.render(cameraOf(i), s));
+      EXPECT_TRUE(frameBytes(prepared.render(cameraOf(i), s)) == expected)
+          << "integrator " << static_cast<int>(integrator) << ", frame " << i;
+    }
+  }
+}
+
 TEST(StartedRender, BadSettingsThrowAtTheStart) {
   Renderer r({2});
   MeshId mesh = kNoId;
