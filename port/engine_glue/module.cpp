@@ -174,9 +174,10 @@ void Module::setWorldVisData(const q3abi::byte*) {
 }
 
 void Module::endRegistration() {
-  // Every model, skin and shader of the map is registered now: their materials and textures are
-  // made here, in the loading screen, instead of in the first frame that draws a view.
-  // What fails here fails again, and is reported, where the first view makes them.
+  // Every model, skin and shader of the map is registered now: what the first view would do once
+  // for the whole map (materials, textures, the world's look and lights) is done here, in the
+  // loading screen, instead of in the first frame of play. What fails here fails again, and is
+  // reported, where the first view does it.
   const TracerSettings tracer = settings_.tracer(engine_);
   const auto prepare = [&](ViewRenderer* views, bool withWorld) {
     if (views == nullptr) return;
