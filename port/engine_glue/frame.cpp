@@ -79,8 +79,9 @@ double accountedMs(const FrameStats& s) {
          s.presentMs - s.offThreadMs + s.waitMs;
 }
 
-/// Frames at least this long, and at least kSlowFrameFactor times the last period's mean, are
-/// described one by one with r_pt_stats (a hitch a player sees).
+/// Frames that drew a view, at least this long and at least kSlowFrameFactor times the last
+/// period's mean frame with a world view, are described one by one with r_pt_stats (a hitch a
+/// player sees).
 constexpr double kSlowFrameMs = 50.0;
 constexpr double kSlowFrameFactor = 2.0;
 /// At most this many of them a stats period (2 s).
@@ -97,7 +98,13 @@ void Module::beginFrame(int /*stereoFrame*/) {
     const double lastFrameMs = std::chrono::duration<double, std::milli>(now - frameBegan_).count();
     stats_.frameMs += lastFrameMs;
     stats_.maxFrameMs = std::max(stats_.maxFrameMs, lastFrameMs);
-    if (tracer.printStats && lastFrameMs >= std::max(kSlowFrameMs, kSlowFrameFactor * lastPeriodFrameMs_))
+    if (lastFrame_.views > 0) {
+      stats_.viewFramesMs += lastFrameMs;
+      stats_.viewFrames += 1;
+    }
+    // Frames that drew no view (loading screens, menus) are the engine's: not described.
+    const bool drewView = lastFrame_.views > 0 || lastFrame_.modelViews > 0;
+    if (tracer.printStats && drewView && lastFrameMs >= std::max(kSlowFrameMs, kSlowFrameFactor * lastPeriodFrameMs_))
       printSlowFrame(lastFrameMs);
     resolution_.update(lastFrameMs, tracer.targetFps, tracer.minScale);   // r_pt_fps 0: forgets
   }
@@ -141,7 +148,8 @@ void Module::endFrame(int* frontEndMsec, int* backEndMsec) {
   traceMsThisFrame_ = 0;
   if (now - stats_.sinceMs >= 2000) {
     if (settings_.tracer(engine_).printStats && stats_.frames > 0) printFrameStats(now);
-    if (stats_.frames > 0) lastPeriodFrameMs_ = stats_.frameMs / stats_.frames;
+    // The loading screen's long frames would hide the first hitches of play: frames of play only.
+    if (stats_.viewFrames > 0) lastPeriodFrameMs_ = stats_.viewFramesMs / stats_.viewFrames;
     stats_ = FrameStats{};
     stats_.sinceMs = now;
     stats_.allocationsAtStart = allocationCount();

@@ -66,6 +66,8 @@ struct FrameStats {
   double waitMs = 0.0;         ///< See offThreadMs.
   double frameMs = 0.0;        ///< BeginFrame to BeginFrame of the next frame (engine and game included).
   double maxFrameMs = 0.0;     ///< The longest of those frames.
+  double viewFramesMs = 0.0;   ///< frameMs of the frames that finished a world view (not loading screens).
+  int viewFrames = 0;          ///< Those frames.
   int slowFramesPrinted = 0;   ///< Frames over kSlowFrameMs described this period (r_pt_stats).
   uint32_t accumulated = 0;    ///< Frames in the last world view's picture.
   float scale = 0.0f;          ///< r_pt_scale of the last world view (dynamic resolution's choice with r_pt_fps).
@@ -205,7 +207,7 @@ class Module {
   FrameStats stats_;
   FrameStats frameStart_;   ///< stats_ at the last BeginFrame: this frame's phases are what it gained since.
   FrameStats lastFrame_;    ///< The last ended frame's phases (its frameMs known at the next BeginFrame).
-  double lastPeriodFrameMs_ = 0.0;   ///< The mean frame of the last stats period (0: none yet).
+  double lastPeriodFrameMs_ = 0.0;   ///< The mean frame with a world view of the last period that had one (0: none yet).
   uint64_t framesEnded_ = 0;                ///< EndFrames since the module was loaded.
   uint64_t allocationsMark_ = 0;            ///< allocationCount() at the last pt_allocations.
   uint64_t framesMark_ = 0;                 ///< framesEnded_ at the last pt_allocations.
