@@ -36,17 +36,18 @@ class ScopeTimer {
   Clock::time_point start_;
 };
 
-void addTimings(ViewTimings& sum, const ViewTimings& t) {
-  sum.sceneMs += t.sceneMs;
-  sum.commitMs += t.commitMs;
-  sum.traceMs += t.traceMs;
-  sum.temporalMs += t.temporalMs;
-  sum.denoiseMs += t.denoiseMs;
-  sum.resolveMs += t.resolveMs;
-  sum.animationMs += t.animationMs;
-  sum.animationUpdates += t.animationUpdates;
-  sum.resampleMs += t.resampleMs;
-  sum.taauMs += t.taauMs;
+/// Adds `scale` x each of t's timings to sum's (scale -1: subtracts them).
+void addTimings(ViewTimings& sum, const ViewTimings& t, double scale = 1.0) {
+  sum.sceneMs += scale * t.sceneMs;
+  sum.commitMs += scale * t.commitMs;
+  sum.traceMs += scale * t.traceMs;
+  sum.temporalMs += scale * t.temporalMs;
+  sum.denoiseMs += scale * t.denoiseMs;
+  sum.resolveMs += scale * t.resolveMs;
+  sum.animationMs += scale * t.animationMs;
+  sum.animationUpdates += scale * t.animationUpdates;
+  sum.resampleMs += scale * t.resampleMs;
+  sum.taauMs += scale * t.taauMs;
 }
 
 /// The phases of `b` less those of `a` (the ms sums and the views; not the period's bookkeeping).
@@ -54,14 +55,8 @@ FrameStats phasesSince(const FrameStats& a, const FrameStats& b) {
   FrameStats d;
   d.views = b.views - a.views;
   d.modelViews = b.modelViews - a.modelViews;
-  d.world.sceneMs = b.world.sceneMs - a.world.sceneMs;
-  d.world.commitMs = b.world.commitMs - a.world.commitMs;
-  d.world.traceMs = b.world.traceMs - a.world.traceMs;
-  d.world.temporalMs = b.world.temporalMs - a.world.temporalMs;
-  d.world.denoiseMs = b.world.denoiseMs - a.world.denoiseMs;
-  d.world.resolveMs = b.world.resolveMs - a.world.resolveMs;
-  d.world.resampleMs = b.world.resampleMs - a.world.resampleMs;
-  d.world.taauMs = b.world.taauMs - a.world.taauMs;
+  d.world = b.world;
+  addTimings(d.world, a.world, -1.0);
   d.uploadMs = b.uploadMs - a.uploadMs;
   d.modelViewMs = b.modelViewMs - a.modelViewMs;
   d.overlay2dMs = b.overlay2dMs - a.overlay2dMs;

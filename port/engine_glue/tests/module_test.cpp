@@ -117,6 +117,18 @@ class ModuleTest : public ::testing::Test {
     return out;
   }
 
+  /// A HUD model view (RDF_NOWORLDMODEL) of size x size at (x, y), looking down +x.
+  static q3abi::refdef_t modelView(int size, int x = 0, int y = 0) {
+    q3abi::refdef_t view{};
+    view.x = x;
+    view.y = y;
+    view.width = view.height = size;
+    view.fov_x = view.fov_y = 30.0f;
+    view.viewaxis[0][0] = view.viewaxis[1][1] = view.viewaxis[2][2] = 1.0f;
+    view.rdflags = q3abi::RDF_NOWORLDMODEL;
+    return view;
+  }
+
   using GetRefApi = refexport_t* (*)(int, q3abi::refimport_t*);
   void* library_ = nullptr;
   GetRefApi getRefApi_ = nullptr;
@@ -319,14 +331,7 @@ TEST_F(ModuleTest, HudModelViewWorksWithoutAWorld) {
   head.reType = q3abi::RT_MODEL;
   head.axis[0][0] = head.axis[1][1] = head.axis[2][2] = 1.0f;
   re_->AddRefEntityToScene(&head);
-  q3abi::refdef_t view{};
-  view.x = 10;
-  view.y = 10;
-  view.width = 48;
-  view.height = 48;
-  view.fov_x = view.fov_y = 30.0f;
-  view.viewaxis[0][0] = view.viewaxis[1][1] = view.viewaxis[2][2] = 1.0f;
-  view.rdflags = q3abi::RDF_NOWORLDMODEL;
+  const q3abi::refdef_t view = modelView(48, 10, 10);
   re_->RenderScene(&view);
   re_->EndFrame(nullptr, nullptr);
   EXPECT_EQ(fake::engine().lastErrorLevel, -1);
@@ -346,11 +351,7 @@ TEST_F(ModuleTest, EndRegistrationMakesTheMaterialsBeforeTheFirstView) {
   fake::engine().prints.clear();
   re_->BeginFrame(0);
   re_->ClearScene();
-  q3abi::refdef_t view{};
-  view.width = view.height = 48;
-  view.fov_x = view.fov_y = 30.0f;
-  view.viewaxis[0][0] = view.viewaxis[1][1] = view.viewaxis[2][2] = 1.0f;
-  view.rdflags = q3abi::RDF_NOWORLDMODEL;
+  const q3abi::refdef_t view = modelView(48);
   re_->RenderScene(&view);
   re_->EndFrame(nullptr, nullptr);
   EXPECT_FALSE(fake::engine().printed("prepared shaders")) << "the first view made materials again";
@@ -370,11 +371,7 @@ TEST_F(ModuleTest, StatsDescribeASlowFrameWithItsPhases) {
   // with its phases; a slow frame without a view (a loading screen) is the engine's and is not.
   fake::engine().setCvar("r_pt_stats", "1");
   begin();
-  q3abi::refdef_t view{};
-  view.width = view.height = 32;
-  view.fov_x = view.fov_y = 30.0f;
-  view.viewaxis[0][0] = view.viewaxis[1][1] = view.viewaxis[2][2] = 1.0f;
-  view.rdflags = q3abi::RDF_NOWORLDMODEL;
+  const q3abi::refdef_t view = modelView(32);
   const auto frame = [&](bool drawView, int sleepMs) {
     re_->BeginFrame(0);
     if (drawView) {
