@@ -10,7 +10,7 @@ PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, cons
                         const ResampledLight* resampled, TriangleMemo* memo) {
   if (settings.integrator == Integrator::Lightmap)
     return composeLightmapSample(scene, camera, settings, px, py, sampler, traced, memo);
-  return tracePathSample(scene, camera, settings, px, py, sampler, traced, resampled);
+  return tracePathSample(scene, camera, settings, px, py, sampler, traced, resampled, memo);
 }
 
 }  // namespace pa

@@ -122,7 +122,7 @@ glm::vec3 layersTransmittance(const AdditiveHits& additive, float tHit) {
 
 PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                             float px, float py, const sampling::PixelSampler& sampler, const TracedCameraRay* traced,
-                            const ResampledLight* resampled) {
+                            const ResampledLight* resampled, TriangleMemo* memo) {
   PixelSample out;
   Ray ray = traced ? traced->ray : camera.generate(px, py);
   glm::vec3 radiance(0.0f);
@@ -160,7 +160,10 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
       if (scatterCount == 0) gather(beta * fog.glow());
       beta *= fog.transmittance();
     }
-    const SurfaceHit s = segment.found ? scene.surfaceAt(hit, segment.onOverlay, ray) : SurfaceHit{};
+    // Camera rays of neighbouring pixels mostly end on a few triangles; later vertices seldom share one.
+    const SurfaceHit s = segment.found ? scene.surfaceAt(hit, segment.onOverlay, ray, SurfaceParts::All,
+                                                         depth == 0 ? memo : nullptr)
+                                       : SurfaceHit{};
     if (!segment.found || s.material->desc.sky) {
       const glm::vec3 le = environmentRadiance(scene, dir, prev, scatterCount > 0);
       gather(clampContribution(beta * le, viewDepth, settings.radianceClamp));

@@ -11,9 +11,10 @@
 
 namespace pa {
 
-/// One Direct- or Path-preset camera sample through film position (px, py) (see traceSample).
+/// One Direct- or Path-preset camera sample through film position (px, py) (see traceSample);
+/// `memo`, when given, keeps the first hit's triangle part for the next sample (RenderScene::surfaceAt).
 PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                             float px, float py, const sampling::PixelSampler& sampler, const TracedCameraRay* traced,
-                            const ResampledLight* resampled);
+                            const ResampledLight* resampled, TriangleMemo* memo = nullptr);
 
 }  // namespace pa

@@ -9,6 +9,10 @@
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
+#if defined(__SSE4_1__)
+#include <immintrin.h>
+#endif
+
 namespace pa::sampling {
 
 /// 32-bit integer hash with good avalanche (xor-shift-multiply, "lowbias32" constants).
@@ -120,6 +124,42 @@ constexpr uint32_t nestedUniformScramble(uint32_t x, uint32_t seed) {
   return reverseBits(laineKarrasPermutation(reverseBits(x), seed));
 }
 
+/// Sobol points of a bit-reversed index, bit-reversed, by index byte: reversedBytes[dim][k][b] =
+/// reverseBits(sobol(reverseBits(y), dim)) for a y whose only set bits are those of b at byte
+/// position k. Bit reversal is linear over XOR as Sobol points are, so for every y
+/// reverseBits(sobol(reverseBits(y), dim)) is the XOR of y's four bytes' entries: a scrambled
+/// point (reverse, scramble, reverse) then reverses its bits once instead of three times.
+struct SobolReversedByteTable {
+  std::array<std::array<std::array<uint32_t, 256>, 4>, kSobolDimensions> reversedBytes{};
+};
+
+/// Builds the reversed byte table from the direction numbers.
+constexpr SobolReversedByteTable makeSobolReversedByteTable() {
+  SobolReversedByteTable t{};
+  for (uint32_t dim = 0; dim < kSobolDimensions; ++dim) {
+    for (uint32_t k = 0; k < 4; ++k) {
+      for (uint32_t b = 0; b < 256; ++b) {
+        uint32_t x = 0;
+        for (uint32_t bit = 0; bit < 8; ++bit) {
+          // Bit 8k + bit of y is bit 31 - (8k + bit) of the index.
+          if ((b >> bit) & 1u) x ^= reverseBits(kSobolDirections.v[dim][31 - (8 * k + bit)]);
+        }
+        t.reversedBytes[dim][k][b] = x;
+      }
+    }
+  }
+  return t;
+}
+
+/// The constant reversed byte table (16 KiB).
+inline constexpr SobolReversedByteTable kSobolReversedBytes = makeSobolReversedByteTable();
+
+/// reverseBits(sobol(reverseBits(y), dim)).
+constexpr uint32_t reversedSobolOfReversed(uint32_t y, uint32_t dim) {
+  const auto& t = kSobolReversedBytes.reversedBytes[dim];
+  return t[0][y & 0xffu] ^ t[1][(y >> 8) & 0xffu] ^ t[2][(y >> 16) & 0xffu] ^ t[3][y >> 24];
+}
+
 /// Sampler for one pixel sample: a pure function of (pixel seed, sample index, group).
 class PixelSampler {
  public:
@@ -130,6 +170,59 @@ class PixelSampler {
 
   /// Four scrambled Sobol dimensions of dimension group `group` (each use site owns a group).
   glm::vec4 get4(uint32_t group) const {
+    // As get4Reference: the scrambled index in reversed bit order (y) picks the reversed Sobol
+    // point straight from kSobolReversedBytes, and only the scrambled point is reversed back.
+    const uint32_t groupSeed = hashCombine(pixelSeed_, group);
+    const uint32_t y = laineKarrasPermutation(reverseBits(sampleIndex_), groupSeed);
+#if defined(__SSE4_1__)
+    // The four dimensions in the four lanes, the same integer steps as the scalar loop below.
+    const auto& t = kSobolReversedBytes.reversedBytes;
+    const auto point = [&](uint32_t d) {
+      return t[d][0][y & 0xffu] ^ t[d][1][(y >> 8) & 0xffu] ^ t[d][2][(y >> 16) & 0xffu] ^ t[d][3][y >> 24];
+    };
+    const __m128i points = _mm_setr_epi32(static_cast<int>(point(0)), static_cast<int>(point(1)),
+                                          static_cast<int>(point(2)), static_cast<int>(point(3)));
+    const auto times = [](__m128i x, uint32_t c) { return _mm_mullo_epi32(x, _mm_set1_epi32(static_cast<int>(c))); };
+    // hashCombine(groupSeed, d + 1) for d = 0..3.
+    const uint32_t mix = 0x9e3779b9u + (groupSeed << 6) + (groupSeed >> 2);
+    __m128i seeds = _mm_xor_si128(_mm_set1_epi32(static_cast<int>(groupSeed)),
+                                  _mm_add_epi32(_mm_setr_epi32(1, 2, 3, 4), _mm_set1_epi32(static_cast<int>(mix))));
+    seeds = _mm_xor_si128(seeds, _mm_srli_epi32(seeds, 16));
+    seeds = times(seeds, 0x7feb352du);
+    seeds = _mm_xor_si128(seeds, _mm_srli_epi32(seeds, 15));
+    seeds = times(seeds, 0x846ca68bu);
+    seeds = _mm_xor_si128(seeds, _mm_srli_epi32(seeds, 16));
+    // laineKarrasPermutation(point, seed).
+    __m128i x = _mm_add_epi32(points, seeds);
+    x = _mm_xor_si128(x, times(x, 0x6c50b47cu));
+    x = _mm_xor_si128(x, times(x, 0xb82f1e52u));
+    x = _mm_xor_si128(x, times(x, 0xc7afe638u));
+    x = _mm_xor_si128(x, times(x, 0x8d22f6e6u));
+    // reverseBits: each nibble reversed by table, the nibbles of a byte swapped, the bytes of a lane.
+    const __m128i nibbleReversed = _mm_setr_epi8(0, 8, 4, 12, 2, 10, 6, 14, 1, 9, 5, 13, 3, 11, 7, 15);
+    const __m128i lowNibbles = _mm_set1_epi8(0x0f);
+    const __m128i low = _mm_shuffle_epi8(nibbleReversed, _mm_and_si128(x, lowNibbles));
+    const __m128i high = _mm_shuffle_epi8(nibbleReversed, _mm_and_si128(_mm_srli_epi16(x, 4), lowNibbles));
+    x = _mm_or_si128(_mm_slli_epi16(low, 4), high);   // no bit crosses a byte: low < 16
+    x = _mm_shuffle_epi8(x, _mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12));
+    // toUnitFloat: the top 24 bits, exactly representable.
+    const __m128 unit = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srli_epi32(x, 8)), _mm_set1_ps(0x1p-24f));
+    glm::vec4 out;
+    _mm_storeu_ps(&out.x, unit);
+    return out;
+#else
+    glm::vec4 out;
+    for (uint32_t d = 0; d < kSobolDimensions; ++d) {
+      const uint32_t dimSeed = hashCombine(groupSeed, d + 1);
+      out[static_cast<int>(d)] =
+          toUnitFloat(reverseBits(laineKarrasPermutation(reversedSobolOfReversed(y, d), dimSeed)));
+    }
+    return out;
+#endif
+  }
+
+  /// get4 spelled out as defined: the scrambled index, its Sobol point, the point scrambled.
+  glm::vec4 get4Reference(uint32_t group) const {
     const uint32_t groupSeed = hashCombine(pixelSeed_, group);
     const uint32_t index = nestedUniformScramble(sampleIndex_, groupSeed);
     glm::vec4 out;

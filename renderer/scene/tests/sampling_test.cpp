@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
 #include <set>
 
 #include "renderer/scene/sampling/alias_table.h"
@@ -51,6 +52,36 @@ TEST(Sobol, PixelSamplerIsStratifiedAndDeterministic) {
   double sum = 0.0;
   for (uint32_t i = 0; i < 4096; ++i) sum += PixelSampler(99, i).get4(9).w;
   EXPECT_NEAR(sum / 4096.0, 0.5, 1e-3);
+}
+
+TEST(Sobol, ReversedByteTableIsTheSobolPointOfTheReversedIndexReversed) {
+  for (uint32_t dim = 0; dim < kSobolDimensions; ++dim)
+    for (uint32_t y : {0u, 1u, 0x80000000u, 0xffffffffu, 0x12345678u, 0xdeadbeefu, 0x00ff00ffu})
+      EXPECT_EQ(reversedSobolOfReversed(y, dim), reverseBits(sobol(reverseBits(y), dim))) << dim << " " << y;
+}
+
+TEST(Sobol, Get4GivesTheBitsOfItsDefinition) {
+  // get4 reverses bits once per dimension and runs the dimensions in SIMD lanes where it can;
+  // every float must be get4Reference's, the scrambled Sobol point as defined.
+  uint32_t state = 1;
+  const auto next = [&] { return state = hashCombine(state, 0x51ed27u); };
+  const std::array<uint32_t, 6> edges{0u, 1u, 2u, 0x7fffffffu, 0x80000000u, 0xffffffffu};
+  const auto same = [](glm::vec4 a, glm::vec4 b) {
+    for (int d = 0; d < 4; ++d)
+      if (std::bit_cast<uint32_t>(a[d]) != std::bit_cast<uint32_t>(b[d])) return false;
+    return true;
+  };
+  for (uint32_t seed : edges)
+    for (uint32_t index : edges)
+      for (uint32_t group : edges) {
+        const PixelSampler s(seed, index);
+        EXPECT_TRUE(same(s.get4(group), s.get4Reference(group))) << seed << " " << index << " " << group;
+      }
+  for (int i = 0; i < 100000; ++i) {
+    const PixelSampler s(next(), next() >> (next() & 31u));
+    const uint32_t group = next() & 0xffffu;
+    ASSERT_TRUE(same(s.get4(group), s.get4Reference(group))) << i;
+  }
 }
 
 TEST(AliasTable, SamplesInProportionToWeights) {
