@@ -58,6 +58,14 @@ glm::vec3 viewerInModel(const q3abi::refEntity_t& e, const glm::vec3& viewer) {
   return glm::vec3(glm::dot(delta, m[0]), glm::dot(delta, m[1]), glm::dot(delta, m[2])) * scale;
 }
 
+/// The stock look (textures x baked light, as opengl1 draws): the lightmap preset's world views,
+/// and the HUD's model views (RDF_NOWORLDMODEL icons and heads) in every preset. Those are
+/// interface pictures with no world to light them: the stock entity light (noWorldLight) shows
+/// them as the game draws them, where a path-traced 1-spp icon was speckled and cost 2-3 ms a frame.
+bool stockLookFor(const TracerSettings& settings, bool withWorld) {
+  return settings.preset == Preset::Lightmap || !withWorld;
+}
+
 pa::Integrator integratorFor(Preset preset) {
   switch (preset) {
     case Preset::Lightmap: return pa::Integrator::Lightmap;
@@ -119,8 +127,8 @@ void ViewRenderer::shadersChanged() {
 void ViewRenderer::prepareForPlay(ShaderRegistry& shaders, const TracerSettings& settings, bool withWorld) {
   Impl& d = *impl_;
   d.dropStartedView();
-  const bool lightmapLook = settings.preset == Preset::Lightmap;
   const bool world = withWorld && d.map.worldScene.has_value();
+  const bool lightmapLook = stockLookFor(settings, world);
   d.prepareMaterials(shaders, lightmapLook, world);
   if (!world) return;
   d.selectSky(lightmapLook, 0.0);
@@ -209,7 +217,7 @@ ViewContext ViewRenderer::Impl::beginView(const q3abi::refdef_t& view, const Tra
   camera.fovX = std::clamp(view.fov_x, 1.0f, 179.0f);
   camera.fovY = std::clamp(view.fov_y, 1.0f, 179.0f);
   ctx.viewer = Viewer{camera.origin, camera.left, camera.up};
-  ctx.lightmapLook = settings.preset == Preset::Lightmap;
+  ctx.lightmapLook = stockLookFor(settings, ctx.withWorld);
   ctx.seconds = view.time * 0.001;   // the stock shader time of this view
   ++viewCount;
   animationUpdates = 0;
@@ -376,19 +384,19 @@ double ViewRenderer::Impl::showWorldLook(const ViewContext& ctx, std::span<const
 
 pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, const q3abi::refdef_t& view,
                                                       const TracerSettings& settings) {
-  const bool traced = settings.preset == Preset::Direct || settings.preset == Preset::Path;
+  const bool traced = !ctx.lightmapLook && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
   pa::RenderSettings rs;
   const float scale = ctx.withWorld ? settings.resolutionScale : 1.0f;
   rs.width = static_cast<uint32_t>(std::max(8, static_cast<int>(std::lround(view.width * scale))));
   rs.height = static_cast<uint32_t>(std::max(8, static_cast<int>(std::lround(view.height * scale))));
-  rs.integrator = integratorFor(settings.preset);
+  rs.integrator = ctx.lightmapLook ? pa::Integrator::Lightmap : integratorFor(settings.preset);
   rs.samplesPerPixel = static_cast<uint32_t>(settings.samplesPerPixel);
   // The stock look samples textures at pixel centres, as opengl1 rasterises.
   rs.pixelCentres = ctx.lightmapLook && rs.samplesPerPixel == 1;
   rs.stockTextureFilter = settings.textureFilter;   // as stock's texture units (r_textureMode)
   rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
   rs.bakedLightAtPathEnd = settings.bakedEnd;
-  rs.accumulate = settings.preset == Preset::Reference;
+  rs.accumulate = settings.preset == Preset::Reference && !ctx.lightmapLook;
   // In play the world never stands still (items bob, the player's own body breathes, shaders
   // animate): a still view keeps accumulating, restarting only the pixels that show a change.
   rs.accumulateThroughEdits = rs.accumulate && ctx.withWorld;

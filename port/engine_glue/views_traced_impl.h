@@ -136,7 +136,7 @@ struct ViewContext {
   pa::Camera camera;           ///< The view's camera.
   Viewer viewer;               ///< The same, for sprites facing it.
   bool withWorld = false;      ///< The world is drawn (not a model-only view).
-  bool lightmapLook = false;   ///< The lightmap preset (the stock look).
+  bool lightmapLook = false;   ///< The stock look: the lightmap preset, and HUD model views (stockLookFor).
   double seconds = 0.0;        ///< The view's stock shader time.
 };
 

@@ -14,6 +14,7 @@
 
 #include "fake_engine.h"
 #include "port/q3formats/bsp/tests/external_lightmap_map.h"
+#include "port/q3formats/model/tests/md3_builder.h"
 #include "port/q3formats/vfs/game_filesystem.h"
 
 namespace {
@@ -334,6 +335,59 @@ TEST_F(ModuleTest, HudModelViewWorksWithoutAWorld) {
   const q3abi::refdef_t view = modelView(48, 10, 10);
   re_->RenderScene(&view);
   re_->EndFrame(nullptr, nullptr);
+  EXPECT_EQ(fake::engine().lastErrorLevel, -1);
+}
+
+TEST_F(ModuleTest, HudModelViewsShowTheStockLookInEveryPreset) {
+  // A HUD model view (an icon, the status bar's head) has no world to light it: every preset
+  // draws it as the lightmap preset does, the stock entity light on its textures, the same pixels.
+  q3::test::Md3Builder md3;
+  q3::test::Md3BuildSurface& quad = md3.surfaces[0];
+  quad.shaders = {"models/test/skin"};
+  quad.st = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const int16_t facingCamera = (64 << 8) | 128;   // packed normal -x: latitude 90, longitude 180 degrees
+  quad.frames = {{{0, -16 * 64, -16 * 64, facingCamera},
+                  {0, 16 * 64, -16 * 64, facingCamera},
+                  {0, 16 * 64, 16 * 64, facingCamera},
+                  {0, -16 * 64, 16 * 64, facingCamera}}};
+  quad.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 2, 1}, {0, 3, 2}};   // both windings: seen whichever is front
+  const std::vector<std::byte> bytes = md3.build();
+  fake::engine().files["models/test/quad.md3"] =
+      std::vector<uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()),
+                           reinterpret_cast<const uint8_t*>(bytes.data()) + bytes.size());
+  fake::engine().files["models/test/skin.tga"] = solidTga(8, 8, 200, 120, 40, 255);
+  begin();
+  const q3abi::qhandle_t model = re_->RegisterModel("models/test/quad.md3");
+  ASSERT_GT(model, 0);
+  re_->EndRegistration();
+  q3abi::refEntity_t icon{};
+  icon.reType = q3abi::RT_MODEL;
+  icon.hModel = model;
+  icon.origin[0] = 100.0f;   // in front of the view, which looks down +x
+  icon.axis[0][0] = icon.axis[1][1] = icon.axis[2][2] = 1.0f;
+  const q3abi::refdef_t view = modelView(48, 10, 10);
+  const auto picture = [&](const char* preset) {
+    fake::engine().setCvar("r_pt_preset", preset);
+    int width = 0, height = 0;
+    std::vector<uint8_t> pixels = frameToPixels(
+        [&] {
+          re_->ClearScene();
+          re_->AddRefEntityToScene(&icon);
+          re_->RenderScene(&view);
+        },
+        width, height);
+    // The view alone (48 x 48 at 10, 10 of the 640 x 480 window).
+    std::vector<uint8_t> inView;
+    for (int y = 10; y < 58 && y < height; ++y)
+      for (int x = 10; x < 58 && x < width; ++x)
+        for (int c = 0; c < 3; ++c) inView.push_back(pixels[(size_t(y) * width + x) * 3 + c]);
+    return inView;
+  };
+  const std::vector<uint8_t> stock = picture("lightmap");
+  ASSERT_EQ(stock.size(), size_t{48 * 48 * 3});
+  const size_t centre = (size_t{24} * 48 + 24) * 3;
+  EXPECT_GT(stock[centre], 60) << "the icon is not drawn";
+  for (const char* preset : {"direct", "path", "reference"}) EXPECT_EQ(picture(preset), stock) << preset;
   EXPECT_EQ(fake::engine().lastErrorLevel, -1);
 }
 
