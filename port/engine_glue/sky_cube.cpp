@@ -157,13 +157,19 @@ bool SkyBaker::prepare(const q3::ShaderDef& shader, const SkyImageLoader& load, 
 
 SkyBaker::LayerState SkyBaker::layersAt(double seconds) const {
   LayerState state;
+  layersAt(seconds, state);
+  return state;
+}
+
+void SkyBaker::layersAt(double seconds, LayerState& state) const {
+  state.transforms.clear();
+  state.colors.clear();
   state.transforms.reserve(layers_.size());
   state.colors.reserve(layers_.size());
   for (const Layer& layer : layers_) {
     state.transforms.push_back(q3::uvTransformAt(layer.stage.tcMods, seconds));
     state.colors.push_back(stageColor(layer.stage, seconds));
   }
-  return state;
 }
 
 glm::vec3 SkyBaker::composeClouds(glm::vec3 color, glm::vec2 st, const LayerState& state) const {
@@ -211,26 +217,17 @@ void SkyBaker::bake(double seconds, SkyCube& out) const {
   });
 }
 
-namespace {
+StockSkyPicture::StockSkyPicture(std::shared_ptr<const SkyBaker> baker, double seconds)
+    : baker_(std::move(baker)), state_(baker_->layersAt(seconds)) {}
 
-/// The stock sky at one shader time, per direction: display colour decoded to linear radiance.
-class StockSkyPicture final : public pa::SkyPicture {
- public:
-  StockSkyPicture(std::shared_ptr<const SkyBaker> baker, double seconds)
-      : baker_(std::move(baker)), state_(baker_->layersAt(seconds)) {}
-  glm::vec3 radiance(const glm::vec3& dir) const override {
-    const glm::vec3 display = baker_->colorAt(dir, state_);
-    return {pa::srgbToLinear(display.r), pa::srgbToLinear(display.g), pa::srgbToLinear(display.b)};
-  }
+glm::vec3 StockSkyPicture::radiance(const glm::vec3& dir) const {
+  const glm::vec3 display = baker_->colorAt(dir, state_);
+  return {pa::srgbToLinear(display.r), pa::srgbToLinear(display.g), pa::srgbToLinear(display.b)};
+}
 
- private:
-  std::shared_ptr<const SkyBaker> baker_;
-  SkyBaker::LayerState state_;
-};
+void StockSkyPicture::setTime(double seconds) { baker_->layersAt(seconds, state_); }
 
-}  // namespace
-
-std::shared_ptr<const pa::SkyPicture> stockSkyPictureAt(std::shared_ptr<const SkyBaker> baker, double seconds) {
+std::shared_ptr<StockSkyPicture> stockSkyPictureAt(std::shared_ptr<const SkyBaker> baker, double seconds) {
   if (!baker) return nullptr;
   return std::make_shared<StockSkyPicture>(std::move(baker), seconds);
 }

@@ -72,6 +72,8 @@ class SkyBaker {
   };
   /// The layers' state at shader time `seconds`.
   LayerState layersAt(double seconds) const;
+  /// The same, written into `state` (its vectors keep their memory).
+  void layersAt(double seconds, LayerState& state) const;
   /// The display colour (each channel in [0, 1]) seen along a non-zero direction: the far box
   /// and the cloud layers in `state`; what bake() writes at a texel centre, without its resampling.
   glm::vec3 colorAt(const glm::vec3& direction, const LayerState& state) const;
@@ -93,8 +95,22 @@ class SkyBaker {
   bool animated_ = false;
 };
 
-/// The stock sky of a prepared baker at shader time `seconds`, as a per-direction picture for
-/// pa::SkyDesc::picture (what camera rays see; no texture is baked or uploaded). Null for null.
-std::shared_ptr<const pa::SkyPicture> stockSkyPictureAt(std::shared_ptr<const SkyBaker> baker, double seconds);
+/// The stock sky of a prepared baker at one shader time, per direction: display colour decoded
+/// to linear radiance, for pa::SkyDesc::picture (what camera rays see; no texture is baked or
+/// uploaded). Moved to another time in place (setTime), without allocating, while no render reads it.
+class StockSkyPicture final : public pa::SkyPicture {
+ public:
+  StockSkyPicture(std::shared_ptr<const SkyBaker> baker, double seconds);
+  glm::vec3 radiance(const glm::vec3& dir) const override;
+  /// The clouds at shader time `seconds`.
+  void setTime(double seconds);
+
+ private:
+  std::shared_ptr<const SkyBaker> baker_;
+  SkyBaker::LayerState state_;
+};
+
+/// A StockSkyPicture of a prepared baker at shader time `seconds`. Null for null.
+std::shared_ptr<StockSkyPicture> stockSkyPictureAt(std::shared_ptr<const SkyBaker> baker, double seconds);
 
 }  // namespace glue

@@ -98,8 +98,10 @@ struct MapState {
   /// as uploaded, not yet chosen.
   int stockEmissionShown = -1;
   /// The stock sky: its cube faces are baked once per map (the sky's mean and sampling); camera
-  /// rays see stockSkyPictureAt(skyBaker, shader time), so moving clouds cost no bake per frame.
+  /// rays see stockSkyPicture (stockSky.picture), moved to each view's shader time in place, so
+  /// moving clouds cost no bake, texture or allocation per frame.
   std::shared_ptr<const SkyBaker> skyBaker;
+  std::shared_ptr<StockSkyPicture> stockSkyPicture;
   double stockSkySeconds = -1.0;   ///< Shader time of stockSky.picture.
   std::unordered_map<uint32_t, glm::vec3> glowColors;   ///< World material -> glow stage colour (linear).
   WorldSprites worldSprites;                 ///< deformVertexes autosprite world surfaces.

@@ -198,12 +198,15 @@ void ViewRenderer::Impl::prepareStockSky(const q3::ShaderLibrary& library, Image
     stockSky.faces[f] = renderer->addTexture(desc);
   }
   map.skyBaker = std::move(baker);
-  stockSky.picture = stockSkyPictureAt(map.skyBaker, 0.0);
+  map.stockSkyPicture = stockSkyPictureAt(map.skyBaker, 0.0);
+  stockSky.picture = map.stockSkyPicture;
   map.stockSkySeconds = 0.0;
   map.stockSkyReady = true;
-  // Still clouds (shader time 0): a sky that changed per frame would restart reference's mean.
+  // Still clouds (shader time 0, a picture of their own that never moves): a sky that changed
+  // per frame would restart reference's mean.
   map.tracedSky = litStockSky(stockSky, skyCubeMeanLinear(cube), map.bridgeSky,
                               pa::bridge::skyLightingRadiance(*map.worldScene));
+  if (map.tracedSky.picture == stockSky.picture) map.tracedSky.picture = stockSkyPictureAt(map.skyBaker, 0.0);
   if (!map.stockSkyShown && !map.skyHidden) renderer->setSky(map.tracedSky);   // in place of the bridge sky
 }
 
@@ -211,7 +214,8 @@ void ViewRenderer::Impl::selectSky(bool stockLook, double seconds) {
   const bool stock = stockLook && map.stockSkyReady;
   const bool moved = stock && map.skyBaker->animated() && seconds != map.stockSkySeconds;
   if (moved) {
-    map.stockSky.picture = stockSkyPictureAt(map.skyBaker, seconds);
+    // No render reads the picture now (each view finishes the one in flight before it is prepared).
+    map.stockSkyPicture->setTime(seconds);
     map.stockSkySeconds = seconds;
   }
   if (!moved && stock == map.stockSkyShown && !map.skyHidden) return;

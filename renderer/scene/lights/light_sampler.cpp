@@ -286,7 +286,11 @@ void LightSampler::buildTables(const Sky& sky, const Bounds& sceneBounds, std::s
     localEntry_ = static_cast<uint32_t>(power.size());
     power.push_back(localPower);
   }
-  sky_ = sky.black() ? Sky{} : sky;
+  // Assigned in place: the sky's sampling tables keep their memory from one commit to the next.
+  if (sky.black())
+    sky_ = Sky{};
+  else
+    sky_ = sky;
   if (!sky.black()) {
     skyEntry_ = static_cast<uint32_t>(power.size());
     // Radiance L over a hemisphere through area A carries pi L A.
@@ -310,11 +314,16 @@ void LightSampler::buildTables(const Sky& sky, const Bounds& sceneBounds, std::s
 
 std::vector<glm::vec3> LightSampler::sunDirections() const {
   std::vector<glm::vec3> directions;
+  sunDirections(directions);
+  return directions;
+}
+
+void LightSampler::sunDirections(std::vector<glm::vec3>& out) const {
+  out.clear();
   // Analytic light i is table entry i; a sun that carries no power (intensity or colour 0, as a
   // pooled light switched off) lights nothing and is left out.
   for (uint32_t i = 0; i < analytic_.size(); ++i)
-    if (analytic_[i].type == LightType::Directional && table_.pdf(i) > 0.0f) directions.push_back(analytic_[i].direction);
-  return directions;
+    if (analytic_[i].type == LightType::Directional && table_.pdf(i) > 0.0f) out.push_back(analytic_[i].direction);
 }
 
 float LightSampler::entryProbability(uint32_t entry, const glm::vec3& p, const glm::vec3& n) const {

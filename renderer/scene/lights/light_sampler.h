@@ -115,6 +115,8 @@ class LightSampler {
   /// The unit directions the suns that carry light travel (what an EnvironmentVisibility map
   /// traces); suns of zero intensity or colour are not among them.
   std::vector<glm::vec3> sunDirections() const;
+  /// The same, written into `out` (its memory kept).
+  void sunDirections(std::vector<glm::vec3>& out) const;
   /// Where sun and sky can reach (null: everywhere). Shared: it outlives commits that keep the
   /// world, the suns and the sky.
   void setEnvironmentVisibility(std::shared_ptr<const EnvironmentVisibility> visibility) {

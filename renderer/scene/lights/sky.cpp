@@ -58,7 +58,10 @@ Sky::Sky(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>&
     : scale_(desc.color * desc.intensity),
       lightingScale_(desc.lightingScale),
       picture_(desc.picture),
-      ambient_{desc.ambientRadiance, desc.minimumRadiance} {
+      ambient_{desc.ambientRadiance, desc.minimumRadiance},
+      source_(desc),
+      made_(true) {
+  source_.picture = nullptr;
   glm::vec3 faceMean(0.0f);
   for (size_t i = 0; i < 6; ++i) {
     if (desc.faces[i] == kNoId) continue;
@@ -72,6 +75,19 @@ Sky::Sky(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>&
   } else {
     average_ = lightingScale_ * scale_;
   }
+}
+
+bool Sky::sameButPicture(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>& textures) const {
+  if (!made_ || desc.color != source_.color || desc.faces != source_.faces || desc.intensity != source_.intensity ||
+      desc.lightingScale != source_.lightingScale || desc.ambientRadiance != source_.ambientRadiance ||
+      desc.minimumRadiance != source_.minimumRadiance)
+    return false;
+  for (size_t i = 0; i < 6; ++i) {   // a texture updated under the same id is another texture
+    const TextureId id = desc.faces[i];
+    const Texture* now = id == kNoId ? nullptr : id < textures.size() ? textures[id].get() : nullptr;
+    if (now != faces_[i].get() || (id != kNoId && now == nullptr)) return false;
+  }
+  return true;
 }
 
 void Sky::buildImportance() {

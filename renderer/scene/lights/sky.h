@@ -61,6 +61,12 @@ class Sky {
   bool black() const { return average_.x <= 0.0f && average_.y <= 0.0f && average_.z <= 0.0f; }
   /// The scene-wide ambient terms (SkyDesc::ambientRadiance, SkyDesc::minimumRadiance).
   const AmbientLight& ambient() const { return ambient_; }
+  /// True when Sky(desc, textures) would differ from this sky at most in its picture
+  /// (SkyDesc::picture): the same terms and the same face textures. False for a default Sky.
+  bool sameButPicture(const SkyDesc& desc, const std::vector<std::shared_ptr<const Texture>>& textures) const;
+  /// Shows `picture` instead of the faces (SkyDesc::picture), keeping the rest: what a moving
+  /// sky changes per frame, without building the sampling distribution again.
+  void setPicture(std::shared_ptr<const SkyPicture> picture) { picture_ = std::move(picture); }
 
  private:
   glm::vec3 scale_{0.0f};
@@ -71,6 +77,8 @@ class Sky {
   glm::vec3 average_{0.0f};
   sampling::AliasTable table_;
   AmbientLight ambient_;
+  SkyDesc source_;        ///< The desc it was made from, without its picture (sameButPicture).
+  bool made_ = false;     ///< Made from a desc (not default-constructed).
 
   void buildImportance();
 };

@@ -58,6 +58,73 @@ TEST(Sky, CubeMapFacesAreSeenInTheirDirections) {
   }
 }
 
+/// A sky picture of one constant radiance.
+class ConstantSkyPicture final : public SkyPicture {
+ public:
+  explicit ConstantSkyPicture(glm::vec3 radiance) : radiance_(radiance) {}
+  glm::vec3 radiance(const glm::vec3&) const override { return radiance_; }
+
+ private:
+  glm::vec3 radiance_;
+};
+
+TEST(Sky, APictureOnlyChangeKeepsTheSamplingAndShowsTheNewPicture) {
+  std::vector<std::shared_ptr<const Texture>> textures;
+  SkyDesc desc;
+  desc.color = glm::vec3(1.0f);
+  for (uint32_t f = 0; f < 6; ++f) {
+    const auto v = static_cast<uint8_t>(30 * (f + 1));
+    const std::vector<uint8_t> px = test::solidPixels(4, 4, v, v, v, 255);
+    textures.push_back(std::make_shared<const Texture>(Texture::fromDesc({4, 4, px, false, TextureWrap::Clamp}, "face")));
+    desc.faces[f] = f;
+  }
+  desc.picture = std::make_shared<ConstantSkyPicture>(glm::vec3(0.25f));
+  Sky sky(desc, textures);
+  EXPECT_FALSE(Sky{}.sameButPicture(desc, textures)) << "a default sky was made from nothing";
+  SkyDesc moved = desc;
+  moved.picture = std::make_shared<ConstantSkyPicture>(glm::vec3(0.5f));
+  ASSERT_TRUE(sky.sameButPicture(moved, textures));
+  const Sky rebuilt(moved, textures);
+  sky.setPicture(moved.picture);
+  const glm::vec3 up(0.0f, 0.0f, 1.0f), side = glm::normalize(glm::vec3(1.0f, 0.3f, 0.2f));
+  for (const glm::vec3& d : {up, side}) {
+    EXPECT_EQ(sky.radiance(d), rebuilt.radiance(d));
+    EXPECT_EQ(sky.pdf(d), rebuilt.pdf(d));   // the faces' sampling distribution is the same
+  }
+  EXPECT_EQ(sky.average(), rebuilt.average());
+  // Anything but the picture is another sky.
+  for (auto change : std::initializer_list<void (*)(SkyDesc&)>{
+           [](SkyDesc& d) { d.color = glm::vec3(0.5f); }, [](SkyDesc& d) { d.intensity = 2.0f; },
+           [](SkyDesc& d) { d.lightingScale = 0.5f; }, [](SkyDesc& d) { d.faces[3] = kNoId; },
+           [](SkyDesc& d) { d.ambientRadiance = glm::vec3(0.1f); }, [](SkyDesc& d) { d.minimumRadiance = glm::vec3(0.1f); }}) {
+    SkyDesc other = desc;
+    change(other);
+    EXPECT_FALSE(sky.sameButPicture(other, textures));
+  }
+  // A face texture replaced under the same id is another face.
+  std::vector<std::shared_ptr<const Texture>> replaced = textures;
+  const std::vector<uint8_t> px = test::solidPixels(4, 4, 250, 10, 10, 255);
+  replaced[2] = std::make_shared<const Texture>(Texture::fromDesc({4, 4, px, false, TextureWrap::Clamp}, "face"));
+  EXPECT_FALSE(sky.sameButPicture(desc, replaced));
+}
+
+TEST(Sky, CommitShowsAMovedPictureOfTheSameSky) {
+  Renderer r({2});
+  SkyDesc sky;
+  sky.color = glm::vec3(1.0f);
+  for (uint32_t f = 0; f < 6; ++f) {
+    const std::vector<uint8_t> px = test::solidPixels(4, 4, 100, 100, 100, 255);
+    sky.faces[f] = r.addTexture({4, 4, px, false, TextureWrap::Clamp});
+  }
+  for (const float shown : {0.25f, 0.75f, 0.5f}) {   // a moving sky: only its picture changes
+    sky.picture = std::make_shared<ConstantSkyPicture>(glm::vec3(shown));
+    r.setSky(sky);
+    r.commit();
+    const FrameView v = r.render(lookAt({0, 0, 0}, {1, 0, 0}, 20.0f), settingsFor(Integrator::Path, 4, 1));
+    EXPECT_NEAR(meanRadiance(v).g, shown, 1e-6f);
+  }
+}
+
 TEST(Scene, DynamicMeshUpdatesAreVisibleAfterCommit) {
   Renderer r({2});
   test::MeshArrays q = test::quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0});

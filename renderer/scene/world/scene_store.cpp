@@ -507,7 +507,11 @@ void SceneStore::commit(RenderScene& scene) {
 
   scene.portals = portals_;
   scene.fogs = fogs_;
-  scene.sky = Sky(sky_, scene.textures);
+  // The same sky but for its picture (moving clouds) keeps its sampling distribution.
+  if (scene.sky.sameButPicture(sky_, scene.textures))
+    scene.sky.setPicture(sky_.picture);
+  else
+    scene.sky = Sky(sky_, scene.textures);
   // The lights are gathered when a render needs them (attachLights): the Lightmap integrator
   // never samples lights, and its frames skip the pass over every world triangle. Until then
   // the emissive lookup is empty (cleared above) and scene.lights keeps its memory.
@@ -650,8 +654,9 @@ void SceneStore::attachEnvironmentVisibility(RenderScene& scene) {
     });
     return points;
   };
+  scene.lights.sunDirections(sunScratch_);
   scene.lights.setEnvironmentVisibility(environmentVisibility_.get(
-      scene.bounds, scene.lights.sunDirections(), !scene.sky.black(), skyWindows_, surfacePoints, escapes));
+      scene.bounds, sunScratch_, !scene.sky.black(), skyWindows_, surfacePoints, escapes));
 }
 
 }  // namespace pa

@@ -109,6 +109,7 @@ class SceneStore {
   std::vector<FogVolume> fogs_;
   EnvironmentVisibilityCache environmentVisibility_;   ///< Where sun and sky reach (lights/).
   std::vector<glm::vec3> skyWindows_;                  ///< The last commit's sky windows (area x normal).
+  std::vector<glm::vec3> sunScratch_;                  ///< attachEnvironmentVisibility's sun directions (memory kept).
   bool dirty_ = true;
   bool worldDirty_ = true;                   ///< A change since the last commit beyond camera-only overlays.
   std::vector<MeshId> touchedMeshes_;        ///< Meshes updated since the last commit.
