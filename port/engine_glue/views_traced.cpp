@@ -61,7 +61,7 @@ glm::vec3 viewerInModel(const q3abi::refEntity_t& e, const glm::vec3& viewer) {
 /// The stock look (textures x baked light, as opengl1 draws): the lightmap preset's world views,
 /// and the HUD's model views (RDF_NOWORLDMODEL icons and heads) in every preset. Those are
 /// interface pictures with no world to light them: the stock entity light (noWorldLight) shows
-/// them as the game draws them, where a path-traced 1-spp icon was speckled and cost 2-3 ms a frame.
+/// them as the game draws them; traced at 1 spp they would be speckled and cost more.
 bool stockLookFor(const TracerSettings& settings, bool withWorld) {
   return settings.preset == Preset::Lightmap || !withWorld;
 }

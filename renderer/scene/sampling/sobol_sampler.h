@@ -67,38 +67,6 @@ constexpr SobolDirections makeSobolDirections() {
 /// The constant direction table.
 inline constexpr SobolDirections kSobolDirections = makeSobolDirections();
 
-/// Sobol points by index byte: bytes[dim][k][b] = XOR of the direction numbers selected by the
-/// bits of byte value b at byte position k, so a point costs four lookups instead of 32 steps.
-struct SobolByteTable {
-  std::array<std::array<std::array<uint32_t, 256>, 4>, kSobolDimensions> bytes{};
-};
-
-/// Builds the byte table from the direction numbers.
-constexpr SobolByteTable makeSobolByteTable() {
-  SobolByteTable t{};
-  for (uint32_t dim = 0; dim < kSobolDimensions; ++dim) {
-    for (uint32_t k = 0; k < 4; ++k) {
-      for (uint32_t b = 0; b < 256; ++b) {
-        uint32_t x = 0;
-        for (uint32_t bit = 0; bit < 8; ++bit) {
-          if ((b >> bit) & 1u) x ^= kSobolDirections.v[dim][8 * k + bit];
-        }
-        t.bytes[dim][k][b] = x;
-      }
-    }
-  }
-  return t;
-}
-
-/// The constant byte table (16 KiB).
-inline constexpr SobolByteTable kSobolBytes = makeSobolByteTable();
-
-/// Unscrambled Sobol point `index` in dimension `dim` (< kSobolDimensions), as 32 bits.
-constexpr uint32_t sobol(uint32_t index, uint32_t dim) {
-  const auto& t = kSobolBytes.bytes[dim];
-  return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
-}
-
 /// Reverses the bit order of a 32-bit word.
 constexpr uint32_t reverseBits(uint32_t x) {
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
@@ -107,6 +75,54 @@ constexpr uint32_t reverseBits(uint32_t x) {
   x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
   return (x >> 16) | (x << 16);
 }
+
+/// A linear (over XOR) map of 32-bit words by input byte: bytes[dim][k][b] = XOR of
+/// column(dim, 8k + i) over the set bits i of byte value b, so that the map of a word is the XOR
+/// of its four bytes' entries: four lookups instead of 32 steps.
+struct SobolByteTable {
+  std::array<std::array<std::array<uint32_t, 256>, 4>, kSobolDimensions> bytes{};
+
+  /// The entries of one dimension's map of word `x`.
+  constexpr uint32_t map(uint32_t x, uint32_t dim) const {
+    const auto& t = bytes[dim];
+    return t[0][x & 0xffu] ^ t[1][(x >> 8) & 0xffu] ^ t[2][(x >> 16) & 0xffu] ^ t[3][x >> 24];
+  }
+};
+
+/// Builds the byte table of the map whose input bit i selects column(dim, i).
+template <class Column>
+constexpr SobolByteTable makeSobolByteTable(Column column) {
+  SobolByteTable t{};
+  for (uint32_t dim = 0; dim < kSobolDimensions; ++dim) {
+    for (uint32_t k = 0; k < 4; ++k) {
+      for (uint32_t b = 0; b < 256; ++b) {
+        uint32_t x = 0;
+        for (uint32_t bit = 0; bit < 8; ++bit) {
+          if ((b >> bit) & 1u) x ^= column(dim, 8 * k + bit);
+        }
+        t.bytes[dim][k][b] = x;
+      }
+    }
+  }
+  return t;
+}
+
+/// Sobol points by index byte (16 KiB): index bit i selects direction number i.
+inline constexpr SobolByteTable kSobolBytes =
+    makeSobolByteTable([](uint32_t dim, uint32_t i) { return kSobolDirections.v[dim][i]; });
+
+/// Sobol points of a bit-reversed index, bit-reversed (16 KiB): bit i of y = reverseBits(index)
+/// is index bit 31 - i. Bit reversal is linear over XOR as Sobol points are, so
+/// reverseBits(sobol(reverseBits(y), dim)) is this table's map of y: a scrambled point (reverse,
+/// scramble, reverse) then reverses its bits once instead of three times.
+inline constexpr SobolByteTable kSobolReversedBytes =
+    makeSobolByteTable([](uint32_t dim, uint32_t i) { return reverseBits(kSobolDirections.v[dim][31 - i]); });
+
+/// Unscrambled Sobol point `index` in dimension `dim` (< kSobolDimensions), as 32 bits.
+constexpr uint32_t sobol(uint32_t index, uint32_t dim) { return kSobolBytes.map(index, dim); }
+
+/// reverseBits(sobol(reverseBits(y), dim)).
+constexpr uint32_t reversedSobolOfReversed(uint32_t y, uint32_t dim) { return kSobolReversedBytes.map(y, dim); }
 
 /// Laine-Karras style hash: each output bit depends only on itself and lower input bits,
 /// so applied to bit-reversed values it is a nested uniform (Owen) scramble.
@@ -122,42 +138,6 @@ constexpr uint32_t laineKarrasPermutation(uint32_t x, uint32_t seed) {
 /// Owen scramble of a 32-bit fixed-point value in [0, 1).
 constexpr uint32_t nestedUniformScramble(uint32_t x, uint32_t seed) {
   return reverseBits(laineKarrasPermutation(reverseBits(x), seed));
-}
-
-/// Sobol points of a bit-reversed index, bit-reversed, by index byte: reversedBytes[dim][k][b] =
-/// reverseBits(sobol(reverseBits(y), dim)) for a y whose only set bits are those of b at byte
-/// position k. Bit reversal is linear over XOR as Sobol points are, so for every y
-/// reverseBits(sobol(reverseBits(y), dim)) is the XOR of y's four bytes' entries: a scrambled
-/// point (reverse, scramble, reverse) then reverses its bits once instead of three times.
-struct SobolReversedByteTable {
-  std::array<std::array<std::array<uint32_t, 256>, 4>, kSobolDimensions> reversedBytes{};
-};
-
-/// Builds the reversed byte table from the direction numbers.
-constexpr SobolReversedByteTable makeSobolReversedByteTable() {
-  SobolReversedByteTable t{};
-  for (uint32_t dim = 0; dim < kSobolDimensions; ++dim) {
-    for (uint32_t k = 0; k < 4; ++k) {
-      for (uint32_t b = 0; b < 256; ++b) {
-        uint32_t x = 0;
-        for (uint32_t bit = 0; bit < 8; ++bit) {
-          // Bit 8k + bit of y is bit 31 - (8k + bit) of the index.
-          if ((b >> bit) & 1u) x ^= reverseBits(kSobolDirections.v[dim][31 - (8 * k + bit)]);
-        }
-        t.reversedBytes[dim][k][b] = x;
-      }
-    }
-  }
-  return t;
-}
-
-/// The constant reversed byte table (16 KiB).
-inline constexpr SobolReversedByteTable kSobolReversedBytes = makeSobolReversedByteTable();
-
-/// reverseBits(sobol(reverseBits(y), dim)).
-constexpr uint32_t reversedSobolOfReversed(uint32_t y, uint32_t dim) {
-  const auto& t = kSobolReversedBytes.reversedBytes[dim];
-  return t[0][y & 0xffu] ^ t[1][(y >> 8) & 0xffu] ^ t[2][(y >> 16) & 0xffu] ^ t[3][y >> 24];
 }
 
 /// Sampler for one pixel sample: a pure function of (pixel seed, sample index, group).
@@ -176,10 +156,7 @@ class PixelSampler {
     const uint32_t y = laineKarrasPermutation(reverseBits(sampleIndex_), groupSeed);
 #if defined(__SSE4_1__)
     // The four dimensions in the four lanes, the same integer steps as the scalar loop below.
-    const auto& t = kSobolReversedBytes.reversedBytes;
-    const auto point = [&](uint32_t d) {
-      return t[d][0][y & 0xffu] ^ t[d][1][(y >> 8) & 0xffu] ^ t[d][2][(y >> 16) & 0xffu] ^ t[d][3][y >> 24];
-    };
+    const auto point = [y](uint32_t d) { return reversedSobolOfReversed(y, d); };
     const __m128i points = _mm_setr_epi32(static_cast<int>(point(0)), static_cast<int>(point(1)),
                                           static_cast<int>(point(2)), static_cast<int>(point(3)));
     const auto times = [](__m128i x, uint32_t c) { return _mm_mullo_epi32(x, _mm_set1_epi32(static_cast<int>(c))); };
