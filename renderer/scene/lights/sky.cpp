@@ -85,7 +85,7 @@ bool Sky::sameButPicture(const SkyDesc& desc, const std::vector<std::shared_ptr<
   for (size_t i = 0; i < 6; ++i) {   // a texture updated under the same id is another texture
     const TextureId id = desc.faces[i];
     const Texture* now = id == kNoId ? nullptr : id < textures.size() ? textures[id].get() : nullptr;
-    if (now != faces_[i].get() || (id != kNoId && now == nullptr)) return false;
+    if (now != faces_[i].get()) return false;
   }
   return true;
 }
