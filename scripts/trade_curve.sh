@@ -15,7 +15,8 @@
 # OUT_DIR/trade_cCAM.png: FLIP and PSNR against ms per frame, one point per configuration.
 # Environment: WIDTH (320), FRAMES (8), REF_SPP (64), REF_FRAMES (16), REF_BOUNCES (4),
 # THREADS (0 = all cores), PPD (FLIP's pixels per degree, default the paper's 67.02),
-# PLOT_ONLY (1: plot OUT_DIR/trade.tsv again without rendering).
+# PLOT_ONLY (1: plot OUT_DIR/trade.tsv again without rendering), ONLY (an awk regular expression:
+# only the configurations whose names match, e.g. "^(direct|path)$"; the reference is always made).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 render="${PA_RENDER:-$here/build/renderer/cli/pa-render}"
@@ -32,32 +33,35 @@ tsv="$out/trade.tsv"
 [[ -f "$tsv" ]] || printf 'scene\tcamera\tgroup\tconfig\tms_per_frame\tflip\tpsnr_db\tssim\tluma_ratio\n' >"$tsv"
 
 # The game's presets (port/engine_glue: r_pt_spp 1, r_pt_bounces 2, clamp 10, temporal,
-# denoiser and firefly spreading on, paths ending on the bake (r_pt_bake_end 1); `reference`
-# accumulates without clamp), then one knob at a
+# denoiser and firefly spreading on, paths ending on the bake (r_pt_bake_end 1), Russian roulette
+# from the first bounce (r_pt_roulette 1); `reference` accumulates without clamp), then one knob at a
 # time around `path`. Columns: group, config, scale, extra pa-render arguments.
 configs() {
-  local play="--play temporal --denoise --spread-fireflies --frames $frames"
+  local play="--play temporal --denoise --spread-fireflies --frames $frames --roulette-start 1"
   cat <<EOF
 preset lightmap 1 --integrator lightmap --spp 1 --play independent --frames 4
 preset direct 1 --integrator direct --clamp 10 --spp 1 $play --baked-path-end
 preset path 1 --integrator path --bounces 2 --clamp 10 --spp 1 $play --baked-path-end
-preset reference_4f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 4 --baked-path-end
-preset reference_16f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 16 --baked-path-end
-preset reference_64f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 64 --baked-path-end
+preset reference_4f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 4 --baked-path-end --roulette-start 1
+preset reference_16f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 16 --baked-path-end --roulette-start 1
+preset reference_64f 1 --integrator path --bounces 2 --clamp 0 --spp 1 --frames 64 --baked-path-end --roulette-start 1
 spp path_spp2 1 --integrator path --bounces 2 --clamp 10 --spp 2 $play --baked-path-end
 spp path_spp4 1 --integrator path --bounces 2 --clamp 10 --spp 4 $play --baked-path-end
 bounces path_bounces1 1 --integrator path --bounces 1 --clamp 10 --spp 1 $play --baked-path-end
 bounces path_bounces4 1 --integrator path --bounces 4 --clamp 10 --spp 1 $play --baked-path-end
 scale path_scale0.75 0.75 --integrator path --bounces 2 --clamp 10 --spp 1 $play --baked-path-end
 scale path_scale0.5 0.5 --integrator path --bounces 2 --clamp 10 --spp 1 $play --baked-path-end
-denoiser path_no_denoiser 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play temporal --spread-fireflies --frames $frames --baked-path-end
-temporal path_no_temporal 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play independent --denoise --spread-fireflies --frames $frames --baked-path-end
-temporal path_raw 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play independent --frames $frames --baked-path-end
+denoiser path_no_denoiser 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play temporal --spread-fireflies --frames $frames --baked-path-end --roulette-start 1
+temporal path_no_temporal 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play independent --denoise --spread-fireflies --frames $frames --baked-path-end --roulette-start 1
+temporal path_raw 1 --integrator path --bounces 2 --clamp 10 --spp 1 --play independent --frames $frames --baked-path-end --roulette-start 1
 restir path_restir 1 --integrator path --bounces 2 --clamp 10 --spp 1 --restir $play --baked-path-end
 restir direct_restir 1 --integrator direct --clamp 10 --spp 1 --restir $play --baked-path-end
 clamp path_no_clamp 1 --integrator path --bounces 2 --clamp 0 --spp 1 $play --baked-path-end
 bake path_no_bake 1 --integrator path --bounces 2 --clamp 10 --spp 1 $play
 bake direct_no_bake 1 --integrator direct --clamp 10 --spp 1 $play
+roulette direct_roulette3 1 --integrator direct --clamp 10 --spp 1 $play --baked-path-end --roulette-start 3
+roulette path_roulette3 1 --integrator path --bounces 2 --clamp 10 --spp 1 $play --baked-path-end --roulette-start 3
+roulette path_roulette3_spp2 1 --integrator path --bounces 2 --clamp 10 --spp 2 $play --baked-path-end --roulette-start 3
 EOF
 }
 
@@ -86,11 +90,11 @@ print('%.1f' % (1000*(t-d['first_frame_seconds'])/(f-1) if f > 1 else 1000*t))" 
     cmp=$("$compare" "$ref" "$shown" --json "${ppd_args[@]}" |
       python3 -c "import json,sys; d=json.load(sys.stdin); print('%.4f\t%.2f\t%.3f\t%.3f' % (d['flip'], d['psnr_db'], d['ssim'], d['luma_ratio']))")
     printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$cam" "$group" "$config" "$ms" "$cmp" | tee -a "$tsv"
-  done < <(configs)
+  done < <(configs | awk -v only="${ONLY:-.}" '$2 ~ only')
 done
 
 command -v gnuplot >/dev/null || { echo "gnuplot not installed: table only ($tsv)"; exit 0; }
-groups="preset spp bounces scale denoiser temporal restir clamp"
+groups="preset spp bounces scale denoiser temporal restir clamp bake roulette"
 for cam in "$@"; do
   rows="$out/${name}_c${cam}.dat"
   awk -F'\t' -v s="$name" -v c="$cam" 'NR > 1 && $1 == s && $2 == c { print $5, $6, $7, $4, $3 }' "$tsv" >"$rows"
@@ -98,16 +102,18 @@ for cam in "$@"; do
 set terminal pngcairo size 1400,600 font ",9" noenhanced
 set output "$out/trade_${name}_c${cam}.png"
 set multiplot layout 1,2 title "$name camera $cam, ${width}x${height}: error against a converged reference (path, ${REF_BOUNCES:-4} bounces, $(( ${REF_SPP:-64} * ${REF_FRAMES:-16} )) spp) and steady time per frame"
+set linetype 9 lc rgb "#8c564b"
+set linetype 10 lc rgb "#7f7f7f"
 set logscale x
 set xlabel "ms per frame"
 set grid
 set key top right
 set ylabel "mean FLIP (lower is better)"
-plot for [g in "$groups"] "$rows" using 1:(strcol(5) eq g ? \$2 : NaN) with points pt 7 ps 1.2 title g, \
+plot for [i=1:words("$groups")] "$rows" using 1:(strcol(5) eq word("$groups", i) ? \$2 : NaN) with points lt i pt 7 ps 1.2 title word("$groups", i), \
      "$rows" using 1:2:4 with labels left offset char 0.6,0 font ",7" notitle
 set key bottom right
 set ylabel "PSNR dB (higher is better)"
-plot for [g in "$groups"] "$rows" using 1:(strcol(5) eq g ? \$3 : NaN) with points pt 7 ps 1.2 title g, \
+plot for [i=1:words("$groups")] "$rows" using 1:(strcol(5) eq word("$groups", i) ? \$3 : NaN) with points lt i pt 7 ps 1.2 title word("$groups", i), \
      "$rows" using 1:3:4 with labels left offset char 0.6,0 font ",7" notitle
 unset multiplot
 EOF

@@ -110,6 +110,10 @@ void Settings::registerCvars(const Engine& engine) {
                           "Direct, path and reference: a path's last bounce that lands on a lightmapped or vertex-lit "
                           "surface takes the map's baked light there (its bounced light) instead of ending dark (0 = off)");
   if (bakedEnd_ != nullptr) ri.Cvar_CheckRange(bakedEnd_, 0, 1, 1);
+  roulette_ = engine.cvar("r_pt_roulette", "1", CVAR_ARCHIVE,
+                          "Direct, path and reference: scatterings after which Russian roulette may end a path "
+                          "(1..16; 1: a bounce ray leaves a surface with the probability of its albedo)");
+  if (roulette_ != nullptr) ri.Cvar_CheckRange(roulette_, 1, 16, 1);
   fireflies_ = engine.cvar("r_pt_fireflies", "1", CVAR_ARCHIVE,
                            "Spread fireflies (pixels far above their neighbourhood) over their neighbours before "
                            "the denoiser, keeping the frame's energy (0 = off)");
@@ -249,6 +253,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.temporal = temporal_ == nullptr || temporal_->integer != 0;
   out.restir = restir_ != nullptr && restir_->integer != 0;
   out.bakedEnd = bakedEnd_ == nullptr || bakedEnd_->integer != 0;
+  if (roulette_ != nullptr) out.rouletteStart = std::clamp(roulette_->integer, 1, 16);
   if (taau_ != nullptr) out.taau = std::clamp(taau_->integer, 0, 2);
   if (fps_ != nullptr && std::isfinite(fps_->value)) out.targetFps = std::clamp(fps_->value, 0.0f, 1000.0f);
   if (scaleMin_ != nullptr && std::isfinite(scaleMin_->value)) out.minScale = std::clamp(scaleMin_->value, 0.1f, 1.0f);

@@ -39,6 +39,7 @@ struct TracerSettings {
   bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
   bool restir = false;       ///< r_pt_restir: reservoir resampling of direct light on the direct and path presets
   bool bakedEnd = true;      ///< r_pt_bake_end: paths end on the bake's light (RenderSettings::bakedLightAtPathEnd)
+  int rouletteStart = 1;     ///< r_pt_roulette: scatterings before Russian roulette (RenderSettings::rouletteStart)
   /// r_pt_taau: temporal anti-aliasing and upscaling to the window of world views; 0 = off (bilinear
   /// stretch), 1 = when traced smaller than the window, 2 = always (also anti-aliases r_pt_scale 1)
   int taau = 0;
@@ -140,6 +141,7 @@ class Settings {
   q3abi::cvar_t* scaleMin_ = nullptr;
   q3abi::cvar_t* restir_ = nullptr;
   q3abi::cvar_t* bakedEnd_ = nullptr;
+  q3abi::cvar_t* roulette_ = nullptr;
   q3abi::cvar_t* look_ = nullptr;
   q3abi::cvar_t* fireflies_ = nullptr;
   q3abi::cvar_t* captureExr_ = nullptr;

@@ -396,6 +396,7 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   rs.stockTextureFilter = settings.textureFilter;   // as stock's texture units (r_textureMode)
   rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
   rs.bakedLightAtPathEnd = settings.bakedEnd;
+  rs.rouletteStart = static_cast<uint32_t>(settings.rouletteStart);
   rs.accumulate = settings.preset == Preset::Reference && !ctx.lightmapLook;
   // In play the world never stands still (items bob, the player's own body breathes, shaders
   // animate): a still view keeps accumulating, restarting only the pixels that show a change.

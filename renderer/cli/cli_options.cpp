@@ -139,6 +139,8 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
       ok = parseUnsigned(name, value, 1, 1u << 20, o.frames, message);
     } else if (name == "--bounces") {
       ok = parseUnsigned(name, value, 0, 1024, o.bounces, message);
+    } else if (name == "--roulette-start") {
+      ok = parseUnsigned(name, value, 1, 1024, o.rouletteStart, message);
     } else if (name == "--seed") {
       ok = parseUnsigned(name, value, 0, std::numeric_limits<uint32_t>::max(), o.seed, message);
     } else if (name == "--threads") {
@@ -248,6 +250,9 @@ Image and sampling:
   --baked-path-end       direct and path: a path's last vertex on a surface with baked light
                          (lightmap or vertex light, as .bsp maps have) reflects the bake's
                          light there instead of ending dark (the compiler's bounced light)
+  --roulette-start N     direct and path: scatterings after which Russian roulette may end a
+                         path (default 3; 1: the first bounce ray is traced with the probability
+                         of the surface's albedo, its light divided by it: unbiased, faster, noisier)
   --clamp X              Clamp each path's contribution to X (0 = off, unbiased; default 0)
   --seed S               Random seed (default 0); the image depends only on scene, camera,
                          seed, frames and spp, never on the thread count

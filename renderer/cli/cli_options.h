@@ -22,6 +22,7 @@ struct CliOptions {
   uint32_t samplesPerPixel = 16;                ///< Per frame.
   uint32_t frames = 1;                          ///< Frames accumulated into the image.
   uint32_t bounces = 4;
+  uint32_t rouletteStart = 3;                   ///< Scatterings before Russian roulette (--roulette-start).
   uint32_t seed = 0;
   uint32_t threads = 0;                         ///< 0 = all cores.
   Integrator integrator = Integrator::Path;

@@ -131,6 +131,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.integrator = options.integrator;
     settings.samplesPerPixel = options.samplesPerPixel;
     settings.maxBounces = options.bounces;
+    settings.rouletteStart = options.rouletteStart;
     settings.radianceClamp = options.clamp;
     settings.seed = options.seed;
     settings.accumulate = options.play == CliOptions::Play::Accumulate;

@@ -60,7 +60,7 @@ bool sameCamera(const Camera& a, const Camera& b) {
 bool sameEstimate(const RenderSettings& a, const RenderSettings& b) {
   return a.width == b.width && a.height == b.height && a.integrator == b.integrator &&
          a.samplesPerPixel == b.samplesPerPixel && a.maxBounces == b.maxBounces &&
-         a.radianceClamp == b.radianceClamp && a.seed == b.seed &&
+         a.radianceClamp == b.radianceClamp && a.rouletteStart == b.rouletteStart && a.seed == b.seed &&
          a.accumulateThroughEdits == b.accumulateThroughEdits && a.bakedLightAtPathEnd == b.bakedLightAtPathEnd;
 }
 
@@ -68,7 +68,8 @@ bool sameEstimate(const RenderSettings& a, const RenderSettings& b) {
 bool sameTemporalEstimate(const RenderSettings& a, const RenderSettings& b) {
   return a.width == b.width && a.height == b.height && a.integrator == b.integrator &&
          a.samplesPerPixel == b.samplesPerPixel && a.maxBounces == b.maxBounces &&
-         a.radianceClamp == b.radianceClamp && a.bakedLightAtPathEnd == b.bakedLightAtPathEnd;
+         a.radianceClamp == b.radianceClamp && a.rouletteStart == b.rouletteStart &&
+         a.bakedLightAtPathEnd == b.bakedLightAtPathEnd;
 }
 
 /// True when a camera sample's first hit is the surface a pixel's history shows: the same instance

@@ -449,6 +449,11 @@ struct RenderSettings {
   /// the scene's lights).
   bool bakedLightAtPathEnd = false;
   float radianceClamp = 0.0f;     ///< Clamp on each path's contribution; 0 = off (reference).
+  /// Direct and Path: scattering events after which Russian roulette may end a path, each
+  /// further ray traced with probability max(throughput) and its light divided by it (unbiased,
+  /// noisier). 1 applies it to the first bounce ray already: a bounce off a dark surface is
+  /// seldom traced. Never less than 1.
+  uint32_t rouletteStart = 3;
   uint32_t seed = 0;
   bool accumulate = true;         ///< Average with earlier frames while camera and scene are unchanged.
   /// With accumulate, for a still view of a world that keeps moving (play): a scene edit restarts

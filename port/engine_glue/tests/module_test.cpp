@@ -169,6 +169,9 @@ TEST_F(ModuleTest, BeginRegistrationOpensTheWindowAndDescribesIt) {
   EXPECT_TRUE(fake::engine().commands.count("screenshotPNG"));
   EXPECT_TRUE(fake::engine().cvars.count("r_pt_preset"));
   EXPECT_TRUE(fake::engine().cvars.count("r_pt_spp"));
+  // Russian roulette from the first bounce by default (docs/performance.md, "Russian roulette").
+  ASSERT_TRUE(fake::engine().cvars.count("r_pt_roulette"));
+  EXPECT_EQ(fake::engine().cvars.at("r_pt_roulette")->integer, 1);
 }
 
 TEST_F(ModuleTest, RegistrationDrawsFromRandLikeTheStockRenderer) {

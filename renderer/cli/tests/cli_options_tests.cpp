@@ -24,6 +24,7 @@ TEST(CliOptions, MinimalCommandUsesDefaults) {
   EXPECT_EQ(r.options.samplesPerPixel, 16u);
   EXPECT_EQ(r.options.frames, 1u);
   EXPECT_EQ(r.options.bounces, 4u);
+  EXPECT_EQ(r.options.rouletteStart, 3u);
   EXPECT_EQ(r.options.integrator, Integrator::Path);
   EXPECT_EQ(r.options.tonemap, Tonemap::AcesFitted);
   EXPECT_EQ(r.options.lighting, LightingLook::Physical);
@@ -36,7 +37,7 @@ TEST(CliOptions, ParsesEveryOption) {
                                "--exposure=2", "--frames", "5", "--exr", "o.exr", "--light-scale", "0.001",
                                "--stats", "s.json", "--progress", "--tonemap", "clamp", "map.glb", "--output", "o.png",
                                "--denoise", "--play", "temporal", "--restir", "--lighting", "display",
-                               "--spread-fireflies", "--baked-path-end"});
+                               "--spread-fireflies", "--baked-path-end", "--roulette-start", "1"});
   ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
   const CliOptions& o = r.options;
   EXPECT_EQ(o.play, CliOptions::Play::Temporal);
@@ -48,6 +49,7 @@ TEST(CliOptions, ParsesEveryOption) {
   EXPECT_EQ(o.height, 200u);
   EXPECT_EQ(o.samplesPerPixel, 8u);
   EXPECT_EQ(o.bounces, 2u);
+  EXPECT_EQ(o.rouletteStart, 1u);
   EXPECT_EQ(o.seed, 42u);
   EXPECT_EQ(o.threads, 3u);
   EXPECT_EQ(o.integrator, Integrator::Direct);
@@ -123,8 +125,8 @@ TEST(CliOptions, DoubleDashEndsOptions) {
 
 TEST(CliOptions, UsageDocumentsEveryOption) {
   const std::string usage = usageText("pa-render");
-  for (const char* option : {"-o", "--exr", "--stats", "--width", "--height", "--spp", "--bounces", "--seed", "--threads",
-                             "--integrator", "--camera", "--clamp", "--exposure", "--tonemap", "--lighting", "--frames", "--light-scale",
+  for (const char* option : {"-o", "--exr", "--stats", "--width", "--height", "--spp", "--bounces", "--roulette-start", "--seed",
+                             "--threads", "--integrator", "--camera", "--clamp", "--exposure", "--tonemap", "--lighting", "--frames", "--light-scale",
                              "--progress", "--quiet", "--denoise", "--spread-fireflies", "--play", "--help", "Exit status"})
     EXPECT_NE(usage.find(option), std::string::npos) << option;
 }

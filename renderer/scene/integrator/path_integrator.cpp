@@ -21,8 +21,6 @@ using trace::clampContribution;
 using trace::kInfinity;
 using trace::maxComponent;
 
-constexpr uint32_t kRouletteStart = 3;         // scattering events before Russian roulette
-
 // Sampler dimension groups within one path vertex.
 constexpr uint32_t kGroupLight = 1;     // light choice, light point (2), sky cell
 constexpr uint32_t kGroupBsdf = 2;      // direction (2), lobe choice, roulette
@@ -241,7 +239,7 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
       ++scatterCount;
       coneSpread = std::max(coneSpread, bs.glossy ? 0.1f : 0.5f);
     }
-    if (scatterCount >= kRouletteStart && !bs.delta) {
+    if (scatterCount >= std::max(1u, settings.rouletteStart) && !bs.delta) {
       const float survive = std::min(1.0f, std::max(0.05f, maxComponent(beta)));
       if (uBsdf.w >= survive) break;
       beta /= survive;

@@ -2,7 +2,8 @@
 // closed box whose walls all carry the same baked light and no light source, every path scatters
 // into another wall, so each sample is exact: a path of N scatterings ends on a wall that
 // reflects albedo x E, E = baked display value x bakedLightScale, and the camera sees
-// albedo^N x albedo x E (no noise, before Russian roulette starts at the third scattering). Without the setting the box is black.
+// albedo^N x albedo x E (no noise, before Russian roulette starts at the third scattering; from the
+// first with RenderSettings::rouletteStart 1, where the mean stays that). Without the setting the box is black.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -56,9 +57,11 @@ struct BakedBox {
     renderer.commit();
   }
   /// Every pixel of an 8x8 view of the floor from the box's centre, 4 samples each.
-  FrameView render(Integrator integrator, uint32_t maxBounces, bool bakedEnd) {
-    RenderSettings s = settingsFor(integrator, 8, 4, maxBounces);
+  FrameView render(Integrator integrator, uint32_t maxBounces, bool bakedEnd, uint32_t rouletteStart = 3,
+                   uint32_t spp = 4) {
+    RenderSettings s = settingsFor(integrator, 8, spp, maxBounces);
     s.bakedLightAtPathEnd = bakedEnd;
+    s.rouletteStart = rouletteStart;
     return renderer.render(lookAt({0, 0, 0}, {0, 0, -5}, 60.0f), s);
   }
 };
@@ -90,6 +93,26 @@ TEST(BakedPathEnd, OnlyThePathsLastVertexTakesTheBake) {
   expectEveryPixel(box.render(Integrator::Path, 2, true), albedo * albedo * albedo * e);
   // No scattering, no bake: the camera's own hit shows only what it emits.
   expectEveryPixel(box.render(Integrator::Path, 0, true), glm::vec3(0.0f));
+}
+
+TEST(BakedPathEnd, RouletteFromTheFirstBounceKeepsTheMean) {
+  // RenderSettings::rouletteStart 1: the bounce ray leaves the grey floor with probability 0.6
+  // (its albedo) and brings back 1 / 0.6 of the bake's light, so samples are 0 or
+  // albedo^2 E / 0.6: the pixels differ, their mean is albedo^2 E.
+  const glm::vec3 albedo(0.6f);
+  BakedBox box(albedo, test::solidPixels(1, 1, 128, 128, 128, 255), true);
+  const double exact = 0.6 * 0.6 * 128.0 / 255.0 * kBakedLightScale;
+  for (Integrator integrator : {Integrator::Direct, Integrator::Path}) {
+    SCOPED_TRACE(integrator == Integrator::Direct ? "direct" : "path");
+    const test::FrameStats st = test::greyStats(box.render(integrator, 1, true, 1, 64));
+    EXPECT_GT(st.standardError, 0.0);
+    EXPECT_LT(st.minValue, exact * 0.99);   // some pixel lost more of its bounces than it kept
+    EXPECT_GT(st.maxValue, exact * 1.01);
+    EXPECT_NEAR(st.mean, exact, 4.0 * st.standardError + 1e-5);
+    EXPECT_NEAR(st.mean, exact, 0.05 * exact);
+  }
+  // From the third scattering on (the default) the single bounce is never cut.
+  expectEveryPixel(box.render(Integrator::Direct, 1, true, 3), glm::vec3(float(exact)));
 }
 
 TEST(BakedPathEnd, AMirrorAtThePathsEndTakesNoBake) {

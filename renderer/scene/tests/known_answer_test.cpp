@@ -114,6 +114,25 @@ TEST(KnownAnswer, ClosedEmissiveSphereFurnace) {
   expectMean(f, 2.0, 1e-3);   // truncation at 40 bounces: 2 * 0.5^41, negligible
 }
 
+TEST(KnownAnswer, ClosedEmissiveSphereFurnaceWithRouletteFromTheFirstBounce) {
+  // RenderSettings::rouletteStart 1: every bounce ray survives with probability 0.5 (the
+  // albedo) and carries twice the light; the mean stays E / (1 - a), with MIS at every vertex.
+  Renderer r({2});
+  MaterialDesc m = test::diffuse(0.5f);
+  m.emission = glm::vec3(1.0f);
+  const MaterialId mat = r.addMaterial(m);
+  test::MeshArrays s = test::sphere({0, 0, 0}, 2.0f, 12, 24);
+  s.setMaterial(mat);
+  r.addInstance({r.addMesh(s.desc())});
+  r.commit();
+  const Camera cam = lookAt({0.3f, -0.2f, 0.1f}, {1, 1, 0.5f}, 90.0f);
+  RenderSettings settings = settingsFor(Integrator::Path, 16, 32, 40);
+  settings.rouletteStart = 1;
+  const FrameView f = r.render(cam, settings);
+  expectMean(f, 2.0, 1e-3);
+  EXPECT_GT(greyStats(f).standardError, 0.0);
+}
+
 /// Large floor quad at z = 0 (albedo a) and a camera between it and an overhead emitter,
 /// looking straight down at the foot point with a 1 degree field of view.
 struct FloorScene {
