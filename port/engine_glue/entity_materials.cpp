@@ -22,14 +22,16 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
   pa::MaterialDesc desc;
   desc.baseTexture = texture(image, look.clamp, look.noPicmip);
   desc.stock.useVertexLight = use == MaterialUse::Model || use == MaterialUse::StockModel;
-  const bool stockLayers = use == MaterialUse::StockEffect || use == MaterialUse::StockModel;
+  // Effects (sprites, particles, marks) are unlit in every preset: composed over what is behind
+  // them as the framebuffer composes them. Models in the traced presets are lit; there only the
+  // additive family (dst GL_ONE) of their stages takes its source factor.
+  const bool effect = use == MaterialUse::StockEffect || use == MaterialUse::Effect;
+  const bool stockLayers = effect || use == MaterialUse::StockModel;
   if (look.nodraw) desc.visible = false;
   if (look.fromScript) {
     const unsigned dst = look.blend.dst;
     const auto factors = layerFactors(look.blend);
     const bool plainAdd = look.blend.src == 1 && dst == 1;
-    // The traced presets sum their see-through layers' light and keep nothing of what is behind
-    // them, so there only the additive family (dst GL_ONE) takes its source factor.
     const bool factorLayer = stockLayers || dst == 1;
     if (factorLayer && factors && look.blend.blends() && !plainAdd && !isAlphaBlend(look.blend) &&
         filterAsDarkening(look.blend) == Darkening::None) {
@@ -61,8 +63,7 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
       desc.stock.layerBlend = pa::LayerBlend::Over;
       desc.stock.useVertexLight = false;   // a model's light is its vertex colour: it tints the layer
       desc.castsShadows = false;
-    } else if (const auto darken = filterAsDarkening(look.blend);
-               darken != Darkening::None && use == MaterialUse::StockEffect) {
+    } else if (const auto darken = filterAsDarkening(look.blend); darken != Darkening::None && effect) {
       // dst * src (or dst * (1 - src): blob shadows) in display values, per channel.
       desc.alphaMode = pa::AlphaMode::Additive;
       desc.stock.layerBlend = darken == Darkening::BySourceColor ? pa::LayerBlend::Multiply : pa::LayerBlend::MultiplyInverse;

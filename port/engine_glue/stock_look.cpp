@@ -86,9 +86,8 @@ std::shared_ptr<const Image> premultipliedImage(const std::shared_ptr<const Imag
   return out;
 }
 
-/// Lightmap preset: vertex colours of alpha-blended effect triangles premultiplied by their
-/// alpha (linearised, as the layer is composed in display values), to go with
-/// MaterialUse::StockEffect.
+/// Vertex colours of alpha-blended effect triangles premultiplied by their alpha (linearised, as
+/// the layer is composed in display values), to go with MaterialUse::StockEffect and Effect.
 void premultiplyBlendedEffects(ShaderRegistry& shaders, GeometryBatch& batch) {
   std::vector<uint8_t>& done = batch.scratch.doneFlags(batch.colors.size());
   for (size_t t = 0; t < batch.triangleShaders.size(); ++t) {

@@ -334,7 +334,7 @@ void ViewRenderer::Impl::drawEffects(const ViewContext& ctx, const SceneFrame& s
         batch);
   }
   if (batch.indices.empty()) return;
-  if (ctx.lightmapLook) premultiplyBlendedEffects(shaders, batch);
+  premultiplyBlendedEffects(shaders, batch);   // alpha-blended effects are premultiplied-over layers in every preset
   fillSlot(EntityKey{0, 0, 0, kEffectsBatchKind}, glm::vec3(0.0f), shaders,
            ctx.lightmapLook ? MaterialUse::StockEffect : MaterialUse::Effect, glm::mat4x3(1.0f), pa::kMaskAll, false,
            ctx.seconds);

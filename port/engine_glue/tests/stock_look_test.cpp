@@ -575,10 +575,40 @@ TEST(StageLayers, ModelStagesBlendedByTheirOwnAlphaAreFactorLayersInTheLightmapP
   const pa::MaterialDesc plain = describeStage(glow, glow.look, nullptr, MaterialUse::Effect, 0, textures);
   EXPECT_EQ(plain.alphaMode, pa::AlphaMode::Additive);
   EXPECT_EQ(plain.stock.layerBlend, pa::LayerBlend::Add);
-  // What keeps part of the framebuffer (dst not GL_ONE) is not a sum of light: not drawn there.
-  EXPECT_FALSE(describeStage(explosion, explosion.look, nullptr, MaterialUse::Effect, 0, textures).visible);
-  EXPECT_EQ(describeStage(explosion, explosion.look, nullptr, MaterialUse::StockEffect, 0, textures).stock.layerBlend,
-            pa::LayerBlend::Factors);
+  // Effects are unlit in every preset: what keeps part of the framebuffer (dst not GL_ONE) is
+  // composed over what is behind it in the traced presets too, as stock composes it.
+  for (const MaterialUse use : {MaterialUse::Effect, MaterialUse::StockEffect}) {
+    const pa::MaterialDesc fire = describeStage(explosion, explosion.look, nullptr, use, 0, textures);
+    EXPECT_TRUE(fire.visible);
+    EXPECT_EQ(fire.alphaMode, pa::AlphaMode::Additive);
+    EXPECT_EQ(fire.stock.layerBlend, pa::LayerBlend::Factors);
+    EXPECT_EQ(fire.stock.layerSrcFactor, pa::BlendFactor::One);
+    EXPECT_EQ(fire.stock.layerDstFactor, pa::BlendFactor::SrcAlpha);
+  }
+}
+
+TEST(StageLayers, EffectsAreComposedLayersInTheTracedPresetsNotStochasticCoverage) {
+  // Smoke puffs (blendfunc blend) and impact marks (gl_zero gl_one_minus_src_color) speckled as
+  // stochastic coverage at one sample a pixel; as effects they are the stock look's layers.
+  const q3::ShaderScript script = q3::parseShaderScript(
+      "smoke\n{\n { map s.tga\n blendfunc blend\n rgbGen vertex\n alphaGen vertex }\n}\n"
+      "mark\n{\n { map m.tga\n blendfunc gl_zero gl_one_minus_src_color }\n}\n",
+      "fx.shader");
+  const ImageTextures textures = [](const std::shared_ptr<const Image>&, bool, bool) { return pa::TextureId(3); };
+  ShaderEntry smoke, mark;
+  smoke.look = lookOfShader(script.shaders.at(0));
+  mark.look = lookOfShader(script.shaders.at(1));
+  for (const MaterialUse use : {MaterialUse::Effect, MaterialUse::StockEffect}) {
+    const pa::MaterialDesc puff = describeStage(smoke, smoke.look, nullptr, use, 0, textures);
+    EXPECT_EQ(puff.alphaMode, pa::AlphaMode::Additive);
+    EXPECT_EQ(puff.stock.layerBlend, pa::LayerBlend::Over);
+    EXPECT_FALSE(puff.castsShadows);
+    const pa::MaterialDesc hole = describeStage(mark, mark.look, nullptr, use, 0, textures);
+    EXPECT_EQ(hole.alphaMode, pa::AlphaMode::Additive);
+    EXPECT_EQ(hole.stock.layerBlend, pa::LayerBlend::MultiplyInverse);
+  }
+  // A lit model's alpha-blended stage stays stochastic coverage in the traced presets.
+  EXPECT_EQ(describeStage(smoke, smoke.look, nullptr, MaterialUse::Model, 0, textures).alphaMode, pa::AlphaMode::Blend);
 }
 
 TEST(StageLayers, UnlitModelStagesShowTheirTextureInTheTracedPresets) {
