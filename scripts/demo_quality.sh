@@ -88,7 +88,8 @@ for demo in "$@"; do
   mkdir -p "$out/$name/ref"
   for tick in $ticks; do
     f="frame_$(printf %04d "$tick")"
-    convert "$out/$name"/ref_*/"$f.tga" -evaluate-sequence mean "$out/$name/ref/$f.png"
+    # -auto-orient: a TGA is stored bottom row first, which the averaged PNG would otherwise keep.
+    convert "$out/$name"/ref_*/"$f.tga" -evaluate-sequence mean -auto-orient "$out/$name/ref/$f.png"
   done
   for config in $configs; do
     preset="${config%%:*}"; cvars=(r_pt_preset "$preset")
@@ -106,7 +107,9 @@ d = json.load(sys.stdin)
 print('\t'.join([sys.argv[1], sys.argv[2], sys.argv[3], '%.4f' % d['flip'], '%.2f' % d['psnr_db'], '%.3f' % d['luma_ratio']]))" \
         "$name" "$config" "$tick" >>"$tsv"
     done
-    ms=$(grep "stats $preset " "$dir/engine.log" | grep -o 'frame_ms=[0-9.]*' | cut -d= -f2 | awk '{ s += $1; n++ } END { if (n) printf "%.0f", s / n; else print "-" }')
+    # " frame_ms=", not max_frame_ms; "-" when the frames took under the 2 s between two stats lines.
+    ms=$(awk -v p="stats $preset " 'index($0, p) && match($0, / frame_ms=[0-9.]+/) { s += substr($0, RSTART + 10, RLENGTH - 10); n++ }
+      END { if (n) printf "%.0f", s / n; else print "-" }' "$dir/engine.log")
     awk -F'\t' -v d="$name" -v c="$config" -v ms="$ms" '$1 == d && $2 == c { f += $4; p += $5; l += $6; n++ }
       END { printf "%s %s: %d frames, mean FLIP %.4f, PSNR %.2f dB, luma ratio %.3f, frame_ms %s\n", d, c, n, f / n, p / n, l / n, ms }' "$tsv"
   done

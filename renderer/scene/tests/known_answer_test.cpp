@@ -98,25 +98,10 @@ TEST(KnownAnswer, WhiteFurnaceOpenBoxNeedsManyBounces) {
   expectMean(f, 1.0, 2e-3);
 }
 
-TEST(KnownAnswer, ClosedEmissiveSphereFurnace) {
-  // Inside a closed sphere of albedo a emitting E everywhere, L = E + a L, so L = E / (1 - a).
-  // Exercises emissive-triangle power sampling, MIS between NEE and BSDF hits, roulette.
-  Renderer r({2});
-  MaterialDesc m = test::diffuse(0.5f);
-  m.emission = glm::vec3(1.0f);
-  const MaterialId mat = r.addMaterial(m);
-  test::MeshArrays s = test::sphere({0, 0, 0}, 2.0f, 12, 24);
-  s.setMaterial(mat);
-  r.addInstance({r.addMesh(s.desc())});
-  r.commit();
-  const Camera cam = lookAt({0.3f, -0.2f, 0.1f}, {1, 1, 0.5f}, 90.0f);
-  const FrameView f = r.render(cam, settingsFor(Integrator::Path, 16, 32, 40));
-  expectMean(f, 2.0, 1e-3);   // truncation at 40 bounces: 2 * 0.5^41, negligible
-}
-
-TEST(KnownAnswer, ClosedEmissiveSphereFurnaceWithRouletteFromTheFirstBounce) {
-  // RenderSettings::rouletteStart 1: every bounce ray survives with probability 0.5 (the
-  // albedo) and carries twice the light; the mean stays E / (1 - a), with MIS at every vertex.
+/// Inside a closed sphere of albedo a emitting E everywhere, L = E + a L, so L = E / (1 - a).
+/// Exercises emissive-triangle power sampling, MIS between NEE and BSDF hits, roulette (from the
+/// `rouletteStart`-th scattering).
+FrameView renderClosedEmissiveSphere(uint32_t rouletteStart) {
   Renderer r({2});
   MaterialDesc m = test::diffuse(0.5f);
   m.emission = glm::vec3(1.0f);
@@ -127,8 +112,17 @@ TEST(KnownAnswer, ClosedEmissiveSphereFurnaceWithRouletteFromTheFirstBounce) {
   r.commit();
   const Camera cam = lookAt({0.3f, -0.2f, 0.1f}, {1, 1, 0.5f}, 90.0f);
   RenderSettings settings = settingsFor(Integrator::Path, 16, 32, 40);
-  settings.rouletteStart = 1;
-  const FrameView f = r.render(cam, settings);
+  settings.rouletteStart = rouletteStart;
+  return r.render(cam, settings);
+}
+
+TEST(KnownAnswer, ClosedEmissiveSphereFurnace) {
+  expectMean(renderClosedEmissiveSphere(3), 2.0, 1e-3);   // truncation at 40 bounces: 2 * 0.5^41, negligible
+}
+
+TEST(KnownAnswer, ClosedEmissiveSphereFurnaceWithRouletteFromTheFirstBounce) {
+  // Every bounce ray survives with probability 0.5 (the albedo) and carries twice the light.
+  const FrameView f = renderClosedEmissiveSphere(1);
   expectMean(f, 2.0, 1e-3);
   EXPECT_GT(greyStats(f).standardError, 0.0);
 }
