@@ -17,6 +17,17 @@ bool unlitModelStage(const ShaderLook& look) {
   }
 }
 
+bool lightColouredStage(const ShaderLook& look) {
+  if (!look.fromScript) return true;   // an implicit model shader is rgbGen lightingDiffuse
+  switch (look.rgbGen) {
+    case q3::RgbGen::LightingDiffuse:
+    case q3::RgbGen::Vertex:
+    case q3::RgbGen::ExactVertex:
+    case q3::RgbGen::OneMinusVertex: return true;
+    default: return false;   // identity, const, wave, entity: the stage's own colour
+  }
+}
+
 pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,
                                MaterialUse use, uint32_t layer, const ImageTextures& texture) {
   pa::MaterialDesc desc;
@@ -27,12 +38,15 @@ pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look,
   // additive family (dst GL_ONE) of their stages takes its source factor.
   const bool effect = use == MaterialUse::StockEffect || use == MaterialUse::Effect;
   const bool stockLayers = effect || use == MaterialUse::StockModel;
+  // A lit model's stage whose colour does not come from the light (a muzzle flash's rgbGen
+  // wave, a glow's identity or const) shows, in stock, what it blends by its own colour and alpha.
+  const bool ownColourLayer = use == MaterialUse::Model && look.fromScript && !lightColouredStage(look);
   if (look.nodraw) desc.visible = false;
   if (look.fromScript) {
     const unsigned dst = look.blend.dst;
     const auto factors = layerFactors(look.blend);
     const bool plainAdd = look.blend.src == 1 && dst == 1;
-    const bool factorLayer = stockLayers || dst == 1;
+    const bool factorLayer = stockLayers || dst == 1 || ownColourLayer;
     if (factorLayer && factors && look.blend.blends() && !plainAdd && !isAlphaBlend(look.blend) &&
         filterAsDarkening(look.blend) == Darkening::None) {
       // Any other blend of the layer's own colour and alpha (gl_one gl_src_alpha explosions,

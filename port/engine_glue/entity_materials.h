@@ -28,6 +28,11 @@ using ImageTextures = std::function<pa::TextureId(const std::shared_ptr<const Im
 /// presets show it so, as an unlit surface.
 bool unlitModelStage(const ShaderLook& look);
 
+/// True for a model stage whose colour comes from the light or the vertices (rgbGen
+/// lightingDiffuse, vertex; an implicit shader); false for its own colour (identity, const, wave,
+/// entity), which the traced presets compose as a layer when it blends by that colour and alpha.
+bool lightColouredStage(const ShaderLook& look);
+
 /// The still look (no animation) of stage `layer` (0 = the shader's first) of a shader drawn as
 /// `use` with `image`.
 pa::MaterialDesc describeStage(const ShaderEntry& entry, const ShaderLook& look, const std::shared_ptr<const Image>& image,

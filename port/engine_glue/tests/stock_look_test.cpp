@@ -611,6 +611,30 @@ TEST(StageLayers, EffectsAreComposedLayersInTheTracedPresetsNotStochasticCoverag
   EXPECT_EQ(describeStage(smoke, smoke.look, nullptr, MaterialUse::Model, 0, textures).alphaMode, pa::AlphaMode::Blend);
 }
 
+TEST(StageLayers, AModelStageOfItsOwnColourBlendedByItIsALayerInTheTracedPresets) {
+  // OpenArena's lightning gun muzzle flash (LightnnFlash: gl_one gl_src_alpha, rgbGen wave) was
+  // not drawn by direct/path; a stage coloured by the light keeps the traced handling.
+  const q3::ShaderScript script = q3::parseShaderScript(
+      "flash\n{\n { map f.tga\n blendfunc gl_one gl_src_alpha\n rgbGen wave inversesawtooth 0 1 0 20 }\n}\n"
+      "litFlash\n{\n { map f.tga\n blendfunc gl_one gl_src_alpha\n rgbGen lightingDiffuse }\n}\n",
+      "fx.shader");
+  const ImageTextures textures = [](const std::shared_ptr<const Image>&, bool, bool) { return pa::TextureId(5); };
+  ShaderEntry flash, lit;
+  flash.look = lookOfShader(script.shaders.at(0));
+  lit.look = lookOfShader(script.shaders.at(1));
+  EXPECT_FALSE(lightColouredStage(flash.look));
+  EXPECT_TRUE(lightColouredStage(lit.look));
+  EXPECT_TRUE(lightColouredStage(ShaderLook{}));   // an implicit shader: lit by the light grid
+  const pa::MaterialDesc traced = describeStage(flash, flash.look, nullptr, MaterialUse::Model, 0, textures);
+  EXPECT_TRUE(traced.visible);
+  EXPECT_EQ(traced.alphaMode, pa::AlphaMode::Additive);
+  EXPECT_EQ(traced.stock.layerBlend, pa::LayerBlend::Factors);
+  EXPECT_EQ(traced.stock.layerSrcFactor, pa::BlendFactor::One);
+  EXPECT_EQ(traced.stock.layerDstFactor, pa::BlendFactor::SrcAlpha);
+  EXPECT_FALSE(traced.castsShadows);
+  EXPECT_FALSE(describeStage(lit, lit.look, nullptr, MaterialUse::Model, 0, textures).visible);
+}
+
 TEST(StageLayers, UnlitModelStagesShowTheirTextureInTheTracedPresets) {
   // OpenArena's medium health cross: an environment-mapped stage with no rgbGen, which the stock
   // renderer draws at the texture's colour; a lightingDiffuse stage stays lit.
