@@ -35,7 +35,8 @@ tsv="$out/trade.tsv"
 # The game's presets (port/engine_glue: r_pt_spp 1, r_pt_bounces 2, clamp 10, temporal,
 # denoiser and firefly spreading on, paths ending on the bake (r_pt_bake_end 1), Russian roulette
 # from the first bounce (r_pt_roulette 1); `reference` accumulates without clamp), then one knob at a
-# time around `path`. Columns: group, config, scale, extra pa-render arguments.
+# time around `path`. Columns: group, config, scale, extra pa-render arguments (a repeated option:
+# the last one counts, so the roulette rows' --roulette-start 3 overrides $play's 1).
 configs() {
   local play="--play temporal --denoise --spread-fireflies --frames $frames --roulette-start 1"
   cat <<EOF
