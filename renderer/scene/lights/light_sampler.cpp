@@ -77,17 +77,27 @@ uint32_t bitsOf(LaneMask m) {
 #endif
 }
 
-/// w[0] + ... + w[7] in double, added lane by lane from 0: what a group of lamps adds to the
-/// running sum of the groups before it (a weight of 0 changes nothing).
+/// w[0] + ... + w[7] in double, as ((w0 + w4) + (w2 + w6)) + ((w1 + w5) + (w3 + w7)): what a
+/// group of lamps adds to the running sum of the groups before it. Pairwise, four lanes at a
+/// time: a sum lane by lane was a chain of eight dependent additions per group, half the time of
+/// weighing the lamps.
 double groupSum(Lanes w) {
-  double sum = 0.0;
-  for (int lane = 0; lane < 8; ++lane) sum += double{w[lane]};
-  return sum;
+#if defined(__AVX__)
+  const __m256 v = reinterpret_cast<__m256>(w);
+  const __m256d low = _mm256_cvtps_pd(_mm256_castps256_ps128(v));
+  const __m256d high = _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1));
+  const __m256d halves = _mm256_add_pd(low, high);   // w0 + w4, w1 + w5, w2 + w6, w3 + w7
+  const __m128d pairs = _mm_add_pd(_mm256_castpd256_pd128(halves), _mm256_extractf128_pd(halves, 1));
+  return _mm_cvtsd_f64(_mm_add_sd(pairs, _mm_unpackhi_pd(pairs, pairs)));
+#else
+  const auto d = [&](int lane) { return double{w[lane]}; };
+  return ((d(0) + d(4)) + (d(2) + d(6))) + ((d(1) + d(5)) + (d(3) + d(7)));
+#endif
 }
 
 /// The lamp of positive weight in a group where the running sum, base plus the group's weights
-/// added lane by lane as groupSum() adds them, first exceeds target (the last one of positive
-/// weight if rounding leaves none); -1 when every weight is 0.
+/// added lane by lane, first exceeds target (the last one of positive weight if rounding, or
+/// groupSum()'s other order of addition, leaves none); -1 when every weight is 0.
 int laneAbove(const float* w, double base, double target) {
   double sum = 0.0;
   int last = -1;

@@ -117,7 +117,9 @@ void expectClosedEmissiveSphereFurnace(uint32_t rouletteStart) {
   expectMean(f, 2.0, 1e-3);
   // From the first bounce every bounce ray survives with probability 0.5 (the albedo) and
   // carries twice the light: samples differ.
-  if (rouletteStart == 1) EXPECT_GT(greyStats(f).standardError, 0.0);
+  if (rouletteStart == 1) {
+    EXPECT_GT(greyStats(f).standardError, 0.0);
+  }
 }
 
 TEST(KnownAnswer, ClosedEmissiveSphereFurnace) { expectClosedEmissiveSphereFurnace(3); }
