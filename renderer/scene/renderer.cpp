@@ -61,7 +61,8 @@ bool sameEstimate(const RenderSettings& a, const RenderSettings& b) {
   return a.width == b.width && a.height == b.height && a.integrator == b.integrator &&
          a.samplesPerPixel == b.samplesPerPixel && a.maxBounces == b.maxBounces &&
          a.radianceClamp == b.radianceClamp && a.rouletteStart == b.rouletteStart && a.seed == b.seed &&
-         a.accumulateThroughEdits == b.accumulateThroughEdits && a.bakedLightAtPathEnd == b.bakedLightAtPathEnd;
+         a.accumulateThroughEdits == b.accumulateThroughEdits && a.bakedLightAtPathEnd == b.bakedLightAtPathEnd &&
+         a.lightingLook == b.lightingLook;
 }
 
 /// Settings whose change starts the temporal history again (the seed changes every frame).
@@ -69,7 +70,7 @@ bool sameTemporalEstimate(const RenderSettings& a, const RenderSettings& b) {
   return a.width == b.width && a.height == b.height && a.integrator == b.integrator &&
          a.samplesPerPixel == b.samplesPerPixel && a.maxBounces == b.maxBounces &&
          a.radianceClamp == b.radianceClamp && a.rouletteStart == b.rouletteStart &&
-         a.bakedLightAtPathEnd == b.bakedLightAtPathEnd;
+         a.bakedLightAtPathEnd == b.bakedLightAtPathEnd && a.lightingLook == b.lightingLook;
 }
 
 /// True when a camera sample's first hit is the surface a pixel's history shows: the same instance

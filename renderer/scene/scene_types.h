@@ -407,9 +407,10 @@ enum class Tonemap : uint8_t {
 enum class LightingLook : uint8_t {
   Physical,      ///< Radiance as traced.
   /// The look of engines that multiply a texture by a light map in 8-bit display values, the
-  /// light clamped to 1 (scaled down as a whole, hue kept): with E = (radiance - emission) /
-  /// albedo per channel, the pixel shows emission + linear(sRGB(albedo) x min(E, 1)). A white
-  /// Lambertian surface at radiance 1 is unchanged; dimmer light darkens as a light map does.
+  /// light clamped to 1 (scaled down as a whole, hue kept), and that add glow stages and additive
+  /// effects in display values too: with E = (radiance - emission) / albedo per channel, the
+  /// pixel shows linear(min(1, sRGB(albedo) x min(E, 1) + sRGB(emission))). A white Lambertian
+  /// surface at radiance 1 is unchanged; dimmer light darkens as a light map does.
   DisplaySpace,
 };
 
@@ -464,7 +465,10 @@ struct RenderSettings {
   bool accumulateThroughEdits = false;
   float exposure = 1.0f;          ///< Linear multiplier before tonemapping.
   Tonemap tonemap = Tonemap::AcesFitted;   ///< Display transform (does not reset accumulation).
-  LightingLook lightingLook = LightingLook::Physical;   ///< Display only (does not reset accumulation).
+  /// How the lit part is shown; DisplaySpace also has Direct and Path sum what the camera sees of
+  /// emitters, sky and additive stages in display values (PixelSample::emission), so a change
+  /// restarts accumulation.
+  LightingLook lightingLook = LightingLook::Physical;
   /// Edge-aware à-trous filter of the mean (renderer/scene/denoise) before exposure and tonemap:
   /// the returned radiance and rgba8 are filtered, the accumulation is not (does not reset it).
   bool denoise = false;

@@ -163,10 +163,15 @@ glm::vec3 lightingLook(const glm::vec3& radiance, const glm::vec3& emission, con
     peak = std::max(peak, light[c]);
   }
   if (peak > 1.0f) light /= peak;   // an over-bright texel is scaled down as a whole
+  // What the camera sees of emitters, glow stages and additive effects is added in display values,
+  // as a stock framebuffer adds those stages, and the sum is clamped as its 8 bits are (added in
+  // linear values it showed dimmer: an effect of display value 0.5 over a wall at 0.3 gave 0.58,
+  // not 0.8).
   glm::vec3 out = radiance;
   for (int c = 0; c < 3; ++c) {
     if (!(albedo[c] >= kMinAlbedo)) continue;
-    out[c] = emission[c] + srgbToLinear(linearToSrgb(albedo[c]) * light[c]);
+    const float emitted = linearToSrgb(std::clamp(emission[c], 0.0f, 1.0f));
+    out[c] = srgbToLinear(std::min(1.0f, linearToSrgb(albedo[c]) * light[c] + emitted));
   }
   return out;
 }
@@ -177,10 +182,10 @@ void lightingLookRows(std::span<const glm::vec3> radiance, std::span<const glm::
     std::copy(radiance.begin(), radiance.end(), shown.begin());
     return;
   }
-  // lightingLook's steps with its 6 powf per pixel taken a chunk of channels at a time.
+  // lightingLook's steps with its 9 powf per pixel taken a chunk of channels at a time.
   constexpr float kMinAlbedo = 1.0f / 255.0f;
   constexpr size_t kChunk = 256;
-  float curve[3 * kChunk], light[3 * kChunk];
+  float curve[3 * kChunk], light[3 * kChunk], emitted[3 * kChunk];
   for (size_t at = 0; at < radiance.size(); at += kChunk) {
     const size_t m = std::min(kChunk, radiance.size() - at);
     for (size_t i = 0; i < m; ++i) {
@@ -191,18 +196,20 @@ void lightingLookRows(std::span<const glm::vec3> radiance, std::span<const glm::
         const bool lit = albedo[p][c] >= kMinAlbedo;
         light[k] = lit ? std::max(0.0f, radiance[p][c] - emission[p][c]) / albedo[p][c] : 0.0f;
         curve[k] = lit ? albedo[p][c] : 0.0f;
+        emitted[k] = lit ? emission[p][c] : 0.0f;
         peak = std::max(peak, light[k]);
       }
       if (peak > 1.0f)
         for (int c = 0; c < 3; ++c) light[3 * i + size_t(c)] /= peak;
     }
     fastLinearToSrgb(std::span(curve, 3 * m));
-    for (size_t k = 0; k < 3 * m; ++k) curve[k] *= light[k];
-    fastSrgbToLinear(std::span(curve, 3 * m));
+    fastLinearToSrgb(std::span(emitted, 3 * m));   // clamped to [0, 1] first, as lightingLook does
+    for (size_t k = 0; k < 3 * m; ++k) curve[k] = curve[k] * light[k] + emitted[k];
+    fastSrgbToLinear(std::span(curve, 3 * m));      // the sum clamped to 1 first
     for (size_t i = 0; i < m; ++i) {
       const size_t p = at + i;
       for (int c = 0; c < 3; ++c)
-        shown[p][c] = albedo[p][c] >= kMinAlbedo ? emission[p][c] + curve[3 * i + size_t(c)] : radiance[p][c];
+        shown[p][c] = albedo[p][c] >= kMinAlbedo ? curve[3 * i + size_t(c)] : radiance[p][c];
     }
   }
 }

@@ -45,6 +45,7 @@ struct PixelSample {
   glm::vec3 radiance{0.0f};
   /// The part of radiance gathered before the path's first diffuse or glossy scattering (emitters,
   /// sky, glows seen directly or through mirrors and portals): exact per sample, never denoised.
+  /// With LightingLook::DisplaySpace, the linear value of its parts' summed display values.
   glm::vec3 emission{0.0f};
   glm::vec3 albedo{0.0f};
   glm::vec3 normal{0.0f};

@@ -116,6 +116,11 @@ glm::vec3 displayProduct(const glm::vec3& a, const glm::vec3& b) {
   return {d[0], d[1], d[2]};
 }
 
+glm::vec3 fastLinearToSrgb(const glm::vec3& c) {
+  const Lanes d = encodeLanes(Lanes{c.x, c.y, c.z});
+  return {d[0], d[1], d[2]};
+}
+
 glm::vec3 displayProductWithDisplay(const glm::vec3& a, const glm::vec3& bDisplay) {
   const Lanes e = encodeLanes(Lanes{a.x, a.y, a.z});
   const Lanes d = decodeLanes(Lanes{e[0] * bDisplay.x, e[1] * bDisplay.y, e[2] * bDisplay.z});

@@ -34,6 +34,8 @@ void fastSrgbToLinear(std::span<float> values);
 void encodeColors(std::span<const glm::vec4> linear, std::vector<glm::vec3>& display);
 /// fastSrgbToLinear of each channel, in one pass (the same values).
 glm::vec3 fastSrgbToLinear(const glm::vec3& c);
+/// fastLinearToSrgb of each channel, in one pass (the same values).
+glm::vec3 fastLinearToSrgb(const glm::vec3& c);
 
 /// The product of two linear colours taken in display values, as linear radiance:
 /// decode(encode(a) * encode(b)) (the stock texture x lightmap multiply of 8-bit values; the

@@ -7,6 +7,7 @@
 
 #include "renderer/bvh/ray_offset.h"
 #include "renderer/scene/integrator/baked_light.h"
+#include "renderer/scene/integrator/display_composite.h"
 #include "renderer/scene/integrator/trace_common.h"
 #include "renderer/scene/materials/bsdf.h"
 #include "renderer/scene/media/fog_volumes.h"
@@ -125,6 +126,10 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
   Ray ray = traced ? traced->ray : camera.generate(px, py);
   glm::vec3 radiance(0.0f);
   glm::vec3 seen(0.0f);   // the part of radiance gathered before the first scattering
+  // With the stock look each part of it is a stage the stock framebuffer adds in display values:
+  // their display values are summed (seenDisplay) and the sum shown (LightingLook::DisplaySpace).
+  const bool displaySums = settings.lightingLook == LightingLook::DisplaySpace;
+  glm::vec3 seenDisplay(0.0f);
   glm::vec3 beta(1.0f);
   PreviousVertex prev;
   float coneWidth = 0.0f;
@@ -136,7 +141,10 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
   // reflected there: until the path first scatters it is exact per sample (PixelSample::emission).
   const auto gather = [&](const glm::vec3& c) {
     radiance += c;
-    if (scatterCount == 0) seen += c;
+    if (scatterCount == 0) {
+      seen += c;
+      if (displaySums && c != glm::vec3(0.0f)) seenDisplay += fastLinearToSrgb(c);
+    }
   };
   uint32_t portalsCrossed = 0;   // what the camera sees through a portal counts as seen directly
 
@@ -150,7 +158,18 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     if (depth == 0) out.overlay = segment.found && segment.onOverlay;
     const glm::vec3 dir = glm::normalize(ray.dir);
     const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir), false);
-    gather(clampContribution(beta * additiveThroughFog(*segment.additive, tHit, fog), viewDepth, settings.radianceClamp));
+    if (displaySums && scatterCount == 0 && segment.additive->count > 1) {
+      // Each layer a stage of its own, added in display values (fog dims each as in additiveThroughFog).
+      for (uint32_t i = 0; i < segment.additive->count; ++i) {
+        const AdditiveHits::Entry& e = segment.additive->entries[i];
+        if (e.t < tHit)
+          gather(clampContribution(beta * e.color * (fog.empty() ? 1.0f : fog.transmittanceTo(e.t)), viewDepth,
+                                   settings.radianceClamp));
+      }
+    } else {
+      gather(clampContribution(beta * additiveThroughFog(*segment.additive, tHit, fog), viewDepth,
+                               settings.radianceClamp));
+    }
     if (segment.additive->count != 0) beta *= layersTransmittance(*segment.additive, tHit);
     if (fog.transmittance() < 1.0f) {
       // The glow is the look of lit haze: seen along camera and mirror chains, never a light
@@ -251,6 +270,12 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
   }
   out.radiance = radiance;
   out.emission = seen;
+  if (displaySums && seen != glm::vec3(0.0f)) {
+    // The seen part as the linear value of its display sum, clamped as 8 bits are: what
+    // lightingLook adds in display values to the lit part.
+    out.emission = fastSrgbToLinear(glm::min(seenDisplay, glm::vec3(1.0f)));
+    out.radiance = radiance - seen + out.emission;
+  }
   return out;
 }
 

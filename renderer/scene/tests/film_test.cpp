@@ -117,11 +117,13 @@ TEST(Film, DisplaySpaceLightingShowsLightAsALightMapTexel) {
   EXPECT_NEAR(over.r, 0.5f, 1e-5f);
   EXPECT_NEAR(over.g, srgbToLinear(0.5f * linearToSrgb(0.5f)), 1e-5f);
   EXPECT_EQ(over.b, 0.0f);
-  // Emission passes through unchanged; a channel without albedo (sky) keeps its radiance.
+  // Emission (a glow stage) is added in display values, as a stock framebuffer adds it; a channel
+  // without albedo (sky) keeps its radiance.
   const glm::vec3 glow = lightingLook(glm::vec3(0.3f + albedo * 0.25f, 2.0f, 0.0f), glm::vec3(0.3f, 2.0f, 0.0f),
                                       glm::vec3(albedo, 0.0f, albedo), LightingLook::DisplaySpace);
-  EXPECT_NEAR(glow.r, 0.3f + srgbToLinear(32.0f / 255.0f), 2e-4f);
+  EXPECT_NEAR(glow.r, srgbToLinear(32.0f / 255.0f + linearToSrgb(0.3f)), 2e-4f);
   EXPECT_EQ(glow.g, 2.0f);
+  EXPECT_EQ(glow.b, 0.0f);
   // Through the film: encodeRows applies the look with the emission and albedo AOVs.
   Film film;
   film.resize(1, 1);
@@ -142,6 +144,23 @@ TEST(Film, DisplaySpaceLightingShowsLightAsALightMapTexel) {
 namespace pa {
 namespace {
 
+TEST(Film, DisplaySpaceAddsEffectsInDisplayValuesAsTheStockFramebuffer) {
+  // An additive effect of display value 0.5 over a wall shown at 0.3 (full-bright light) shows
+  // 0.8, as GL_ONE GL_ONE over 8-bit display values does (added in linear values it was 0.58),
+  // and two bright ones saturate at 1.
+  const float wall = srgbToLinear(0.3f);
+  const float effect = srgbToLinear(0.5f);
+  const glm::vec3 shown = lightingLook(glm::vec3(wall + effect), glm::vec3(effect), glm::vec3(wall),
+                                       LightingLook::DisplaySpace);
+  EXPECT_NEAR(linearToSrgb(shown.r), 0.8f, 1e-4f);
+  const glm::vec3 saturated = lightingLook(glm::vec3(wall + 3.0f), glm::vec3(3.0f), glm::vec3(wall),
+                                           LightingLook::DisplaySpace);
+  EXPECT_FLOAT_EQ(saturated.r, 1.0f);
+  // Black emission changes nothing.
+  const glm::vec3 plain = lightingLook(glm::vec3(wall), glm::vec3(0.0f), glm::vec3(wall), LightingLook::DisplaySpace);
+  EXPECT_NEAR(plain.r, wall, 1e-6f);
+}
+
 TEST(Film, LightingLookRowsFollowLightingLook) {
   // The film's chunked look (sRGB curves without powf, eight values at a time) against the
   // per-pixel one: 1003 pixels (chunks of 256 and a partial register at the end) with dark,
@@ -156,7 +175,7 @@ TEST(Film, LightingLookRowsFollowLightingLook) {
   for (size_t i = 0; i < kPixels; ++i) {
     for (int c = 0; c < 3; ++c) {
       albedo[i][c] = i % 11 == 0 && c == 1 ? 0.5f / 255.0f : unit();
-      emission[i][c] = i % 5 == 0 ? 0.5f * unit() : 0.0f;
+      emission[i][c] = i % 5 == 0 ? (i % 3 == 0 ? 2.0f : 0.5f) * unit() : 0.0f;   // some above 1
       radiance[i][c] = emission[i][c] + albedo[i][c] * (i % 7 == 0 ? 4.0f * unit() : unit());
     }
   }

@@ -105,6 +105,34 @@ TEST(Materials, AdditiveAddsAndNeverOccludesOrShadows) {
   EXPECT_NEAR(lit.r, 0.5f + 0.2f, 1e-4f);
 }
 
+TEST(Materials, SeenLightAddsInDisplayValuesWithTheStockLook) {
+  // An additive layer (linear 0.2, 0.3, 0) over a surface glowing 0.5: with the stock look
+  // (LightingLook::DisplaySpace) the traced presets add what the camera sees in display values,
+  // as the stock framebuffer adds an effect or a glow stage (0.735 + 0.484 saturates red); with
+  // the physical look they add linear radiance.
+  MaterialDesc add = coloured(0.2f, 0.3f, 0.0f);
+  add.alphaMode = AlphaMode::Additive;
+  MaterialDesc glowing = coloured(0.0f, 0.0f, 0.0f);
+  glowing.emission = {0.5f, 0.5f, 0.5f};
+  Layers layers(glowing, add);
+  const auto displaySum = [](float a, float b) {
+    return srgbToLinear(std::min(1.0f, linearToSrgb(a) + linearToSrgb(b)));
+  };
+  for (const Integrator integrator : {Integrator::Direct, Integrator::Path}) {
+    for (const LightingLook look : {LightingLook::DisplaySpace, LightingLook::Physical}) {
+      RenderSettings s = settingsFor(integrator, 4, 1, 2);
+      s.lightingLook = look;
+      const FrameView f = layers.renderer.render(lookAt({0, 0, 3}, {0, 0, 0}, 20.0f), s);
+      const bool display = look == LightingLook::DisplaySpace;
+      for (size_t i = 0; i < f.radiance.size(); ++i) {
+        EXPECT_NEAR(f.radiance[i].r, display ? displaySum(0.5f, 0.2f) : 0.7f, 1e-5f) << int(integrator);
+        EXPECT_NEAR(f.radiance[i].g, display ? displaySum(0.5f, 0.3f) : 0.8f, 1e-5f) << int(integrator);
+        EXPECT_NEAR(f.radiance[i].b, 0.5f, 1e-5f) << int(integrator);
+      }
+    }
+  }
+}
+
 TEST(Materials, LayerBlendsComposeInDisplayValuesInTheLightmapPreset) {
   // Behind: linear 0.2 (display e); the layer's colour: linear 0.5 (display s), alpha 0.25.
   const float e = linearToSrgb(0.2f), s = linearToSrgb(0.5f);
