@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include <glm/geometric.hpp>
 
@@ -128,8 +129,10 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
   glm::vec3 seen(0.0f);   // the part of radiance gathered before the first scattering
   // With the stock look each part of it is a stage the stock framebuffer adds in display values:
   // their display values are summed (seenDisplay) and the sum shown (LightingLook::DisplaySpace).
+  // A part alone needs no sum (it is shown as is): the curve is taken from the second part on.
   const bool displaySums = settings.lightingLook == LightingLook::DisplaySpace;
   glm::vec3 seenDisplay(0.0f);
+  uint32_t seenParts = 0;
   glm::vec3 beta(1.0f);
   PreviousVertex prev;
   float coneWidth = 0.0f;
@@ -142,9 +145,24 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
   const auto gather = [&](const glm::vec3& c) {
     radiance += c;
     if (scatterCount == 0) {
+      if (displaySums && c != glm::vec3(0.0f) && seenParts++ > 0) {
+        if (seenParts == 2) seenDisplay = fastLinearToSrgb(seen);   // the first part
+        seenDisplay += fastLinearToSrgb(c);
+      }
       seen += c;
-      if (displaySums && c != glm::vec3(0.0f)) seenDisplay += fastLinearToSrgb(c);
     }
+  };
+  // Several parts seen at once (additive layers), nonzero, 3 floats each: encoded together.
+  const auto gatherSeenParts = [&](std::span<float> parts, const glm::vec3& sum) {
+    radiance += sum;
+    const uint32_t n = static_cast<uint32_t>(parts.size() / 3);
+    if (seenParts + n > 1) {
+      if (seenParts == 1) seenDisplay = fastLinearToSrgb(seen);   // the first part
+      fastLinearToSrgb(parts);
+      for (uint32_t k = 0; k < n; ++k) seenDisplay += glm::vec3(parts[3 * k], parts[3 * k + 1], parts[3 * k + 2]);
+    }
+    seenParts += n;
+    seen += sum;
   };
   uint32_t portalsCrossed = 0;   // what the camera sees through a portal counts as seen directly
 
@@ -160,12 +178,20 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     const FogSegment fog(scene.fogs, ray.origin, ray.dir, tHit, glm::length(ray.dir), false);
     if (displaySums && scatterCount == 0 && segment.additive->count > 1) {
       // Each layer a stage of its own, added in display values (fog dims each as in additiveThroughFog).
+      float parts[3 * AdditiveHits::kCapacity];
+      uint32_t n = 0;
+      glm::vec3 sum(0.0f);
       for (uint32_t i = 0; i < segment.additive->count; ++i) {
         const AdditiveHits::Entry& e = segment.additive->entries[i];
-        if (e.t < tHit)
-          gather(clampContribution(beta * e.color * (fog.empty() ? 1.0f : fog.transmittanceTo(e.t)), viewDepth,
-                                   settings.radianceClamp));
+        if (!(e.t < tHit)) continue;
+        const glm::vec3 c = clampContribution(beta * e.color * (fog.empty() ? 1.0f : fog.transmittanceTo(e.t)),
+                                              viewDepth, settings.radianceClamp);
+        if (c == glm::vec3(0.0f)) continue;
+        parts[3 * n] = c.x, parts[3 * n + 1] = c.y, parts[3 * n + 2] = c.z;
+        ++n;
+        sum += c;
       }
+      gatherSeenParts(std::span(parts, 3 * n), sum);
     } else {
       gather(clampContribution(beta * additiveThroughFog(*segment.additive, tHit, fog), viewDepth,
                                settings.radianceClamp));
@@ -270,7 +296,7 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
   }
   out.radiance = radiance;
   out.emission = seen;
-  if (displaySums && seen != glm::vec3(0.0f)) {
+  if (seenParts > 1) {
     // The seen part as the linear value of its display sum, clamped as 8 bits are: what
     // lightingLook adds in display values to the lit part.
     out.emission = fastSrgbToLinear(glm::min(seenDisplay, glm::vec3(1.0f)));

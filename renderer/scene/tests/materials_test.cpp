@@ -131,6 +131,25 @@ TEST(Materials, SeenLightAddsInDisplayValuesWithTheStockLook) {
       }
     }
   }
+  // Two layers over a dimmer glow: three stages, each added in display values (a sum of the two
+  // layers taken through the curve as one would show 0.85, not 0.98).
+  MaterialDesc dim = coloured(0.0f, 0.0f, 0.0f);
+  dim.emission = {0.05f, 0.05f, 0.05f};
+  MaterialDesc first = coloured(0.0f, 0.3f, 0.0f), second = coloured(0.0f, 0.02f, 0.0f);
+  first.alphaMode = second.alphaMode = AlphaMode::Additive;
+  Layers stacked(dim, first);
+  test::MeshArrays nearer = test::quad({-5, -5, 2}, {10, 0, 0}, {0, 10, 0});
+  nearer.setMaterial(stacked.renderer.addMaterial(second));
+  stacked.renderer.addInstance({stacked.renderer.addMesh(nearer.desc())});
+  stacked.renderer.commit();
+  const float three = linearToSrgb(0.05f) + linearToSrgb(0.3f) + linearToSrgb(0.02f);
+  ASSERT_LT(three, 1.0f);
+  for (const Integrator integrator : {Integrator::Direct, Integrator::Path}) {
+    RenderSettings s = settingsFor(integrator, 4, 1, 2);
+    s.lightingLook = LightingLook::DisplaySpace;
+    const FrameView f = stacked.renderer.render(lookAt({0, 0, 3}, {0, 0, 0}, 20.0f), s);
+    for (const glm::vec3& v : f.radiance) EXPECT_NEAR(v.g, srgbToLinear(three), 1e-5f) << int(integrator);
+  }
 }
 
 TEST(Materials, LayerBlendsComposeInDisplayValuesInTheLightmapPreset) {
