@@ -97,14 +97,21 @@ glm::vec3 environmentRadiance(const RenderScene& scene, const glm::vec3& dir, co
   return le * sampling::powerHeuristic(prev.bsdfPdf, scene.lights.skyPdf(prev.position, prev.normal, dir));
 }
 
+/// Calls f(colour) for each additive surface in front of tHit, its colour dimmed by the fog
+/// between it and the ray origin.
+template <class F>
+void forEachAdditiveThroughFog(const AdditiveHits& additive, float tHit, const FogSegment& fog, F&& f) {
+  for (uint32_t i = 0; i < additive.count; ++i) {
+    const AdditiveHits::Entry& e = additive.entries[i];
+    if (e.t < tHit) f(fog.empty() ? e.color : e.color * fog.transmittanceTo(e.t));
+  }
+}
+
 /// Additive surfaces in front of tHit, each dimmed by the fog between it and the ray origin.
 glm::vec3 additiveThroughFog(const AdditiveHits& additive, float tHit, const FogSegment& fog) {
   if (fog.empty()) return additive.sumBefore(tHit);
   glm::vec3 sum(0.0f);
-  for (uint32_t i = 0; i < additive.count; ++i) {
-    const AdditiveHits::Entry& e = additive.entries[i];
-    if (e.t < tHit) sum += e.color * fog.transmittanceTo(e.t);
-  }
+  forEachAdditiveThroughFog(additive, tHit, fog, [&](const glm::vec3& c) { sum += c; });
   return sum;
 }
 
@@ -142,19 +149,9 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
   uint32_t scatterCount = 0;
   // Adds light that reaches the camera from what it hit (emitters, sky, glows, fog), not light
   // reflected there: until the path first scatters it is exact per sample (PixelSample::emission).
-  const auto gather = [&](const glm::vec3& c) {
-    radiance += c;
-    if (scatterCount == 0) {
-      if (displaySums && c != glm::vec3(0.0f) && seenParts++ > 0) {
-        if (seenParts == 2) seenDisplay = fastLinearToSrgb(seen);   // the first part
-        seenDisplay += fastLinearToSrgb(c);
-      }
-      seen += c;
-    }
-  };
-  // Several parts seen at once (additive layers), nonzero, 3 floats each: encoded together.
-  const auto gatherSeenParts = [&](std::span<float> parts, const glm::vec3& sum) {
-    radiance += sum;
+  // Counts parts the camera sees (nonzero, 3 floats each, before `seen` adds them) into
+  // seenDisplay, from the second part on; a ray's layers go through the curve together.
+  const auto sumSeenDisplay = [&](std::span<float> parts) {
     const uint32_t n = static_cast<uint32_t>(parts.size() / 3);
     if (seenParts + n > 1) {
       if (seenParts == 1) seenDisplay = fastLinearToSrgb(seen);   // the first part
@@ -162,7 +159,16 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
       for (uint32_t k = 0; k < n; ++k) seenDisplay += glm::vec3(parts[3 * k], parts[3 * k + 1], parts[3 * k + 2]);
     }
     seenParts += n;
-    seen += sum;
+  };
+  const auto gather = [&](const glm::vec3& c) {
+    radiance += c;
+    if (scatterCount == 0) {
+      if (displaySums && c != glm::vec3(0.0f)) {
+        float part[3] = {c.x, c.y, c.z};
+        sumSeenDisplay(part);
+      }
+      seen += c;
+    }
   };
   uint32_t portalsCrossed = 0;   // what the camera sees through a portal counts as seen directly
 
@@ -181,17 +187,16 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
       float parts[3 * AdditiveHits::kCapacity];
       uint32_t n = 0;
       glm::vec3 sum(0.0f);
-      for (uint32_t i = 0; i < segment.additive->count; ++i) {
-        const AdditiveHits::Entry& e = segment.additive->entries[i];
-        if (!(e.t < tHit)) continue;
-        const glm::vec3 c = clampContribution(beta * e.color * (fog.empty() ? 1.0f : fog.transmittanceTo(e.t)),
-                                              viewDepth, settings.radianceClamp);
-        if (c == glm::vec3(0.0f)) continue;
+      forEachAdditiveThroughFog(*segment.additive, tHit, fog, [&](const glm::vec3& layer) {
+        const glm::vec3 c = clampContribution(beta * layer, viewDepth, settings.radianceClamp);
+        if (c == glm::vec3(0.0f)) return;
         parts[3 * n] = c.x, parts[3 * n + 1] = c.y, parts[3 * n + 2] = c.z;
         ++n;
         sum += c;
-      }
-      gatherSeenParts(std::span(parts, 3 * n), sum);
+      });
+      sumSeenDisplay(std::span(parts, 3 * n));
+      radiance += sum;
+      seen += sum;
     } else {
       gather(clampContribution(beta * additiveThroughFog(*segment.additive, tHit, fog), viewDepth,
                                settings.radianceClamp));
