@@ -2,6 +2,7 @@
 #include "renderer/gltf_io/gltf_model_reader.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <span>
@@ -65,10 +66,54 @@ void validateGlbContainer(std::span<const unsigned char> bytes, const std::strin
 struct ImageDecodeContext {
   bool decode = true;
   std::vector<std::string>* warnings = nullptr;
+  /// Images stored in a buffer view, decoded once the whole file is parsed: tinygltf hands the
+  /// callback such an image's bytes without checking the view against its buffer.
+  std::vector<int> inBufferViews;
 };
 
-/// tinygltf image callback: decodes with stb to RGBA8. Never fails the load: an image
-/// that cannot be decoded is left empty and reported as a warning.
+/// Decodes `bytes` into `image` as RGBA8 (libjpeg-turbo for JPEG, stb otherwise). An image that
+/// cannot be decoded is left empty and reported as a warning.
+void decodeImageBytes(tinygltf::Image& image, const int imageIndex, std::span<const unsigned char> bytes,
+                      std::vector<std::string>& warnings) {
+  image.width = image.height = 0;
+  image.image.clear();
+  const std::string label = "images[" + std::to_string(imageIndex) + "] \"" + image.name + "\"";
+  const std::span<const std::byte> span = std::as_bytes(bytes);
+  if (pa::isJpeg(span)) {  // libjpeg-turbo: stb 2.27 has undefined behaviour on corrupt JPEGs
+    try {
+      const auto [w, h] = pa::jpegSize(span);
+      if (w < 1 || h < 1 || static_cast<uint64_t>(w) * static_cast<uint64_t>(h) > kMaxImagePixels)
+        throw pa::JpegError(pa::JpegError::Stage::Size, "bad size");
+      pa::JpegImage jpeg = pa::decodeJpeg(span, {.maxDimension = 65535});
+      image.width = jpeg.width;
+      image.height = jpeg.height;
+      image.image = std::move(jpeg.rgba);
+    } catch (const pa::JpegError& e) {
+      warnings.push_back(label + ": cannot decode image (" + e.what() + ")");
+    }
+    return;
+  }
+  const int size = static_cast<int>(std::min<size_t>(bytes.size(), INT32_MAX));
+  int width = 0, height = 0, channels = 0;
+  if (!stbi_info_from_memory(bytes.data(), size, &width, &height, &channels) || width < 1 || height < 1 ||
+      static_cast<uint64_t>(width) * static_cast<uint64_t>(height) > kMaxImagePixels) {
+    warnings.push_back(label + ": cannot decode image (" +
+                       std::string(stbi_failure_reason() ? stbi_failure_reason() : "bad size") + ")");
+    return;
+  }
+  stbi_uc* pixels = stbi_load_from_memory(bytes.data(), size, &width, &height, &channels, 4);
+  if (!pixels) {
+    warnings.push_back(label + ": cannot decode image (" + std::string(stbi_failure_reason()) + ")");
+    return;
+  }
+  image.width = width;
+  image.height = height;
+  image.image.assign(pixels, pixels + static_cast<size_t>(width) * static_cast<size_t>(height) * 4);
+  stbi_image_free(pixels);
+}
+
+/// tinygltf image callback. Never fails the load. Images named by a URI are decoded here (tinygltf
+/// owns and sizes those bytes); images in a buffer view are left for decodeBufferViewImages.
 bool decodeImage(tinygltf::Image* image, const int imageIndex, std::string*, std::string*, int, int,
                  const unsigned char* bytes, int size, void* userData) {
   auto* context = static_cast<ImageDecodeContext*>(userData);
@@ -78,39 +123,36 @@ bool decodeImage(tinygltf::Image* image, const int imageIndex, std::string*, std
   image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
   image->image.clear();
   if (!context->decode) return true;
-  const std::string label = "images[" + std::to_string(imageIndex) + "] \"" + image->name + "\"";
-  const std::span<const std::byte> span(reinterpret_cast<const std::byte*>(bytes), size > 0 ? static_cast<size_t>(size) : 0);
-  if (pa::isJpeg(span)) {  // libjpeg-turbo: stb 2.27 has undefined behaviour on corrupt JPEGs
-    try {
-      const auto [w, h] = pa::jpegSize(span);
-      if (w < 1 || h < 1 || static_cast<uint64_t>(w) * static_cast<uint64_t>(h) > kMaxImagePixels)
-        throw pa::JpegError(pa::JpegError::Stage::Size, "bad size");
-      pa::JpegImage jpeg = pa::decodeJpeg(span, {.maxDimension = 65535});
-      image->width = jpeg.width;
-      image->height = jpeg.height;
-      image->image = std::move(jpeg.rgba);
-    } catch (const pa::JpegError& e) {
-      context->warnings->push_back(label + ": cannot decode image (" + e.what() + ")");
-    }
+  if (image->bufferView >= 0) {
+    context->inBufferViews.push_back(imageIndex);
     return true;
   }
-  int width = 0, height = 0, channels = 0;
-  if (!stbi_info_from_memory(bytes, size, &width, &height, &channels) || width < 1 || height < 1 ||
-      static_cast<uint64_t>(width) * static_cast<uint64_t>(height) > kMaxImagePixels) {
-    context->warnings->push_back(label + ": cannot decode image (" +
-                                 std::string(stbi_failure_reason() ? stbi_failure_reason() : "bad size") + ")");
-    return true;
-  }
-  stbi_uc* pixels = stbi_load_from_memory(bytes, size, &width, &height, &channels, 4);
-  if (!pixels) {
-    context->warnings->push_back(label + ": cannot decode image (" + std::string(stbi_failure_reason()) + ")");
-    return true;
-  }
-  image->width = width;
-  image->height = height;
-  image->image.assign(pixels, pixels + static_cast<size_t>(width) * static_cast<size_t>(height) * 4);
-  stbi_image_free(pixels);
+  decodeImageBytes(*image, imageIndex, {bytes, size > 0 ? static_cast<size_t>(size) : 0}, *context->warnings);
   return true;
+}
+
+/// Decodes the images stored in buffer views, each after checking its view lies inside its buffer.
+void decodeBufferViewImages(tinygltf::Model& model, const std::vector<int>& indices,
+                            std::vector<std::string>& warnings) {
+  for (const int index : indices) {
+    if (index < 0 || static_cast<size_t>(index) >= model.images.size()) continue;
+    tinygltf::Image& image = model.images[static_cast<size_t>(index)];
+    const auto viewIndex = static_cast<size_t>(image.bufferView);
+    if (viewIndex >= model.bufferViews.size()) continue;  // tinygltf has refused the file already
+    const tinygltf::BufferView& view = model.bufferViews[viewIndex];
+    const size_t bufferBytes = view.buffer >= 0 && static_cast<size_t>(view.buffer) < model.buffers.size()
+                                   ? model.buffers[static_cast<size_t>(view.buffer)].data.size()
+                                   : 0;
+    if (view.byteOffset > bufferBytes || view.byteLength > bufferBytes - view.byteOffset) {
+      warnings.push_back("images[" + std::to_string(index) + "] \"" + image.name +
+                         "\": cannot decode image (bufferView " + std::to_string(viewIndex) + " of " +
+                         std::to_string(view.byteLength) + " bytes at offset " + std::to_string(view.byteOffset) +
+                         " overruns its buffer of " + std::to_string(bufferBytes) + " bytes)");
+      continue;
+    }
+    const unsigned char* data = model.buffers[static_cast<size_t>(view.buffer)].data.data() + view.byteOffset;
+    decodeImageBytes(image, index, {data, view.byteLength}, warnings);
+  }
 }
 
 /// File-system callbacks for in-memory input: every external file is missing.
@@ -163,6 +205,7 @@ tinygltf::Model readModel(std::span<const unsigned char> bytes, const std::strin
     while (!error.empty() && (error.back() == '\n' || error.back() == '\r')) error.pop_back();
     throw std::runtime_error(name + ": glTF parse error: " + (error.empty() ? "unknown error" : error));
   }
+  decodeBufferViewImages(model, context.inBufferViews, warnings);
   // tinygltf joins its warnings with newlines: one entry per line.
   size_t start = 0;
   while (start < warning.size()) {

@@ -45,6 +45,56 @@ GltfScene sceneWithImage(const std::vector<unsigned char>& jpeg) {
   return loadSceneFromMemory(std::as_bytes(std::span(json)), "jpeg.gltf");
 }
 
+void appendLittleEndian32(std::vector<unsigned char>& out, uint32_t value) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(value >> (8 * i)));
+}
+
+/// A GLB whose one image is stored in buffer view 0 (`viewOffset`, `viewLength`) of a binary
+/// chunk holding `bin`.
+std::vector<unsigned char> glbWithBufferViewImage(std::vector<unsigned char> bin, size_t viewOffset,
+                                                  size_t viewLength) {
+  std::string json = R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":)" + std::to_string(bin.size()) +
+                     R"(}],"bufferViews":[{"buffer":0,"byteOffset":)" + std::to_string(viewOffset) +
+                     R"(,"byteLength":)" + std::to_string(viewLength) +
+                     R"(}],"images":[{"bufferView":0,"mimeType":"image/jpeg"}],"textures":[{"source":0}]})";
+  while (json.size() % 4) json += ' ';
+  while (bin.size() % 4) bin.push_back(0);
+  std::vector<unsigned char> glb = {'g', 'l', 'T', 'F'};
+  appendLittleEndian32(glb, 2);
+  appendLittleEndian32(glb, static_cast<uint32_t>(12 + 8 + json.size() + 8 + bin.size()));
+  appendLittleEndian32(glb, static_cast<uint32_t>(json.size()));
+  appendLittleEndian32(glb, 0x4E4F534Au);  // "JSON"
+  glb.insert(glb.end(), json.begin(), json.end());
+  appendLittleEndian32(glb, static_cast<uint32_t>(bin.size()));
+  appendLittleEndian32(glb, 0x004E4942u);  // "BIN\0"
+  glb.insert(glb.end(), bin.begin(), bin.end());
+  return glb;
+}
+
+TEST(GltfImages, JpegInABufferViewDecodes) {
+  const std::vector<unsigned char> jpeg = flatJpeg(20, 200, 40);
+  std::vector<unsigned char> bin(16, 0);  // the image starts 16 bytes into the buffer
+  bin.insert(bin.end(), jpeg.begin(), jpeg.end());
+  const std::vector<unsigned char> glb = glbWithBufferViewImage(bin, 16, jpeg.size());
+  const GltfScene scene = loadSceneFromMemory(std::as_bytes(std::span(glb)), "view.glb");
+  ASSERT_EQ(scene.images.size(), 1u);
+  ASSERT_EQ(scene.images[0].width, 8u);
+  EXPECT_NEAR(scene.images[0].rgba8[4 * 20 + 1], 200, 2);
+  EXPECT_TRUE(scene.warnings.empty());
+}
+
+TEST(GltfImages, BufferViewPastItsBufferIsAWarningNotARead) {
+  // A hostile view that starts inside the buffer and runs 64 KiB past its end: the image is
+  // left empty with a warning instead of being decoded from memory beyond the buffer.
+  const std::vector<unsigned char> jpeg = flatJpeg(20, 200, 40);
+  const std::vector<unsigned char> glb = glbWithBufferViewImage(jpeg, 4, jpeg.size() + 65536);
+  const GltfScene scene = loadSceneFromMemory(std::as_bytes(std::span(glb)), "overrun.glb");
+  ASSERT_EQ(scene.images.size(), 1u);
+  EXPECT_TRUE(scene.images[0].rgba8.empty());
+  ASSERT_FALSE(scene.warnings.empty());
+  EXPECT_NE(scene.warnings[0].find("overruns its buffer"), std::string::npos) << scene.warnings[0];
+}
+
 TEST(GltfImages, JpegDecodesToRgba) {
   const GltfScene scene = sceneWithImage(flatJpeg(200, 30, 40));
   ASSERT_EQ(scene.images.size(), 1u);
