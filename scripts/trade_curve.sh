@@ -63,6 +63,8 @@ bake direct_no_bake 1 --integrator direct --clamp 10 --spp 1 $play
 roulette direct_roulette3 1 --integrator direct --clamp 10 --spp 1 $play --baked-path-end --roulette-start 3
 roulette path_roulette3 1 --integrator path --bounces 2 --clamp 10 --spp 1 $play --baked-path-end --roulette-start 3
 roulette path_roulette3_spp2 1 --integrator path --bounces 2 --clamp 10 --spp 2 $play --baked-path-end --roulette-start 3
+lampvis direct_no_lamp_vis 1 --integrator direct --clamp 10 --spp 1 $play --baked-path-end --no-lamp-visibility
+lampvis path_no_lamp_vis 1 --integrator path --bounces 2 --clamp 10 --spp 1 $play --baked-path-end --no-lamp-visibility
 EOF
 }
 
@@ -95,7 +97,7 @@ print('%.1f' % (1000*(t-d['first_frame_seconds'])/(f-1) if f > 1 else 1000*t))" 
 done
 
 command -v gnuplot >/dev/null || { echo "gnuplot not installed: table only ($tsv)"; exit 0; }
-groups="preset spp bounces scale denoiser temporal restir clamp bake roulette"
+groups="preset spp bounces scale denoiser temporal restir clamp bake roulette lampvis"
 for cam in "$@"; do
   rows="$out/${name}_c${cam}.dat"
   awk -F'\t' -v s="$name" -v c="$cam" 'NR > 1 && $1 == s && $2 == c { print $5, $6, $7, $4, $3 }' "$tsv" >"$rows"
@@ -105,6 +107,7 @@ set output "$out/trade_${name}_c${cam}.png"
 set multiplot layout 1,2 title "$name camera $cam, ${width}x${height}: error against a converged reference (path, ${REF_BOUNCES:-4} bounces, $(( ${REF_SPP:-64} * ${REF_FRAMES:-16} )) spp) and steady time per frame"
 set linetype 9 lc rgb "#8c564b"
 set linetype 10 lc rgb "#7f7f7f"
+set linetype 11 lc rgb "#17becf"
 set logscale x
 set xlabel "ms per frame"
 set grid

@@ -95,8 +95,10 @@ void Module::beginRegistration(q3abi::glconfig_t* config) {
   drawLikeTheStockRendererStart();
   updateDisplayRamp();
   const TracerSettings tracer = settings_.tracer(engine_);
-  if (!views_) views_ = std::make_unique<ViewRenderer>(engine_, tracer.threads, tracer.avx2Kernels);
-  if (!modelViews_) modelViews_ = std::make_unique<ViewRenderer>(engine_, tracer.threads, tracer.avx2Kernels);
+  if (!views_)
+    views_ = std::make_unique<ViewRenderer>(engine_, tracer.threads, tracer.avx2Kernels, tracer.lampVisibility);
+  if (!modelViews_)
+    modelViews_ = std::make_unique<ViewRenderer>(engine_, tracer.threads, tracer.avx2Kernels, tracer.lampVisibility);
   views_->setPicture(picture());
   modelViews_->setPicture(picture());
   scripts_.load(engine_);

@@ -133,6 +133,11 @@ void Settings::registerCvars(const Engine& engine) {
   isa_ = engine.cvar("r_pt_isa", "auto", CVAR_ARCHIVE | CVAR_LATCH,
                      "Ray kernels: auto (the fastest this CPU has) | avx2 (the AVX2 kernels and 8-wide BVH "
                      "on a CPU with AVX-512, to measure what CPUs without it run); applies after vid_restart");
+  lampVisibility_ = engine.cvar("r_pt_lamp_vis", "1", CVAR_ARCHIVE | CVAR_LATCH,
+                                "Direct, path and reference: 1 = choose lamps that no shadow ray from the surfaces "
+                                "around a point reached less often there (traced once per map, unbiased) | 0 = weigh "
+                                "every lamp by its unshadowed light alone; applies after vid_restart");
+  if (lampVisibility_ != nullptr) ri.Cvar_CheckRange(lampVisibility_, 0, 1, 1);
   clamp_ = engine.cvar("r_pt_clamp", "-1", 0,
                        "Clamp of each sample's radiance (0 = none, an unbiased mean); -1 = the preset's "
                        "(reference none, the others 10)");
@@ -262,6 +267,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.captureExr = captureExr_ != nullptr && captureExr_->integer != 0;
   out.pipeline = pipeline_ == nullptr || pipeline_->integer != 0;
   if (clamp_ != nullptr && std::isfinite(clamp_->value)) out.radianceClamp = clamp_->value < 0.0f ? -1.0f : clamp_->value;
+  out.lampVisibility = lampVisibility_ == nullptr || lampVisibility_->integer != 0;
   if (isa_ != nullptr && isa_->string != nullptr) {
     const std::string isa = normalizeName(isa_->string);
     out.avx2Kernels = isa == "avx2";

@@ -57,6 +57,9 @@ struct TracerSettings {
   /// r_pt_isa avx2: the BVHs keep the AVX2 kernels and 8-wide layout on a CPU with AVX-512 (to
   /// measure what CPUs without it run); auto: the fastest this CPU has. Latched (vid_restart).
   bool avx2Kernels = false;
+  /// r_pt_lamp_vis: lamps no shadow ray from a region's surfaces reached are chosen less often
+  /// there (RendererConfig::lampVisibility); false weighs every lamp unshadowed. Latched.
+  bool lampVisibility = true;
   /// r_textureMode: how the lightmap look filters world and model textures, as stock's texture units
   pa::TextureFilter textureFilter{pa::MipFilter::Nearest, false};
 };
@@ -148,6 +151,7 @@ class Settings {
   q3abi::cvar_t* pipeline_ = nullptr;
   q3abi::cvar_t* clamp_ = nullptr;
   q3abi::cvar_t* isa_ = nullptr;
+  q3abi::cvar_t* lampVisibility_ = nullptr;
   q3abi::cvar_t* textureMode_ = nullptr;
   mutable pa::TextureFilter textureFilter_{pa::MipFilter::Nearest, false};   ///< r_textureMode as last parsed
   mutable bool textureFilterRead_ = false;

@@ -69,8 +69,9 @@ struct TracedPicture {
 /// Owns the path tracer and what it knows of the world.
 class ViewRenderer {
  public:
-  /// `threads` = r_pt_threads (0: all cores); `avx2Kernels` = r_pt_isa avx2 (RendererConfig::bvh).
-  ViewRenderer(const Engine& engine, int threads, bool avx2Kernels);
+  /// `threads` = r_pt_threads (0: all cores); `avx2Kernels` = r_pt_isa avx2 (RendererConfig::bvh);
+  /// `lampVisibility` = r_pt_lamp_vis (RendererConfig::lampVisibility).
+  ViewRenderer(const Engine& engine, int threads, bool avx2Kernels, bool lampVisibility);
   ~ViewRenderer();
   ViewRenderer(const ViewRenderer&) = delete;
   ViewRenderer& operator=(const ViewRenderer&) = delete;

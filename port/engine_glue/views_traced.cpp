@@ -96,8 +96,8 @@ void pinThreadPoolLibrary(const Engine& engine) {
 
 bool ViewRenderer::available() { return true; }
 
-ViewRenderer::ViewRenderer(const Engine& engine, int threads, bool avx2Kernels)
-    : impl_(new Impl(engine, threads, avx2Kernels)) {
+ViewRenderer::ViewRenderer(const Engine& engine, int threads, bool avx2Kernels, bool lampVisibility)
+    : impl_(new Impl(engine, threads, avx2Kernels, lampVisibility)) {
   pinThreadPoolLibrary(engine);
   impl_->startMap();
 }

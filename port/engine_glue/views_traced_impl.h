@@ -152,14 +152,16 @@ struct StartedView {
 
 /// ViewRenderer's state by lifetime, and its passes.
 struct ViewRenderer::Impl {
-  /// Holds the engine; `threads` = r_pt_threads (0: all cores), `avx2Kernels` = r_pt_isa avx2.
+  /// Holds the engine; `threads` = r_pt_threads (0: all cores), `avx2Kernels` = r_pt_isa avx2,
+  /// `lampVisibility` = r_pt_lamp_vis.
   /// startMap makes the renderer.
-  Impl(const Engine& engine, int threads, bool avx2Kernels);
+  Impl(const Engine& engine, int threads, bool avx2Kernels, bool lampVisibility);
 
   // ---- for the module's life
   const Engine& engine;              ///< Files, cvars and printing.
   const int threads;                 ///< The renderer's threads (0: all cores).
   const bool avx2Kernels;            ///< The renderer's BVHs keep the AVX2 kernels (RendererConfig::bvh).
+  const bool lampVisibility;         ///< RendererConfig::lampVisibility.
   /// The threads the sky bake may use: as many as the renderer's (r_pt_threads, 0 = all cores).
   tbb::task_arena bakeArena;
   PictureSettings pictureSettings;   ///< r_picmip, r_intensity, r_mapOverBrightBits for what is loaded.

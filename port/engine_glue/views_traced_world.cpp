@@ -18,16 +18,18 @@ constexpr int kStockSkyFaceSize = 256;   // texels a side of the baked stock sky
 
 }  // namespace
 
-ViewRenderer::Impl::Impl(const Engine& engine, int threads, bool avx2Kernels)
+ViewRenderer::Impl::Impl(const Engine& engine, int threads, bool avx2Kernels, bool lampVisibility)
     : engine(engine),
       threads(threads),
       avx2Kernels(avx2Kernels),
+      lampVisibility(lampVisibility),
       bakeArena(threads > 0 ? threads : int(tbb::task_arena::automatic)) {}
 
 void ViewRenderer::Impl::startMap() {
   map = MapState{};   // first: it holds ids of the renderer it replaces
   pa::RendererConfig config{.threads = static_cast<uint32_t>(threads)};
   config.bvh.allowAvx512 = !avx2Kernels;
+  config.lampVisibility = lampVisibility;
   renderer = std::make_unique<pa::Renderer>(config);
   map.defaultMaterial = renderer->addMaterial(pa::MaterialDesc{});
   map.emptyMesh = renderer->addMesh(pa::MeshDesc{});

@@ -10,7 +10,7 @@ struct ViewRenderer::Impl {
   bool warned = false;
 };
 
-ViewRenderer::ViewRenderer(const Engine& engine, int, bool) : impl_(new Impl{engine}) {}
+ViewRenderer::ViewRenderer(const Engine& engine, int, bool, bool) : impl_(new Impl{engine}) {}
 ViewRenderer::~ViewRenderer() = default;
 bool ViewRenderer::available() { return false; }
 

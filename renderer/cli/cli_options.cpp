@@ -89,13 +89,15 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
     }
     if (name == "--progress" || name == "--quiet" || name == "-q" || name == "--denoise" ||
         name == "--no-camera-packets" || name == "--restir" || name == "--spread-fireflies" ||
-        name == "--baked-path-end") {
+        name == "--baked-path-end" || name == "--no-lamp-visibility") {
       if (inlineValue) {
         message = std::string(name) + " takes no value";
         return result;
       }
       if (name == "--no-camera-packets") {
         o.cameraPackets = false;
+      } else if (name == "--no-lamp-visibility") {
+        o.lampVisibility = false;
       } else if (name == "--restir") {
         o.restir = true;
       } else if (name == "--baked-path-end") {
@@ -264,6 +266,9 @@ Image and sampling:
                          neighbours on the same surface (keeps the image's energy)
   --no-camera-packets    Trace camera rays one by one instead of in 4x4 packets (same image;
                          for speed comparisons)
+  --no-lamp-visibility   Weigh each lamp by its unshadowed contribution alone, not less where
+                         no shadow ray from the surfaces around reached it (RendererConfig::
+                         lampVisibility; for comparisons)
   --restir               Direct light at each pixel's first hit by spatiotemporal reservoir
                          resampling (ReSTIR DI, renderer/scene/restir) instead of one light
                          sample; direct and path only. --stats gets resample_seconds and

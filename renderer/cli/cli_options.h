@@ -38,6 +38,7 @@ struct CliOptions {
   bool denoise = false;                         ///< Filter the image with the à-trous denoiser (--denoise).
   bool spreadFireflies = false;                 ///< --spread-fireflies (denoise/fireflies.h).
   bool cameraPackets = true;                    ///< Camera rays in 4x4 packets (off: --no-camera-packets).
+  bool lampVisibility = true;                   ///< RendererConfig::lampVisibility (off: --no-lamp-visibility).
   bool restir = false;                          ///< Reservoir resampling of direct light (--restir).
   bool bakedPathEnd = false;                    ///< Paths end on the bake's light (--baked-path-end).
   /// How the frames combine (--play): accumulate into one mean; or play them as the game does

@@ -100,6 +100,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     const auto loadStart = std::chrono::steady_clock::now();
     RendererConfig config;
     config.threads = options.threads;
+    config.lampVisibility = options.lampVisibility;
     Renderer renderer(config);
     ImportOptions importOptions;
     importOptions.lightScale = options.lightScale;

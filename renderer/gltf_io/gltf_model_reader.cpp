@@ -185,7 +185,7 @@ tinygltf::Model readModel(std::span<const unsigned char> bytes, const std::strin
   if (isBinary) validateGlbContainer(bytes, name);
 
   tinygltf::TinyGLTF parser;
-  ImageDecodeContext context{decodeImages, &warnings};
+  ImageDecodeContext context{decodeImages, &warnings, {}};
   parser.SetImageLoader(&decodeImage, &context);
   if (baseDirPath.empty()) parser.SetFsCallbacks({&noFileExists, &noExpand, &noRead, &noWrite, nullptr});
   tinygltf::Model model;

@@ -130,7 +130,10 @@ void validateSettings(const RenderSettings& s) {
 }  // namespace
 
 struct Renderer::Impl {
-  explicit Impl(const RendererConfig& c) : config(c), arena(arenaConcurrency(c.threads)) { store.setBvhConfig(c.bvh); }
+  explicit Impl(const RendererConfig& c) : config(c), arena(arenaConcurrency(c.threads)) {
+    store.setBvhConfig(c.bvh);
+    store.setLampVisibility(c.lampVisibility);
+  }
 
   RendererConfig config;
   tbb::task_arena arena;
@@ -227,6 +230,7 @@ void Renderer::attachLights() {
   im.arena.execute([&] {
     im.store.attachLights(im.scene);
     im.store.attachEnvironmentVisibility(im.scene);
+    im.store.attachLampVisibility(im.scene);
   });
   im.environmentAttached = true;
 }

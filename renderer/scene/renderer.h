@@ -17,6 +17,10 @@ struct RendererConfig {
   /// How meshes' BVHs are built and which kernels trace them: allowAvx512 false keeps the AVX2
   /// kernels and 8-wide layout that CPUs without AVX-512 run, to measure them on one that has it.
   BvhBuildConfig bvh{};
+  /// Lamps that no shadow ray from a region's surfaces reached are chosen less often there
+  /// (lights/lamp_visibility.h: traced once per scene, unbiased); false weighs every lamp by its
+  /// unshadowed contribution alone.
+  bool lampVisibility = true;
 };
 
 /// Where one render() call's time went (milliseconds, wall clock on the calling thread).

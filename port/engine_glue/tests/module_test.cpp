@@ -172,6 +172,10 @@ TEST_F(ModuleTest, BeginRegistrationOpensTheWindowAndDescribesIt) {
   // Russian roulette from the first bounce by default (docs/performance.md, "Russian roulette").
   ASSERT_TRUE(fake::engine().cvars.count("r_pt_roulette"));
   EXPECT_EQ(fake::engine().cvars.at("r_pt_roulette")->integer, 1);
+  // Lamps hidden from a region chosen less often there by default (docs/performance.md,
+  // "Lamps behind walls").
+  ASSERT_TRUE(fake::engine().cvars.count("r_pt_lamp_vis"));
+  EXPECT_EQ(fake::engine().cvars.at("r_pt_lamp_vis")->integer, 1);
 }
 
 TEST_F(ModuleTest, RegistrationDrawsFromRandLikeTheStockRenderer) {

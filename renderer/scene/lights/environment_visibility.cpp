@@ -17,58 +17,15 @@ namespace {
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-/// The box holding the middle of the points on every axis (kOutlierShare cut at each end).
-Bounds robustBounds(std::span<const SurfacePoint> points) {
-  constexpr double kOutlierShare = 0.01;
-  Bounds box;
-  std::vector<float> axis;
-  for (int a = 0; a < 3; ++a) {
-    axis.clear();
-    for (const SurfacePoint& p : points)
-      if (finite(p.position)) axis.push_back(p.position[a]);
-    if (axis.empty()) return Bounds{};
-    const size_t lo = size_t(kOutlierShare * double(axis.size()));
-    const size_t hi = axis.size() - 1 - lo;
-    std::nth_element(axis.begin(), axis.begin() + lo, axis.end());
-    box.min[a] = axis[lo];
-    std::nth_element(axis.begin(), axis.begin() + hi, axis.end());
-    box.max[a] = axis[hi];
-  }
-  return box;
-}
-
 }  // namespace
-
-uint32_t EnvironmentVisibility::normalBin(const glm::vec3& n) {
-  const glm::vec3 a = glm::abs(n);
-  const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-  return uint32_t(2 * axis + (n[axis] < 0.0f ? 1 : 0));
-}
-
-int64_t EnvironmentVisibility::slot(const glm::vec3& p, const glm::vec3& n) const {
-  const glm::vec3 f = (p - origin_) / cellSize_;
-  if (!(f.x >= 0.0f && f.y >= 0.0f && f.z >= 0.0f)) return -1;
-  const uint32_t x = uint32_t(f.x), y = uint32_t(f.y), z = uint32_t(f.z);
-  if (x >= counts_[0] || y >= counts_[1] || z >= counts_[2]) return -1;
-  return int64_t((x + counts_[0] * (size_t{y} + counts_[1] * size_t{z})) * kNormalBins + normalBin(n));
-}
 
 EnvironmentVisibility::EnvironmentVisibility(std::span<const SurfacePoint> points,
                                              std::span<const glm::vec3> sunDirections, bool sky,
                                              const EscapeTest& escapes) {
   if (sunDirections.empty() && !sky) return;
-  Bounds bounds = robustBounds(points);
-  if (bounds.empty()) return;
-  const glm::vec3 extent = bounds.max - bounds.min;
-  const float longest = std::max({extent.x, extent.y, extent.z});
-  if (!(longest > 0.0f) || !std::isfinite(longest)) return;
-  const float cell = longest / float(kCellsLongestAxis);
-  for (int a = 0; a < 3; ++a) counts_[a] = std::clamp(uint32_t(std::ceil(extent[a] / cell)), 1u, kCellsLongestAxis);
-  origin_ = bounds.min;
-  // A flat axis (all points on one plane) gets one cell of the common size, centred on the plane.
-  cellSize_ = glm::max(extent / glm::vec3(counts_[0], counts_[1], counts_[2]), glm::vec3(cell));
-  origin_ -= 0.5f * (cellSize_ * glm::vec3(counts_[0], counts_[1], counts_[2]) - extent);
-  const float offset = 1e-4f * longest;   // off the surface, well inside its cell
+  grid_ = SurfaceGrid(points, kCellsLongestAxis);
+  if (grid_.empty()) return;
+  const float offset = grid_.offset();   // off the surface, well inside its cell
 
   // Per point: its slot (-1 outside the grid) and how many of its rays escaped.
   const uint32_t trials = uint32_t(sunDirections.size()) + (sky ? kSkyRaysPerPoint : 0u);
@@ -77,7 +34,7 @@ EnvironmentVisibility::EnvironmentVisibility(std::span<const SurfacePoint> point
   tbb::parallel_for(size_t{0}, points.size(), [&](size_t i) {
     const SurfacePoint& s = points[i];
     if (!finite(s.position) || !finite(s.normal)) return;
-    slotOf[i] = slot(s.position, s.normal);
+    slotOf[i] = grid_.bin(s.position, s.normal);
     if (slotOf[i] < 0) return;
     const glm::vec3 origin = s.position + offset * s.normal;
     uint32_t count = 0;
@@ -94,7 +51,7 @@ EnvironmentVisibility::EnvironmentVisibility(std::span<const SurfacePoint> point
     escaped[i] = uint8_t(std::min(count, 255u));
   });
   // Share of a bin: the fraction of its rays that escaped, at least kHiddenShare; 1 without points.
-  std::vector<uint32_t> rays(size_t{counts_[0]} * counts_[1] * counts_[2] * kNormalBins, 0);
+  std::vector<uint32_t> rays(grid_.binCount(), 0);
   std::vector<uint32_t> hits(rays.size(), 0);
   for (size_t i = 0; i < points.size(); ++i) {
     if (slotOf[i] < 0) continue;
@@ -108,7 +65,7 @@ EnvironmentVisibility::EnvironmentVisibility(std::span<const SurfacePoint> point
 
 float EnvironmentVisibility::share(const glm::vec3& p, const glm::vec3& n) const {
   if (share_.empty()) return 1.0f;
-  const int64_t at = slot(p, n);
+  const int64_t at = grid_.bin(p, n);
   return at < 0 ? 1.0f : share_[size_t(at)];
 }
 

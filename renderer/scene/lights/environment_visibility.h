@@ -13,8 +13,7 @@
 // directions of its front hemisphere. Each cell keeps one fraction per facing (the dominant axis
 // and sign of the normal: six bins), so that the two faces of a wall inside one cell, a closed
 // corridor's and an open yard's, are judged apart. Bins without points, and points outside the
-// grid, keep the full share (the sampler's choice is then unchanged). The grid spans the box of
-// the middle 98% of the points on each axis (far sky boxes would stretch it over empty space),
+// grid, keep the full share (the sampler's choice is then unchanged). The grid (surface_grid.h) has
 // kCellsLongestAxis cells along its longest side.
 #include <cstdint>
 #include <functional>
@@ -25,14 +24,9 @@
 #include <glm/vec3.hpp>
 
 #include "renderer/core/bounds.h"
+#include "renderer/scene/lights/surface_grid.h"
 
 namespace pa {
-
-/// A point on a surface and the unit normal of the side it is seen from.
-struct SurfacePoint {
-  glm::vec3 position{0.0f};
-  glm::vec3 normal{0.0f, 0.0f, 1.0f};
-};
 
 /// Coarse map of the cells from which the environment is reachable. Immutable once built.
 class EnvironmentVisibility {
@@ -54,7 +48,7 @@ class EnvironmentVisibility {
                         const EscapeTest& escapes);
 
   /// Normal bins per cell.
-  static constexpr uint32_t kNormalBins = 6;
+  static constexpr uint32_t kNormalBins = SurfaceGrid::kNormalBins;
   /// Fraction of the sun and sky share kept at p, on a surface facing unit normal n: in
   /// [kHiddenShare, 1], 1 outside the grid and in bins without points.
   float share(const glm::vec3& p, const glm::vec3& n) const;
@@ -62,16 +56,11 @@ class EnvironmentVisibility {
   size_t binCount() const { return share_.size(); }
   size_t closedCount() const;
   /// The bin of a normal: 2 x dominant axis + (1 when that component is negative).
-  static uint32_t normalBin(const glm::vec3& n);
+  static uint32_t normalBin(const glm::vec3& n) { return SurfaceGrid::normalBin(n); }
 
  private:
-  glm::vec3 origin_{0.0f};
-  glm::vec3 cellSize_{1.0f};
-  uint32_t counts_[3] = {0, 0, 0};
-  std::vector<float> share_;   ///< Per cell (x fastest) and normal bin.
-
-  /// Index into share_ of point p with normal n; -1 outside the grid.
-  int64_t slot(const glm::vec3& p, const glm::vec3& n) const;
+  SurfaceGrid grid_;
+  std::vector<float> share_;   ///< Per grid bin.
 };
 
 /// The last maps built and what they were traced from: a render that needs one retraces only

@@ -111,10 +111,13 @@ int laneAbove(const float* w, double base, double target) {
 }
 
 /// The weights (LightSampler::lampWeight's terms) of the eight lamps of a group at p, n; false
-/// (and all 0) when every lamp of the group lies wholly below the tangent plane. The divisions
-/// the group's lamps do not need are skipped; each lane's arithmetic is the same.
+/// (and all 0) when every lamp of the group lies wholly below the tangent plane. Lanes set in
+/// `hidden` (lamps no ray from p's surroundings reached: LampVisibility) are scaled by
+/// LampVisibility::kHiddenWeight. The divisions the group's lamps do not need are skipped; each
+/// lane's arithmetic is the same.
 template <class Group>
-[[gnu::always_inline]] inline bool groupWeights(const Group& g, const glm::vec3& p, const glm::vec3& n, Lanes& out) {
+[[gnu::always_inline]] inline bool groupWeights(const Group& g, const glm::vec3& p, const glm::vec3& n, uint8_t hidden,
+                                                Lanes& out) {
   const Lanes x = load(g.x), y = load(g.y), z = load(g.z), radius = load(g.radius);
   const Lanes tx = p.x - x, ty = p.y - y, tz = p.z - z;   // light -> point
   // Nothing to reflect where the whole light lies on or below the tangent plane.
@@ -151,6 +154,10 @@ template <class Group>
     weight = ((load(g.spot) != 0.0f) & (centre > 0.0f)) ? weight * smooth : weight;
   }
   if (hemisphere) weight = below ? Lanes{} : weight;
+  if (hidden != 0) {
+    const LaneMask laneBits = {1, 2, 4, 8, 16, 32, 64, 128};
+    weight = (laneBits & int(hidden)) != 0 ? weight * LampVisibility::kHiddenWeight : weight;
+  }
   // Only positive finite weights (NaN fails both comparisons).
   out = ((weight > 0.0f) & (weight <= std::numeric_limits<float>::max())) ? weight : Lanes{};
   return true;
@@ -247,6 +254,7 @@ void LightSampler::buildTables(const Sky& sky, const Bounds& sceneBounds, std::s
   environmentEntries_.clear();
   environmentShare_ = 0.0;
   visibility_.reset();
+  lampVisibility_.reset();
   const double radius =
       sceneBounds.empty() ? 1.0 : std::max(1e-3, 0.5 * double{glm::length(sceneBounds.max - sceneBounds.min)});
   std::vector<double>& power = power_;
@@ -334,6 +342,26 @@ void LightSampler::sunDirections(std::vector<glm::vec3>& out) const {
   // pooled light switched off) lights nothing and is left out.
   for (uint32_t i = 0; i < analytic_.size(); ++i)
     if (analytic_[i].type == LightType::Directional && table_.pdf(i) > 0.0f) out.push_back(analytic_[i].direction);
+}
+
+void LightSampler::setLampVisibility(std::shared_ptr<const LampVisibility> visibility) {
+  lampVisibility_.reset();
+  bool any = false;
+  for (size_t k = 0; k < localLights_.size(); ++k) {
+    LampGroup& g = lampGroups_[k / 8];
+    const uint8_t bit = uint8_t(1u << (k % 8));
+    g.mapped = uint8_t(g.mapped & ~bit);
+    if (visibility == nullptr || k >= visibility->lamps().size()) continue;
+    if (!LampVisibility::sameLamp(analytic_[localLights_[k]], visibility->lamps()[k])) continue;
+    g.mapped = uint8_t(g.mapped | bit);
+    any = true;
+  }
+  if (any) lampVisibility_ = std::move(visibility);
+}
+
+void LightSampler::localLamps(std::vector<LightDesc>& out) const {
+  out.clear();
+  for (const uint32_t i : localLights_) out.push_back(analytic_[i]);
 }
 
 float LightSampler::entryProbability(uint32_t entry, const glm::vec3& p, const glm::vec3& n) const {
@@ -428,14 +456,15 @@ LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm:
   const uint32_t buffered = prefix != nullptr ? std::min<uint32_t>(lampGroups_.size(), kBufferedLamps / 8) : 0;
   uint32_t g = 0;
   Lanes w;
+  const int64_t row = lampRow(p, n);
   for (; g < buffered; ++g) {
-    if (groupWeights(lampGroups_[g], p, n, w)) lamps += groupSum(w);
+    if (groupWeights(lampGroups_[g], p, n, hiddenLanes(row, g), w)) lamps += groupSum(w);
     std::memcpy(prefix->weight + 8 * g, &w, sizeof w);
     prefix->groupEnd[g] = lamps;
   }
   if (prefix != nullptr) prefix->count = 8 * buffered;
   for (; g < lampGroups_.size(); ++g)
-    if (groupWeights(lampGroups_[g], p, n, w)) lamps += groupSum(w);
+    if (groupWeights(lampGroups_[g], p, n, hiddenLanes(row, g), w)) lamps += groupSum(w);
   const double triangles = emissiveTree_.empty() ? 0.0 : double{emissiveTree_.importance(p, n)};
   split.lampWeight = lamps;
   const double total = lamps + triangles;
@@ -476,9 +505,10 @@ bool LightSampler::pickLocalLight(const glm::vec3& p, const glm::vec3& n, float 
     base = prefix->groupEnd[groups - 1];
   }
   alignas(32) float w[8];
+  const int64_t row = g < lampGroups_.size() ? lampRow(p, n) : -1;
   for (; g < lampGroups_.size(); ++g) {
     Lanes weights;
-    if (!groupWeights(lampGroups_[g], p, n, weights)) continue;
+    if (!groupWeights(lampGroups_[g], p, n, hiddenLanes(row, g), weights)) continue;
     std::memcpy(w, &weights, sizeof w);
     const int lane = laneAbove(w, base, target);
     if (lane < 0) continue;

@@ -15,7 +15,9 @@
 // (point-like lights, sun cone, sky cosine lobe) or uniformly by area (triangles, converted to
 // solid angle). Where an EnvironmentVisibility map says few rays from a point's surroundings reach
 // sun or sky, the sun and sky keep only that fraction of their share there
-// (environment_visibility.h); their pdfs then depend on the shading point too.
+// (environment_visibility.h); their pdfs then depend on the shading point too. Where a
+// LampVisibility map says no ray from a point's surroundings reached a lamp, the lamp keeps
+// LampVisibility::kHiddenWeight of its weight there (lamp_visibility.h).
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -27,6 +29,7 @@
 
 #include "renderer/core/bounds.h"
 #include "renderer/scene/lights/environment_visibility.h"
+#include "renderer/scene/lights/lamp_visibility.h"
 #include "renderer/scene/lights/light_tree.h"
 #include "renderer/scene/lights/sky.h"
 #include "renderer/scene/sampling/alias_table.h"
@@ -122,6 +125,12 @@ class LightSampler {
   void setEnvironmentVisibility(std::shared_ptr<const EnvironmentVisibility> visibility) {
     visibility_ = std::move(visibility);
   }
+  /// Which lamps the surfaces of each region cannot see (null: none hidden). Applied to the lamps
+  /// that stand at the same index as when it was traced (LampVisibility::sameLamp); the others
+  /// keep their full weight. Shared: it outlives commits that keep the map's lamps.
+  void setLampVisibility(std::shared_ptr<const LampVisibility> visibility);
+  /// The point and spot lights that carry power, in the order a LampVisibility map is traced for.
+  void localLamps(std::vector<LightDesc>& out) const;
   /// Picks a lamp (point or spot light) at p, n as sample() does with u in [0, 1): its index into
   /// the lights and the probability of that choice among the lamps. `reuseWeights` false
   /// recomputes every weight while choosing; the choice and probability are the same bit for bit.
@@ -183,6 +192,7 @@ class LightSampler {
     alignas(32) float x[8], y[8], z[8], radius[8], strength[8], range[8], linear[8];
     alignas(32) float spot[8], dx[8], dy[8], dz[8], cosOuter[8], cosInner[8];
     uint32_t live = 0;   ///< Bit per lane that holds a lamp.
+    uint8_t mapped = 0;  ///< Bit per lane whose lamp the LampVisibility map was traced for.
     bool anyLinear = false, anyInverseSquare = false, anySpot = false;   ///< Which terms its lamps need.
   };
   std::vector<LampGroup> lampGroups_;
@@ -191,6 +201,15 @@ class LightSampler {
   sampling::AliasTable environmentTable_;      ///< Over environmentEntries_, the same proportions.
   double environmentShare_ = 0.0;              ///< Summed table probability of those entries.
   std::shared_ptr<const EnvironmentVisibility> visibility_;
+  std::shared_ptr<const LampVisibility> lampVisibility_;
+  /// The row of lamp visibility at p, n (-1: no lamp hidden there).
+  int64_t lampRow(const glm::vec3& p, const glm::vec3& n) const {
+    return lampVisibility_ != nullptr ? lampVisibility_->row(p, n) : -1;
+  }
+  /// Lanes of group g whose lamp is hidden in `row` (0 for row -1).
+  uint8_t hiddenLanes(int64_t row, uint32_t g) const {
+    return row < 0 ? uint8_t(0) : uint8_t(lampVisibility_->hidden(row, g) & lampGroups_[g].mapped);
+  }
 };
 
 /// Distance falloff factor of a point or spot light at distance d (0 beyond range).

@@ -604,6 +604,51 @@ void SceneStore::attachLights(RenderScene& scene) {
   lightsAttached_ = true;
 }
 
+namespace {
+
+/// ~256k points spread by area over what rays can shade in the scene's world instances, with
+/// their front normals: what the light visibility maps are traced from.
+std::vector<SurfacePoint> shadedSurfacePoints(const RenderScene& scene) {
+  constexpr double kPoints = 262144.0;
+  const auto forEachTriangle = [&scene](const auto& visit) {
+    for (const RenderInstance& inst : scene.world) {
+      const MeshGeometry& g = inst.mesh->geometry;
+      for (uint32_t t = 0; t < g.triangleCount(); ++t) {
+        // Only what rays can shade: not sky windows, hidden or additive surfaces.
+        const MaterialDesc& m = scene.materialOf(inst, t).desc;
+        if (m.sky || !m.visible || m.alphaMode == AlphaMode::Additive) continue;
+        const auto corner = [&](uint32_t k) {
+          return glm::vec3(inst.objectToWorld * glm::vec4(g.positions[g.indices[3 * t + k]], 1.0f));
+        };
+        const glm::vec3 p0 = corner(0), e1 = corner(1) - p0, e2 = corner(2) - p0;
+        const glm::vec3 n = glm::cross(e1, e2);
+        const float twiceArea = glm::length(n);
+        if (twiceArea > 0.0f && std::isfinite(twiceArea)) visit(p0, e1, e2, n / twiceArea, 0.5 * twiceArea);
+      }
+    }
+  };
+  double area = 0.0;
+  forEachTriangle([&](const glm::vec3&, const glm::vec3&, const glm::vec3&, const glm::vec3&, double a) { area += a; });
+  std::vector<SurfacePoint> points;
+  uint32_t index = 0;
+  forEachTriangle([&](const glm::vec3& p0, const glm::vec3& e1, const glm::vec3& e2, const glm::vec3& n, double a) {
+    uint32_t h = sampling::hash32(index++);
+    // Expected a / area x kPoints points: the whole part and one more with the fraction's odds.
+    const double expected = a / area * kPoints;
+    size_t count = size_t(expected);
+    if (sampling::toUnitFloat(h) < expected - double(count)) ++count;
+    for (size_t k = 0; k < count; ++k) {
+      const float u0 = sampling::toUnitFloat(h = sampling::hash32(h + 1u));
+      const float u1 = sampling::toUnitFloat(h = sampling::hash32(h + 2u));
+      const glm::vec2 b = sampling::uniformTriangle({u0, u1});
+      points.push_back({p0 + b.x * e1 + b.y * e2, n});
+    }
+  });
+  return points;
+}
+
+}  // namespace
+
 void SceneStore::attachEnvironmentVisibility(RenderScene& scene) {
   if (!scene.lights.mixesEnvironmentAndLocal()) return;
   const auto escapes = [&scene](const glm::vec3& origin, const glm::vec3& dir) {
@@ -616,47 +661,27 @@ void SceneStore::attachEnvironmentVisibility(RenderScene& scene) {
     request.towardEnvironment = true;
     return !scene.occluded(ray, request);
   };
-  const auto surfacePoints = [&scene] {   // ~256k points spread over the shaded area, front normals
-    constexpr double kPoints = 262144.0;
-    const auto forEachTriangle = [&scene](const auto& visit) {
-      for (const RenderInstance& inst : scene.world) {
-        const MeshGeometry& g = inst.mesh->geometry;
-        for (uint32_t t = 0; t < g.triangleCount(); ++t) {
-          // Only what rays can shade: not sky windows, hidden or additive surfaces.
-          const MaterialDesc& m = scene.materialOf(inst, t).desc;
-          if (m.sky || !m.visible || m.alphaMode == AlphaMode::Additive) continue;
-          const auto corner = [&](uint32_t k) {
-            return glm::vec3(inst.objectToWorld * glm::vec4(g.positions[g.indices[3 * t + k]], 1.0f));
-          };
-          const glm::vec3 p0 = corner(0), e1 = corner(1) - p0, e2 = corner(2) - p0;
-          const glm::vec3 n = glm::cross(e1, e2);
-          const float twiceArea = glm::length(n);
-          if (twiceArea > 0.0f && std::isfinite(twiceArea)) visit(p0, e1, e2, n / twiceArea, 0.5 * twiceArea);
-        }
-      }
-    };
-    double area = 0.0;
-    forEachTriangle([&](const glm::vec3&, const glm::vec3&, const glm::vec3&, const glm::vec3&, double a) { area += a; });
-    std::vector<SurfacePoint> points;
-    uint32_t index = 0;
-    forEachTriangle([&](const glm::vec3& p0, const glm::vec3& e1, const glm::vec3& e2, const glm::vec3& n, double a) {
-      uint32_t h = sampling::hash32(index++);
-      // Expected a / area x kPoints points: the whole part and one more with the fraction's odds.
-      const double expected = a / area * kPoints;
-      size_t count = size_t(expected);
-      if (sampling::toUnitFloat(h) < expected - double(count)) ++count;
-      for (size_t k = 0; k < count; ++k) {
-        const float u0 = sampling::toUnitFloat(h = sampling::hash32(h + 1u));
-        const float u1 = sampling::toUnitFloat(h = sampling::hash32(h + 2u));
-        const glm::vec2 b = sampling::uniformTriangle({u0, u1});
-        points.push_back({p0 + b.x * e1 + b.y * e2, n});
-      }
-    });
-    return points;
-  };
+  const auto surfacePoints = [&scene] { return shadedSurfacePoints(scene); };
   scene.lights.sunDirections(sunScratch_);
   scene.lights.setEnvironmentVisibility(environmentVisibility_.get(
       scene.bounds, sunScratch_, !scene.sky.black(), skyWindows_, surfacePoints, escapes));
+}
+
+void SceneStore::attachLampVisibility(RenderScene& scene) {
+  if (!lampVisibilityEnabled_) return;
+  scene.lights.localLamps(lampScratch_);
+  if (lampScratch_.empty()) return;
+  const auto reaches = [&scene](const glm::vec3& from, const glm::vec3& to) {
+    Ray ray;
+    ray.origin = from;
+    ray.dir = to - from;
+    ray.tmax = 1.0f;
+    TraceRequest request;
+    request.kind = RayKind::Shadow;
+    return !scene.occluded(ray, request);
+  };
+  const auto surfacePoints = [&scene] { return shadedSurfacePoints(scene); };
+  scene.lights.setLampVisibility(lampVisibility_.get(scene.bounds, lampScratch_, surfacePoints, reaches));
 }
 
 }  // namespace pa

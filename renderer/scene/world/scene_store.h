@@ -79,6 +79,12 @@ class SceneStore {
   /// Path use to share light samples: traced from ~256k surface points (cached while the scene
   /// bounds, suns, sky and sky windows stay), so only renders that need it pay for it.
   void attachEnvironmentVisibility(RenderScene& scene);
+  /// Gives scene (this store's last commit) the map of which lamps the surfaces of each region
+  /// cannot see (lights/lamp_visibility.h), traced from the same surface points and cached while
+  /// the scene bounds and most of its lamps stay. Nothing when switched off (setLampVisibility).
+  void attachLampVisibility(RenderScene& scene);
+  /// Whether attachLampVisibility gives scenes a map (RendererConfig::lampVisibility).
+  void setLampVisibility(bool enabled) { lampVisibilityEnabled_ = enabled; }
 
  private:
   BvhBuildConfig bvhConfig_{};
@@ -110,6 +116,9 @@ class SceneStore {
   EnvironmentVisibilityCache environmentVisibility_;   ///< Where sun and sky reach (lights/).
   std::vector<glm::vec3> skyWindows_;                  ///< The last commit's sky windows (area x normal).
   std::vector<glm::vec3> sunScratch_;                  ///< attachEnvironmentVisibility's sun directions (memory kept).
+  LampVisibilityCache lampVisibility_;                 ///< Which lamps each region cannot see (lights/).
+  std::vector<LightDesc> lampScratch_;                 ///< attachLampVisibility's lamps (memory kept).
+  bool lampVisibilityEnabled_ = true;
   bool dirty_ = true;
   bool worldDirty_ = true;                   ///< A change since the last commit beyond camera-only overlays.
   std::vector<MeshId> touchedMeshes_;        ///< Meshes updated since the last commit.
