@@ -46,8 +46,14 @@ printf 'demo\tconfig\ttick\tflip\tpsnr_db\tluma_ratio\n' >"$tsv"
 # the renderer), then these cvars, set by the capture script itself (the engine cuts its command
 # line at 1023 characters).
 capture() {
-  local dir="$1" demo="$2" lead="$3" work cfg tick previous status=0
+  local dir="$1" demo="$2" lead="$3" work cfg tick previous status=0 latched=() i j
   shift 3
+  # Cvars but the preset also go on the command line: latched ones (r_pt_lamp_vis, r_pt_isa,
+  # r_pt_threads) count only when set before the renderer registers them.
+  for ((i = 1; i < $#; i += 2)); do
+    j=$((i + 1))
+    [[ "${!i}" == r_pt_preset ]] || latched+=(+set "${!i}" "${!j}")
+  done
   [[ -f "$dir/frame_$(printf %04d "${ticks%% *}").tga" ]] && return 0   # kept from an earlier run
   mkdir -p "$dir"
   work="$(mktemp -d /tmp/pa-demo-quality.XXXXXX)"
@@ -64,7 +70,7 @@ capture() {
   done
   printf 'wait 5\nquit\n' >>"$cfg"
   pa_engine_run "$work" "$dir/engine.log" "${TIMEOUT:-3600}" "$CAPTURE_WIDTH" "$CAPTURE_HEIGHT" pathtracer \
-    +set timedemo 1 +set com_maxfps 0 +set sv_pure 0 +set con_notifytime -1 +set r_pt_stats 1 \
+    +set timedemo 1 +set com_maxfps 0 +set sv_pure 0 +set con_notifytime -1 +set r_pt_stats 1 "${latched[@]}" \
     +demo pa_capture +exec capture.cfg || status=$?
   cp "$work"/home/baseoa/screenshots/frame_*.tga "$dir/" 2>/dev/null || true
   rm -rf "$work"

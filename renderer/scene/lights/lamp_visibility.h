@@ -39,7 +39,7 @@ class LampVisibility {
   /// Least rays traced toward a lamp from a bin before the lamp may count as hidden there.
   static constexpr uint32_t kLeastRays = 4;
   /// Most rays traced toward a lamp from one bin.
-  static constexpr uint32_t kMostRays = 16;
+  static constexpr uint32_t kMostRays = 8;
   /// Share of its weight a hidden lamp keeps in the sampler's choice.
   static constexpr float kHiddenWeight = 1.0f / 16.0f;
 
