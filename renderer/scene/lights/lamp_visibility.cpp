@@ -51,6 +51,8 @@ LampVisibility::LampVisibility(std::span<const SurfacePoint> points, std::span<c
     if (i == 0 || byBin[i].first != byBin[i - 1].first) starts.push_back(i);
   starts.push_back(byBin.size());
   const size_t binsWithPoints = starts.size() - 1;
+  // A level with thousands of lamps would take minutes to judge: it gets no map (every lamp seen).
+  if (uint64_t(binsWithPoints) * lamps.size() > kMostPairs) return;
 
   // Per bin with points: its hidden bits (groups_ bytes) and the rays it traced.
   std::vector<uint8_t> hidden(binsWithPoints * groups_, 0);

@@ -40,6 +40,9 @@ class LampVisibility {
   static constexpr uint32_t kLeastRays = 4;
   /// Most rays traced toward a lamp from one bin.
   static constexpr uint32_t kMostRays = 8;
+  /// Most (bin, lamp) pairs judged: above it (some 800 lamps over a level's bins, about a minute
+  /// of rays on two cores) the map is left empty.
+  static constexpr uint64_t kMostPairs = uint64_t{1} << 25;
   /// Share of its weight a hidden lamp keeps in the sampler's choice.
   static constexpr float kHiddenWeight = 1.0f / 16.0f;
 

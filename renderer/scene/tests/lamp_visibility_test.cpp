@@ -93,6 +93,20 @@ TEST(LampVisibility, TooFewRaysHideNothing) {
   EXPECT_EQ(map.row({-10.0f, 0.0f, 0.0f}, glm::vec3(0, 0, 1)), -1);
 }
 
+TEST(LampVisibility, TooManyLampsGiveNoMap) {
+  // 4096 bins with points x 8200 lamps passes kMostPairs: nothing is traced, no lamp hidden.
+  std::vector<LightDesc> lamps;
+  for (int i = 0; i < 8200; ++i) lamps.push_back(lampAt({10.0f + 0.001f * float(i), 0.0f, 8.0f}));
+  const LampVisibility map(floorPoints(), lamps, wallAtZero);
+  static_assert(4096ull * 8200 > LampVisibility::kMostPairs);
+  EXPECT_EQ(map.rayCount(), 0u);
+  EXPECT_EQ(map.rowCount(), 0u);
+  EXPECT_EQ(map.row({-20.5f, 3.5f, 0.0f}, glm::vec3(0, 0, 1)), -1);
+  // A hundred lamps on the same floor are judged.
+  lamps.resize(100);
+  EXPECT_GT(LampVisibility(floorPoints(), lamps, wallAtZero).rowCount(), 0u);
+}
+
 TEST(LampVisibility, SamplerChoosesHiddenLampsLessAndStaysExact) {
   const std::vector<LightDesc> lamps = westEastAndFar();
   LightSampler sampler(lamps, {}, Sky{}, Bounds{});
