@@ -229,8 +229,7 @@ void Renderer::attachLights() {
   if (im.environmentAttached) return;
   im.arena.execute([&] {
     im.store.attachLights(im.scene);
-    im.store.attachEnvironmentVisibility(im.scene);
-    im.store.attachLampVisibility(im.scene);
+    im.store.attachVisibilityMaps(im.scene);
   });
   im.environmentAttached = true;
 }

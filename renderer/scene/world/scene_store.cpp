@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -649,7 +650,18 @@ std::vector<SurfacePoint> shadedSurfacePoints(const RenderScene& scene) {
 
 }  // namespace
 
-void SceneStore::attachEnvironmentVisibility(RenderScene& scene) {
+void SceneStore::attachVisibilityMaps(RenderScene& scene) {
+  // The surface points both maps are traced from, made once and only when a map is traced.
+  std::optional<std::vector<SurfacePoint>> points;
+  const SurfacePoints surfacePoints = [&points, &scene] {
+    if (!points) points = shadedSurfacePoints(scene);
+    return *points;
+  };
+  attachEnvironmentVisibility(scene, surfacePoints);
+  attachLampVisibility(scene, surfacePoints);
+}
+
+void SceneStore::attachEnvironmentVisibility(RenderScene& scene, const SurfacePoints& surfacePoints) {
   if (!scene.lights.mixesEnvironmentAndLocal()) return;
   const auto escapes = [&scene](const glm::vec3& origin, const glm::vec3& dir) {
     Ray ray;
@@ -661,13 +673,12 @@ void SceneStore::attachEnvironmentVisibility(RenderScene& scene) {
     request.towardEnvironment = true;
     return !scene.occluded(ray, request);
   };
-  const auto surfacePoints = [&scene] { return shadedSurfacePoints(scene); };
   scene.lights.sunDirections(sunScratch_);
   scene.lights.setEnvironmentVisibility(environmentVisibility_.get(
       scene.bounds, sunScratch_, !scene.sky.black(), skyWindows_, surfacePoints, escapes));
 }
 
-void SceneStore::attachLampVisibility(RenderScene& scene) {
+void SceneStore::attachLampVisibility(RenderScene& scene, const SurfacePoints& surfacePoints) {
   if (!lampVisibilityEnabled_) return;
   scene.lights.localLamps(lampScratch_);
   if (lampScratch_.empty()) return;
@@ -680,7 +691,6 @@ void SceneStore::attachLampVisibility(RenderScene& scene) {
     request.kind = RayKind::Shadow;
     return !scene.occluded(ray, request);
   };
-  const auto surfacePoints = [&scene] { return shadedSurfacePoints(scene); };
   scene.lights.setLampVisibility(lampVisibility_.get(scene.bounds, lampScratch_, surfacePoints, reaches));
 }
 

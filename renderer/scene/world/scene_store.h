@@ -3,6 +3,7 @@
 // hands in, with stable ids. commit() turns it into an immutable RenderScene (building and
 // refitting BLASes, the TLAS and the light tables).
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -75,18 +76,22 @@ class SceneStore {
   /// Gives scene (this store's last commit) its light sampler: lights, emissive triangles of
   /// the world instances and sky windows. Once per commit; integrators that sample lights need it.
   void attachLights(RenderScene& scene);
-  /// Gives scene (this store's last commit) the map of where sun and sky reach, which Direct and
-  /// Path use to share light samples: traced from ~256k surface points (cached while the scene
-  /// bounds, suns, sky and sky windows stay), so only renders that need it pay for it.
-  void attachEnvironmentVisibility(RenderScene& scene);
-  /// Gives scene (this store's last commit) the map of which lamps the surfaces of each region
-  /// cannot see (lights/lamp_visibility.h), traced from the same surface points and cached while
-  /// the scene bounds and most of its lamps stay. Nothing when switched off (setLampVisibility).
-  void attachLampVisibility(RenderScene& scene);
-  /// Whether attachLampVisibility gives scenes a map (RendererConfig::lampVisibility).
+  /// Gives scene (this store's last commit) the maps Direct and Path use to share light samples,
+  /// both traced from the same ~256k surface points (made once, only when a map is traced): where
+  /// sun and sky reach (cached while the scene bounds, suns, sky and sky windows stay), and which
+  /// lamps the surfaces of each region cannot see (lights/lamp_visibility.h; cached while the
+  /// scene bounds and most of its lamps stay; nothing when switched off, setLampVisibility). Only
+  /// renders that need them pay for them.
+  void attachVisibilityMaps(RenderScene& scene);
+  /// Whether attachVisibilityMaps gives scenes a lamp visibility map (RendererConfig::lampVisibility).
   void setLampVisibility(bool enabled) { lampVisibilityEnabled_ = enabled; }
 
  private:
+  /// The surface points the visibility maps are traced from.
+  using SurfacePoints = std::function<std::vector<SurfacePoint>()>;
+  void attachEnvironmentVisibility(RenderScene& scene, const SurfacePoints& surfacePoints);
+  void attachLampVisibility(RenderScene& scene, const SurfacePoints& surfacePoints);
+
   BvhBuildConfig bvhConfig_{};
   struct MeshSlot {
     std::unique_ptr<MeshRecord> record;        ///< Committed data (null before the first commit).
