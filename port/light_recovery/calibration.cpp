@@ -19,15 +19,15 @@ using namespace q3;
 using namespace model;
 
 float knownLightAt(const WorldScene& scene, const glm::vec3& position, const glm::vec3& normal,
-                   const SegmentBlocked& blocked, const std::vector<CalibrationEmitter>& emitters,
-                   const LightCalibrationOptions& o) {
+                   const SegmentBlocked& blocked, const EmitterIndex& emitters, const LightCalibrationOptions& o) {
   const float length = glm::length(normal);
   if (!blocked || !finite3(position) || !(length > 1e-4f) || !std::isfinite(length)) return 0.0f;
   const Sample s{position, normal / length, 0.0f};
   const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
   size_t rays = 0;
   SampleRandom random(o.seed ^ 0x27d4eb2fu, 0);
-  const float value = knownLight(scene, s, origin, blocked, emitters, o, random, rays);
+  std::vector<uint32_t> near;
+  const float value = knownLight(scene, s, origin, blocked, emitters, o, random, rays, near);
   return std::isfinite(value) ? value : 0.0f;
 }
 
@@ -85,12 +85,14 @@ std::vector<WorldLight> calibrateEstimatedLights(const WorldScene& scene, const 
   std::vector<std::vector<Entry>> perSample(samples.size());
   std::vector<float> authoredLight(samples.size());
   std::vector<size_t> raysPerSample(samples.size(), 0);
+  const EmitterIndex emitterIndex(emitters, o.minTracedValue);
   parallelOverSamples(samples.size(), [&](size_t begin, size_t end) {
+    std::vector<uint32_t> near;
     for (size_t j = begin; j < end; ++j) {
       const Sample& s = samples[j];
       const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
       SampleRandom random(o.seed ^ 0x5bd1e995u, j);
-      authoredLight[j] = knownLight(scene, s, origin, blocked, emitters, o, random, raysPerSample[j]);
+      authoredLight[j] = knownLight(scene, s, origin, blocked, emitterIndex, o, random, raysPerSample[j], near);
       appendShadowedGains(s, origin, fitted, 0, blocked, o, raysPerSample[j], perSample[j]);
     }
   });

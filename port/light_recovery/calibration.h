@@ -25,6 +25,8 @@
 
 namespace pa::recovery {
 
+class EmitterIndex;   // emitter_index.h
+
 /// True when a point lies inside solid geometry (a light there lights nothing the lightmaps
 /// saw, but leaks through cracks between brushes in a renderer).
 using PointInSolid = std::function<bool(const glm::vec3& point)>;
@@ -98,11 +100,12 @@ std::vector<q3::WorldLight> calibrateEstimatedLights(const q3::WorldScene& scene
                                                      const PointInSolid& inSolid = {},
                                                      const std::vector<q3::WorldLight>& lightmapCandidates = {});
 
-/// Light value (summed over RGB) that the scene's authored (not estimated) lights, `emitters` and
+/// Light value (summed over RGB) that the scene's authored (not estimated) lights, `emitters` (made
+/// for options.minTracedValue: an index made for another threshold visits every emitter) and
 /// the sky (options.skyLightValue, options.skyRays rays) give a surface point, shadows traced as
 /// the calibration traces them: the light no estimated light is needed for.
 float knownLightAt(const q3::WorldScene& scene, const glm::vec3& position, const glm::vec3& normal,
-                   const SegmentBlocked& blocked, const std::vector<CalibrationEmitter>& emitters = {},
+                   const SegmentBlocked& blocked, const EmitterIndex& emitters,
                    const LightCalibrationOptions& options = {});
 
 }  // namespace pa::recovery

@@ -166,37 +166,34 @@ float openSky(const Sample& s, const glm::vec3& origin, const SegmentBlocked& bl
 /// Light value (summed over RGB) an emitting triangle gives the sample: the renderer's
 /// irradiance L * A * cos * cos' / d^2 (d^2 kept above the area near the triangle) in
 /// light-value units (x 64 / pi), shadowed towards its centre.
-float emitterLight(const Sample& s, const CalibrationEmitter& e, const glm::vec3& origin, const SegmentBlocked& blocked,
+float emitterLight(const Sample& s, const PreparedEmitter& e, const glm::vec3& origin, const SegmentBlocked& blocked,
                    const LightCalibrationOptions& o, size_t& rays) {
-  const glm::vec3 centre = (e.a + e.b + e.c) / 3.0f;
-  const glm::vec3 cross = glm::cross(e.b - e.a, e.c - e.a);
-  const float twiceArea = glm::length(cross);
-  if (!(twiceArea > 0.0f) || !(e.radiance > 0.0f)) return 0.0f;
-  const glm::vec3 toEmitter = centre - s.position;
+  const glm::vec3 toEmitter = e.centre - s.position;
   const float d2 = glm::dot(toEmitter, toEmitter);
   if (!(d2 > 1e-6f)) return 0.0f;
   const glm::vec3 dir = toEmitter / std::sqrt(d2);
   const float cosReceiver = glm::dot(s.normal, dir);
-  float cosEmitter = -glm::dot(cross / twiceArea, dir);
+  float cosEmitter = -glm::dot(e.unitNormal, dir);
   if (e.twoSided) cosEmitter = std::abs(cosEmitter);
   if (!(cosReceiver > 0.0f) || !(cosEmitter > 0.0f)) return 0.0f;
-  const float area = 0.5f * twiceArea;
-  const float value = kQ3FullBright / 3.14159265f * e.radiance * area * cosReceiver * cosEmitter / std::max(d2, area);
+  const float value = e.power * cosReceiver * cosEmitter / std::max(d2, e.area);
   if (value < o.minTracedValue) return 0.0f;
   ++rays;
-  return blocked(origin, centre - dir * 0.5f) ? 0.0f : value;
+  return blocked(origin, e.centre - dir * 0.5f) ? 0.0f : value;
 }
 
 /// Light value (summed over RGB) the scene's own light gives the sample: authored lights,
 /// emitting triangles and the open sky, shadows included. Shadow rays towards lights and
 /// emitters are counted in `rays` (the sky's are not).
 float knownLight(const WorldScene& scene, const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked,
-                 const std::vector<CalibrationEmitter>& emitters, const LightCalibrationOptions& o, SampleRandom& random,
-                 size_t& rays) {
+                 const EmitterIndex& emitters, const LightCalibrationOptions& o, SampleRandom& random, size_t& rays,
+                 std::vector<uint32_t>& near) {
   float value = 0.0f;
   for (const WorldLight& l : scene.lights)
     if (!l.estimated) value += authoredLight(s, l, origin, blocked, rays);
-  for (const CalibrationEmitter& e : emitters) value += emitterLight(s, e, origin, blocked, o, rays);
+  // In index order, as a sum over every emitter would add them: the ones left out give 0.
+  emitters.near(s.position, o.minTracedValue, near);
+  for (const uint32_t i : near) value += emitterLight(s, emitters.emitters()[i], origin, blocked, o, rays);
   if (o.skyLightValue > 0.0f && o.skyRays > 0) value += o.skyLightValue * openSky(s, origin, blocked, random, o.skyRays);
   return value;
 }

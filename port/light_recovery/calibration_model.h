@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include "port/light_recovery/calibration.h"
+#include "port/light_recovery/emitter_index.h"
 #include "port/q3formats/world/world_scene.h"
 
 namespace pa::recovery::model {
@@ -76,14 +77,15 @@ float openSky(const Sample& s, const glm::vec3& origin, const SegmentBlocked& bl
 
 /// Light value (summed over RGB) an emitting triangle gives the sample: the renderer's
 /// irradiance L * A * cos * cos' / d^2 in light-value units, shadowed towards its centre.
-float emitterLight(const Sample& s, const CalibrationEmitter& e, const glm::vec3& origin, const SegmentBlocked& blocked,
+float emitterLight(const Sample& s, const PreparedEmitter& e, const glm::vec3& origin, const SegmentBlocked& blocked,
                    const LightCalibrationOptions& o, size_t& rays);
 
 /// Light value (summed over RGB) the scene's own light gives the sample: authored lights,
-/// emitting triangles and the open sky, shadows included.
+/// emitting triangles (those `emitters` finds near the sample, made for o.minTracedValue) and
+/// the open sky, shadows included; `near` is scratch space.
 float knownLight(const q3::WorldScene& scene, const Sample& s, const glm::vec3& origin, const SegmentBlocked& blocked,
-                 const std::vector<CalibrationEmitter>& emitters, const LightCalibrationOptions& o, SampleRandom& random,
-                 size_t& rays);
+                 const EmitterIndex& emitters, const LightCalibrationOptions& o, SampleRandom& random, size_t& rays,
+                 std::vector<uint32_t>& near);
 
 /// Least-squares weight of a texel: 1 (absolute errors) or 1 / (texel + 32) (relative).
 double weightOf(float texel, const LightCalibrationOptions& o);

@@ -54,9 +54,10 @@ std::vector<float> fitEmitterScales(const WorldScene& scene, const std::vector<W
     if (statsOut) *statsOut = stats;
     return scales;
   }
-  std::vector<CalibrationEmitter> known;   // ungrouped emitters: known light
+  std::vector<CalibrationEmitter> known, grouped;   // ungrouped emitters: known light
   for (const CalibrationEmitter& e : emitters)
-    if (!(e.group >= 0 && size_t(e.group) < groupCount)) known.push_back(e);
+    (e.group >= 0 && size_t(e.group) < groupCount ? grouped : known).push_back(e);
+  const EmitterIndex knownIndex(known, o.minTracedValue), groupedIndex(grouped, o.minTracedValue);
 
   // Each sample's row (its shadow rays are most of the cost) in parallel, then the normal
   // equations in sample order.
@@ -64,17 +65,21 @@ std::vector<float> fitEmitterScales(const WorldScene& scene, const std::vector<W
   std::vector<float> fixedLight(samples.size());
   parallelOverSamples(samples.size(), [&](size_t begin, size_t end) {
     std::vector<double> groupGain(g);
+    std::vector<uint32_t> near;
     size_t rays = 0;
     for (size_t j = begin; j < end; ++j) {
       const Sample& s = samples[j];
       const glm::vec3 origin = s.position + s.normal * o.surfaceOffset;
       // Authored lights (knownLight skips the estimated ones), the sky and ungrouped emitters.
       SampleRandom random(o.seed ^ 0x68e31da4u, j);
-      fixedLight[j] = knownLight(scene, s, origin, blocked, known, o, random, rays);
+      fixedLight[j] = knownLight(scene, s, origin, blocked, knownIndex, o, random, rays, near);
       std::vector<Entry>& entries = rows[j];
       std::fill(groupGain.begin(), groupGain.end(), 0.0);
-      for (const CalibrationEmitter& e : emitters)
-        if (e.group >= 0 && size_t(e.group) < groupCount) groupGain[size_t(e.group)] += emitterLight(s, e, origin, blocked, o, rays);
+      groupedIndex.near(s.position, o.minTracedValue, near);
+      for (const uint32_t i : near) {
+        const PreparedEmitter& e = groupedIndex.emitters()[i];
+        groupGain[size_t(e.group)] += emitterLight(s, e, origin, blocked, o, rays);
+      }
       for (size_t i = 0; i < g; ++i)
         if (groupGain[i] > 0.0) entries.push_back({uint32_t(i), float(groupGain[i])});
       appendShadowedGains(s, origin, fitted, uint32_t(g), blocked, o, rays, entries);

@@ -10,6 +10,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "port/light_recovery/emitter_index.h"
 #include "port/light_recovery/lightmap_candidates.h"
 #include "port/q3formats/world/world_lights.h"
 #include "port/scene_bridge/scene_bridge.h"   // skyLightingRadiance: how the renderer lights with the sky
@@ -199,8 +200,9 @@ std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene,
     std::vector<CalibrationEmitter> ungrouped;
     std::copy_if(emitters.begin(), emitters.end(), std::back_inserter(ungrouped),
                  [](const CalibrationEmitter& e) { return e.group < 0; });
+    const EmitterIndex ungroupedIndex(ungrouped, withSky.minTracedValue);
     const KnownLightAt withoutSurfaceLights = [&](const glm::vec3& position, const glm::vec3& normal) {
-      return knownLightAt(scene, position, normal, blocked, ungrouped, withSky);
+      return knownLightAt(scene, position, normal, blocked, ungroupedIndex, withSky);
     };
     const std::vector<q3::WorldLight> peaks =
         lightsFromLightmaps(scene, withoutSurfaceLights, avoid, blocked, inSolid, lightmapOptions, nullptr);
@@ -216,8 +218,9 @@ std::vector<q3::WorldLight> calibrateWithShadowRays(const q3::WorldScene& scene,
   LightmapLightStats lightmapStats;
   const auto start = std::chrono::steady_clock::now();
   if (fromLightmaps) {
+    const EmitterIndex emitterIndex(emitters, withSky.minTracedValue);
     const KnownLightAt known = [&](const glm::vec3& position, const glm::vec3& normal) {
-      return knownLightAt(scene, position, normal, blocked, emitters, withSky);
+      return knownLightAt(scene, position, normal, blocked, emitterIndex, withSky);
     };
     lightmapCandidates = lightsFromLightmaps(scene, known, avoid, blocked, inSolid, lightmapOptions, &lightmapStats);
   }
