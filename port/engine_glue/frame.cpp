@@ -197,11 +197,13 @@ void Module::addPolyToScene(q3abi::qhandle_t shader, int numVerts, const q3abi::
 }
 
 void Module::addLightToScene(const float* origin, float intensity, float r, float g, float b) {
+  if (!settings_.dynamicLights()) return;
   scene_.addLight(origin, intensity, r, g, b, false);
 }
 
 void Module::addAdditiveLightToScene(const float* origin, float intensity, float r, float g,
                                      float b) {
+  if (!settings_.dynamicLights()) return;
   scene_.addLight(origin, intensity, r, g, b, true);
 }
 

@@ -78,6 +78,9 @@ void Settings::registerCvars(const Engine& engine) {
   picmip_ = engine.cvar("r_picmip", "1", CVAR_ARCHIVE | CVAR_LATCH,
                         "Halve world and model textures this many times (0..16)");
   if (picmip_ != nullptr) ri.Cvar_CheckRange(picmip_, 0, 16, 1);
+  dynamicLight_ = engine.cvar("r_dynamiclight", "1", CVAR_ARCHIVE,
+                              "Dynamic lights (explosions, shots, muzzle flashes, powerups) in every preset, as "
+                              "stock (0 = none)");
   overBrightBits_ = engine.cvar("r_overBrightBits", "1", CVAR_ARCHIVE | CVAR_LATCH,
                                 "Display overbright bits (stock: with hardware gamma in fullscreen only)");
   mapOverBrightBits_ = engine.cvar("r_mapOverBrightBits", "2", CVAR_LATCH,
@@ -142,6 +145,8 @@ void Settings::registerCvars(const Engine& engine) {
                        "Clamp of each sample's radiance (0 = none, an unbiased mean); -1 = the preset's "
                        "(reference none, the others 10)");
 }
+
+bool Settings::dynamicLights() const { return dynamicLight_ == nullptr || dynamicLight_->integer != 0; }
 
 VideoModeRequest Settings::videoMode() const {
   VideoModeRequest request;

@@ -115,6 +115,8 @@ class Settings {
   PictureSettings picture(const Engine& engine) const;
   /// True (once) when r_gamma changed since the last call.
   bool gammaChanged() const;
+  /// r_dynamiclight: false when the game's dynamic lights are to be left out, as stock does at 0.
+  bool dynamicLights() const;
 
  private:
   q3abi::cvar_t* mode_ = nullptr;
@@ -131,6 +133,7 @@ class Settings {
   q3abi::cvar_t* denoise_ = nullptr;
   q3abi::cvar_t* gamma_ = nullptr;
   q3abi::cvar_t* picmip_ = nullptr;
+  q3abi::cvar_t* dynamicLight_ = nullptr;
   q3abi::cvar_t* overBrightBits_ = nullptr;
   q3abi::cvar_t* mapOverBrightBits_ = nullptr;
   q3abi::cvar_t* intensity_ = nullptr;

@@ -345,33 +345,54 @@ TEST_F(ModuleTest, HudModelViewWorksWithoutAWorld) {
   EXPECT_EQ(fake::engine().lastErrorLevel, -1);
 }
 
-TEST_F(ModuleTest, HudModelViewsShowTheStockLookInEveryPreset) {
-  // A HUD model view (an icon, the status bar's head) has no world to light it: every preset
-  // draws it as the lightmap preset does, the stock entity light on its textures, the same pixels.
+/// The 48 x 48 pixels (RGB) of modelView(48, 10, 10) in a window's pixels.
+std::vector<uint8_t> viewPixels(const std::vector<uint8_t>& pixels, int width, int height) {
+  std::vector<uint8_t> inView;
+  for (int y = 10; y < 58 && y < height; ++y)
+    for (int x = 10; x < 58 && x < width; ++x)
+      for (int c = 0; c < 3; ++c) inView.push_back(pixels[(size_t(y) * width + x) * 3 + c]);
+  return inView;
+}
+
+/// A 32 x 32 quad model across the view of modelView (normals -z), with an orange skin, stored
+/// in the fake engine's files as models/test/quad.md3.
+void storeTestQuadModel() {
   q3::test::Md3Builder md3;
   q3::test::Md3BuildSurface& quad = md3.surfaces[0];
   quad.shaders = {"models/test/skin"};
   quad.st = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  const int16_t facingCamera = (64 << 8) | 128;   // packed normal -x: latitude 90, longitude 180 degrees
-  quad.frames = {{{0, -16 * 64, -16 * 64, facingCamera},
-                  {0, 16 * 64, -16 * 64, facingCamera},
-                  {0, 16 * 64, 16 * 64, facingCamera},
-                  {0, -16 * 64, 16 * 64, facingCamera}}};
+  const int16_t facingDown = (64 << 8) | 128;   // packed normal -z (latitude byte 128: 180 degrees)
+  quad.frames = {{{0, -16 * 64, -16 * 64, facingDown},
+                  {0, 16 * 64, -16 * 64, facingDown},
+                  {0, 16 * 64, 16 * 64, facingDown},
+                  {0, -16 * 64, 16 * 64, facingDown}}};
   quad.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 2, 1}, {0, 3, 2}};   // both windings: seen whichever is front
   const std::vector<std::byte> bytes = md3.build();
   fake::engine().files["models/test/quad.md3"] =
       std::vector<uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()),
                            reinterpret_cast<const uint8_t*>(bytes.data()) + bytes.size());
   fake::engine().files["models/test/skin.tga"] = solidTga(8, 8, 200, 120, 40, 255);
-  begin();
-  const q3abi::qhandle_t model = re_->RegisterModel("models/test/quad.md3");
-  ASSERT_GT(model, 0);
-  re_->EndRegistration();
+}
+
+/// An entity of `model` 100 units in front of modelView's camera.
+q3abi::refEntity_t quadInFront(q3abi::qhandle_t model) {
   q3abi::refEntity_t icon{};
   icon.reType = q3abi::RT_MODEL;
   icon.hModel = model;
   icon.origin[0] = 100.0f;   // in front of the view, which looks down +x
   icon.axis[0][0] = icon.axis[1][1] = icon.axis[2][2] = 1.0f;
+  return icon;
+}
+
+TEST_F(ModuleTest, HudModelViewsShowTheStockLookInEveryPreset) {
+  // A HUD model view (an icon, the status bar's head) has no world to light it: every preset
+  // draws it as the lightmap preset does, the stock entity light on its textures, the same pixels.
+  storeTestQuadModel();
+  begin();
+  const q3abi::qhandle_t model = re_->RegisterModel("models/test/quad.md3");
+  ASSERT_GT(model, 0);
+  re_->EndRegistration();
+  const q3abi::refEntity_t icon = quadInFront(model);
   const q3abi::refdef_t view = modelView(48, 10, 10);
   const auto picture = [&](const char* preset) {
     fake::engine().setCvar("r_pt_preset", preset);
@@ -383,18 +404,51 @@ TEST_F(ModuleTest, HudModelViewsShowTheStockLookInEveryPreset) {
           re_->RenderScene(&view);
         },
         width, height);
-    // The view alone (48 x 48 at 10, 10 of the 640 x 480 window).
-    std::vector<uint8_t> inView;
-    for (int y = 10; y < 58 && y < height; ++y)
-      for (int x = 10; x < 58 && x < width; ++x)
-        for (int c = 0; c < 3; ++c) inView.push_back(pixels[(size_t(y) * width + x) * 3 + c]);
-    return inView;
+    return viewPixels(pixels, width, height);
   };
   const std::vector<uint8_t> stock = picture("lightmap");
   ASSERT_EQ(stock.size(), size_t{48 * 48 * 3});
   const size_t centre = (size_t{24} * 48 + 24) * 3;
   EXPECT_GT(stock[centre], 60) << "the icon is not drawn";
   for (const char* preset : {"direct", "path", "reference"}) EXPECT_EQ(picture(preset), stock) << preset;
+  EXPECT_EQ(fake::engine().lastErrorLevel, -1);
+}
+
+TEST_F(ModuleTest, DynamicLightsAreLeftOutWithRDynamiclightZero) {
+  // As stock: r_dynamiclight 0 drops the game's dynamic lights (explosions, shots) from the scene.
+  storeTestQuadModel();
+  fake::engine().files["scripts/test.shader"] = [] {
+    const std::string text = "models/test/skin\n{\n  {\n    map models/test/skin.tga\n    rgbGen lightingDiffuse\n  }\n}\n";
+    return std::vector<uint8_t>(text.begin(), text.end());
+  }();
+  begin();
+  ASSERT_TRUE(fake::engine().cvars.count("r_dynamiclight"));
+  EXPECT_EQ(fake::engine().cvars.at("r_dynamiclight")->integer, 1);
+  const q3abi::qhandle_t model = re_->RegisterModel("models/test/quad.md3");
+  ASSERT_GT(model, 0);
+  re_->EndRegistration();
+  const q3abi::refEntity_t icon = quadInFront(model);
+  const q3abi::refdef_t view = modelView(48, 10, 10);
+  const auto picture = [&](bool withLight) {
+    int width = 0, height = 0;
+    std::vector<uint8_t> pixels = frameToPixels(
+        [&] {
+          re_->ClearScene();
+          re_->AddRefEntityToScene(&icon);
+          const float origin[3] = {100.0f, 0.0f, -24.0f};   // on the side the quad's normals face (-z)
+          if (withLight) re_->AddLightToScene(origin, 200.0f, 0.2f, 0.2f, 1.0f);
+          re_->RenderScene(&view);
+        },
+        width, height);
+    return viewPixels(pixels, width, height);
+  };
+  const std::vector<uint8_t> lit = picture(true);
+  const std::vector<uint8_t> unlit = picture(false);
+  const size_t centre = (size_t{24} * 48 + 24) * 3;
+  ASSERT_EQ(lit.size(), size_t{48 * 48 * 3});
+  EXPECT_GT(lit[centre + 2], unlit[centre + 2]) << "the blue dynamic light adds nothing";
+  fake::engine().setCvar("r_dynamiclight", "0");
+  EXPECT_EQ(picture(true), unlit);
   EXPECT_EQ(fake::engine().lastErrorLevel, -1);
 }
 
