@@ -231,7 +231,7 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     const glm::vec3 wo = -dir;
     const bool front = glm::dot(s.geometricNormal, wo) > 0.0f;
     const glm::vec3 ng = front ? s.geometricNormal : -s.geometricNormal;
-    const glm::vec3 ns = front ? s.shadingNormal : -s.shadingNormal;
+    const glm::vec3 ns = trace::viewerFacingShadingNormal(front ? s.shadingNormal : -s.shadingNormal, wo);
     coneWidth += coneSpread * hit.t;
     const float footprint = coneWidth / std::max(trace::kMinCosForFootprint, glm::dot(ng, wo));
     const glm::vec4 baseRgba = scene.baseColor(s, footprint);

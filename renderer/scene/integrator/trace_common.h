@@ -33,6 +33,17 @@ inline glm::vec3 clampContribution(const glm::vec3& c, uint32_t depth, float lim
   return m > limit ? c * (limit / m) : c;
 }
 
+/// The shading normal `ns` (on the viewer's side of the face), bent toward the viewer `wo` where
+/// the viewer would see it from below its horizon: a model whose vertex normals disagree with its
+/// faces (the first-person rocket launcher's top) would take light from nowhere there and show
+/// black. Elsewhere `ns` is returned unchanged.
+inline glm::vec3 viewerFacingShadingNormal(const glm::vec3& ns, const glm::vec3& wo) {
+  constexpr float kLeastCosine = 0.05f;   // as kMinCosForFootprint
+  const float cosine = glm::dot(ns, wo);
+  if (cosine >= kLeastCosine) return ns;
+  return glm::normalize(ns + (kLeastCosine - cosine) * wo);   // its dot with wo is then > 0
+}
+
 /// Closest hit for the vertex at `depth`: the drawOnTop overlay first for camera rays.
 /// Additive surfaces are collected only when `seeAdditive` (camera and mirror chains): they
 /// are visual effects (glows, flames), not light sources.

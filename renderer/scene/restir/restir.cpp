@@ -13,6 +13,7 @@
 
 #include "renderer/bvh/ray_offset.h"
 #include "renderer/scene/integrator/integrator.h"
+#include "renderer/scene/integrator/trace_common.h"
 #include "renderer/scene/materials/bsdf.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
 #include "renderer/scene/sampling/warp.h"
@@ -85,7 +86,7 @@ ShadingPoint primaryShadingPoint(const RenderScene& scene, const CameraRays& cam
   point.wo = -dir;
   const bool front = glm::dot(s.geometricNormal, point.wo) > 0.0f;
   point.ng = front ? s.geometricNormal : -s.geometricNormal;
-  point.ns = front ? s.shadingNormal : -s.shadingNormal;
+  point.ns = trace::viewerFacingShadingNormal(front ? s.shadingNormal : -s.shadingNormal, point.wo);   // as the integrator
   const float footprint = camera.pixelSpreadAngle() * hit.t / std::max(kMinCosForFootprint, glm::dot(point.ng, point.wo));
   point.albedo = glm::clamp(glm::vec3(scene.baseColor(s, footprint)), 0.0f, 1.0f);
   point.specular = m.desc.specular;

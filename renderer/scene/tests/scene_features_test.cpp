@@ -196,6 +196,40 @@ TEST(Scene, InstanceMasksSelectRayKinds) {
   EXPECT_NEAR(greyStats(r.render(cam, s)).mean, 0.5, 1e-4);
 }
 
+/// A floor quad (winding normal +z) with `normal` at every vertex, a sun straight above, seen
+/// from a camera low on the -x side; the mean of a Direct render.
+double floorSeenFromTheSide(const glm::vec3& normal) {
+  Renderer r({2});
+  struct Floor : test::MeshArrays {
+    std::vector<glm::vec3> normals;
+  } floor;
+  static_cast<test::MeshArrays&>(floor) = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  floor.normals.assign(4, normal);
+  floor.setMaterial(r.addMaterial(test::diffuse(0.5f)));
+  r.addInstance({r.addMesh(meshDescOf(floor, floor.materials))});
+  LightDesc sun;
+  sun.type = LightType::Directional;
+  sun.direction = {0, 0, -1};
+  sun.intensity = std::numbers::pi_v<float>;
+  r.addLight(sun);
+  r.commit();
+  return greyStats(r.render(lookAt({-3, 0, 1}, {0, 0, 0}, 20.0f), settingsFor(Integrator::Direct, 4, 1, 1))).mean;
+}
+
+TEST(Scene, AShadingNormalTheViewerSeesFromBelowIsBentTowardItNotBlack) {
+  // Vertex normals that disagree with the faces (some game models have them) can put the
+  // viewer below the shading normal's horizon while the face looks at the viewer: that point
+  // would reflect nothing. The normal is bent toward the viewer there.
+  const double faceNormal = floorSeenFromTheSide({0, 0, 1});
+  EXPECT_NEAR(faceNormal, 0.5, 1e-4);
+  const double awayFromTheViewer = floorSeenFromTheSide(glm::normalize(glm::vec3(1.0f, 0.0f, 0.1f)));
+  EXPECT_GT(awayFromTheViewer, 0.1 * faceNormal);
+  // Where the viewer sees the shading normal from above, it is left alone: a normal leaning
+  // toward the viewer gives the sun's cosine along it.
+  const glm::vec3 toward = glm::normalize(glm::vec3(-1.0f, 0.0f, 1.0f));
+  EXPECT_NEAR(floorSeenFromTheSide(toward), 0.5 * toward.z, 1e-4);
+}
+
 TEST(Scene, HiddenInstancesNeitherShowNorLight) {
   // An emissive quad above a floor lights it; with mask 0 (a mover the game did not add this
   // frame) it must neither be seen, nor shadow, nor remain a light, and it comes back when shown.
