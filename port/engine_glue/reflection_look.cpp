@@ -53,7 +53,11 @@ void applyShineLook(const ShaderLook& look, pa::TextureId shineTexture, pa::Mate
   } else {
     desc.stock.shineBlend = pa::LayerBlend::Add;
   }
-  if (shine.reflectionUv) desc.specular = std::max(desc.specular, kReflectionSpecular);
+  if (shine.reflectionUv) {
+    desc.specular = std::max(desc.specular, kReflectionSpecular);
+    // A shine that multiplies what is under it (Modulate2x, MultiplyAdd) reflects in its colour.
+    desc.specularTinted = desc.stock.shineBlend != pa::LayerBlend::Add;
+  }
 }
 
 }  // namespace glue

@@ -247,6 +247,9 @@ struct MaterialDesc {
   bool vertexAlphaTints = true;         ///< The vertex colour's alpha multiplies the base's alpha.
   bool mirror = false;                  ///< Perfect specular reflection (mirrors, portals seen as mirrors).
   float specular = 0.0f;                ///< Weight of a glossy lobe on top of diffuse (shiny env-mapped stages).
+  /// The glossy lobe reflects in the base colour, not white: a stock shine stage that multiplies
+  /// what lies under it (blendFunc GL_DST_COLOR ...) reflects tinted by the surface.
+  bool specularTinted = false;
   float roughness = 0.3f;               ///< Roughness of that glossy lobe (GGX alpha = roughness^2).
   bool twoSided = true;                 ///< Quake surfaces are usually drawn from both sides (cull none).
   bool castsShadows = true;             ///< False: invisible to shadow rays.

@@ -100,6 +100,7 @@ TEST(ShineLook, OpaqueBaseKeepsItsEnvironmentMappedAddStage) {
   EXPECT_TRUE(desc.stock.shineMaskedByBaseAlpha);
   EXPECT_EQ(desc.baseTexCoords, pa::TexCoordSource::Mesh);   // the paint keeps its mesh uvs
   EXPECT_FLOAT_EQ(desc.specular, kReflectionSpecular);      // Direct/Path: a glossy lobe
+  EXPECT_FALSE(desc.specularTinted);                        // an added chrome reflects white
 }
 
 TEST(ShineLook, FilterStageBecomesAModulate2xShine) {
@@ -123,6 +124,10 @@ TEST(ShineLook, DstAlphaFilterAndConstColourAndTcMods) {
   applyShineLook(look, 1, desc);
   EXPECT_EQ(desc.stock.shineBlend, pa::LayerBlend::MultiplyAdd);
   EXPECT_EQ(desc.stock.shineColor, glm::vec3(1.0f, 0.0f, 0.0f));
+  // It multiplies the paint under it: the glossy lobe reflects in the paint's colour (the
+  // lightning gun's blue rear turned dark red in the traced presets' stock look when it was white).
+  EXPECT_FLOAT_EQ(desc.specular, kReflectionSpecular);
+  EXPECT_TRUE(desc.specularTinted);
   EXPECT_FLOAT_EQ(desc.stock.shineUvTransform[0][0], 2.0f);
   EXPECT_FLOAT_EQ(desc.stock.shineUvTransform[1][1], 2.0f);
 }

@@ -262,7 +262,7 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
       break;
     }
 
-    const Bsdf bsdf(albedo, m.desc.specular, m.desc.roughness, m.desc.mirror, ns, ng);
+    const Bsdf bsdf(albedo, m.desc.specular, m.desc.roughness, m.desc.mirror, ns, ng, m.desc.specularTinted);
     const glm::vec4 uLight = sampler.get4(group + kGroupLight);
     const bool useResampled = resampled != nullptr && depth == 0 && !bsdf.isDelta();
     if (!bsdf.isDelta()) {

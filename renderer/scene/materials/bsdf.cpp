@@ -11,9 +11,10 @@ using sampling::kInvPi;
 using sampling::kPi;
 
 Bsdf::Bsdf(const glm::vec3& albedo, float specular, float roughness, bool mirror,
-           const glm::vec3& shadingNormal, const glm::vec3& geometricNormal)
+           const glm::vec3& shadingNormal, const glm::vec3& geometricNormal, bool tintedSpecular)
     : albedo_(glm::clamp(albedo, glm::vec3(0.0f), glm::vec3(1.0f))),
       specular_(std::clamp(specular, 0.0f, 1.0f)),
+      tintedSpecular_(tintedSpecular),
       alpha_(std::max(1e-3f, roughness * roughness)),
       mirror_(mirror),
       frame_(shadingNormal),
@@ -21,8 +22,10 @@ Bsdf::Bsdf(const glm::vec3& albedo, float specular, float roughness, bool mirror
 
 float Bsdf::specularProbability() const {
   if (specular_ <= 0.0f) return 0.0f;
-  const float diffuseWeight = (1.0f - specular_) * std::max({albedo_.r, albedo_.g, albedo_.b});
-  return specular_ / (specular_ + diffuseWeight);
+  const float brightest = std::max({albedo_.r, albedo_.g, albedo_.b});
+  const float diffuseWeight = (1.0f - specular_) * brightest;
+  const float specularWeight = tintedSpecular_ ? specular_ * brightest : specular_;
+  return specularWeight > 0.0f ? specularWeight / (specularWeight + diffuseWeight) : 0.0f;
 }
 
 float Bsdf::ggxD(float cosH) const {
@@ -48,7 +51,7 @@ glm::vec3 Bsdf::evalCos(const glm::vec3& wo, const glm::vec3& wi) const {
   if (specular_ > 0.0f) {
     const glm::vec3 h = glm::normalize(wi + wo);
     const float spec = ggxD(glm::dot(h, frame_.n)) * ggxG1(cosI) * ggxG1(cosO) / (4.0f * cosI * cosO);
-    f += glm::vec3(specular_ * spec);
+    f += tintedSpecular_ ? specular_ * spec * albedo_ : glm::vec3(specular_ * spec);
   }
   return f * cosI;
 }

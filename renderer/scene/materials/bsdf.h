@@ -1,6 +1,7 @@
 #pragma once
 // The surface scattering model: Lambert diffuse, an optional GGX glossy lobe weighted by
-// `specular` (white, Fresnel = 1 so the sum never exceeds albedo), or a perfect mirror.
+// `specular` (white, or in the albedo's colour when tinted; Fresnel = 1 so the sum never exceeds
+// albedo), or a perfect mirror.
 // All directions are world space, unit length, pointing away from the surface.
 #include <glm/vec3.hpp>
 
@@ -20,9 +21,10 @@ struct BsdfSample {
 /// A BSDF instance at one shading point.
 class Bsdf {
  public:
-  /// shadingNormal and geometricNormal must face the outgoing direction's side.
+  /// shadingNormal and geometricNormal must face the outgoing direction's side; a tinted glossy
+  /// lobe reflects albedo x its white value.
   Bsdf(const glm::vec3& albedo, float specular, float roughness, bool mirror,
-       const glm::vec3& shadingNormal, const glm::vec3& geometricNormal);
+       const glm::vec3& shadingNormal, const glm::vec3& geometricNormal, bool tintedSpecular = false);
 
   /// True for the perfect mirror (no light sampling).
   bool isDelta() const { return mirror_; }
@@ -40,6 +42,7 @@ class Bsdf {
 
   glm::vec3 albedo_;
   float specular_;
+  bool tintedSpecular_;
   float alpha_;
   bool mirror_;
   sampling::Frame frame_;

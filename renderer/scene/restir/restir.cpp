@@ -91,11 +91,12 @@ ShadingPoint primaryShadingPoint(const RenderScene& scene, const CameraRays& cam
   point.albedo = glm::clamp(glm::vec3(scene.baseColor(s, footprint)), 0.0f, 1.0f);
   point.specular = m.desc.specular;
   point.roughness = m.desc.roughness;
+  point.specularTinted = m.desc.specularTinted;
   point.position = s.position;
   point.depth = hit.t;
   point.instance = s.instance != nullptr ? s.instance->id : kNoId;
   point.material = s.material == &scene.defaultMaterial ? kNoId : static_cast<MaterialId>(s.material - scene.materials.data());
-  point.valid = !Bsdf(point.albedo, point.specular, point.roughness, false, point.ns, point.ng).isDelta();
+  point.valid = !Bsdf(point.albedo, point.specular, point.roughness, false, point.ns, point.ng, point.specularTinted).isDelta();
   if (aovs != nullptr) {
     aovs->overlay = onOverlay;
     aovs->instance = point.instance;
@@ -109,7 +110,7 @@ ShadingPoint primaryShadingPoint(const RenderScene& scene, const CameraRays& cam
 
 float target(const LightSampler& lights, const ShadingPoint& point, const LightPoint& light, LightSample& sample) {
   if (!lights.evaluate(light, point.position, point.ns, sample)) return 0.0f;
-  const Bsdf bsdf(point.albedo, point.specular, point.roughness, false, point.ns, point.ng);
+  const Bsdf bsdf(point.albedo, point.specular, point.roughness, false, point.ns, point.ng, point.specularTinted);
   const float t = sampling::luminance(bsdf.evalCos(point.wo, sample.wi) * sample.radiance) * sample.jacobian;
   return std::isfinite(t) && t > 0.0f ? t : 0.0f;
 }
@@ -210,7 +211,7 @@ void Resampler::run(const RenderScene& scene, const CameraRays& camera, uint32_t
     Reservoir& r = initial_[i];
     r = {};
     if (!point.valid || scene.lights.empty()) return;
-    const Bsdf bsdf(point.albedo, point.specular, point.roughness, false, point.ns, point.ng);
+    const Bsdf bsdf(point.albedo, point.specular, point.roughness, false, point.ns, point.ng, point.specularTinted);
     float sum = 0.0f;
     LightSample kept;
     float keptTarget = 0.0f;

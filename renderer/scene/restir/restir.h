@@ -50,6 +50,7 @@ struct ShadingPoint {
   glm::vec3 wo{0.0f};       ///< Unit direction toward the viewer.
   glm::vec3 albedo{0.0f};
   float specular = 0.0f, roughness = 1.0f;
+  bool specularTinted = false;   ///< MaterialDesc::specularTinted.
   float depth = 0.0f;       ///< Distance from the camera.
   InstanceId instance = kNoId;
   MaterialId material = kNoId;

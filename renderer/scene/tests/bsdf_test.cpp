@@ -75,6 +75,25 @@ TEST(Bsdf, GlossyLobeSamplingMatchesIntegration) {
   }
 }
 
+TEST(Bsdf, TintedGlossyLobeReflectsInTheAlbedosColour) {
+  // A stock shine that multiplies the surface under it: the glossy lobe is albedo x the white
+  // one, so a coloured surface's highlight keeps its colour; sampling stays consistent.
+  const glm::vec3 n(0, 0, 1);
+  const glm::vec3 albedo(0.1f, 0.2f, 0.5f);
+  const Bsdf white(albedo, 0.5f, 0.3f, false, n, n), tinted(albedo, 0.5f, 0.3f, false, n, n, true);
+  const glm::vec3 wo = glm::normalize(glm::vec3(0.5f, 0.0f, 0.8f));
+  const glm::vec3 mirrorDir(-wo.x, -wo.y, wo.z);   // the highlight's peak
+  const glm::vec3 diffuse = 0.5f * albedo / kPi * mirrorDir.z;
+  const glm::vec3 whiteGlossy = white.evalCos(wo, mirrorDir) - diffuse;
+  const glm::vec3 tintedGlossy = tinted.evalCos(wo, mirrorDir) - diffuse;
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(tintedGlossy[c], albedo[c] * whiteGlossy[c], 1e-4f * whiteGlossy[c]) << c;
+  EXPECT_GT(whiteGlossy.g, 10.0f * diffuse.g);   // the peak is the lobe's, not the diffuse part
+  const Integrals in = integrate(tinted, wo);
+  EXPECT_LE(in.pdf, 1.01);
+  EXPECT_LE(in.albedo, albedo.g + 0.01);   // energy: never above the albedo
+  EXPECT_NEAR(sampledAlbedo(tinted, wo), in.albedo, 0.02 * in.albedo);
+}
+
 TEST(Bsdf, MirrorIsDeltaWithAlbedoWeight) {
   const glm::vec3 n(0, 0, 1);
   const Bsdf mirror(glm::vec3(0.8f, 0.7f, 0.6f), 0.0f, 0.3f, true, n, n);
