@@ -17,13 +17,17 @@
 # FRAMES (20), START (200), WARMUP (16: the configuration starts that many ticks, 8 frames, before
 # START, so its history is warm; until then, and for the reference until 4 ticks before, the cheap
 # lightmap preset plays), SIZE (640x360), REF_SPP (1024; the cvar allows 4096), REF_RUNS (1),
-# REF_BOUNCES (2), TIMEOUT (per engine run, 3600 s). Exit 77 without the engine or game data.
+# REF_BOUNCES (2), TIMEOUT (per engine run, 3600 s), BASELINE_MODULE (another build of our module,
+# e.g. an older commit's: each of BASELINE_CONFIGS, default "path", is also captured with it, as
+# "baseline:CONFIG", against the same reference). Exit 77 without the engine or game data.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$root/tests/fidelity/engine_env.sh"
 [[ $# -ge 2 ]] || { echo "usage: $0 OUT_DIR DEMO [DEMO ...]" >&2; exit 2; }
 out="$1"; shift
 module="${PA_MODULE:-$root/build/port/engine_glue/renderer_pathtracer_x86_64.so}"
+baseline_module="${BASELINE_MODULE:-}"
+[[ -z "$baseline_module" || -f "$baseline_module" ]] || { echo "no module $baseline_module" >&2; exit 2; }
 compare="${PA_IMGCOMPARE:-$root/build/tests/fidelity/pa-imgcompare}"
 fixed_rand="${PA_FIXED_RAND:-$root/build/tests/regress/pa_fixed_rand.so}"
 configs="${CONFIGS:-path path:r_pt_temporal=0 path:r_pt_restir=1}"
@@ -41,18 +45,21 @@ mkdir -p "$out"
 tsv="$out/quality.tsv"
 printf 'demo\tconfig\ttick\tflip\tpsnr_db\tluma_ratio\n' >"$tsv"
 
-# capture DIR DEMO LEAD NAME VALUE [NAME VALUE ...]: the ticks of DEMO with our module; until LEAD
+# capture DIR DEMO LEAD NAME VALUE [NAME VALUE ...]: the ticks of DEMO with $module; until LEAD
 # ticks before the first one it runs the cheap lightmap preset (the game state does not depend on
 # the renderer), then these cvars, set by the capture script itself (the engine cuts its command
 # line at 1023 characters).
 capture() {
   local dir="$1" demo="$2" lead="$3" work cfg tick previous status=0 latched=() i j
   shift 3
-  # Cvars but the preset also go on the command line: latched ones (r_pt_lamp_vis, r_pt_isa,
-  # r_pt_threads) count only when set before the renderer registers them.
+  # Latched cvars also go on the command line: they count only when set before the renderer
+  # registers them. The others only after the lead, which they would slow (r_pt_spp, r_pt_scale).
   for ((i = 1; i < $#; i += 2)); do
     j=$((i + 1))
-    [[ "${!i}" == r_pt_preset ]] || latched+=(+set "${!i}" "${!j}")
+    case "${!i}" in
+      r_pt_lamp_vis | r_pt_isa | r_pt_threads | r_picmip | r_intensity | r_overBrightBits | r_mapOverBrightBits)
+        latched+=(+set "${!i}" "${!j}") ;;
+    esac
   done
   [[ -f "$dir/frame_$(printf %04d "${ticks%% *}").tga" ]] && return 0   # kept from an earlier run
   mkdir -p "$dir"
@@ -97,14 +104,21 @@ for demo in "$@"; do
     # -auto-orient: a TGA is stored bottom row first, which the averaged PNG would otherwise keep.
     convert "$out/$name"/ref_*/"$f.tga" -evaluate-sequence mean -auto-orient "$out/$name/ref/$f.png"
   done
-  for config in $configs; do
-    preset="${config%%:*}"; cvars=(r_pt_preset "$preset")
-    if [[ "$config" == *:* ]]; then
-      IFS=',' read -ra pairs <<<"${config#*:}"
+  runs=()
+  for config in $configs; do runs+=("$config"); done
+  if [[ -n "$baseline_module" ]]; then
+    for config in ${BASELINE_CONFIGS:-path}; do runs+=("baseline:$config"); done
+  fi
+  for config in "${runs[@]}"; do
+    run_module="$module"; setting="$config"
+    if [[ "$config" == baseline:* ]]; then run_module="$baseline_module"; setting="${config#baseline:}"; fi
+    preset="${setting%%:*}"; cvars=(r_pt_preset "$preset")
+    if [[ "$setting" == *:* ]]; then
+      IFS=',' read -ra pairs <<<"${setting#*:}"
       for pair in "${pairs[@]}"; do cvars+=("${pair%%=*}" "${pair#*=}"); done
     fi
     dir="$out/$name/${config//[:=,]/_}"
-    capture "$dir" "$source_demo" "$warmup" "${cvars[@]}"
+    module="$run_module" capture "$dir" "$source_demo" "$warmup" "${cvars[@]}"
     for tick in $ticks; do
       f="frame_$(printf %04d "$tick")"
       "$compare" "$out/$name/ref/$f.png" "$dir/$f.tga" --json | python3 -c "
