@@ -23,7 +23,6 @@ namespace pa::restir {
 namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
-constexpr float kMinCosForFootprint = 0.05f;   // as the integrator's ray cones
 // Sampler dimension groups of the resampling (far above the integrator's per-vertex groups).
 constexpr uint32_t kGroupCandidates = 0x40000;   // + candidate index: light choice and point
 constexpr uint32_t kGroupPicks = 0x41000;        // random bits: reservoir choices, shadow rays
@@ -87,7 +86,7 @@ ShadingPoint primaryShadingPoint(const RenderScene& scene, const CameraRays& cam
   const bool front = glm::dot(s.geometricNormal, point.wo) > 0.0f;
   point.ng = front ? s.geometricNormal : -s.geometricNormal;
   point.ns = trace::viewerFacingShadingNormal(front ? s.shadingNormal : -s.shadingNormal, point.wo);   // as the integrator
-  const float footprint = camera.pixelSpreadAngle() * hit.t / std::max(kMinCosForFootprint, glm::dot(point.ng, point.wo));
+  const float footprint = camera.pixelSpreadAngle() * hit.t / std::max(trace::kMinCosForFootprint, glm::dot(point.ng, point.wo));
   point.albedo = glm::clamp(glm::vec3(scene.baseColor(s, footprint)), 0.0f, 1.0f);
   point.specular = m.desc.specular;
   point.roughness = m.desc.roughness;
@@ -96,7 +95,7 @@ ShadingPoint primaryShadingPoint(const RenderScene& scene, const CameraRays& cam
   point.depth = hit.t;
   point.instance = s.instance != nullptr ? s.instance->id : kNoId;
   point.material = s.material == &scene.defaultMaterial ? kNoId : static_cast<MaterialId>(s.material - scene.materials.data());
-  point.valid = !Bsdf(point.albedo, point.specular, point.roughness, false, point.ns, point.ng, point.specularTinted).isDelta();
+  point.valid = true;   // mirrors (the only delta surfaces) returned above
   if (aovs != nullptr) {
     aovs->overlay = onOverlay;
     aovs->instance = point.instance;
@@ -108,9 +107,14 @@ ShadingPoint primaryShadingPoint(const RenderScene& scene, const CameraRays& cam
   return point;
 }
 
+/// The surface's scattering at a shading point (never a mirror: those are not valid points).
+Bsdf bsdfAt(const ShadingPoint& point) {
+  return Bsdf(point.albedo, point.specular, point.roughness, false, point.ns, point.ng, point.specularTinted);
+}
+
 float target(const LightSampler& lights, const ShadingPoint& point, const LightPoint& light, LightSample& sample) {
   if (!lights.evaluate(light, point.position, point.ns, sample)) return 0.0f;
-  const Bsdf bsdf(point.albedo, point.specular, point.roughness, false, point.ns, point.ng, point.specularTinted);
+  const Bsdf bsdf = bsdfAt(point);
   const float t = sampling::luminance(bsdf.evalCos(point.wo, sample.wi) * sample.radiance) * sample.jacobian;
   return std::isfinite(t) && t > 0.0f ? t : 0.0f;
 }
@@ -211,7 +215,7 @@ void Resampler::run(const RenderScene& scene, const CameraRays& camera, uint32_t
     Reservoir& r = initial_[i];
     r = {};
     if (!point.valid || scene.lights.empty()) return;
-    const Bsdf bsdf(point.albedo, point.specular, point.roughness, false, point.ns, point.ng, point.specularTinted);
+    const Bsdf bsdf = bsdfAt(point);
     float sum = 0.0f;
     LightSample kept;
     float keptTarget = 0.0f;
