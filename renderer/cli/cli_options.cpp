@@ -89,7 +89,7 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
     }
     if (name == "--progress" || name == "--quiet" || name == "-q" || name == "--denoise" ||
         name == "--no-camera-packets" || name == "--restir" || name == "--spread-fireflies" ||
-        name == "--baked-path-end" || name == "--no-lamp-visibility") {
+        name == "--baked-path-end" || name == "--no-lamp-visibility" || name == "--no-temporal-gradients") {
       if (inlineValue) {
         message = std::string(name) + " takes no value";
         return result;
@@ -98,6 +98,8 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
         o.cameraPackets = false;
       } else if (name == "--no-lamp-visibility") {
         o.lampVisibility = false;
+      } else if (name == "--no-temporal-gradients") {
+        o.temporalGradients = false;
       } else if (name == "--restir") {
         o.restir = true;
       } else if (name == "--baked-path-end") {
@@ -279,6 +281,9 @@ Image and sampling:
                          accumulation, renderer/scene/temporal). With independent or temporal,
                          --stats gets frame_change: mean absolute change of display luma (0..1)
                          between consecutive frames over the last 8 pairs
+  --no-temporal-gradients
+                         With --play temporal: no temporal gradients (RenderSettings::
+                         temporalGradients; for comparisons)
 
 View:
   --camera INDEX         Camera of the scene to render (default 0). Without any camera in the

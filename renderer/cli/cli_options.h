@@ -40,6 +40,7 @@ struct CliOptions {
   bool cameraPackets = true;                    ///< Camera rays in 4x4 packets (off: --no-camera-packets).
   bool lampVisibility = true;                   ///< RendererConfig::lampVisibility (off: --no-lamp-visibility).
   bool restir = false;                          ///< Reservoir resampling of direct light (--restir).
+  bool temporalGradients = true;                ///< Temporal gradients with --play temporal (--no-temporal-gradients).
   bool bakedPathEnd = false;                    ///< Paths end on the bake's light (--baked-path-end).
   /// How the frames combine (--play): accumulate into one mean; or play them as the game does
   /// (a new seed each, no accumulation), on their own or with temporal accumulation.

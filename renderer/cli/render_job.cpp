@@ -144,6 +144,7 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.spreadFireflies = options.spreadFireflies;
     settings.cameraPackets = options.cameraPackets;
     settings.restir = options.restir;
+    settings.temporalGradients = options.temporalGradients;
     settings.bakedLightAtPathEnd = options.bakedPathEnd;
     settings.motionVectors = false;   // no output reads them
     settings.normalAov = options.exrOut.has_value();   // the EXR's normal layer

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <string>
 #include <thread>
@@ -26,6 +27,7 @@
 #include "renderer/scene/restir/restir.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
 #include "renderer/scene/taau/taau.h"
+#include "renderer/scene/temporal/gradients.h"
 #include "renderer/scene/temporal/motion.h"
 #include "renderer/scene/temporal/temporal.h"
 #include "renderer/scene/world/render_scene.h"
@@ -109,6 +111,43 @@ void prefetchBlock(const Film& film, const temporal::GBuffer& gbuffer, GBufferWr
   }
 }
 
+/// Luminance of what a sample's light reflects (radiance - emission: what the temporal stage
+/// blends); NaN where not finite.
+float litLuminance(const PixelSample& sample) {
+  const glm::vec3 lit = sample.radiance - sample.emission;
+  const float l = 0.2126f * lit.r + 0.7152f * lit.g + 0.0722f * lit.b;
+  return std::isfinite(l) ? l : std::numeric_limits<float>::quiet_NaN();
+}
+
+/// Temporal gradients (temporal/gradients.h): for each stratum, last frame's first sample of the
+/// pixel its chosen pixel came from, traced again in this frame's scene with that frame's random
+/// numbers (its seed hash and camera-sample centre), then the strata's gradients resolved. Runs
+/// in the calling task arena; each stratum's result depends on it alone.
+void retraceLastSamples(temporal::GradientEstimator& gradients, const temporal::GBuffer& gbuffer,
+                        const RenderScene& scene, const CameraRays& previousCamera, const RenderSettings& settings,
+                        uint32_t seedHash, glm::vec2 centre, uint32_t lastSeedHash, glm::vec2 lastCentre) {
+  // Frames with a temporal stage never accumulate: their first sample is sample 0.
+  const auto jitterOf = [&](uint32_t x, uint32_t y) {
+    return settings.pixelCentres
+               ? centre
+               : glm::vec2(sampling::PixelSampler(sampling::hashCombine(seedHash, y * settings.width + x), 0).get4(0));
+  };
+  gradients.plan(gbuffer, seedHash, jitterOf);
+  const std::span<const temporal::GradientTarget> targets = gradients.targets();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, targets.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      const temporal::GradientTarget& t = targets[k];
+      if (!t.valid) continue;
+      const sampling::PixelSampler sampler(sampling::hashCombine(lastSeedHash, t.y * settings.width + t.x), 0);
+      const glm::vec2 jitter = settings.pixelCentres ? lastCentre : glm::vec2(sampler.get4(0));
+      const PixelSample sample = traceSample(scene, previousCamera, settings, static_cast<float>(t.x) + jitter.x,
+                                             static_cast<float>(t.y) + jitter.y, sampler, nullptr, nullptr, nullptr);
+      gradients.record(k, litLuminance(sample));
+    }
+  });
+  gradients.resolve();
+}
+
 void validateSettings(const RenderSettings& s) {
   if (s.width > kMaxImageSide || s.height > kMaxImageSide) {
     throw SceneError("render: image size " + std::to_string(s.width) + "x" + std::to_string(s.height) +
@@ -148,6 +187,9 @@ struct Renderer::Impl {
   temporal::InstanceMotion motions;     // where each instance was last frame
   temporal::GBuffer gbuffer;
   temporal::TemporalFilter temporal;
+  temporal::GradientEstimator gradients;   // where the lighting changed since the last frame
+  uint32_t lastSeedHash = 0;               // last frame's sampler seed and camera-sample centre,
+  glm::vec2 lastCentre{0.5f};              // which its samples' retracing needs
   denoise::FireflyScratch fireflyScratch;   // spreadFireflies' arrays, kept between frames
   bool temporalLast = false;            // the last render ran the temporal stage
   restir::Resampler resampler;          // ReSTIR's reservoirs and their history
@@ -291,16 +333,26 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   // TAAU reprojects through; the temporal stage and ReSTIR start again then), and where each
   // instance was.
   std::optional<CameraRays> previousRays;
-  if (im.haveLast) previousRays.emplace(im.lastCamera, settings.width, settings.height);
+  if (im.haveLast) {
+    previousRays.emplace(im.lastCamera, settings.width, settings.height);
+    // The texture footprints of this frame's rays (temporal gradients retrace last frame's).
+    if (settings.taau && settings.outputHeight > settings.height) previousRays->setFootprintHeight(settings.outputHeight);
+  }
   im.motions.beginFrame(im.scene.world, im.scene.overlay);
   im.gbuffer.resize(settings.width, settings.height);
   const bool temporalOn = settings.temporal && !settings.accumulate && settings.integrator != Integrator::Lightmap;
-  if (!temporalOn || !im.temporalLast || !sameTemporalEstimate(settings, im.lastSettings)) im.temporal.reset();
+  const bool temporalReset = !temporalOn || !im.temporalLast || !sameTemporalEstimate(settings, im.lastSettings);
+  if (temporalReset) im.temporal.reset();
   im.temporalLast = temporalOn;
   // The motion only where something reads it; the previous depth and normal for the temporal stage.
   const GBufferWrites gbufferWrites{temporalOn || settings.taau || settings.motionVectors, temporalOn};
   const bool restirOn = settings.restir && settings.integrator != Integrator::Lightmap;
   if (!restirOn || !im.restirLast) im.resampler.reset();
+  // Temporal gradients retrace last frame's first samples: the same estimate, without ReSTIR
+  // (whose first samples depend on the reservoirs), from a frame that recorded them.
+  const bool gradientsOn = temporalOn && settings.temporalGradients && !restirOn;
+  if (!gradientsOn || temporalReset || im.restirLast) im.gradients.reset();
+  if (gradientsOn) im.gradients.beginFrame(settings.width, settings.height);
   im.restirLast = restirOn;
   // accumulateThroughEdits: a still view keeps its accumulation through world edits; a pixel that
   // shows an edited instance, material or sky (this frame or the last) starts again when its first
@@ -347,6 +399,8 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   const CameraRays* previousCamera = previousRays ? &*previousRays : nullptr;
 
   const restir::Resampler& resampler = im.resampler;
+  const std::span<float> gradientLuminance = gradientsOn ? im.gradients.sampleLuminance() : std::span<float>();
+  std::span<const float> historyDrop;   // the gradients' answer, when they ran (FrameView::historyDrop)
   im.arena.execute([&] {
     if (restirOn) {
       im.resampler.run(scene, rays, settings.width, settings.height, seedHash, firstSample, motions, previousCamera);
@@ -421,6 +475,9 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                     traceSample(scene, rays, settings, static_cast<float>(p.x) + jitter.x,
                                 static_cast<float>(p.y) + jitter.y, sampler, settings.cameraPackets ? &traced[i] : nullptr,
                                 useResampled ? &resampled : nullptr, &memo);
+                if (s == 0 && gradientsOn) {
+                  gradientLuminance[size_t{p.y} * settings.width + p.x] = litLuminance(sample);
+                }
                 if (s == 0 && !gbufferWrites.motion) {
                   gbuffer.writeIds(size_t{p.y} * settings.width + p.x, sample);
                 } else if (s == 0) {
@@ -471,9 +528,14 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
     forRows([&](uint32_t y0, uint32_t y1) { film.resolveMeanRows(y0, y1); });
     double meanMs = 0.0;
     endPhase(meanMs);
+    if (gradientsOn && im.gradients.havePrevious() && previousCamera != nullptr) {
+      retraceLastSamples(im.gradients, gbuffer, scene, *previousCamera, settings, seedHash, centre, im.lastSeedHash,
+                         im.lastCentre);
+    }
     if (temporalOn) {
-      const temporal::FrameInputs inputs{film.width(), film.height(), film.emission(), film.albedo(),
-                                         film.normal(), film.depth(), &gbuffer};
+      const temporal::FrameInputs inputs{film.width(),  film.height(), film.emission(), film.albedo(),
+                                         film.normal(), film.depth(),  &gbuffer,
+                                         gradientsOn ? im.gradients.historyDrop() : std::span<const float>()};
       im.temporal.accumulate(inputs, film.resolvedRadiance());
       endPhase(timings.temporalMs);
     }
@@ -495,6 +557,12 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       endPhase(timings.denoiseMs);
     }
     if (temporalOn) im.temporal.endFrame();
+    if (gradientsOn) {
+      historyDrop = im.gradients.historyDrop();
+      im.gradients.endFrame();
+      im.lastSeedHash = seedHash;
+      im.lastCentre = centre;
+    }
     forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
     endPhase(timings.resolveMs);
     timings.resolveMs += meanMs;
@@ -543,6 +611,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   view.instance = gbuffer.instance;
   view.material = gbuffer.material;
   if (temporalOn) view.historyLength = im.temporal.historyLength();
+  if (gradientsOn) view.historyDrop = historyDrop;
   view.timings = timings;
   return view;
 }

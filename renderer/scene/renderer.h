@@ -58,6 +58,9 @@ struct FrameView {
   std::span<const MaterialId> material;
   /// Frames in each pixel's temporal history (RenderSettings::temporal; empty when off).
   std::span<const float> historyLength;
+  /// Per pixel, the share (0..1) of its history the temporal gradients dropped because the
+  /// lighting there changed (RenderSettings::temporalGradients; empty when they did not run).
+  std::span<const float> historyDrop;
   RenderTimings timings;                 ///< What this call (and the commits before it) cost.
 };
 

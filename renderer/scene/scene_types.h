@@ -488,6 +488,11 @@ struct RenderSettings {
   /// the camera's and the instances' motion, before the denoiser. Ignored by Lightmap and while
   /// accumulating. Its history starts again when size, integrator, spp, bounces or clamp change.
   bool temporal = false;
+  /// With `temporal`: temporal gradients (renderer/scene/temporal/gradients.h, after A-SVGF):
+  /// per 3 x 3 pixels one of last frame's samples is traced again in this frame's scene with its
+  /// own random numbers, and where the lighting changed the history is dropped in proportion.
+  /// About one sample in nine more. Not with `restir` (its first samples cannot be retraced alone).
+  bool temporalGradients = true;
   /// Direct light at each pixel's first diffuse or glossy hit by spatiotemporal reservoir
   /// resampling (renderer/scene/restir, ReSTIR DI) instead of one light sample: many light
   /// samples weighed per pixel, last frame's and neighbours' reused. Direct and Path only; its

@@ -81,6 +81,7 @@ void TemporalFilter::accumulate(const FrameInputs& frame, std::span<glm::vec3> r
   check(frame.albedo.size(), "albedo");
   check(frame.normal.size(), "normal");
   check(frame.depth.size(), "depth");
+  if (!frame.historyDrop.empty()) check(frame.historyDrop.size(), "historyDrop");
   if (frame.gbuffer == nullptr) throw std::invalid_argument("temporal: no G-buffer");
   check(frame.gbuffer->instance.size(), "G-buffer");
   if (frame.gbuffer->width != frame.width || frame.gbuffer->height != frame.height) {
@@ -371,6 +372,7 @@ void TemporalFilter::rejectRow(uint32_t y, int32_t* out) const {
 
 void TemporalFilter::blendRows(const FrameInputs& frame, std::span<glm::vec3> radiance, uint32_t y0, uint32_t y1) {
   const GBuffer& g = *frame.gbuffer;
+  const bool hasDrop = !frame.historyDrop.empty();
   const size_t rejectedStride = (size_t{frame.width} + taau::lanes::kCount - 1) / taau::lanes::kCount * taau::lanes::kCount;
   for (uint32_t y = y0; y < y1; ++y) {
     int32_t* rejected = rejected_.data() + y * rejectedStride;
@@ -389,14 +391,20 @@ void TemporalFilter::blendRows(const FrameInputs& frame, std::span<glm::vec3> ra
       Reprojected history = reprojected_[i];
       // Rejection (rejectRow): the neighbourhood's luminance changes say the lighting changed.
       if (history.length >= static_cast<float>(config_.minLengthForVariance) && rejected[x] != 0) history = Reprojected{};
+      // Temporal gradients: the share of the history the changed lighting makes stale (A-SVGF's
+      // alpha' = (1 - drop) alpha + drop); the length left shrinks with it.
+      const float drop = hasDrop ? std::clamp(frame.historyDrop[i], 0.0f, 1.0f) : 0.0f;
+      if (drop >= 1.0f) history = Reprojected{};
       glm::vec3 color = signal_[i];
       float moment1 = l, moment2 = l * l, length = 1.0f;
       float meanShare = 1.0f;   // variance of the blended colour per unit of one sample's variance
       if (history.length > 0.0f) {
-        length = std::min(history.length + 1.0f, config_.maxHistory);
-        const float alpha = std::max(1.0f / length, config_.alphaMin);
+        length = std::min(history.length * (1.0f - drop) + 1.0f, config_.maxHistory);
+        float alpha = std::max(1.0f / length, config_.alphaMin);
+        alpha += drop * (1.0f - alpha);
         meanShare = std::max(alpha / (2.0f - alpha), 1.0f / length);
-        const float alphaMoments = std::max(1.0f / length, config_.momentsAlphaMin);
+        float alphaMoments = std::max(1.0f / length, config_.momentsAlphaMin);
+        alphaMoments += drop * (1.0f - alphaMoments);
         color = glm::mix(history.color, color, alpha);
         moment1 = glm::mix(history.moment1, moment1, alphaMoments);
         moment2 = glm::mix(history.moment2, moment2, alphaMoments);

@@ -10,7 +10,8 @@
 // history. Where the mean over the 5 x 5 neighbourhood of this frame's luminance minus the
 // reprojected history mean (each clamped to a few standard deviations) departs from 0 by many
 // standard errors (a light switched off, a door
-// closed), the history is dropped (a cheap stand-in for A-SVGF's gradients). Emission stays exact.
+// closed), the history is dropped. Where the temporal gradients (gradients.h) say the lighting
+// changed, that share of the history is dropped too. Emission stays exact.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -43,6 +44,9 @@ struct FrameInputs {
   std::span<const glm::vec3> normal;     ///< Mean first-hit shading normal.
   std::span<const float> depth;          ///< Mean first-hit distance (inf = sky).
   const GBuffer* gbuffer = nullptr;      ///< Instance, material and motion of this frame.
+  /// Per pixel, the share (0..1) of its history to drop because the lighting changed there
+  /// (GradientEstimator::historyDrop); empty: none.
+  std::span<const float> historyDrop;
 };
 
 /// Temporal accumulation with its history (one per view; reset when the view's kind changes).

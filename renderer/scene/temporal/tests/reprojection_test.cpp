@@ -14,6 +14,7 @@
 namespace pa {
 namespace {
 
+using test::bytesOf;
 using test::lookAt;
 using test::settingsFor;
 
@@ -143,17 +144,7 @@ struct TwoLamps {
   LightId left = kNoId;
   LightDesc leftDesc;
   TwoLamps() {
-    const MaterialId grey = r.addMaterial(test::diffuse(0.6f));
-    test::addMesh(r, test::quad({-8, -4, 0}, {16, 0, 0}, {0, 8, 0}), grey);
-    leftDesc.position = {-4, 0, 1.5f};
-    leftDesc.intensity = 8.0f;
-    leftDesc.falloff = Falloff::Linear;
-    leftDesc.range = 3.5f;
-    left = r.addLight(leftDesc);
-    LightDesc right = leftDesc;
-    right.position = {4, 0, 1.5f};
-    r.addLight(right);
-    r.setSky(SkyDesc{});
+    left = test::addFloorWithTwoLamps(r, leftDesc);
     r.commit();
   }
   /// Looks down at the floor from the -Y side: film +x is world +x, and world x = 0 is the middle column.
@@ -274,14 +265,6 @@ TEST(TemporalAccumulation, MovingCameraSameImageWithOneAndTwoThreads) {
   const auto one = run(1), two = run(2);
   ASSERT_EQ(one.size(), two.size());
   EXPECT_EQ(std::memcmp(one.data(), two.data(), one.size() * sizeof(glm::vec3)), 0);
-}
-
-/// Bytes of a span, for comparing frames bit for bit.
-template <typename T>
-std::vector<uint8_t> bytesOf(std::span<const T> v) {
-  std::vector<uint8_t> out(v.size_bytes());
-  if (!v.empty()) std::memcpy(out.data(), v.data(), out.size());
-  return out;
 }
 
 TEST(Reprojection, FrameWithoutMotionVectorsWritesTheIdsAndTheNextFrameIsAlike) {

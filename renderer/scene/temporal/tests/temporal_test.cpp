@@ -45,7 +45,7 @@ struct Synthetic {
         gbuffer.previousDepth[size_t{y} * width + x] = z;
       }
   }
-  FrameInputs inputs() const { return {width, height, emission, albedo, normal, depth, &gbuffer}; }
+  FrameInputs inputs() const { return {width, height, emission, albedo, normal, depth, &gbuffer, {}}; }
 };
 
 /// Deterministic noise in [0, 1) for (pixel, frame).

@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
       gbuffer.previousNormal[i] = normal[i];
     }
   }
-  const pa::temporal::FrameInputs frame{width, height, emission, albedo, normal, depth, &gbuffer};
+  const pa::temporal::FrameInputs frame{width, height, emission, albedo, normal, depth, &gbuffer, {}};
 
   tbb::task_arena arena(static_cast<int>(threads));
   pa::temporal::TemporalFilter filter;
