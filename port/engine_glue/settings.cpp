@@ -96,10 +96,10 @@ void Settings::registerCvars(const Engine& engine) {
   temporal_ = engine.cvar("r_pt_temporal", "1", CVAR_ARCHIVE,
                           "Temporal accumulation (reprojected history) on the direct and path presets (0 = off)");
   if (temporal_ != nullptr) ri.Cvar_CheckRange(temporal_, 0, 1, 1);
-  gradients_ = engine.cvar("r_pt_gradients", "1", CVAR_ARCHIVE,
-                           "With r_pt_temporal: temporal gradients (one of last frame's samples per 3 x 3 pixels "
-                           "traced again) drop the history where the lighting changed (0 = off)");
-  if (gradients_ != nullptr) ri.Cvar_CheckRange(gradients_, 0, 1, 1);
+  gradients_ = engine.cvar("r_pt_gradients", "6", CVAR_ARCHIVE,
+                           "With r_pt_temporal: temporal gradients drop the history where the lighting changed; one of "
+                           "last frame's samples per N x N pixels is traced again (N = 2..8; 0 = off)");
+  if (gradients_ != nullptr) ri.Cvar_CheckRange(gradients_, 0, 8, 1);
   taau_ = engine.cvar("r_pt_taau", "0", CVAR_ARCHIVE,
                       "Temporal anti-aliasing and upscaling of the traced world view to the window: 0 = off "
                       "(bilinear stretch), 1 = when r_pt_scale < 1, 2 = always");
@@ -266,7 +266,8 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
   out.temporal = temporal_ == nullptr || temporal_->integer != 0;
   out.restir = restir_ != nullptr && restir_->integer != 0;
-  out.temporalGradients = gradients_ == nullptr || gradients_->integer != 0;
+  out.gradientStratum = gradients_ == nullptr ? 6u : static_cast<uint32_t>(std::clamp(gradients_->integer, 0, 8));
+  if (out.gradientStratum == 1) out.gradientStratum = 2;
   out.bakedEnd = bakedEnd_ == nullptr || bakedEnd_->integer != 0;
   if (roulette_ != nullptr) out.rouletteStart = std::clamp(roulette_->integer, 1, 16);
   if (taau_ != nullptr) out.taau = std::clamp(taau_->integer, 0, 2);

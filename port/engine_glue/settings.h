@@ -38,7 +38,7 @@ struct TracerSettings {
   bool denoise = true;       ///< r_pt_denoise: filter the direct and path presets' frames
   bool temporal = true;      ///< r_pt_temporal: temporal accumulation on the direct and path presets
   bool restir = false;       ///< r_pt_restir: reservoir resampling of direct light on the direct and path presets
-  bool temporalGradients = true;   ///< r_pt_gradients: temporal gradients drop stale history (with temporal)
+  uint32_t gradientStratum = 6;   ///< r_pt_gradients: temporal gradients' block side (0 = off; with temporal)
   bool bakedEnd = true;      ///< r_pt_bake_end: paths end on the bake's light (RenderSettings::bakedLightAtPathEnd)
   int rouletteStart = 1;     ///< r_pt_roulette: scatterings before Russian roulette (RenderSettings::rouletteStart)
   /// r_pt_taau: temporal anti-aliasing and upscaling to the window of world views; 0 = off (bilinear

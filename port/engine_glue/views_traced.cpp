@@ -408,7 +408,8 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   // Views of the world only: HUD model views share one renderer between differing views.
   rs.temporal = settings.temporal && ctx.withWorld && traced;
   rs.restir = settings.restir && ctx.withWorld && traced;
-  rs.temporalGradients = settings.temporalGradients;
+  rs.temporalGradients = settings.gradientStratum != 0;
+  if (settings.gradientStratum != 0) rs.gradientStratum = settings.gradientStratum;
   // TAAU to the window's size (world views only; HUD model views are traced at full size). With
   // dynamic resolution it stays on at scale 1 too, so that its history lives through the changes.
   const bool smaller = rs.width != static_cast<uint32_t>(view.width) || rs.height != static_cast<uint32_t>(view.height);

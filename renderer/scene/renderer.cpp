@@ -352,7 +352,12 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
   // (whose first samples depend on the reservoirs), from a frame that recorded them.
   const bool gradientsOn = temporalOn && settings.temporalGradients && !restirOn;
   if (!gradientsOn || temporalReset || im.restirLast) im.gradients.reset();
-  if (gradientsOn) im.gradients.beginFrame(settings.width, settings.height);
+  if (gradientsOn) {
+    temporal::GradientConfig gradientConfig = im.gradients.config();
+    gradientConfig.stratum = settings.gradientStratum;
+    im.gradients.configure(gradientConfig);
+    im.gradients.beginFrame(settings.width, settings.height);
+  }
   im.restirLast = restirOn;
   // accumulateThroughEdits: a still view keeps its accumulation through world edits; a pixel that
   // shows an edited instance, material or sky (this frame or the last) starts again when its first

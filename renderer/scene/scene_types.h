@@ -489,10 +489,13 @@ struct RenderSettings {
   /// accumulating. Its history starts again when size, integrator, spp, bounces or clamp change.
   bool temporal = false;
   /// With `temporal`: temporal gradients (renderer/scene/temporal/gradients.h, after A-SVGF):
-  /// per 3 x 3 pixels one of last frame's samples is traced again in this frame's scene with its
-  /// own random numbers, and where the lighting changed the history is dropped in proportion.
-  /// About one sample in nine more. Not with `restir` (its first samples cannot be retraced alone).
+  /// per gradientStratum x gradientStratum pixels one of last frame's samples is traced again in
+  /// this frame's scene with its own random numbers, and where the lighting changed the history
+  /// is dropped in proportion. Not with `restir` (its first samples cannot be retraced alone).
   bool temporalGradients = true;
+  /// Side of the pixel blocks that get one retraced sample each (2..16; GradientConfig::stratum):
+  /// 6 costs one sample in 36. A change starts the gradients again (one frame without).
+  uint32_t gradientStratum = 6;
   /// Direct light at each pixel's first diffuse or glossy hit by spatiotemporal reservoir
   /// resampling (renderer/scene/restir, ReSTIR DI) instead of one light sample: many light
   /// samples weighed per pixel, last frame's and neighbours' reused. Direct and Path only; its

@@ -7,10 +7,25 @@
 
 namespace pa::temporal {
 
-GradientEstimator::GradientEstimator(const GradientConfig& config) : config_(config) {
-  config_.stratum = std::clamp(config_.stratum, 2u, 16u);
-  config_.filterRadius = std::min(config_.filterRadius, 4u);
-  config_.gain = std::isfinite(config_.gain) ? std::clamp(config_.gain, 0.0f, 100.0f) : 1.0f;
+namespace {
+
+GradientConfig clamped(GradientConfig c) {
+  c.stratum = std::clamp(c.stratum, 2u, 16u);
+  c.filterRadius = std::min(c.filterRadius, 4u);
+  c.gain = std::isfinite(c.gain) ? std::clamp(c.gain, 0.0f, 100.0f) : 1.0f;
+  return c;
+}
+
+}  // namespace
+
+GradientEstimator::GradientEstimator(const GradientConfig& config) : config_(clamped(config)) {}
+
+void GradientEstimator::configure(const GradientConfig& config) {
+  const GradientConfig next = clamped(config);
+  if (next.stratum == config_.stratum && next.filterRadius == config_.filterRadius && next.gain == config_.gain) return;
+  config_ = next;
+  width_ = height_ = 0;   // the next beginFrame() sizes the strata again
+  havePrevious_ = resolved_ = false;
 }
 
 void GradientEstimator::reset() {

@@ -38,7 +38,7 @@ void recordFrame(GradientEstimator& e, uint32_t w, uint32_t h, float value) {
 const auto kPixelCentre = [](uint32_t, uint32_t) { return glm::vec2(0.5f); };
 
 TEST(GradientEstimator, WithoutLastFrameNothingIsTracedAndNothingDropped) {
-  GradientEstimator e;
+  GradientEstimator e(GradientConfig{3, 1, 2.0f});
   e.beginFrame(12, 9);
   EXPECT_FALSE(e.havePrevious());
   e.plan(movedBy(12, 9, {0, 0}), 7, kPixelCentre);
@@ -52,7 +52,7 @@ TEST(GradientEstimator, WithoutLastFrameNothingIsTracedAndNothingDropped) {
 }
 
 TEST(GradientEstimator, TargetsFollowTheMotionBackAndStayInsideTheirStratum) {
-  GradientEstimator e;
+  GradientEstimator e(GradientConfig{3, 1, 2.0f});
   recordFrame(e, 30, 30, 1.0f);
   e.beginFrame(30, 30);
   e.plan(movedBy(30, 30, {-3.0f, 1.0f}), 11, kPixelCentre);   // last frame it was 3 left, 1 down
@@ -115,6 +115,25 @@ TEST(GradientEstimator, AnotherSizeForgetsLastFrame) {
   e.reset();
   e.beginFrame(15, 12);
   EXPECT_FALSE(e.havePrevious());
+}
+
+TEST(GradientEstimator, AnotherStratumForgetsLastFrameAndCutsOtherStrata) {
+  GradientEstimator e(GradientConfig{3, 1, 2.0f});
+  recordFrame(e, 16, 16, 1.0f);
+  e.configure(GradientConfig{3, 1, 2.0f});   // the same parameters: nothing forgotten
+  e.beginFrame(16, 16);
+  EXPECT_TRUE(e.havePrevious());
+  EXPECT_EQ(e.strataX(), 6u);
+  e.configure(GradientConfig{4, 1, 2.0f});
+  EXPECT_EQ(e.config().stratum, 4u);
+  e.beginFrame(16, 16);
+  EXPECT_FALSE(e.havePrevious());
+  EXPECT_EQ(e.strataX(), 4u);
+  EXPECT_EQ(e.targets().size(), 16u);
+  e.configure(GradientConfig{1, 9, -1.0f});   // clamped to 2 strata pixels, radius 4, gain 0
+  EXPECT_EQ(e.config().stratum, 2u);
+  EXPECT_EQ(e.config().filterRadius, 4u);
+  EXPECT_EQ(e.config().gain, 0.0f);
 }
 
 /// The floor of addFloorWithTwoLamps (the left lamp can be changed) with a back wall and a sphere
