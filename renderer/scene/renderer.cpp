@@ -112,8 +112,11 @@ void prefetchBlock(const Film& film, const temporal::GBuffer& gbuffer, GBufferWr
 }
 
 /// Luminance of what a sample's light reflects (radiance - emission: what the temporal stage
-/// blends); NaN where not finite.
+/// blends); NaN where not finite, and on camera-only overlays (the first-person weapon moves with
+/// the camera, so last frame's camera ray does not find it where it was: the temporal gradients
+/// leave it to the luminance test).
 float litLuminance(const PixelSample& sample) {
+  if (sample.overlay) return std::numeric_limits<float>::quiet_NaN();
   const glm::vec3 lit = sample.radiance - sample.emission;
   const float l = 0.2126f * lit.r + 0.7152f * lit.g + 0.0722f * lit.b;
   return std::isfinite(l) ? l : std::numeric_limits<float>::quiet_NaN();

@@ -28,7 +28,7 @@ struct RenderTimings {
   double commitMs = 0.0;    ///< commit() calls since the previous render: BLAS builds/refits, TLAS, light tables.
   double resampleMs = 0.0;  ///< Reservoir resampling of direct light before tracing (0 when off).
   double traceMs = 0.0;     ///< Camera, bounce and shadow rays with their shading (one pass per pixel).
-  double temporalMs = 0.0;  ///< Temporal accumulation (0 when off).
+  double temporalMs = 0.0;  ///< Temporal accumulation with its gradients' retraced samples (0 when off).
   double denoiseMs = 0.0;   ///< The denoiser (0 when off).
   double resolveMs = 0.0;   ///< Film resolve: means, AOVs, exposure, tonemap, sRGB encode.
   double taauMs = 0.0;      ///< Temporal anti-aliasing and upscaling (0 when off).

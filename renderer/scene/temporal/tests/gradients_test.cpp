@@ -187,6 +187,35 @@ TEST(TemporalGradients, StillLightingUnderCameraMotionDropsNothing) {
   }
 }
 
+TEST(TemporalGradients, WeaponMovingWithTheCameraDropsNothing) {
+  // A camera-only overlay drawn on top (the first-person weapon) placed in front of a camera that
+  // moves half a unit a frame: last frame's camera rays no longer find it where they did, which
+  // is no change of lighting.
+  LampRoom room;
+  test::MeshArrays gun = test::quad({-0.5f, 0, -0.5f}, {1, 0, 0}, {0, 0, 1});
+  gun.setMaterial(room.r.addMaterial(test::diffuse(0.6f)));
+  InstanceDesc weapon{room.r.addMesh(gun.desc())};
+  weapon.mask = kMaskCamera;
+  weapon.drawOnTop = true;
+  const InstanceId id = room.r.addInstance(weapon);
+  RenderSettings s = temporalSettings(Integrator::Direct, true);
+  size_t onWeapon = 0;
+  for (uint32_t frame = 0; frame < 5; ++frame) {
+    const float x = -2.0f + 0.5f * static_cast<float>(frame);
+    const Camera camera = lookAt({x, -6, 2}, {x, 0, 1}, 60.0f);
+    weapon.objectToWorld[3] = camera.origin + 2.0f * camera.forward - 0.6f * camera.up;   // low in the view
+    room.r.setInstance(id, weapon);
+    room.r.commit();
+    s.seed = frame;
+    const FrameView f = room.r.render(camera, s);
+    for (size_t i = 0; i < f.historyDrop.size(); ++i) {
+      EXPECT_EQ(f.historyDrop[i], 0.0f) << "frame " << frame << " pixel " << i;
+      onWeapon += f.instance[i] == id;
+    }
+  }
+  EXPECT_GT(onWeapon, 400u);
+}
+
 TEST(TemporalGradients, SwitchedOffLampDropsTheHistoryWhereItLitAndNowhereElse) {
   LampRoom room;
   RenderSettings s = temporalSettings(Integrator::Direct, true);
