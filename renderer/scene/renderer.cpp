@@ -26,6 +26,7 @@
 #include "renderer/scene/integrator/integrator.h"
 #include "renderer/scene/restir/restir.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
+#include "renderer/scene/sampling/warp.h"
 #include "renderer/scene/taau/taau.h"
 #include "renderer/scene/temporal/gradients.h"
 #include "renderer/scene/temporal/motion.h"
@@ -117,9 +118,14 @@ void prefetchBlock(const Film& film, const temporal::GBuffer& gbuffer, GBufferWr
 /// leave it to the luminance test).
 float litLuminance(const PixelSample& sample) {
   if (sample.overlay) return std::numeric_limits<float>::quiet_NaN();
-  const glm::vec3 lit = sample.radiance - sample.emission;
-  const float l = 0.2126f * lit.r + 0.7152f * lit.g + 0.0722f * lit.b;
+  const float l = sampling::luminance(sample.radiance - sample.emission);
   return std::isfinite(l) ? l : std::numeric_limits<float>::quiet_NaN();
+}
+
+/// Film offset (0..1 in each axis) of a camera sample in its pixel: the frame's centre (pixel
+/// centres, moved by TAAU's jitter) or the sampler's first two numbers.
+glm::vec2 cameraSampleOffset(const RenderSettings& settings, glm::vec2 centre, const sampling::PixelSampler& sampler) {
+  return settings.pixelCentres ? centre : glm::vec2(sampler.get4(0));
 }
 
 /// Temporal gradients (temporal/gradients.h): for each stratum, last frame's first sample of the
@@ -131,9 +137,8 @@ void retraceLastSamples(temporal::GradientEstimator& gradients, const temporal::
                         uint32_t seedHash, glm::vec2 centre, uint32_t lastSeedHash, glm::vec2 lastCentre) {
   // Frames with a temporal stage never accumulate: their first sample is sample 0.
   const auto jitterOf = [&](uint32_t x, uint32_t y) {
-    return settings.pixelCentres
-               ? centre
-               : glm::vec2(sampling::PixelSampler(sampling::hashCombine(seedHash, y * settings.width + x), 0).get4(0));
+    return cameraSampleOffset(settings, centre,
+                              sampling::PixelSampler(sampling::hashCombine(seedHash, y * settings.width + x), 0));
   };
   gradients.plan(gbuffer, seedHash, jitterOf);
   const std::span<const temporal::GradientTarget> targets = gradients.targets();
@@ -142,7 +147,7 @@ void retraceLastSamples(temporal::GradientEstimator& gradients, const temporal::
       const temporal::GradientTarget& t = targets[k];
       if (!t.valid) continue;
       const sampling::PixelSampler sampler(sampling::hashCombine(lastSeedHash, t.y * settings.width + t.x), 0);
-      const glm::vec2 jitter = settings.pixelCentres ? lastCentre : glm::vec2(sampler.get4(0));
+      const glm::vec2 jitter = cameraSampleOffset(settings, lastCentre, sampler);
       const PixelSample sample = traceSample(scene, previousCamera, settings, static_cast<float>(t.x) + jitter.x,
                                              static_cast<float>(t.y) + jitter.y, sampler, nullptr, nullptr, nullptr);
       gradients.record(k, litLuminance(sample));
@@ -460,8 +465,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
             std::array<glm::vec2, kBlockSide * kBlockSide> jitters;   // this sample's, per pixel
             for (uint32_t s = 0; s < settings.samplesPerPixel; ++s) {
               for (uint32_t i = 0; i < count; ++i)
-                jitters[i] = settings.pixelCentres ? centre
-                                                   : glm::vec2(sampling::PixelSampler(pixels[i].seed, firstSample + s).get4(0));
+                jitters[i] = cameraSampleOffset(settings, centre, sampling::PixelSampler(pixels[i].seed, firstSample + s));
               if (settings.cameraPackets) {
                 for (uint32_t i = 0; i < count; ++i) {
                   rays.generate(static_cast<float>(pixels[i].x) + jitters[i].x,

@@ -11,10 +11,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "renderer/scene/sampling/warp.h"
+
 namespace pa::denoise {
 namespace {
 
-float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+using sampling::luminance;
 
 /// Whether pixels a and b see the same surface (symmetric in a and b).
 bool sameSurface(const FireflyInputs& in, const FireflyConfig& config, size_t a, size_t b) {

@@ -51,10 +51,9 @@ void GradientEstimator::beginFrame(uint32_t width, uint32_t height) {
     magnitude_.assign(strata, 0.0f);
     strataDrop_.assign(strata, 0.0f);
   }
-  resolved_ = false;
+  resolved_ = false;   // plan() sets every target
   std::fill(difference_.begin(), difference_.end(), 0.0f);
   std::fill(magnitude_.begin(), magnitude_.end(), 0.0f);
-  for (GradientTarget& t : targets_) t = GradientTarget{};
 }
 
 void GradientEstimator::pickPixel(uint32_t sx, uint32_t sy, uint32_t frameSeed, uint32_t& x, uint32_t& y) const {

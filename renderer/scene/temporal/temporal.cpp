@@ -11,6 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "renderer/scene/sampling/warp.h"
 #include "renderer/scene/taau/lanes.h"
 
 namespace pa::temporal {
@@ -32,7 +33,8 @@ constexpr size_t kRejectPad = kRejectRadius;
 /// Rows per parallel task.
 constexpr uint32_t kRowGrain = 4;
 
-float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+using sampling::luminance;
+
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 glm::vec3 demodulationFactor(const glm::vec3& albedo) { return glm::max(albedo, glm::vec3(kMinAlbedo)); }
 
