@@ -159,7 +159,8 @@ void PortalViews::clear() {
 }
 
 void PortalViews::update(std::span<const q3abi::refEntity_t> entities, int timeMs, pa::Renderer& renderer) {
-  std::vector<pa::PortalDesc> portals;
+  std::vector<pa::PortalDesc>& portals = candidate_;
+  portals.clear();
   for (const PortalPlane& plane : planes_)
     if (auto portal = portalFor(plane, entities, timeMs)) portals.push_back(*portal);
   const bool same = portals.size() == current_.size() &&
@@ -168,7 +169,7 @@ void PortalViews::update(std::span<const q3abi::refEntity_t> entities, int timeM
                     });
   if (same) return;
   renderer.setPortals(portals);
-  current_ = std::move(portals);
+  current_.swap(portals);
 }
 
 }  // namespace glue

@@ -57,6 +57,7 @@ class PortalViews {
  private:
   std::vector<PortalPlane> planes_;
   std::vector<pa::PortalDesc> current_;
+  std::vector<pa::PortalDesc> candidate_;   ///< This frame's portals (kept: no allocation per frame).
 };
 
 }  // namespace glue
