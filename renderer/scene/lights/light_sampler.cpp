@@ -53,6 +53,7 @@ Lanes load(const float* p) {
 }
 
 Lanes maxLanes(Lanes a, Lanes b) { return a > b ? a : b; }
+Lanes minLanes(Lanes a, Lanes b) { return a < b ? a : b; }
 
 Lanes sqrtLanes(Lanes v) {
 #if defined(__AVX__)
@@ -110,7 +111,7 @@ int laneAbove(const float* w, double base, double target) {
   return last;
 }
 
-/// The weights (LightSampler::lampWeight's terms) of the eight lamps of a group at p, n; false
+/// The weights of the eight lamps of a group at p, n (localLightWeight x lampCosineFactor); false
 /// (and all 0) when every lamp of the group lies wholly below the tangent plane. Lanes set in
 /// `hidden` (lamps no ray from p's surroundings reached: LampVisibility) are scaled by
 /// LampVisibility::kHiddenWeight. The divisions the group's lamps do not need are skipped; each
@@ -123,8 +124,10 @@ template <class Group>
   // Nothing to reflect where the whole light lies on or below the tangent plane.
   const bool hemisphere = n != glm::vec3(0.0f);
   LaneMask below{};
+  Lanes height{};   // of the lamp's nearest side above the tangent plane
   if (hemisphere) {
-    below = -(tx * n.x + ty * n.y + tz * n.z) + radius <= 0.0f;
+    height = -(tx * n.x + ty * n.y + tz * n.z) + radius;
+    below = height <= 0.0f;
     if ((~bitsOf(below) & g.live) == 0) {
       out = Lanes{};
       return false;
@@ -153,7 +156,12 @@ template <class Group>
     const Lanes smooth = c <= lo ? Lanes{} : c >= hi ? Lanes{} + 1.0f : t * t * (3.0f - 2.0f * t);
     weight = ((load(g.spot) != 0.0f) & (centre > 0.0f)) ? weight * smooth : weight;
   }
-  if (hemisphere) weight = below ? Lanes{} : weight;
+  if (hemisphere) {
+    // lampCosineFactor: the light a lamp brings to a surface falls with the cosine toward it.
+    const Lanes cosine =
+        minLanes(maxLanes(height / maxLanes(centre, Lanes{} + 1e-8f), Lanes{} + kLeastLampCosine), Lanes{} + 1.0f);
+    weight = below ? Lanes{} : weight * cosine;
+  }
   if (hidden != 0) {
     const LaneMask laneBits = {1, 2, 4, 8, 16, 32, 64, 128};
     weight = (laneBits & int(hidden)) != 0 ? weight * LampVisibility::kHiddenWeight : weight;
@@ -223,6 +231,14 @@ float localLightWeight(const LightDesc& light, const glm::vec3& p) {
   if (light.type == LightType::Spot && light.radius == 0.0f && centre > 0.0f)
     weight *= spotFactor(light, toPoint / centre);
   return weight;
+}
+
+float lampCosineFactor(const LightDesc& light, const glm::vec3& p, const glm::vec3& n) {
+  if (n == glm::vec3(0.0f)) return 1.0f;   // no surface: no factor
+  const glm::vec3 toLamp = light.position - p;
+  const float height = glm::dot(toLamp, n) + light.radius;
+  if (!(height > 0.0f)) return 0.0f;
+  return std::clamp(height / std::max(glm::length(toLamp), 1e-8f), kLeastLampCosine, 1.0f);
 }
 
 glm::vec3 emittedRadiance(const EmissiveTriangle& tri, glm::vec2 bary, bool frontSide) {

@@ -121,7 +121,8 @@ TEST(LampVisibility, SamplerChoosesHiddenLampsLessAndStaysExact) {
   float hidden = 0.0f;
   ASSERT_TRUE(sampler.pickLamp(p, n, 0.999f, true, index, hidden));
   ASSERT_EQ(index, 1u);
-  const double west = localLightWeight(lamps[0], p), east = localLightWeight(lamps[1], p);
+  const double west = localLightWeight(lamps[0], p) * lampCosineFactor(lamps[0], p, n),
+               east = localLightWeight(lamps[1], p) * lampCosineFactor(lamps[1], p, n);
   EXPECT_NEAR(plain, east / (west + east), 1e-5);
   const double k = LampVisibility::kHiddenWeight;
   EXPECT_NEAR(hidden, k * east / (west + k * east), 1e-5);
@@ -175,18 +176,19 @@ TEST(LampVisibility, OnlyLampsWhereTheMapSawThemUseIt) {
     }
     return 0.0f;
   };
-  const double west = localLightWeight(lamps[0], p), east = localLightWeight(lamps[1], p);
+  const auto weight = [&](const LightDesc& l) { return double(localLightWeight(l, p) * lampCosineFactor(l, p, n)); };
+  const double west = weight(lamps[0]), east = weight(lamps[1]);
   EXPECT_NEAR(eastProbability(lamps, 1), LampVisibility::kHiddenWeight * east / (west + LampVisibility::kHiddenWeight * east), 1e-5);
   std::vector<LightDesc> moved = lamps;
   moved[1].position.y += 0.5f;
-  const double movedEast = localLightWeight(moved[1], p);
+  const double movedEast = weight(moved[1]);
   EXPECT_NEAR(eastProbability(moved, 1), movedEast / (west + movedEast), 1e-5);
   const std::vector<LightDesc> swapped = {lamps[1], lamps[0], lamps[2]};
   EXPECT_NEAR(eastProbability(swapped, 0), east / (west + east), 1e-5);
   // A dynamic light after the map's lamps: the map still applies to them.
   std::vector<LightDesc> withRocket = lamps;
   withRocket.push_back(lampAt({5.0f, 5.0f, 30.0f}, 10.0f));
-  const double rocket = localLightWeight(withRocket[3], p);
+  const double rocket = weight(withRocket[3]);
   EXPECT_NEAR(eastProbability(withRocket, 1),
               LampVisibility::kHiddenWeight * east / (west + rocket + LampVisibility::kHiddenWeight * east), 1e-5);
 }

@@ -60,16 +60,24 @@ struct WhiteLampAmongDistantLights {
 };
 
 TEST(LightSampler, EveryPointLightSampleEstimatesTheExactSum) {
-  // Selection in proportion to each light's contribution makes radiance / pdf the same for
-  // every sample (equal colours apart): each single sample must give the exact sum.
+  // Selection in proportion to each light's contribution to a diffuse surface (radiance x the
+  // cosine toward it, above lampCosineFactor's floor here) makes radiance x cosine / pdf the
+  // same for every sample (equal colours apart): each single sample must give the exact sum.
   const WhiteLampAmongDistantLights scene;
   const auto& [lights, sampler, p, n, exact] = scene;
+  double exactIrradiance = 0.0;
+  for (const LightDesc& l : lights) {
+    const glm::vec3 toLight = l.position - p;
+    const float cosine = glm::dot(glm::normalize(toLight), n);
+    ASSERT_GT(cosine, kLeastLampCosine);
+    exactIrradiance += double(l.intensity * distanceFalloff(l, glm::length(toLight)) * cosine);
+  }
   for (int i = 0; i < 1000; ++i) {
     const float u = (float(i) + 0.5f) / 1000.0f;
     LightSample ls;
     ASSERT_TRUE(sampler.sample(p, n, glm::vec4(u, 0.3f, 0.7f, 1.0f - u), ls));
-    const glm::vec3 estimate = ls.radiance / ls.pdf;
-    EXPECT_NEAR(estimate.x, exact.x, 1e-3f * exact.x) << "sample " << i;
+    const double estimate = double(ls.radiance.x * glm::dot(ls.wi, n) / ls.pdf);
+    EXPECT_NEAR(estimate, exactIrradiance, 1e-3 * exactIrradiance) << "sample " << i;
   }
 }
 
@@ -195,9 +203,25 @@ TEST(LightSampler, DarkPointLightsChangeNoSample) {
   }
 }
 
+TEST(LightSampler, LampCosineFactorIsTheCosineTowardTheLampWithinItsBounds) {
+  LightDesc lamp;
+  lamp.position = glm::vec3(0.0f, 0.0f, 10.0f);
+  const glm::vec3 up(0.0f, 0.0f, 1.0f);
+  EXPECT_FLOAT_EQ(lampCosineFactor(lamp, glm::vec3(0.0f), up), 1.0f);                    // straight above
+  EXPECT_NEAR(lampCosineFactor(lamp, glm::vec3(10.0f, 0.0f, 0.0f), up), std::sqrt(0.5f), 1e-6f);   // at 45 degrees
+  EXPECT_FLOAT_EQ(lampCosineFactor(lamp, glm::vec3(1000.0f, 0.0f, 0.0f), up), kLeastLampCosine);   // grazing: the floor
+  EXPECT_EQ(lampCosineFactor(lamp, glm::vec3(0.0f, 0.0f, 20.0f), up), 0.0f);             // below the tangent plane
+  EXPECT_EQ(lampCosineFactor(lamp, glm::vec3(0.0f, 0.0f, 20.0f), glm::vec3(0.0f)), 1.0f);   // no surface
+  // A sphere lamp whose centre lies in the plane still lights it: radius / distance.
+  lamp.radius = 2.0f;
+  EXPECT_NEAR(lampCosineFactor(lamp, glm::vec3(-8.0f, 0.0f, 10.0f), up), 0.25f, 1e-6f);
+  EXPECT_EQ(lampCosineFactor(lamp, glm::vec3(-8.0f, 0.0f, 12.5f), up), 0.0f);            // wholly below
+}
+
 TEST(LightSampler, LampChoiceProbabilityIsItsWeightShare) {
   // The lamps' weights are computed eight at a time; the probability of each chosen lamp must be
-  // its localLightWeight over the sum of all (lamps wholly below the tangent plane weigh 0), for
+  // its localLightWeight x lampCosineFactor over the sum of all (lamps wholly below the tangent
+  // plane weigh 0), for
   // a mix of point, spot, linear, inverse-square and out-of-range lamps (13: a partial group).
   std::vector<LightDesc> lights;
   for (int i = 0; i < 13; ++i) {
@@ -222,7 +246,7 @@ TEST(LightSampler, LampChoiceProbabilityIsItsWeightShare) {
   for (const glm::vec3 p : {glm::vec3(0.0f), glm::vec3(20.0f, -10.0f, -5.0f), glm::vec3(-50.0f, 30.0f, 40.0f)}) {
     double total = 0.0;
     for (const LightDesc& l : lights)
-      if (glm::dot(l.position - p, n) + l.radius > 0.0f) total += localLightWeight(l, p);
+      if (glm::dot(l.position - p, n) + l.radius > 0.0f) total += localLightWeight(l, p) * lampCosineFactor(l, p, n);
     ASSERT_GT(total, 0.0);
     int chosen = 0;
     for (int i = 0; i < 512; ++i) {
@@ -232,7 +256,7 @@ TEST(LightSampler, LampChoiceProbabilityIsItsWeightShare) {
         if (ls.lightPoint != l.position) continue;
         ++chosen;
         EXPECT_GT(glm::dot(l.position - p, n) + l.radius, 0.0f) << "a lamp below the tangent plane was chosen";
-        EXPECT_NEAR(ls.pdf, localLightWeight(l, p) / total, 1e-5 * ls.pdf);
+        EXPECT_NEAR(ls.pdf, localLightWeight(l, p) * lampCosineFactor(l, p, n) / total, 1e-5 * ls.pdf);
       }
     }
     EXPECT_GT(chosen, 400);

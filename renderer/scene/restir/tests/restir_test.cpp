@@ -131,6 +131,8 @@ TEST(Restir, OneFrameIsCloserToTheMeanThanOneLightSample) {
   s.accumulate = false;
   // Without the lamp visibility map (RendererConfig::lampVisibility), one light sample chooses
   // lamps behind the walls as often as any; with it, fewer: resampling still gains, less.
+  // (The lamps' weights hold the cosine toward each lamp: one light sample needs resampling less
+  // than when they did not, 0.59x its error here against under 0.5x then.)
   for (const bool lampVisibility : {false, true}) {
     double plainError = 0.0, restirError = 0.0;
     for (bool restir : {false, true}) {
@@ -147,7 +149,7 @@ TEST(Restir, OneFrameIsCloserToTheMeanThanOneLightSample) {
     const std::string map = lampVisibility ? "_lamp_visibility" : "";
     RecordProperty("plain_rmse" + map, std::to_string(plainError));
     RecordProperty("restir_rmse" + map, std::to_string(restirError));
-    EXPECT_LT(restirError, (lampVisibility ? 0.8 : 0.5) * plainError)
+    EXPECT_LT(restirError, (lampVisibility ? 0.8 : 0.65) * plainError)
         << "lamp visibility " << lampVisibility << ": plain " << plainError << ", restir " << restirError;
   }
 }
