@@ -8,38 +8,18 @@
 
 #include "port/engine_glue/allocation_counter.h"
 #include "port/engine_glue/portals.h"
-#include "port/q3formats/bsp/tests/bsp_writer.h"
-#include "port/q3formats/world/world_scene.h"
+#include "port/engine_glue/tests/portal_fixtures.h"
 #include "renderer/scene/renderer.h"
 
 namespace glue {
 namespace {
 
-/// The cgame's RT_PORTALSURFACE entity at `origin` whose camera stands at `camera`.
-q3abi::refEntity_t portalEntity(const glm::vec3& origin, const glm::vec3& camera) {
-  q3abi::refEntity_t e{};
-  e.reType = q3abi::RT_PORTALSURFACE;
-  for (int k = 0; k < 3; ++k) {
-    e.origin[k] = origin[k];
-    e.oldorigin[k] = camera[k];
-    e.axis[k][k] = 1.0f;
-  }
-  return e;
-}
-
 TEST(PortalMemory, UpdatesOfAWarmPortalViewAllocateNothing) {
-  auto w = q3::testing::sampleMap();   // shader 0 ("textures/test/floor"): the floor at z = 0
-  const q3::BspFile bsp = q3::parseBsp(w.build(), "maps/portals.bsp");
-  q3::WorldScene scene;
-  scene.materials.resize(1);
-  scene.materials[0].shaderName = "textures/test/floor";
-  scene.materials[0].mirror = true;
-  PortalViews views;
-  views.load(bsp, scene);
+  PortalViews views = testing::mirrorFloorViews();
   ASSERT_EQ(views.planes().size(), 1u);
   pa::Renderer renderer({1});
-  const q3abi::refEntity_t first = portalEntity({10, 10, 5}, {10, 10, 5});
-  const q3abi::refEntity_t second = portalEntity({10, 10, 5}, {40, 10, 5});
+  const q3abi::refEntity_t first = testing::portalEntity({10, 10, 5}, {10, 10, 5});
+  const q3abi::refEntity_t second = testing::portalEntity({10, 10, 5}, {40, 10, 5});
   for (int frame = 0; frame < 4; ++frame) {   // warm: both buffers and the renderer's copy grown
     views.update(std::span(&first, 1), 0, renderer);
     views.update(std::span(&second, 1), 0, renderer);

@@ -8,6 +8,7 @@
 #include <glm/mat3x3.hpp>
 
 #include "port/engine_glue/portals.h"
+#include "port/engine_glue/tests/portal_fixtures.h"
 #include "port/q3formats/bsp/tests/bsp_writer.h"
 #include "port/q3formats/shader/shader_library.h"
 #include "port/q3formats/vfs/game_filesystem.h"
@@ -23,16 +24,7 @@ glm::vec3 mapDirection(const pa::PortalDesc& p, const glm::vec3& d) { return glm
 
 bool near(const glm::vec3& a, const glm::vec3& b) { return glm::distance(a, b) < 1e-4f; }
 
-q3abi::refEntity_t portalEntity(const glm::vec3& origin, const glm::vec3& camera) {
-  q3abi::refEntity_t e{};
-  e.reType = q3abi::RT_PORTALSURFACE;
-  for (int k = 0; k < 3; ++k) {
-    e.origin[k] = origin[k];
-    e.oldorigin[k] = camera[k];
-    e.axis[k][k] = 1.0f;   // camera looking along +x, left +y, up +z
-  }
-  return e;
-}
+using testing::portalEntity;
 
 TEST(Portals, PlanesOfPortalFacesOfTheWorldModelOnce) {
   auto w = q3::testing::sampleMap();   // floor quad and patch use shader 0, the door (*1) too
@@ -113,15 +105,7 @@ TEST(Portals, OnlyNearbyPortalEntitiesWithUsableAxesCount) {
 }
 
 TEST(Portals, ViewsHandTheRendererThePortalsOfThisFrame) {
-  auto w = q3::testing::sampleMap();   // shader 0 ("textures/test/floor"): the floor at z = 0
-  const q3::BspFile bsp = q3::parseBsp(w.build(), "maps/portals.bsp");
-  q3::WorldScene scene;
-  scene.materials.resize(2);
-  scene.materials[0].shaderName = "textures/test/floor";
-  scene.materials[0].mirror = true;
-  scene.materials[1].shaderName = "textures/test/fog";
-  PortalViews views;
-  views.load(bsp, scene);
+  PortalViews views = testing::mirrorFloorViews();   // the floor at z = 0
   ASSERT_EQ(views.planes().size(), 1u);
 
   // The tracer's view of it: a half-grey mirror floor under a lamp ceiling, seen from above.
