@@ -15,7 +15,7 @@
 # the last two agree. Everything is one run: `setviewpos` pushes the player forward and noclip's
 # friction stops it after a distance that depends on the frame times, so two runs stand a unit or
 # two apart (the converged images of two runs read 27.8 dB against each other on a ceiling lamp).
-# Slow: `converged` takes minutes.
+# Slow: `converged` takes minutes. Exit 77 when the engine, the game data or xvfb-run are missing.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$root/tests/fidelity/engine_env.sh"
