@@ -221,8 +221,8 @@ TEST(LightSampler, LampCosineFactorIsTheCosineTowardTheLampWithinItsBounds) {
 TEST(LightSampler, LampChoiceProbabilityIsItsWeightShare) {
   // The lamps' weights are computed eight at a time; the probability of each chosen lamp must be
   // its localLightWeight x lampCosineFactor over the sum of all (lamps wholly below the tangent
-  // plane weigh 0), for
-  // a mix of point, spot, linear, inverse-square and out-of-range lamps (13: a partial group).
+  // plane weigh 0), for a mix of point, spot, linear, inverse-square and out-of-range lamps (13:
+  // a partial group).
   std::vector<LightDesc> lights;
   for (int i = 0; i < 13; ++i) {
     LightDesc l;
