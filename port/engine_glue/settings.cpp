@@ -266,8 +266,8 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.denoise = denoise_ == nullptr || denoise_->integer != 0;
   out.temporal = temporal_ == nullptr || temporal_->integer != 0;
   out.restir = restir_ != nullptr && restir_->integer != 0;
+  // 1 reaches the renderer as it is: its gradients take blocks of at least 2 (GradientConfig).
   out.gradientStratum = gradients_ == nullptr ? 6u : static_cast<uint32_t>(std::clamp(gradients_->integer, 0, 8));
-  if (out.gradientStratum == 1) out.gradientStratum = 2;
   out.bakedEnd = bakedEnd_ == nullptr || bakedEnd_->integer != 0;
   if (roulette_ != nullptr) out.rouletteStart = std::clamp(roulette_->integer, 1, 16);
   if (taau_ != nullptr) out.taau = std::clamp(taau_->integer, 0, 2);
