@@ -94,10 +94,4 @@ void triangleBounds(const TriangleMesh& mesh, std::vector<Bounds>& out) {
   });
 }
 
-bool isTraceableRay(const Ray& ray) {
-  if (!finite(ray.origin) || !finite(ray.dir)) return false;
-  if (ray.dir.x == 0.0f && ray.dir.y == 0.0f && ray.dir.z == 0.0f) return false;
-  return !std::isnan(ray.tmin) && !std::isnan(ray.tmax) && ray.tmin <= ray.tmax;
-}
-
 }  // namespace pa::bvh_detail

@@ -1,9 +1,11 @@
 #pragma once
 // The BLAS's own copy of its mesh, validated, plus per-triangle flags used by every layout.
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <glm/vec3.hpp>
 
 #include "renderer/bvh/bvh.h"
@@ -47,7 +49,14 @@ std::vector<Bounds> triangleBounds(const TriangleMesh& mesh);
 void triangleBounds(const TriangleMesh& mesh, std::vector<Bounds>& out);
 
 /// True when the ray can be traced: finite origin and direction, non-zero direction,
-/// tmin <= tmax and neither NaN. Invalid rays report no hit.
-bool isTraceableRay(const Ray& ray);
+/// tmin <= tmax and neither NaN. Invalid rays report no hit. Inline, without branches: every
+/// instance a ray enters checks it.
+inline bool isTraceableRay(const Ray& ray) {
+  constexpr float kLargest = std::numeric_limits<float>::max();
+  const glm::vec3 o = glm::abs(ray.origin), d = glm::abs(ray.dir);   // NaN and infinity fail <= kLargest
+  const bool finite = (o.x <= kLargest) & (o.y <= kLargest) & (o.z <= kLargest) & (d.x <= kLargest) &
+                      (d.y <= kLargest) & (d.z <= kLargest);
+  return finite & (d.x + d.y + d.z > 0.0f) & (ray.tmin <= ray.tmax);   // <= fails for a NaN
+}
 
 }  // namespace pa::bvh_detail
