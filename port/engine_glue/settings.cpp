@@ -121,10 +121,6 @@ void Settings::registerCvars(const Engine& engine) {
                           "Direct, path and reference: scatterings after which Russian roulette may end a path "
                           "(1..16; 1: a bounce ray leaves a surface with the probability of its albedo)");
   if (roulette_ != nullptr) ri.Cvar_CheckRange(roulette_, 1, 16, 1);
-  lampCells_ = engine.cvar("r_pt_lamp_cells", "2", CVAR_ARCHIVE,
-                           "Direct, path and reference: first hits weigh the lamps once per small cell of the world on "
-                           "their plane, about this many pixels wide (0..16, unbiased; 0 = at every hit)");
-  if (lampCells_ != nullptr) ri.Cvar_CheckRange(lampCells_, 0, 16, 0);
   fireflies_ = engine.cvar("r_pt_fireflies", "1", CVAR_ARCHIVE,
                            "Spread fireflies (pixels far above their neighbourhood) over their neighbours before "
                            "the denoiser, keeping the frame's energy (0 = off)");
@@ -274,7 +270,6 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.gradientStratum = gradients_ == nullptr ? 6u : static_cast<uint32_t>(std::clamp(gradients_->integer, 0, 8));
   out.bakedEnd = bakedEnd_ == nullptr || bakedEnd_->integer != 0;
   if (roulette_ != nullptr) out.rouletteStart = std::clamp(roulette_->integer, 1, 16);
-  if (lampCells_ != nullptr && std::isfinite(lampCells_->value)) out.lampCellPixels = std::clamp(lampCells_->value, 0.0f, 16.0f);
   if (taau_ != nullptr) out.taau = std::clamp(taau_->integer, 0, 2);
   if (fps_ != nullptr && std::isfinite(fps_->value)) out.targetFps = std::clamp(fps_->value, 0.0f, 1000.0f);
   if (scaleMin_ != nullptr && std::isfinite(scaleMin_->value)) out.minScale = std::clamp(scaleMin_->value, 0.1f, 1.0f);

@@ -41,7 +41,6 @@ struct TracerSettings {
   uint32_t gradientStratum = 6;   ///< r_pt_gradients: temporal gradients' block side (0 = off; with temporal)
   bool bakedEnd = true;      ///< r_pt_bake_end: paths end on the bake's light (RenderSettings::bakedLightAtPathEnd)
   int rouletteStart = 1;     ///< r_pt_roulette: scatterings before Russian roulette (RenderSettings::rouletteStart)
-  float lampCellPixels = 2.0f;   ///< r_pt_lamp_cells: lamps weighed per cell of the world (RenderSettings::lampCellPixels)
   /// r_pt_taau: temporal anti-aliasing and upscaling to the window of world views; 0 = off (bilinear
   /// stretch), 1 = when traced smaller than the window, 2 = always (also anti-aliases r_pt_scale 1)
   int taau = 0;
@@ -151,7 +150,6 @@ class Settings {
   q3abi::cvar_t* gradients_ = nullptr;
   q3abi::cvar_t* bakedEnd_ = nullptr;
   q3abi::cvar_t* roulette_ = nullptr;
-  q3abi::cvar_t* lampCells_ = nullptr;
   q3abi::cvar_t* look_ = nullptr;
   q3abi::cvar_t* fireflies_ = nullptr;
   q3abi::cvar_t* captureExr_ = nullptr;

@@ -397,7 +397,6 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
   rs.bakedLightAtPathEnd = settings.bakedEnd;
   rs.rouletteStart = static_cast<uint32_t>(settings.rouletteStart);
-  rs.lampCellPixels = settings.lampCellPixels;
   rs.accumulate = settings.preset == Preset::Reference && !ctx.lightmapLook;
   // In play the world never stands still (items bob, the player's own body breathes, shaders
   // animate): a still view keeps accumulating, restarting only the pixels that show a change.

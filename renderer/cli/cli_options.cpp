@@ -153,8 +153,6 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
       ok = parseUnsigned(name, value, 0, 1u << 20, o.camera, message);
     } else if (name == "--clamp") {
       ok = parseFloat(name, value, 0.0f, false, o.clamp, message);
-    } else if (name == "--lamp-cells") {
-      ok = parseFloat(name, value, 0.0f, false, o.lampCellPixels, message);
     } else if (name == "--exposure") {
       o.autoExposure = value == "auto";
       if (!o.autoExposure) ok = parseFloat(name, value, 0.0f, true, o.exposure, message);
@@ -260,9 +258,6 @@ Image and sampling:
                          path (default 3; 1: the first bounce ray is traced with the probability
                          of the surface's albedo, its light divided by it: unbiased, faster, noisier)
   --clamp X              Clamp each path's contribution to X (0 = off, unbiased; default 0)
-  --lamp-cells P         direct and path: first hits weigh the lamps once per cell of the world
-                         about P pixels wide on their plane (default 2; unbiased, neighbouring
-                         pixels share the work); 0 weighs them at every hit
   --seed S               Random seed (default 0); the image depends only on scene, camera,
                          seed, frames and spp, never on the thread count
   --threads T            Worker threads (default 0 = all cores)

@@ -30,7 +30,6 @@ struct CliOptions {
   LightingLook lighting = LightingLook::Physical;   ///< How the PNG shows reflected light.
   uint32_t camera = 0;                          ///< Index into the scene's cameras.
   float clamp = 0.0f;                           ///< Radiance clamp per path, 0 = off.
-  float lampCellPixels = 2.0f;                  ///< RenderSettings::lampCellPixels (--lamp-cells).
   float exposure = 1.0f;                        ///< Fixed gain; ignored with autoExposure.
   bool autoExposure = false;                    ///< --exposure auto: gain metered on the image (film/auto_exposure.h).
   float lightScale = 1.0f;                      ///< Photometric -> renderer units (glTF lights, emitters).

@@ -143,7 +143,6 @@ int runRenderJob(const CliOptions& options, std::FILE* log) {
     settings.denoise = options.denoise;
     settings.spreadFireflies = options.spreadFireflies;
     settings.cameraPackets = options.cameraPackets;
-    settings.lampCellPixels = options.lampCellPixels;
     settings.restir = options.restir;
     settings.temporalGradients = options.temporalGradients;
     settings.bakedLightAtPathEnd = options.bakedPathEnd;

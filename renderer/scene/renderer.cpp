@@ -421,7 +421,6 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
     }
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<uint32_t>& r) {
       TriangleMemo memo;   // neighbouring samples mostly end on a few triangles
-      LampCellMemo lampMemo;   // and weigh the lamps in a few cells
       for (uint32_t tile = r.begin(); tile != r.end(); ++tile) {
         const uint32_t x0 = (tile % tilesX) * kTileSize;
         const uint32_t y0 = (tile / tilesX) * kTileSize;
@@ -487,7 +486,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
                 const PixelSample sample =
                     traceSample(scene, rays, settings, static_cast<float>(p.x) + jitter.x,
                                 static_cast<float>(p.y) + jitter.y, sampler, settings.cameraPackets ? &traced[i] : nullptr,
-                                useResampled ? &resampled : nullptr, &memo, &lampMemo);
+                                useResampled ? &resampled : nullptr, &memo);
                 if (s == 0 && gradientsOn) {
                   gradientLuminance[size_t{p.y} * settings.width + p.x] = litLuminance(sample);
                 }

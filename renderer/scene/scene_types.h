@@ -483,10 +483,6 @@ struct RenderSettings {
   /// Trace camera rays 4x4 pixels at a time (BVH packet queries): the same image, faster; false
   /// traces them one by one (for A/B measurements). Does not reset accumulation.
   bool cameraPackets = true;
-  /// Direct and Path: the first hit weighs the lamps once per small cell of the world on its plane,
-  /// about lampCellPixels pixels wide (LampCell: the same choice for every first hit in it, still
-  /// unbiased), so that neighbouring pixels share that work; 0 weighs them at every hit.
-  float lampCellPixels = 2.0f;
   /// Temporal accumulation (renderer/scene/temporal, SVGF's temporal stage) of Direct and Path
   /// frames rendered without `accumulate`: each frame blends with the last ones, reprojected by
   /// the camera's and the instances' motion, before the denoiser. Ignored by Lightmap and while

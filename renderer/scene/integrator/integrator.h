@@ -29,12 +29,10 @@ struct ResampledLight {
 /// BSDF-sampled rays from there then count only lights the light sampler cannot pick.
 /// `memo`, when given, is the calling thread's RenderScene::TriangleMemo (same result, less work
 /// where consecutive samples end on one triangle; the Lightmap compositor uses it).
-/// `lampMemo`, when given, is the calling thread's LampCellMemo (same result, less work where
-/// consecutive first hits share a lamp cell: RenderSettings::lampCellPixels).
 PixelSample traceSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                         float px, float py, const sampling::PixelSampler& sampler,
                         const TracedCameraRay* traced = nullptr, const ResampledLight* resampled = nullptr,
-                        TriangleMemo* memo = nullptr, LampCellMemo* lampMemo = nullptr);
+                        TriangleMemo* memo = nullptr);
 
 /// Dimension groups of the sampler used per path vertex (group = kGroupsPerVertex * depth + k).
 inline constexpr uint32_t kGroupsPerVertex = 4;

@@ -35,26 +35,13 @@ struct PreviousVertex {
   glm::vec3 position{0.0f};
   glm::vec3 normal{0.0f};
   bool resampled = false;     // its direct light came from reservoir resampling (no MIS: see tracePathSample)
-  LampCell lampCell;          // where its lamps were weighed (MIS with the same choice)
 };
-
-/// The lamp cell of a first hit whose pixel covers `footprint` world units: the power of two at or
-/// above cellPixels footprints, up to kLargestLampCell (beyond, and for cellPixels 0: none).
-float lampCellSize(float footprint, float cellPixels) {
-  constexpr float kLargestLampCell = 16.0f;
-  const float wanted = cellPixels * footprint;
-  if (!(wanted > 0.0f) || !(wanted <= kLargestLampCell)) return 0.0f;
-  int exponent = 0;
-  const float mantissa = std::frexp(wanted, &exponent);   // wanted = mantissa 2^exponent, mantissa in [0.5, 1)
-  return std::ldexp(1.0f, mantissa == 0.5f ? exponent - 1 : exponent);
-}
 
 /// Next-event estimation at a surface point; returns the MIS-weighted contribution / beta.
 glm::vec3 sampleDirectLight(const RenderScene& scene, const SurfaceHit& s, const Bsdf& bsdf, const glm::vec3& wo,
-                            const glm::vec3& ng, const glm::vec3& ns, const glm::vec4& u, uint32_t bits,
-                            const LampCell& cell) {
+                            const glm::vec3& ng, const glm::vec3& ns, const glm::vec4& u, uint32_t bits) {
   LightSample ls;
-  if (!scene.lights.sample(s.position, ns, u, ls, cell)) return glm::vec3(0.0f);
+  if (!scene.lights.sample(s.position, ns, u, ls)) return glm::vec3(0.0f);
   const glm::vec3 f = bsdf.evalCos(wo, ls.wi);
   if (f == glm::vec3(0.0f)) return glm::vec3(0.0f);
   Ray shadow;
@@ -142,7 +129,7 @@ glm::vec3 layersTransmittance(const AdditiveHits& additive, float tHit) {
 
 PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                             float px, float py, const sampling::PixelSampler& sampler, const TracedCameraRay* traced,
-                            const ResampledLight* resampled, TriangleMemo* memo, LampCellMemo* lampMemo) {
+                            const ResampledLight* resampled, TriangleMemo* memo) {
   PixelSample out;
   Ray ray = traced ? traced->ray : camera.generate(px, py);
   glm::vec3 radiance(0.0f);
@@ -259,8 +246,7 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
       if (!prev.delta) {
         const uint32_t index = scene.emissiveIndex(s);
         const float lightPdf =
-            index == kNoId ? 0.0f
-                           : scene.lights.emissivePdf(index, prev.position, prev.normal, s.position, prev.lampCell);
+            index == kNoId ? 0.0f : scene.lights.emissivePdf(index, prev.position, prev.normal, s.position);
         // After a resampled vertex the reservoir carries every light the sampler can pick there.
         weight = prev.resampled ? (lightPdf > 0.0f ? 0.0f : 1.0f) : sampling::powerHeuristic(prev.bsdfPdf, lightPdf);
       }
@@ -279,14 +265,10 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     const Bsdf bsdf(albedo, m.desc.specular, m.desc.roughness, m.desc.mirror, ns, ng, m.desc.specularTinted);
     const glm::vec4 uLight = sampler.get4(group + kGroupLight);
     const bool useResampled = resampled != nullptr && depth == 0 && !bsdf.isDelta();
-    // Camera rays' first hits share their lamp weights per small cell of the world (LampCell);
-    // coneWidth is the pixel's footprint there.
-    LampCell lampCell;
-    if (depth == 0) lampCell = {lampCellSize(coneWidth * glm::length(ray.dir), settings.lampCellPixels), lampMemo};
     if (!bsdf.isDelta()) {
       glm::vec3 direct = useResampled ? resampledDirectLight(scene, s, bsdf, wo, ng, ns, *resampled)
                                       : sampleDirectLight(scene, s, bsdf, wo, ng, ns, uLight,
-                                                          sampler.bits(group + kGroupRays + 1000), lampCell);
+                                                          sampler.bits(group + kGroupRays + 1000));
       const AmbientLight& ambient = scene.sky.ambient();   // the author's unshadowed ambient and floor
       if (ambient.active()) direct = ambient.apply(direct, albedo * (1.0f - std::clamp(m.desc.specular, 0.0f, 1.0f)));
       radiance += clampContribution(beta * direct, depth + 1, settings.radianceClamp);   // never exempt
@@ -303,7 +285,6 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     prev.position = s.position;
     prev.normal = ns;
     prev.resampled = useResampled;
-    prev.lampCell = lampCell;
     if (!bs.delta) {
       ++scatterCount;
       coneSpread = std::max(coneSpread, bs.glossy ? 0.1f : 0.5f);

@@ -15,7 +15,6 @@ namespace pa {
 /// `memo`, when given, keeps the first hit's triangle part for the next sample (RenderScene::surfaceAt).
 PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
                             float px, float py, const sampling::PixelSampler& sampler, const TracedCameraRay* traced,
-                            const ResampledLight* resampled, TriangleMemo* memo = nullptr,
-                            LampCellMemo* lampMemo = nullptr);
+                            const ResampledLight* resampled, TriangleMemo* memo = nullptr);
 
 }  // namespace pa

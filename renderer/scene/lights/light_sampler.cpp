@@ -115,64 +115,53 @@ int laneAbove(const float* w, double base, double target) {
 /// (and all 0) when every lamp of the group lies wholly below the tangent plane. Lanes set in
 /// `hidden` (lamps no ray from p's surroundings reached: LampVisibility) are scaled by
 /// LampVisibility::kHiddenWeight. The divisions the group's lamps do not need are skipped; each
-/// lane's arithmetic is the same. Heights above the tangent plane count heightSlack + normalSlack x
-/// distance more, and the range cut-off and linear falloff take distances `distanceSlack` less
-/// (bounds over the points and normals of a LampCell; 0 at the point itself).
+/// lane's arithmetic is the same.
 template <class Group>
 [[gnu::always_inline]] inline bool groupWeights(const Group& g, const glm::vec3& p, const glm::vec3& n, uint8_t hidden,
-                                                float heightSlack, float normalSlack, float distanceSlack,
                                                 Lanes& out) {
   const Lanes x = load(g.x), y = load(g.y), z = load(g.z), radius = load(g.radius);
   const Lanes tx = p.x - x, ty = p.y - y, tz = p.z - z;   // light -> point
-  const Lanes centre = sqrtLanes(tx * tx + ty * ty + tz * tz);
   // Nothing to reflect where the whole light lies on or below the tangent plane.
   const bool hemisphere = n != glm::vec3(0.0f);
   LaneMask below{};
   Lanes height{};   // of the lamp's nearest side above the tangent plane
   if (hemisphere) {
-    height = -(tx * n.x + ty * n.y + tz * n.z) + radius + heightSlack + normalSlack * centre;
+    height = -(tx * n.x + ty * n.y + tz * n.z) + radius;
     below = height <= 0.0f;
     if ((~bitsOf(below) & g.live) == 0) {
       out = Lanes{};
       return false;
     }
   }
+  const Lanes centre = sqrtLanes(tx * tx + ty * ty + tz * tz);
   const Lanes nearest = maxLanes(centre - radius, Lanes{} + 1e-3f);
-  // Where a weight can fall to 0 (range, linear falloff) it takes the nearest any point sharing it can be.
-  const Lanes nearestBound = maxLanes(centre - radius - distanceSlack, Lanes{} + 1e-3f);
   const Lanes range = load(g.range);
-  // The weight is numerator / denominator, one division for every factor: strength x falloff
-  // (linear: 1 - nearest / range; inverse square: 1 / nearest^2) x the cosine factor.
-  Lanes numerator = load(g.strength);
-  Lanes denominator = Lanes{} + 1.0f;
-  if (g.anyLinear) {
-    const Lanes linearFalloff = maxLanes(1.0f - nearestBound / range, Lanes{});
-    numerator = g.anyInverseSquare ? (load(g.linear) != 0.0f ? numerator * linearFalloff : numerator)
-                                   : numerator * linearFalloff;
+  Lanes falloff;
+  if (g.anyLinear && g.anyInverseSquare) {
+    const Lanes inverseSquare = 1.0f / maxLanes(nearest * nearest, Lanes{} + 1e-8f);
+    const Lanes linearFalloff = maxLanes(1.0f - nearest / range, Lanes{});
+    falloff = load(g.linear) != 0.0f ? linearFalloff : inverseSquare;
+  } else if (g.anyLinear) {
+    falloff = maxLanes(1.0f - nearest / range, Lanes{});
+  } else {
+    falloff = 1.0f / maxLanes(nearest * nearest, Lanes{} + 1e-8f);
   }
-  if (g.anyInverseSquare) {
-    const Lanes inverseSquareDenominator = maxLanes(nearest * nearest, Lanes{} + 1e-8f);
-    denominator = g.anyLinear ? (load(g.linear) != 0.0f ? denominator : inverseSquareDenominator)
-                              : inverseSquareDenominator;
-  }
+  Lanes weight = load(g.strength) * falloff;
+  weight = ((range > 0.0f) & (nearest > range)) ? Lanes{} : weight;
   if (g.anySpot) {
     // Spot lights without radius: the cone's smooth edge toward the point.
     const Lanes c = (tx * load(g.dx) + ty * load(g.dy) + tz * load(g.dz)) / centre;
     const Lanes lo = load(g.cosOuter), hi = load(g.cosInner);
     const Lanes t = (c - lo) / (hi - lo);
     const Lanes smooth = c <= lo ? Lanes{} : c >= hi ? Lanes{} + 1.0f : t * t * (3.0f - 2.0f * t);
-    numerator = ((load(g.spot) != 0.0f) & (centre > 0.0f)) ? numerator * smooth : numerator;
+    weight = ((load(g.spot) != 0.0f) & (centre > 0.0f)) ? weight * smooth : weight;
   }
   if (hemisphere) {
-    // lampCosineFactor: the light a lamp brings to a surface falls with the cosine toward it,
-    // clamp(height / centre, kLeastLampCosine, 1) = clamp(height, centre kLeastLampCosine, centre) / centre.
-    const Lanes distance = maxLanes(centre, Lanes{} + 1e-8f);
-    numerator = numerator * minLanes(maxLanes(height, distance * kLeastLampCosine), distance);
-    denominator = denominator * distance;
+    // lampCosineFactor: the light a lamp brings to a surface falls with the cosine toward it.
+    const Lanes cosine =
+        minLanes(maxLanes(height / maxLanes(centre, Lanes{} + 1e-8f), Lanes{} + kLeastLampCosine), Lanes{} + 1.0f);
+    weight = below ? Lanes{} : weight * cosine;
   }
-  Lanes weight = numerator / denominator;
-  weight = ((range > 0.0f) & (nearestBound > range)) ? Lanes{} : weight;
-  if (hemisphere) weight = below ? Lanes{} : weight;
   if (hidden != 0) {
     const LaneMask laneBits = {1, 2, 4, 8, 16, 32, 64, 128};
     weight = (laneBits & int(hidden)) != 0 ? weight * LampVisibility::kHiddenWeight : weight;
@@ -310,8 +299,6 @@ void LightSampler::buildTables(const Sky& sky, const Bounds& sceneBounds, std::s
     localPower += p;
   }
   lampGroups_.assign((localLights_.size() + 7) / 8, LampGroup{});
-  anySpotLamp_ = false;
-  ++build_;
   for (size_t k = 0; k < localLights_.size(); ++k) {
     const LightDesc& l = analytic_[localLights_[k]];
     LampGroup& g = lampGroups_[k / 8];
@@ -327,7 +314,6 @@ void LightSampler::buildTables(const Sky& sky, const Bounds& sceneBounds, std::s
     g.live |= 1u << lane;
     (l.falloff == Falloff::Linear ? g.anyLinear : g.anyInverseSquare) = true;
     g.anySpot = g.anySpot || g.spot[lane] != 0.0f;
-    anySpotLamp_ = anySpotLamp_ || g.anySpot;
   }
   emissiveTree_.rebuild(emitters);
   if ((!emissiveTree_.empty() || !localLights_.empty()) && localPower > 0.0) {
@@ -404,8 +390,7 @@ float LightSampler::entryProbability(uint32_t entry, const glm::vec3& p, const g
   return float(double(own) * (environment ? kept : 1.0) / norm);
 }
 
-bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out,
-                          const LampCell& cell) const {
+bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const {
   if (table_.empty()) return false;
   uint32_t entry;
   float selection;
@@ -430,11 +415,8 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
   bool ok;
   if (entry == localEntry_) {
     // u.w is free here (only the sky's cell choice uses it): it picks the kind, then the emitter.
-    LampPrefix scratch;   // uninitialised: lampWeightsFor() writes what pickLocalLight() reads
-    const LampWeights lamps = lampWeightsFor(p, n, cell, &scratch);
-    LocalSplit split;
-    split.lampWeight = lamps.total;
-    split.emissive = emissiveShare(lamps.total, p, n);
+    LampPrefix prefix;   // uninitialised: localSplit() writes what pickLocalLight() reads
+    const LocalSplit split = localSplit(p, n, &prefix);
     float uw = std::min(u.w, 0x1.fffffep-1f);
     if (uw < split.emissive) {
       uint32_t triangle = 0;
@@ -448,7 +430,7 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
       uint32_t light = 0;
       float withinLamps = 0.0f;
       uw = (uw - split.emissive) / (1.0f - split.emissive);
-      if (!pickLocalLight(lamps.at, uw, split.lampWeight, lamps.prefix, light, withinLamps)) return false;
+      if (!pickLocalLight(p, n, uw, split.lampWeight, &prefix, light, withinLamps)) return false;
       selection *= (1.0f - split.emissive) * withinLamps;
       ok = sampleAnalytic(analytic_[light], p, uv, out);
       out.light = {LightPoint::Kind::Lamp, light, glm::vec3(uv, 0.0f)};
@@ -483,45 +465,32 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
   return out.pdf > 0.0f;
 }
 
-double LightSampler::weighLamps(const WeighingPoint& at, LampPrefix* prefix) const {
+LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm::vec3& n, LampPrefix* prefix) const {
   // The running sum over the lamps is kept per group (groupSum): one addition chains the groups.
+  LocalSplit split;
   double lamps = 0.0;
-  const uint32_t buffered =
-      prefix != nullptr ? std::min<uint32_t>(lampGroups_.size(), LampPrefix::kBufferedLamps / 8) : 0;
+  const uint32_t buffered = prefix != nullptr ? std::min<uint32_t>(lampGroups_.size(), kBufferedLamps / 8) : 0;
   uint32_t g = 0;
   Lanes w;
-  const int64_t row = lampRow(at.p, at.n);
+  const int64_t row = lampRow(p, n);
   for (; g < buffered; ++g) {
-    if (groupWeights(lampGroups_[g], at.p, at.n, hiddenLanes(row, g), at.heightSlack, at.normalSlack,
-                     at.distanceSlack, w))
-      lamps += groupSum(w);
+    if (groupWeights(lampGroups_[g], p, n, hiddenLanes(row, g), w)) lamps += groupSum(w);
     std::memcpy(prefix->weight + 8 * g, &w, sizeof w);
     prefix->groupEnd[g] = lamps;
   }
   if (prefix != nullptr) prefix->count = 8 * buffered;
   for (; g < lampGroups_.size(); ++g)
-    if (groupWeights(lampGroups_[g], at.p, at.n, hiddenLanes(row, g), at.heightSlack, at.normalSlack,
-                     at.distanceSlack, w))
-      lamps += groupSum(w);
-  return lamps;
-}
-
-float LightSampler::emissiveShare(double lamps, const glm::vec3& p, const glm::vec3& n) const {
+    if (groupWeights(lampGroups_[g], p, n, hiddenLanes(row, g), w)) lamps += groupSum(w);
   const double triangles = emissiveTree_.empty() ? 0.0 : double{emissiveTree_.importance(p, n)};
+  split.lampWeight = lamps;
   const double total = lamps + triangles;
-  if (total > 0.0 && lamps == 0.0) return 1.0f;
-  return total > 0.0 ? float(triangles / total) : 0.0f;
-}
-
-LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm::vec3& n, LampPrefix* prefix) const {
-  LocalSplit split;
-  split.lampWeight = weighLamps(WeighingPoint{p, n}, prefix);
-  split.emissive = emissiveShare(split.lampWeight, p, n);
+  split.emissive = total > 0.0 ? float(triangles / total) : 0.0f;
+  if (total > 0.0 && lamps == 0.0) split.emissive = 1.0f;
   return split;
 }
 
-bool LightSampler::pickLocalLight(const WeighingPoint& at, float u, double total, const LampPrefix* prefix,
-                                  uint32_t& index, float& probability) const {
+bool LightSampler::pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total,
+                                  const LampPrefix* prefix, uint32_t& index, float& probability) const {
   // Inverts the running sum of the weights localSplit() summed: the group by binary search over
   // the stored group ends, the lamp by walking that group; beyond the stored groups the weights
   // are recomputed (nothing is kept per sample).
@@ -552,12 +521,10 @@ bool LightSampler::pickLocalLight(const WeighingPoint& at, float u, double total
     base = prefix->groupEnd[groups - 1];
   }
   alignas(32) float w[8];
-  const int64_t row = g < lampGroups_.size() ? lampRow(at.p, at.n) : -1;
+  const int64_t row = g < lampGroups_.size() ? lampRow(p, n) : -1;
   for (; g < lampGroups_.size(); ++g) {
     Lanes weights;
-    if (!groupWeights(lampGroups_[g], at.p, at.n, hiddenLanes(row, g), at.heightSlack, at.normalSlack,
-                      at.distanceSlack, weights))
-      continue;
+    if (!groupWeights(lampGroups_[g], p, n, hiddenLanes(row, g), weights)) continue;
     std::memcpy(w, &weights, sizeof w);
     const int lane = laneAbove(w, base, target);
     if (lane < 0) continue;
@@ -575,8 +542,7 @@ bool LightSampler::pickLamp(const glm::vec3& p, const glm::vec3& n, float u, boo
                             float& probability) const {
   LampPrefix prefix;
   const LocalSplit split = localSplit(p, n, reuseWeights ? &prefix : nullptr);
-  return pickLocalLight(WeighingPoint{p, n}, u, split.lampWeight, reuseWeights ? &prefix : nullptr, index,
-                        probability);
+  return pickLocalLight(p, n, u, split.lampWeight, reuseWeights ? &prefix : nullptr, index, probability);
 }
 
 bool LightSampler::sampleAnalytic(const LightDesc& l, const glm::vec3& p, const glm::vec2& u,
@@ -684,23 +650,21 @@ bool LightSampler::evaluate(const LightPoint& light, const glm::vec3& p, const g
   return out.radiance != glm::vec3(0.0f);
 }
 
-float LightSampler::emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n,
-                                      const LampCell& cell) const {
+float LightSampler::emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n) const {
   if (localEntry_ == UINT32_MAX || index >= triangles_.size()) return 0.0f;
-  const float emissive = emissiveShare(lampWeightsFor(p, n, cell, nullptr).total, p, n);
-  if (!(emissive > 0.0f)) return 0.0f;
-  return entryProbability(localEntry_, p, n) * emissive * emissiveTree_.pmf(index, p, n, true);
+  const LocalSplit split = localSplit(p, n);
+  if (!(split.emissive > 0.0f)) return 0.0f;
+  return entryProbability(localEntry_, p, n) * split.emissive * emissiveTree_.pmf(index, p, n, true);
 }
 
-float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q,
-                                const LampCell& cell) const {
+float LightSampler::emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const {
   if (index >= triangles_.size()) return 0.0f;
   const EmissiveTriangle& tri = triangles_[index];
   const glm::vec3 d = q - p;
   const float dist2 = glm::dot(d, d);
   const float cosLight = std::abs(glm::dot(d, tri.normal)) / std::sqrt(dist2);
   if (!(cosLight > 0.0f) || !(tri.area > 0.0f)) return 0.0f;
-  return emissiveSelection(index, p, n, cell) * dist2 / (tri.area * cosLight);
+  return emissiveSelection(index, p, n) * dist2 / (tri.area * cosLight);
 }
 
 float LightSampler::skyPdf(const glm::vec3& p, const glm::vec3& n, const glm::vec3& wi) const {

@@ -8,8 +8,7 @@
 // by strong distant ones (game maps have ~100 lamps and hundreds to thousands of surface-light
 // triangles): lamps against triangles in proportion to the lamps' summed weight there and the
 // triangle tree's root importance; then a lamp in proportion to its unshadowed contribution
-// (intensity x falloff x spot cone, exact at the point, or bounded over a LampCell that
-// neighbouring first hits share: lamp_cell.h), or a triangle by descending a light tree
+// (intensity x falloff x spot cone, exact), or a triangle by descending a light tree
 // (light_tree.h) that weighs intensity, distance, emission cone and the point's hemisphere.
 // The sky's and the sun's pdfs (MIS) do not depend on the shading point; a triangle's does
 // (position and normal of the point that sampled it). Each light is then sampled by solid angle
@@ -30,7 +29,6 @@
 
 #include "renderer/core/bounds.h"
 #include "renderer/scene/lights/environment_visibility.h"
-#include "renderer/scene/lights/lamp_cell.h"
 #include "renderer/scene/lights/lamp_visibility.h"
 #include "renderer/scene/lights/light_tree.h"
 #include "renderer/scene/lights/sky.h"
@@ -101,20 +99,17 @@ class LightSampler {
   bool empty() const { return table_.empty(); }
   /// Picks a light (u.x) and a point on it (u.y, u.z; u.w for the sky's cell choice) for
   /// shading point p with normal n (facing the viewer).
-  /// `cell`: where the lamps are weighed (LampCell; default: at p).
-  bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out,
-              const LampCell& cell = {}) const;
+  bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const;
   /// The connection from shading point p with normal n to a point on a light that sample() could
   /// have produced there (wi, distance, radiance, lightPoint, lightNormal, environment, delta,
   /// jacobian; pdf is left unset). False when sample() at p, n gives that light probability 0
   /// (or the light no longer exists): reservoir reuse counts on the sampler's support.
   bool evaluate(const LightPoint& light, const glm::vec3& p, const glm::vec3& n, LightSample& out) const;
   /// Solid-angle pdf with which sample() picks the emissive triangle `index` at point q from
-  /// point p with normal n (the arguments sample() was called with, its cell's size included).
-  float emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q,
-                    const LampCell& cell = {}) const;
+  /// point p with normal n (the arguments sample() was called with).
+  float emissivePdf(uint32_t index, const glm::vec3& p, const glm::vec3& n, const glm::vec3& q) const;
   /// Probability with which sample() picks the emissive triangle `index` at p, n (no area pdf).
-  float emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n, const LampCell& cell = {}) const;
+  float emissiveSelection(uint32_t index, const glm::vec3& p, const glm::vec3& n) const;
   /// Solid-angle pdf with which sample() picks sky direction wi from point p with normal n.
   float skyPdf(const glm::vec3& p, const glm::vec3& n, const glm::vec3& wi) const;
   /// True when sun or sky and local emitters share the choice: the only case where an
@@ -151,32 +146,22 @@ class LightSampler {
     float emissive = 0.0f;     ///< Probability of the triangles (1 - that of the lamps).
     double lampWeight = 0.0;   ///< Summed lamp weights at p (their normaliser).
   };
-  /// Where the lamps are weighed: the point (or a cell's anchor) and the bounds over the points
-  /// that share it (LampCell): heights above the plane and distances may be that much smaller.
-  struct WeighingPoint {
-    glm::vec3 p{0.0f}, n{0.0f};
-    float heightSlack = 0.0f, normalSlack = 0.0f, distanceSlack = 0.0f;
+  /// The weights of the first kBufferedLamps lamps at a shading point and the running sum at the
+  /// end of each group of eight, kept on the stack by sample() so that choosing a lamp does not
+  /// recompute them.
+  static constexpr uint32_t kBufferedLamps = 512;
+  struct LampPrefix {
+    float weight[kBufferedLamps];          ///< Weight of lamp k (localLights_ order) at the point.
+    double groupEnd[kBufferedLamps / 8];   ///< weight[0] + ... + weight[8g + 7], summed as localSplit() sums.
+    uint32_t count = 0;                    ///< Lamps stored (whole groups, at most kBufferedLamps).
   };
-  /// The lamps' weights for sample() at p, n with `cell`: where they are weighed, their sum, and
-  /// their prefix (the memo's, else written to `scratch` when not null).
-  struct LampWeights {
-    WeighingPoint at;
-    double total = 0.0;
-    const LampPrefix* prefix = nullptr;
-  };
-  LampWeights lampWeightsFor(const glm::vec3& p, const glm::vec3& n, const LampCell& cell, LampPrefix* scratch) const;
-  /// The summed lamp weights at `at`; stores them into `prefix` when not null.
-  double weighLamps(const WeighingPoint& at, LampPrefix* prefix) const;
-  /// The triangles' share of the local entry at p, n where the lamps weigh `lamps` in all.
-  float emissiveShare(double lamps, const glm::vec3& p, const glm::vec3& n) const;
   /// How the local entry divides at p, n; stores the lamps' weights into `prefix` when not null.
   LocalSplit localSplit(const glm::vec3& p, const glm::vec3& n, LampPrefix* prefix = nullptr) const;
-  /// Picks a lamp weighed at `at` in proportion to its weight (u in [0,1), total = summed
-  /// weights); returns its index into analytic_ and the probability of that choice among the
-  /// lamps. Lamps in `prefix` (null: none) are chosen by binary search; the weights of the rest
-  /// are recomputed.
-  bool pickLocalLight(const WeighingPoint& at, float u, double total, const LampPrefix* prefix, uint32_t& index,
-                      float& probability) const;
+  /// Picks a lamp at p, n in proportion to its weight (u in [0,1), total = summed weights);
+  /// returns its index into analytic_ and the probability of that choice among the lamps. Lamps
+  /// in `prefix` (null: none) are chosen by binary search; the weights of the rest are recomputed.
+  bool pickLocalLight(const glm::vec3& p, const glm::vec3& n, float u, double total, const LampPrefix* prefix,
+                      uint32_t& index, float& probability) const;
   bool sampleTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& u, LightSample& out) const;
   /// The connection from p to the point of `tri` at barycentrics `bary`.
   bool connectTriangle(const EmissiveTriangle& tri, const glm::vec3& p, const glm::vec2& bary, LightSample& out) const;
@@ -211,8 +196,6 @@ class LightSampler {
     bool anyLinear = false, anyInverseSquare = false, anySpot = false;   ///< Which terms its lamps need.
   };
   std::vector<LampGroup> lampGroups_;
-  bool anySpotLamp_ = false;   ///< A spot light among the lamps: LampCell then weighs at the point.
-  uint64_t build_ = 0;         ///< Counts builds (LampCellMemo's key).
   sampling::AliasTable table_;
   std::vector<uint32_t> environmentEntries_;   ///< Table entries of the suns and the sky.
   sampling::AliasTable environmentTable_;      ///< Over environmentEntries_, the same proportions.
