@@ -7,7 +7,8 @@
 # allocation_counter.h) over the next FRAMES frames, for each preset given.
 #   engine_allocations.sh MODULE [PRESETS] [DEMO] [WARMUP] [FRAMES]
 # PRESETS: "preset[:budget] ..." where budget is the most allocations per frame accepted, on
-# average over the window (default 0; a fraction such as 0.1 allows 10 in 100 frames). Defaults: "lightmap direct path", tests/demos/dm1_ffa, 600, 100. On failure the log shows a
+# average over the window (default 0; a fraction such as 0.1 allows 10 in 100 frames).
+# Defaults: "lightmap direct path", tests/demos/dm1_ffa, 600, 100. On failure the log shows a
 # backtrace of the first allocations of the window (pt_allocations trace; PA_ALLOCATION_TRACES=N
 # traces more, PA_KEEP=1 keeps the engine logs) to find them with addr2line -f -C -e MODULE.
 # Exit 77 when the engine, the game data or xvfb-run are missing.
