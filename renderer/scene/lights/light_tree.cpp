@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
+
+#include <immintrin.h>
 
 #include <glm/geometric.hpp>
 
@@ -146,6 +149,9 @@ LightTree::LightTree(std::span<const LightBounds> lights) { rebuild(lights); }
 
 void LightTree::rebuild(std::span<const LightBounds> lights) {
   nodes_.clear();
+  wide_.clear();
+  root_ = {};
+  leafCount_ = 0;
   leafOfLight_.assign(lights.size(), UINT32_MAX);
   std::vector<uint32_t>& ids = ids_;
   ids.clear();
@@ -153,22 +159,23 @@ void LightTree::rebuild(std::span<const LightBounds> lights) {
     if (lights[i].power > 0.0f && std::isfinite(lights[i].power) && finiteBounds(lights[i])) ids.push_back(i);
   }
   if (ids.empty()) return;
+  leafCount_ = ids.size();
   nodes_.reserve(2 * ids.size() - 1);
-  build(lights, ids, UINT32_MAX, 0);
+  build(lights, ids, 0);
+  root_ = nodes_[0].bounds;
+  // A wide node holds at least two children unless the tree has one emitter: at most n - 1 nodes.
+  wide_.reserve(std::max<size_t>(1, ids.size() - 1));
+  collapse(0, UINT32_MAX);
 }
 
-uint32_t LightTree::build(std::span<const LightBounds> lights, std::span<uint32_t> ids, uint32_t parent,
-                          int depth) {
+uint32_t LightTree::build(std::span<const LightBounds> lights, std::span<uint32_t> ids, int depth) {
   const auto index = static_cast<uint32_t>(nodes_.size());
   nodes_.push_back(Node{});
-  nodes_[index].parent = parent;
   if (ids.size() == 1) {
     nodes_[index].bounds = lights[ids[0]];
     nodes_[index].light = ids[0];
-    leafOfLight_[ids[0]] = index;
     return index;
   }
-
   Bounds all, centroids;
   for (uint32_t id : ids) {
     all.extend(lights[id].bounds);
@@ -233,61 +240,213 @@ uint32_t LightTree::build(std::span<const LightBounds> lights, std::span<uint32_
     });
   }
 
-  const uint32_t first = build(lights, ids.subspan(0, middle), index, depth + 1);
-  const uint32_t second = build(lights, ids.subspan(middle), index, depth + 1);
-  (void)first;
+  build(lights, ids.subspan(0, middle), depth + 1);
+  const uint32_t second = build(lights, ids.subspan(middle), depth + 1);
   nodes_[index].bounds = boundsUnion(nodes_[index + 1].bounds, nodes_[second].bounds);
   nodes_[index].secondChild = second;
   return index;
 }
 
-float LightTree::firstChildProbability(const Node& node, const glm::vec3& p, const glm::vec3& n) const {
-  const auto self = static_cast<uint32_t>(&node - nodes_.data());
-  const float first = importanceOf(nodes_[self + 1].bounds, p, n);
-  const float second = importanceOf(nodes_[node.secondChild].bounds, p, n);
-  const float total = first + second;
-  // Both bounds tighter than the parent's and neither reaches p: nothing below contributes, so
-  // any choice is unbiased; halving keeps the pmf summing to 1 wherever the root reaches p.
-  if (!(total > 0.0f)) return 0.5f;
-  return first / total;
+uint32_t LightTree::collapse(uint32_t node, uint32_t parent) {
+  // The node's children, each interior child replaced by its own two: two to four lanes.
+  uint32_t lanes[4];
+  uint32_t count = 0;
+  if (nodes_[node].light != UINT32_MAX) {
+    lanes[count++] = node;   // a tree of one emitter
+  } else {
+    for (const uint32_t child : {node + 1, nodes_[node].secondChild}) {
+      if (nodes_[child].light != UINT32_MAX) {
+        lanes[count++] = child;
+      } else {
+        lanes[count++] = child + 1;
+        lanes[count++] = nodes_[child].secondChild;
+      }
+    }
+  }
+  const auto index = static_cast<uint32_t>(wide_.size());
+  wide_.push_back(WideNode{});
+  for (uint32_t lane = 0; lane < 4; ++lane) {
+    WideNode& w = wide_[index];
+    w.parent = parent;
+    const LightBounds empty{};
+    const LightBounds& b = lane < count ? nodes_[lanes[lane]].bounds : empty;
+    const glm::vec3 centre = b.bounds.center();
+    const glm::vec3 half = 0.5f * (b.bounds.max - b.bounds.min);
+    const bool used = lane < count;
+    w.centreX[lane] = used ? centre.x : 0.0f;
+    w.centreY[lane] = used ? centre.y : 0.0f;
+    w.centreZ[lane] = used ? centre.z : 0.0f;
+    w.halfX[lane] = used ? half.x : 0.0f;
+    w.halfY[lane] = used ? half.y : 0.0f;
+    w.halfZ[lane] = used ? half.z : 0.0f;
+    w.radius2[lane] = used ? glm::dot(half, half) : 0.0f;
+    w.power[lane] = used && b.power > 0.0f ? b.power : 0.0f;
+    w.axisX[lane] = b.normals.axis.x;
+    w.axisY[lane] = b.normals.axis.y;
+    w.axisZ[lane] = b.normals.axis.z;
+    const float cosO = std::clamp(b.normals.cosTheta, -1.0f, 1.0f);
+    w.cosO[lane] = cosO;
+    w.sinO[lane] = safeSqrt(1.0f - cosO * cosO);
+    w.cosEmission[lane] = b.cosEmission;
+    w.range[lane] = b.range > 0.0f ? b.range : 0.0f;
+    const bool flatOneSided = !b.twoSided && b.normals.cosTheta >= 1.0f && b.cosEmission >= 0.0f;
+    w.axisExtent[lane] = used && flatOneSided ? glm::dot(half, glm::abs(b.normals.axis))
+                                               : std::numeric_limits<float>::infinity();
+    w.twoSided[lane] = b.twoSided ? -1 : 0;
+  }
+  for (uint32_t lane = 0; lane < count; ++lane) {
+    const uint32_t link = (index << 2) | lane;
+    const Node& child = nodes_[lanes[lane]];
+    if (child.light != UINT32_MAX) {
+      wide_[index].child[lane] = kLeaf | child.light;
+      leafOfLight_[child.light] = link;
+    } else {
+      const uint32_t below = collapse(lanes[lane], link);
+      wide_[index].child[lane] = below;
+    }
+  }
+  return index;
+}
+
+namespace {
+
+/// Four floats, four int lanes (GCC/Clang vector extensions: one SSE register each).
+using F4 = float __attribute__((vector_size(16)));
+using I4 = int32_t __attribute__((vector_size(16)));
+
+F4 loadF4(const float* p) {
+  F4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+F4 sqrtF4(F4 v) { return reinterpret_cast<F4>(_mm_sqrt_ps(reinterpret_cast<__m128>(v))); }
+F4 maxF4(F4 a, F4 b) { return a > b ? a : b; }
+F4 minF4(F4 a, F4 b) { return a < b ? a : b; }
+F4 safeSqrtF4(F4 v) { return sqrtF4(maxF4(v, F4{})); }
+F4 absF4(F4 v) { return v < 0.0f ? -v : v; }
+
+}  // namespace
+
+void LightTree::childProbabilities(const WideNode& w, const glm::vec3& p, const glm::vec3& n, bool hasNormal,
+                                   float (&probability)[4]) const {
+  // lightImportance() for the four lanes at once, with the same tests.
+  const F4 cx = loadF4(w.centreX), cy = loadF4(w.centreY), cz = loadF4(w.centreZ);
+  const F4 hx = loadF4(w.halfX), hy = loadF4(w.halfY), hz = loadF4(w.halfZ);
+  const F4 radius2 = loadF4(w.radius2), power = loadF4(w.power), range = loadF4(w.range);
+  const F4 fx = p.x - cx, fy = p.y - cy, fz = p.z - cz;   // from the centre to p
+  I4 zero = ~(power > 0.0f);
+  {
+    // Beyond reach: the distance from p to the box exceeds the range.
+    const F4 outX = maxF4(absF4(fx) - hx, F4{}), outY = maxF4(absF4(fy) - hy, F4{}),
+             outZ = maxF4(absF4(fz) - hz, F4{});
+    zero |= (range > 0.0f) & (outX * outX + outY * outY + outZ * outZ > range * range);
+  }
+  const F4 dist2 = fx * fx + fy * fy + fz * fz;
+  const I4 inside = dist2 <= radius2;
+  const F4 invDistance = 1.0f / sqrtF4(dist2);
+  const I4 away = dist2 > 0.0f;
+  const F4 wx = away ? fx * invDistance : F4{}, wy = away ? fy * invDistance : F4{},
+           wz = away ? fz * invDistance : F4{} + 1.0f;
+  if (hasNormal) {
+    // The whole box below the tangent plane.
+    const F4 extent = hx * std::abs(n.x) + hy * std::abs(n.y) + hz * std::abs(n.z);
+    zero |= -(fx * n.x + fy * n.y + fz * n.z) + extent <= 0.0f;
+  }
+  const F4 ax = loadF4(w.axisX), ay = loadF4(w.axisY), az = loadF4(w.axisZ);
+  zero |= fx * ax + fy * ay + fz * az + loadF4(w.axisExtent) <= 0.0f;   // behind one-sided emitters
+  const F4 cosB = inside ? F4{} - 1.0f : safeSqrtF4(1.0f - radius2 / dist2);
+  const F4 sinB = safeSqrtF4(1.0f - cosB * cosB);
+  F4 cosW = ax * wx + ay * wy + az * wz;
+  I4 twoSided;
+  std::memcpy(&twoSided, w.twoSided, sizeof twoSided);
+  cosW = (twoSided != 0) & (cosW < 0.0f) ? -cosW : cosW;
+  const F4 sinW = safeSqrtF4(1.0f - cosW * cosW);
+  const F4 cosO = loadF4(w.cosO), sinO = loadF4(w.sinO);
+  // cos and sin of max(0, W - O), then cos of max(0, X - B) (cosOfClampedDifference).
+  const I4 withinCone = cosW > cosO;
+  const F4 cosX = withinCone ? F4{} + 1.0f : cosW * cosO + sinW * sinO;
+  const F4 sinX = withinCone ? F4{} : sinW * cosO - cosW * sinO;
+  const F4 cosEmit = cosX > cosB ? F4{} + 1.0f : cosX * cosB + sinX * sinB;
+  zero |= cosEmit <= loadF4(w.cosEmission);
+  F4 importance = power * cosEmit / maxF4(dist2, radius2);
+  if (hasNormal) {
+    const F4 dot = -(wx * n.x + wy * n.y + wz * n.z);
+    const F4 cosI = minF4(maxF4(dot, F4{} - 1.0f), F4{} + 1.0f);
+    const F4 sinI = safeSqrtF4(1.0f - cosI * cosI);
+    const F4 cosReceive = cosI > cosB ? F4{} + 1.0f : cosI * cosB + sinI * sinB;
+    zero |= ~(cosReceive > 0.0f);
+    importance *= cosReceive;
+  }
+  // Only positive finite importances (NaN fails both comparisons).
+  importance = (zero == 0) & (importance > 0.0f) & (importance <= std::numeric_limits<float>::max()) ? importance : F4{};
+  float total = (importance[0] + importance[1]) + (importance[2] + importance[3]);
+  if (total > std::numeric_limits<float>::max()) {
+    // Finite lanes whose sum overflows: the same shares from lanes scaled down.
+    importance *= 0x1p-64f;
+    total = (importance[0] + importance[1]) + (importance[2] + importance[3]);
+  }
+  if (total > 0.0f) {
+    const F4 share = importance / total;
+    std::memcpy(probability, &share, sizeof share);
+    return;
+  }
+  // No child reaches p (the bounds are tighter than the parent's): nothing below contributes,
+  // so any choice is unbiased; a uniform one keeps the pmf summing to 1 wherever the root reaches p.
+  const I4 used = power > 0.0f;
+  const int count = -(used[0] + used[1] + used[2] + used[3]);
+  const F4 uniform = used ? F4{} + 1.0f / float(count) : F4{};
+  std::memcpy(probability, &uniform, sizeof uniform);
 }
 
 bool LightTree::sample(const glm::vec3& p, const glm::vec3& n, float u, uint32_t& index, float& pmf,
                        bool rootReaches) const {
-  if (nodes_.empty() || !(rootReaches || lightImportance(nodes_[0].bounds, p, n) > 0.0f)) return false;
+  if (wide_.empty() || !(rootReaches || lightImportance(root_, p, n) > 0.0f)) return false;
+  const bool hasNormal = n != glm::vec3(0.0f);
   uint32_t node = 0;
   float probability = 1.0f;
   u = std::clamp(u, 0.0f, kOneMinusEpsilon);
-  while (nodes_[node].light == UINT32_MAX) {
-    const float q = firstChildProbability(nodes_[node], p, n);
-    if (u < q) {
-      u = std::min(u / q, kOneMinusEpsilon);
-      probability *= q;
-      node = node + 1;
-    } else {
-      u = std::min((u - q) / (1.0f - q), kOneMinusEpsilon);
-      probability *= 1.0f - q;
-      node = nodes_[node].secondChild;
+  for (;;) {
+    const WideNode& w = wide_[node];
+    float q[4];
+    childProbabilities(w, p, n, hasNormal, q);
+    // The lane where the running sum of the probabilities passes u; the last lane of positive
+    // probability catches rounding at the top end.
+    int chosen = -1;
+    float below = 0.0f;
+    for (int lane = 0; lane < 4; ++lane) {
+      if (!(q[lane] > 0.0f)) continue;
+      chosen = lane;
+      if (u < below + q[lane]) break;
+      below += q[lane];
     }
+    if (chosen < 0) return false;
+    const float taken = q[chosen];
+    u = std::clamp((u - std::min(below, u)) / taken, 0.0f, kOneMinusEpsilon);
+    probability *= taken;
+    const uint32_t child = w.child[chosen];
+    if (child & kLeaf) {
+      index = child & ~kLeaf;
+      break;
+    }
+    node = child;
   }
-  index = nodes_[node].light;
   pmf = probability;
   return pmf > 0.0f;
 }
 
 float LightTree::pmf(uint32_t index, const glm::vec3& p, const glm::vec3& n, bool rootReaches) const {
   if (index >= leafOfLight_.size() || leafOfLight_[index] == UINT32_MAX) return 0.0f;
-  if (!rootReaches && !(lightImportance(nodes_[0].bounds, p, n) > 0.0f)) return 0.0f;
-  uint32_t node = leafOfLight_[index];
+  if (!rootReaches && !(lightImportance(root_, p, n) > 0.0f)) return 0.0f;
+  const bool hasNormal = n != glm::vec3(0.0f);
   // Branch probabilities from the leaf up, multiplied from the root down as sample() does.
   std::array<float, 128> branch{};
   size_t depth = 0;
-  while (nodes_[node].parent != UINT32_MAX) {
-    const uint32_t parent = nodes_[node].parent;
-    const float q = firstChildProbability(nodes_[parent], p, n);
+  for (uint32_t link = leafOfLight_[index]; link != UINT32_MAX; link = wide_[link >> 2].parent) {
+    float q[4];
+    childProbabilities(wide_[link >> 2], p, n, hasNormal, q);
     if (depth == branch.size()) return 0.0f;   // cannot happen: build() bounds the depth
-    branch[depth++] = node == parent + 1 ? q : 1.0f - q;
-    node = parent;
+    branch[depth++] = q[link & 3];
   }
   float probability = 1.0f;
   while (depth > 0) probability *= branch[--depth];

@@ -7,6 +7,10 @@
 // distance^2, reduced by how far its normal cone and the point's hemisphere turn away), so the
 // probability of an emitter is the product of the branch probabilities on its path. pmf() walks
 // the same path back from the emitter's leaf, so sampling and MIS agree.
+// The tree is built binary (bucketed orientation-aware splits) and collapsed to four children per
+// node, whose bounds are stored four lanes wide with what the estimate needs precomputed
+// (centre, half diagonal, cone sine): a descent weighs four children in SSE lanes per level, in
+// half the levels of the binary tree.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -70,25 +74,50 @@ class LightTree {
   float pmf(uint32_t index, const glm::vec3& p, const glm::vec3& n, bool rootReaches = false) const;
   /// The root's importance at p, n (0 for an empty tree): what the whole tree can deliver.
   float importance(const glm::vec3& p, const glm::vec3& n) const {
-    return nodes_.empty() ? 0.0f : lightImportance(nodes_[0].bounds, p, n);
+    return wide_.empty() ? 0.0f : lightImportance(root_, p, n);
   }
-  /// Number of nodes (leaves and interior), for tests and statistics.
-  size_t nodeCount() const { return nodes_.size(); }
+  /// Number of emitters in the tree (leaves).
+  size_t emitterCount() const { return leafCount_; }
+  /// Number of four-wide nodes, for tests and statistics.
+  size_t nodeCount() const { return wide_.size(); }
 
  private:
+  /// A node of the binary build.
   struct Node {
     LightBounds bounds;
-    uint32_t parent = UINT32_MAX;   ///< UINT32_MAX at the root.
     uint32_t secondChild = 0;       ///< Interior: index of the second child (the first is this + 1).
     uint32_t light = UINT32_MAX;    ///< Leaf: emitter index; UINT32_MAX for interior nodes.
   };
-  uint32_t build(std::span<const LightBounds> lights, std::span<uint32_t> ids, uint32_t parent, int depth);
-  /// Probability of taking the first child at interior node `node` (0.5 when neither reaches p).
-  float firstChildProbability(const Node& node, const glm::vec3& p, const glm::vec3& n) const;
+  /// Up to four children, lane by lane, with what lightImportance() needs of each precomputed.
+  /// Unused lanes have power 0.
+  struct WideNode {
+    alignas(16) float centreX[4], centreY[4], centreZ[4];
+    alignas(16) float halfX[4], halfY[4], halfZ[4];
+    alignas(16) float radius2[4], power[4];
+    alignas(16) float axisX[4], axisY[4], axisZ[4];
+    alignas(16) float cosO[4], sinO[4], cosEmission[4];
+    alignas(16) float range[4];        ///< 0: no limit.
+    alignas(16) float axisExtent[4];   ///< One-sided, one normal: box extent along it; else +inf.
+    alignas(16) int32_t twoSided[4];   ///< -1 where the child emits on both sides.
+    uint32_t child[4] = {0, 0, 0, 0};  ///< Wide node index, or kLeaf | emitter index.
+    uint32_t parent = UINT32_MAX;      ///< (wide node << 2) | lane in it; UINT32_MAX at the root.
+  };
+  static constexpr uint32_t kLeaf = 0x80000000u;
+  uint32_t build(std::span<const LightBounds> lights, std::span<uint32_t> ids, int depth);
+  /// Collapses binary node `node` (interior) into a wide node whose parent link is `parent`.
+  uint32_t collapse(uint32_t node, uint32_t parent);
+  /// Branch probabilities of the four lanes of `node` at p, n (uniform over the used lanes when
+  /// none reaches p).
+  void childProbabilities(const WideNode& node, const glm::vec3& p, const glm::vec3& n, bool hasNormal,
+                          float (&probability)[4]) const;
 
+  LightBounds root_;                    ///< The whole tree's bounds.
+  std::vector<WideNode> wide_;          ///< wide_[0] is the root (one lane when there is one emitter).
+  std::vector<uint32_t> leafOfLight_;   ///< Emitter index -> (wide node << 2) | lane; UINT32_MAX when left out.
+  size_t leafCount_ = 0;
+  // The binary build's working arrays, kept for rebuilds.
   std::vector<Node> nodes_;
-  std::vector<uint32_t> leafOfLight_;   ///< Emitter index -> its leaf (UINT32_MAX when left out).
-  std::vector<uint32_t> ids_;           ///< The build's emitter list, kept for rebuilds.
+  std::vector<uint32_t> ids_;
 };
 
 }  // namespace pa

@@ -102,7 +102,9 @@ TEST(LightTree, PmfSumsToOneAtRandomPoints) {
   const auto tris = triangleSoup(300, 11);
   const LightTree tree(boundsOf(tris));
   ASSERT_FALSE(tree.empty());
-  EXPECT_EQ(tree.nodeCount(), 2 * tris.size() - 1);
+  EXPECT_EQ(tree.emitterCount(), tris.size());
+  EXPECT_GE(tree.nodeCount(), (tris.size() - 1 + 2) / 3);   // four children per node at most
+  EXPECT_LE(tree.nodeCount(), tris.size() - 1);             // two at least
   Random r(5);
   int reached = 0;
   for (int k = 0; k < 200; ++k) {
@@ -291,13 +293,54 @@ TEST(LightSampler, SkyWindowsBoundTheSkyAndSunShares) {
   EXPECT_LT(open.emissiveSelection(0, glm::vec3(3, 3, 5), -n), 1e-4f);
 }
 
+TEST(LightTree, FourWideWeighingMatchesTheScalarImportance) {
+  // Three emitters make one node of three leaves, so each pmf is its lane's importance over the
+  // lanes' sum: the SSE lanes must weigh as lightImportance() does, for cones, emission spreads,
+  // one- and two-sided emitters, ranges, points inside the bounds and points without a normal.
+  Random r(2024);
+  int compared = 0, zeros = 0;
+  for (int set = 0; set < 300; ++set) {
+    std::vector<LightBounds> lights(3);
+    for (LightBounds& b : lights) {
+      const glm::vec3 c = r.inBox(100.0f);
+      b.bounds = Bounds{};
+      b.bounds.extend(c - glm::vec3(r.next(), r.next(), r.next()) * 20.0f);
+      b.bounds.extend(c + glm::vec3(r.next(), r.next(), r.next()) * 20.0f);
+      b.power = 0.1f + 10.0f * r.next();
+      const float kind = r.next();
+      b.normals = {r.direction(), kind < 0.4f ? 1.0f : kind < 0.7f ? 2.0f * r.next() - 1.0f : -1.0f};
+      b.cosEmission = r.next() < 0.6f ? 0.0f : 2.0f * r.next() - 1.0f;
+      b.twoSided = r.next() < 0.3f;
+      b.range = r.next() < 0.3f ? 30.0f + 100.0f * r.next() : 0.0f;
+    }
+    const LightTree tree(lights);
+    ASSERT_EQ(tree.nodeCount(), 1u);
+    for (int k = 0; k < 20; ++k) {
+      const glm::vec3 p = k % 5 == 0 ? lights[0].bounds.center() : r.inBox(150.0f);
+      const glm::vec3 n = k % 4 == 0 ? glm::vec3(0.0f) : r.direction();
+      double expected[3], sum = 0.0;
+      for (int i = 0; i < 3; ++i) sum += expected[i] = lightImportance(lights[size_t(i)], p, n);
+      if (!(sum > 0.0)) continue;
+      for (uint32_t i = 0; i < 3; ++i) {
+        const double want = expected[i] / sum, got = tree.pmf(i, p, n, true);
+        EXPECT_NEAR(got, want, 1e-5 + 1e-4 * want) << "set " << set << " point " << k << " emitter " << i;
+        zeros += want == 0.0;
+        if (want == 0.0) EXPECT_EQ(got, 0.0);
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 6000);
+  EXPECT_GT(zeros, 200);   // the tests that cut a lane were exercised
+}
+
 TEST(LightTree, HostileEmittersAreLeftOut) {
   auto lights = boundsOf(triangleSoup(10, 2));
   lights[3].power = std::numeric_limits<float>::quiet_NaN();
   lights[5].power = 0.0f;
   lights[7].bounds.max.x = std::numeric_limits<float>::infinity();
   const LightTree tree(lights);
-  EXPECT_EQ(tree.nodeCount(), 2 * 7 - 1);
+  EXPECT_EQ(tree.emitterCount(), 7u);
   const glm::vec3 p(0.0f), n(0.0f);
   EXPECT_EQ(tree.pmf(3, p, n), 0.0f);
   EXPECT_EQ(tree.pmf(5, p, n), 0.0f);
