@@ -325,7 +325,9 @@ TEST(LightTree, FourWideWeighingMatchesTheScalarImportance) {
         const double want = expected[i] / sum, got = tree.pmf(i, p, n, true);
         EXPECT_NEAR(got, want, 1e-5 + 1e-4 * want) << "set " << set << " point " << k << " emitter " << i;
         zeros += want == 0.0;
-        if (want == 0.0) EXPECT_EQ(got, 0.0);
+        if (want == 0.0) {
+          EXPECT_EQ(got, 0.0);
+        }
         ++compared;
       }
     }
