@@ -397,6 +397,12 @@ glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint) const {
   return c;
 }
 
+glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint, TextureFilter filter) const {
+  glm::vec4 c = baseFactor(s);
+  if (s.material->base != nullptr) c *= s.material->base->sample(s.uv, baseLod(s, footprint), filter);
+  return c;
+}
+
 glm::vec4 RenderScene::shineColor(const SurfaceHit& s, float footprint, TextureFilter filter) const {
   const MaterialRecord& m = *s.material;
   if (m.shine == nullptr) return glm::vec4(0.0f);
