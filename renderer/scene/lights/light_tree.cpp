@@ -265,9 +265,9 @@ uint32_t LightTree::collapse(uint32_t node, uint32_t parent) {
   }
   const auto index = static_cast<uint32_t>(wide_.size());
   wide_.push_back(WideNode{});
+  WideNode& w = wide_[index];   // no push_back until the lanes are written
+  w.parent = parent;
   for (uint32_t lane = 0; lane < 4; ++lane) {
-    WideNode& w = wide_[index];
-    w.parent = parent;
     const LightBounds empty{};
     const LightBounds& b = lane < count ? nodes_[lanes[lane]].bounds : empty;
     const glm::vec3 centre = b.bounds.center();
