@@ -391,12 +391,6 @@ float RenderScene::baseLod(const SurfaceHit& s, float footprint) const {
   return std::log2(footprint * std::sqrt(s.uvArea * texels / s.worldArea));
 }
 
-glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint) const {
-  glm::vec4 c = baseFactor(s);
-  if (s.material->base != nullptr) c *= s.material->base->sample(s.uv, baseLod(s, footprint));
-  return c;
-}
-
 glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint, TextureFilter filter) const {
   glm::vec4 c = baseFactor(s);
   if (s.material->base != nullptr) c *= s.material->base->sample(s.uv, baseLod(s, footprint), filter);

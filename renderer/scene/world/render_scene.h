@@ -256,9 +256,8 @@ struct RenderScene {
   /// Base colour (texture x baseColor x vertex colour x tint), RGB linear, A = coverage.
   /// footprint: world-space width of the ray's footprint on the surface (picks the mip level;
   /// 0 = full resolution).
-  glm::vec4 baseColor(const SurfaceHit& s, float footprint) const;
-  /// The same, the base texture read with `filter`.
-  glm::vec4 baseColor(const SurfaceHit& s, float footprint, TextureFilter filter) const;
+  /// `filter`: how the base texture is read (default: two mip levels blended, bilinear).
+  glm::vec4 baseColor(const SurfaceHit& s, float footprint, TextureFilter filter = {}) const;
   /// baseColor's factors besides the texture (baseColor x vertex colour x tint, linear).
   glm::vec4 baseFactor(const SurfaceHit& s) const;
   /// baseColor's mip level of the base texture (0 without one).
