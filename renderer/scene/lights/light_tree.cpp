@@ -151,7 +151,6 @@ void LightTree::rebuild(std::span<const LightBounds> lights) {
   nodes_.clear();
   wide_.clear();
   root_ = {};
-  leafCount_ = 0;
   leafOfLight_.assign(lights.size(), UINT32_MAX);
   std::vector<uint32_t>& ids = ids_;
   ids.clear();
@@ -159,7 +158,6 @@ void LightTree::rebuild(std::span<const LightBounds> lights) {
     if (lights[i].power > 0.0f && std::isfinite(lights[i].power) && finiteBounds(lights[i])) ids.push_back(i);
   }
   if (ids.empty()) return;
-  leafCount_ = ids.size();
   nodes_.reserve(2 * ids.size() - 1);
   build(lights, ids, 0);
   root_ = nodes_[0].bounds;
@@ -264,23 +262,21 @@ uint32_t LightTree::collapse(uint32_t node, uint32_t parent) {
     }
   }
   const auto index = static_cast<uint32_t>(wide_.size());
-  wide_.push_back(WideNode{});
-  WideNode& w = wide_[index];   // no push_back until the lanes are written
+  wide_.push_back(WideNode{});   // zeros: lanes past `count` keep power 0 and are never chosen
+  WideNode& w = wide_[index];    // no push_back until the lanes are written
   w.parent = parent;
-  for (uint32_t lane = 0; lane < 4; ++lane) {
-    const LightBounds empty{};
-    const LightBounds& b = lane < count ? nodes_[lanes[lane]].bounds : empty;
+  for (uint32_t lane = 0; lane < count; ++lane) {
+    const LightBounds& b = nodes_[lanes[lane]].bounds;
     const glm::vec3 centre = b.bounds.center();
     const glm::vec3 half = 0.5f * (b.bounds.max - b.bounds.min);
-    const bool used = lane < count;
-    w.centreX[lane] = used ? centre.x : 0.0f;
-    w.centreY[lane] = used ? centre.y : 0.0f;
-    w.centreZ[lane] = used ? centre.z : 0.0f;
-    w.halfX[lane] = used ? half.x : 0.0f;
-    w.halfY[lane] = used ? half.y : 0.0f;
-    w.halfZ[lane] = used ? half.z : 0.0f;
-    w.radius2[lane] = used ? glm::dot(half, half) : 0.0f;
-    w.power[lane] = used && b.power > 0.0f ? b.power : 0.0f;
+    w.centreX[lane] = centre.x;
+    w.centreY[lane] = centre.y;
+    w.centreZ[lane] = centre.z;
+    w.halfX[lane] = half.x;
+    w.halfY[lane] = half.y;
+    w.halfZ[lane] = half.z;
+    w.radius2[lane] = glm::dot(half, half);
+    w.power[lane] = b.power > 0.0f ? b.power : 0.0f;
     w.axisX[lane] = b.normals.axis.x;
     w.axisY[lane] = b.normals.axis.y;
     w.axisZ[lane] = b.normals.axis.z;
@@ -290,8 +286,8 @@ uint32_t LightTree::collapse(uint32_t node, uint32_t parent) {
     w.cosEmission[lane] = b.cosEmission;
     w.range[lane] = b.range > 0.0f ? b.range : 0.0f;
     const bool flatOneSided = !b.twoSided && b.normals.cosTheta >= 1.0f && b.cosEmission >= 0.0f;
-    w.axisExtent[lane] = used && flatOneSided ? glm::dot(half, glm::abs(b.normals.axis))
-                                               : std::numeric_limits<float>::infinity();
+    w.axisExtent[lane] =
+        flatOneSided ? glm::dot(half, glm::abs(b.normals.axis)) : std::numeric_limits<float>::infinity();
     w.twoSided[lane] = b.twoSided ? -1 : 0;
   }
   for (uint32_t lane = 0; lane < count; ++lane) {

@@ -77,7 +77,7 @@ class LightTree {
     return wide_.empty() ? 0.0f : lightImportance(root_, p, n);
   }
   /// Number of emitters in the tree (leaves).
-  size_t emitterCount() const { return leafCount_; }
+  size_t emitterCount() const { return ids_.size(); }
   /// Number of four-wide nodes, for tests and statistics.
   size_t nodeCount() const { return wide_.size(); }
 
@@ -114,8 +114,7 @@ class LightTree {
   LightBounds root_;                    ///< The whole tree's bounds.
   std::vector<WideNode> wide_;          ///< wide_[0] is the root (one lane when there is one emitter).
   std::vector<uint32_t> leafOfLight_;   ///< Emitter index -> (wide node << 2) | lane; UINT32_MAX when left out.
-  size_t leafCount_ = 0;
-  // The binary build's working arrays, kept for rebuilds.
+  // The binary build's working arrays, kept for rebuilds (ids_: the emitters in the tree).
   std::vector<Node> nodes_;
   std::vector<uint32_t> ids_;
 };
