@@ -41,7 +41,8 @@ struct PreviousVertex {
 glm::vec3 sampleDirectLight(const RenderScene& scene, const SurfaceHit& s, const Bsdf& bsdf, const glm::vec3& wo,
                             const glm::vec3& ng, const glm::vec3& ns, const glm::vec4& u, uint32_t bits) {
   LightSample ls;
-  if (!scene.lights.sample(s.position, ns, u, ls)) return glm::vec3(0.0f);
+  // A sky sample's radiance is looked up only once its shadow ray passed (the same value).
+  if (!scene.lights.sample(s.position, ns, u, ls, false)) return glm::vec3(0.0f);
   const glm::vec3 f = bsdf.evalCos(wo, ls.wi);
   if (f == glm::vec3(0.0f)) return glm::vec3(0.0f);
   Ray shadow;
@@ -68,6 +69,7 @@ glm::vec3 sampleDirectLight(const RenderScene& scene, const SurfaceHit& s, const
     throughFog = FogSegment(scene.fogs, shadow.origin, shadow.dir, shadow.tmax, glm::length(shadow.dir)).transmittance();
     if (!(throughFog > 0.0f)) return glm::vec3(0.0f);
   }
+  if (ls.light.kind == LightPoint::Kind::Sky) ls.radiance = scene.lights.skyRadiance(ls.wi);
   const float weight = ls.delta ? 1.0f : sampling::powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
   return f * ls.radiance * (weight * throughFog / ls.pdf);
 }

@@ -390,7 +390,8 @@ float LightSampler::entryProbability(uint32_t entry, const glm::vec3& p, const g
   return float(double(own) * (environment ? kept : 1.0) / norm);
 }
 
-bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const {
+bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out,
+                          bool skyRadiance) const {
   if (table_.empty()) return false;
   uint32_t entry;
   float selection;
@@ -451,7 +452,7 @@ bool LightSampler::sample(const glm::vec3& p, const glm::vec3& n, const glm::vec
     out = {};
     out.wi = wi;
     out.distance = kInfinity;
-    out.radiance = sky_.lightingRadiance(wi);
+    if (skyRadiance) out.radiance = sky_.lightingRadiance(wi);
     out.pdf = pdf;
     out.environment = true;
     out.light = {LightPoint::Kind::Sky, 0, wi};

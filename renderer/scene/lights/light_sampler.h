@@ -98,8 +98,13 @@ class LightSampler {
   /// True when there is no light at all.
   bool empty() const { return table_.empty(); }
   /// Picks a light (u.x) and a point on it (u.y, u.z; u.w for the sky's cell choice) for
-  /// shading point p with normal n (facing the viewer).
-  bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out) const;
+  /// shading point p with normal n (facing the viewer). With `skyRadiance` false a sky sample's
+  /// radiance is left 0, for the caller to take skyRadiance() of its direction once its shadow
+  /// ray passed (a picture sky costs a look-up of every cloud layer per direction).
+  bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out,
+              bool skyRadiance = true) const;
+  /// The radiance a sky sample (LightPoint::Kind::Sky) toward wi brings: what sample() sets.
+  glm::vec3 skyRadiance(const glm::vec3& wi) const { return sky_.lightingRadiance(wi); }
   /// The connection from shading point p with normal n to a point on a light that sample() could
   /// have produced there (wi, distance, radiance, lightPoint, lightNormal, environment, delta,
   /// jacobian; pdf is left unset). False when sample() at p, n gives that light probability 0

@@ -5,6 +5,7 @@
 
 #include <bit>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -319,6 +320,62 @@ TEST(LightSampler, LocalWeightBoundsSphereLights) {
   EXPECT_GT(localLightWeight(sphere, glm::vec3(0.0f)), 0.0f);
   sphere.radius = 0.0f;
   EXPECT_EQ(localLightWeight(sphere, glm::vec3(0.0f)), 0.0f);
+}
+
+/// A sky that is brighter toward +X and +Z, so that every direction has its own radiance.
+class GradientSkyPicture : public SkyPicture {
+ public:
+  glm::vec3 radiance(const glm::vec3& dir) const override {
+    return glm::vec3(1.0f + dir.x, 2.0f + dir.z, 0.5f + 0.25f * dir.y);
+  }
+};
+
+TEST(LightSampler, SkyRadianceLeftForTheCallerIsWhatTheSampleWouldCarry) {
+  // A lamp, a sun and a picture sky: sample() without the sky's radiance picks the same light
+  // and point with the same pdf; a sky sample's radiance is then 0 and skyRadiance() of its
+  // direction gives, bit for bit, what sample() with it carries.
+  SkyDesc desc;
+  desc.color = glm::vec3(1.0f);
+  desc.intensity = 0.8f;
+  desc.lightingScale = 1.5f;
+  desc.picture = std::make_shared<GradientSkyPicture>();
+  const Sky sky(desc, {});
+  std::vector<LightDesc> lights = lampAmongDistantLights();
+  LightDesc sun;
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(0.3f, 0.2f, -1.0f));
+  sun.intensity = 2.0f;
+  lights.push_back(sun);
+  Bounds bounds;
+  bounds.extend(glm::vec3(-500.0f));
+  bounds.extend(glm::vec3(500.0f));
+  const LightSampler sampler(lights, {}, sky, bounds);
+  const glm::vec3 p(1.0f, 2.0f, 0.0f), n(0.0f, 0.0f, 1.0f);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  int skySamples = 0, others = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const glm::vec4 u(uniform(rng), uniform(rng), uniform(rng), uniform(rng));
+    LightSample with, without;
+    const bool sampled = sampler.sample(p, n, u, with);
+    ASSERT_EQ(sampler.sample(p, n, u, without, false), sampled);
+    if (!sampled) continue;
+    EXPECT_EQ(without.wi, with.wi);
+    EXPECT_EQ(without.pdf, with.pdf);
+    EXPECT_EQ(without.light.kind, with.light.kind);
+    EXPECT_EQ(without.light.index, with.light.index);
+    if (with.light.kind == LightPoint::Kind::Sky) {
+      ++skySamples;
+      EXPECT_EQ(without.radiance, glm::vec3(0.0f));
+      EXPECT_EQ(sampler.skyRadiance(with.wi), with.radiance);
+      EXPECT_NE(with.radiance, glm::vec3(0.0f));
+    } else {
+      ++others;
+      EXPECT_EQ(without.radiance, with.radiance);
+    }
+  }
+  EXPECT_GT(skySamples, 100);
+  EXPECT_GT(others, 100);
 }
 
 }  // namespace
