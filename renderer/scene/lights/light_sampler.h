@@ -100,7 +100,8 @@ class LightSampler {
   /// Picks a light (u.x) and a point on it (u.y, u.z; u.w for the sky's cell choice) for
   /// shading point p with normal n (facing the viewer). With `skyRadiance` false a sky sample's
   /// radiance is left 0, for the caller to take skyRadiance() of its direction once its shadow
-  /// ray passed (a picture sky costs a look-up of every cloud layer per direction).
+  /// ray passed (a SkyPicture may cost much per direction; most shadow rays toward the sky are
+  /// blocked indoors).
   bool sample(const glm::vec3& p, const glm::vec3& n, const glm::vec4& u, LightSample& out,
               bool skyRadiance = true) const;
   /// The radiance a sky sample (LightPoint::Kind::Sky) toward wi brings: what sample() sets.

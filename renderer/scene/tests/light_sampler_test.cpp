@@ -331,7 +331,7 @@ class GradientSkyPicture : public SkyPicture {
 };
 
 TEST(LightSampler, SkyRadianceLeftForTheCallerIsWhatTheSampleWouldCarry) {
-  // A lamp, a sun and a picture sky: sample() without the sky's radiance picks the same light
+  // Lamps, a sun and a picture sky: sample() without the sky's radiance picks the same light
   // and point with the same pdf; a sky sample's radiance is then 0 and skyRadiance() of its
   // direction gives, bit for bit, what sample() with it carries.
   SkyDesc desc;
