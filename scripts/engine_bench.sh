@@ -17,11 +17,16 @@
 #   --scale S         r_pt_scale for our module (default: the module's default)
 #   --threads N       r_pt_threads (default 0 = all cores)
 #   --timeout S       per-run limit in seconds (default 600)
-#   --json FILE       also write the tables as JSON
-#   --keep DIR        keep each run's engine log in DIR (DEMO.RENDERER.log)
+#   --repeat N        play each demo N times with every renderer, in rounds (opengl1, then each
+#                     preset, then again), and report each renderer's median fps, the ratios of
+#                     the medians and each fps's spread over the rounds (default 1); single runs
+#                     move by 5-15% on a shared 2-core machine, opengl1 by more
+#   --json FILE       also write the tables as JSON (with every round's fps under "fps_runs")
+#   --keep DIR        keep each run's engine log in DIR (DEMO.RENDERER.log; .ROUND.log with --repeat)
 # Our module runs with r_pt_stats 1: the per-frame breakdown it prints every 2 s (scene update,
 # commit, trace, denoise, resolve, upload, HUD model views, 2D, present, rest of the engine) is
-# averaged over the run, printed under each demo's table and written to the JSON.
+# averaged over the run (over every round with --repeat), printed under each demo's table and
+# written to the JSON.
 # Exit 77 when the engine, the game data or xvfb-run are missing; 1 when a run fails.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -29,7 +34,7 @@ source "$root/tests/fidelity/engine_env.sh"
 
 module="$root/build/port/engine_glue/renderer_pathtracer_x86_64.so"
 size=640x360; messages=200; presets="lightmap direct path reference"
-scale=""; threads=0; timeout_s=600; json=""; keep=""; demos=""
+scale=""; threads=0; timeout_s=600; json=""; keep=""; demos=""; repeat=1
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --demos) demos="$2"; shift 2 ;;
@@ -42,13 +47,15 @@ while [[ $# -gt 0 ]]; do
     --timeout) timeout_s="$2"; shift 2 ;;
     --json) json="$2"; shift 2 ;;
     --keep) keep="$2"; shift 2 ;;
-    -h|--help) sed -n '2,25p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    --repeat) repeat="$2"; shift 2 ;;
+    -h|--help) sed -n '2,30p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "engine_bench: unknown option $1" >&2; exit 2 ;;
   esac
 done
 [[ "$size" =~ ^([0-9]+)x([0-9]+)$ ]] || { echo "engine_bench: bad --size $size" >&2; exit 2; }
 width="${BASH_REMATCH[1]}"; height="${BASH_REMATCH[2]}"
 [[ "$messages" =~ ^[0-9]+$ ]] || { echo "engine_bench: bad --messages $messages" >&2; exit 2; }
+[[ "$repeat" =~ ^[1-9][0-9]*$ ]] || { echo "engine_bench: bad --repeat $repeat" >&2; exit 2; }
 pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not installed"; exit 77; }
 [[ -f "$module" ]] || { echo "engine_bench: no module at $module (build the renderer_pathtracer target)" >&2; exit 1; }
 
@@ -79,8 +86,9 @@ for demo in $demos; do
   names+="$demo "
 done
 
-# Results keyed "DEMO:RENDERER"; "-" where a run failed.
-declare -A fps frames seconds breakdown
+# Results keyed "DEMO:RENDERER"; "-" where a run failed. With --repeat, fps is the median over the
+# rounds that worked, frames and seconds those of the round closest to it, runs every round's fps.
+declare -A fps frames seconds breakdown runs round_frames round_seconds
 # The r_pt_stats lines of a log averaged field by field: "name=value ..." (empty without any).
 average_stats() {  # empty for a log without stats lines (opengl1's), not a failure
   { grep -a '^pathtracer: stats ' "$1" || true; } | awk '{
@@ -89,43 +97,79 @@ average_stats() {  # empty for a log without stats lines (opengl1's), not a fail
     }
     END { for (i = 1; i <= n; i++) printf "%s%s=%.2f", (i > 1 ? " " : ""), order[i], sum[order[i]] / lines }'
 }
-run_one() {  # run_one DEMO NAME RENDERER [engine args...]
-  local demo="$1" name="$2" renderer="$3"; shift 3
+run_one() {  # run_one DEMO NAME ROUND RENDERER [engine args...]
+  local demo="$1" name="$2" round="$3" renderer="$4"; shift 4
   local key="$demo:$name" dir="$work/run" log="$work/run.log"
   rm -rf "$dir"
   if [[ "$renderer" == pathtracer ]]; then pa_engine_prepare "$dir" "$module"; else pa_engine_prepare "$dir"; fi
   mkdir -p "$dir/home/baseoa/demos"
   cp "$work/demo/$demo.dm_71" "$dir/home/baseoa/demos/pa_bench.dm_71"
-  echo "engine_bench: running $demo with $name ..." >&2
+  echo "engine_bench: running $demo with $name$([[ $repeat -gt 1 ]] && echo " (round $round of $repeat)") ..." >&2
   local status=0
   pa_engine_run "$dir" "$log" "$timeout_s" "$width" "$height" "$renderer" \
     +set timedemo 1 +set com_maxfps 0 +set nextdemo quit "$@" +demo pa_bench || status=$?
-  [[ -n "$keep" ]] && { mkdir -p "$keep"; cp "$log" "$keep/$demo.$name.log"; }
+  if [[ -n "$keep" ]]; then
+    mkdir -p "$keep"
+    if [[ $repeat -gt 1 ]]; then cp "$log" "$keep/$demo.$name.$round.log"; else cp "$log" "$keep/$demo.$name.log"; fi
+  fi
   local line
   line="$(grep -a -E '^[0-9]+ frames [0-9.]+ seconds [0-9.]+ fps' "$log" | tail -n 1 || true)"
   if [[ -z "$line" ]] || ! pa_engine_used_renderer "$log" "$renderer"; then
     echo "engine_bench: $demo with $name failed (status $status); log tail:" >&2
     grep -a -v GL_EXTENSIONS "$log" | tail -n 15 >&2
-    fps[$key]="-"; frames[$key]="-"; seconds[$key]="-"
+    runs[$key]+="- "
     return 1
   fi
-  read -r "frames[$key]" _ "seconds[$key]" _ "fps[$key]" _ <<<"$line"
-  breakdown[$key]="$(average_stats "$log")"
+  local run_frames run_seconds run_fps
+  read -r run_frames _ run_seconds _ run_fps _ <<<"$line"
+  runs[$key]+="$run_fps "
+  round_frames[$key:$round]="$run_frames"; round_seconds[$key:$round]="$run_seconds"
+  { grep -a '^pathtracer: stats ' "$log" || true; } >>"$work/stats.${demo}.${name//[^A-Za-z0-9_.=-]/_}"
+}
+# settle DEMO NAME: the median fps over the rounds that worked, the frames and seconds of the
+# round whose fps is nearest to it, and the breakdown over every round's stats lines.
+settle() {
+  local key="$1:$2" list median="-" r best=-1 f
+  list="$(tr ' ' '\n' <<<"${runs[$key]:-}" | grep -E '^[0-9.]+$' || true)"
+  if [[ -n "$list" ]]; then
+    # One round: the engine's own figure; more: the median (the mean of the middle two).
+    median="$(sort -g <<<"$list" | awk '{v[NR] = $1} END {if (NR == 1) print v[1]; else printf "%.1f", NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}')"
+    local nearest=""
+    r=0
+    for f in ${runs[$key]}; do
+      r=$((r + 1))
+      [[ "$f" == - ]] && continue
+      if [[ -z "$nearest" ]] || awk -v a="$f" -v b="$nearest" -v m="$median" 'BEGIN{exit !((a-m)^2 < (b-m)^2)}'; then
+        nearest="$f"; best=$r
+      fi
+    done
+  fi
+  fps[$key]="$median"
+  if [[ $best -gt 0 ]]; then
+    frames[$key]="${round_frames[$key:$best]}"; seconds[$key]="${round_seconds[$key:$best]}"
+  else
+    frames[$key]="-"; seconds[$key]="-"
+  fi
+  local stats="$work/stats.${1}.${2//[^A-Za-z0-9_.=-]/_}"
+  breakdown[$key]="$([[ -f "$stats" ]] && average_stats "$stats" || true)"
 }
 
 failed=0
 pt_args=(+set r_pt_threads "$threads" +set r_pt_stats 1)
 [[ -n "$scale" ]] && pt_args+=(+set r_pt_scale "$scale")
 for demo in $names; do
-  run_one "$demo" opengl1 opengl1 || failed=1
-  for preset in $presets; do
-    extra=()
-    if [[ "$preset" == *:* ]]; then
-      IFS=',' read -ra settings <<<"${preset#*:}"
-      for setting in "${settings[@]}"; do extra+=(+set "${setting%%=*}" "${setting#*=}"); done
-    fi
-    run_one "$demo" "$preset" pathtracer "${pt_args[@]}" +set r_pt_preset "${preset%%:*}" "${extra[@]}" || failed=1
+  for ((round = 1; round <= repeat; round++)); do
+    run_one "$demo" opengl1 "$round" opengl1 || failed=1
+    for preset in $presets; do
+      extra=()
+      if [[ "$preset" == *:* ]]; then
+        IFS=',' read -ra settings <<<"${preset#*:}"
+        for setting in "${settings[@]}"; do extra+=(+set "${setting%%=*}" "${setting#*=}"); done
+      fi
+      run_one "$demo" "$preset" "$round" pathtracer "${pt_args[@]}" +set r_pt_preset "${preset%%:*}" "${extra[@]}" || failed=1
+    done
   done
+  for name in opengl1 $presets; do settle "$demo" "$name"; done
 done
 
 ratio() {  # ratio DEMO NAME -> fps of NAME / fps of opengl1 on DEMO, or "-"
@@ -143,15 +187,15 @@ summary() {
 }
 
 load="$(cut -d' ' -f1-3 /proc/loadavg)"
-echo "${width}x${height}, timedemo 1, messages cap ${messages} (0 = whole demos), $(nproc) cores, load $load"
+echo "${width}x${height}, timedemo 1, messages cap ${messages} (0 = whole demos), $(nproc) cores, load $load$([[ $repeat -gt 1 ]] && echo ", $repeat rounds: median fps, ratios of the medians")"
 echo "pathtracer: r_pt_scale ${scale:-default} r_pt_threads $threads, other cvars at their defaults"
 for demo in $names; do
   echo
   echo "$demo: ${played[$demo]} messages"
-  printf '%-10s %8s %9s %9s %10s\n' renderer frames seconds fps vs_opengl1
+  printf '%-10s %8s %9s %9s %10s%s\n' renderer frames seconds fps vs_opengl1 "$([[ $repeat -gt 1 ]] && echo "  fps of each round")"
   for name in opengl1 $presets; do
-    printf '%-10s %8s %9s %9s %10s\n' "$name" "${frames[$demo:$name]}" "${seconds[$demo:$name]}" \
-      "${fps[$demo:$name]}" "$(ratio "$demo" "$name")"
+    printf '%-10s %8s %9s %9s %10s%s\n' "$name" "${frames[$demo:$name]}" "${seconds[$demo:$name]}" \
+      "${fps[$demo:$name]}" "$(ratio "$demo" "$name")" "$([[ $repeat -gt 1 ]] && echo "  ${runs[$demo:$name]:-}")"
   done
   for name in $presets; do
     [[ -n "${breakdown[$demo:$name]:-}" ]] && echo "  $name per frame (r_pt_stats means): ${breakdown[$demo:$name]}"
@@ -168,8 +212,8 @@ done
 if [[ -n "$json" ]]; then
   q() { [[ "$1" == - ]] && echo null || echo "$1"; }
   {
-    printf '{"messages_cap": %d, "width": %d, "height": %d, "cores": %d, "load": "%s", "demos": [' \
-      "$messages" "$width" "$height" "$(nproc)" "$load"
+    printf '{"messages_cap": %d, "width": %d, "height": %d, "cores": %d, "load": "%s", "rounds": %d, "demos": [' \
+      "$messages" "$width" "$height" "$(nproc)" "$load" "$repeat"
     sep=""
     for demo in $names; do
       printf '%s{"demo": "%s", "messages": %d, "runs": [' "$sep" "$demo" "${played[$demo]}"
@@ -179,9 +223,10 @@ if [[ -n "$json" ]]; then
         parts="null"
         [[ -n "${breakdown[$demo:$name]:-}" ]] &&
           parts="{$(tr ' ' '\n' <<<"${breakdown[$demo:$name]}" | awk -F= '{printf "%s\"%s\": %s", (NR > 1 ? ", " : ""), $1, $2}')}"
-        printf '%s{"renderer": "%s", "frames": %s, "seconds": %s, "fps": %s, "ratio_to_opengl1": %s, "frame_breakdown": %s}' \
+        each="$(for f in ${runs[$demo:$name]:-}; do q "$f"; done | paste -sd, -)"
+        printf '%s{"renderer": "%s", "frames": %s, "seconds": %s, "fps": %s, "fps_runs": [%s], "ratio_to_opengl1": %s, "frame_breakdown": %s}' \
           "$rsep" "$name" "$(q "${frames[$demo:$name]}")" "$(q "${seconds[$demo:$name]}")" \
-          "$(q "${fps[$demo:$name]}")" "$(q "$(ratio "$demo" "$name")")" "$parts"
+          "$(q "${fps[$demo:$name]}")" "${each//,/, }" "$(q "$(ratio "$demo" "$name")")" "$parts"
         rsep=", "
       done
       printf ']}'
