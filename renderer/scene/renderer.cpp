@@ -375,14 +375,16 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       !im.worldChanged || (settings.accumulateThroughEdits && !im.seenSinceRender.everything);
   const bool keep = settings.accumulate && im.haveLast && unchangedOrSeenOnly && sameCamera(camera, im.lastCamera) &&
                     sameEstimate(settings, im.lastSettings) && im.film.canResume();
-  // A frame of one sample per pixel that is not accumulated and that nothing filters afterwards
-  // (as the game's lightmap preset): each sample is its pixel's resolved value, written without
-  // the accumulators.
-  const bool singleSample = !settings.accumulate && settings.samplesPerPixel == 1 && !settings.denoise && !temporalOn;
-  // Such a frame's emission, albedo and normal planes are read only by the lighting look there,
-  // and by the caller through FrameView when it asks for them.
-  const bool filmAovs = !singleSample || settings.surfaceAovs || settings.lightingLook != LightingLook::Physical;
-  if (singleSample) im.film.beginSingleSampleFrame(filmAovs);
+  // A frame of one sample per pixel that is not accumulated (the game's presets): each sample is
+  // its pixel's resolved value, written without the accumulators; the temporal stage and the
+  // denoiser then work on those values in place.
+  const bool singleSample = !settings.accumulate && settings.samplesPerPixel == 1;
+  const bool filtered = settings.denoise || temporalOn;
+  // Such a frame's emission, albedo and normal planes are read by the temporal stage, the
+  // denoiser and the lighting look, and by the caller through FrameView when it asks for them.
+  const bool filmAovs =
+      !singleSample || filtered || settings.surfaceAovs || settings.lightingLook != LightingLook::Physical;
+  if (singleSample) im.film.beginSingleSampleFrame(filmAovs, filtered);
   else if (!keep) im.film.reset();
   else im.film.resumeAccumulation();
   // Camera-only overlays changed (the first-person weapon moved): the pixels they covered last
@@ -527,7 +529,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       tbb::parallel_for(tbb::blocked_range<uint32_t>(0, settings.height, 8),
                         [&](const tbb::blocked_range<uint32_t>& r) { body(r.begin(), r.end()); });
     };
-    if (singleSample) {   // the resolved buffers hold the samples already
+    if (singleSample && !filtered) {   // the resolved buffers hold the samples already
       forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
       endPhase(timings.resolveMs);
       return;
@@ -537,7 +539,7 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       endPhase(timings.resolveMs);
       return;
     }
-    forRows([&](uint32_t y0, uint32_t y1) { film.resolveMeanRows(y0, y1); });
+    if (!singleSample) forRows([&](uint32_t y0, uint32_t y1) { film.resolveMeanRows(y0, y1); });
     double meanMs = 0.0;
     endPhase(meanMs);
     if (gradientsOn && im.gradients.havePrevious() && previousCamera != nullptr) {

@@ -94,10 +94,11 @@ void Film::reset() {
   accumulatorsStale_ = false;
 }
 
-void Film::beginSingleSampleFrame(bool aovs) {
+void Film::beginSingleSampleFrame(bool aovs, bool filtered) {
   frames_ = 0;
   // A frame without AOVs after one with them (or the reverse) keeps the accumulators stale.
   aovsWritten_ = aovs;
+  filtered_ = filtered;
   accumulatorsStale_ = true;
 }
 
@@ -132,6 +133,7 @@ void Film::prefetchPixels(uint32_t x, uint32_t y, uint32_t n) const {
 void Film::resumeAccumulation() {
   if (!accumulatorsStale_) return;
   if (!aovsWritten_) throw std::logic_error("Film::resumeAccumulation: the last frame left its AOVs out");
+  if (filtered_) throw std::logic_error("Film::resumeAccumulation: the last frame's radiance was filtered");
   accumulatorsStale_ = false;
   // Each resolved value is its one sample as add() counted it: adding it again gives the same sums.
   for (size_t i = 0; i < pixels_.size(); ++i) {

@@ -138,14 +138,17 @@ class Film {
   /// them from those buffers first (resumeAccumulation). Without `aovs`, writeSample leaves the
   /// emission, albedo and normal buffers as they were (nothing reads them this frame: no
   /// denoiser, temporal stage or lighting look) and the accumulators cannot be rebuilt
-  /// (canResume() is false until the next reset).
-  void beginSingleSampleFrame(bool aovs = true);
+  /// (canResume() is false until the next reset). With `filtered` the caller changes the
+  /// resolved radiance in place afterwards (temporal stage, denoiser): it no longer holds the
+  /// samples, and the accumulators cannot be rebuilt either.
+  void beginSingleSampleFrame(bool aovs = true, bool filtered = false);
   /// The resolved values of pixel (x, y) for one sample: what add() then resolveMeanRows give
   /// (radiance, depth and variance only in a single-sample frame without AOVs).
   void writeSample(uint32_t x, uint32_t y, const PixelSample& s);
-  /// True unless the last single-sample frame left the AOV buffers out: resumeAccumulation can
-  /// rebuild the accumulators (otherwise the next accumulating frame must reset()).
-  bool canResume() const { return !accumulatorsStale_ || aovsWritten_; }
+  /// True unless the last single-sample frame left the AOV buffers out or was filtered:
+  /// resumeAccumulation can rebuild the accumulators (otherwise the next accumulating frame must
+  /// reset()).
+  bool canResume() const { return !accumulatorsStale_ || (aovsWritten_ && !filtered_); }
   /// Asks the cache for the storage of pixels [x, x + n) of row y ahead of their samples
   /// (writeSample's buffers in a single-sample frame, the accumulators otherwise).
   void prefetchPixels(uint32_t x, uint32_t y, uint32_t n) const;
@@ -192,6 +195,7 @@ class Film {
   std::vector<uint8_t> overlay_;   ///< Per pixel: overlayAt.
   bool accumulatorsStale_ = false;   ///< The last frame was written by writeSample.
   bool aovsWritten_ = true;            ///< ... with the emission, albedo and normal buffers.
+  bool filtered_ = false;              ///< ... and its resolved radiance was filtered after.
   SrgbByteEncoder encoder_;
 };
 

@@ -124,6 +124,37 @@ TEST(Determinism, SingleSampleFramesWrittenDirectlyEqualAccumulatedOnes) {
   }
 }
 
+TEST(Determinism, FilteredSingleSampleFramesEqualAccumulatedOnesAndAreNotResumed) {
+  // A one-sample frame the denoiser (or the temporal stage) filters is written without the
+  // film's accumulators too: denoised, it equals the same frame resolved through them (the first
+  // frame of an accumulating render); and since the filter changed its radiance in place, a
+  // frame that then accumulates starts again instead of going on from the filtered picture.
+  for (const Integrator integrator : {Integrator::Direct, Integrator::Path}) {
+    for (const bool temporal : {false, true}) {
+      RenderSettings filtered = settingsFor(integrator, 30, 1, 2);
+      filtered.accumulate = false;
+      filtered.denoise = true;
+      filtered.temporal = temporal;
+      RenderSettings accumulated = filtered;
+      accumulated.accumulate = true;
+      accumulated.temporal = false;
+      Renderer a({2}), b({2}), c({2});
+      buildScene(a);
+      buildScene(b);
+      buildScene(c);
+      const FrameView first = a.render(camera(), filtered);
+      if (!temporal)
+        EXPECT_EQ(frameBytes(first), frameBytes(b.render(camera(), accumulated)))
+            << "integrator " << static_cast<int>(integrator);
+      accumulated.denoise = false;
+      const FrameView next = a.render(camera(), accumulated);
+      EXPECT_EQ(next.accumulatedFrames, 1u);
+      EXPECT_EQ(frameBytes(next), frameBytes(c.render(camera(), accumulated)))
+          << "integrator " << static_cast<int>(integrator) << (temporal ? ", temporal" : "");
+    }
+  }
+}
+
 TEST(Determinism, SingleSampleFramesWithoutSurfaceAovsShowTheSamePicture) {
   // RenderSettings::surfaceAovs false: a one-sample frame that nothing filters leaves the albedo,
   // normal and emission planes out; what it hands out (radiance, depth, variance, rgba8) is the
