@@ -375,9 +375,9 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       !im.worldChanged || (settings.accumulateThroughEdits && !im.seenSinceRender.everything);
   const bool keep = settings.accumulate && im.haveLast && unchangedOrSeenOnly && sameCamera(camera, im.lastCamera) &&
                     sameEstimate(settings, im.lastSettings) && im.film.canResume();
-  // A frame of one sample per pixel that is not accumulated (the game's presets): each sample is
-  // its pixel's resolved value, written without the accumulators; the temporal stage and the
-  // denoiser then work on those values in place.
+  // A frame of one sample per pixel that is not accumulated (the game's lightmap, direct and path
+  // frames): each sample is its pixel's resolved value, written without the accumulators; the
+  // temporal stage and the denoiser then work on those values in place.
   const bool singleSample = !settings.accumulate && settings.samplesPerPixel == 1;
   const bool filtered = settings.denoise || temporalOn;
   // Such a frame's emission, albedo and normal planes are read by the temporal stage, the
