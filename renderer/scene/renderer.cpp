@@ -529,13 +529,11 @@ FrameView Renderer::render(const Camera& camera, const RenderSettings& settings)
       tbb::parallel_for(tbb::blocked_range<uint32_t>(0, settings.height, 8),
                         [&](const tbb::blocked_range<uint32_t>& r) { body(r.begin(), r.end()); });
     };
-    if (singleSample && !filtered) {   // the resolved buffers hold the samples already
-      forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
-      endPhase(timings.resolveMs);
-      return;
-    }
-    if (!settings.denoise && !temporalOn) {
-      forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
+    if (!filtered) {   // a single-sample frame's resolved buffers hold its samples already
+      if (singleSample)
+        forRows([&](uint32_t y0, uint32_t y1) { film.encodeRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
+      else
+        forRows([&](uint32_t y0, uint32_t y1) { film.resolveRows(y0, y1, settings.exposure, settings.tonemap, settings.lightingLook); });
       endPhase(timings.resolveMs);
       return;
     }

@@ -238,8 +238,8 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     const float footprint = coneWidth / std::max(trace::kMinCosForFootprint, glm::dot(ng, wo));
     // After a scattering the colour only weighs light the path carries on: one bilinear lookup
     // in the nearest mip level instead of two blended (the ray cone is wide there already).
-    const glm::vec4 baseRgba = scatterCount == 0 ? scene.baseColor(s, footprint)
-                                                 : scene.baseColor(s, footprint, TextureFilter{MipFilter::Nearest});
+    const glm::vec4 baseRgba =
+        scene.baseColor(s, footprint, scatterCount == 0 ? TextureFilter{} : TextureFilter{MipFilter::Nearest});
     const glm::vec3 albedo = glm::clamp(glm::vec3(baseRgba), 0.0f, 1.0f);
     if (viewDepth == 0) trace::recordSurfaceAovs(scene, s, hit.t, albedo, ns, portalsCrossed > 0, out);
 
