@@ -97,6 +97,7 @@ average_stats() {  # empty for a log without stats lines (opengl1's), not a fail
     }
     END { for (i = 1; i <= n; i++) printf "%s%s=%.2f", (i > 1 ? " " : ""), order[i], sum[order[i]] / lines }'
 }
+stats_file() { echo "$work/stats.$1.${2//[^A-Za-z0-9_.=-]/_}"; }   # stats_file DEMO NAME: its runs' stats lines
 run_one() {  # run_one DEMO NAME ROUND RENDERER [engine args...]
   local demo="$1" name="$2" round="$3" renderer="$4"; shift 4
   local key="$demo:$name" dir="$work/run" log="$work/run.log"
@@ -124,33 +125,29 @@ run_one() {  # run_one DEMO NAME ROUND RENDERER [engine args...]
   read -r run_frames _ run_seconds _ run_fps _ <<<"$line"
   runs[$key]+="$run_fps "
   round_frames[$key:$round]="$run_frames"; round_seconds[$key:$round]="$run_seconds"
-  { grep -a '^pathtracer: stats ' "$log" || true; } >>"$work/stats.${demo}.${name//[^A-Za-z0-9_.=-]/_}"
+  { grep -a '^pathtracer: stats ' "$log" || true; } >>"$(stats_file "$demo" "$name")"
 }
 # settle DEMO NAME: the median fps over the rounds that worked, the frames and seconds of the
 # round whose fps is nearest to it, and the breakdown over every round's stats lines.
 settle() {
-  local key="$1:$2" list median="-" r best=-1 f
-  list="$(tr ' ' '\n' <<<"${runs[$key]:-}" | grep -E '^[0-9.]+$' || true)"
-  if [[ -n "$list" ]]; then
-    # One round: the engine's own figure; more: the median (the mean of the middle two).
-    median="$(sort -g <<<"$list" | awk '{v[NR] = $1} END {if (NR == 1) print v[1]; else printf "%.1f", NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}')"
-    local nearest=""
-    r=0
-    for f in ${runs[$key]}; do
-      r=$((r + 1))
-      [[ "$f" == - ]] && continue
-      if [[ -z "$nearest" ]] || awk -v a="$f" -v b="$nearest" -v m="$median" 'BEGIN{exit !((a-m)^2 < (b-m)^2)}'; then
-        nearest="$f"; best=$r
-      fi
-    done
-  fi
+  local key="$1:$2" median best
+  # One round: the engine's own figure; more: the median (the mean of the middle two). Then the
+  # round (1-based, "-" rounds counted) whose fps is nearest to it; "- 0" when every round failed.
+  read -r median best < <(awk '{
+      for (i = 1; i <= NF; i++) if ($i != "-") { v[++n] = $i; round[n] = i }
+      if (n == 0) { print "- 0"; exit }
+      for (i = 1; i <= n; i++) s[i] = v[i]
+      for (i = 2; i <= n; i++) for (j = i; j > 1 && s[j - 1] > s[j]; j--) { t = s[j]; s[j] = s[j - 1]; s[j - 1] = t }
+      m = n % 2 ? s[(n + 1) / 2] : (s[n / 2] + s[n / 2 + 1]) / 2
+      best = 1
+      for (i = 2; i <= n; i++) if ((v[i] - m) ^ 2 < (v[best] - m) ^ 2) best = i
+      if (n == 1) printf "%s %d\n", v[1], round[1]; else printf "%.1f %d\n", m, round[best]
+    }' <<<"${runs[$key]:-}")
   fps[$key]="$median"
-  if [[ $best -gt 0 ]]; then
-    frames[$key]="${round_frames[$key:$best]}"; seconds[$key]="${round_seconds[$key:$best]}"
-  else
-    frames[$key]="-"; seconds[$key]="-"
-  fi
-  local stats="$work/stats.${1}.${2//[^A-Za-z0-9_.=-]/_}"
+  frames[$key]="${round_frames[$key:$best]:--}"
+  seconds[$key]="${round_seconds[$key:$best]:--}"
+  local stats
+  stats="$(stats_file "$1" "$2")"
   breakdown[$key]="$([[ -f "$stats" ]] && average_stats "$stats" || true)"
 }
 
