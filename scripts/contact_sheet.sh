@@ -100,6 +100,10 @@ for map in $maps; do
     printf '%s\n' "$row" >>"$out/luminance.tsv"
   done
 done
-montage "${tiles[@]}" -tile "${#columns[@]}x" -geometry 480x270+4+4 -pointsize 16 "$out/contact_sheet.png"
+# The labels in a font the machine has (montage's default, Helvetica, is missing without
+# Ghostscript's fonts, and montage then fails after writing an unlabelled sheet).
+font=(); label_font="$(fc-match -f '%{file}' sans 2>/dev/null || true)"
+[[ -f "$label_font" ]] && font=(-font "$label_font")
+montage "${tiles[@]}" -tile "${#columns[@]}x" -geometry 480x270+4+4 "${font[@]}" -pointsize 16 "$out/contact_sheet.png"
 column -t -s $'\t' "$out/luminance.tsv"
 echo "contact sheet: $out/contact_sheet.png"

@@ -6,7 +6,7 @@ PACKAGES=(
   libembree-dev libtbb-dev libglm-dev libsdl2-dev libgl-dev libphysfs-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev libjpeg-dev
   libgtest-dev libgmock-dev npm
-  xvfb xauth libgl1-mesa-dri mesa-utils imagemagick gnuplot-nox
+  xvfb xauth libgl1-mesa-dri mesa-utils imagemagick fontconfig fonts-dejavu-core gnuplot-nox
   ioquake3 openarena openarena-data openarena-oacmp1
   slurm-wlm munge
 )
