@@ -56,8 +56,11 @@ class LampVisibility {
   /// The row of hidden-lamp bits for point p on a surface facing n; -1 where no lamp is hidden
   /// (outside the grid, bins without points or without a hidden lamp).
   int64_t row(const glm::vec3& p, const glm::vec3& n) const;
-  /// Bits of lamps 8 x group .. 8 x group + 7 hidden in `row` (bit i: lamp 8 x group + i).
-  uint8_t hidden(int64_t row, uint32_t group) const { return bits_[size_t(row) * groups_ + group]; }
+  /// Bits of lamps 8 x group .. 8 x group + 7 hidden in `row` (bit i: lamp 8 x group + i); 0
+  /// for groups past the lamps the map was traced for (a sampler's later lamps: dynamic lights).
+  uint8_t hidden(int64_t row, uint32_t group) const {
+    return group < groups_ ? bits_[size_t(row) * groups_ + group] : uint8_t(0);
+  }
   /// The lamps the map was traced for, in order.
   std::span<const LightDesc> lamps() const { return lamps_; }
   /// True when `a` stands where lamp `b` stood when traced (same kind, place, reach and cone).

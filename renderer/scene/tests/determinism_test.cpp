@@ -143,9 +143,10 @@ TEST(Determinism, FilteredSingleSampleFramesEqualAccumulatedOnesAndAreNotResumed
       buildScene(b);
       buildScene(c);
       const FrameView first = a.render(camera(), filtered);
-      if (!temporal)
+      if (!temporal) {
         EXPECT_EQ(frameBytes(first), frameBytes(b.render(camera(), accumulated)))
             << "integrator " << static_cast<int>(integrator);
+      }
       accumulated.denoise = false;
       const FrameView next = a.render(camera(), accumulated);
       EXPECT_EQ(next.accumulatedFrames, 1u);

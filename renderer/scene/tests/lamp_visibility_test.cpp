@@ -193,6 +193,21 @@ TEST(LampVisibility, OnlyLampsWhereTheMapSawThemUseIt) {
               LampVisibility::kHiddenWeight * east / (west + rocket + LampVisibility::kHiddenWeight * east), 1e-5);
 }
 
+TEST(LampVisibility, GroupsPastTheMapsLampsHideNothing) {
+  // A game's dynamic lights come after the map's lamps: the sampler asks for groups of eight the
+  // map has no byte for, on every row including the last; they read as not hidden.
+  const std::vector<LightDesc> lamps = westEastAndFar();
+  const LampVisibility map(floorPoints(), lamps, wallAtZero);
+  ASSERT_GT(map.rowCount(), 0u);
+  const int64_t last = int64_t(map.rowCount()) - 1;
+  EXPECT_EQ(map.hidden(last, 1), 0);
+  EXPECT_EQ(map.hidden(last, 7), 0);
+  const int64_t west = map.row({-20.5f, 3.5f, 0.0f}, glm::vec3(0, 0, 1));
+  ASSERT_GE(west, 0);
+  EXPECT_EQ(map.hidden(west, 0), 0b010);
+  EXPECT_EQ(map.hidden(west, 1), 0);
+}
+
 TEST(LampVisibility, CacheRetracesOnlyForAnotherSetOfLamps) {
   LampVisibilityCache cache;
   int traced = 0;
