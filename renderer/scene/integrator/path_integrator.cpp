@@ -280,9 +280,19 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     }
 
     const glm::vec4 uBsdf = sampler.get4(group + kGroupBsdf);
+    // Russian roulette before the direction is drawn, so that a path it ends samples none: the
+    // bounce survives with the probability of the throughput times the surface's reflectance
+    // (for a diffuse surface what the sample's weight multiplies it by), and dark surfaces, most
+    // of a Quake III map, seldom trace one. A mirror is never ended (it does not scatter).
+    float survive = 1.0f;
+    if (!bsdf.isDelta() && scatterCount + 1 >= std::max(1u, settings.rouletteStart)) {
+      survive = std::min(1.0f, std::max(0.05f, maxComponent(beta * bsdf.reflectance())));
+      if (uBsdf.w >= survive) break;
+    }
     BsdfSample bs;
     if (!bsdf.sample(wo, glm::vec3(uBsdf.x, uBsdf.y, uBsdf.z), bs)) break;
     beta *= bs.weight;
+    beta /= survive;
     // Member by member: a braced temporary was copied back in 16-byte loads over the narrower
     // stores that built it (a store-forwarding stall every scattering).
     prev.delta = bs.delta;
@@ -293,11 +303,6 @@ PixelSample tracePathSample(const RenderScene& scene, const CameraRays& camera, 
     if (!bs.delta) {
       ++scatterCount;
       coneSpread = std::max(coneSpread, bs.glossy ? 0.1f : 0.5f);
-    }
-    if (scatterCount >= std::max(1u, settings.rouletteStart) && !bs.delta) {
-      const float survive = std::min(1.0f, std::max(0.05f, maxComponent(beta)));
-      if (uBsdf.w >= survive) break;
-      beta /= survive;
     }
     if (!(maxComponent(beta) > 0.0f)) break;
     ray = Ray{};

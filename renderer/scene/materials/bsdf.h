@@ -28,6 +28,13 @@ class Bsdf {
 
   /// True for the perfect mirror (no light sampling).
   bool isDelta() const { return mirror_; }
+  /// What the surface reflects of light from above, per channel, ignoring the glossy lobe's
+  /// shadowing: the albedo for a diffuse surface or a mirror, the lobes' mix of albedo and white
+  /// (or the albedo, when tinted) with a glossy one. For a diffuse surface it is sample()'s weight.
+  glm::vec3 reflectance() const {
+    if (mirror_) return albedo_;
+    return (1.0f - specular_) * albedo_ + specular_ * (tintedSpecular_ ? albedo_ : glm::vec3(1.0f));
+  }
   /// f(wo, wi) * |cos(n, wi)|; zero for directions below the geometric surface.
   glm::vec3 evalCos(const glm::vec3& wo, const glm::vec3& wi) const;
   /// Solid-angle pdf of sample() producing wi.

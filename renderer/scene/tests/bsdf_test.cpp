@@ -94,6 +94,30 @@ TEST(Bsdf, TintedGlossyLobeReflectsInTheAlbedosColour) {
   EXPECT_NEAR(sampledAlbedo(tinted, wo), in.albedo, 0.02 * in.albedo);
 }
 
+TEST(Bsdf, ReflectanceIsTheLambertWeightAndBoundsTheGlossyAlbedo) {
+  // The path integrator's roulette reads reflectance() before a direction is drawn: for a
+  // diffuse surface it must be exactly what a sample's weight multiplies the throughput by.
+  const glm::vec3 n(0, 0, 1);
+  const glm::vec3 albedo(0.15f, 0.35f, 0.8f);
+  const glm::vec3 wo = glm::normalize(glm::vec3(0.3f, 0.2f, 0.9f));
+  const Bsdf lambert(albedo, 0.0f, 0.3f, false, n, n);
+  EXPECT_EQ(lambert.reflectance(), albedo);
+  for (uint32_t i = 0; i < 4096; ++i) {
+    const glm::vec4 u = PixelSampler(3, i).get4(0);
+    BsdfSample s;
+    if (!lambert.sample(wo, {u.x, u.y, u.z}, s)) continue;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.weight[c], albedo[c], 1e-6f) << i;
+  }
+  EXPECT_EQ(Bsdf(albedo, 0.0f, 0.3f, true, n, n).reflectance(), albedo);   // a mirror
+  // With a glossy lobe: the lobes' mix, above what sampling reflects (the lobe's shadowing).
+  for (const bool tinted : {false, true}) {
+    const Bsdf glossy(albedo, 0.5f, 0.4f, false, n, n, tinted);
+    const glm::vec3 expected = 0.5f * albedo + 0.5f * (tinted ? albedo : glm::vec3(1.0f));
+    for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(glossy.reflectance()[c], expected[c]) << tinted;
+    EXPECT_GE(double{glossy.reflectance().g} + 1e-3, sampledAlbedo(glossy, wo)) << tinted;
+  }
+}
+
 TEST(Bsdf, MirrorIsDeltaWithAlbedoWeight) {
   const glm::vec3 n(0, 0, 1);
   const Bsdf mirror(glm::vec3(0.8f, 0.7f, 0.6f), 0.0f, 0.3f, true, n, n);

@@ -126,6 +126,31 @@ TEST(KnownAnswer, ClosedEmissiveSphereFurnace) { expectClosedEmissiveSphereFurna
 
 TEST(KnownAnswer, ClosedEmissiveSphereFurnaceWithRouletteFromTheFirstBounce) { expectClosedEmissiveSphereFurnace(1); }
 
+TEST(KnownAnswer, GlossyClosedSphereKeepsItsMeanWithRouletteFromTheFirstBounce) {
+  // The roulette reads the surface's reflectance before a direction is drawn. On a glossy
+  // surface that is not the sample's weight (as it is on a diffuse one), and the estimate must
+  // stay that of paths followed without roulette.
+  const auto render = [](uint32_t rouletteStart) {
+    Renderer r({2});
+    MaterialDesc m = test::diffuse(0.5f);
+    m.emission = glm::vec3(1.0f);
+    m.specular = 0.5f;
+    m.roughness = 0.4f;
+    const MaterialId mat = r.addMaterial(m);
+    test::MeshArrays s = test::sphere({0, 0, 0}, 2.0f, 12, 24);
+    s.setMaterial(mat);
+    r.addInstance({r.addMesh(s.desc())});
+    r.commit();
+    RenderSettings settings = settingsFor(Integrator::Path, 64, 32, 40);
+    settings.rouletteStart = rouletteStart;
+    return greyStats(r.render(lookAt({0.3f, -0.2f, 0.1f}, {1, 1, 0.5f}, 90.0f), settings));
+  };
+  const test::FrameStats without = render(41), first = render(1);
+  EXPECT_GT(without.mean, 1.5);   // more than the emission and one bounce of it
+  EXPECT_NEAR(first.mean, without.mean, 4.0 * std::hypot(first.standardError, without.standardError) + 1e-3 * without.mean);
+  EXPECT_GT(first.standardError, without.standardError);   // roulette ended paths: samples differ more
+}
+
 /// Large floor quad at z = 0 (albedo a) and a camera between it and an overhead emitter,
 /// looking straight down at the foot point with a 1 degree field of view.
 struct FloorScene {
