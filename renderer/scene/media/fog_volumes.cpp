@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 
 #include "renderer/scene/textures/texture.h"
 
@@ -16,6 +17,54 @@ constexpr float kParallel = 1e-12f;
 constexpr float kEndSlack = 1e-4f;            // relative tolerance of "the segment ends inside"           // |dot(n, dir)| below this: the ray runs along the plane
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// Sets volume's box from its corners (every point where three planes meet that lies inside
+/// the others), in double precision, when the volume is bounded: clipped to a cube of side
+/// 2 kFar, a corner on the cube means it is not (nor is one with no corner at all).
+void boxVolume(FogVolume& volume) {
+  constexpr double kFar = 1e9;
+  if (volume.planes.size() > kMaxBoxedFogPlanes) return;
+  std::vector<glm::dvec4> planes(volume.planes.begin(), volume.planes.end());
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double sign : {1.0, -1.0}) {
+      glm::dvec4 p(0.0);
+      p[axis] = sign;
+      p.w = kFar;
+      planes.push_back(p);
+    }
+  glm::dvec3 lo(kFar), hi(-kFar);
+  bool any = false;
+  const size_t n = planes.size();
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j)
+      for (size_t k = j + 1; k < n; ++k) {
+        const glm::dvec3 a(planes[i]), b(planes[j]), c(planes[k]);
+        const glm::dvec3 bc = glm::cross(b, c);
+        const double det = glm::dot(a, bc);
+        if (!(std::fabs(det) > 1e-9)) continue;   // two of them (nearly) parallel: no single corner
+        const glm::dvec3 corner = (planes[i].w * bc + planes[j].w * glm::cross(c, a) + planes[k].w * glm::cross(a, b)) / det;
+        const double slack = 1e-6 * (1.0 + glm::length(corner));
+        if (!std::all_of(planes.begin(), planes.end(),
+                         [&](const glm::dvec4& p) { return glm::dot(glm::dvec3(p), corner) - p.w <= slack; }))
+          continue;
+        lo = glm::min(lo, corner);
+        hi = glm::max(hi, corner);
+        any = true;
+      }
+  if (!any || glm::any(glm::greaterThanEqual(glm::max(glm::abs(lo), glm::abs(hi)), glm::dvec3(0.5 * kFar)))) return;
+  // Wider than fogInterval's float rounding can reach past the planes (a few float steps of the
+  // coordinates and distances involved): a segment outside it crosses none of the volume.
+  const glm::dvec3 far = glm::max(glm::abs(lo), glm::abs(hi));
+  const double margin = 1e-3 * (1.0 + std::max({far.x, far.y, far.z}));
+  volume.boxMin = glm::vec3(lo - margin);
+  volume.boxMax = glm::vec3(hi + margin);
+  volume.boxed = true;
+}
+
+/// True when the segment from a to b (its box) lies wholly outside the volume's box.
+bool passesWideOf(const FogVolume& volume, const glm::vec3& a, const glm::vec3& b) {
+  return glm::any(glm::lessThan(glm::max(a, b), volume.boxMin)) || glm::any(glm::greaterThan(glm::min(a, b), volume.boxMax));
+}
 
 }  // namespace
 
@@ -40,6 +89,7 @@ FogVolume makeFogVolume(const FogVolumeDesc& desc, const std::string& what) {
     if (!(length > 1e-6f)) throw SceneError(what + ": plane " + std::to_string(i) + " has a zero normal");
     volume.planes.emplace_back(n / length, p.w / length);
   }
+  boxVolume(volume);
   return volume;
 }
 
@@ -102,7 +152,10 @@ FogSegment::FogSegment(std::span<const FogVolume> volumes, const glm::vec3& orig
     : lengthScale_(lengthScale) {
   const bool endFinite = std::isfinite(tEnd);
   const float endSlack = endFinite ? kEndSlack * std::max(1.0f, tEnd) : 0.0f;   // hits on the boundary are inside
+  const glm::vec3 end = origin + tEnd * dir;   // finite where endFinite (and the segment is)
+  const bool boxable = endFinite && finite(end);
   for (const FogVolume& volume : volumes) {
+    if (boxable && volume.boxed && passesWideOf(volume, origin, end)) continue;
     Crossing c;
     if (!fogInterval(volume, origin, dir, tEnd, c.t0, c.t1)) continue;
     const bool holdsEnd = endFinite ? c.t1 + endSlack >= tEnd : std::isinf(c.t1);

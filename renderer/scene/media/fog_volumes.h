@@ -23,15 +23,24 @@ struct FogVolume {
   std::vector<glm::vec4> planes;
   glm::vec3 color{0.0f};
   float depthForOpaque = 1.0f;
+  /// A box holding the volume with a margin past fogInterval's rounding, when it is bounded and
+  /// has at most kMaxBoxedFogPlanes planes (else `boxed` is false): FogSegment skips the volume
+  /// for a finite segment whose own box lies outside it, without clipping it plane by plane.
+  bool boxed = false;
+  glm::vec3 boxMin{0.0f}, boxMax{0.0f};
 };
 
 /// Most planes one volume may have (Quake brushes have 6 to a few dozen sides).
 inline constexpr size_t kMaxFogPlanes = 256;
 /// Most fog volumes one scene may have (a BSP's fog lump is capped at 256 by the engine).
 inline constexpr size_t kMaxFogVolumes = 1024;
+/// Most planes of a volume whose box makeFogVolume works out (its corners, three planes at a time;
+/// Quake fog brushes have 6 to about 20 sides).
+inline constexpr size_t kMaxBoxedFogPlanes = 32;
 
 /// Validates a description (finite numbers, non-zero normals, 1..kMaxFogPlanes planes,
-/// depthForOpaque > 0, colour >= 0) and normalises its planes; throws SceneError naming `what`.
+/// depthForOpaque > 0, colour >= 0), normalises its planes and works out its box (FogVolume::boxed);
+/// throws SceneError naming `what`.
 FogVolume makeFogVolume(const FogVolumeDesc& desc, const std::string& what);
 
 /// Opacity of a segment of length `length` inside a fog of the given distance to opaque.

@@ -82,6 +82,62 @@ TEST(FogVolume, IntervalOfARayThroughABox) {
   EXPECT_FALSE(fogInterval(box, {-5, 0.5f, 0.5f}, {-1, 0, 0}, 100.0f, t0, t1)); // points away
 }
 
+TEST(FogVolume, BoxHoldsABoundedVolumeAndOnlySegmentsThatMissItSkipIt) {
+  const std::vector<glm::vec4> cube = boxPlanes({-1, 2, 3}, {4, 5, 7});
+  FogVolumeDesc desc;
+  desc.planes = cube;
+  const FogVolume box = makeFogVolume(desc, "box");
+  ASSERT_TRUE(box.boxed);
+  for (int a = 0; a < 3; ++a) {   // the box with a margin of about 1e-3 of its coordinates
+    EXPECT_LT(box.boxMin[a], glm::vec3(-1, 2, 3)[a]);
+    EXPECT_GT(box.boxMin[a], glm::vec3(-1, 2, 3)[a] - 0.05f);
+    EXPECT_GT(box.boxMax[a], glm::vec3(4, 5, 7)[a]);
+    EXPECT_LT(box.boxMax[a], glm::vec3(4, 5, 7)[a] + 0.05f);
+  }
+  // A tetrahedron (a slanted face): its box holds its four corners.
+  const std::vector<glm::vec4> tetra = {{-1, 0, 0, 0}, {0, -1, 0, 0}, {0, 0, -1, 0}, {1, 1, 1, 2}};
+  desc.planes = tetra;
+  const FogVolume wedge = makeFogVolume(desc, "tetrahedron");
+  ASSERT_TRUE(wedge.boxed);
+  EXPECT_NEAR(wedge.boxMax.x, 2.0f, 0.01f);
+  EXPECT_NEAR(wedge.boxMin.y, 0.0f, 0.01f);
+  // Open volumes (a box missing a side, a half-space) and volumes of many planes get no box.
+  const std::vector<glm::vec4> open(cube.begin(), cube.begin() + 5);
+  desc.planes = open;
+  EXPECT_FALSE(makeFogVolume(desc, "open box").boxed);
+  desc.planes = std::span<const glm::vec4>(cube.data(), 1);
+  EXPECT_FALSE(makeFogVolume(desc, "half-space").boxed);
+  std::vector<glm::vec4> many = cube;
+  for (size_t i = many.size(); i <= kMaxBoxedFogPlanes; ++i) many.push_back({1, 0, 0, 4.0f + float(i)});   // redundant
+  desc.planes = many;
+  EXPECT_FALSE(makeFogVolume(desc, "many planes").boxed);
+  // Segments about both volumes, many grazing their faces, edges and corners: the same crossings
+  // with the box as clipped plane by plane.
+  for (const FogVolume* volume : {&box, &wedge}) {
+    FogVolume unboxed = *volume;
+    unboxed.boxed = false;
+    const glm::vec3 centre = 0.5f * (volume->boxMin + volume->boxMax), half = 0.5f * (volume->boxMax - volume->boxMin);
+    uint32_t state = 12345u, crossed = 0;
+    const auto next = [&] {
+      state = state * 1664525u + 1013904223u;
+      return float(state >> 8) / float(1u << 24) * 2.0f - 1.0f;   // [-1, 1)
+    };
+    for (int i = 0; i < 20000; ++i) {
+      const glm::vec3 origin = centre + 2.5f * half * glm::vec3(next(), next(), next());
+      glm::vec3 target = centre + 1.2f * half * glm::vec3(next(), next(), next());
+      if (i % 3 == 0) target[i % 9 / 3] = (i % 2 ? volume->boxMin : volume->boxMax)[i % 9 / 3];   // on a face plane
+      const float tEnd = 0.5f + 1.5f * (next() + 1.0f);
+      const FogSegment a(std::span(volume, 1), origin, target - origin, tEnd, 1.0f);
+      const FogSegment b(std::span(&unboxed, 1), origin, target - origin, tEnd, 1.0f);
+      ASSERT_EQ(a.transmittance(), b.transmittance()) << i;
+      ASSERT_EQ(a.glow(), b.glow()) << i;
+      crossed += a.empty() ? 0 : 1;
+    }
+    EXPECT_GT(crossed, 2000u);   // many segments cross the volume, many miss it
+    EXPECT_LT(crossed, 18000u);
+  }
+}
+
 TEST(FogVolume, SegmentComposesVolumesFrontToBack) {
   const std::vector<glm::vec4> nearPlanes = boxPlanes({1, -1, -1}, {3, 1, 1});
   const std::vector<glm::vec4> farPlanes = boxPlanes({5, -1, -1}, {9, 1, 1});
