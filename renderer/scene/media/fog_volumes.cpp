@@ -51,10 +51,10 @@ void boxVolume(FogVolume& volume) {
         hi = glm::max(hi, corner);
         any = true;
       }
-  if (!any || glm::any(glm::greaterThanEqual(glm::max(glm::abs(lo), glm::abs(hi)), glm::dvec3(0.5 * kFar)))) return;
+  const glm::dvec3 far = glm::max(glm::abs(lo), glm::abs(hi));
+  if (!any || glm::any(glm::greaterThanEqual(far, glm::dvec3(0.5 * kFar)))) return;
   // Wider than fogInterval's float rounding can reach past the planes (a few float steps of the
   // coordinates and distances involved): a segment outside it crosses none of the volume.
-  const glm::dvec3 far = glm::max(glm::abs(lo), glm::abs(hi));
   const double margin = 1e-3 * (1.0 + std::max({far.x, far.y, far.z}));
   volume.boxMin = glm::vec3(lo - margin);
   volume.boxMax = glm::vec3(hi + margin);
@@ -150,6 +150,7 @@ bool fogMayHoldEndsIn(std::span<const FogVolume> volumes, const glm::vec3& lo, c
 FogSegment::FogSegment(std::span<const FogVolume> volumes, const glm::vec3& origin, const glm::vec3& dir, float tEnd,
                        float lengthScale, bool endInsideOnly)
     : lengthScale_(lengthScale) {
+  if (volumes.empty()) return;   // most maps: no fog, and no end point to work out per segment
   const bool endFinite = std::isfinite(tEnd);
   const float endSlack = endFinite ? kEndSlack * std::max(1.0f, tEnd) : 0.0f;   // hits on the boundary are inside
   const glm::vec3 end = origin + tEnd * dir;   // finite where endFinite (and the segment is)
