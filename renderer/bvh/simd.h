@@ -102,21 +102,38 @@ inline vfloat8 abs(vfloat8 a) {
   const vfloat8 magnitude(std::bit_cast<float>(0x7fffffffu));
   return a & magnitude;
 }
-/// The smallest of the lanes in mask (+inf when none).
-inline float minOverLanes(vfloat8 a, unsigned mask) {
-  alignas(32) float t[8];
-  a.store(t);
-  float lo = std::numeric_limits<float>::infinity();
-  for (; mask; mask &= mask - 1) lo = std::min(lo, t[std::countr_zero(mask)]);
-  return lo;
+namespace detail {
+/// The lanes of `a` in mask that hold a number; `fill` in the others.
+inline vfloat8 lanesOrFill(vfloat8 a, unsigned mask, float fill) {
+  return select(mask & static_cast<unsigned>((a == a).mask()), vfloat8(fill), a);
 }
-/// The largest of the lanes in mask (-inf when none).
+/// Lanes 0-3 and 4-7 of a.
+inline void halves(vfloat8 a, __m128& lo, __m128& hi) {
+#if defined(__AVX2__)
+  lo = _mm256_castps256_ps128(a.v), hi = _mm256_extractf128_ps(a.v, 1);
+#else
+  lo = a.lo, hi = a.hi;
+#endif
+}
+}  // namespace detail
+
+/// The smallest of the lanes in mask (+inf when none; NaN lanes are passed over), reduced in
+/// registers: the packet kernels take several per packet and per leaf, and a loop over the lanes
+/// after a store was a chain of dependent scalar operations.
+inline float minOverLanes(vfloat8 a, unsigned mask) {
+  __m128 lo, hi;
+  detail::halves(detail::lanesOrFill(a, mask, std::numeric_limits<float>::infinity()), lo, hi);
+  __m128 r = _mm_min_ps(lo, hi);
+  r = _mm_min_ps(r, _mm_movehl_ps(r, r));
+  return _mm_cvtss_f32(_mm_min_ss(r, _mm_movehdup_ps(r)));
+}
+/// The largest of the lanes in mask (-inf when none; NaN lanes are passed over).
 inline float maxOverLanes(vfloat8 a, unsigned mask) {
-  alignas(32) float t[8];
-  a.store(t);
-  float hi = -std::numeric_limits<float>::infinity();
-  for (; mask; mask &= mask - 1) hi = std::max(hi, t[std::countr_zero(mask)]);
-  return hi;
+  __m128 lo, hi;
+  detail::halves(detail::lanesOrFill(a, mask, -std::numeric_limits<float>::infinity()), lo, hi);
+  __m128 r = _mm_max_ps(lo, hi);
+  r = _mm_max_ps(r, _mm_movehl_ps(r, r));
+  return _mm_cvtss_f32(_mm_max_ss(r, _mm_movehdup_ps(r)));
 }
 
 }  // namespace pa::simd
