@@ -136,4 +136,41 @@ inline float maxOverLanes(vfloat8 a, unsigned mask) {
   return _mm_cvtss_f32(_mm_max_ss(r, _mm_movehdup_ps(r)));
 }
 
+/// Sixteen lanes as two vfloat8 (lanes 0-7 in lo, 8-15 in hi): the baseline kernels' camera-ray
+/// packets of sixteen rays, one ray per lane. Each operation is vfloat8's on both halves.
+struct vfloat8x2 {
+  vfloat8 lo, hi;
+  vfloat8x2() = default;
+  vfloat8x2(vfloat8 l, vfloat8 h) : lo(l), hi(h) {}
+  explicit vfloat8x2(float x) : lo(x), hi(x) {}
+  static vfloat8x2 load(const float* p) { return {vfloat8::load(p), vfloat8::load(p + 8)}; }
+  void store(float* p) const { lo.store(p), hi.store(p + 8); }
+  /// One bit per lane.
+  int mask() const { return lo.mask() | hi.mask() << 8; }
+#define PA_SIMD_PAIR_OP(op) \
+  friend vfloat8x2 operator op(vfloat8x2 a, vfloat8x2 b) { return {a.lo op b.lo, a.hi op b.hi}; }
+  PA_SIMD_PAIR_OP(+) PA_SIMD_PAIR_OP(-) PA_SIMD_PAIR_OP(*) PA_SIMD_PAIR_OP(/) PA_SIMD_PAIR_OP(&)
+  PA_SIMD_PAIR_OP(|) PA_SIMD_PAIR_OP(<) PA_SIMD_PAIR_OP(<=) PA_SIMD_PAIR_OP(>) PA_SIMD_PAIR_OP(>=)
+  PA_SIMD_PAIR_OP(==) PA_SIMD_PAIR_OP(!=)
+#undef PA_SIMD_PAIR_OP
+};
+/// max(a, b) per lane; where a is NaN the result is b.
+inline vfloat8x2 maxKeep(vfloat8x2 a, vfloat8x2 b) { return {maxKeep(a.lo, b.lo), maxKeep(a.hi, b.hi)}; }
+/// min(a, b) per lane; where a is NaN the result is b.
+inline vfloat8x2 minKeep(vfloat8x2 a, vfloat8x2 b) { return {minKeep(a.lo, b.lo), minKeep(a.hi, b.hi)}; }
+/// b where mask has the lane's bit, else a.
+inline vfloat8x2 select(unsigned mask, vfloat8x2 a, vfloat8x2 b) {
+  return {select(mask & 0xffu, a.lo, b.lo), select(mask >> 8 & 0xffu, a.hi, b.hi)};
+}
+/// |a| per lane.
+inline vfloat8x2 abs(vfloat8x2 a) { return {abs(a.lo), abs(a.hi)}; }
+/// The smallest of the lanes in mask (+inf when none; NaN lanes are passed over).
+inline float minOverLanes(vfloat8x2 a, unsigned mask) {
+  return std::min(minOverLanes(a.lo, mask & 0xffu), minOverLanes(a.hi, mask >> 8 & 0xffu));
+}
+/// The largest of the lanes in mask (-inf when none; NaN lanes are passed over).
+inline float maxOverLanes(vfloat8x2 a, unsigned mask) {
+  return std::max(maxOverLanes(a.lo, mask & 0xffu), maxOverLanes(a.hi, mask >> 8 & 0xffu));
+}
+
 }  // namespace pa::simd

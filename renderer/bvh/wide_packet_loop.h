@@ -9,7 +9,8 @@
 // therefore the single-ray kernel's; only the order in which leaves are visited differs (which
 // of two hits at exactly the same distance is kept).
 //
-// L supplies, beyond what the single-ray loop needs:
+// L supplies, beyond what the single-ray loop needs (or what its SingleRayLanes need, where it
+// names lanes of its own for leaves tested ray by ray):
 //   loadRays                         PacketRays of rays[i] in lane i for the lanes given, the
 //                                    first of them in every other lane
 //   Float ops                        abs, select(bits, a, b), minOverLanes, maxOverLanes
@@ -95,6 +96,17 @@ PA_BVH_INLINE bool popLivePacketEntry(const PacketEntry<kRays>* stack, int& top,
 /// layout's (Eight: WideNode or TrianglePack), else L::Float.
 template <class L, class NodeOrPack, class Eight>
 using LayoutFloat = std::conditional_t<std::is_same_v<NodeOrPack, Eight>, typename L::Float8, typename L::Float>;
+
+/// The lane traits a packet's leaf is tested with ray by ray: L::SingleRayLanes where L names
+/// them (packets wider than the single-ray lanes), else L.
+template <class L, class = void>
+struct SingleRayLanesOf {
+  using type = L;
+};
+template <class L>
+struct SingleRayLanesOf<L, std::void_t<typename L::SingleRayLanes>> {
+  using type = typename L::SingleRayLanes;
+};
 
 /// Leaves reached by at most this many rays of a shear class are tested ray by ray (a pack's
 /// triangles per instruction); more rays test the leaf triangle by triangle (rays per
@@ -435,6 +447,7 @@ PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, 
                                       typename L::Float& tmax, PacketNearest<typename L::Float>& nearest,
                                       const Ray* rays, Hit* hits, const HitFilter* filters, uint32_t instanceId) {
   using Float = typename L::Float;
+  using S = typename SingleRayLanesOf<L>::type;
   unsigned found = 0;
   for (int c = 0; c < 6; ++c) {
     const unsigned classRays = currentRays & p.classRays[c];
@@ -445,7 +458,7 @@ PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, 
       for (unsigned r = classRays; r; r &= r - 1) {
         const int lane = std::countr_zero(r);
         const Ray& ray = rays[lane];
-        if (testLeaf<L, false>(bvh, ref, TriangleRay<L>(ray, filters[lane].cull), ray, p.tmax[lane], hits[lane],
+        if (testLeaf<S, false>(bvh, ref, TriangleRay<S>(ray, filters[lane].cull), ray, p.tmax[lane], hits[lane],
                                filters[lane], instanceId))
           hitAlone |= 1u << lane;
       }

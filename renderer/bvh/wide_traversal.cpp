@@ -264,6 +264,66 @@ struct BaselineLanes {
   }
 };
 
+/// Camera-ray packets of sixteen rays (a 4x4 pixel block) over the 8-wide layout with the
+/// baseline lanes: each ray operation on two registers of eight (vfloat8x2), so the block walks
+/// the tree once, not as two packets of eight that each cull and pop the same nodes. Node and
+/// pack boxes are culled for the packet in eight lanes (Float8); leaves reached by one or two
+/// rays of a shear class are tested with the single-ray lanes. Each half's operations are
+/// BaselineLanes', so every ray's answer is still the single-ray kernel's.
+struct BaselinePacketLanes16 {
+  using Float = simd::vfloat8x2;
+  using Float8 = vfloat8;
+  using Node = WideNode;
+  using Bvh = WideBvh;
+  using SingleRayLanes = BaselineLanes;
+  static constexpr uint32_t kWidth = 2 * kWideWidth;
+  static constexpr bool kOctantOrder = false;
+  static constexpr bool kSmallLeaves = false;
+
+  /// The edge functions u, v, w of the lanes in onEdge, again in double (as the scalar test).
+  static void redoEdgesInDouble(unsigned onEdge, Float ax, Float ay, Float bx, Float by, Float cx, Float cy, Float& u,
+                                Float& v, Float& w) {
+    if (const unsigned low = onEdge & 0xffu)
+      BaselineLanes::redoEdgesInDouble(low, ax.lo, ay.lo, bx.lo, by.lo, cx.lo, cy.lo, u.lo, v.lo, w.lo);
+    if (const unsigned high = onEdge >> 8 & 0xffu)
+      BaselineLanes::redoEdgesInDouble(high, ax.hi, ay.hi, bx.hi, by.hi, cx.hi, cy.hi, u.hi, v.hi, w.hi);
+  }
+
+  /// rays[i] in lane i for the lanes given; every other lane holds one of them (a half without
+  /// one holds the first).
+  static PacketRays<Float> loadRays(const Ray* rays, unsigned lanes) {
+    const int first = std::countr_zero(lanes);
+    const unsigned low = lanes & 0xffu, high = lanes >> 8 & 0xffu;
+    const PacketRays<vfloat8> lo = low ? BaselineLanes::loadRays(rays, low) : BaselineLanes::loadRays(rays + first, 1u);
+    const PacketRays<vfloat8> hi =
+        high ? BaselineLanes::loadRays(rays + kWideWidth, high) : BaselineLanes::loadRays(rays + first, 1u);
+    PacketRays<Float> r;
+    for (int axis = 0; axis < 3; ++axis) r.o[axis] = {lo.o[axis], hi.o[axis]}, r.d[axis] = {lo.d[axis], hi.d[axis]};
+    r.tmin = {lo.tmin, hi.tmin};
+    r.tmax = {lo.tmax, hi.tmax};
+    return r;
+  }
+
+  /// Each ray's origin and direction in double, per half.
+  struct PacketPlane {
+    BaselineLanes::PacketPlane lo, hi;
+    PacketPlane() = default;
+    PacketPlane(const Float (&origin)[3], const Float (&dir)[3])
+        : lo({origin[0].lo, origin[1].lo, origin[2].lo}, {dir[0].lo, dir[1].lo, dir[2].lo}),
+          hi({origin[0].hi, origin[1].hi, origin[2].hi}, {dir[0].hi, dir[1].hi, dir[2].hi}) {}
+  };
+
+  /// planeHitDistance of triangle `lane` of the pack for each ray (lane) in rays, fallback
+  /// elsewhere (BaselineLanes' per half that holds one of the rays).
+  static Float planeDistancesOverRays(const TrianglePack& pack, int lane, const PacketPlane& r, unsigned rays,
+                                      Float fallback) {
+    Float t = fallback;
+    if (const unsigned low = rays & 0xffu) t.lo = BaselineLanes::planeDistancesOverRays(pack, lane, r.lo, low, t.lo);
+    if (const unsigned high = rays >> 8 & 0xffu)
+      t.hi = BaselineLanes::planeDistancesOverRays(pack, lane, r.hi, high, t.hi);
+    return t;
+  }
+};
 
 }  // namespace
 
@@ -286,7 +346,7 @@ unsigned intersectWidePacket(const WideBvh& bvh, Ray* rays, Hit* hits, unsigned 
   if (bvh.kernel == WideKernel::Avx512)
     return intersectWidePacketAvx512(bvh, rays, hits, active, filters, instanceId);
 #endif
-  return intersectPacket<BaselineLanes, intersectWide>(bvh, rays, hits, active, filters, instanceId);
+  return intersectPacket<BaselinePacketLanes16, intersectWide>(bvh, rays, hits, active, filters, instanceId);
 }
 
 bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId) {

@@ -148,6 +148,11 @@ TEST_P(BlasPackets, SameHitsAsRayByRay) {
     // Partly active camera packets, random rays spanning octants, rays along axis planes.
     hits += expectSameAsOneByOne(cameraTiles({-2.0f, 2.0f, -1.0f}, {0.0f, 0.0f, 0.0f}, 32, 32), param.filtered,
                                  0x5a3cu, packet, one);
+    // Packets with rays in one half of the sixteen lanes only (the baseline kernel's halves).
+    hits += expectSameAsOneByOne(cameraTiles({-2.0f, 2.0f, -1.0f}, {0.0f, 0.0f, 0.0f}, 32, 32), param.filtered,
+                                 0x0f00u, packet, one);
+    hits += expectSameAsOneByOne(cameraTiles({-2.0f, 2.0f, -1.0f}, {0.0f, 0.0f, 0.0f}, 32, 32), param.filtered,
+                                 0x00c3u, packet, one);
     hits += expectSameAsOneByOne(makeRandomRays(region, 4096, 17), param.filtered, 0xffffu, packet, one);
     hits += expectSameAsOneByOne(axisPlaneRays(region, 4096, 23), param.filtered, 0xfff7u, packet, one);
     EXPECT_GT(hits, minimumHits);
