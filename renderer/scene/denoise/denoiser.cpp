@@ -340,7 +340,16 @@ void Denoiser::estimateVarianceRows(uint32_t y0, uint32_t y1) {
     }
     const GuideRows& centre = taps[kVarianceRadius];
     const float *depthDx = depthDx_.row(row), *depthDy = depthDy_.row(row);
+    const float *own = ownVariance_.row(row), *gives = centre.gives;
     for (int x = 0; x < width; x += lanes::kCount) {
+      const lanes::I estimated = ~(lanes::load(own + x) > 0.0f) & (lanes::load(gives + x) > 0.0f);
+      if (!lanes::any(estimated)) {
+        // Each pixel here keeps the variance its history measured, or has none (below): nothing to estimate.
+        lanes::store(scratch.red.data() + x, lanes::splat(0.0f));
+        lanes::store(scratch.weight.data() + x, lanes::splat(1.0f));
+        lanes::store(scratch.variance.data() + x, lanes::splat(0.0f));
+        continue;
+      }
       const lanes::F centreRed = lanes::load(red[kVarianceRadius] + x);
       const lanes::F centreGreen = lanes::load(green[kVarianceRadius] + x);
       const lanes::F centreBlue = lanes::load(blue[kVarianceRadius] + x);
@@ -369,8 +378,6 @@ void Denoiser::estimateVarianceRows(uint32_t y0, uint32_t y1) {
       lanes::store(scratch.weight.data() + x, weight);
       lanes::store(scratch.variance.data() + x, squares);
     }
-    const float* gives = gives_.row(row);
-    const float* own = ownVariance_.row(row);
     const float* given = current_.variance.row(row);
     float* out = next_.variance.row(row);
     for (int x = 0; x < width; ++x) {

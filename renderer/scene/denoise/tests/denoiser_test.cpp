@@ -139,6 +139,39 @@ TEST(Denoiser, ConvergedPixelVarianceLeavesTheImageAlone) {
   for (size_t i = 0; i < out.size(); ++i) EXPECT_NEAR(out[i].g, f.radiance[i].g, 1e-3f) << i;
 }
 
+TEST(Denoiser, PixelsWithHistoryKeepItsVarianceAndTheOthersGetAnEstimate) {
+  // Temporal history: pixels of 4 or more frames take the film's variance (0 here: converged, the
+  // noise is the picture), the others an estimate from their neighbourhood. The split at column
+  // 61 leaves lane blocks wholly on either side and one across it; a few pixels next to it have a
+  // short history, and sky pixels (none of either) sit in the history side.
+  Frame f(96, 64);
+  addNoise(f, 0.9f);
+  constexpr uint32_t kSplit = 61;
+  std::vector<float> history(f.radiance.size(), 0.0f);
+  for (uint32_t y = 0; y < f.height; ++y)
+    for (uint32_t x = 0; x < kSplit; ++x) history[f.at(x, y)] = 8.0f;
+  for (uint32_t y = 8; y < f.height; y += 16) history[f.at(kSplit - 4, y)] = 2.0f;
+  for (uint32_t x = 0; x < 20; ++x) f.depth[f.at(x, 0)] = kInf;   // sky along the top row's left
+  Guides guides = f.guides();
+  guides.historyLength = history;
+  std::vector<glm::vec3> out = f.radiance;
+  Denoiser().apply(guides, out);
+  // The history side keeps nearly all of its "noise" (its variance says it is the picture); the
+  // other side loses most of it.
+  const Stats keptBefore = statsOf(f, f.radiance, 2, 24, 2, 62), keptAfter = statsOf(f, out, 2, 24, 2, 62);
+  EXPECT_NEAR(keptAfter.mean, keptBefore.mean, 0.01);
+  EXPECT_GT(keptAfter.variance, 0.8 * keptBefore.variance) << keptBefore.variance << " " << keptAfter.variance;
+  const Stats before = statsOf(f, f.radiance, kSplit + 6, 90, 8, 56), after = statsOf(f, out, kSplit + 6, 90, 8, 56);
+  EXPECT_NEAR(after.mean, 0.5, 0.03);
+  EXPECT_LT(after.variance * 10.0, before.variance) << "before " << before.variance << " after " << after.variance;
+  // A short history among long ones still gets its estimate: it is pulled toward its neighbours.
+  for (uint32_t y = 8; y < f.height; y += 16) {
+    const size_t i = f.at(kSplit - 4, y);
+    EXPECT_NE(out[i].g, f.radiance[i].g) << y;
+  }
+  EXPECT_EQ(out[f.at(3, 0)], f.radiance[f.at(3, 0)]);   // sky passes through
+}
+
 /// Splits the frame at column `edge`: `left` / `right` edit one pixel of each side. Then checks
 /// that the two columns touching the edge keep their side's true radiance.
 template <typename Edit>
