@@ -412,7 +412,13 @@ void Denoiser::filterRows(uint32_t step, uint32_t y0, uint32_t y1) {
     }
     const GuideRows& centre = taps[1];
     const float *depthDx = depthDx_.row(row), *depthDy = depthDy_.row(row);
+    const float* takes = takes_.row(row);
     for (int x = 0; x < width; x += lanes::kCount) {
+      if (!lanes::any(lanes::load(takes + x) > 0.0f)) {
+        // No pixel here is filtered (sky, black albedo): each takes 0 below, whatever its sums.
+        lanes::store(scratch.weight.data() + x, lanes::splat(0.0f));
+        continue;
+      }
       // Noise of each pixel: 3 x 3 blur of the variance over valid pixels, as a luminance tolerance.
       lanes::F blurWeight = lanes::splat(0.0f), blurred = blurWeight;
       for (int dy = -1; dy <= 1; ++dy) {
@@ -458,7 +464,6 @@ void Denoiser::filterRows(uint32_t step, uint32_t y0, uint32_t y1) {
       lanes::store(scratch.weight.data() + x, weight);
       lanes::store(scratch.variance.data() + x, sumVariance);
     }
-    const float* takes = takes_.row(row);
     float* outRed = next_.red.row(row);
     float* outGreen = next_.green.row(row);
     float* outBlue = next_.blue.row(row);
