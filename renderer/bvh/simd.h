@@ -136,6 +136,29 @@ inline float maxOverLanes(vfloat8 a, unsigned mask) {
   return _mm_cvtss_f32(_mm_max_ss(r, _mm_movehdup_ps(r)));
 }
 
+#if defined(__AVX2__)
+/// Eight rows of eight floats (any alignment) as eight columns: lane i of out[k] is rows[i][k].
+/// Eight loads and 24 shuffles: what eight gathers of one field each would read.
+inline void transposeEight(const float* const rows[8], __m256 out[8]) {
+  __m256 r[8], t[8];
+  for (int i = 0; i < 8; ++i) r[i] = _mm256_loadu_ps(rows[i]);
+  for (int i = 0; i < 8; i += 2) {
+    t[i] = _mm256_unpacklo_ps(r[i], r[i + 1]);       // a0 b0 a1 b1 | a4 b4 a5 b5
+    t[i + 1] = _mm256_unpackhi_ps(r[i], r[i + 1]);   // a2 b2 a3 b3 | a6 b6 a7 b7
+  }
+  for (int i = 0; i < 8; i += 4) {
+    r[i] = _mm256_shuffle_ps(t[i], t[i + 2], 0x44);       // column 0 | 4 of rows i..i+3
+    r[i + 1] = _mm256_shuffle_ps(t[i], t[i + 2], 0xee);   // column 1 | 5
+    r[i + 2] = _mm256_shuffle_ps(t[i + 1], t[i + 3], 0x44);   // column 2 | 6
+    r[i + 3] = _mm256_shuffle_ps(t[i + 1], t[i + 3], 0xee);   // column 3 | 7
+  }
+  for (int k = 0; k < 4; ++k) {
+    out[k] = _mm256_permute2f128_ps(r[k], r[k + 4], 0x20);
+    out[k + 4] = _mm256_permute2f128_ps(r[k], r[k + 4], 0x31);
+  }
+}
+#endif
+
 /// Sixteen lanes as two vfloat8 (lanes 0-7 in lo, 8-15 in hi): the baseline kernels' camera-ray
 /// packets of sixteen rays, one ray per lane. Each operation is vfloat8's on both halves.
 struct vfloat8x2 {

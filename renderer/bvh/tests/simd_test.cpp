@@ -46,5 +46,22 @@ TEST(Simd, ReductionsOverLanesTakeTheLanesInTheMaskAndPassOverNaN) {
   EXPECT_EQ(maxOverLanes(any, 0), -kInf);
 }
 
+#if defined(__AVX2__)
+TEST(Simd, TransposeEightMakesRowsColumns) {
+  float rows[8][9];   // rows one float apart from an aligned start: any alignment is read
+  for (int i = 0; i < 8; ++i)
+    for (int k = 0; k < 9; ++k) rows[i][k] = static_cast<float>(100 * i + k);
+  const float* starts[8];
+  for (int i = 0; i < 8; ++i) starts[i] = &rows[7 - i][1];   // reversed, so order matters
+  __m256 columns[8];
+  transposeEight(starts, columns);
+  for (int k = 0; k < 8; ++k) {
+    alignas(32) float lane[8];
+    _mm256_store_ps(lane, columns[k]);
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(lane[i], rows[7 - i][1 + k]) << "column " << k << " lane " << i;
+  }
+}
+#endif
+
 }  // namespace
 }  // namespace pa::simd
