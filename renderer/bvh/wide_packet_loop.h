@@ -215,8 +215,9 @@ PA_BVH_INLINE void finishPacket(const PacketRays<typename L::Float>& r, unsigned
 /// (current; currentRays stay) and defers the others farthest first: in the node's order for
 /// the octant (L::kOctantOrder), else by their least entry distance. No per-ray slab test: on
 /// camera packets nearly every ray enters what the interval test lets through, and the leaves
-/// test each ray exactly (5-8% more primary rays per second than testing each child against
-/// each ray, `scripts/bench_maps.sh`). False when no child is entered.
+/// test each ray exactly (on five maps at 1024x576, 6% more primary rays per second with
+/// AVX-512 and 16% with AVX2 than testing each child against each ray, `scripts/bench_maps.sh`).
+/// False when no child is entered.
 template <class L>
 PA_BVH_INLINE bool enterPacketChildren(const typename L::Node& node, const Packet<L>& p, float tmaxHi,
                                        PacketEntry* stack, int& top, uint32_t& current, unsigned currentRays) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include <tbb/task_arena.h>
@@ -259,6 +260,32 @@ TEST(TemporalFilter, RejectionRowsAtEveryWidth) {
   }
 }
 
+/// The same filter twice, reprojecting by row lanes and pixel by pixel: each frame must give
+/// both the same bits (radiance, variance, history length).
+struct LanesAndSingle {
+  TemporalFilter lanes;
+  TemporalFilter single{[] {
+    Config c;
+    c.rowLanes = false;
+    return c;
+  }()};
+  /// Accumulates `f` with both and compares; true when they agree.
+  ::testing::AssertionResult accumulate(Synthetic& f) {
+    std::vector<glm::vec3> a = f.radiance, b = f.radiance;
+    lanes.accumulate(f.inputs(), a);
+    single.accumulate(f.inputs(), b);
+    const auto same = [](const auto& x, const auto& y) {
+      return std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0;
+    };
+    if (!same(a, b)) return ::testing::AssertionFailure() << "radiance differs";
+    if (!same(lanes.variance(), single.variance())) return ::testing::AssertionFailure() << "variance differs";
+    if (!same(lanes.historyLength(), single.historyLength())) return ::testing::AssertionFailure() << "length differs";
+    lanes.endFrame();
+    single.endFrame();
+    return ::testing::AssertionSuccess();
+  }
+};
+
 TEST(TemporalFilter, RowLanesGiveTheSameBitsAsPixelByPixel) {
   // Reprojection kCount pixels at a time against one by one, on frames with every case: motion
   // that varies per pixel (bilinear taps, taps off the frame, the 3 x 3 fallback at material and
@@ -266,11 +293,7 @@ TEST(TemporalFilter, RowLanesGiveTheSameBitsAsPixelByPixel) {
   for (uint32_t width : {1u, 7u, 8u, 9u, 10u, 17u, 21u, 40u}) {
     const uint32_t height = 9;
     Synthetic f(width, height, 5.0f);
-    TemporalFilter lanes, single([] {
-      Config c;
-      c.rowLanes = false;
-      return c;
-    }());
+    LanesAndSingle filters;
     for (uint32_t frame = 0; frame < 12; ++frame) {
       for (uint32_t y = 0; y < height; ++y) {
         for (uint32_t x = 0; x < width; ++x) {
@@ -289,14 +312,7 @@ TEST(TemporalFilter, RowLanesGiveTheSameBitsAsPixelByPixel) {
         }
       }
       if (frame % 4 == 3) f.radiance[size_t{height / 2} * width + width / 2] = glm::vec3(std::nanf(""));
-      std::vector<glm::vec3> a = f.radiance, b = f.radiance;
-      lanes.accumulate(f.inputs(), a);
-      single.accumulate(f.inputs(), b);
-      ASSERT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)), 0) << width << " frame " << frame;
-      ASSERT_EQ(std::memcmp(lanes.variance().data(), single.variance().data(), a.size() * sizeof(float)), 0);
-      ASSERT_EQ(std::memcmp(lanes.historyLength().data(), single.historyLength().data(), a.size() * sizeof(float)), 0);
-      lanes.endFrame();
-      single.endFrame();
+      ASSERT_TRUE(filters.accumulate(f)) << width << " frame " << frame;
     }
   }
 }
@@ -306,11 +322,7 @@ TEST(TemporalFilter, RowLanesGiveTheSameBitsAsPixelByPixelUnderAPan) {
   // one band moves differently, and the pan's sub-pixel part crosses whole pixels over the frames.
   const uint32_t width = 40, height = 12;
   Synthetic f(width, height, 5.0f);
-  TemporalFilter lanes, single([] {
-    Config c;
-    c.rowLanes = false;
-    return c;
-  }());
+  LanesAndSingle filters;
   for (uint32_t frame = 0; frame < 10; ++frame) {
     const glm::vec2 pan(0.37f * static_cast<float>(frame % 4) - 0.6f, 0.45f - 0.3f * static_cast<float>(frame % 3));
     for (uint32_t y = 0; y < height; ++y) {
@@ -327,16 +339,10 @@ TEST(TemporalFilter, RowLanesGiveTheSameBitsAsPixelByPixelUnderAPan) {
         f.gbuffer.previousNormal[i] = f.normal[i];
       }
     }
-    std::vector<glm::vec3> a = f.radiance, b = f.radiance;
-    lanes.accumulate(f.inputs(), a);
-    single.accumulate(f.inputs(), b);
-    ASSERT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)), 0) << "frame " << frame;
-    ASSERT_EQ(std::memcmp(lanes.variance().data(), single.variance().data(), a.size() * sizeof(float)), 0);
-    ASSERT_EQ(std::memcmp(lanes.historyLength().data(), single.historyLength().data(), a.size() * sizeof(float)), 0);
-    lanes.endFrame();
-    single.endFrame();
+    ASSERT_TRUE(filters.accumulate(f)) << "frame " << frame;
   }
-  EXPECT_GT(*std::max_element(lanes.historyLength().begin(), lanes.historyLength().end()), 3.0f);
+  const std::span<const float> length = filters.lanes.historyLength();
+  EXPECT_GT(*std::max_element(length.begin(), length.end()), 3.0f);
 }
 
 }  // namespace
