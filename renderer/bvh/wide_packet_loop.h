@@ -114,13 +114,13 @@ struct SingleRayLanesOf<L, std::void_t<typename L::SingleRayLanes>> {
 inline constexpr int kRayByRayLeaf = 2;
 
 /// Up to L::kWidth rays of one octant with finite inverse directions, one per lane (lane i: the
-/// caller's i-th ray of the L::kWidth traced together): the per-ray
-/// constants of the slab test (BoxRay's) and of the watertight test (RayShear's), their
-/// interval bounds, and their shear classes. Idle lanes repeat the first ray, with tmax -inf.
+/// caller's i-th ray of the L::kWidth traced together): origins and tmin, the per-ray constants
+/// of the watertight test (RayShear's), the rays' interval bounds (what nodes are culled with),
+/// and their shear classes. Idle lanes repeat the first ray, with tmax -inf.
 template <class L>
 struct Packet {
   using Float = typename L::Float;
-  Float ox, oy, oz, idx, idy, idz, tmin;
+  Float ox, oy, oz, tmin;
   Float sx, sy, sz;                        ///< RayShear::sx, sy, sz per ray.
   Float cull;                              ///< cullSign of each ray's HitFilter::cull.
   bool cullsAFace = false;                 ///< Some ray's HitFilter::cull is not None.
@@ -158,7 +158,7 @@ PA_BVH_INLINE PacketRays<Float> packetRaysFromRecords(const Float (&field)[kRayR
 }
 
 /// Fills p from the rays in r's lanes `lanes` (one octant, finite inverse directions; every
-/// other lane holds a copy of one of them): the divisions and comparisons of BoxRay and RayShear,
+/// other lane holds a copy of one of them): the divisions and comparisons of RayShear,
 /// all lanes at once, and the packet's interval bounds.
 template <class L>
 PA_BVH_INLINE void finishPacket(const PacketRays<typename L::Float>& r, unsigned lanes, Packet<L>& p) {
@@ -172,7 +172,6 @@ PA_BVH_INLINE void finishPacket(const PacketRays<typename L::Float>& r, unsigned
   p.orderShift = 4 * (p.nearSide[0] | p.nearSide[1] << 1 | p.nearSide[2] << 2);
   p.ox = r.o[0], p.oy = r.o[1], p.oz = r.o[2];
   const Float dx = r.d[0], dy = r.d[1], dz = r.d[2];
-  p.idx = Float(1.0f) / dx, p.idy = Float(1.0f) / dy, p.idz = Float(1.0f) / dz;
   p.tmin = r.tmin;
   p.sharedOrigin = true;
   p.dSize = 0.0f;
