@@ -52,11 +52,14 @@ std::vector<Ray> cameraTiles(const glm::vec3& eye, const glm::vec3& target, uint
   return rays;
 }
 
-/// Some rays with exactly zero direction components, and axis-aligned rays, mixed into packets.
+/// Some rays with exactly zero direction components, with subnormal ones and with the least
+/// normal one (the packets' limit: invertibleLanes), and axis-aligned rays, mixed into packets.
 std::vector<Ray> axisPlaneRays(const Bounds& region, uint32_t count, uint32_t seed) {
   std::vector<Ray> rays = makeRandomRays(region, count, seed);
+  const float tiny[] = {0.0f, std::numeric_limits<float>::denorm_min(), -0x1.000002p-128f,
+                        std::nextafter(std::numeric_limits<float>::min(), 0.0f), -std::numeric_limits<float>::min()};
   for (size_t i = 0; i < rays.size(); ++i) {
-    if (i % 3 == 0) rays[i].dir[i % 9 / 3] = 0.0f;
+    if (i % 3 == 0) rays[i].dir[i % 9 / 3] = tiny[i / 3 % 5];
     if (i % 7 == 0) rays[i].dir = glm::vec3(0.0f, 0.0f, i % 2 ? 1.0f : -1.0f);
   }
   return rays;
