@@ -2,8 +2,9 @@
 # scripts/bench_maps.sh [--bench PATH]... [--runs N] [--maps "A B ..."] [--isas "native avx2"]
 #                       [--jsonl FILE] [-- extra bench arguments]
 # The BVH against Embree on OpenArena maps, both ISAs: per map, ISA and bench binary the medians
-# over N runs of the ours / Embree ratios (incoherent, shadow, primary packets, build), then the
-# geometric mean and the worst map per column (docs/performance.md, "Rays on ten maps").
+# over N runs of the ours / Embree ratios (incoherent, shadow, primary packets, lamp-shadow
+# packets, build), then the geometric mean and the worst map per column (docs/performance.md,
+# "Rays on ten maps").
 # Each call is `bench --scene MAP.glb --threads 1 --reps 5 --json --no-frames --rays 262144`
 # (plus `--isa avx2` for the AVX2 column); runs alternate maps, ISAs and binaries, so a load
 # spike spreads over all of them.
@@ -72,7 +73,7 @@ import json, math, statistics, sys
 rows = [json.loads(l) for l in open(sys.argv[1])]
 names = sys.argv[2:]
 cols = [("incoherent", "incoherent_ratio", max), ("shadow", "shadow_ratio", max),
-        ("primary", "primary_ratio", max), ("build", "build_ratio", min)]
+        ("primary", "primary_ratio", max), ("lamp", "lamp_shadow_ratio", max), ("build", "build_ratio", min)]
 maps = list(dict.fromkeys(r["map"] for r in rows))
 isas = list(dict.fromkeys(r["isa"] for r in rows))
 for b, name in enumerate(names):
@@ -82,12 +83,16 @@ for b, name in enumerate(names):
         med = {}
         for m in maps:
             sel = [r for r in rows if r["map"] == m and r["isa"] == isa and r["bench"] == b]
-            med[m] = [statistics.median(r[c[1]] for r in sel) for c in cols]
+            # A column an older bench binary does not print reads nan.
+            med[m] = [statistics.median(r.get(c[1], math.nan) for r in sel) for c in cols]
             print(f"{m:<14}{sel[0]['triangles']:>10}" + "".join(f"{v:>12.3f}" for v in med[m]))
         geo = [math.exp(statistics.fmean(math.log(med[m][i]) for m in maps)) for i in range(len(cols))]
         print(f"{'geomean':<24}" + "".join(f"{v:>12.3f}" for v in geo))
         worst = []
         for i, c in enumerate(cols):
+            if any(math.isnan(med[m][i]) for m in maps):
+                worst.append("-")
+                continue
             bad = min(maps, key=lambda m: med[m][i]) if c[2] is max else max(maps, key=lambda m: med[m][i])
             worst.append(f"{bad} {med[bad][i]:.3f}")
         print(f"{'worst':<24}" + "".join(f"{w:>22}" for w in worst))

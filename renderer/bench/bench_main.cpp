@@ -11,6 +11,10 @@
 // --width picks our layout (BvhBuildConfig::nodeWidth; default: the faster one for this CPU).
 // --isa avx2 runs our AVX2 kernel (what CPUs without AVX-512 run) against Embree's device limited
 // to AVX2 ("isa=avx2"); native (the default) lets both pick their best kernels.
+// Ray sets: incoherent (cosine bounces from visible points), shadow (visible points to random
+// points near the top of the scene), primary (camera rays in 4x4 tiles: our packets against
+// rtcIntersect16, and our rays one by one), lamp shadow (from one lamp beside the camera to each
+// visible point, in tile order: our any-hit packets against rtcOccluded16, and one by one).
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
 // the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
 // (and process CPU) with N threads for both (one TBB arena; Embree's device also gets N threads).
@@ -205,6 +209,24 @@ uint64_t tracePackets(const Tlas& tlas, const std::vector<Ray>& rays) {
   });
 }
 
+/// Any hits of 16 consecutive rays at a time (the lamp's shadow rays come in tile order): ours
+/// as Blas::occludedPacket, Embree's as rtcOccluded16.
+uint64_t occludedPackets(const Blas& blas, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  const std::array<HitFilter, kMaxPacketRays> filters{};
+  for (size_t i = 0; i < rays.size(); i += kMaxPacketRays) {
+    const size_t n = std::min<size_t>(kMaxPacketRays, rays.size() - i);
+    hits += std::popcount(blas.occludedPacket(std::span(rays).subspan(i, n), (1u << n) - 1, filters));
+  }
+  return hits;
+}
+uint64_t occludedPackets(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
+  uint64_t hits = 0;
+  for (size_t i = 0; i < rays.size(); i += 16)
+    hits += std::popcount(scene.occluded16(std::span(rays).subspan(i, std::min<size_t>(16, rays.size() - i))));
+  return hits;
+}
+
 uint64_t tracePackets(const testing::EmbreeScene& scene, const std::vector<Ray>& rays) {
   uint64_t hits = 0;
   Ray packet[16];
@@ -302,6 +324,7 @@ int run(int argc, char** argv) {
   }
   const RaySets rays = makeRaySets(scene, blas, 1024, 576, opt.rays, 7);
   Pair incoherent, shadow, primary, primarySingle;   // primary: our packets; primarySingle: ray by ray
+  Pair lampShadow, lampShadowSingle;                 // the same for shadow rays toward one lamp
   // Our kernels over Embree's tree (--embree-tree): .ours holds those samples, .embree is unused.
   Pair incoherentEmbreeTree, shadowEmbreeTree;
   bvh_detail::WideBvh embreeTree;
@@ -320,6 +343,11 @@ int run(int argc, char** argv) {
     primary.ours.push_back(threadCpuSeconds([&] { primary.hitsOurs = tracePackets(blas, rays.primary); }));
     primarySingle.ours.push_back(threadCpuSeconds([&] { primarySingle.hitsOurs = traceClosest(blas, rays.primary); }));
     primary.embree.push_back(threadCpuSeconds([&] { primary.hitsEmbree = tracePackets(*embree, rays.primary); }));
+    lampShadow.ours.push_back(threadCpuSeconds([&] { lampShadow.hitsOurs = occludedPackets(blas, rays.lampShadow); }));
+    lampShadowSingle.ours.push_back(
+        threadCpuSeconds([&] { lampShadowSingle.hitsOurs = traceOccluded(blas, rays.lampShadow); }));
+    lampShadow.embree.push_back(
+        threadCpuSeconds([&] { lampShadow.hitsEmbree = occludedPackets(*embree, rays.lampShadow); }));
   }
   // The two-level scene (--instances): the same rays, interleaved the same way.
   Pair twoIncoherent, twoShadow, twoPrimary;
@@ -373,6 +401,9 @@ int run(int argc, char** argv) {
   const double pOurs = mrays(rays.primary.size(), median(primary.ours));
   const double pEmbree = mrays(rays.primary.size(), median(primary.embree));
   const double pSingle = mrays(rays.primary.size(), median(primarySingle.ours));
+  const double lOurs = mrays(rays.lampShadow.size(), median(lampShadow.ours));
+  const double lEmbree = mrays(rays.lampShadow.size(), median(lampShadow.embree));
+  const double lSingle = mrays(rays.lampShadow.size(), median(lampShadowSingle.ours));
   const double iTree = opt.embreeTree ? mrays(rays.incoherent.size(), median(incoherentEmbreeTree.ours)) : 0.0;
   const double sTree = opt.embreeTree ? mrays(rays.shadow.size(), median(shadowEmbreeTree.ours)) : 0.0;
   std::string embreeTreeJson;
@@ -405,7 +436,10 @@ int run(int argc, char** argv) {
         "\"incoherent_ratio\": %.3f, \"rays_shadow\": %zu, \"mrays_shadow_ours\": %.3f, "
         "\"mrays_shadow_embree\": %.3f, \"shadow_ratio\": %.3f, \"rays_primary\": %zu, "
         "\"mrays_primary_ours\": %.3f, \"mrays_primary_embree\": %.3f, \"primary_ratio\": %.3f, "
-        "\"mrays_primary_single_ours\": %.3f, \"primary_single_ratio\": %.3f, "
+        "\"mrays_primary_single_ours\": %.3f, \"primary_single_ratio\": %.3f, \"rays_lamp_shadow\": %zu, "
+        "\"mrays_lamp_shadow_ours\": %.3f, \"mrays_lamp_shadow_embree\": %.3f, \"lamp_shadow_ratio\": %.3f, "
+        "\"mrays_lamp_shadow_single_ours\": %.3f, \"lamp_shadow_single_ratio\": %.3f, "
+        "\"hits_lamp_shadow_ours\": %llu, \"hits_lamp_shadow_embree\": %llu, "
         "\"hits_incoherent_ours\": %llu, \"hits_incoherent_embree\": %llu, \"hits_shadow_ours\": %llu, "
         "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, %s%s"
         "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_cpu_ms_1t\": %s, \"frame_cpu_ms_2t\": %s, "
@@ -413,7 +447,9 @@ int run(int argc, char** argv) {
         scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), ourKernel, opt.embreeRobust ? "true" : "false", bOurs,
         bEmbree, bOurs / bEmbree, bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree, rays.incoherent.size(), iOurs, iEmbree, iOurs / iEmbree, rays.shadow.size(),
         sOurs, sEmbree, sOurs / sEmbree, rays.primary.size(), pOurs, pEmbree, pOurs / pEmbree,
-        pSingle, pSingle / pEmbree, (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
+        pSingle, pSingle / pEmbree, rays.lampShadow.size(), lOurs, lEmbree, lOurs / lEmbree, lSingle, lSingle / lEmbree,
+        (unsigned long long)lampShadow.hitsOurs, (unsigned long long)lampShadow.hitsEmbree,
+        (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
         (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,
         (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree, embreeTreeJson.c_str(),
         twoLevelJson.c_str(),
@@ -432,6 +468,8 @@ int run(int argc, char** argv) {
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "shadow Mrays/s (1t)", sOurs, sEmbree, sOurs / sEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "primary Mrays/s (1t)", pOurs, pEmbree, pOurs / pEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "primary, ray by ray", pSingle, pEmbree, pSingle / pEmbree);
+  std::printf("%-28s %12.3f %12.3f %8.3f\n", "lamp shadow Mrays/s (1t)", lOurs, lEmbree, lOurs / lEmbree);
+  std::printf("%-28s %12.3f %12.3f %8.3f\n", "lamp shadow, ray by ray", lSingle, lEmbree, lSingle / lEmbree);
   if (opt.embreeTree) {
     std::printf("%-28s %12.3f %12.3f %8.3f\n", "incoherent, Embree's tree", iTree, iEmbree, iTree / iEmbree);
     std::printf("%-28s %12.3f %12.3f %8.3f\n", "shadow, Embree's tree", sTree, sEmbree, sTree / sEmbree);
@@ -450,10 +488,11 @@ int run(int argc, char** argv) {
                 (unsigned long long)twoShadow.hitsOurs, (unsigned long long)twoShadow.hitsEmbree,
                 (unsigned long long)twoPrimary.hitsOurs, (unsigned long long)twoPrimary.hitsEmbree);
   }
-  std::printf("hits ours/embree: incoherent %llu/%llu shadow %llu/%llu primary %llu/%llu\n",
+  std::printf("hits ours/embree: incoherent %llu/%llu shadow %llu/%llu primary %llu/%llu lamp shadow %llu/%llu\n",
               (unsigned long long)incoherent.hitsOurs, (unsigned long long)incoherent.hitsEmbree,
               (unsigned long long)shadow.hitsOurs, (unsigned long long)shadow.hitsEmbree,
-              (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree);
+              (unsigned long long)primary.hitsOurs, (unsigned long long)primary.hitsEmbree,
+              (unsigned long long)lampShadow.hitsOurs, (unsigned long long)lampShadow.hitsEmbree);
   std::printf("frame ms 640x360 1spp: 1 thread %s (CPU %s), 2 threads %s (CPU %s), speedup %s (%s)\n",
               frame(frames.oneThreadMs).c_str(), frame(frames.oneThreadCpuMs).c_str(), frame(frames.twoThreadsMs).c_str(),
               frame(frames.twoThreadsCpuMs).c_str(), frame(frames.speedup).c_str(), frames.note.c_str());

@@ -50,6 +50,9 @@ RaySets makeRaySets(const BenchScene& scene, const Blas& blas, uint32_t width, u
           sets.primary.push_back(r);
         }
 
+  // The lamp: beside and above the camera, off its rays' origin (most of what it sees is lit).
+  const glm::vec3 lamp = cam.origin + 0.02f * glm::length(scene.mesh.bounds().max - scene.mesh.bounds().min) *
+                                          (right + 0.5f * up);
   std::vector<SurfacePoint> points;
   for (Ray r : sets.primary) {
     Hit hit;
@@ -64,6 +67,13 @@ RaySets makeRaySets(const BenchScene& scene, const Blas& blas, uint32_t width, u
     if (glm::dot(n, r.dir) > 0.0f) n = -n;
     const glm::vec3 p = (1.0f - hit.u - hit.v) * a + hit.u * b + hit.v * c;
     points.push_back({offsetRayOrigin(p, n), n});
+    // From the lamp to the point (the rays of a tile share their origin), short of its ends.
+    Ray fromLamp;
+    fromLamp.origin = lamp;
+    fromLamp.dir = points.back().position - lamp;
+    fromLamp.tmin = 0.001f;
+    fromLamp.tmax = 0.999f;
+    sets.lampShadow.push_back(fromLamp);
   }
   sets.surfacePoints = static_cast<uint32_t>(points.size());
   if (points.empty()) throw std::runtime_error("no primary ray hits the scene: cannot make secondary rays");

@@ -17,6 +17,10 @@ struct RaySets {
   std::vector<Ray> primary;      ///< width * height, in 4x4 tile order
   std::vector<Ray> incoherent;
   std::vector<Ray> shadow;
+  /// Shadow rays between one lamp beside the camera and the primary rays' hits, in their tile
+  /// order, traced from the lamp (a tile's shadow rays toward one light, sharing their origin:
+  /// coherent, traced as packets of 16).
+  std::vector<Ray> lampShadow;
   uint32_t surfacePoints = 0;    ///< Primary rays that hit something.
 };
 

@@ -173,6 +173,19 @@ uint32_t Blas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   return bvh_detail::intersectWidePacket(impl_->wide, rays.data(), hits.data(), active, filters.data(), instanceId);
 }
 
+uint32_t Blas::occludedPacket(std::span<const Ray> rays, uint32_t active, std::span<const HitFilter> filters,
+                              uint32_t instanceId) const {
+  if (!impl_) return 0;
+  active &= (1u << kMaxPacketRays) - 1;
+  const uint32_t highest = active ? 32 - std::countl_zero(active) : 0;
+  if (rays.size() < highest || filters.size() < highest)
+    throw std::invalid_argument("Blas::occludedPacket: spans shorter than the active rays");
+  // The kernels skip the rays that are not traceable (isTraceableRay).
+  if (impl_->nodeWidth == 16)
+    return bvh_detail::occludedWide16Packet(impl_->wide16, rays.data(), active, filters.data(), instanceId);
+  return bvh_detail::occludedWidePacket(impl_->wide, rays.data(), active, filters.data(), instanceId);
+}
+
 bool Blas::occluded(const Ray& ray, const HitFilter& filter, uint32_t instanceId) const {
   if (!impl_ || !bvh_detail::isTraceableRay(ray)) return false;
   if (impl_->nodeWidth == 16) return bvh_detail::occludedWide16(impl_->wide16, ray, filter, instanceId);

@@ -85,6 +85,12 @@ class Blas {
   /// active bit's ray.
   uint32_t intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_t active,
                            std::span<const HitFilter> filters, uint32_t instanceId = 0) const;
+  /// Any hits of up to kMaxPacketRays rays traced together (coherent rays such as a tile's
+  /// shadow rays toward one light): for each bit i of active, as occluded(rays[i], filters[i],
+  /// instanceId). Returns the bits of the rays that hit something. The spans hold at least the
+  /// highest active bit's ray.
+  uint32_t occludedPacket(std::span<const Ray> rays, uint32_t active, std::span<const HitFilter> filters,
+                          uint32_t instanceId = 0) const;
   /// Bounds of all triangles.
   Bounds bounds() const;
   /// Number of triangles built.
@@ -126,6 +132,11 @@ class Tlas {
                            std::span<const HitFilter> filters) const;
   /// Any hit over all instances whose mask matches rayMask.
   bool occluded(const Ray& ray, uint32_t rayMask = 0xffffffffu, const HitFilter& filter = {}) const;
+  /// Any hits of up to kMaxPacketRays rays traced together (a tile's shadow rays toward one
+  /// light): for each bit i of active, as occluded(rays[i], rayMask, filters[i]); the static world
+  /// takes them as a packet (Blas::occludedPacket). Returns the bits of the rays that hit something.
+  uint32_t occludedPacket(std::span<const Ray> rays, uint32_t active, uint32_t rayMask,
+                          std::span<const HitFilter> filters) const;
   /// World bounds of all instances.
   Bounds bounds() const;
 

@@ -390,12 +390,17 @@ struct Tlas::Impl {
   /// True when `inst` is the world (which a walk that traced it first skips).
   bool isWorld(const PlacedInstance& inst) const { return haveWorld && inst.index == world.index; }
 
+  /// Where a walk takes the world: in the tree like any instance, before the rest, or not at all
+  /// (the caller traced it already).
+  enum class WorldVisit { InTree, First, Traced };
+
   /// Visits the instances whose boxes the ray enters, nearest box first among the root level's
   /// and then within each group entered, while their entry is within the ray's current tmax;
-  /// visit(instance) returns true to stop. With worldFirst the world is visited before the rest.
+  /// visit(instance) returns true to stop. The world as `worldVisit` says.
   template <typename Visit>
-  void forEachEntered(const Ray& ray, uint32_t rayMask, Visit&& visit, bool worldFirst = false) const {
-    if (worldFirst && worldTakes(rayMask) && visit(world)) return;
+  void forEachEntered(const Ray& ray, uint32_t rayMask, Visit&& visit, WorldVisit worldVisit = WorldVisit::InTree) const {
+    const bool worldFirst = worldVisit != WorldVisit::InTree;
+    if (worldVisit == WorldVisit::First && worldTakes(rayMask) && visit(world)) return;
     if (levelCount == 0) return;
     const RaySlab slab(ray);
     std::array<Pending, kStackSize> stack;
@@ -450,6 +455,19 @@ struct Tlas::Impl {
     out.tmin = ray.tmin;
     out.dir = inst.worldToObjectLinear * ray.dir;
     out.tmax = ray.tmax;
+  }
+
+  /// Any hit of a traceable ray over the instances of rayMask, the world as `worldVisit` says.
+  bool occludedBy(const Ray& ray, uint32_t rayMask, const HitFilter& filter, WorldVisit worldVisit) const {
+    bool found = false;
+    forEachEntered(
+        ray, rayMask,
+        [&](const PlacedInstance& inst) {
+          found = inst.blas->occluded(toObject(inst, ray), objectSpaceFilter(inst, filter), inst.index);
+          return found;
+        },
+        worldVisit);
+    return found;
   }
 };
 
@@ -671,15 +689,27 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
 
 bool Tlas::occluded(const Ray& ray, uint32_t rayMask, const HitFilter& filter) const {
   if (!impl_ || !bvh_detail::isTraceableRay(ray)) return false;
-  bool found = false;
+  return impl_->occludedBy(ray, rayMask, filter, Impl::WorldVisit::First);
+}
+
+uint32_t Tlas::occludedPacket(std::span<const Ray> rays, uint32_t active, uint32_t rayMask,
+                              std::span<const HitFilter> filters) const {
+  active &= (1u << kMaxPacketRays) - 1;
+  const uint32_t highest = active ? 32 - std::countl_zero(active) : 0;
+  if (rays.size() < highest || filters.size() < highest)
+    throw std::invalid_argument("Tlas::occludedPacket: spans shorter than the active rays");
+  if (!impl_) return 0;
   const Impl& self = *impl_;
-  self.forEachEntered(
-      ray, rayMask,
-      [&](const PlacedInstance& inst) {
-        found = inst.blas->occluded(self.toObject(inst, ray), objectSpaceFilter(inst, filter), inst.index);
-        return found;
-      },
-      true);
+  // The static world first, with the packet's rays as they are (it stops most that stop); the
+  // rays it lets through then walk the tree past it one by one (the movers are small and few).
+  uint32_t found = 0;
+  if (self.worldTakes(rayMask)) found = self.world.blas->occludedPacket(rays, active, filters, self.world.index);
+  const auto worldVisit = self.worldTakes(rayMask) ? Impl::WorldVisit::Traced : Impl::WorldVisit::InTree;
+  for (uint32_t r = active & ~found; r; r &= r - 1) {
+    const int lane = std::countr_zero(r);
+    if (bvh_detail::isTraceableRay(rays[lane]) && self.occludedBy(rays[lane], rayMask, filters[lane], worldVisit))
+      found |= 1u << lane;
+  }
   return found;
 }
 

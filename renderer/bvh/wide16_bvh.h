@@ -78,4 +78,9 @@ unsigned intersectWide16Packet(const Wide16Bvh& bvh, Ray* rays, Hit* hits, unsig
 /// Any hit, same contract as Blas::occluded (the ray must be traceable). Needs wide16Available().
 bool occludedWide16(const Wide16Bvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId);
 
+/// Any hits of the traceable rays in `active` traced as packets, as intersectWide16Packet: per
+/// ray the answer of occludedWide16. Returns the rays that hit something. Needs wide16Available().
+unsigned occludedWide16Packet(const Wide16Bvh& bvh, const Ray* rays, unsigned active, const HitFilter* filters,
+                              uint32_t instanceId);
+
 }  // namespace pa::bvh_detail

@@ -138,11 +138,18 @@ unsigned intersectWidePacket(const WideBvh& bvh, Ray* rays, Hit* hits, unsigned 
 /// Any hit, same contract as Blas::occluded (the ray must be traceable).
 bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId);
 
+/// Any hits of the traceable rays in `active` traced as packets, as intersectWidePacket: per ray
+/// the answer of occludedWide. Returns the rays that hit something.
+unsigned occludedWidePacket(const WideBvh& bvh, const Ray* rays, unsigned active, const HitFilter* filters,
+                            uint32_t instanceId);
+
 /// The AVX-512 kernels behind intersectWide / occludedWide (wide_traversal_avx512.cpp); only
 /// call them when wideKernelAvailable(WideKernel::Avx512).
 bool intersectWideAvx512(const WideBvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId);
 bool occludedWideAvx512(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, uint32_t instanceId);
 unsigned intersectWidePacketAvx512(const WideBvh& bvh, Ray* rays, Hit* hits, unsigned active,
                                    const HitFilter* filters, uint32_t instanceId);
+unsigned occludedWidePacketAvx512(const WideBvh& bvh, const Ray* rays, unsigned active, const HitFilter* filters,
+                                  uint32_t instanceId);
 
 }  // namespace pa::bvh_detail

@@ -7,7 +7,9 @@
 // boxes for the packet, then each triangle is tested against all of its rays at once with the
 // single-ray watertight arithmetic. Per ray, hit distances are
 // therefore the single-ray kernel's; only the order in which leaves are visited differs (which
-// of two hits at exactly the same distance is kept).
+// of two hits at exactly the same distance is kept). The same loop answers any-hit queries
+// (shadow rays of a pixel block toward one light): a ray leaves the packet at its first accepted
+// hit, and the traversal ends when every ray has one; per ray the single-ray kernel's answer.
 //
 // L supplies, beyond what the single-ray loop needs (or what its SingleRayLanes need, where it
 // names lanes of its own for leaves tested ray by ray):
@@ -343,8 +345,9 @@ PA_BVH_INLINE unsigned trianglesPacketMayCross(const Pack& pack, const Packet<L>
 /// order the single-ray kernel accepts them (lane order): a ray takes a hit within [tmin, its
 /// current tmax] on a face it does not cull (one-sided triangles) that its filter accepts
 /// (filtered triangles only). Returns the rays that
-/// took a hit; their tmax (lanes of tmax) and nearest hits are updated.
-template <class L, class Pack>
+/// took a hit; their tmax (lanes of tmax) and nearest hits are updated. Any hit (kAnyHit): a ray
+/// that took one is tested no further.
+template <class L, bool kAnyHit, class Pack>
 PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c, unsigned rays,
                                     typename L::Float& tmax, PacketNearest<typename L::Float>& nearest,
                                     const HitFilter* filters, uint32_t instanceId) {
@@ -377,6 +380,12 @@ PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c,
       }
       if (!accepted) continue;
     }
+    if constexpr (kAnyHit) {
+      found |= accepted;
+      rays &= ~accepted;
+      if (!rays) break;
+      continue;
+    }
     tmax = select(accepted, tmax, t);
     nearest.u = select(accepted, nearest.u, u);
     nearest.v = select(accepted, nearest.v, v);
@@ -388,8 +397,9 @@ PA_BVH_INLINE unsigned packOverRays(const Pack& pack, const Packet<L>& p, int c,
 
 /// A leaf against the packet's rays in currentRays, shear class by shear class: a class of at
 /// most kRayByRayLeaf rays ray by ray (testLeaf), a larger one triangle by triangle
-/// (packOverRays). Returns the rays (lanes) that took a hit; tmax and hits are updated.
-template <class L>
+/// (packOverRays). Returns the rays (lanes) that took a hit; closest hit (kAnyHit false): tmax
+/// and hits are updated; any hit: hits is not used.
+template <class L, bool kAnyHit>
 PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, Packet<L>& p, unsigned currentRays,
                                       typename L::Float& tmax, PacketNearest<typename L::Float>& nearest,
                                       const Ray* rays, Hit* hits, const HitFilter* filters, uint32_t instanceId) {
@@ -397,9 +407,20 @@ PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, 
   using S = typename SingleRayLanesOf<L>::type;
   unsigned found = 0;
   for (int c = 0; c < 6; ++c) {
-    const unsigned classRays = currentRays & p.classRays[c];
+    unsigned classRays = currentRays & p.classRays[c];
     if (!classRays) continue;
     if (std::popcount(classRays) <= kRayByRayLeaf) {
+      if constexpr (kAnyHit) {
+        for (unsigned r = classRays; r; r &= r - 1) {
+          const int lane = std::countr_zero(r);
+          const Ray& ray = rays[lane];
+          Hit unused;
+          if (testLeaf<S, true>(bvh, ref, TriangleRay<S>(ray, filters[lane].cull), ray, p.tmax[lane], unused,
+                                filters[lane], instanceId))
+            found |= 1u << lane;
+        }
+        continue;
+      }
       tmax.store(p.tmax);
       unsigned hitAlone = 0;
       for (unsigned r = classRays; r; r &= r - 1) {
@@ -425,22 +446,30 @@ PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, 
     }
     if constexpr (L::kSmallLeaves) {
       if (ref & kSmallLeafBit) {
-        found |= packOverRays(bvh.smallPacks[ref & kFirstPackMask], p, c, classRays, tmax, nearest, filters,
-                              instanceId);
+        found |= packOverRays<L, kAnyHit>(bvh.smallPacks[ref & kFirstPackMask], p, c, classRays, tmax, nearest,
+                                          filters, instanceId);
         continue;
       }
     }
     uint32_t firstPack, packCount;
     leafPacks(ref, firstPack, packCount);
-    for (uint32_t k = firstPack; k < firstPack + packCount; ++k)
-      found |= packOverRays(bvh.packs[k], p, c, classRays, tmax, nearest, filters, instanceId);
+    for (uint32_t k = firstPack; k < firstPack + packCount; ++k) {
+      const unsigned took = packOverRays<L, kAnyHit>(bvh.packs[k], p, c, classRays, tmax, nearest, filters, instanceId);
+      found |= took;
+      if constexpr (kAnyHit) {
+        classRays &= ~took;
+        if (!classRays) break;
+      }
+    }
   }
   return found;
 }
 
-/// Closest hits of the packet's rays: one traversal for all of them. Returns the lanes that hit;
-/// p.tmax holds their distances and hits (by caller index) their hits, written once at the end.
-template <class L>
+/// The packet's rays in one traversal for all of them. Closest hit (kAnyHit false): returns the
+/// lanes that hit; p.tmax holds their distances and hits (by caller index) their hits, written
+/// once at the end. Any hit: returns the lanes that hit something (hits is not used); a ray
+/// leaves the traversal at its first accepted hit, and the traversal ends when none is left.
+template <class L, bool kAnyHit>
 PA_BVH_KERNEL unsigned traversePacket(const typename L::Bvh& bvh, Packet<L>& p, const Ray* rays, Hit* hits,
                                       const HitFilter* filters, uint32_t instanceId) {
   using Float = typename L::Float;
@@ -450,18 +479,29 @@ PA_BVH_KERNEL unsigned traversePacket(const typename L::Bvh& bvh, Packet<L>& p, 
   uint32_t current = 0;
   unsigned currentRays = p.lanes;
   unsigned found = 0;
+  unsigned searching = p.lanes;   // any hit: the rays without one yet
   Float tmax = Float::load(p.tmax);
   float tmaxHi = maxOverLanes(tmax, p.lanes);   // updated where a leaf shortens some ray
   PacketNearest<Float> nearest{Float(0.0f), Float(0.0f), Float(0.0f)};
   for (;;) {
     if (!(current & kLeafBit)) {
       if (enterPacketChildren<L>(bvh.nodes[current], p, tmaxHi, stack, top, current, currentRays)) continue;
-    } else if (const unsigned hit = testPacketLeaf<L>(bvh, current, p, currentRays, tmax, nearest, rays, hits,
-                                                      filters, instanceId)) {
+    } else if (const unsigned hit = testPacketLeaf<L, kAnyHit>(bvh, current, p, currentRays, tmax, nearest, rays,
+                                                               hits, filters, instanceId)) {
       found |= hit;
-      tmaxHi = maxOverLanes(tmax, p.lanes);
+      if constexpr (kAnyHit) {
+        searching &= ~hit;
+        if (!searching) return found;
+      }
+      tmaxHi = maxOverLanes(tmax, searching);
     }
-    if (!popLivePacketEntry(stack, top, tmax, current, currentRays)) {
+    bool popped;
+    do {
+      popped = popLivePacketEntry(stack, top, tmax, current, currentRays);
+      if constexpr (kAnyHit) currentRays &= searching;
+    } while (kAnyHit && popped && !currentRays);
+    if (!popped) {
+      if constexpr (kAnyHit) return found;
       tmax.store(p.tmax);
       alignas(4 * L::kWidth) float us[L::kWidth], vs[L::kWidth], prims[L::kWidth];
       nearest.u.store(us), nearest.v.store(vs), nearest.prim.store(prims);
@@ -499,16 +539,17 @@ PA_BVH_INLINE unsigned invertibleLanes(const PacketRays<Float>& r) {
   return lanes;
 }
 
-/// Closest hits of the traceable rays (isTraceableRay) in `active` (bit i: rays[i], hits[i],
-/// filters[i]; at most kMaxPacketRays; the others are left as they are), L::kWidth consecutive
-/// rays at a time: loaded into lanes at once (L::loadRays, lane i = the i-th of them),
-/// traceability and octants decided for all lanes together, then each octant's rays traced as
-/// one packet (the rays in its lanes, the others masked); rays with a zero or subnormal
-/// direction component (invertibleLanes), and octants of one ray, by kSingleRay. Per ray the single-ray contract (its tmax
-/// shrinks to its hit); returns the rays that hit.
-template <class L, bool (*kSingleRay)(const typename L::Bvh&, Ray&, Hit&, const HitFilter&, uint32_t)>
-PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* allRays, Hit* allHits, unsigned allActive,
-                                       const HitFilter* allFilters, uint32_t instanceId) {
+/// The traceable rays (isTraceableRay) in `active` (bit i: rays[i], filters[i] and, for closest
+/// hits, hits[i]; at most kMaxPacketRays; the others are left as they are), L::kWidth
+/// consecutive rays at a time: loaded into lanes at once (L::loadRays, lane i = the i-th of
+/// them), traceability and octants decided for all lanes together, then each octant's rays traced
+/// as one packet (the rays in its lanes, the others masked); rays with a zero or subnormal
+/// direction component (invertibleLanes), and octants of one ray, by single(index) alone. Per ray
+/// the single-ray contract: closest hit (kAnyHit false) shortens its tmax to its hit; any hit
+/// leaves rays and hits as they are. Returns the rays that hit.
+template <class L, bool kAnyHit, class RayArray, class SingleRay>
+PA_BVH_INLINE unsigned tracePackets(const typename L::Bvh& bvh, RayArray* allRays, Hit* allHits, unsigned allActive,
+                                    const HitFilter* allFilters, uint32_t instanceId, const SingleRay& single) {
   using Float = typename L::Float;
   static_assert(kMaxPacketRays % L::kWidth == 0);
   if (bvh.empty()) return 0;
@@ -516,8 +557,8 @@ PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* allRays,
   for (uint32_t base = 0; base < kMaxPacketRays; base += L::kWidth) {
     const unsigned active = allActive >> base & ((1u << L::kWidth) - 1);
     if (!active) continue;
-    Ray* rays = allRays + base;
-    Hit* hits = allHits + base;
+    RayArray* rays = allRays + base;
+    Hit* hits = kAnyHit ? nullptr : allHits + base;
     const HitFilter* filters = allFilters + base;
     const PacketRays<Float> all = L::loadRays(rays, active);
     const unsigned traceable = active & traceableLanes(all);
@@ -528,10 +569,8 @@ PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* allRays,
       cullsAFace = cullsAFace || filters[std::countr_zero(r)].cull != FaceCull::None;
     }
     unsigned packetable = traceable & invertibleLanes(all);
-    for (unsigned r = traceable & ~packetable; r; r &= r - 1) {
-      const int index = std::countr_zero(r);
-      if (kSingleRay(bvh, rays[index], hits[index], filters[index], instanceId)) found |= 1u << (base + index);
-    }
+    for (unsigned r = traceable & ~packetable; r; r &= r - 1)
+      if (single(base + std::countr_zero(r))) found |= 1u << (base + std::countr_zero(r));
     unsigned negative[3];
     for (int axis = 0; axis < 3; ++axis) negative[axis] = static_cast<unsigned>((all.d[axis] < Float(0.0f)).mask());
     while (packetable) {
@@ -540,7 +579,7 @@ PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* allRays,
       for (int axis = 0; axis < 3; ++axis) octant &= (negative[axis] >> first & 1) ? negative[axis] : ~negative[axis];
       packetable &= ~octant;
       if (std::popcount(octant) == 1) {
-        if (kSingleRay(bvh, rays[first], hits[first], filters[first], instanceId)) found |= 1u << (base + first);
+        if (single(base + first)) found |= 1u << (base + first);
         continue;
       }
       Packet<L> packet;
@@ -548,14 +587,32 @@ PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* allRays,
       finishPacket(octant == active ? all : L::loadRays(rays, octant), octant, packet);
       packet.cull = Float::load(culls);
       packet.cullsAFace = cullsAFace;
-      for (unsigned r = traversePacket(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
+      for (unsigned r = traversePacket<L, kAnyHit>(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {
         const int lane = std::countr_zero(r);
-        rays[lane].tmax = packet.tmax[lane];
+        if constexpr (!kAnyHit) rays[lane].tmax = packet.tmax[lane];
         found |= 1u << (base + lane);
       }
     }
   }
   return found;
+}
+
+/// Closest hits of packets of rays (tracePackets); kSingleRay traces the rays that go alone.
+template <class L, bool (*kSingleRay)(const typename L::Bvh&, Ray&, Hit&, const HitFilter&, uint32_t)>
+PA_BVH_INLINE unsigned intersectPacket(const typename L::Bvh& bvh, Ray* rays, Hit* hits, unsigned active,
+                                       const HitFilter* filters, uint32_t instanceId) {
+  return tracePackets<L, false>(bvh, rays, hits, active, filters, instanceId, [&](uint32_t i) {
+    return kSingleRay(bvh, rays[i], hits[i], filters[i], instanceId);
+  });
+}
+
+/// Any hits of packets of rays (tracePackets): the rays that hit something; kSingleRay traces the
+/// rays that go alone.
+template <class L, bool (*kSingleRay)(const typename L::Bvh&, const Ray&, const HitFilter&, uint32_t)>
+PA_BVH_INLINE unsigned occludedPacket(const typename L::Bvh& bvh, const Ray* rays, unsigned active,
+                                      const HitFilter* filters, uint32_t instanceId) {
+  return tracePackets<L, true>(bvh, rays, nullptr, active, filters, instanceId,
+                               [&](uint32_t i) { return kSingleRay(bvh, rays[i], filters[i], instanceId); });
 }
 
 }  // namespace pa::bvh_detail

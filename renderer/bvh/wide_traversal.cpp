@@ -359,4 +359,12 @@ bool occludedWide(const WideBvh& bvh, const Ray& ray, const HitFilter& filter, u
   return traverse<BaselineLanes, true>(bvh, ray, tmax, unused, filter, instanceId);
 }
 
+unsigned occludedWidePacket(const WideBvh& bvh, const Ray* rays, unsigned active, const HitFilter* filters,
+                            uint32_t instanceId) {
+#if defined(__AVX2__)
+  if (bvh.kernel == WideKernel::Avx512) return occludedWidePacketAvx512(bvh, rays, active, filters, instanceId);
+#endif
+  return occludedPacket<BaselinePacketLanes16, occludedWide>(bvh, rays, active, filters, instanceId);
+}
+
 }  // namespace pa::bvh_detail

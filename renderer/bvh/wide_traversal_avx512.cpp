@@ -279,6 +279,11 @@ PA_AVX512 unsigned intersectWidePacketAvx512(const WideBvh& bvh, Ray* rays, Hit*
                                                                          instanceId);
 }
 
+PA_AVX512 unsigned occludedWidePacketAvx512(const WideBvh& bvh, const Ray* rays, unsigned active,
+                                           const HitFilter* filters, uint32_t instanceId) {
+  return occludedPacket<Avx512PacketLanesOverWide, occludedWideAvx512>(bvh, rays, active, filters, instanceId);
+}
+
 PA_AVX512 bool intersectWide16(const Wide16Bvh& bvh, Ray& ray, Hit& hit, const HitFilter& filter, uint32_t instanceId) {
   return traverse<Avx512Lanes16, false>(bvh, ray, ray.tmax, hit, filter, instanceId);
 }
@@ -294,6 +299,11 @@ PA_AVX512 unsigned intersectWide16Packet(const Wide16Bvh& bvh, Ray* rays, Hit* h
   return intersectPacket<Avx512Lanes16, intersectWide16>(bvh, rays, hits, active, filters, instanceId);
 }
 
+PA_AVX512 unsigned occludedWide16Packet(const Wide16Bvh& bvh, const Ray* rays, unsigned active,
+                                        const HitFilter* filters, uint32_t instanceId) {
+  return occludedPacket<Avx512Lanes16, occludedWide16>(bvh, rays, active, filters, instanceId);
+}
+
 }  // namespace pa::bvh_detail
 
 #else
@@ -302,6 +312,7 @@ namespace pa::bvh_detail {
 bool intersectWide16(const Wide16Bvh&, Ray&, Hit&, const HitFilter&, uint32_t) { return false; }
 bool occludedWide16(const Wide16Bvh&, const Ray&, const HitFilter&, uint32_t) { return false; }
 unsigned intersectWide16Packet(const Wide16Bvh&, Ray*, Hit*, unsigned, const HitFilter*, uint32_t) { return 0; }
+unsigned occludedWide16Packet(const Wide16Bvh&, const Ray*, unsigned, const HitFilter*, uint32_t) { return 0; }
 }  // namespace pa::bvh_detail
 
 #endif  // __AVX2__

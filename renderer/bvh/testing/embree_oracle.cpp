@@ -1,6 +1,7 @@
 #include "renderer/bvh/testing/embree_oracle.h"
 
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include <glm/geometric.hpp>
@@ -156,6 +157,29 @@ void EmbreeScene::intersect16(std::span<Ray> rays, std::span<Hit> hits) const {
     hits[i] = {packet.ray.tfar[i], packet.hit.u[i], packet.hit.v[i], packet.hit.primID[i],
                hasInstances_ ? packet.hit.instID[0][i] : packet.hit.geomID[i]};
   }
+}
+
+uint32_t EmbreeScene::occluded16(std::span<const Ray> rays) const {
+  alignas(64) RTCRay16 packet;
+  alignas(64) int valid[16];
+  for (size_t i = 0; i < 16; ++i) {
+    valid[i] = i < rays.size() ? -1 : 0;
+    const Ray r = i < rays.size() ? rays[i] : Ray{};
+    packet.org_x[i] = r.origin.x; packet.org_y[i] = r.origin.y; packet.org_z[i] = r.origin.z;
+    packet.dir_x[i] = r.dir.x; packet.dir_y[i] = r.dir.y; packet.dir_z[i] = r.dir.z;
+    packet.tnear[i] = r.tmin;
+    packet.tfar[i] = r.tmax;
+    packet.mask[i] = 0xffffffffu;
+    packet.flags[i] = 0;
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcOccluded16(valid, scene_, &context, &packet);
+  uint32_t occluded = 0;   // Embree sets tfar to -inf where a ray hit something
+  for (size_t i = 0; i < rays.size(); ++i)
+    if (packet.tfar[i] == -std::numeric_limits<float>::infinity()) occluded |= 1u << i;
+  return occluded;
 }
 
 }  // namespace pa::testing

@@ -63,6 +63,9 @@ class EmbreeScene {
   bool occluded(const Ray& ray, uint32_t mask = 0xffffffffu) const;
   /// 16 rays as one coherent packet (rtcIntersect16); rays.size() <= 16, hits same size.
   void intersect16(std::span<Ray> rays, std::span<Hit> hits) const;
+  /// Any hits of up to 16 rays as one coherent packet (rtcOccluded16): bit i set where rays[i]
+  /// hits something.
+  uint32_t occluded16(std::span<const Ray> rays) const;
 
   /// The raw scene.
   RTCScene get() const { return scene_; }

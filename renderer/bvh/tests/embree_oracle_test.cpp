@@ -1,7 +1,10 @@
 // Embree 3 as the oracle: the same random rays against the same scenes give the same closest
 // hits (t within 1e-4 relative, same triangle except at shared edges/vertices) and the same
-// any-hit answers, for every layout this CPU traverses (8-wide, and 16-wide with AVX-512); and
-// with one-sided triangles whose back faces the rays cull (Embree filter functions as oracle).
+// any-hit answers, alone and (one group in eight) in packets of 16 (Blas::occludedPacket,
+// Tlas::occludedPacket), for every layout this CPU traverses (8-wide, and 16-wide with
+// AVX-512); and with one-sided triangles whose back faces the rays cull (Embree filter
+// functions as oracle).
+#include <array>
 #include <random>
 #include <span>
 #include <string>
@@ -21,6 +24,7 @@ namespace pa::testing {
 namespace {
 
 constexpr uint32_t kRayCount = 1u << 20;   // >= 1M rays per scene
+constexpr uint32_t kPacketEvery = 8;       // any hits in packets: one group of 16 rays in 8
 
 /// Any-hit disagreement is acceptable only when one side's closest hit sits on the segment's
 /// end (within tolerance) or on an edge.
@@ -46,10 +50,11 @@ void compareOcclusion(OracleTally& tally, bool ours, bool embree, std::span<cons
 }
 
 struct OracleResult {
-  OracleTally closest, anyHit;
+  OracleTally closest, anyHit, packetAnyHit;
 };
 
-/// Runs kRayCount rays through both; `traceOurs`/`occludedOurs` wrap Blas or Tlas.
+/// Runs kRayCount rays through both, any hits also in packets of sixteen consecutive rays; Ours
+/// wraps a Blas or a Tlas (intersect, occluded, occludedPacket).
 template <typename Ours>
 OracleResult runOracle(const Ours& ours, const EmbreeScene& embree, const Bounds& sceneBounds, uint32_t seed) {
   Bounds region = sceneBounds;
@@ -66,21 +71,36 @@ OracleResult runOracle(const Ours& ours, const EmbreeScene& embree, const Bounds
   // Trace in parallel in fixed chunks, merge tallies in order.
   constexpr uint32_t chunk = 1u << 14;
   std::vector<OracleResult> parts(rays.size() / chunk);
+  static_assert(chunk % kMaxPacketRays == 0);
   tbb::parallel_for(size_t(0), parts.size(), [&](size_t c) {
-    for (uint32_t i = uint32_t(c) * chunk; i < uint32_t(c + 1) * chunk; ++i) {
-      Ray a = rays[i], b = rays[i];
-      Hit ha, hb;
-      const bool hitA = ours.intersect(a, ha);
-      const bool hitB = embree.intersect(b, hb);
-      compareClosest(parts[c].closest, hitA, ha, hitB, hb, scale);
-      Ray s = rays[i];
-      s.tmax = ends[i];
-      const std::pair<bool, Hit> closest[2] = {{hitA, ha}, {hitB, hb}};
-      compareOcclusion(parts[c].anyHit, ours.occluded(s), embree.occluded(s), closest, ends[i], scale);
+    for (uint32_t first = uint32_t(c) * chunk; first < uint32_t(c + 1) * chunk; first += kMaxPacketRays) {
+      std::array<Ray, kMaxPacketRays> segments;
+      std::array<bool, kMaxPacketRays> embreeOccluded;
+      std::array<std::array<std::pair<bool, Hit>, 2>, kMaxPacketRays> closest;
+      for (uint32_t k = 0; k < kMaxPacketRays; ++k) {
+        const uint32_t i = first + k;
+        Ray a = rays[i], b = rays[i];
+        Hit ha, hb;
+        const bool hitA = ours.intersect(a, ha);
+        const bool hitB = embree.intersect(b, hb);
+        compareClosest(parts[c].closest, hitA, ha, hitB, hb, scale);
+        segments[k] = rays[i];
+        segments[k].tmax = ends[i];
+        closest[k] = {std::pair{hitA, ha}, std::pair{hitB, hb}};
+        embreeOccluded[k] = embree.occluded(segments[k]);
+        compareOcclusion(parts[c].anyHit, ours.occluded(segments[k]), embreeOccluded[k], closest[k], ends[i], scale);
+      }
+      // Random rays make packets whose interval bounds cull nothing: one packet in kPacketEvery.
+      if (first / kMaxPacketRays % kPacketEvery != 0) continue;
+      const uint32_t packet = ours.occludedPacket(segments);
+      for (uint32_t k = 0; k < kMaxPacketRays; ++k)
+        compareOcclusion(parts[c].packetAnyHit, (packet >> k & 1) != 0, embreeOccluded[k], closest[k], ends[first + k],
+                         scale);
     }
   });
   for (const OracleResult& p : parts) {
-    for (auto [dst, src] : {std::pair{&result.closest, &p.closest}, std::pair{&result.anyHit, &p.anyHit}}) {
+    for (auto [dst, src] : {std::pair{&result.closest, &p.closest}, std::pair{&result.anyHit, &p.anyHit},
+                            std::pair{&result.packetAnyHit, &p.packetAnyHit}}) {
       dst->rays += src->rays;
       dst->hits += src->hits;
       dst->sameHits += src->sameHits;
@@ -96,6 +116,8 @@ void expectAgreement(const OracleResult& r) {
   EXPECT_EQ(r.closest.rays, kRayCount);
   EXPECT_EQ(r.closest.unexplained, 0u) << r.closest.firstProblem;
   EXPECT_EQ(r.anyHit.unexplained, 0u) << r.anyHit.firstProblem;
+  EXPECT_EQ(r.packetAnyHit.rays, kRayCount / kPacketEvery);
+  EXPECT_EQ(r.packetAnyHit.unexplained, 0u) << "in packets: " << r.packetAnyHit.firstProblem;
   EXPECT_GT(r.closest.hits, kRayCount / 20) << "scene should be hit by a fair share of rays";
   EXPECT_LT(r.closest.edgeCases, r.closest.hits / 1000 + 10) << "edge cases should be rare";
   ::testing::Test::RecordProperty("hits", std::to_string(r.closest.hits));
@@ -109,11 +131,17 @@ std::vector<uint32_t> availableNodeWidths() {
   return widths;
 }
 
-/// A Blas traced by rays that cull back faces (HitFilter::cull = Back).
-struct BackFaceCulling {
+/// A Blas traced by rays that cull `cull` (HitFilter::cull).
+struct BlasAdapter {
   const Blas& blas;
-  bool intersect(Ray& r, Hit& h) const { return blas.intersect(r, h, HitFilter{nullptr, nullptr, FaceCull::Back}); }
-  bool occluded(const Ray& r) const { return blas.occluded(r, HitFilter{nullptr, nullptr, FaceCull::Back}); }
+  FaceCull cull = FaceCull::None;
+  bool intersect(Ray& r, Hit& h) const { return blas.intersect(r, h, HitFilter{nullptr, nullptr, cull}); }
+  bool occluded(const Ray& r) const { return blas.occluded(r, HitFilter{nullptr, nullptr, cull}); }
+  uint32_t occludedPacket(const std::array<Ray, kMaxPacketRays>& rays) const {
+    std::array<HitFilter, kMaxPacketRays> filters;
+    filters.fill(HitFilter{nullptr, nullptr, cull});
+    return blas.occludedPacket(rays, 0xffffu, filters);
+  }
 };
 
 /// Our Blas over `mesh` on every layout against Embree's; with `cullBackFaces`, rays cull back
@@ -129,8 +157,8 @@ void checkMesh(const TestMesh& mesh, uint32_t seed, bool cullBackFaces = false) 
     config.nodeWidth = width;
     Blas blas;
     blas.build(mesh.input(), config);
-    if (cullBackFaces) expectAgreement(runOracle(BackFaceCulling{blas}, embree, mesh.bounds(), seed));
-    else expectAgreement(runOracle(blas, embree, mesh.bounds(), seed));
+    expectAgreement(
+        runOracle(BlasAdapter{blas, cullBackFaces ? FaceCull::Back : FaceCull::None}, embree, mesh.bounds(), seed));
   }
 }
 
@@ -155,6 +183,9 @@ struct TlasAdapter {
   const Tlas& tlas;
   bool intersect(Ray& r, Hit& h) const { return tlas.intersect(r, h); }
   bool occluded(const Ray& r) const { return tlas.occluded(r); }
+  uint32_t occludedPacket(const std::array<Ray, kMaxPacketRays>& rays) const {
+    return tlas.occludedPacket(rays, 0xffffu, 0xffffffffu, std::array<HitFilter, kMaxPacketRays>{});
+  }
 };
 
 TEST(EmbreeOracle, InstancedCopies) {
@@ -170,7 +201,9 @@ TEST(EmbreeOracle, InstancedCopies) {
   embreeSphere.addMesh(sphere);
   embreeSphere.commit();
   std::mt19937 rng(5);
-  std::vector<TlasInstance> instances;
+  // An untransformed copy first: the static world that Tlas::occludedPacket traces as packets.
+  std::vector<TlasInstance> instances{{&blasSoup, glm::mat4x3(1.0f), 0xffffffffu}};
+  embreeTop.addInstance(embreeSoup, glm::mat4x3(1.0f));
   for (uint32_t i = 0; i < 64; ++i) {
     const glm::mat4x3 m = makeRandomTransform(rng, 8.0f);
     const bool isSphere = i % 3 == 0;

@@ -1,5 +1,6 @@
-// Packet queries (Blas::intersectPacket, Tlas::intersectPacket) against tracing the same rays one
-// by one: per ray the same hit or miss, the same distance bit for bit and the same instance, the
+// Packet queries (Blas::intersectPacket, Tlas::intersectPacket, and the any-hit
+// Blas::occludedPacket, Tlas::occludedPacket) against tracing the same rays one by one: per ray
+// the same occlusion answer, or the same hit or miss, the same distance bit for bit and the same instance, the
 // same triangle and barycentrics unless two triangles are hit at exactly the same distance, and
 // each ray's own filter and face culling (lanes mixing HitFilter::cull). Packets of camera rays (one origin, one octant), of rays spanning
 // octants, of rays along axis planes (zero direction components), partly active packets, and
@@ -7,8 +8,9 @@
 // widths and both 8-wide kernels.
 #include <algorithm>
 #include <array>
-#include <limits>
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <utility>
 #include <vector>
@@ -65,17 +67,67 @@ std::vector<Ray> axisPlaneRays(const Bounds& region, uint32_t count, uint32_t se
   return rays;
 }
 
+/// Each lane's filter: its own alpha-test stand-in (when filtered), and no face, the back or the
+/// front of one-sided triangles culled, lane by lane in turn.
+std::array<HitFilter, kMaxPacketRays> laneFilters(bool filtered) {
+  std::array<HitFilter, kMaxPacketRays> filters;
+  for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
+    filters[lane] = filtered ? HitFilter{rejectByLane, reinterpret_cast<const void*>(uintptr_t{lane})} : HitFilter{};
+    filters[lane].cull = std::array{FaceCull::None, FaceCull::Back, FaceCull::Front}[lane % 3];
+  }
+  return filters;
+}
+
+/// Any hits of rays in packets of 16 (active lanes per activePattern, filters per laneFilters)
+/// with occludePacket against occludeOne ray by ray: the same answer per ray, and none for idle
+/// lanes. Returns the number of rays that hit something.
+template <class PacketFn, class OneFn>
+uint32_t expectSameOcclusionAsOneByOne(const std::vector<Ray>& rays, bool filtered, uint32_t activePattern,
+                                       PacketFn&& occludePacket, OneFn&& occludeOne) {
+  const std::array<HitFilter, kMaxPacketRays> filters = laneFilters(filtered);
+  uint32_t occluded = 0;
+  for (size_t base = 0; base + kMaxPacketRays <= rays.size(); base += kMaxPacketRays) {
+    std::array<Ray, kMaxPacketRays> packet;
+    std::copy_n(rays.begin() + base, kMaxPacketRays, packet.begin());
+    const uint32_t found = occludePacket(packet, activePattern, filters);
+    EXPECT_EQ(found & ~activePattern, 0u);
+    for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
+      if (!(activePattern >> lane & 1)) continue;
+      const bool alone = occludeOne(rays[base + lane], filters[lane]);
+      EXPECT_EQ((found >> lane & 1) != 0, alone) << "ray " << base + lane;
+      occluded += alone ? 1 : 0;
+    }
+  }
+  return occluded;
+}
+
+/// Shadow rays toward one light point from where `eyeRays` first hit (closest), as a tile's
+/// shadow rays to one lamp: origin at the hit, direction to the light unnormalised, t in
+/// [1e-4, 1]; a ray that hits nothing keeps its place as a ray from the light's side.
+template <class IntersectOne>
+std::vector<Ray> shadowRaysToward(const std::vector<Ray>& eyeRays, const glm::vec3& light, IntersectOne&& intersect) {
+  std::vector<Ray> shadows;
+  for (Ray ray : eyeRays) {
+    Hit hit;
+    const glm::vec3 from =
+        intersect(ray, hit) ? ray.origin + hit.t * ray.dir : light + glm::vec3(0.5f, -0.25f, 0.125f);
+    Ray s;
+    s.origin = from;
+    s.dir = light - from;
+    s.tmin = 1e-4f;
+    s.tmax = 1.0f;
+    shadows.push_back(s);
+  }
+  return shadows;
+}
+
 /// Traces rays in packets of 16 (active lanes per activePattern) with tracePacket and one by
 /// one with traceOne, and compares; returns the number of hits. Lanes cull no face, the back
 /// or the front of one-sided triangles in turn.
 template <class PacketFn, class OneFn>
 uint32_t expectSameAsOneByOne(const std::vector<Ray>& rays, bool filtered, uint32_t activePattern,
                               PacketFn&& tracePacket, OneFn&& traceOne) {
-  std::array<HitFilter, kMaxPacketRays> filters;
-  for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
-    filters[lane] = filtered ? HitFilter{rejectByLane, reinterpret_cast<const void*>(uintptr_t{lane})} : HitFilter{};
-    filters[lane].cull = std::array{FaceCull::None, FaceCull::Back, FaceCull::Front}[lane % 3];
-  }
+  const std::array<HitFilter, kMaxPacketRays> filters = laneFilters(filtered);
   uint32_t hits = 0;
   for (size_t base = 0; base + kMaxPacketRays <= rays.size(); base += kMaxPacketRays) {
     std::array<Ray, kMaxPacketRays> packet;
@@ -122,6 +174,7 @@ TEST_P(BlasPackets, SameHitsAsRayByRay) {
   if (param.nodeWidth == 16 && !bvh_detail::wide16Available()) GTEST_SKIP() << "no AVX-512 on this CPU";
   const std::pair<TestMesh, uint32_t> meshes[] = {   // mesh, hits the comparison must see at least
       {makeTriangleSoup(20000, 5), 1500}, {makeThinTriangles(3000, 9), 50}, {makeSphere(5000), 1500}};
+  uint32_t occluded = 0, traced = 0;   // any hits, over all meshes
   for (const auto& [source, minimumHits] : meshes) {
     TestMesh m = source;
     if (param.filtered) {
@@ -159,7 +212,28 @@ TEST_P(BlasPackets, SameHitsAsRayByRay) {
     hits += expectSameAsOneByOne(makeRandomRays(region, 4096, 17), param.filtered, 0xffffu, packet, one);
     hits += expectSameAsOneByOne(axisPlaneRays(region, 4096, 23), param.filtered, 0xfff7u, packet, one);
     EXPECT_GT(hits, minimumHits);
+
+    // Any hits: the same rays, and a camera's shadow rays toward one light (inside the mesh's
+    // bounds, so that some reach it and some do not).
+    const auto occludePacket = [&](const std::array<Ray, 16>& rays, uint32_t active,
+                                   const std::array<HitFilter, 16>& filters) {
+      return blas.occludedPacket(rays, active, filters, 3);
+    };
+    const auto occludeOne = [&](const Ray& r, const HitFilter& f) { return blas.occluded(r, f, 3); };
+    const auto intersectOne = [&](Ray& r, Hit& h) { return blas.intersect(r, h); };
+    const std::vector<Ray> shadows = shadowRaysToward(cameraTiles({3.0f, -2.5f, 1.5f}, {0.0f, 0.0f, 0.0f}, 64, 48),
+                                                      glm::mix(region.min, region.max, 0.6f), intersectOne);
+    for (const auto& [rays, active] : {std::pair{shadows, 0xffffu}, std::pair{shadows, 0x5a3cu},
+                                       std::pair{cameraTiles({0.1f, 0.2f, 0.05f}, {1.0f, -0.3f, 0.2f}, 64, 48, 0.8f),
+                                                 0xffffu},
+                                       std::pair{makeRandomRays(region, 4096, 17), 0xffffu},
+                                       std::pair{axisPlaneRays(region, 4096, 23), 0xfff7u}}) {
+      occluded += expectSameOcclusionAsOneByOne(rays, param.filtered, active, occludePacket, occludeOne);
+      traced += static_cast<uint32_t>(rays.size() / kMaxPacketRays) * std::popcount(active);
+    }
   }
+  EXPECT_GT(occluded, traced / 8) << "too few rays occluded to test any hits";
+  EXPECT_LT(occluded, traced - traced / 8) << "too few rays reach their end to test any hits";
 }
 
 INSTANTIATE_TEST_SUITE_P(Widths, BlasPackets,
@@ -274,6 +348,26 @@ TEST_P(TlasPackets, SameHitsAsRayByRay) {
     for (size_t k = 0; k < segments.size(); ++k) segments[k].tmax = 14.0f + float(k % 11);
     hits += expectSameAsOneByOne(segments, false, 0xffffu, packet, one);
     EXPECT_GT(hits, 500u);
+
+    // Any hits: the world's packet, then the movers ray by ray.
+    const auto occludePacket = [&](const std::array<Ray, 16>& rays, uint32_t active,
+                                   const std::array<HitFilter, 16>& filters) {
+      return tlas.occludedPacket(rays, active, rayMask, filters);
+    };
+    const auto occludeOne = [&](const Ray& r, const HitFilter& f) { return tlas.occluded(r, rayMask, f); };
+    const auto intersectOne = [&](Ray& r, Hit& h) { return tlas.intersect(r, h, rayMask); };
+    uint32_t occluded = 0, traced = 0;
+    for (const glm::vec3& light : {glm::vec3(0.0f), glm::vec3(2.0f, -3.0f, 4.0f)}) {
+      const std::vector<Ray> shadows =
+          shadowRaysToward(cameraTiles({15.0f, -12.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, 64, 64), light, intersectOne);
+      occluded += expectSameOcclusionAsOneByOne(shadows, true, 0xffffu, occludePacket, occludeOne);
+      traced += static_cast<uint32_t>(shadows.size());
+    }
+    occluded += expectSameOcclusionAsOneByOne(mixed, false, 0xfff7u, occludePacket, occludeOne);
+    occluded += expectSameOcclusionAsOneByOne(segments, true, 0xffffu, occludePacket, occludeOne);
+    traced += static_cast<uint32_t>(mixed.size() / kMaxPacketRays * 15 + segments.size());
+    EXPECT_GT(occluded, 200u) << "too few rays occluded to test any hits";
+    EXPECT_LT(occluded, traced - 200u) << "too few rays reach their end to test any hits";
   }
 }
 
@@ -288,6 +382,12 @@ TEST(Packets, ShortSpansAreRejected) {
   std::array<HitFilter, 4> filters;
   EXPECT_THROW(blas.intersectPacket(rays, hits, 0x1fu, filters), std::invalid_argument);
   EXPECT_EQ(blas.intersectPacket(rays, hits, 0u, filters), 0u);
+  EXPECT_THROW(blas.occludedPacket(rays, 0x1fu, filters), std::invalid_argument);
+  EXPECT_EQ(blas.occludedPacket(rays, 0u, filters), 0u);
+  const TlasInstance instance{&blas};
+  Tlas tlas;
+  tlas.build(std::span(&instance, 1));
+  EXPECT_THROW(tlas.occludedPacket(rays, 0x1fu, 1u, filters), std::invalid_argument);
 }
 
 }  // namespace
