@@ -129,24 +129,41 @@ bool EmbreeScene::occluded(const Ray& ray, uint32_t mask) const {
   return r.tfar < 0.0f;
 }
 
-void EmbreeScene::intersect16(std::span<Ray> rays, std::span<Hit> hits) const {
-  alignas(64) RTCRayHit16 packet;
-  alignas(64) int valid[16];
+namespace {
+
+/// Up to 16 rays into Embree's packet layout: lanes past rays.size() are idle (valid 0).
+void packRays16(std::span<const Ray> rays, RTCRay16& packet, int (&valid)[16]) {
   for (size_t i = 0; i < 16; ++i) {
     valid[i] = i < rays.size() ? -1 : 0;
     const Ray r = i < rays.size() ? rays[i] : Ray{};
-    packet.ray.org_x[i] = r.origin.x; packet.ray.org_y[i] = r.origin.y; packet.ray.org_z[i] = r.origin.z;
-    packet.ray.dir_x[i] = r.dir.x; packet.ray.dir_y[i] = r.dir.y; packet.ray.dir_z[i] = r.dir.z;
-    packet.ray.tnear[i] = r.tmin;
-    packet.ray.tfar[i] = r.tmax;
-    packet.ray.mask[i] = 0xffffffffu;
-    packet.ray.flags[i] = 0;
-    packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    packet.org_x[i] = r.origin.x; packet.org_y[i] = r.origin.y; packet.org_z[i] = r.origin.z;
+    packet.dir_x[i] = r.dir.x; packet.dir_y[i] = r.dir.y; packet.dir_z[i] = r.dir.z;
+    packet.tnear[i] = r.tmin;
+    packet.tfar[i] = r.tmax;
+    packet.mask[i] = 0xffffffffu;
+    packet.flags[i] = 0;
   }
+}
+
+/// A context that tells Embree the packet's rays are coherent.
+RTCIntersectContext coherentContext() {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  return context;
+}
+
+}  // namespace
+
+void EmbreeScene::intersect16(std::span<Ray> rays, std::span<Hit> hits) const {
+  alignas(64) RTCRayHit16 packet;
+  alignas(64) int valid[16];
+  packRays16(rays, packet.ray, valid);
+  for (size_t i = 0; i < 16; ++i) {
+    packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  RTCIntersectContext context = coherentContext();
   rtcIntersect16(valid, scene_, &context, &packet);
   for (size_t i = 0; i < rays.size(); ++i) {
     if (packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
@@ -162,19 +179,8 @@ void EmbreeScene::intersect16(std::span<Ray> rays, std::span<Hit> hits) const {
 uint32_t EmbreeScene::occluded16(std::span<const Ray> rays) const {
   alignas(64) RTCRay16 packet;
   alignas(64) int valid[16];
-  for (size_t i = 0; i < 16; ++i) {
-    valid[i] = i < rays.size() ? -1 : 0;
-    const Ray r = i < rays.size() ? rays[i] : Ray{};
-    packet.org_x[i] = r.origin.x; packet.org_y[i] = r.origin.y; packet.org_z[i] = r.origin.z;
-    packet.dir_x[i] = r.dir.x; packet.dir_y[i] = r.dir.y; packet.dir_z[i] = r.dir.z;
-    packet.tnear[i] = r.tmin;
-    packet.tfar[i] = r.tmax;
-    packet.mask[i] = 0xffffffffu;
-    packet.flags[i] = 0;
-  }
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  packRays16(rays, packet, valid);
+  RTCIntersectContext context = coherentContext();
   rtcOccluded16(valid, scene_, &context, &packet);
   uint32_t occluded = 0;   // Embree sets tfar to -inf where a ray hit something
   for (size_t i = 0; i < rays.size(); ++i)

@@ -78,6 +78,17 @@ std::array<HitFilter, kMaxPacketRays> laneFilters(bool filtered) {
   return filters;
 }
 
+/// Calls f(base, packet) for each whole packet of 16 consecutive rays (packet: a copy of
+/// rays[base .. base + 15], which f may trace).
+template <class F>
+void forEachPacket(const std::vector<Ray>& rays, F&& f) {
+  for (size_t base = 0; base + kMaxPacketRays <= rays.size(); base += kMaxPacketRays) {
+    std::array<Ray, kMaxPacketRays> packet;
+    std::copy_n(rays.begin() + base, kMaxPacketRays, packet.begin());
+    f(base, packet);
+  }
+}
+
 /// Any hits of rays in packets of 16 (active lanes per activePattern, filters per laneFilters)
 /// with occludePacket against occludeOne ray by ray: the same answer per ray, and none for idle
 /// lanes. Returns the number of rays that hit something.
@@ -86,9 +97,7 @@ uint32_t expectSameOcclusionAsOneByOne(const std::vector<Ray>& rays, bool filter
                                        PacketFn&& occludePacket, OneFn&& occludeOne) {
   const std::array<HitFilter, kMaxPacketRays> filters = laneFilters(filtered);
   uint32_t occluded = 0;
-  for (size_t base = 0; base + kMaxPacketRays <= rays.size(); base += kMaxPacketRays) {
-    std::array<Ray, kMaxPacketRays> packet;
-    std::copy_n(rays.begin() + base, kMaxPacketRays, packet.begin());
+  forEachPacket(rays, [&](size_t base, std::array<Ray, kMaxPacketRays>& packet) {
     const uint32_t found = occludePacket(packet, activePattern, filters);
     EXPECT_EQ(found & ~activePattern, 0u);
     for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
@@ -97,7 +106,7 @@ uint32_t expectSameOcclusionAsOneByOne(const std::vector<Ray>& rays, bool filter
       EXPECT_EQ((found >> lane & 1) != 0, alone) << "ray " << base + lane;
       occluded += alone ? 1 : 0;
     }
-  }
+  });
   return occluded;
 }
 
@@ -129,10 +138,8 @@ uint32_t expectSameAsOneByOne(const std::vector<Ray>& rays, bool filtered, uint3
                               PacketFn&& tracePacket, OneFn&& traceOne) {
   const std::array<HitFilter, kMaxPacketRays> filters = laneFilters(filtered);
   uint32_t hits = 0;
-  for (size_t base = 0; base + kMaxPacketRays <= rays.size(); base += kMaxPacketRays) {
-    std::array<Ray, kMaxPacketRays> packet;
+  forEachPacket(rays, [&](size_t base, std::array<Ray, kMaxPacketRays>& packet) {
     std::array<Hit, kMaxPacketRays> packetHits;
-    std::copy_n(rays.begin() + base, kMaxPacketRays, packet.begin());
     const uint32_t active = activePattern;
     const uint32_t found = tracePacket(packet, packetHits, active, filters);
     EXPECT_EQ(found & ~active, 0u);
@@ -157,7 +164,7 @@ uint32_t expectSameAsOneByOne(const std::vector<Ray>& rays, bool filtered, uint3
         EXPECT_EQ(packetHits[lane].v, oneHit.v);
       }
     }
-  }
+  });
   return hits;
 }
 
