@@ -6,8 +6,9 @@
 # packets, build), then the geometric mean and the worst map per column (docs/performance.md,
 # "Rays on ten maps").
 # Each call is `bench --scene MAP.glb --threads 1 --reps 5 --json --no-frames --rays 262144`
-# (plus `--isa avx2` for the AVX2 column); runs alternate maps, ISAs and binaries, so a load
-# spike spreads over all of them.
+# (plus `--isa avx2` for the AVX2 column; the bench times 15 builds a side, interleaved, and its
+# build ratio is the median of theirs); runs alternate maps, ISAs and binaries, so a load spike
+# spreads over all of them.
 #   --bench PATH   bench binary (default build/renderer/bench/bench); repeat to A/B binaries
 #   --runs N       repetitions (default 3)
 #   --maps "..."   map names (default: the 5 smallest and 5 largest installed maps by the

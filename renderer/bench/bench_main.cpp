@@ -1,5 +1,5 @@
 // bench: our BVH against Embree 3 on the same scene and the same rays.
-//   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R]
+//   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R] [--build-reps B]
 //         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X]
 //         [--parallel-threshold N] [--width 8|16]
 //         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native]
@@ -17,7 +17,9 @@
 // visible point, in tile order: our any-hit packets against rtcOccluded16, and one by one).
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
 // the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
-// (and process CPU) with N threads for both (one TBB arena; Embree's device also gets N threads).
+// (and process CPU) medians over --build-reps interleaved repetitions (default 15: a build takes
+// milliseconds), their ratio the median of each repetition's ratio, with N threads for both (one
+// TBB arena; Embree's device also gets N threads).
 // --instances N also traces the same rays through a game frame's two-level scene: the mesh as the
 // static world plus N small movers (instanced_scene.h), our Tlas against Embree's instances.
 // Frames: --frame-reps path-traced frames with 1 and 2 threads, alternating; medians of the wall
@@ -53,6 +55,9 @@ struct Options {
   std::string scene, synthetic;
   uint32_t threads = 1;
   uint32_t reps = 5;
+  /// Repetitions of the builds: more than of the ray sets, since a build takes milliseconds and
+  /// one slow repetition in five moved the median by up to 50% on a shared machine.
+  uint32_t buildReps = 15;
   uint32_t rays = 1u << 20;
   bool json = false;
   bool frames = true;
@@ -68,7 +73,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--width 8|16] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native] [--instances N]\n",
+               "[--reps R] [--build-reps B] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--width 8|16] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native] [--instances N]\n",
                error.c_str());
   std::exit(2);
 }
@@ -92,6 +97,7 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--synthetic") o.synthetic = value();
     else if (a == "--threads") o.threads = parseCount(value(), "--threads");
     else if (a == "--reps") o.reps = parseCount(value(), "--reps");
+    else if (a == "--build-reps") o.buildReps = parseCount(value(), "--build-reps");
     else if (a == "--rays") o.rays = parseCount(value(), "--rays");
     else if (a == "--json") o.json = true;
     else if (a == "--no-frames") o.frames = false;
@@ -143,6 +149,14 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// Median of ours[i] / theirs[i] over interleaved repetitions: a slow spell of the machine slows
+/// both builds of a repetition, and drops out of their ratio, where it would move one side's median.
+double medianRatio(const std::vector<double>& ours, const std::vector<double>& theirs) {
+  std::vector<double> ratios(std::min(ours.size(), theirs.size()));
+  for (size_t i = 0; i < ratios.size(); ++i) ratios[i] = ours[i] / theirs[i];
+  return median(std::move(ratios));
 }
 
 /// Medians and hit counts of one measured quantity, ours and Embree.
@@ -295,7 +309,7 @@ int run(int argc, char** argv) {
   BuildSamples ours, theirs;
   Blas blas;
   std::unique_ptr<testing::EmbreeScene> embree;
-  for (uint32_t rep = 0; rep < opt.reps; ++rep) {
+  for (uint32_t rep = 0; rep < opt.buildReps; ++rep) {
     ours.add([&] { arena.execute([&] { blas.build(mesh.input(), opt.build); }); });
     theirs.add([&] {
       embree.reset();
@@ -314,7 +328,7 @@ int run(int argc, char** argv) {
 
   if (opt.buildOnly) {
     std::printf("build ms ours %.3f embree %.3f (wall), CPU %.3f / %.3f, median of %u\n", median(buildOurs) * 1e3,
-                median(buildEmbree) * 1e3, median(buildCpuOurs) * 1e3, median(buildCpuEmbree) * 1e3, opt.reps);
+                median(buildEmbree) * 1e3, median(buildCpuOurs) * 1e3, median(buildCpuEmbree) * 1e3, opt.buildReps);
     std::printf("build CPU ms per repetition: ours %s, embree %s\n", msList(buildCpuOurs).c_str(),
                 msList(buildCpuEmbree).c_str());
     std::printf("build wall ms per repetition: ours %s, embree %s\n", msList(ours.wall).c_str(), msList(theirs.wall).c_str());
@@ -394,6 +408,7 @@ int run(int argc, char** argv) {
 
   const double bOurs = median(buildOurs) * 1e3, bEmbree = median(buildEmbree) * 1e3;
   const double bCpuOurs = median(buildCpuOurs) * 1e3, bCpuEmbree = median(buildCpuEmbree) * 1e3;
+  const double bRatio = medianRatio(buildOurs, buildEmbree), bCpuRatio = medianRatio(buildCpuOurs, buildCpuEmbree);
   const double iOurs = mrays(rays.incoherent.size(), median(incoherent.ours));
   const double iEmbree = mrays(rays.incoherent.size(), median(incoherent.embree));
   const double sOurs = mrays(rays.shadow.size(), median(shadow.ours));
@@ -429,7 +444,7 @@ int run(int argc, char** argv) {
 
   if (opt.json) {
     std::printf(
-        "{\"scene\": \"%s\", \"triangles\": %u, \"threads\": %u, \"reps\": %u, \"embree_isa\": \"%s\", \"our_kernel\": \"%s\", \"embree_robust\": %s, "
+        "{\"scene\": \"%s\", \"triangles\": %u, \"threads\": %u, \"reps\": %u, \"build_reps\": %u, \"embree_isa\": \"%s\", \"our_kernel\": \"%s\", \"embree_robust\": %s, "
         "\"build_ms_ours\": %.3f, \"build_ms_embree\": %.3f, \"build_ratio\": %.3f, "
         "\"build_cpu_ms_ours\": %.3f, \"build_cpu_ms_embree\": %.3f, \"build_cpu_ratio\": %.3f, "
         "\"rays_incoherent\": %zu, \"mrays_incoherent_ours\": %.3f, \"mrays_incoherent_embree\": %.3f, "
@@ -444,8 +459,8 @@ int run(int argc, char** argv) {
         "\"hits_shadow_embree\": %llu, \"hits_primary_ours\": %llu, \"hits_primary_embree\": %llu, %s%s"
         "\"frame_ms_1t\": %s, \"frame_ms_2t\": %s, \"frame_cpu_ms_1t\": %s, \"frame_cpu_ms_2t\": %s, "
         "\"frame_speedup_2t\": %s, \"frame_samples_ms_1t\": %s, \"frame_samples_ms_2t\": %s, \"frame_note\": \"%s\"}\n",
-        scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(), ourKernel, opt.embreeRobust ? "true" : "false", bOurs,
-        bEmbree, bOurs / bEmbree, bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree, rays.incoherent.size(), iOurs, iEmbree, iOurs / iEmbree, rays.shadow.size(),
+        scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, opt.buildReps, device.isaDescription().c_str(), ourKernel, opt.embreeRobust ? "true" : "false", bOurs,
+        bEmbree, bRatio, bCpuOurs, bCpuEmbree, bCpuRatio, rays.incoherent.size(), iOurs, iEmbree, iOurs / iEmbree, rays.shadow.size(),
         sOurs, sEmbree, sOurs / sEmbree, rays.primary.size(), pOurs, pEmbree, pOurs / pEmbree,
         pSingle, pSingle / pEmbree, rays.lampShadow.size(), lOurs, lEmbree, lOurs / lEmbree, lSingle, lSingle / lEmbree,
         (unsigned long long)lampShadow.hitsOurs, (unsigned long long)lampShadow.hitsEmbree,
@@ -458,12 +473,12 @@ int run(int argc, char** argv) {
         samples(frames.twoThreadsSamplesMs).c_str(), frames.note.c_str());
     return 0;
   }
-  std::printf("scene %s: %u triangles, build threads %u, %u repetitions (medians), Embree ISA %s%s, our kernel %s\n",
-              scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, device.isaDescription().c_str(),
+  std::printf("scene %s: %u triangles, build threads %u, %u repetitions (%u of the builds; medians), Embree ISA %s%s, our kernel %s\n",
+              scene.name.c_str(), mesh.triangleCount(), opt.threads, opt.reps, opt.buildReps, device.isaDescription().c_str(),
               opt.embreeRobust ? ", RTC_SCENE_FLAG_ROBUST" : "", ourKernel);
   std::printf("%-28s %12s %12s %8s\n", "", "ours", "embree", "ratio");
-  std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms (wall)", bOurs, bEmbree, bOurs / bEmbree);
-  std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms (process CPU)", bCpuOurs, bCpuEmbree, bCpuOurs / bCpuEmbree);
+  std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms (wall)", bOurs, bEmbree, bRatio);
+  std::printf("%-28s %12.2f %12.2f %8.3f\n", "build ms (process CPU)", bCpuOurs, bCpuEmbree, bCpuRatio);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "incoherent Mrays/s (1t)", iOurs, iEmbree, iOurs / iEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "shadow Mrays/s (1t)", sOurs, sEmbree, sOurs / sEmbree);
   std::printf("%-28s %12.3f %12.3f %8.3f\n", "primary Mrays/s (1t)", pOurs, pEmbree, pOurs / pEmbree);
