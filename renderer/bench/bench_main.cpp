@@ -55,8 +55,8 @@ struct Options {
   std::string scene, synthetic;
   uint32_t threads = 1;
   uint32_t reps = 5;
-  /// Repetitions of the builds: more than of the ray sets, since a build takes milliseconds and
-  /// one slow repetition in five moved the median by up to 50% on a shared machine.
+  /// Repetitions of the builds: more than of the ray sets, since a build takes milliseconds and a
+  /// slow spell over a few of five repetitions moved one side's median by up to 50% here.
   uint32_t buildReps = 15;
   uint32_t rays = 1u << 20;
   bool json = false;
