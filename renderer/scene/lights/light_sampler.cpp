@@ -114,8 +114,9 @@ int laneAbove(const float* w, double base, double target) {
 /// The weights of the eight lamps of a group at p, n (localLightWeight x lampCosineFactor); false
 /// (and all 0) when every lamp of the group lies wholly below the tangent plane. Lanes set in
 /// `hidden` (lamps no ray from p's surroundings reached: LampVisibility) are scaled by
-/// LampVisibility::kHiddenWeight. The divisions the group's lamps do not need are skipped; each
-/// lane's arithmetic is the same.
+/// LampVisibility::kHiddenWeight. The distance falloff and the cosine are kept as fractions and
+/// divided once: the group's divisions bound the weighing (the same weights as the two scalar
+/// functions up to rounding).
 template <class Group>
 [[gnu::always_inline]] inline bool groupWeights(const Group& g, const glm::vec3& p, const glm::vec3& n, uint8_t hidden,
                                                 Lanes& out) {
@@ -136,32 +137,34 @@ template <class Group>
   const Lanes centre = sqrtLanes(tx * tx + ty * ty + tz * tz);
   const Lanes nearest = maxLanes(centre - radius, Lanes{} + 1e-3f);
   const Lanes range = load(g.range);
-  Lanes falloff;
-  if (g.anyLinear && g.anyInverseSquare) {
-    const Lanes inverseSquare = 1.0f / maxLanes(nearest * nearest, Lanes{} + 1e-8f);
-    const Lanes linearFalloff = maxLanes(1.0f - nearest / range, Lanes{});
-    falloff = load(g.linear) != 0.0f ? linearFalloff : inverseSquare;
-  } else if (g.anyLinear) {
-    falloff = maxLanes(1.0f - nearest / range, Lanes{});
-  } else {
-    falloff = 1.0f / maxLanes(nearest * nearest, Lanes{} + 1e-8f);
+  // weight = numerator / denominator.
+  Lanes numerator = load(g.strength), denominator = Lanes{} + 1.0f;
+  if (g.anyLinear) {
+    const Lanes linearFalloff = maxLanes(1.0f - nearest * load(g.inverseRange), Lanes{});
+    numerator = g.anyInverseSquare ? (load(g.linear) != 0.0f ? numerator * linearFalloff : numerator)
+                                   : numerator * linearFalloff;
   }
-  Lanes weight = load(g.strength) * falloff;
-  weight = ((range > 0.0f) & (nearest > range)) ? Lanes{} : weight;
+  if (g.anyInverseSquare) {
+    const Lanes square = maxLanes(nearest * nearest, Lanes{} + 1e-8f);
+    denominator = g.anyLinear ? (load(g.linear) != 0.0f ? denominator : square) : square;
+  }
   if (g.anySpot) {
     // Spot lights without radius: the cone's smooth edge toward the point.
     const Lanes c = (tx * load(g.dx) + ty * load(g.dy) + tz * load(g.dz)) / centre;
     const Lanes lo = load(g.cosOuter), hi = load(g.cosInner);
     const Lanes t = (c - lo) / (hi - lo);
     const Lanes smooth = c <= lo ? Lanes{} : c >= hi ? Lanes{} + 1.0f : t * t * (3.0f - 2.0f * t);
-    weight = ((load(g.spot) != 0.0f) & (centre > 0.0f)) ? weight * smooth : weight;
+    numerator = ((load(g.spot) != 0.0f) & (centre > 0.0f)) ? numerator * smooth : numerator;
   }
   if (hemisphere) {
-    // lampCosineFactor: the light a lamp brings to a surface falls with the cosine toward it.
-    const Lanes cosine =
-        minLanes(maxLanes(height / maxLanes(centre, Lanes{} + 1e-8f), Lanes{} + kLeastLampCosine), Lanes{} + 1.0f);
-    weight = below ? Lanes{} : weight * cosine;
+    // lampCosineFactor: the light a lamp brings to a surface falls with the cosine toward it,
+    // height / centre clamped to [kLeastLampCosine, 1], as the fraction clamp(height) / centre.
+    const Lanes safeCentre = maxLanes(centre, Lanes{} + 1e-8f);
+    numerator = numerator * minLanes(maxLanes(height, safeCentre * kLeastLampCosine), safeCentre);
+    denominator = denominator * safeCentre;
   }
+  Lanes weight = numerator / denominator;
+  weight = (((range > 0.0f) & (nearest > range)) | below) ? Lanes{} : weight;
   if (hidden != 0) {
     const LaneMask laneBits = {1, 2, 4, 8, 16, 32, 64, 128};
     weight = (laneBits & int(hidden)) != 0 ? weight * LampVisibility::kHiddenWeight : weight;
@@ -307,6 +310,7 @@ void LightSampler::buildTables(const Sky& sky, const Bounds& sceneBounds, std::s
     g.radius[lane] = l.radius;
     g.strength[lane] = float(meanComponent(l.color)) * l.intensity;
     g.range[lane] = l.range;
+    g.inverseRange[lane] = l.range > 0.0f ? 1.0f / l.range : kInfinity;   // no reach: the linear falloff is 0
     g.linear[lane] = l.falloff == Falloff::Linear ? 1.0f : 0.0f;
     g.spot[lane] = l.type == LightType::Spot && l.radius == 0.0f ? 1.0f : 0.0f;
     g.dx[lane] = l.direction.x, g.dy[lane] = l.direction.y, g.dz[lane] = l.direction.z;

@@ -195,7 +195,7 @@ class LightSampler {
   /// localLights_ eight to a group as structure of arrays (padding lanes carry no light): their
   /// weights at a shading point are computed eight per instruction.
   struct LampGroup {
-    alignas(32) float x[8], y[8], z[8], radius[8], strength[8], range[8], linear[8];
+    alignas(32) float x[8], y[8], z[8], radius[8], strength[8], range[8], inverseRange[8], linear[8];
     alignas(32) float spot[8], dx[8], dy[8], dz[8], cosOuter[8], cosInner[8];
     uint32_t live = 0;   ///< Bit per lane that holds a lamp.
     uint8_t mapped = 0;  ///< Bit per lane whose lamp the LampVisibility map was traced for.
@@ -226,7 +226,7 @@ float localLightWeight(const LightDesc& light, const glm::vec3& p);
 /// The least cosine factor a lamp above the tangent plane keeps in its weight.
 inline constexpr float kLeastLampCosine = 1.0f / 16.0f;
 /// The cosine factor of a lamp's weight at p on a surface facing n (the sampler's lanes compute
-/// the same): the cosine toward the lamp's centre, raised by radius / distance for a sphere lamp
+/// the same up to rounding, with one division for falloff and cosine together): the cosine toward the lamp's centre, raised by radius / distance for a sphere lamp
 /// (a bound over its sphere), clamped to [kLeastLampCosine, 1]; 0 when the lamp lies wholly below
 /// the tangent plane; 1 for n = 0 (no surface).
 float lampCosineFactor(const LightDesc& light, const glm::vec3& p, const glm::vec3& n);
