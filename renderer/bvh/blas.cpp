@@ -3,7 +3,6 @@
 // build on, the builder's scratch arrays), so meshes rebuilt every frame do not page-fault
 // fresh memory on each build.
 #include <algorithm>
-#include <bit>
 #include <stdexcept>
 
 #include "renderer/bvh/binary_bvh.h"
@@ -162,10 +161,8 @@ bool Blas::intersect(Ray& ray, Hit& hit, const HitFilter& filter, uint32_t insta
 uint32_t Blas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_t active,
                                std::span<const HitFilter> filters, uint32_t instanceId) const {
   if (!impl_) return 0;
-  active &= (1u << kMaxPacketRays) - 1;
-  const uint32_t highest = active ? 32 - std::countl_zero(active) : 0;
-  if (rays.size() < highest || hits.size() < highest || filters.size() < highest)
-    throw std::invalid_argument("Blas::intersectPacket: spans shorter than the active rays");
+  active = bvh_detail::activePacketLanes(active, std::min({rays.size(), hits.size(), filters.size()}),
+                                         "Blas::intersectPacket");
   // The kernels skip the rays that are not traceable (isTraceableRay).
   if (impl_->nodeWidth == 16)
     return bvh_detail::intersectWide16Packet(impl_->wide16, rays.data(), hits.data(), active, filters.data(),
@@ -176,10 +173,7 @@ uint32_t Blas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
 uint32_t Blas::occludedPacket(std::span<const Ray> rays, uint32_t active, std::span<const HitFilter> filters,
                               uint32_t instanceId) const {
   if (!impl_) return 0;
-  active &= (1u << kMaxPacketRays) - 1;
-  const uint32_t highest = active ? 32 - std::countl_zero(active) : 0;
-  if (rays.size() < highest || filters.size() < highest)
-    throw std::invalid_argument("Blas::occludedPacket: spans shorter than the active rays");
+  active = bvh_detail::activePacketLanes(active, std::min(rays.size(), filters.size()), "Blas::occludedPacket");
   // The kernels skip the rays that are not traceable (isTraceableRay).
   if (impl_->nodeWidth == 16)
     return bvh_detail::occludedWide16Packet(impl_->wide16, rays.data(), active, filters.data(), instanceId);

@@ -587,10 +587,8 @@ bool Tlas::intersect(Ray& ray, Hit& hit, uint32_t rayMask, const HitFilter& filt
 
 uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_t active, uint32_t rayMask,
                                std::span<const HitFilter> filters) const {
-  active &= (1u << kMaxPacketRays) - 1;
-  const uint32_t highest = active ? 32 - std::countl_zero(active) : 0;
-  if (rays.size() < highest || hits.size() < highest || filters.size() < highest)
-    throw std::invalid_argument("Tlas::intersectPacket: spans shorter than the active rays");
+  active = bvh_detail::activePacketLanes(active, std::min({rays.size(), hits.size(), filters.size()}),
+                                         "Tlas::intersectPacket");
   if (!impl_) return 0;
   const Impl& self = *impl_;
   const PacketLanes lanes = packetLanes(rays, active);
@@ -694,17 +692,14 @@ bool Tlas::occluded(const Ray& ray, uint32_t rayMask, const HitFilter& filter) c
 
 uint32_t Tlas::occludedPacket(std::span<const Ray> rays, uint32_t active, uint32_t rayMask,
                               std::span<const HitFilter> filters) const {
-  active &= (1u << kMaxPacketRays) - 1;
-  const uint32_t highest = active ? 32 - std::countl_zero(active) : 0;
-  if (rays.size() < highest || filters.size() < highest)
-    throw std::invalid_argument("Tlas::occludedPacket: spans shorter than the active rays");
+  active = bvh_detail::activePacketLanes(active, std::min(rays.size(), filters.size()), "Tlas::occludedPacket");
   if (!impl_) return 0;
   const Impl& self = *impl_;
   // The static world first, with the packet's rays as they are (it stops most that stop); the
   // rays it lets through then walk the tree past it one by one (the movers are small and few).
-  uint32_t found = 0;
-  if (self.worldTakes(rayMask)) found = self.world.blas->occludedPacket(rays, active, filters, self.world.index);
-  const auto worldVisit = self.worldTakes(rayMask) ? Impl::WorldVisit::Traced : Impl::WorldVisit::InTree;
+  const bool worldFirst = self.worldTakes(rayMask);
+  uint32_t found = worldFirst ? self.world.blas->occludedPacket(rays, active, filters, self.world.index) : 0u;
+  const auto worldVisit = worldFirst ? Impl::WorldVisit::Traced : Impl::WorldVisit::InTree;
   for (uint32_t r = active & ~found; r; r &= r - 1) {
     const int lane = std::countr_zero(r);
     if (bvh_detail::isTraceableRay(rays[lane]) && self.occludedBy(rays[lane], rayMask, filters[lane], worldVisit))

@@ -1,8 +1,11 @@
 #pragma once
 // The BLAS's own copy of its mesh, validated, plus per-triangle flags used by every layout.
+#include <bit>
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -57,6 +60,16 @@ inline bool isTraceableRay(const Ray& ray) {
   const bool finite = (o.x <= kLargest) & (o.y <= kLargest) & (o.z <= kLargest) & (d.x <= kLargest) &
                       (d.y <= kLargest) & (d.z <= kLargest);
   return finite & (d.x + d.y + d.z > 0.0f) & (ray.tmin <= ray.tmax);   // <= fails for a NaN
+}
+
+/// The bits of `active` a packet call traces (those below kMaxPacketRays). Throws
+/// std::invalid_argument naming `caller` when the shortest of the call's spans (`shortestSpan`
+/// rays, hits or filters) does not reach the highest of them.
+inline uint32_t activePacketLanes(uint32_t active, size_t shortestSpan, const char* caller) {
+  active &= (1u << kMaxPacketRays) - 1;
+  const uint32_t highest = active ? 32 - std::countl_zero(active) : 0;
+  if (shortestSpan < highest) throw std::invalid_argument(std::string(caller) + ": spans shorter than the active rays");
+  return active;
 }
 
 }  // namespace pa::bvh_detail
