@@ -93,6 +93,9 @@ LightBounds boundsUnion(const LightBounds& a, const LightBounds& b) {
 
 namespace {
 
+/// True when every component of v is finite.
+bool finiteVector(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
 /// lightImportance(), inlined where both children of a node are weighed (their work overlaps).
 [[gnu::always_inline]] inline float importanceOf(const LightBounds& b, const glm::vec3& p, const glm::vec3& n) {
   if (!(b.power > 0.0f)) return 0.0f;
@@ -107,7 +110,6 @@ namespace {
   const float dist2 = glm::dot(fromCentre, fromCentre);
   // Inside the bounding sphere every direction is possible and distance is no better than its size.
   const bool inside = dist2 <= radius2;
-  const glm::vec3 wi = dist2 > 0.0f ? fromCentre / std::sqrt(dist2) : glm::vec3(0.0f, 0.0f, 1.0f);
   // Exact plane tests against the box (sharper than the cones near the box): nothing reflects
   // when the whole box lies below the point's tangent plane, and one-sided emitters sharing one
   // normal send nothing when the point lies behind all of them.
@@ -115,6 +117,15 @@ namespace {
   if (!b.twoSided && b.normals.cosTheta >= 1.0f && b.cosEmission >= 0.0f &&
       glm::dot(p - centre, b.normals.axis) + glm::dot(halfDiagonal, glm::abs(b.normals.axis)) <= 0.0f)
     return 0.0f;
+  if (inside && finiteVector(n) && finiteVector(b.normals.axis) && !std::isnan(b.normals.cosTheta)) {
+    // Inside the bounding sphere its cone spans every direction (cosB = -1, an angle of pi):
+    // the clamped emission and reception angles below are 0 and both cosines 1, whatever wi is.
+    // The root of a map's emitters is weighed so at nearly every shading point.
+    if (1.0f <= b.cosEmission) return 0.0f;
+    const float importance = b.power / radius2;   // max(dist2, radius2) inside
+    return std::isfinite(importance) ? std::max(importance, 0.0f) : 0.0f;
+  }
+  const glm::vec3 wi = dist2 > 0.0f ? fromCentre / std::sqrt(dist2) : glm::vec3(0.0f, 0.0f, 1.0f);
   const float cosB = inside ? -1.0f : safeSqrt(1.0f - radius2 / dist2);
   const float sinB = safeSqrt(1.0f - cosB * cosB);
 

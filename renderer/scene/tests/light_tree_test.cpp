@@ -357,6 +357,34 @@ TEST(LightTree, HostileEmittersAreLeftOut) {
   EXPECT_NEAR(sum, 1.0, 1e-4);
 }
 
+TEST(LightTree, InsideTheBoundingSphereImportanceIsPowerOverRadiusSquared) {
+  // Inside the sphere around the box every direction is in the cone bound, so emission and
+  // reception cosines are 1 for any cone, side or normal that the plane tests let through.
+  LightBounds b;
+  b.bounds.extend(glm::vec3(-4.0f, -2.0f, -1.0f));
+  b.bounds.extend(glm::vec3(4.0f, 2.0f, 1.0f));
+  b.power = 3.0f;
+  const float radius2 = 4.0f * 4.0f + 2.0f * 2.0f + 1.0f;
+  const glm::vec3 inside[] = {glm::vec3(0.0f), glm::vec3(3.9f, 1.9f, 0.9f), glm::vec3(-4.5f, 0.0f, 0.0f)};
+  for (const float cosTheta : {1.0f, 0.3f, -1.0f}) {
+    for (const bool twoSided : {false, true}) {
+      b.normals = {glm::vec3(0.0f, 0.0f, 1.0f), cosTheta};
+      b.twoSided = twoSided;
+      b.cosEmission = 0.0f;
+      for (const glm::vec3& p : inside) {
+        for (const glm::vec3& n : {glm::vec3(0.0f), glm::vec3(1.0f, 0.0f, 0.0f), glm::normalize(glm::vec3(1, -2, 3))}) {
+          const float got = lightImportance(b, p, n);
+          // A one-sided emitter with one normal sends nothing to points behind its whole box.
+          const bool behind = !twoSided && cosTheta >= 1.0f && p.z + 1.0f <= 0.0f;
+          EXPECT_EQ(got, behind ? 0.0f : b.power / radius2) << cosTheta << " " << twoSided;
+        }
+      }
+      b.cosEmission = 1.0f;   // an emission cone of zero width lets nothing out
+      EXPECT_EQ(lightImportance(b, glm::vec3(0.0f), glm::vec3(0.0f)), 0.0f);
+    }
+  }
+}
+
 TEST(LightTree, RangeLimitsTheReach) {
   LightBounds lamp;
   lamp.bounds.extend(glm::vec3(-1.0f));
