@@ -46,11 +46,15 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 # The two counts of one binary run side by side (two cores); binaries one after the other.
 for i in "${!bins[@]}"; do
+  pids=()
   for n in "$first" "$last"; do
     valgrind --tool=callgrind --callgrind-out-file="$work/$i.$n.out" "${bins[$i]}" "$map" \
       -o "$work/$i.$n.png" "${args[@]}" --threads 1 --frames "$n" -q > "$work/$i.$n.log" 2>&1 &
+    pids+=($!)
   done
-  wait || { echo "instructions_per_frame: a run of ${bins[$i]} failed (logs in $work)" >&2; trap - EXIT; exit 1; }
+  for pid in "${pids[@]}"; do
+    wait "$pid" || { echo "instructions_per_frame: a run of ${bins[$i]} failed (logs in $work)" >&2; trap - EXIT; exit 1; }
+  done
 done
 
 python3 - "$work" "$first" "$last" "$top" "${bins[@]}" <<'EOF'
@@ -89,7 +93,7 @@ for b, (t, _) in zip(bins, rows):
 
 def short(f):
     """A function's name without its parameter list, qualifiers and return type."""
-    s = f.strip()
+    s = f.strip().replace(') const::', ')::')   # a lambda inside a const member function
     end = s.rfind(')')
     if end >= 0:   # the last top-level parameter list
         depth = 0

@@ -119,8 +119,8 @@ bool finiteVector(const glm::vec3& v) { return std::isfinite(v.x) && std::isfini
     return 0.0f;
   if (inside && finiteVector(n) && finiteVector(b.normals.axis) && !std::isnan(b.normals.cosTheta)) {
     // Inside the bounding sphere its cone spans every direction (cosB = -1, an angle of pi):
-    // the clamped emission and reception angles below are 0 and both cosines 1, whatever wi is.
-    // The root of a map's emitters is weighed so at nearly every shading point.
+    // the clamped emission and reception angles below are 0 and both cosines 1, whatever wi is
+    // (the tree's root is weighed at every shading point, and points inside skip the direction).
     if (1.0f <= b.cosEmission) return 0.0f;
     const float importance = b.power / radius2;   // max(dist2, radius2) inside
     return std::isfinite(importance) ? std::max(importance, 0.0f) : 0.0f;
