@@ -2,8 +2,8 @@
 # scripts/instructions_per_frame.sh [options] MAP.bsp [-- PA_RENDER_ARGS...]: the instructions one
 # steady frame of `pa-render` executes, counted by valgrind's callgrind: each binary renders the
 # map twice (FIRST and LAST frames), and the difference of the two counts over LAST - FIRST is a
-# frame's, loading and the first frames left out. The count is the same from run to run (one
-# thread, fixed seeds), so it sizes a change of work that wall time on a shared 2-core machine
+# frame's, loading and the first frames left out. The count repeats within 0.03% from run to run
+# (one thread, fixed seeds), so it sizes a change of work that wall time on a shared 2-core machine
 # cannot resolve (runs of one binary move by 5-50% there). It is not time: valgrind runs the
 # AVX2 kernels (it has no AVX-512), and work that waits on latency or memory costs more than its
 # instructions (docs/performance.md, "Method"). Prints, per binary, the instructions per frame
