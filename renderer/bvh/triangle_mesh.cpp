@@ -8,12 +8,11 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include "renderer/core/finite.h"
 #include "renderer/core/reuse.h"
 
 namespace pa::bvh_detail {
 namespace {
-
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 void validatePositions(std::span<const glm::vec3> positions) {
   for (size_t i = 0; i < positions.size(); ++i)

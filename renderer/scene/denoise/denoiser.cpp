@@ -1,5 +1,6 @@
 #include "renderer/scene/denoise/denoiser.h"
 
+#include "renderer/core/finite.h"
 #include "renderer/scene/denoise/weight_lanes.h"
 
 #include <algorithm>
@@ -33,8 +34,6 @@ constexpr float kLuminanceEpsilon = 1e-6f;
 constexpr float kKernel[3] = {0.25f, 0.5f, 0.25f};
 /// Rows per parallel task.
 constexpr uint32_t kRowGrain = 4;
-
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// Depth change per pixel between `here` and the neighbour on the side with the smaller change
 /// (the side on the same surface at an edge); 0 with no usable neighbour.

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "renderer/core/finite.h"
 #include "renderer/scene/sampling/warp.h"
 
 namespace pa {
@@ -20,7 +21,6 @@ void validate(const AutoExposureSettings& s) {
     throw std::invalid_argument("auto exposure: need 0 < minGain <= maxGain (finite)");
 }
 
-bool finite(const glm::vec3& c) { return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z); }
 
 }  // namespace
 

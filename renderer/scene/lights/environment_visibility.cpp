@@ -8,16 +8,11 @@
 #include <glm/vector_relational.hpp>
 #include <tbb/parallel_for.h>
 
+#include "renderer/core/finite.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
 #include "renderer/scene/sampling/warp.h"
 
 namespace pa {
-
-namespace {
-
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-}  // namespace
 
 EnvironmentVisibility::EnvironmentVisibility(std::span<const SurfacePoint> points,
                                              std::span<const glm::vec3> sunDirections, bool sky,

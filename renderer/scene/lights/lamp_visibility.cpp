@@ -8,13 +8,12 @@
 #include <glm/vector_relational.hpp>
 #include <tbb/parallel_for.h>
 
+#include "renderer/core/finite.h"
 #include "renderer/scene/lights/light_sampler.h"
 
 namespace pa {
 
 namespace {
-
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// True when lamp l can light a surface at p facing n at all (range, cone, front hemisphere).
 bool canLight(const LightDesc& l, const glm::vec3& p, const glm::vec3& n) {

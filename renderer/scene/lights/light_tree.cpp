@@ -11,6 +11,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "renderer/core/finite.h"
+
 namespace pa {
 
 namespace {
@@ -93,9 +95,6 @@ LightBounds boundsUnion(const LightBounds& a, const LightBounds& b) {
 
 namespace {
 
-/// True when every component of v is finite.
-bool finiteVector(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 /// lightImportance(), inlined where both children of a node are weighed (their work overlaps).
 [[gnu::always_inline]] inline float importanceOf(const LightBounds& b, const glm::vec3& p, const glm::vec3& n) {
   if (!(b.power > 0.0f)) return 0.0f;
@@ -117,7 +116,7 @@ bool finiteVector(const glm::vec3& v) { return std::isfinite(v.x) && std::isfini
   if (!b.twoSided && b.normals.cosTheta >= 1.0f && b.cosEmission >= 0.0f &&
       glm::dot(p - centre, b.normals.axis) + glm::dot(halfDiagonal, glm::abs(b.normals.axis)) <= 0.0f)
     return 0.0f;
-  if (inside && finiteVector(n) && finiteVector(b.normals.axis) && !std::isnan(b.normals.cosTheta)) {
+  if (inside && finite(n) && finite(b.normals.axis) && !std::isnan(b.normals.cosTheta)) {
     // Inside the bounding sphere its cone spans every direction (cosB = -1, an angle of pi):
     // the clamped emission and reception angles below are 0 and both cosines 1, whatever wi is
     // (the tree's root is weighed at every shading point, and points inside skip the direction).

@@ -7,12 +7,11 @@
 #include <glm/common.hpp>
 
 #include "renderer/core/bounds.h"
+#include "renderer/core/finite.h"
 
 namespace pa {
 
 namespace {
-
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// The box holding the middle of the points on every axis (kOutlierShare cut at each end).
 Bounds robustBounds(std::span<const SurfacePoint> points) {

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
 
+#include "renderer/core/finite.h"
 #include "renderer/scene/textures/texture.h"
 
 namespace pa {
@@ -16,7 +17,6 @@ constexpr float kFogStart = 1.0f / 64.0f;     // fraction of depthForOpaque befo
 constexpr float kParallel = 1e-12f;
 constexpr float kEndSlack = 1e-4f;            // relative tolerance of "the segment ends inside"           // |dot(n, dir)| below this: the ray runs along the plane
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// Sets volume's box from its corners (every point where three planes meet that lies inside
 /// the others), in double precision, when the volume is bounded: clipped to a cube of side

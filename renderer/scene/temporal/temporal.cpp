@@ -11,6 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "renderer/core/finite.h"
 #include "renderer/scene/sampling/warp.h"
 #include "renderer/scene/taau/lanes.h"
 
@@ -35,7 +36,6 @@ constexpr uint32_t kRowGrain = 4;
 
 using sampling::luminance;
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 glm::vec3 demodulationFactor(const glm::vec3& albedo) { return glm::max(albedo, glm::vec3(kMinAlbedo)); }
 
 /// Depth change per pixel towards the neighbour on the same surface (the smaller change); 0 with none.
