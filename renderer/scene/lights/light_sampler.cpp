@@ -115,8 +115,7 @@ int laneAbove(const float* w, double base, double target) {
 /// (and all 0) when every lamp of the group lies wholly below the tangent plane. Lanes set in
 /// `hidden` (lamps no ray from p's surroundings reached: LampVisibility) are scaled by
 /// LampVisibility::kHiddenWeight. The distance falloff and the cosine are kept as fractions and
-/// divided once: the group's divisions bound the weighing (the same weights as the two scalar
-/// functions up to rounding).
+/// divided once (the same weights as the two scalar functions up to rounding).
 template <class Group>
 [[gnu::always_inline]] inline bool groupWeights(const Group& g, const glm::vec3& p, const glm::vec3& n, uint8_t hidden,
                                                 Lanes& out) {

@@ -226,9 +226,10 @@ float localLightWeight(const LightDesc& light, const glm::vec3& p);
 /// The least cosine factor a lamp above the tangent plane keeps in its weight.
 inline constexpr float kLeastLampCosine = 1.0f / 16.0f;
 /// The cosine factor of a lamp's weight at p on a surface facing n (the sampler's lanes compute
-/// the same up to rounding, with one division for falloff and cosine together): the cosine toward the lamp's centre, raised by radius / distance for a sphere lamp
-/// (a bound over its sphere), clamped to [kLeastLampCosine, 1]; 0 when the lamp lies wholly below
-/// the tangent plane; 1 for n = 0 (no surface).
+/// the same up to rounding, with one division for falloff and cosine together): the cosine
+/// toward the lamp's centre, raised by radius / distance for a sphere lamp (a bound over its
+/// sphere), clamped to [kLeastLampCosine, 1]; 0 when the lamp lies wholly below the tangent
+/// plane; 1 for n = 0 (no surface).
 float lampCosineFactor(const LightDesc& light, const glm::vec3& p, const glm::vec3& n);
 /// Angular factor of a spot light for a unit direction from the light toward the point.
 float spotFactor(const LightDesc& light, const glm::vec3& fromLight);
