@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <algorithm>
 #include <limits>
 #include <vector>
 
@@ -40,7 +41,53 @@ bool parseFloat(std::string_view option, std::string_view text, float lo, bool e
   return true;
 }
 
+/// Parses --integrator's "NAME[:SPP][,NAME[:SPP]...]": each of lightmap, direct, path at most once.
+bool parseIntegrators(std::string_view text, std::vector<IntegratorPass>& out, std::string& message) {
+  std::vector<IntegratorPass> passes;
+  size_t start = 0;
+  while (true) {
+    const size_t end = std::min(text.find(',', start), text.size());
+    std::string_view item = text.substr(start, end - start);
+    IntegratorPass pass;
+    if (const size_t colon = item.find(':'); colon != std::string_view::npos) {
+      if (!parseUnsigned("--integrator " + std::string(item.substr(0, colon)) + ":SPP", item.substr(colon + 1), 1,
+                         1u << 20, pass.samplesPerPixel, message))
+        return false;
+      item = item.substr(0, colon);
+    }
+    if (item == "lightmap") pass.integrator = Integrator::Lightmap;
+    else if (item == "direct") pass.integrator = Integrator::Direct;
+    else if (item == "path") pass.integrator = Integrator::Path;
+    else {
+      message = "--integrator: expected lightmap, direct or path, got \"" + std::string(item) + "\"";
+      return false;
+    }
+    for (const IntegratorPass& earlier : passes)
+      if (earlier.integrator == pass.integrator) {
+        message = "--integrator: " + std::string(item) + " given twice";
+        return false;
+      }
+    passes.push_back(pass);
+    if (end == text.size()) break;
+    start = end + 1;
+  }
+  out = std::move(passes);
+  return true;
+}
+
 }  // namespace
+
+uint32_t samplesPerPixelOf(const CliOptions& options, const IntegratorPass& pass) {
+  return pass.samplesPerPixel != 0 ? pass.samplesPerPixel : options.samplesPerPixel;
+}
+
+std::filesystem::path outputPathFor(const std::filesystem::path& path, const CliOptions& options, Integrator integrator) {
+  if (options.integrators.size() <= 1) return path;
+  std::filesystem::path named = path;
+  named.replace_filename(path.stem().string() + "_" + std::string(integratorName(integrator)) +
+                         path.extension().string());
+  return named;
+}
 
 std::string_view integratorName(Integrator integrator) {
   switch (integrator) {
@@ -160,13 +207,7 @@ ParseResult parseCommandLine(std::span<const std::string_view> args) {
     } else if (name == "--light-scale") {
       ok = parseFloat(name, value, 0.0f, true, o.lightScale, message);
     } else if (name == "--integrator") {
-      if (value == "lightmap") o.integrator = Integrator::Lightmap;
-      else if (value == "direct") o.integrator = Integrator::Direct;
-      else if (value == "path") o.integrator = Integrator::Path;
-      else {
-        ok = false;
-        message = "--integrator: expected lightmap, direct or path, got \"" + std::string(value) + "\"";
-      }
+      ok = parseIntegrators(value, o.integrators, message);
     } else if (name == "--play") {
       if (value == "accumulate") o.play = CliOptions::Play::Accumulate;
       else if (value == "independent") o.play = CliOptions::Play::Independent;
@@ -250,6 +291,12 @@ Image and sampling:
                            lightmap: primary rays x baked light (the stock look)
                            direct:   direct light with ray-traced shadows + emission
                            path:     full path tracing (NEE + MIS, Russian roulette)
+                         A list NAME[:SPP],... renders each over the scene loaded once, in
+                         that order, SPP samples per pixel per frame (default --spp); each
+                         output file gets "_NAME" before its extension (-o out.png:
+                         out_lightmap.png, out_direct.png), and the pictures are the same
+                         as those of one run per integrator. With --exposure auto, the first
+                         picture is metered and its gain exposes them all
   --bounces N            Maximum path length for 'path' (default 4)
   --baked-path-end       direct and path: a path's last vertex on a surface with baked light
                          (lightmap or vertex light, as .bsp maps have) reflects the bake's

@@ -6,10 +6,17 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "renderer/scene/scene_types.h"
 
 namespace pa::cli {
+
+/// One integrator of a run and its samples per pixel per frame (0: --spp).
+struct IntegratorPass {
+  Integrator integrator = Integrator::Path;
+  uint32_t samplesPerPixel = 0;
+};
 
 /// Everything pa-render was asked to do.
 struct CliOptions {
@@ -25,7 +32,9 @@ struct CliOptions {
   uint32_t rouletteStart = 3;                   ///< Scatterings before Russian roulette (--roulette-start).
   uint32_t seed = 0;
   uint32_t threads = 0;                         ///< 0 = all cores.
-  Integrator integrator = Integrator::Path;
+  /// --integrator: rendered in this order over one loaded scene; with more than one, each output
+  /// file name gets "_NAME" before its extension (outputPathFor).
+  std::vector<IntegratorPass> integrators{IntegratorPass{}};
   Tonemap tonemap = Tonemap::AcesFitted;        ///< Display transform of the PNG.
   LightingLook lighting = LightingLook::Physical;   ///< How the PNG shows reflected light.
   uint32_t camera = 0;                          ///< Index into the scene's cameras.
@@ -69,6 +78,13 @@ std::string usageText(std::string_view program);
 
 /// Integrator name as on the command line ("lightmap", "direct", "path").
 std::string_view integratorName(Integrator integrator);
+
+/// Samples per pixel per frame of a pass: its own, else --spp.
+uint32_t samplesPerPixelOf(const CliOptions& options, const IntegratorPass& pass);
+
+/// An output file of one pass: path itself for a run of one integrator, else path with "_NAME"
+/// before its extension (out.png -> out_direct.png).
+std::filesystem::path outputPathFor(const std::filesystem::path& path, const CliOptions& options, Integrator integrator);
 
 /// Tonemap name as on the command line ("aces", "reinhard", "clamp").
 std::string_view tonemapName(Tonemap tonemap);

@@ -312,10 +312,17 @@ FrameView Renderer::finishRender() {
 
 bool Renderer::rendering() const { return impl_->rendering; }
 
-void Renderer::resetAccumulation() {
-  impl_->film.reset();
-  impl_->temporal.reset();
-  impl_->upscaler.reset();
+void Renderer::forgetFrames() {
+  Impl& im = *impl_;
+  if (im.rendering) throw SceneError("forgetFrames: the last startRender was not finished");
+  im.film.reset();
+  im.temporal.reset();
+  im.upscaler.reset();
+  im.resampler.reset();
+  im.gradients.reset();
+  im.temporalLast = false;
+  im.restirLast = false;
+  im.haveLast = false;
 }
 
 FrameView Renderer::render(const Camera& camera, const RenderSettings& settings) {

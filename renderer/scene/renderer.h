@@ -139,8 +139,9 @@ class Renderer {
   /// A render started by startRender() has not been finished.
   bool rendering() const;
 
-  /// Forgets the accumulated frames (next render starts a new mean).
-  void resetAccumulation();
+  /// Forgets every frame rendered so far (accumulation, temporal and TAAU history, reservoirs,
+  /// gradients, the last camera): the next render is the one a new Renderer over this scene makes.
+  void forgetFrames();
 
  private:
   /// The committed scene's light sampling tables and sun/sky visibility map, once per commit.

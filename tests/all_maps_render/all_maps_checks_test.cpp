@@ -273,16 +273,17 @@ std::pair<RenderResult, std::vector<std::string>> judgedArenaRender(const std::s
   RenderRequest request;
   request.paRender = PA_RENDER;
   request.scene = PA_DEFAULT_ARENA;
-  request.integrator = "direct";
+  request.integrators = {{"direct", 4}};
   request.tonemap = "clamp";
   request.exposure = "auto";
   request.width = 64;
   request.height = 36;
-  request.samplesPerPixel = 4;
   request.threads = 1;
   request.outputStem = std::filesystem::temp_directory_path() / ("pa_all_maps_" + std::to_string(::getpid()) + name);
   request.extraArguments = std::move(extra);
-  RenderResult result = runPaRender(request);
+  std::vector<RenderResult> results = runPaRender(request);
+  EXPECT_EQ(results.size(), 1u);
+  RenderResult result = std::move(results.at(0));
   std::vector<std::string> reasons;
   if (result.ok())
     reasons = implausibilityReasons(computeImageStats(result.image.pixels, result.depth), PlausibilityThresholds{},

@@ -46,7 +46,8 @@ lists (scripts/arenas.txt, scripts/*.arena: CTF-like games start at team_CTF_*pl
 lightmap, direct and path integrators (--tonemap clamp; lightmap exposed automatically, direct
 and path at the lightmap's gain), and checks that each picture is plausible (not black, not all
 sky, spawn inside the level). Writes DIR/results.md, DIR/results.tsv, DIR/contact_sheet.png and
-the renders (DIR/renders/MAP_INTEGRATOR.{png,exr,json,log}).
+the renders (DIR/renders/MAP_INTEGRATOR.{png,exr,json}, DIR/renders/MAP.log: one pa-render
+process renders a map's three pictures over the map loaded once).
 
   --pa-render PATH        The pa-render executable (required)
   --out DIR               Output folder (required; created)
@@ -154,19 +155,11 @@ std::string readTextFile(const fs::path& path) {
 /// "maps/oa_dm1.bsp" -> "oa_dm1".
 std::string mapName(const std::string& gamePath) { return fs::path(gamePath).stem().string(); }
 
-/// An integrator and the display transform its pictures are judged in.
+/// An integrator and its samples per pixel.
 struct IntegratorRun {
   const char* name;
-  const char* tonemap;
   uint32_t spp;
 };
-
-/// A gain as pa-render's --exposure value (round-trips exactly enough for --reuse).
-std::string exposureText(double gain) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.9g", gain);
-  return text;
-}
 
 /// Surveys, renders and checks one map.
 MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const ArenaIndex& arenas,
@@ -181,9 +174,8 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const Arena
   // thresholds serves all; the filmic default (aces) would darken dim maps' shadows further.
   // Path: pa-render's default integrator (the offline render a user gets), at its defaults.
   const std::vector<IntegratorRun> runs = {
-      {"lightmap", "clamp", o.lightmapSpp}, {"direct", "clamp", o.directSpp}, {"path", "clamp", o.pathSpp}};
+      {"lightmap", o.lightmapSpp}, {"direct", o.directSpp}, {"path", o.pathSpp}};
   images.assign(runs.size(), RgbaImage{});
-  double lightmapGain = 1.0;
   try {
     const auto bytes = game.readFile(gamePath);
     if (!bytes) throw std::runtime_error(gamePath + ": listed but not readable");
@@ -200,24 +192,26 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const Arena
   if (!result.survey.eyeInsideLevel())
     result.mapProblems.push_back("spawn eye in an opaque leaf (inside a wall or outside the level)");
 
-  for (size_t k = 0; k < runs.size(); ++k) {
-    RenderRequest request;
-    request.paRender = o.paRender;
-    request.scene = o.gameDir / gamePath;
-    request.integrator = runs[k].name;
-    request.tonemap = runs[k].tonemap;
-    request.camera = result.survey.spawn->cameraIndex;
-    // The lightmap picture is exposed automatically; direct and path with the lightmap's gain,
-    // so that they are judged against the baked light at the same exposure (README.md).
-    request.exposure = o.fixedExposure ? *o.fixedExposure : k == 0 ? "auto" : exposureText(lightmapGain);
-    request.width = o.width;
-    request.height = o.height;
-    request.samplesPerPixel = runs[k].spp;
-    request.threads = o.threads;
-    request.outputStem = o.out / "renders" / (result.map + "_" + runs[k].name);
-    request.reuseExisting = o.reuse;
-    RenderResult rendered = runPaRender(request);
+  // One pa-render process renders the three over the map loaded once. The lightmap picture is
+  // exposed automatically; direct and path with the lightmap's gain (pa-render's --exposure auto
+  // with several integrators), so that they are judged against the baked light at the same
+  // exposure (README.md).
+  RenderRequest request;
+  request.paRender = o.paRender;
+  request.scene = o.gameDir / gamePath;
+  for (const IntegratorRun& run : runs) request.integrators.push_back({run.name, run.spp});
+  request.tonemap = "clamp";
+  request.camera = result.survey.spawn->cameraIndex;
+  request.exposure = o.fixedExposure ? *o.fixedExposure : "auto";
+  request.width = o.width;
+  request.height = o.height;
+  request.threads = o.threads;
+  request.outputStem = o.out / "renders" / result.map;
+  request.reuseExisting = o.reuse;
+  std::vector<RenderResult> renders = runPaRender(request);
 
+  for (size_t k = 0; k < runs.size(); ++k) {
+    RenderResult& rendered = renders[k];
     IntegratorOutcome outcome;
     outcome.integrator = runs[k].name;
     outcome.expectedBecause = knownProblemReason(known, result.map, runs[k].name).value_or(result.mapExpectedBecause);
@@ -225,7 +219,6 @@ MapResult checkMap(const Options& o, const q3::GameFileSystem& game, const Arena
     outcome.renderMilliseconds = rendered.renderMilliseconds;
     outcome.exposure = rendered.exposure;
     outcome.exposureAtMaxGain = rendered.exposureAtMaxGain;
-    if (k == 0 && rendered.ok()) lightmapGain = rendered.exposure;
     if (!rendered.ok()) {
       std::string log = rendered.exitCode != 0 ? rendered.log : "";   // its last line is the error message
       while (!log.empty() && log.back() == '\n') log.pop_back();

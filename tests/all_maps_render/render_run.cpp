@@ -53,12 +53,33 @@ int runProcess(const std::vector<std::string>& argv, const std::filesystem::path
   return status;
 }
 
+/// The outputs of one integrator of a request (pa-render's naming: "_NAME" with more than one).
+struct IntegratorFiles {
+  std::filesystem::path png, exr, json;
+};
+
+IntegratorFiles filesFor(const RenderRequest& r, const IntegratorRequest& integrator) {
+  auto output = [&](const char* extension) {
+    std::filesystem::path p = r.outputStem;
+    if (r.integrators.size() > 1) p += "_" + integrator.name;
+    p += extension;
+    return p;
+  };
+  return {output(".png"), output(".exr"), output(".json")};
+}
+
 /// pa-render's command line for a request.
-std::vector<std::string> renderCommand(const RenderRequest& r, const std::filesystem::path& png,
-                                       const std::filesystem::path& exr, const std::filesystem::path& json) {
+std::vector<std::string> renderCommand(const RenderRequest& r) {
+  std::string integrators;
+  for (const IntegratorRequest& i : r.integrators)
+    integrators += (integrators.empty() ? "" : ",") + i.name + ":" + std::to_string(i.samplesPerPixel);
+  std::filesystem::path png = r.outputStem, exr = r.outputStem, json = r.outputStem;
+  png += ".png";
+  exr += ".exr";
+  json += ".json";
   std::vector<std::string> command = {r.paRender.string(), r.scene.string(), "-o", png.string(), "--exr", exr.string(), "--stats", json.string(),
-          "--integrator", r.integrator, "--tonemap", r.tonemap, "--camera", std::to_string(r.camera), "--width", std::to_string(r.width),
-          "--height", std::to_string(r.height), "--spp", std::to_string(r.samplesPerPixel), "--threads",
+          "--integrator", integrators, "--tonemap", r.tonemap, "--camera", std::to_string(r.camera), "--width", std::to_string(r.width),
+          "--height", std::to_string(r.height), "--threads",
           std::to_string(r.threads), "--seed", "0", "--exposure", r.exposure, "--quiet"};
   command.insert(command.end(), r.extraArguments.begin(), r.extraArguments.end());
   return command;
@@ -71,6 +92,7 @@ std::string readText(const std::filesystem::path& path) {
 
 /// True when a --stats record was made with --exposure `exposure` ("auto" or a gain).
 bool sameExposure(const nlohmann::json& stats, const std::string& exposure) {
+  // (a later integrator of an "auto" run records the first one's metering: auto_exposure is set)
   const bool metered = stats.contains("auto_exposure") && stats["auto_exposure"].is_object();
   if (exposure == "auto") return metered;
   if (metered || !stats.contains("exposure") || !stats["exposure"].is_number()) return false;
@@ -94,15 +116,15 @@ RgbaImage encodeUnexposed(uint32_t width, uint32_t height, const std::vector<flo
   return image;
 }
 
-/// True when the --stats file at `json` was written by a render with the settings of `r`.
-bool madeWithSettings(const std::filesystem::path& json, const RenderRequest& r) {
+/// True when the --stats file at `json` was written by a render of `integrator` with the settings of `r`.
+bool madeWithSettings(const std::filesystem::path& json, const RenderRequest& r, const IntegratorRequest& integrator) {
   if (!std::filesystem::exists(json)) return false;
   const nlohmann::json stats = nlohmann::json::parse(readText(json), nullptr, false);
   if (!stats.is_object()) return false;
-  return stats.value("scene", "") == r.scene.string() && stats.value("integrator", "") == r.integrator &&
+  return stats.value("scene", "") == r.scene.string() && stats.value("integrator", "") == integrator.name &&
          stats.value("tonemap", "") == r.tonemap && stats.value("camera_index", -1) == int64_t{r.camera} &&
          stats.value("width", 0u) == r.width && stats.value("height", 0u) == r.height &&
-         stats.value("spp", 0u) == r.samplesPerPixel && sameExposure(stats, r.exposure);
+         stats.value("spp", 0u) == integrator.samplesPerPixel && sameExposure(stats, r.exposure);
 }
 
 RgbaImage readPng(const std::filesystem::path& path) {
@@ -159,52 +181,71 @@ std::vector<float> readExrChannel(const std::filesystem::path& path, const std::
   return values;
 }
 
-RenderResult runPaRender(const RenderRequest& r) {
-  RenderResult result;
-  const std::filesystem::path stem = r.outputStem;
-  std::filesystem::create_directories(stem.parent_path());
-  auto output = [&](const char* extension) {
-    std::filesystem::path p = stem;
-    p += extension;
-    return p;
-  };
-  const std::filesystem::path png = output(".png"), exr = output(".exr"), json = output(".json"), log = output(".log");
-  const bool reuse = r.reuseExisting && std::filesystem::exists(png) && std::filesystem::exists(exr) &&
-                     madeWithSettings(json, r);
-  if (!reuse) {
-    for (const auto& p : {png, exr, json}) std::filesystem::remove(p);
-    result.exitCode = runProcess(renderCommand(r, png, exr, json), log, result.wallMilliseconds);
-  } else {
-    result.exitCode = 0;
-  }
-  result.log = readText(log);
-  if (result.exitCode != 0) {
-    result.error = "pa-render exited with " + std::to_string(result.exitCode);
-    return result;
-  }
+namespace {
+
+/// Reads one integrator's outputs back into `result` (error set when something is missing).
+void readOutputs(const IntegratorFiles& files, bool firstIntegrator, RenderResult& result) {
   try {
-    const nlohmann::json stats = nlohmann::json::parse(readText(json));
+    const nlohmann::json stats = nlohmann::json::parse(readText(files.json));
     result.cameraName = stats.at("camera").get<std::string>();
     result.triangles = stats.at("triangles").get<uint64_t>();
     result.lights = stats.at("lights").get<uint64_t>();
     result.renderMilliseconds = 1000.0 * stats.at("render_seconds").get<double>();
+    result.wallMilliseconds =
+        result.renderMilliseconds + (firstIntegrator ? 1000.0 * stats.at("load_seconds").get<double>() : 0.0);
     result.exposure = stats.at("exposure").get<double>();
     if (stats.contains("auto_exposure") && stats["auto_exposure"].is_object())
       result.exposureAtMaxGain = stats["auto_exposure"].value("clamped", "") == "max";
-    if (reuse)   // the process time of the earlier run is not kept: report its load + render
-      result.wallMilliseconds = result.renderMilliseconds + 1000.0 * stats.at("load_seconds").get<double>();
-    result.image = readPng(png);
+    result.image = readPng(files.png);
     uint32_t width = 0, height = 0;
-    result.depth = readExrChannel(exr, "Z", width, height);
+    result.depth = readExrChannel(files.exr, "Z", width, height);
     if (width != result.image.width || height != result.image.height)
-      throw std::runtime_error(exr.string() + ": size differs from the PNG's");
-    const std::vector<float> red = readExrChannel(exr, "R", width, height), green = readExrChannel(exr, "G", width, height),
-                             blue = readExrChannel(exr, "B", width, height);
+      throw std::runtime_error(files.exr.string() + ": size differs from the PNG's");
+    const std::vector<float> red = readExrChannel(files.exr, "R", width, height),
+                             green = readExrChannel(files.exr, "G", width, height),
+                             blue = readExrChannel(files.exr, "B", width, height);
     result.unexposedImage = encodeUnexposed(width, height, red, green, blue);
   } catch (const std::exception& e) {
     result.error = e.what();
   }
-  return result;
+}
+
+}  // namespace
+
+std::vector<RenderResult> runPaRender(const RenderRequest& r) {
+  std::vector<RenderResult> results(r.integrators.size());
+  std::filesystem::create_directories(r.outputStem.parent_path());
+  std::filesystem::path log = r.outputStem;
+  log += ".log";
+  bool reuse = r.reuseExisting && !r.integrators.empty();
+  for (const IntegratorRequest& integrator : r.integrators) {
+    const IntegratorFiles files = filesFor(r, integrator);
+    reuse = reuse && std::filesystem::exists(files.png) && std::filesystem::exists(files.exr) &&
+            madeWithSettings(files.json, r, integrator);
+  }
+  int exitCode = 0;
+  if (!reuse) {
+    for (const IntegratorRequest& integrator : r.integrators) {
+      const IntegratorFiles files = filesFor(r, integrator);
+      for (const auto& p : {files.png, files.exr, files.json}) std::filesystem::remove(p);
+    }
+    double milliseconds = 0.0;
+    exitCode = runProcess(renderCommand(r), log, milliseconds);
+  }
+  const std::string logText = readText(log);
+  for (size_t k = 0; k < r.integrators.size(); ++k) {
+    RenderResult& result = results[k];
+    result.exitCode = exitCode;
+    result.log = logText;
+    const IntegratorFiles files = filesFor(r, r.integrators[k]);
+    // pa-render writes an integrator's --stats last: without it, that integrator did not finish.
+    if (exitCode != 0 && !std::filesystem::exists(files.json)) {
+      result.error = "pa-render exited with " + std::to_string(exitCode);
+      continue;
+    }
+    readOutputs(files, k == 0, result);
+  }
+  return results;
 }
 
 }  // namespace pa::allmaps

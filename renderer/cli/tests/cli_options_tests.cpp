@@ -25,7 +25,9 @@ TEST(CliOptions, MinimalCommandUsesDefaults) {
   EXPECT_EQ(r.options.frames, 1u);
   EXPECT_EQ(r.options.bounces, 4u);
   EXPECT_EQ(r.options.rouletteStart, 3u);
-  EXPECT_EQ(r.options.integrator, Integrator::Path);
+  ASSERT_EQ(r.options.integrators.size(), 1u);
+  EXPECT_EQ(r.options.integrators[0].integrator, Integrator::Path);
+  EXPECT_EQ(r.options.integrators[0].samplesPerPixel, 0u);
   EXPECT_EQ(r.options.tonemap, Tonemap::AcesFitted);
   EXPECT_EQ(r.options.lighting, LightingLook::Physical);
   EXPECT_FLOAT_EQ(r.options.exposure, 1.0f);
@@ -52,7 +54,8 @@ TEST(CliOptions, ParsesEveryOption) {
   EXPECT_EQ(o.rouletteStart, 1u);
   EXPECT_EQ(o.seed, 42u);
   EXPECT_EQ(o.threads, 3u);
-  EXPECT_EQ(o.integrator, Integrator::Direct);
+  ASSERT_EQ(o.integrators.size(), 1u);
+  EXPECT_EQ(o.integrators[0].integrator, Integrator::Direct);
   EXPECT_EQ(o.camera, 1u);
   EXPECT_FLOAT_EQ(o.clamp, 10.5f);
   EXPECT_FLOAT_EQ(o.exposure, 2.0f);
@@ -102,6 +105,10 @@ TEST(CliOptions, RejectsBadInputWithAMessageNamingTheOption) {
       {{"a.gltf", "-o", "x.png", "--clamp", "nan"}, "--clamp"},
       {{"a.gltf", "-o", "x.png", "--clamp", "-1"}, "--clamp"},
       {{"a.gltf", "-o", "x.png", "--integrator", "whitted"}, "--integrator: expected lightmap, direct or path"},
+      {{"a.gltf", "-o", "x.png", "--integrator", "direct,"}, "--integrator: expected lightmap, direct or path, got \"\""},
+      {{"a.gltf", "-o", "x.png", "--integrator", "path,direct,path"}, "--integrator: path given twice"},
+      {{"a.gltf", "-o", "x.png", "--integrator", "direct:0"}, "--integrator direct:SPP: expected an integer in [1,"},
+      {{"a.gltf", "-o", "x.png", "--integrator", "direct:8x"}, "--integrator direct:SPP"},
       {{"a.gltf", "-o", "x.png", "--tonemap", "filmic"}, "--tonemap: expected aces, reinhard or clamp"},
       {{"a.gltf", "-o", "x.png", "--lighting", "gamma"}, "--lighting: expected physical or display"},
       {{"a.gltf", "-o", "x.png", "--frobnicate", "1"}, "unknown option --frobnicate"},
@@ -115,6 +122,28 @@ TEST(CliOptions, RejectsBadInputWithAMessageNamingTheOption) {
     EXPECT_EQ(r.status, ParseStatus::Error) << c.expected;
     EXPECT_NE(r.message.find(c.expected), std::string::npos) << "got: " << r.message;
   }
+}
+
+TEST(CliOptions, IntegratorListInOrderWithTheirOwnSamplesAndNamedOutputs) {
+  const ParseResult r = parse({"m.bsp", "-o", "out/pic.png", "--exr", "pic.exr", "--spp", "6", "--integrator",
+                               "path:16,lightmap,direct:1"});
+  ASSERT_EQ(r.status, ParseStatus::Ok) << r.message;
+  const CliOptions& o = r.options;
+  ASSERT_EQ(o.integrators.size(), 3u);
+  EXPECT_EQ(o.integrators[0].integrator, Integrator::Path);
+  EXPECT_EQ(o.integrators[1].integrator, Integrator::Lightmap);
+  EXPECT_EQ(o.integrators[2].integrator, Integrator::Direct);
+  EXPECT_EQ(samplesPerPixelOf(o, o.integrators[0]), 16u);
+  EXPECT_EQ(samplesPerPixelOf(o, o.integrators[1]), 6u);   // --spp
+  EXPECT_EQ(samplesPerPixelOf(o, o.integrators[2]), 1u);
+  EXPECT_EQ(outputPathFor(o.pngOut, o, Integrator::Direct), std::filesystem::path("out/pic_direct.png"));
+  EXPECT_EQ(outputPathFor(*o.exrOut, o, Integrator::Lightmap), std::filesystem::path("pic_lightmap.exr"));
+
+  const ParseResult single = parse({"m.bsp", "-o", "pic.png", "--integrator", "direct:4"});
+  ASSERT_EQ(single.status, ParseStatus::Ok) << single.message;
+  ASSERT_EQ(single.options.integrators.size(), 1u);
+  EXPECT_EQ(samplesPerPixelOf(single.options, single.options.integrators[0]), 4u);
+  EXPECT_EQ(outputPathFor(single.options.pngOut, single.options, Integrator::Direct), std::filesystem::path("pic.png"));
 }
 
 TEST(CliOptions, DoubleDashEndsOptions) {

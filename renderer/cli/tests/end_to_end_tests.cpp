@@ -146,6 +146,52 @@ TEST_F(PaRenderTest, ImageDoesNotDependOnThreadCount) {
   EXPECT_EQ(one, two);
 }
 
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST_F(PaRenderTest, SeveralIntegratorsOverOneLoadMakeTheSamePicturesAsOneRunEach) {
+  // Played frames with temporal accumulation and reservoirs: history one integrator left behind
+  // would show in the next one's pictures. --exposure auto meters the first and exposes all.
+  std::string log;
+  const std::string common = arena() + " --width 48 --height 27 --frames 3 --play temporal --restir --seed 5 --threads 2";
+  ASSERT_EQ(runPaRender(common + " --integrator lightmap:2,direct,path:3 --spp 2 --exposure auto -o " +
+                            file("all.png") + " --exr " + file("all.exr") + " --stats " + file("all.json"),
+                        log),
+            0)
+      << log;
+  std::ifstream lightmapStats(file("all_lightmap.json"));
+  const nlohmann::json metered = nlohmann::json::parse(lightmapStats);
+  const double gain = metered.at("exposure").get<double>();
+  ASSERT_TRUE(metered.at("auto_exposure").is_object());
+  EXPECT_DOUBLE_EQ(metered.at("auto_exposure").at("gain").get<double>(), gain);
+  char gainText[32];
+  std::snprintf(gainText, sizeof gainText, "%.9g", gain);
+
+  struct Run { const char* name; const char* spp; const char* exposure; };
+  for (const Run run : {Run{"lightmap", "2", "auto"}, Run{"direct", "2", gainText}, Run{"path", "3", gainText}}) {
+    SCOPED_TRACE(run.name);
+    const std::string one = file(std::string("one_") + run.name);
+    ASSERT_EQ(runPaRender(common + " --integrator " + run.name + " --spp " + run.spp + " --exposure " + run.exposure +
+                              " -o " + one + ".png --exr " + one + ".exr",
+                          log),
+              0)
+        << log;
+    const std::string all = file(std::string("all_") + run.name);
+    EXPECT_EQ(fileBytes(all + ".png"), fileBytes(one + ".png"));
+    EXPECT_EQ(fileBytes(all + ".exr"), fileBytes(one + ".exr"));
+    EXPECT_FALSE(fileBytes(all + ".png").empty());
+    std::ifstream statsFile(all + ".json");
+    const nlohmann::json stats = nlohmann::json::parse(statsFile);
+    EXPECT_EQ(stats.at("integrator"), run.name);
+    EXPECT_EQ(stats.at("spp"), std::atoi(run.spp));
+    EXPECT_DOUBLE_EQ(stats.at("exposure").get<double>(), gain);
+    EXPECT_EQ(stats.at("auto_exposure").at("metered_on"), "lightmap");
+  }
+  EXPECT_FALSE(fs::exists(file("all.png")));   // with several integrators every name carries one
+}
+
 TEST_F(PaRenderTest, ExitCodesAndMessages) {
   std::string log;
   EXPECT_EQ(runPaRender("--help", log), 0);

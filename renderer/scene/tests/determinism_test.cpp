@@ -216,7 +216,7 @@ TEST(Determinism, AccumulationResetsOnCameraSettingsAndSceneChanges) {
   r.addLight(extra);
   r.commit();
   EXPECT_EQ(r.render(moved, s).accumulatedFrames, 1u);
-  r.resetAccumulation();
+  r.forgetFrames();
   EXPECT_EQ(r.render(moved, s).accumulatedFrames, 1u);
   s.accumulate = false;
   EXPECT_EQ(r.render(moved, s).accumulatedFrames, 1u);
