@@ -2,12 +2,14 @@
 //   bench (--scene FILE.gltf|glb | --synthetic soup:N|sphere:N|thin:N) [--threads N] [--reps R] [--build-reps B]
 //         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X]
 //         [--parallel-threshold N] [--width 8|16]
-//         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native]
-//         [--instances N]
+//         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree]
+//         [--embree-tree-splits X] [--isa avx2|native] [--instances N]
 // --embree-robust builds Embree's scene with RTC_SCENE_FLAG_ROBUST (its conservative traversal
 // and watertight-leaning kernels: the like-for-like comparison for our robust traversal).
 // --embree-tree also traces our kernels over a tree built by Embree's rtcBuildBVH (same leaf
 // rule as ours): the difference to our own tree is the tree's share of the gap to Embree.
+// --embree-tree-splits X: that tree from Embree's high-quality build with spatial splits (SBVH,
+// up to X x triangles more references): what spatial splits would give our kernels.
 // --width picks our layout (BvhBuildConfig::nodeWidth; default: the faster one for this CPU).
 // --isa avx2 runs our AVX2 kernel (what CPUs without AVX-512 run) against Embree's device limited
 // to AVX2 ("isa=avx2"); native (the default) lets both pick their best kernels.
@@ -65,6 +67,7 @@ struct Options {
   bool buildOnly = false;   ///< Time the builds only (for profiling the build).
   bool embreeRobust = false;   ///< Embree with RTC_SCENE_FLAG_ROBUST (its conservative traversal).
   bool embreeTree = false;     ///< Also trace our kernels over Embree's tree (embree_tree.h).
+  EmbreeTreeConfig embreeTreeConfig;   ///< --embree-tree-splits X: Embree's SBVH, budget X.
   bool avx2 = false;           ///< --isa avx2: our AVX2 kernel against Embree limited to AVX2.
   uint32_t instances = 0;      ///< --instances N: movers of the two-level scene (0: not traced).
   BvhBuildConfig build;
@@ -73,7 +76,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--build-reps B] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--width 8|16] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--isa avx2|native] [--instances N]\n",
+               "[--reps R] [--build-reps B] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--width 8|16] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--embree-tree-splits X] [--isa avx2|native] [--instances N]\n",
                error.c_str());
   std::exit(2);
 }
@@ -104,6 +107,11 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--build-only") o.buildOnly = true;
     else if (a == "--embree-robust") o.embreeRobust = true;
     else if (a == "--embree-tree") o.embreeTree = true;
+    else if (a == "--embree-tree-splits") {
+      o.embreeTree = true;
+      o.embreeTreeConfig.spatialSplits = true;
+      o.embreeTreeConfig.splitBudget = std::stof(value());
+    }
     else if (a == "--isa") {
       const std::string isa = value();
       if (isa != "avx2" && isa != "native") usage("--isa takes avx2 or native");
@@ -342,7 +350,7 @@ int run(int argc, char** argv) {
   // Our kernels over Embree's tree (--embree-tree): .ours holds those samples, .embree is unused.
   Pair incoherentEmbreeTree, shadowEmbreeTree;
   bvh_detail::WideBvh embreeTree;
-  if (opt.embreeTree) embreeTree = buildWideFromEmbreeTree(device.get(), bvh_detail::makeTriangleMesh(mesh.input()));
+  if (opt.embreeTree) embreeTree = buildWideFromEmbreeTree(device.get(), bvh_detail::makeTriangleMesh(mesh.input()), opt.embreeTreeConfig);
   for (uint32_t rep = 0; rep < opt.reps; ++rep) {
     incoherent.ours.push_back(threadCpuSeconds([&] { incoherent.hitsOurs = traceClosest(blas, rays.incoherent); }));
     incoherent.embree.push_back(threadCpuSeconds([&] { incoherent.hitsEmbree = traceClosest(*embree, rays.incoherent); }));

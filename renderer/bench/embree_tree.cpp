@@ -71,6 +71,42 @@ void* createLeaf(RTCThreadLocalAllocator allocator, const RTCBuildPrimitive* pri
   return leaf;
 }
 
+/// Embree's spatial split of a reference: the bounds of the triangle's part on each side of the
+/// plane, within the reference's bounds (vertices on each side and the edges' crossings).
+void splitTriangle(const RTCBuildPrimitive* primitive, unsigned dimension, float position, RTCBounds* leftBounds,
+                   RTCBounds* rightBounds, void* userPtr) {
+  const auto& mesh = *static_cast<const bvh_detail::TriangleMesh*>(userPtr);
+  Bounds left, right;
+  for (int corner = 0; corner < 3; ++corner) {
+    const glm::vec3 a = mesh.vertex(primitive->primID, corner), b = mesh.vertex(primitive->primID, (corner + 1) % 3);
+    const float av = a[dimension], bv = b[dimension];
+    if (av <= position) left.extend(a);
+    if (av >= position) right.extend(a);
+    if ((av < position && bv > position) || (av > position && bv < position)) {
+      glm::vec3 crossing = a + (b - a) * ((position - av) / (bv - av));
+      crossing[dimension] = position;
+      left.extend(crossing);
+      right.extend(crossing);
+    }
+  }
+  const glm::vec3 lower(primitive->lower_x, primitive->lower_y, primitive->lower_z);
+  const glm::vec3 upper(primitive->upper_x, primitive->upper_y, primitive->upper_z);
+  auto write = [&](const Bounds& part, RTCBounds* out) {
+    // Within the reference's box; an empty side keeps a flat box at the plane inside it.
+    glm::vec3 lo = !part.empty() ? glm::max(part.min, lower) : lower, hi = !part.empty() ? glm::min(part.max, upper) : upper;
+    hi = glm::max(hi, lo);
+    *out = RTCBounds{lo.x, lo.y, lo.z, 0.0f, hi.x, hi.y, hi.z, 0.0f};
+  };
+  write(left, leftBounds);
+  write(right, rightBounds);
+  leftBounds->upper_x = dimension == 0 ? std::min(leftBounds->upper_x, position) : leftBounds->upper_x;
+  leftBounds->upper_y = dimension == 1 ? std::min(leftBounds->upper_y, position) : leftBounds->upper_y;
+  leftBounds->upper_z = dimension == 2 ? std::min(leftBounds->upper_z, position) : leftBounds->upper_z;
+  rightBounds->lower_x = dimension == 0 ? std::max(rightBounds->lower_x, position) : rightBounds->lower_x;
+  rightBounds->lower_y = dimension == 1 ? std::max(rightBounds->lower_y, position) : rightBounds->lower_y;
+  rightBounds->lower_z = dimension == 2 ? std::max(rightBounds->lower_z, position) : rightBounds->lower_z;
+}
+
 /// Writes Embree's tree into our layout, depth first like collapseToWide.
 class Converter {
  public:
@@ -140,7 +176,7 @@ bvh_detail::WideBvh buildWideFromEmbreeTree(RTCDevice device, const bvh_detail::
 
   RTCBVH bvh = rtcNewBVH(device);
   RTCBuildArguments args = rtcDefaultBuildArguments();
-  args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;
+  args.buildQuality = config.spatialSplits ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
   args.maxBranchingFactor = kWideWidth;
   args.maxDepth = 64;
   args.sahBlockSize = config.sahBlockSize;
@@ -151,6 +187,14 @@ bvh_detail::WideBvh buildWideFromEmbreeTree(RTCDevice device, const bvh_detail::
   args.bvh = bvh;
   args.primitives = primitives.data();
   args.primitiveCount = primitives.size();
+  const size_t count = primitives.size();
+  if (config.spatialSplits) {
+    primitives.resize(count + static_cast<size_t>(config.splitBudget * static_cast<float>(count)));
+    args.primitives = primitives.data();
+    args.splitPrimitive = splitTriangle;
+    args.userPtr = const_cast<bvh_detail::TriangleMesh*>(&mesh);
+  }
+  args.primitiveCount = count;
   args.primitiveArrayCapacity = primitives.size();
   args.createNode = createNode;
   args.setNodeChildren = setNodeChildren;

@@ -18,6 +18,10 @@ struct EmbreeTreeConfig {
   unsigned minLeafSize = 8;     ///< Ranges this small become leaves.
   unsigned maxLeafSize = 8;     ///< At most this many triangles per leaf (<= 128).
   float traversalCost = 1.0f;   ///< Cost of a node relative to one block test.
+  /// Embree's high-quality build with spatial splits (SBVH), references up to
+  /// (1 + splitBudget) x triangles; off: its medium-quality binned SAH build.
+  bool spatialSplits = false;
+  float splitBudget = 1.0f;
 };
 
 /// Our wide BVH over mesh, with the nodes and leaves of Embree's 8-wide SAH tree (children in

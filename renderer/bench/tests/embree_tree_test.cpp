@@ -14,19 +14,28 @@
 namespace pa::bench {
 namespace {
 
-void expectSameHitsAsBlas(const testing::TestMesh& mesh, uint32_t seed, uint32_t minHits) {
+void expectSameHitsAsBlas(const testing::TestMesh& mesh, uint32_t seed, uint32_t minHits,
+                          const EmbreeTreeConfig& config = {}) {
   testing::EmbreeDevice device("threads=1");
   const bvh_detail::TriangleMesh triangles = bvh_detail::makeTriangleMesh(mesh.input());
-  const bvh_detail::WideBvh tree = buildWideFromEmbreeTree(device.get(), triangles);
+  const bvh_detail::WideBvh tree = buildWideFromEmbreeTree(device.get(), triangles, config);
   ASSERT_FALSE(tree.empty());
 
-  // Every non-degenerate triangle sits in exactly one valid lane.
+  // Every non-degenerate triangle sits in exactly one valid lane (with spatial splits: in one or
+  // more, and some in more).
   std::vector<int> seen(triangles.triangleCount(), 0);
   for (const bvh_detail::TrianglePack& pack : tree.packs)
     for (uint32_t lane = 0; lane < bvh_detail::kPackWidth; ++lane)
       if (pack.validBits >> lane & 1) ++seen[pack.prim[lane]];
-  for (uint32_t tri = 0; tri < triangles.triangleCount(); ++tri)
-    ASSERT_EQ(seen[tri], triangles.degenerate[tri] ? 0 : 1) << "triangle " << tri;
+  uint32_t repeated = 0;
+  for (uint32_t tri = 0; tri < triangles.triangleCount(); ++tri) {
+    if (triangles.degenerate[tri] || !config.spatialSplits)
+      ASSERT_EQ(seen[tri], triangles.degenerate[tri] ? 0 : 1) << "triangle " << tri;
+    else
+      ASSERT_GE(seen[tri], 1) << "triangle " << tri;
+    repeated += seen[tri] > 1;
+  }
+  if (config.spatialSplits) EXPECT_GT(repeated, 0u) << "no reference was split";
 
   Blas blas;
   blas.build(mesh.input());
@@ -45,6 +54,13 @@ void expectSameHitsAsBlas(const testing::TestMesh& mesh, uint32_t seed, uint32_t
 TEST(EmbreeTree, SoupHasOurHits) { expectSameHitsAsBlas(testing::makeTriangleSoup(3000, 11), 5, 1000); }
 
 TEST(EmbreeTree, ThinTrianglesHaveOurHits) { expectSameHitsAsBlas(testing::makeThinTriangles(3000, 12), 6, 300); }
+
+TEST(EmbreeTree, SpatialSplitsKeepOurHits) {
+  EmbreeTreeConfig splits;
+  splits.spatialSplits = true;
+  expectSameHitsAsBlas(testing::makeTriangleSoup(3000, 13), 7, 1000, splits);
+  expectSameHitsAsBlas(testing::makeThinTriangles(3000, 14), 8, 300, splits);
+}
 
 TEST(EmbreeTree, OneTriangleIsOneLeaf) {
   testing::TestMesh mesh;
