@@ -110,7 +110,11 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--embree-tree-splits") {
       o.embreeTree = true;
       o.embreeTreeConfig.spatialSplits = true;
-      o.embreeTreeConfig.splitBudget = std::stof(value());
+      char* end = nullptr;
+      const char* text = value();
+      o.embreeTreeConfig.splitBudget = std::strtof(text, &end);
+      if (end == text || *end != '\0' || !(o.embreeTreeConfig.splitBudget > 0.0f && o.embreeTreeConfig.splitBudget <= 4.0f))
+        usage("--embree-tree-splits takes a number in (0, 4]");
     }
     else if (a == "--isa") {
       const std::string isa = value();

@@ -72,7 +72,8 @@ void* createLeaf(RTCThreadLocalAllocator allocator, const RTCBuildPrimitive* pri
 }
 
 /// Embree's spatial split of a reference: the bounds of the triangle's part on each side of the
-/// plane, within the reference's bounds (vertices on each side and the edges' crossings).
+/// plane (vertices on that side and the edges' crossings), within the reference's box and its
+/// side of the plane; a side the triangle does not reach gets a flat box on the plane.
 void splitTriangle(const RTCBuildPrimitive* primitive, unsigned dimension, float position, RTCBounds* leftBounds,
                    RTCBounds* rightBounds, void* userPtr) {
   const auto& mesh = *static_cast<const bvh_detail::TriangleMesh*>(userPtr);
@@ -91,20 +92,17 @@ void splitTriangle(const RTCBuildPrimitive* primitive, unsigned dimension, float
   }
   const glm::vec3 lower(primitive->lower_x, primitive->lower_y, primitive->lower_z);
   const glm::vec3 upper(primitive->upper_x, primitive->upper_y, primitive->upper_z);
-  auto write = [&](const Bounds& part, RTCBounds* out) {
-    // Within the reference's box; an empty side keeps a flat box at the plane inside it.
-    glm::vec3 lo = !part.empty() ? glm::max(part.min, lower) : lower, hi = !part.empty() ? glm::min(part.max, upper) : upper;
+  auto write = [&](const Bounds& part, bool leftSide, RTCBounds* out) {
+    glm::vec3 lo = lower, hi = upper;
+    if (leftSide) hi[dimension] = std::min(hi[dimension], position);
+    else lo[dimension] = std::max(lo[dimension], position);
+    if (part.empty()) lo[dimension] = hi[dimension] = position;
+    else lo = glm::max(lo, part.min), hi = glm::min(hi, part.max);
     hi = glm::max(hi, lo);
     *out = RTCBounds{lo.x, lo.y, lo.z, 0.0f, hi.x, hi.y, hi.z, 0.0f};
   };
-  write(left, leftBounds);
-  write(right, rightBounds);
-  leftBounds->upper_x = dimension == 0 ? std::min(leftBounds->upper_x, position) : leftBounds->upper_x;
-  leftBounds->upper_y = dimension == 1 ? std::min(leftBounds->upper_y, position) : leftBounds->upper_y;
-  leftBounds->upper_z = dimension == 2 ? std::min(leftBounds->upper_z, position) : leftBounds->upper_z;
-  rightBounds->lower_x = dimension == 0 ? std::max(rightBounds->lower_x, position) : rightBounds->lower_x;
-  rightBounds->lower_y = dimension == 1 ? std::max(rightBounds->lower_y, position) : rightBounds->lower_y;
-  rightBounds->lower_z = dimension == 2 ? std::max(rightBounds->lower_z, position) : rightBounds->lower_z;
+  write(left, true, leftBounds);
+  write(right, false, rightBounds);
 }
 
 /// Writes Embree's tree into our layout, depth first like collapseToWide.
