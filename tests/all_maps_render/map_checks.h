@@ -22,7 +22,7 @@ struct IntegratorOutcome {
   ImageStats unexposedStats;           ///< The same render at exposure 1 (the stock look), for the record.
   double exposure = 1.0;               ///< Gain of the judged picture.
   bool exposureAtMaxGain = false;      ///< The metered gain hit its upper clamp.
-  double wallMilliseconds = 0.0;       ///< pa-render process time (load + render + write).
+  double wallMilliseconds = 0.0;       ///< Load (the map's first picture only) + render, from pa-render's --stats.
   double renderMilliseconds = 0.0;     ///< Render only.
   std::vector<std::string> problems;   ///< Failed checks (empty = plausible).
   std::string expectedBecause;         ///< Non-empty: listed in the known problems with this reason.
