@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -45,27 +44,22 @@ int runAndWait(const std::vector<std::string>& argv, const std::filesystem::path
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-/// runAndWait, timed.
-int runProcess(const std::vector<std::string>& argv, const std::filesystem::path& logPath, double& milliseconds) {
-  const auto start = std::chrono::steady_clock::now();
-  const int status = runAndWait(argv, logPath);
-  milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return status;
-}
-
 /// The outputs of one integrator of a request (pa-render's naming: "_NAME" with more than one).
 struct IntegratorFiles {
   std::filesystem::path png, exr, json;
 };
 
+/// STEM followed by `suffix` ("_direct.png", ".log").
+std::filesystem::path stemWith(const std::filesystem::path& stem, const std::string& suffix) {
+  std::filesystem::path p = stem;
+  p += suffix;
+  return p;
+}
+
 IntegratorFiles filesFor(const RenderRequest& r, const IntegratorRequest& integrator) {
-  auto output = [&](const char* extension) {
-    std::filesystem::path p = r.outputStem;
-    if (r.integrators.size() > 1) p += "_" + integrator.name;
-    p += extension;
-    return p;
-  };
-  return {output(".png"), output(".exr"), output(".json")};
+  const std::string name = r.integrators.size() > 1 ? "_" + integrator.name : "";
+  return {stemWith(r.outputStem, name + ".png"), stemWith(r.outputStem, name + ".exr"),
+          stemWith(r.outputStem, name + ".json")};
 }
 
 /// pa-render's command line for a request.
@@ -73,11 +67,9 @@ std::vector<std::string> renderCommand(const RenderRequest& r) {
   std::string integrators;
   for (const IntegratorRequest& i : r.integrators)
     integrators += (integrators.empty() ? "" : ",") + i.name + ":" + std::to_string(i.samplesPerPixel);
-  std::filesystem::path png = r.outputStem, exr = r.outputStem, json = r.outputStem;
-  png += ".png";
-  exr += ".exr";
-  json += ".json";
-  std::vector<std::string> command = {r.paRender.string(), r.scene.string(), "-o", png.string(), "--exr", exr.string(), "--stats", json.string(),
+  // pa-render names each integrator's files itself (STEM_NAME.* with more than one: filesFor).
+  std::vector<std::string> command = {r.paRender.string(), r.scene.string(), "-o", stemWith(r.outputStem, ".png").string(),
+          "--exr", stemWith(r.outputStem, ".exr").string(), "--stats", stemWith(r.outputStem, ".json").string(),
           "--integrator", integrators, "--tonemap", r.tonemap, "--camera", std::to_string(r.camera), "--width", std::to_string(r.width),
           "--height", std::to_string(r.height), "--threads",
           std::to_string(r.threads), "--seed", "0", "--exposure", r.exposure, "--quiet"};
@@ -215,8 +207,7 @@ void readOutputs(const IntegratorFiles& files, bool firstIntegrator, RenderResul
 std::vector<RenderResult> runPaRender(const RenderRequest& r) {
   std::vector<RenderResult> results(r.integrators.size());
   std::filesystem::create_directories(r.outputStem.parent_path());
-  std::filesystem::path log = r.outputStem;
-  log += ".log";
+  const std::filesystem::path log = stemWith(r.outputStem, ".log");
   bool reuse = r.reuseExisting && !r.integrators.empty();
   for (const IntegratorRequest& integrator : r.integrators) {
     const IntegratorFiles files = filesFor(r, integrator);
@@ -229,8 +220,7 @@ std::vector<RenderResult> runPaRender(const RenderRequest& r) {
       const IntegratorFiles files = filesFor(r, integrator);
       for (const auto& p : {files.png, files.exr, files.json}) std::filesystem::remove(p);
     }
-    double milliseconds = 0.0;
-    exitCode = runProcess(renderCommand(r), log, milliseconds);
+    exitCode = runAndWait(renderCommand(r), log);
   }
   const std::string logText = readText(log);
   for (size_t k = 0; k < r.integrators.size(); ++k) {
