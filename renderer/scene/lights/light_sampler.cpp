@@ -52,8 +52,23 @@ Lanes load(const float* p) {
   return v;
 }
 
-Lanes maxLanes(Lanes a, Lanes b) { return a > b ? a : b; }
-Lanes minLanes(Lanes a, Lanes b) { return a < b ? a : b; }
+// a > b ? a : b and a < b ? a : b lane by lane; MAXPS and MINPS give exactly that (b where
+// either is NaN or both are zeros), which GCC does not see in the vector form: it compares and
+// blends, two dependent instructions instead of one.
+Lanes maxLanes(Lanes a, Lanes b) {
+#if defined(__AVX__)
+  return reinterpret_cast<Lanes>(_mm256_max_ps(reinterpret_cast<__m256>(a), reinterpret_cast<__m256>(b)));
+#else
+  return a > b ? a : b;
+#endif
+}
+Lanes minLanes(Lanes a, Lanes b) {
+#if defined(__AVX__)
+  return reinterpret_cast<Lanes>(_mm256_min_ps(reinterpret_cast<__m256>(a), reinterpret_cast<__m256>(b)));
+#else
+  return a < b ? a : b;
+#endif
+}
 
 Lanes sqrtLanes(Lanes v) {
 #if defined(__AVX__)
@@ -135,7 +150,6 @@ template <class Group>
   }
   const Lanes centre = sqrtLanes(tx * tx + ty * ty + tz * tz);
   const Lanes nearest = maxLanes(centre - radius, Lanes{} + 1e-3f);
-  const Lanes range = load(g.range);
   // weight = numerator / denominator.
   Lanes numerator = load(g.strength), denominator = Lanes{} + 1.0f;
   if (g.anyLinear) {
@@ -163,7 +177,13 @@ template <class Group>
     denominator = denominator * safeCentre;
   }
   Lanes weight = numerator / denominator;
-  weight = (((range > 0.0f) & (nearest > range)) | below) ? Lanes{} : weight;
+  // Beyond a lamp's reach nothing (the maps' inverse-square lamps have none: the test is skipped).
+  LaneMask none = below;
+  if (g.anyRange) {
+    const Lanes range = load(g.range);
+    none |= (range > 0.0f) & (nearest > range);
+  }
+  weight = none ? Lanes{} : weight;
   if (hidden != 0) {
     const LaneMask laneBits = {1, 2, 4, 8, 16, 32, 64, 128};
     weight = (laneBits & int(hidden)) != 0 ? weight * LampVisibility::kHiddenWeight : weight;
@@ -316,6 +336,7 @@ void LightSampler::buildTables(const Sky& sky, const Bounds& sceneBounds, std::s
     g.cosOuter[lane] = l.cosOuterAngle, g.cosInner[lane] = l.cosInnerAngle;
     g.live |= 1u << lane;
     (l.falloff == Falloff::Linear ? g.anyLinear : g.anyInverseSquare) = true;
+    g.anyRange = g.anyRange || l.range > 0.0f;
     g.anySpot = g.anySpot || g.spot[lane] != 0.0f;
   }
   emissiveTree_.rebuild(emitters);

@@ -200,6 +200,7 @@ class LightSampler {
     uint32_t live = 0;   ///< Bit per lane that holds a lamp.
     uint8_t mapped = 0;  ///< Bit per lane whose lamp the LampVisibility map was traced for.
     bool anyLinear = false, anyInverseSquare = false, anySpot = false;   ///< Which terms its lamps need.
+    bool anyRange = false;   ///< Some lamp of the group has a reach (range > 0).
   };
   std::vector<LampGroup> lampGroups_;
   sampling::AliasTable table_;

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include <immintrin.h>
+
 // These types never cross a library boundary: the note that their argument-passing ABI depends
 // on the ISA does not apply.
 #pragma GCC diagnostic ignored "-Wpsabi"
@@ -69,10 +71,23 @@ inline void store(int32_t* p, I v) { std::memcpy(p, &v, sizeof v); }
 inline F select(I mask, F a, F b) { return mask != 0 ? a : b; }
 /// Per lane, mask ? a : b (mask lanes -1 or 0).
 inline I select(I mask, I a, I b) { return mask != 0 ? a : b; }
-/// Per lane, the smaller (b where either is NaN, as std::min(b, a) would give).
-inline F min(F a, F b) { return a < b ? a : b; }
-/// Per lane, the larger (b where either is NaN).
-inline F max(F a, F b) { return a > b ? a : b; }
+/// Per lane, the smaller (b where either is NaN, as std::min(b, a) would give): a < b ? a : b,
+/// which is MINPS (GCC compiles the vector form to a comparison and a blend).
+inline F min(F a, F b) {
+#if defined(__AVX__)
+  return reinterpret_cast<F>(_mm256_min_ps(reinterpret_cast<__m256>(a), reinterpret_cast<__m256>(b)));
+#else
+  return reinterpret_cast<F>(_mm_min_ps(reinterpret_cast<__m128>(a), reinterpret_cast<__m128>(b)));
+#endif
+}
+/// Per lane, the larger (b where either is NaN): a > b ? a : b, which is MAXPS.
+inline F max(F a, F b) {
+#if defined(__AVX__)
+  return reinterpret_cast<F>(_mm256_max_ps(reinterpret_cast<__m256>(a), reinterpret_cast<__m256>(b)));
+#else
+  return reinterpret_cast<F>(_mm_max_ps(reinterpret_cast<__m128>(a), reinterpret_cast<__m128>(b)));
+#endif
+}
 /// Per lane, the smaller.
 inline I min(I a, I b) { return a < b ? a : b; }
 /// Per lane, the larger.
