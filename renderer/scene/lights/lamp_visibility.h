@@ -61,6 +61,10 @@ class LampVisibility {
   uint8_t hidden(int64_t row, uint32_t group) const {
     return group < groups_ ? bits_[size_t(row) * groups_ + group] : uint8_t(0);
   }
+  /// The bytes of `row`, hidden(row, g) for g below groupCount() (one pointer for a point's groups).
+  const uint8_t* rowBits(int64_t row) const { return bits_.data() + size_t(row) * groups_; }
+  /// Groups of eight lamps the map was traced for.
+  uint32_t groupCount() const { return groups_; }
   /// The lamps the map was traced for, in order.
   std::span<const LightDesc> lamps() const { return lamps_; }
   /// True when `a` stands where lamp `b` stood when traced (same kind, place, reach and cone).

@@ -126,22 +126,38 @@ int laneAbove(const float* w, double base, double target) {
   return last;
 }
 
+/// Every lane `v`.
+Lanes splat(float v) {
+  Lanes r;
+  for (int i = 0; i < 8; ++i) r[i] = v;
+  return r;
+}
+
+/// A shading point as the lamp weighing reads it, in every lane: taken once per point into
+/// registers (read through the caller's references, p and n were loaded again after each
+/// group's stores, which might have changed them).
+struct PointLanes {
+  Lanes x, y, z, nx, ny, nz;
+  bool hemisphere;   ///< n is not 0: what lies below the tangent plane weighs nothing.
+  PointLanes(const glm::vec3& p, const glm::vec3& n)
+      : x(splat(p.x)), y(splat(p.y)), z(splat(p.z)), nx(splat(n.x)), ny(splat(n.y)), nz(splat(n.z)),
+        hemisphere(n != glm::vec3(0.0f)) {}
+};
+
 /// The weights of the eight lamps of a group at p, n (localLightWeight x lampCosineFactor); false
 /// (and all 0) when every lamp of the group lies wholly below the tangent plane. Lanes set in
 /// `hidden` (lamps no ray from p's surroundings reached: LampVisibility) are scaled by
 /// LampVisibility::kHiddenWeight. The distance falloff and the cosine are kept as fractions and
 /// divided once (the same weights as the two scalar functions up to rounding).
 template <class Group>
-[[gnu::always_inline]] inline bool groupWeights(const Group& g, const glm::vec3& p, const glm::vec3& n, uint8_t hidden,
-                                                Lanes& out) {
+[[gnu::always_inline]] inline bool groupWeights(const Group& g, const PointLanes& p, uint8_t hidden, Lanes& out) {
   const Lanes x = load(g.x), y = load(g.y), z = load(g.z), radius = load(g.radius);
   const Lanes tx = p.x - x, ty = p.y - y, tz = p.z - z;   // light -> point
   // Nothing to reflect where the whole light lies on or below the tangent plane.
-  const bool hemisphere = n != glm::vec3(0.0f);
   LaneMask below{};
   Lanes height{};   // of the lamp's nearest side above the tangent plane
-  if (hemisphere) {
-    height = -(tx * n.x + ty * n.y + tz * n.z) + radius;
+  if (p.hemisphere) {
+    height = -(tx * p.nx + ty * p.ny + tz * p.nz) + radius;
     below = height <= 0.0f;
     if ((~bitsOf(below) & g.live) == 0) {
       out = Lanes{};
@@ -169,7 +185,7 @@ template <class Group>
     const Lanes smooth = c <= lo ? Lanes{} : c >= hi ? Lanes{} + 1.0f : t * t * (3.0f - 2.0f * t);
     numerator = ((load(g.spot) != 0.0f) & (centre > 0.0f)) ? numerator * smooth : numerator;
   }
-  if (hemisphere) {
+  if (p.hemisphere) {
     // lampCosineFactor: the light a lamp brings to a surface falls with the cosine toward it,
     // height / centre clamped to [kLeastLampCosine, 1], as the fraction clamp(height) / centre.
     const Lanes safeCentre = maxLanes(centre, Lanes{} + 1e-8f);
@@ -497,15 +513,18 @@ LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm:
   const uint32_t buffered = prefix != nullptr ? std::min<uint32_t>(lampGroups_.size(), kBufferedLamps / 8) : 0;
   uint32_t g = 0;
   Lanes w;
-  const int64_t row = lampRow(p, n);
+  const PointLanes point(p, n);
+  const HiddenRow hidden = hiddenRow(p, n);
+  const LampGroup* groups = lampGroups_.data();
+  const uint32_t groupCount = static_cast<uint32_t>(lampGroups_.size());
   for (; g < buffered; ++g) {
-    if (groupWeights(lampGroups_[g], p, n, hiddenLanes(row, g), w)) lamps += groupSum(w);
+    if (groupWeights(groups[g], point, hidden.lanes(g, groups[g].mapped), w)) lamps += groupSum(w);
     std::memcpy(prefix->weight + 8 * g, &w, sizeof w);
     prefix->groupEnd[g] = lamps;
   }
   if (prefix != nullptr) prefix->count = 8 * buffered;
-  for (; g < lampGroups_.size(); ++g)
-    if (groupWeights(lampGroups_[g], p, n, hiddenLanes(row, g), w)) lamps += groupSum(w);
+  for (; g < groupCount; ++g)
+    if (groupWeights(groups[g], point, hidden.lanes(g, groups[g].mapped), w)) lamps += groupSum(w);
   const double triangles = emissiveTree_.empty() ? 0.0 : double{emissiveTree_.importance(p, n)};
   split.lampWeight = lamps;
   const double total = lamps + triangles;
@@ -546,17 +565,20 @@ bool LightSampler::pickLocalLight(const glm::vec3& p, const glm::vec3& n, float 
     base = prefix->groupEnd[groups - 1];
   }
   alignas(32) float w[8];
-  const int64_t row = g < lampGroups_.size() ? lampRow(p, n) : -1;
-  for (; g < lampGroups_.size(); ++g) {
-    Lanes weights;
-    if (!groupWeights(lampGroups_[g], p, n, hiddenLanes(row, g), weights)) continue;
-    std::memcpy(w, &weights, sizeof w);
-    const int lane = laneAbove(w, base, target);
-    if (lane < 0) continue;
-    index = localLights_[8 * g + uint32_t(lane)];   // the last light with weight catches rounding at the top end
-    chosenWeight = w[lane];
-    base += groupSum(weights);
-    if (target < base) break;
+  if (g < lampGroups_.size()) {   // beyond the stored groups (the point and its row only then)
+    const PointLanes point(p, n);
+    const HiddenRow hidden = hiddenRow(p, n);
+    for (; g < lampGroups_.size(); ++g) {
+      Lanes weights;
+      if (!groupWeights(lampGroups_[g], point, hidden.lanes(g, lampGroups_[g].mapped), weights)) continue;
+      std::memcpy(w, &weights, sizeof w);
+      const int lane = laneAbove(w, base, target);
+      if (lane < 0) continue;
+      index = localLights_[8 * g + uint32_t(lane)];   // the last light with weight catches rounding at the top end
+      chosenWeight = w[lane];
+      base += groupSum(weights);
+      if (target < base) break;
+    }
   }
   if (!(chosenWeight > 0.0f)) return false;
   probability = float(double(chosenWeight) / total);

@@ -209,13 +209,18 @@ class LightSampler {
   double environmentShare_ = 0.0;              ///< Summed table probability of those entries.
   std::shared_ptr<const EnvironmentVisibility> visibility_;
   std::shared_ptr<const LampVisibility> lampVisibility_;
-  /// The row of lamp visibility at p, n (-1: no lamp hidden there).
-  int64_t lampRow(const glm::vec3& p, const glm::vec3& n) const {
-    return lampVisibility_ != nullptr ? lampVisibility_->row(p, n) : -1;
-  }
-  /// Lanes of group g whose lamp is hidden in `row` (0 for row -1).
-  uint8_t hiddenLanes(int64_t row, uint32_t g) const {
-    return row < 0 ? uint8_t(0) : uint8_t(lampVisibility_->hidden(row, g) & lampGroups_[g].mapped);
+  /// The lamp visibility map's bytes at one shading point: which lamps of each group it hides there.
+  struct HiddenRow {
+    const uint8_t* bits = nullptr;   ///< One byte per group (LampVisibility::rowBits); null: none hidden.
+    uint32_t groups = 0;             ///< Groups the map covers (later lamps: dynamic lights, never hidden).
+    /// Lanes of group g whose lamp is hidden, of those in `mapped`.
+    uint8_t lanes(uint32_t g, uint8_t mapped) const { return g < groups ? uint8_t(bits[g] & mapped) : uint8_t(0); }
+  };
+  /// The lamp visibility map's row at p, n (nothing hidden where it has none).
+  HiddenRow hiddenRow(const glm::vec3& p, const glm::vec3& n) const {
+    const int64_t row = lampVisibility_ != nullptr ? lampVisibility_->row(p, n) : -1;
+    if (row < 0) return {};
+    return {lampVisibility_->rowBits(row), lampVisibility_->groupCount()};
   }
 };
 
