@@ -206,6 +206,9 @@ TEST(LampVisibility, GroupsPastTheMapsLampsHideNothing) {
   ASSERT_GE(west, 0);
   EXPECT_EQ(map.hidden(west, 0), 0b010);
   EXPECT_EQ(map.hidden(west, 1), 0);
+  // A row's bytes read at once (the sampler's way) are hidden()'s for the map's groups.
+  ASSERT_EQ(map.groupCount(), 1u);
+  for (int64_t row = 0; row <= last; ++row) EXPECT_EQ(map.rowBits(row)[0], map.hidden(row, 0)) << row;
 }
 
 TEST(LampVisibility, CacheRetracesOnlyForAnotherSetOfLamps) {
