@@ -1,9 +1,10 @@
 // pa-render command-line parsing: every value is range-checked with a message naming the option.
 #include "renderer/cli/cli_options.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <algorithm>
+#include <iterator>
 #include <limits>
 #include <vector>
 
@@ -41,6 +42,9 @@ bool parseFloat(std::string_view option, std::string_view text, float lo, bool e
   return true;
 }
 
+/// The integrators --integrator names (by integratorName).
+constexpr Integrator kIntegrators[] = {Integrator::Lightmap, Integrator::Direct, Integrator::Path};
+
 /// Parses --integrator's "NAME[:SPP][,NAME[:SPP]...]": each of lightmap, direct, path at most once.
 bool parseIntegrators(std::string_view text, std::vector<IntegratorPass>& out, std::string& message) {
   std::vector<IntegratorPass> passes;
@@ -55,13 +59,13 @@ bool parseIntegrators(std::string_view text, std::vector<IntegratorPass>& out, s
         return false;
       item = item.substr(0, colon);
     }
-    if (item == "lightmap") pass.integrator = Integrator::Lightmap;
-    else if (item == "direct") pass.integrator = Integrator::Direct;
-    else if (item == "path") pass.integrator = Integrator::Path;
-    else {
+    const Integrator* named = std::find_if(std::begin(kIntegrators), std::end(kIntegrators),
+                                           [&](Integrator i) { return integratorName(i) == item; });
+    if (named == std::end(kIntegrators)) {
       message = "--integrator: expected lightmap, direct or path, got \"" + std::string(item) + "\"";
       return false;
     }
+    pass.integrator = *named;
     for (const IntegratorPass& earlier : passes)
       if (earlier.integrator == pass.integrator) {
         message = "--integrator: " + std::string(item) + " given twice";

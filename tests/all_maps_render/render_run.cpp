@@ -208,18 +208,16 @@ std::vector<RenderResult> runPaRender(const RenderRequest& r) {
   std::vector<RenderResult> results(r.integrators.size());
   std::filesystem::create_directories(r.outputStem.parent_path());
   const std::filesystem::path log = stemWith(r.outputStem, ".log");
+  std::vector<IntegratorFiles> files;
+  for (const IntegratorRequest& integrator : r.integrators) files.push_back(filesFor(r, integrator));
   bool reuse = r.reuseExisting && !r.integrators.empty();
-  for (const IntegratorRequest& integrator : r.integrators) {
-    const IntegratorFiles files = filesFor(r, integrator);
-    reuse = reuse && std::filesystem::exists(files.png) && std::filesystem::exists(files.exr) &&
-            madeWithSettings(files.json, r, integrator);
-  }
+  for (size_t k = 0; k < r.integrators.size(); ++k)
+    reuse = reuse && std::filesystem::exists(files[k].png) && std::filesystem::exists(files[k].exr) &&
+            madeWithSettings(files[k].json, r, r.integrators[k]);
   int exitCode = 0;
   if (!reuse) {
-    for (const IntegratorRequest& integrator : r.integrators) {
-      const IntegratorFiles files = filesFor(r, integrator);
-      for (const auto& p : {files.png, files.exr, files.json}) std::filesystem::remove(p);
-    }
+    for (const IntegratorFiles& f : files)
+      for (const auto& p : {f.png, f.exr, f.json}) std::filesystem::remove(p);
     exitCode = runAndWait(renderCommand(r), log);
   }
   const std::string logText = readText(log);
@@ -227,13 +225,12 @@ std::vector<RenderResult> runPaRender(const RenderRequest& r) {
     RenderResult& result = results[k];
     result.exitCode = exitCode;
     result.log = logText;
-    const IntegratorFiles files = filesFor(r, r.integrators[k]);
     // pa-render writes an integrator's --stats last: without it, that integrator did not finish.
-    if (exitCode != 0 && !std::filesystem::exists(files.json)) {
+    if (exitCode != 0 && !std::filesystem::exists(files[k].json)) {
       result.error = "pa-render exited with " + std::to_string(exitCode);
       continue;
     }
-    readOutputs(files, k == 0, result);
+    readOutputs(files[k], k == 0, result);
   }
   return results;
 }
