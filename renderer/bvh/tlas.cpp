@@ -367,28 +367,68 @@ uint32_t mortonCode(const Bounds& box, const Bounds& scene) {
 
 }  // namespace
 
-struct Tlas::Impl {
-  std::vector<PlacedInstance> instances;   // the instances with geometry, in Morton order of their boxes
-  std::vector<Bounds> worldBounds;         // their world boxes, in the same order
-  // The instance tree: levels[0] bounds the instances 8 to a group, levels[levelCount - 1] is
-  // the root level (at most kLanes groups, tested one after the other); lane j of group g bounds
-  // group 8g + j of the level below.
+/// A tree over instances: levels[0] bounds the instances 8 to a group, levels[levelCount - 1] is
+/// the root level (at most kLanes groups, tested one after the other); lane j of group g bounds
+/// group 8g + j of the level below.
+struct InstanceTree {
+  std::vector<PlacedInstance> instances;   // in Morton order of their boxes
+  std::vector<Bounds> bounds;              // their world boxes, in the same order
   std::array<std::vector<BoxGroup>, kMaxLevels> levels;
   uint32_t levelCount = 0;
+
+  /// Builds the levels over `instances` and `bounds` (their memory kept from one build to the next).
+  void buildLevels() {
+    levelCount = 0;
+    size_t items = bounds.size(), itemsBelow = 0;
+    while (items > 0) {
+      std::vector<BoxGroup>& level = levels[levelCount];
+      level.assign((items + kLanes - 1) / kLanes, BoxGroup{});   // unused lanes: mask 0
+      for (size_t i = 0; i < items; ++i) {
+        Bounds box;
+        uint32_t mask = 0;
+        if (levelCount == 0) {
+          box = bounds[i];
+          mask = instances[i].mask;
+        } else {
+          const BoxGroup& below = levels[levelCount - 1][i];
+          for (uint32_t lane = 0; lane < kLanes && i * kLanes + lane < itemsBelow; ++lane) {
+            box.extend(laneBox(below, lane));
+            mask |= static_cast<uint32_t>(below.mask[lane]);
+          }
+        }
+        BoxGroup& group = level[i / kLanes];
+        const size_t lane = i % kLanes;
+        for (int axis = 0; axis < 3; ++axis) {
+          group.min[axis][lane] = box.min[axis];
+          group.max[axis][lane] = box.max[axis];
+        }
+        group.mask[lane] = static_cast<int32_t>(mask);
+      }
+      ++levelCount;
+      if (level.size() <= kLanes) break;
+      itemsBelow = items;
+      items = level.size();
+    }
+  }
+};
+
+struct Tlas::Impl {
+  InstanceTree all;      // every instance with geometry
+  // The instances but the world, which walks that trace the world first take: the world's box
+  // holds every other, so in `all` each such ray entered its group only to skip it.
+  InstanceTree movers;
   std::vector<PlacedInstance> validated;   // build()'s inputs with their inverses, one per input
   std::vector<uint32_t> kept;              // build scratch: the inputs with geometry
   std::vector<Bounds> unsortedBounds;      // build scratch: the world boxes of `kept`
   std::vector<uint64_t> keys;              // build scratch: Morton code << 32 | position in `kept`
   Bounds bounds;
-  // The static world: the instance placed by the identity with the largest box (also in the
-  // tree), which shadow rays trace before walking the tree.
+  // The static world: the instance placed by the identity with the largest box (in `all`, not
+  // in `movers`), which shadow rays trace before walking the movers.
   bool haveWorld = false;
   PlacedInstance world;
 
   /// True when the world takes rays of rayMask.
   bool worldTakes(uint32_t rayMask) const { return haveWorld && (world.mask & rayMask) != 0; }
-  /// True when `inst` is the world (which a walk that traced it first skips).
-  bool isWorld(const PlacedInstance& inst) const { return haveWorld && inst.index == world.index; }
 
   /// Where a walk takes the world: in the tree like any instance, before the rest, or not at all
   /// (the caller traced it already).
@@ -399,8 +439,9 @@ struct Tlas::Impl {
   /// visit(instance) returns true to stop. The world as `worldVisit` says.
   template <typename Visit>
   void forEachEntered(const Ray& ray, uint32_t rayMask, Visit&& visit, WorldVisit worldVisit = WorldVisit::InTree) const {
-    const bool worldFirst = worldVisit != WorldVisit::InTree;
     if (worldVisit == WorldVisit::First && worldTakes(rayMask) && visit(world)) return;
+    const InstanceTree& tree = worldVisit == WorldVisit::InTree ? all : movers;
+    const uint32_t levelCount = tree.levelCount;
     if (levelCount == 0) return;
     const RaySlab slab(ray);
     std::array<Pending, kStackSize> stack;
@@ -412,7 +453,7 @@ struct Tlas::Impl {
       uint32_t count = 0;
       for (uint32_t g = firstGroup; g < firstGroup + groupCount; ++g) {
         float entry[kLanes];
-        for (uint32_t bits = groupEntries(levels[level][g], slab, ray.tmin, ray.tmax, rayMask, entry); bits;
+        for (uint32_t bits = groupEntries(tree.levels[level][g], slab, ray.tmin, ray.tmax, rayMask, entry); bits;
              bits &= bits - 1) {
           const uint32_t lane = std::countr_zero(bits);
           uint32_t at = count++;
@@ -424,16 +465,14 @@ struct Tlas::Impl {
         for (uint32_t i = 0; i < count; ++i) {
           // Every other box starts beyond the hit found (the far bound widened as slabEntry widens it).
           if (entered[i].entry > ray.tmax * bvh_detail::kRobustFarScale) break;
-          const PlacedInstance& inst = instances[entered[i].index];
-          if (worldFirst && isWorld(inst)) continue;
-          if (visit(inst)) return true;
+          if (visit(tree.instances[entered[i].index])) return true;
         }
         return false;
       }
       for (uint32_t i = count; i-- > 0;) stack[depth++] = entered[i];
       return false;
     };
-    if (enter(levelCount - 1, 0, static_cast<uint32_t>(levels[levelCount - 1].size()))) return;
+    if (enter(levelCount - 1, 0, static_cast<uint32_t>(tree.levels[levelCount - 1].size()))) return;
     while (depth > 0) {
       const Pending node = stack[--depth];
       if (node.entry > ray.tmax * bvh_detail::kRobustFarScale) continue;   // nothing nearer inside
@@ -528,45 +567,20 @@ void Tlas::build(std::span<const TlasInstance> instances) {
   for (uint32_t k = 0; k < next.kept.size(); ++k)
     next.keys.push_back(uint64_t{mortonCode(next.unsortedBounds[k], next.bounds)} << 32 | k);
   std::sort(next.keys.begin(), next.keys.end());
-  next.instances.clear();
-  next.worldBounds.clear();
+  next.all.instances.clear();
+  next.all.bounds.clear();
+  next.movers.instances.clear();
+  next.movers.bounds.clear();
   for (const uint64_t key : next.keys) {
     const uint32_t k = static_cast<uint32_t>(key);
-    next.instances.push_back(placed[next.kept[k]]);
-    next.worldBounds.push_back(next.unsortedBounds[k]);
+    next.all.instances.push_back(placed[next.kept[k]]);
+    next.all.bounds.push_back(next.unsortedBounds[k]);
+    if (next.haveWorld && k == worldAt) continue;
+    next.movers.instances.push_back(placed[next.kept[k]]);
+    next.movers.bounds.push_back(next.unsortedBounds[k]);
   }
-  // Level 0 bounds the instances, each level above the groups of the one below, 8 to a group.
-  next.levelCount = 0;
-  size_t items = next.worldBounds.size(), itemsBelow = 0;
-  while (items > 0) {
-    std::vector<BoxGroup>& level = next.levels[next.levelCount];
-    level.assign((items + kLanes - 1) / kLanes, BoxGroup{});   // unused lanes: mask 0
-    for (size_t i = 0; i < items; ++i) {
-      Bounds box;
-      uint32_t mask = 0;
-      if (next.levelCount == 0) {
-        box = next.worldBounds[i];
-        mask = next.instances[i].mask;
-      } else {
-        const BoxGroup& below = next.levels[next.levelCount - 1][i];
-        for (uint32_t lane = 0; lane < kLanes && i * kLanes + lane < itemsBelow; ++lane) {
-          box.extend(laneBox(below, lane));
-          mask |= static_cast<uint32_t>(below.mask[lane]);
-        }
-      }
-      BoxGroup& group = level[i / kLanes];
-      const size_t lane = i % kLanes;
-      for (int axis = 0; axis < 3; ++axis) {
-        group.min[axis][lane] = box.min[axis];
-        group.max[axis][lane] = box.max[axis];
-      }
-      group.mask[lane] = static_cast<int32_t>(mask);
-    }
-    ++next.levelCount;
-    if (level.size() <= kLanes) break;
-    itemsBelow = items;
-    items = level.size();
-  }
+  next.all.buildLevels();
+  next.movers.buildLevels();
 }
 
 bool Tlas::intersect(Ray& ray, Hit& hit, uint32_t rayMask, const HitFilter& filter) const {
@@ -594,7 +608,7 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   const PacketLanes lanes = packetLanes(rays, active);
   const uint32_t traceable = lanes.traceable;
   uint32_t found = 0;
-  if (self.levelCount == 0 || std::popcount(traceable) < 2) {   // at most one ray: as a ray alone
+  if (self.all.levelCount == 0 || std::popcount(traceable) < 2) {   // at most one ray: as a ray alone
     for (uint32_t r = traceable; r; r &= r - 1) {
       const int lane = std::countr_zero(r);
       if (intersect(rays[lane], hits[lane], rayMask, filters[lane])) found |= 1u << lane;
@@ -641,7 +655,7 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
     const IntLanes liveLanes[kHalves] = {laneMask(live), laneMask(live >> kLanes)};
     uint32_t count = 0;
     for (uint32_t g = firstGroup; g < firstGroup + groupCount; ++g) {
-      const BoxGroup& group = self.levels[level][g];
+      const BoxGroup& group = self.all.levels[level][g];
       const uint32_t boxes = interval.valid ? groupMayEnter(interval, group, rayMask)
                                             : laneBits((group.mask & static_cast<int32_t>(rayMask)) != noBox);
       for (uint32_t b = boxes; b; b &= b - 1) {
@@ -663,7 +677,7 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
       for (uint32_t i = 0; i < count; ++i) {
         const PacketCandidate& c = entered[order[i]];
         const uint32_t entering = raysWithin(c.rays, c.entry, rays);
-        if (entering) traceInstance(self.instances[c.index], entering);
+        if (entering) traceInstance(self.all.instances[c.index], entering);
       }
       return;
     }
@@ -676,7 +690,8 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
       next.entry = c.entry;
     }
   };
-  enter(self.levelCount - 1, 0, static_cast<uint32_t>(self.levels[self.levelCount - 1].size()), traceable);
+  enter(self.all.levelCount - 1, 0, static_cast<uint32_t>(self.all.levels[self.all.levelCount - 1].size()),
+        traceable);
   while (depth > 0) {
     const PacketPending& node = stack[--depth];
     const uint32_t live = raysWithin(node.rays, node.entry, rays);
