@@ -379,7 +379,17 @@ void Denoiser::estimateVarianceRows(uint32_t y0, uint32_t y1) {
     }
     const float* given = current_.variance.row(row);
     float* out = next_.variance.row(row);
-    for (int x = 0; x < width; ++x) {
+    // As filterRows' last loop: kCount pixels at a time while they fit in the row, then one by one.
+    int x = 0;
+    for (; x + lanes::kCount <= width; x += lanes::kCount) {
+      const lanes::F inverse = 1.0f / maxOf(lanes::load(scratch.weight.data() + x), lanes::splat(1e-30f));
+      const lanes::F mean = lanes::load(scratch.red.data() + x) * inverse;
+      const lanes::F variance = lanes::load(scratch.variance.data() + x) * inverse - mean * mean;
+      const lanes::F estimated =
+          lanes::select((lanes::load(gives + x) > 0.0f) & (variance > 0.0f), variance, lanes::splat(0.0f));
+      lanes::store(out + x, lanes::select(lanes::load(own + x) > 0.0f, lanes::load(given + x), estimated));
+    }
+    for (; x < width; ++x) {
       const float inverse = 1.0f / std::max(scratch.weight[x], 1e-30f);
       const float mean = scratch.red[x] * inverse;
       const float variance = scratch.variance[x] * inverse - mean * mean;
@@ -467,7 +477,21 @@ void Denoiser::filterRows(uint32_t step, uint32_t y0, uint32_t y1) {
     float* outGreen = next_.green.row(row);
     float* outBlue = next_.blue.row(row);
     float* outVariance = next_.variance.row(row);
-    for (int x = 0; x < width; ++x) {
+    // kCount pixels at a time while they fit in the row (the planes' padding stays zero), then
+    // one by one; the same operations either way.
+    int x = 0;
+    for (; x + lanes::kCount <= width; x += lanes::kCount) {
+      const lanes::F weight = lanes::load(scratch.weight.data() + x);
+      const lanes::I filtered = (lanes::load(takes + x) > 0.0f) & (weight > 0.0f);
+      const lanes::F inverse = 1.0f / maxOf(weight, lanes::splat(1e-30f));
+      const lanes::F zero = lanes::splat(0.0f);
+      lanes::store(outRed + x, lanes::select(filtered, lanes::load(scratch.red.data() + x) * inverse, zero));
+      lanes::store(outGreen + x, lanes::select(filtered, lanes::load(scratch.green.data() + x) * inverse, zero));
+      lanes::store(outBlue + x, lanes::select(filtered, lanes::load(scratch.blue.data() + x) * inverse, zero));
+      lanes::store(outVariance + x,
+                   lanes::select(filtered, lanes::load(scratch.variance.data() + x) * inverse * inverse, zero));
+    }
+    for (; x < width; ++x) {
       const bool filtered = (takes[x] > 0.0f) & (scratch.weight[x] > 0.0f);
       const float inverse = 1.0f / std::max(scratch.weight[x], 1e-30f);
       outRed[x] = filtered ? scratch.red[x] * inverse : 0.0f;
