@@ -1,10 +1,12 @@
 // Tlas: the instances' world bounds in an implicit 8-wide tree of 8-lane box groups (instances
 // in Morton order of their boxes' centres, 8 to a group; each level above bounds 8 groups of the
-// level below), tested a group at a time for a ray and for a packet of rays. Instances are
-// entered nearest box first, except that shadow rays take the static world (the identity
-// instance with the largest box) before walking the tree: one it blocks needs no walk. (Closest
-// hits keep the nearest-box order: where two instances meet at the same distance, a decal and
-// the floor under it, the one entered last is kept, so the order decides what a ray sees.)
+// level below), tested a group at a time for a ray and for a packet of rays. Every ray takes the
+// static world (the identity instance with the largest box) first, then walks the tree of the
+// other instances, the movers, nearest box first: a shadow ray the world blocks needs no walk, a
+// closest-hit ray enters only the movers in front of its world hit, and no ray enters the
+// world's box, which holds every other, only to skip it. Where two instances meet at the same
+// distance (a decal and the floor under it) the one entered last is kept: a mover over the world,
+// as when the world's box, entered at the ray's start, came first in a tree of every instance.
 // Each instance transforms the ray into object space (without normalising the
 // direction, so t stays the world-space t; an instance placed by the identity, the static world,
 // takes the ray as it is) and traces its Blas.
@@ -413,34 +415,33 @@ struct InstanceTree {
 };
 
 struct Tlas::Impl {
-  InstanceTree all;      // every instance with geometry
-  // The instances but the world, which walks that trace the world first take: the world's box
-  // holds every other, so in `all` each such ray entered its group only to skip it.
+  // Every instance with geometry but the world, which rays trace before walking this tree: the
+  // world's box holds every other, so in a tree with it each ray entered its group only to skip it.
   InstanceTree movers;
   std::vector<PlacedInstance> validated;   // build()'s inputs with their inverses, one per input
   std::vector<uint32_t> kept;              // build scratch: the inputs with geometry
   std::vector<Bounds> unsortedBounds;      // build scratch: the world boxes of `kept`
   std::vector<uint64_t> keys;              // build scratch: Morton code << 32 | position in `kept`
   Bounds bounds;
-  // The static world: the instance placed by the identity with the largest box (in `all`, not
-  // in `movers`), which shadow rays trace before walking the movers.
+  // The static world: the instance placed by the identity with the largest box (not in
+  // `movers`), which every ray traces before walking the movers.
   bool haveWorld = false;
   PlacedInstance world;
 
   /// True when the world takes rays of rayMask.
   bool worldTakes(uint32_t rayMask) const { return haveWorld && (world.mask & rayMask) != 0; }
 
-  /// Where a walk takes the world: in the tree like any instance, before the rest, or not at all
-  /// (the caller traced it already).
-  enum class WorldVisit { InTree, First, Traced };
+  /// Where a walk takes the world: first, or not at all (the caller traced it already).
+  enum class WorldVisit { First, Traced };
 
-  /// Visits the instances whose boxes the ray enters, nearest box first among the root level's
-  /// and then within each group entered, while their entry is within the ray's current tmax;
-  /// visit(instance) returns true to stop. The world as `worldVisit` says.
+  /// Visits the world first (worldVisit First, where it takes rayMask), then the movers whose
+  /// boxes the ray enters, nearest box first among the root level's and then within each group
+  /// entered, while their entry is within the ray's current tmax; visit(instance) returns true
+  /// to stop.
   template <typename Visit>
-  void forEachEntered(const Ray& ray, uint32_t rayMask, Visit&& visit, WorldVisit worldVisit = WorldVisit::InTree) const {
+  void forEachEntered(const Ray& ray, uint32_t rayMask, Visit&& visit, WorldVisit worldVisit) const {
     if (worldVisit == WorldVisit::First && worldTakes(rayMask) && visit(world)) return;
-    const InstanceTree& tree = worldVisit == WorldVisit::InTree ? all : movers;
+    const InstanceTree& tree = movers;
     const uint32_t levelCount = tree.levelCount;
     if (levelCount == 0) return;
     const RaySlab slab(ray);
@@ -567,19 +568,14 @@ void Tlas::build(std::span<const TlasInstance> instances) {
   for (uint32_t k = 0; k < next.kept.size(); ++k)
     next.keys.push_back(uint64_t{mortonCode(next.unsortedBounds[k], next.bounds)} << 32 | k);
   std::sort(next.keys.begin(), next.keys.end());
-  next.all.instances.clear();
-  next.all.bounds.clear();
   next.movers.instances.clear();
   next.movers.bounds.clear();
   for (const uint64_t key : next.keys) {
     const uint32_t k = static_cast<uint32_t>(key);
-    next.all.instances.push_back(placed[next.kept[k]]);
-    next.all.bounds.push_back(next.unsortedBounds[k]);
     if (next.haveWorld && k == worldAt) continue;
     next.movers.instances.push_back(placed[next.kept[k]]);
     next.movers.bounds.push_back(next.unsortedBounds[k]);
   }
-  next.all.buildLevels();
   next.movers.buildLevels();
 }
 
@@ -588,14 +584,17 @@ bool Tlas::intersect(Ray& ray, Hit& hit, uint32_t rayMask, const HitFilter& filt
   bool found = false;
   const Impl& self = *impl_;
   // ray.tmax shrinks with each hit: forEachEntered reads it before entering the next instance.
-  self.forEachEntered(ray, rayMask, [&](const PlacedInstance& inst) {
-    Ray local = self.toObject(inst, ray);
-    if (inst.blas->intersect(local, hit, objectSpaceFilter(inst, filter), inst.index)) {
-      ray.tmax = local.tmax;
-      found = true;
-    }
-    return false;
-  });
+  self.forEachEntered(
+      ray, rayMask,
+      [&](const PlacedInstance& inst) {
+        Ray local = self.toObject(inst, ray);
+        if (inst.blas->intersect(local, hit, objectSpaceFilter(inst, filter), inst.index)) {
+          ray.tmax = local.tmax;
+          found = true;
+        }
+        return false;
+      },
+      Impl::WorldVisit::First);
   return found;
 }
 
@@ -608,7 +607,7 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   const PacketLanes lanes = packetLanes(rays, active);
   const uint32_t traceable = lanes.traceable;
   uint32_t found = 0;
-  if (self.all.levelCount == 0 || std::popcount(traceable) < 2) {   // at most one ray: as a ray alone
+  if (std::popcount(traceable) < 2) {   // at most one ray: as a ray alone
     for (uint32_t r = traceable; r; r &= r - 1) {
       const int lane = std::countr_zero(r);
       if (intersect(rays[lane], hits[lane], rayMask, filters[lane])) found |= 1u << lane;
@@ -627,7 +626,7 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   std::array<HitFilter, kMaxPacketRays> mirroredFilters;   // filled at the first mirrored instance
   bool haveMirroredFilters = false;
   const auto traceInstance = [&](const PlacedInstance& inst, uint32_t live) {
-    if (inst.identity) {   // the static world: its rays as they are (a hit shortens their tmax)
+    if (inst.identity) {   // placed by the identity, as the world is: its rays as they are
       found |= inst.blas->intersectPacket(rays, hits, live, filters, inst.index);
       return;
     }
@@ -655,7 +654,7 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
     const IntLanes liveLanes[kHalves] = {laneMask(live), laneMask(live >> kLanes)};
     uint32_t count = 0;
     for (uint32_t g = firstGroup; g < firstGroup + groupCount; ++g) {
-      const BoxGroup& group = self.all.levels[level][g];
+      const BoxGroup& group = self.movers.levels[level][g];
       const uint32_t boxes = interval.valid ? groupMayEnter(interval, group, rayMask)
                                             : laneBits((group.mask & static_cast<int32_t>(rayMask)) != noBox);
       for (uint32_t b = boxes; b; b &= b - 1) {
@@ -677,7 +676,7 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
       for (uint32_t i = 0; i < count; ++i) {
         const PacketCandidate& c = entered[order[i]];
         const uint32_t entering = raysWithin(c.rays, c.entry, rays);
-        if (entering) traceInstance(self.all.instances[c.index], entering);
+        if (entering) traceInstance(self.movers.instances[c.index], entering);
       }
       return;
     }
@@ -690,8 +689,12 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
       next.entry = c.entry;
     }
   };
-  enter(self.all.levelCount - 1, 0, static_cast<uint32_t>(self.all.levels[self.all.levelCount - 1].size()),
-        traceable);
+  // The world first, its rays as they are (a hit shortens their tmax, and the movers' boxes
+  // beyond it are not entered), then the movers' tree.
+  if (self.worldTakes(rayMask)) found |= self.world.blas->intersectPacket(rays, hits, traceable, filters, self.world.index);
+  if (self.movers.levelCount == 0) return found;
+  enter(self.movers.levelCount - 1, 0,
+        static_cast<uint32_t>(self.movers.levels[self.movers.levelCount - 1].size()), traceable);
   while (depth > 0) {
     const PacketPending& node = stack[--depth];
     const uint32_t live = raysWithin(node.rays, node.entry, rays);
@@ -712,12 +715,12 @@ uint32_t Tlas::occludedPacket(std::span<const Ray> rays, uint32_t active, uint32
   const Impl& self = *impl_;
   // The static world first, with the packet's rays as they are (it stops most that stop); the
   // rays it lets through then walk the tree past it one by one (the movers are small and few).
-  const bool worldFirst = self.worldTakes(rayMask);
-  uint32_t found = worldFirst ? self.world.blas->occludedPacket(rays, active, filters, self.world.index) : 0u;
-  const auto worldVisit = worldFirst ? Impl::WorldVisit::Traced : Impl::WorldVisit::InTree;
+  uint32_t found =
+      self.worldTakes(rayMask) ? self.world.blas->occludedPacket(rays, active, filters, self.world.index) : 0u;
   for (uint32_t r = active & ~found; r; r &= r - 1) {
     const int lane = std::countr_zero(r);
-    if (bvh_detail::isTraceableRay(rays[lane]) && self.occludedBy(rays[lane], rayMask, filters[lane], worldVisit))
+    if (bvh_detail::isTraceableRay(rays[lane]) &&
+        self.occludedBy(rays[lane], rayMask, filters[lane], Impl::WorldVisit::Traced))
       found |= 1u << lane;
   }
   return found;
