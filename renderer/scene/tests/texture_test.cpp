@@ -1,10 +1,7 @@
 // Texture decoding, mip chain, filtering and addressing.
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <bit>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include "renderer/scene/textures/texture.h"
@@ -22,24 +19,6 @@ Texture checker4x2() {
       px.insert(px.end(), {v, v, v, 255});
     }
   return Texture::fromDesc({4, 2, px, false}, "checker");
-}
-
-TEST(Texture, LodLog2IsStdLog2WithinFloatRounding) {
-  // Powers of two exactly, and every 4099th float bit pattern over the normal positive floats.
-  for (int e = -126; e <= 127; ++e) EXPECT_EQ(lodLog2(std::ldexp(1.0f, e)), static_cast<float>(e)) << e;
-  float worst = 0.0f;
-  for (uint32_t bits = 0x00800000u; bits < 0x7f800000u; bits += 4099u) {
-    const float x = std::bit_cast<float>(bits);
-    const float reference = std::log2(x);
-    worst = std::max(worst, std::abs(lodLog2(x) - reference) / std::max(1.0f, std::abs(reference)));
-  }
-  EXPECT_LT(worst, 2e-7f);
-  // Outside the normal floats: what std::log2 gives.
-  EXPECT_EQ(lodLog2(0.0f), -std::numeric_limits<float>::infinity());
-  EXPECT_EQ(lodLog2(std::numeric_limits<float>::infinity()), std::numeric_limits<float>::infinity());
-  EXPECT_TRUE(std::isnan(lodLog2(std::numeric_limits<float>::quiet_NaN())));
-  EXPECT_TRUE(std::isnan(lodLog2(-1.0f)));
-  EXPECT_EQ(lodLog2(std::numeric_limits<float>::denorm_min()), std::log2(std::numeric_limits<float>::denorm_min()));
 }
 
 TEST(Texture, SrgbDecodeAndLinearData) {

@@ -2,10 +2,7 @@
 // RGBA textures stored as 8 bits per channel (as their images have them: sRGB or linear bytes)
 // with a box-filtered mip chain and trilinear sampling that returns linear values.
 #include <array>
-#include <bit>
-#include <cmath>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -18,21 +15,6 @@ namespace pa {
 
 /// Largest accepted texture side (guards against absurd sizes from hostile files).
 inline constexpr uint32_t kMaxTextureSize = 16384;
-
-/// log2(x) for a lookup's level of detail, inline (a libm call per texture lookup was 1% of a
-/// game frame): x = 2^e m with m in [sqrt(1/2), sqrt(2)), log2(m) through atanh((m - 1) / (m + 1))
-/// to s^9 (truncation < 4e-10; within 2e-7 of std::log2 over the normal floats). 0, subnormal,
-/// infinite and NaN x take std::log2.
-inline float lodLog2(float x) {
-  if (!(x >= std::numeric_limits<float>::min() && x <= std::numeric_limits<float>::max())) return std::log2(x);
-  constexpr int32_t kSqrtHalfBits = 0x3f3504f3;   // bits of sqrt(1/2)
-  const int32_t offset = std::bit_cast<int32_t>(x) - kSqrtHalfBits;
-  const float m = std::bit_cast<float>((offset & 0x007fffff) + kSqrtHalfBits);
-  const float s = (m - 1.0f) / (m + 1.0f);
-  const float s2 = s * s;
-  const float series = s * (1.0f + s2 * (1.0f / 3 + s2 * (1.0f / 5 + s2 * (1.0f / 7 + s2 * (1.0f / 9)))));
-  return static_cast<float>(offset >> 23) + series * 2.8853900817779268f;   // 2 / ln 2
-}
 
 /// One mip level: RGBA8 texels (byte 0 red .. byte 3 alpha), row-major from the top row.
 struct MipLevel {

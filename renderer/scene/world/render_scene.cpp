@@ -388,7 +388,7 @@ float RenderScene::baseLod(const SurfaceHit& s, float footprint) const {
   const Texture* base = s.material->base;
   if (base == nullptr || !(footprint > 0.0f && s.uvArea > 0.0f && s.worldArea > 0.0f)) return 0.0f;
   const float texels = static_cast<float>(base->width()) * static_cast<float>(base->height());
-  return lodLog2(footprint * std::sqrt(s.uvArea * texels / s.worldArea));
+  return std::log2(footprint * std::sqrt(s.uvArea * texels / s.worldArea));
 }
 
 glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint, TextureFilter filter) const {
@@ -403,7 +403,7 @@ glm::vec4 RenderScene::shineColor(const SurfaceHit& s, float footprint, TextureF
   float lod = 0.0f;
   if (footprint > 0.0f && s.shineUvArea > 0.0f && s.worldArea > 0.0f) {
     const float texels = static_cast<float>(m.shine->width()) * static_cast<float>(m.shine->height());
-    lod = lodLog2(footprint * std::sqrt(s.shineUvArea * texels / s.worldArea));
+    lod = std::log2(footprint * std::sqrt(s.shineUvArea * texels / s.worldArea));
   }
   return m.shine->sample(s.shineUv, lod, filter) * glm::vec4(m.desc.stock.shineColor, 1.0f);
 }
