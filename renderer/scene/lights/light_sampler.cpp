@@ -517,10 +517,15 @@ LightSampler::LocalSplit LightSampler::localSplit(const glm::vec3& p, const glm:
   const HiddenRow hidden = hiddenRow(p, n);
   const LampGroup* groups = lampGroups_.data();
   const uint32_t groupCount = static_cast<uint32_t>(lampGroups_.size());
+  // The stored groups' weights first, then their running sums (a group of zeros adds +0): in one
+  // loop each group's sum waited on its weights, and the weighing of the next group on the sum.
   for (; g < buffered; ++g) {
-    if (groupWeights(groups[g], point, hidden.lanes(g, groups[g].mapped), w)) lamps += groupSum(w);
+    groupWeights(groups[g], point, hidden.lanes(g, groups[g].mapped), w);
     std::memcpy(prefix->weight + 8 * g, &w, sizeof w);
-    prefix->groupEnd[g] = lamps;
+  }
+  for (uint32_t k = 0; k < buffered; ++k) {
+    lamps += groupSum(load(prefix->weight + 8 * k));
+    prefix->groupEnd[k] = lamps;
   }
   if (prefix != nullptr) prefix->count = 8 * buffered;
   for (; g < groupCount; ++g)
