@@ -441,8 +441,7 @@ struct Tlas::Impl {
   template <typename Visit>
   void forEachEntered(const Ray& ray, uint32_t rayMask, Visit&& visit, WorldVisit worldVisit) const {
     if (worldVisit == WorldVisit::First && worldTakes(rayMask) && visit(world)) return;
-    const InstanceTree& tree = movers;
-    const uint32_t levelCount = tree.levelCount;
+    const uint32_t levelCount = movers.levelCount;
     if (levelCount == 0) return;
     const RaySlab slab(ray);
     std::array<Pending, kStackSize> stack;
@@ -454,7 +453,7 @@ struct Tlas::Impl {
       uint32_t count = 0;
       for (uint32_t g = firstGroup; g < firstGroup + groupCount; ++g) {
         float entry[kLanes];
-        for (uint32_t bits = groupEntries(tree.levels[level][g], slab, ray.tmin, ray.tmax, rayMask, entry); bits;
+        for (uint32_t bits = groupEntries(movers.levels[level][g], slab, ray.tmin, ray.tmax, rayMask, entry); bits;
              bits &= bits - 1) {
           const uint32_t lane = std::countr_zero(bits);
           uint32_t at = count++;
@@ -466,14 +465,14 @@ struct Tlas::Impl {
         for (uint32_t i = 0; i < count; ++i) {
           // Every other box starts beyond the hit found (the far bound widened as slabEntry widens it).
           if (entered[i].entry > ray.tmax * bvh_detail::kRobustFarScale) break;
-          if (visit(tree.instances[entered[i].index])) return true;
+          if (visit(movers.instances[entered[i].index])) return true;
         }
         return false;
       }
       for (uint32_t i = count; i-- > 0;) stack[depth++] = entered[i];
       return false;
     };
-    if (enter(levelCount - 1, 0, static_cast<uint32_t>(tree.levels[levelCount - 1].size()))) return;
+    if (enter(levelCount - 1, 0, static_cast<uint32_t>(movers.levels[levelCount - 1].size()))) return;
     while (depth > 0) {
       const Pending node = stack[--depth];
       if (node.entry > ray.tmax * bvh_detail::kRobustFarScale) continue;   // nothing nearer inside
