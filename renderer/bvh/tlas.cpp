@@ -690,7 +690,8 @@ uint32_t Tlas::intersectPacket(std::span<Ray> rays, std::span<Hit> hits, uint32_
   };
   // The world first, its rays as they are (a hit shortens their tmax, and the movers' boxes
   // beyond it are not entered), then the movers' tree.
-  if (self.worldTakes(rayMask)) found |= self.world.blas->intersectPacket(rays, hits, traceable, filters, self.world.index);
+  if (self.worldTakes(rayMask))
+    found |= self.world.blas->intersectPacket(rays, hits, traceable, filters, self.world.index);
   if (self.movers.levelCount == 0) return found;
   enter(self.movers.levelCount - 1, 0,
         static_cast<uint32_t>(self.movers.levels[self.movers.levelCount - 1].size()), traceable);

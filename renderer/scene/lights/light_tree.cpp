@@ -328,8 +328,12 @@ F4 loadF4(const float* p) {
 
 F4 sqrtF4(F4 v) { return reinterpret_cast<F4>(_mm_sqrt_ps(reinterpret_cast<__m128>(v))); }
 // a > b ? a : b and a < b ? a : b lane by lane: exactly MAXPS and MINPS (b where either is NaN).
-F4 maxF4(F4 a, F4 b) { return reinterpret_cast<F4>(_mm_max_ps(reinterpret_cast<__m128>(a), reinterpret_cast<__m128>(b))); }
-F4 minF4(F4 a, F4 b) { return reinterpret_cast<F4>(_mm_min_ps(reinterpret_cast<__m128>(a), reinterpret_cast<__m128>(b))); }
+F4 maxF4(F4 a, F4 b) {
+  return reinterpret_cast<F4>(_mm_max_ps(reinterpret_cast<__m128>(a), reinterpret_cast<__m128>(b)));
+}
+F4 minF4(F4 a, F4 b) {
+  return reinterpret_cast<F4>(_mm_min_ps(reinterpret_cast<__m128>(a), reinterpret_cast<__m128>(b)));
+}
 F4 safeSqrtF4(F4 v) { return sqrtF4(maxF4(v, F4{})); }
 F4 absF4(F4 v) { return v < 0.0f ? -v : v; }
 
