@@ -178,8 +178,9 @@ void Module::setWorldVisData(const q3abi::byte*) {
 void Module::endRegistration() {
   // Every model, skin and shader of the map is registered now: what the first view would do once
   // for the whole map (materials, textures, the world's look and lights) is done here, in the
-  // loading screen, instead of in the first frame of play. What fails here fails again, and is
-  // reported, where the first view does it.
+  // loading screen, instead of in the first frame of play; then two throw-away world views make
+  // the frame buffers, and the overlay the GL state and storage, the first frame would wait for.
+  // What fails here fails again, and is reported, where the first view does it.
   const TracerSettings tracer = settings_.tracer(engine_);
   const auto prepare = [&](ViewRenderer* views, bool withWorld) {
     if (views == nullptr) return;
@@ -191,6 +192,14 @@ void Module::endRegistration() {
   };
   if (world_) prepare(views_.get(), true);
   prepare(modelViews_.get(), false);
+  if (world_ && views_ != nullptr && window_.isOpen()) {
+    try {
+      const auto [width, height] = views_->warmUp(tracer, window_.width(), window_.height());
+      overlay_.prepareForPlay(width, height);
+    } catch (const std::exception& error) {
+      engine_.print(q3abi::PRINT_DEVELOPER, "pathtracer: EndRegistration: %s\n", error.what());
+    }
+  }
 }
 
 int Module::lerpTag(q3abi::orientation_t* tag, q3abi::qhandle_t model, int startFrame,

@@ -256,6 +256,26 @@ void Overlay2D::drawPixels(int slot, const uint8_t* rgba, int width, int height,
   drawTexelsQuad(x, y, w, h);
 }
 
+void Overlay2D::prepareForPlay(int width, int height) {
+  if (width_ <= 0 || height_ <= 0) return;
+  // A see-through model view's draw, with nothing in it: premultiplied black of alpha 0 adds nothing.
+  const uint8_t nothing[4] = {0, 0, 0, 0};
+  drawPixels(1, nothing, 1, 1, 0.0f, 0.0f, 1.0f, 1.0f, false);
+  if (width <= 0 || height <= 0) return;
+  const bool copied = (width == width_ && height == height_) || (2 * width == width_ && 2 * height == height_);
+  if (copied && !clipped_ && prepareCopy(width_, height_)) {
+    glBindTexture(GL_TEXTURE_2D, copyTexture_);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, copyPixels_.data());
+    return;
+  }
+  glBindTexture(GL_TEXTURE_2D, slotTexture(0));
+  if (slotSizes_[0][0] != width || slotSizes_[0][1] != height) {
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    slotSizes_[0] = {width, height};
+  }
+}
+
 void Overlay2D::drawTexelsQuad(float x, float y, float w, float h) {
   // The texels as they are: replace, the same pixels as modulating by opaque white with a
   // simpler fragment program for the software rasteriser.

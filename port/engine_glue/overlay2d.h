@@ -51,6 +51,11 @@ class Overlay2D {
   /// that views of different sizes do not re-create one texture back and forth.
   void drawPixels(int slot, const uint8_t* rgba, int width, int height, float x, float y, float w,
                   float h, bool opaque);
+  /// While a map loads, does what the first frame of play would wait for: draws a see-through
+  /// model view's state once (Mesa's llvmpipe compiles a program for each new state at its first
+  /// draw: 10-14 ms) and makes the GL storage of a world picture of width x height shown over the
+  /// whole window (the copy's texture, else slot 0's; 0 x 0: none).
+  void prepareForPlay(int width, int height);
   /// UploadCinematic: replaces a cinematic slot's pixels (RGBA8 `cols` x `rows`).
   void uploadRaw(int client, const uint8_t* rgba, int cols, int rows);
   /// DrawStretchRaw after an upload: draws that cinematic slot.

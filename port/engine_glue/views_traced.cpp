@@ -139,6 +139,38 @@ void ViewRenderer::prepareForPlay(ShaderRegistry& shaders, const TracerSettings&
     d.renderer->prepareLights();
 }
 
+std::pair<int, int> ViewRenderer::warmUp(const TracerSettings& settings, int width, int height) {
+  Impl& d = *impl_;
+  d.dropStartedView();
+  if (!d.map.worldScene.has_value() || width <= 0 || height <= 0 || width > 16384 || height > 16384) return {0, 0};
+  ViewContext ctx;
+  ctx.withWorld = true;
+  ctx.lightmapLook = stockLookFor(settings, true);
+  pa::Camera& camera = ctx.camera;
+  if (!d.map.worldScene->cameras.empty()) {
+    const q3::WorldCamera& spawn = d.map.worldScene->cameras.front();
+    camera.origin = spawn.eye;
+    camera.forward = spawn.forward;
+    camera.left = spawn.left;
+    camera.up = spawn.up;
+  }
+  // cg_fov's default, and the vertical angle the game derives from it for the window's shape.
+  camera.fovX = 90.0f;
+  camera.fovY = 2.0f * std::atan(std::tan(0.25f * kPi) * float(height) / float(width)) * 180.0f / kPi;
+  q3abi::refdef_t view{};
+  view.width = width;
+  view.height = height;
+  // Two frames: the second also makes what a frame with history uses (temporal stage, TAAU).
+  // Their seeds are not counted: play sees the frames it would have seen without them.
+  const uint32_t frameCounter = d.frameCounter;
+  pa::FrameView frame;
+  for (int i = 0; i < 2; ++i) frame = d.renderer->render(camera, d.renderSettings(ctx, view, settings));
+  d.frameCounter = frameCounter;
+  const std::pair<int, int> size{static_cast<int>(frame.outputWidth), static_cast<int>(frame.outputHeight)};
+  d.renderer->forgetFrames();
+  return size;
+}
+
 void ViewRenderer::loadWorld(const World& world, const ShaderScripts& moduleScripts, ImageCache& images) {
   impl_->dropStartedView();
   impl_->startMap();

@@ -19,6 +19,7 @@ void ViewRenderer::clearWorld() {}
 void ViewRenderer::setPicture(const PictureSettings&) {}
 void ViewRenderer::shadersChanged() {}
 void ViewRenderer::prepareForPlay(ShaderRegistry&, const TracerSettings&, bool) {}
+std::pair<int, int> ViewRenderer::warmUp(const TracerSettings&, int, int) { return {0, 0}; }
 
 std::optional<TracedPicture> ViewRenderer::render(const q3abi::refdef_t&, const SceneFrame&,
                                                   const TracerSettings&, ShaderRegistry&,

@@ -320,9 +320,13 @@ void Renderer::forgetFrames() {
   im.upscaler.reset();
   im.resampler.reset();
   im.gradients.reset();
+  im.motions.reset();
+  im.taauFrame = 0;
   im.temporalLast = false;
   im.restirLast = false;
   im.haveLast = false;
+  im.sceneChanged = true;
+  im.worldChanged = true;
 }
 
 FrameView Renderer::render(const Camera& camera, const RenderSettings& settings) {

@@ -139,8 +139,9 @@ class Renderer {
   /// A render started by startRender() has not been finished.
   bool rendering() const;
 
-  /// Forgets every frame rendered so far (accumulation, temporal and TAAU history, reservoirs,
-  /// gradients, the last camera): the next render is the one a new Renderer over this scene makes.
+  /// Forgets every frame rendered so far (accumulation, temporal and TAAU history and jitter,
+  /// reservoirs, gradients, instance motion, the last camera): the next render is the one a new
+  /// Renderer over this scene makes. The frame buffers keep their memory.
   void forgetFrames();
 
  private:

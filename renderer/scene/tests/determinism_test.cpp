@@ -222,6 +222,45 @@ TEST(Determinism, AccumulationResetsOnCameraSettingsAndSceneChanges) {
   EXPECT_EQ(r.render(moved, s).accumulatedFrames, 1u);
 }
 
+TEST(Determinism, FramesAfterForgetFramesAreThoseOfANewRenderer) {
+  // The game renders throw-away frames while a map loads (so that play starts with the frame
+  // buffers made) and forgets them: what follows must be what a new renderer shows, through the
+  // temporal stage, its gradients, the denoiser and TAAU's jitter and history, as the game's
+  // traced presets and its lightmap preset (pixel centres moved by TAAU's jitter) set them.
+  for (const Integrator integrator : {Integrator::Direct, Integrator::Lightmap}) {
+    RenderSettings s = settingsFor(integrator, 24, 1, 1);
+    s.height = 16;
+    s.outputWidth = 48;
+    s.outputHeight = 32;
+    s.taau = true;
+    s.tonemap = Tonemap::Clamp;
+    if (integrator == Integrator::Lightmap) {
+      s.pixelCentres = true;
+    } else {
+      s.temporal = true;
+      s.denoise = true;
+      s.gradientStratum = 3;
+      s.lightingLook = LightingLook::DisplaySpace;
+    }
+    Renderer fresh({2});
+    buildScene(fresh);
+    Renderer warmed({2});
+    buildScene(warmed);
+    RenderSettings other = s;
+    other.seed = 99;
+    for (uint32_t i = 0; i < 3; ++i) warmed.render(lookAt({1, -5, 3}, {0, 0, 0}, 70.0f), other);
+    warmed.forgetFrames();
+    for (uint32_t frame = 0; frame < 4; ++frame) {
+      Camera c = camera();
+      c.origin.x += 0.05f * float(frame);
+      s.seed = frame;
+      const std::vector<uint8_t> expected = frameBytes(fresh.render(c, s), true);
+      EXPECT_EQ(frameBytes(warmed.render(c, s), true), expected)
+          << "integrator " << static_cast<int>(integrator) << ", frame " << frame;
+    }
+  }
+}
+
 TEST(Determinism, AMovingCameraOnlyOverlayRestartsOnlyThePixelsItCovers) {
   // The first-person weapon case: a drawOnTop instance seen only by camera rays moves while the
   // camera and the world stay. Accumulation goes on; pixels it covered or covers start again.
