@@ -178,7 +178,7 @@ void Module::setWorldVisData(const q3abi::byte*) {
 void Module::endRegistration() {
   // Every model, skin and shader of the map is registered now: what the first view would do once
   // for the whole map (materials, textures, the world's look and lights) is done here, in the
-  // loading screen, instead of in the first frame of play; then two throw-away world views make
+  // loading screen, instead of in the first frame of play; then a throw-away world view makes
   // the frame buffers, and the overlay the GL state and storage, the first frame would wait for.
   // What fails here fails again, and is reported, where the first view does it.
   const TracerSettings tracer = settings_.tracer(engine_);

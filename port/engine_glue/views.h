@@ -92,8 +92,8 @@ class ViewRenderer {
   /// the world as the preset looks at it (sky, glowing surfaces) and commits it (the traced
   /// presets' light structures). Without `withWorld`: for model views (no 2D pictures).
   void prepareForPlay(ShaderRegistry& shaders, const TracerSettings& settings, bool withWorld);
-  /// After prepareForPlay(world): traces two throw-away world views of width x height (the
-  /// window) from the map's first spawn point and forgets them, so that the first frame of play
+  /// After prepareForPlay(world): traces a throw-away world view of width x height (the
+  /// window) from the map's first spawn point and forgets it, so that the first frame of play
   /// finds the frame buffers of every stage made and touched (about a hundred milliseconds it
   /// would otherwise stall for). Returns the picture's size, as render() would give it (0 x 0
   /// when nothing was traced).

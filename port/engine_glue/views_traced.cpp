@@ -160,11 +160,10 @@ std::pair<int, int> ViewRenderer::warmUp(const TracerSettings& settings, int wid
   q3abi::refdef_t view{};
   view.width = width;
   view.height = height;
-  // Two frames: the second also makes what a frame with history uses (temporal stage, TAAU).
-  // Their seeds are not counted: play sees the frames it would have seen without them.
+  // Its seed is not counted: play sees the frames it would have seen without it. One frame is
+  // enough: after a second one (with history) the first frames of play were no faster in the game.
   const uint32_t frameCounter = d.frameCounter;
-  pa::FrameView frame;
-  for (int i = 0; i < 2; ++i) frame = d.renderer->render(camera, d.renderSettings(ctx, view, settings));
+  const pa::FrameView frame = d.renderer->render(camera, d.renderSettings(ctx, view, settings));
   d.frameCounter = frameCounter;
   const std::pair<int, int> size{static_cast<int>(frame.outputWidth), static_cast<int>(frame.outputHeight)};
   d.renderer->forgetFrames();
