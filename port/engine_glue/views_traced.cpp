@@ -163,7 +163,13 @@ std::pair<int, int> ViewRenderer::warmUp(const TracerSettings& settings, int wid
   // Its seed is not counted: play sees the frames it would have seen without it. One frame is
   // enough: after a second one (with history) the first frames of play were no faster in the game.
   const uint32_t frameCounter = d.frameCounter;
-  const pa::FrameView frame = d.renderer->render(camera, d.renderSettings(ctx, view, settings));
+  pa::FrameView frame;
+  try {
+    frame = d.renderer->render(camera, d.renderSettings(ctx, view, settings));
+  } catch (...) {
+    d.frameCounter = frameCounter;
+    throw;
+  }
   d.frameCounter = frameCounter;
   const std::pair<int, int> size{static_cast<int>(frame.outputWidth), static_cast<int>(frame.outputHeight)};
   d.renderer->forgetFrames();
