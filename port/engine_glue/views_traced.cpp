@@ -129,6 +129,9 @@ void ViewRenderer::prepareForPlay(ShaderRegistry& shaders, const TracerSettings&
   d.dropStartedView();
   const bool world = withWorld && d.map.worldScene.has_value();
   const bool lightmapLook = stockLookFor(settings, world);
+  // The world's autosprite shaders are registered by the first view that draws them (the game
+  // registers none): here, so that their materials are made below with the others.
+  if (world) d.map.worldSprites.forEachShader([&](const std::string& name) { d.spriteHandle(shaders, name); });
   d.prepareMaterials(shaders, lightmapLook, world);
   if (!world) return;
   d.selectSky(lightmapLook, 0.0);

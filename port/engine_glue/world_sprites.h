@@ -42,6 +42,11 @@ class WorldSprites {
               GeometryBatch& out) const;
   /// Number of quads.
   size_t size() const { return quads_.size(); }
+  /// Calls f(shaderName) once for each shader the quads are drawn with.
+  template <typename F>
+  void forEachShader(F&& f) const {
+    for (const Kind& kind : kinds_) f(kind.shaderName);
+  }
 
  private:
   struct Kind {

@@ -481,6 +481,34 @@ TEST_F(ModuleTest, EndRegistrationMakesTheMaterialsBeforeTheFirstView) {
   EXPECT_EQ(fake::engine().lastErrorLevel, -1);
 }
 
+TEST_F(ModuleTest, EndRegistrationMakesTheWorldSpritesMaterials) {
+  // The shaders of a map's autosprite surfaces (oa_shouse: flames, a fireball, smoke) are
+  // registered by the module alone, not by the game: EndRegistration registers them and makes
+  // their materials with the others', so that the first views of play make none.
+  if (!fake::mountInstalledGame()) GTEST_SKIP() << "OpenArena data not installed";
+  fake::engine().setCvar("developer", "1");
+  fake::engine().setCvar("r_pt_preset", "direct");
+  begin();
+  re_->LoadWorld("maps/oa_shouse.bsp");
+  re_->EndRegistration();
+  EXPECT_EQ(fake::engine().lastErrorLevel, -1);
+  fake::engine().prints.clear();
+  q3abi::refdef_t view{};
+  view.width = 64;
+  view.height = 36;
+  view.fov_x = 90.0f;
+  view.fov_y = 59.0f;
+  view.viewaxis[0][0] = view.viewaxis[1][1] = view.viewaxis[2][2] = 1.0f;
+  for (int frame = 0; frame < 3; ++frame) {
+    re_->BeginFrame(0);
+    re_->ClearScene();
+    re_->RenderScene(&view);
+    re_->EndFrame(nullptr, nullptr);
+  }
+  EXPECT_FALSE(fake::engine().printed("prepared shaders")) << "a view of play made materials";
+  EXPECT_EQ(fake::engine().lastErrorLevel, -1);
+}
+
 TEST_F(ModuleTest, StatsDescribeASlowFrameWithItsPhases) {
   // r_pt_stats: a frame of play (one that draws a view) of 50 ms or more, a hitch, is printed
   // with its phases; a slow frame without a view (a loading screen) is the engine's and is not.
