@@ -264,9 +264,7 @@ void Overlay2D::prepareForPlay(int width, int height) {
   if (width <= 0 || height <= 0) return;
   const bool copied = (width == width_ && height == height_) || (2 * width == width_ && 2 * height == height_);
   if (copied && !clipped_ && prepareCopy(width_, height_)) {
-    glBindTexture(GL_TEXTURE_2D, copyTexture_);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, copyPixels_.data());
+    uploadCopy();
     return;
   }
   glBindTexture(GL_TEXTURE_2D, slotTexture(0));
@@ -335,11 +333,16 @@ bool Overlay2D::prepareCopy(int width, int height) {
   return true;
 }
 
-void Overlay2D::blitCopy(int x, int y) {
-  const int w = copySize_[0], h = copySize_[1];
+void Overlay2D::uploadCopy() {
   glBindTexture(GL_TEXTURE_2D, copyTexture_);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, copyPixels_.data());
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, copySize_[0], copySize_[1], GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV,
+                  copyPixels_.data());
+}
+
+void Overlay2D::blitCopy(int x, int y) {
+  const int w = copySize_[0], h = copySize_[1];
+  uploadCopy();
   // Texture row 0 is the picture's top row; GL counts window rows from the bottom, so the copy
   // runs from the rectangle's top edge down (as the window stores its rows: no flip for Mesa).
   const auto bindFramebuffer = reinterpret_cast<PFNGLBINDFRAMEBUFFERPROC>(copy_.bindFramebuffer);

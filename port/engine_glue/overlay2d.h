@@ -86,6 +86,8 @@ class Overlay2D {
   bool copyAvailable();
   /// Sizes the copy's texture (and copyPixels_) to width x height; false without framebuffer blits.
   bool prepareCopy(int width, int height);
+  /// Uploads copyPixels_ (BGRA, top row first) into the copy's texture.
+  void uploadCopy();
   /// Uploads copyPixels_ (BGRA, top row first) and copies it to the window at (x, y), top-left.
   void blitCopy(int x, int y);
   /// Copies an opaque picture into the window rectangle (its size, or twice its size with the

@@ -149,17 +149,10 @@ std::pair<int, int> ViewRenderer::warmUp(const TracerSettings& settings, int wid
   ViewContext ctx;
   ctx.withWorld = true;
   ctx.lightmapLook = stockLookFor(settings, true);
-  pa::Camera& camera = ctx.camera;
-  if (!d.map.worldScene->cameras.empty()) {
-    const q3::WorldCamera& spawn = d.map.worldScene->cameras.front();
-    camera.origin = spawn.eye;
-    camera.forward = spawn.forward;
-    camera.left = spawn.left;
-    camera.up = spawn.up;
-  }
-  // cg_fov's default, and the vertical angle the game derives from it for the window's shape.
-  camera.fovX = 90.0f;
-  camera.fovY = 2.0f * std::atan(std::tan(0.25f * kPi) * float(height) / float(width)) * 180.0f / kPi;
+  // At cg_fov's default over the window's shape (a map without spawn points: from the origin).
+  const std::vector<q3::WorldCamera>& spawns = d.map.worldScene->cameras;
+  ctx.camera = pa::bridge::cameraFromSpawn(spawns.empty() ? q3::WorldCamera{} : spawns.front(),
+                                           float(width) / float(height));
   q3abi::refdef_t view{};
   view.width = width;
   view.height = height;
@@ -168,7 +161,7 @@ std::pair<int, int> ViewRenderer::warmUp(const TracerSettings& settings, int wid
   const uint32_t frameCounter = d.frameCounter;
   pa::FrameView frame;
   try {
-    frame = d.renderer->render(camera, d.renderSettings(ctx, view, settings));
+    frame = d.renderer->render(ctx.camera, d.renderSettings(ctx, view, settings));
   } catch (...) {
     d.frameCounter = frameCounter;
     throw;
