@@ -98,9 +98,15 @@ TEST(Texture, TextureUnitFiltersPickLevelsAndTexelsAsOpenGl) {
   EXPECT_NEAR(t.sample({-0.1f, 0.25f}, 0.0f, point).r, 1.0f, 1e-6f);   // -0.1 == 0.9: texel 3
   EXPECT_NEAR(t.sample({0.2f, 0.25f}, 0.5f, {MipFilter::Linear, true}).r, 0.25f, kHalfByte);
   EXPECT_NEAR(t.sampleStored({0.2f, 0.25f}, 0.0f, point).r, 0.0f, 1e-6f);
-  // The default filter is sample() itself, bit for bit.
+  // The default filter is sample() itself, bit for bit; sampleInto() is sample() with a filter.
   for (const float lod : {0.0f, 0.3f, 1.7f, 5.0f})
     EXPECT_EQ(t.sample({0.31f, 0.77f}, lod, TextureFilter{}), t.sample({0.31f, 0.77f}, lod));
+  for (const TextureFilter filter : {TextureFilter{}, nearestMip, point, TextureFilter{MipFilter::Linear, true}})
+    for (const float lod : {-1.0f, 0.0f, 0.3f, 0.6f, 1.7f, 5.0f, std::nanf("")}) {
+      glm::vec4 into(-1.0f);
+      t.sampleInto({0.31f, 0.77f}, lod, filter, into);
+      EXPECT_EQ(into, t.sample({0.31f, 0.77f}, lod, filter));
+    }
   // Clamped, without a mip chain: bilinear at level 0 whatever the filter (as stock reads images
   // without mipmaps), and the nearest texel at the edge when asked of a mip chain.
   const std::vector<uint8_t> pair{0, 0, 0, 255, 255, 255, 255, 255};

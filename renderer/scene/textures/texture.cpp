@@ -233,6 +233,12 @@ glm::vec4 Texture::sample(glm::vec2 uv, float lod, TextureFilter filter) const {
   return sampleFiltered<false>(uv, lod, filter);
 }
 
+// Flattened: the lookup's whole call tree inlined here, so that the result is stored from the
+// register it was blended in.
+[[gnu::flatten]] void Texture::sampleInto(glm::vec2 uv, float lod, TextureFilter filter, glm::vec4& out) const {
+  out = sampleFiltered<false>(uv, lod, filter);
+}
+
 glm::vec4 Texture::sampleStored(glm::vec2 uv, float lod, TextureFilter filter) const {
   return sampleFiltered<true>(uv, lod, filter);
 }

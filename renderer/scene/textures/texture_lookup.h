@@ -91,8 +91,15 @@ template <bool Stored>
   return (a * (1.0f - fx) + b * fx) * (1.0f - fy) + (c * (1.0f - fx) + d * fx) * fy;
 }
 
-inline glm::vec4 Texture::sampleFull(glm::vec2 uv) const { return sampleLevel<false>(0, wrapped(uv)); }
+// Always inlined: a call's vec4 comes back in two halves that a caller multiplying it as one
+// vector stores and reloads whole (a store-forwarding stall per lookup: half of the layer
+// crossings' time on a plasma fight, docs/performance.md).
+[[gnu::always_inline]] inline glm::vec4 Texture::sampleFull(glm::vec2 uv) const {
+  return sampleLevel<false>(0, wrapped(uv));
+}
 
-inline glm::vec4 Texture::sampleFullStored(glm::vec2 uv) const { return sampleLevel<true>(0, wrapped(uv)); }
+[[gnu::always_inline]] inline glm::vec4 Texture::sampleFullStored(glm::vec2 uv) const {
+  return sampleLevel<true>(0, wrapped(uv));
+}
 
 }  // namespace pa
