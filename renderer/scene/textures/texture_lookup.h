@@ -92,8 +92,8 @@ template <bool Stored>
 }
 
 // Always inlined: a call's vec4 comes back in two halves that a caller multiplying it as one
-// vector stores and reloads whole (a store-forwarding stall per lookup: half of the layer
-// crossings' time on a plasma fight, docs/performance.md).
+// vector stores and reloads whole (a store-forwarding stall per lookup: over half of
+// evaluateCrossings' own time in a plasma fight, docs/performance.md).
 [[gnu::always_inline]] inline glm::vec4 Texture::sampleFull(glm::vec2 uv) const {
   return sampleLevel<false>(0, wrapped(uv));
 }
