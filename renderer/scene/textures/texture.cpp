@@ -229,10 +229,6 @@ glm::vec4 Texture::sampleFiltered(glm::vec2 uv, float lod, TextureFilter filter)
   return blendLevels(read, lod, maxLevel);
 }
 
-glm::vec4 Texture::sample(glm::vec2 uv, float lod, TextureFilter filter) const {
-  return sampleFiltered<false>(uv, lod, filter);
-}
-
 // Flattened: the lookup's whole call tree inlined here, so that the result is stored from the
 // register it was blended in.
 [[gnu::flatten]] void Texture::sampleInto(glm::vec2 uv, float lod, TextureFilter filter, glm::vec4& out) const {

@@ -46,10 +46,11 @@ class Texture {
   /// sample() with a texture unit's filtering. Level `lod` picks the levels as OpenGL does
   /// (nearest: level 0 up to 0.5, then the nearest); a texture without a mip chain is read
   /// bilinearly at level 0 whatever the filter, as stock filters images without mipmaps.
+  /// Inline over sampleInto(): a vec4 returned from a call comes back in two halves, which a
+  /// caller that multiplies it as one vector reassembles through memory (two narrow stores read
+  /// by one wide load: a store-forwarding stall per lookup).
   glm::vec4 sample(glm::vec2 uv, float lod, TextureFilter filter) const;
-  /// sample(uv, lod, filter) stored into `out` whole: a returned vec4 comes back in two halves,
-  /// which a caller that multiplies it as one vector reassembles through memory (two narrow
-  /// stores read by one wide load: a store-forwarding stall per lookup).
+  /// sample(uv, lod, filter) stored into `out` whole, from the register it was blended in.
   void sampleInto(glm::vec2 uv, float lod, TextureFilter filter, glm::vec4& out) const;
   /// sampleStored() with a texture unit's filtering (as sample(uv, lod, filter)).
   glm::vec4 sampleStored(glm::vec2 uv, float lod, TextureFilter filter) const;

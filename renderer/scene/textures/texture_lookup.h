@@ -91,6 +91,12 @@ template <bool Stored>
   return (a * (1.0f - fx) + b * fx) * (1.0f - fy) + (c * (1.0f - fx) + d * fx) * fy;
 }
 
+inline glm::vec4 Texture::sample(glm::vec2 uv, float lod, TextureFilter filter) const {
+  glm::vec4 out;
+  sampleInto(uv, lod, filter, out);
+  return out;
+}
+
 // Always inlined: a call's vec4 comes back in two halves that a caller multiplying it as one
 // vector stores and reloads whole (a store-forwarding stall per lookup: over half of
 // evaluateCrossings' own time in a plasma fight, docs/performance.md).

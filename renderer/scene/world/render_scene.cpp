@@ -393,11 +393,7 @@ float RenderScene::baseLod(const SurfaceHit& s, float footprint) const {
 
 glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint, TextureFilter filter) const {
   glm::vec4 c = baseFactor(s);
-  if (s.material->base != nullptr) {
-    glm::vec4 texel;
-    s.material->base->sampleInto(s.uv, baseLod(s, footprint), filter, texel);
-    c *= texel;
-  }
+  if (s.material->base != nullptr) c *= s.material->base->sample(s.uv, baseLod(s, footprint), filter);
   return c;
 }
 
