@@ -415,7 +415,7 @@ PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, 
           const int lane = std::countr_zero(r);
           const Ray& ray = rays[lane];
           Hit unused;
-          if (testLeaf<S, true>(bvh, ref, TriangleRay<S>(ray, filters[lane].cull), ray, p.tmax[lane], unused,
+          if (testLeaf<S, true, false>(bvh, ref, TriangleRay<S>(ray, filters[lane].cull), ray, p.tmax[lane], unused,
                                 filters[lane], instanceId))
             found |= 1u << lane;
         }

@@ -27,6 +27,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "renderer/bvh/slab_test.h"
 #include "renderer/bvh/watertight.h"
@@ -41,6 +42,35 @@
 #define PA_BVH_INLINE [[gnu::always_inline]] PA_BVH_KERNEL inline
 
 namespace pa::bvh_detail {
+
+/// A bound on how far the watertight test's own distance of a hit, t = tScaled / det in float
+/// (intersectTriangleWatertight's tSheared), lies from planeHitDistance's: |t - tPlane| <= the
+/// result, or the result is +inf or NaN where no bound holds. From |1 / det|, the largest |x|,
+/// |y| of the three sheared vertices (maxXY = M), their largest |z| before the scale sz
+/// (maxZ = Z), and |sz|. Forward error analysis of each rounding (as PBRT 4th ed., 6.8.7) with
+/// the edge functions of one sign on a hit, so |t| <= |sz| Z: each sheared x, y off by
+/// u (2M + 3Z) (u = 2^-24), each edge function by 12 u M (M + Z), tScaled and det accordingly;
+/// plus the ray the rounded shear constants stand for (the line drifts by |t| u across a plane
+/// whose slope is below 16 M Z / |det|); plus planeHitDistance's own rounding in double and the
+/// float rounding of either distance. With P = M (M + Z) / |det|, about |sz| Z u (88 P + 10),
+/// doubled: u (|sz| Z (192 P + 32) + 2^-20 |sz| M (1 + 16 P)), where 2048 u P < 1 (the edge
+/// functions' error then stays below 2% of det); +inf beyond. A kernel decides a lane from t
+/// alone where t +- the bound lies wholly inside or wholly outside its [tmin, tmax]: the
+/// accurate distance would decide the same (distance_bound_test.cpp).
+template <class Float>
+PA_BVH_INLINE Float shearedDistanceBound(Float absRcp, Float maxXY, Float maxZ, Float absSz) {
+  constexpr float kUnit = 0x1p-24f;
+  const Float conditioning = maxXY * (maxXY + maxZ) * absRcp;   // P
+  const Float bound = Float(kUnit) * absSz *
+                          (maxZ * (Float(192.0f) * conditioning + Float(32.0f)) +
+                           Float(0x1p-20f) * maxXY * (Float(1.0f) + Float(16.0f) * conditioning)) +
+                      Float(1e-30f);
+  // (P - limit) x inf: +inf where 2048 u P > 1, -inf below; the bound plus the larger of it and
+  // 0, so that a NaN in either stays NaN (a lane it cannot decide).
+  const Float beyond =
+      (conditioning - Float(1.0f / (2048.0f * kUnit))) * Float(std::numeric_limits<float>::infinity());
+  return bound + maxKeep(Float(0.0f), beyond);
+}
 
 /// Per-ray constants of the slab test of N children.
 template <class L>
@@ -80,14 +110,15 @@ struct TriangleRay {
   using Float = typename L::Float;
   RayShear shear;
   Float ox, oy, oz, sx, sy, sz;
+  Float absSz;  ///< |sz|, for shearedDistanceBound.
   Float cull;   ///< cullSign(HitFilter::cull): one-sided lanes with det x cull < 0 are skipped.
   bool cullsAFace;   ///< HitFilter::cull is not None (shadow rays skip the cull's operations).
   typename L::PlaneRay plane;
 
   PA_BVH_KERNEL TriangleRay(const Ray& ray, FaceCull faceCull)
       : shear(ray.dir), ox(ray.origin[shear.kx]), oy(ray.origin[shear.ky]), oz(ray.origin[shear.kz]),
-        sx(shear.sx), sy(shear.sy), sz(shear.sz), cull(cullSign(faceCull)), cullsAFace(faceCull != FaceCull::None),
-        plane(ray) {}
+        sx(shear.sx), sy(shear.sy), sz(shear.sz), absSz(std::fabs(shear.sz)), cull(cullSign(faceCull)),
+        cullsAFace(faceCull != FaceCull::None), plane(ray) {}
 };
 
 /// The lanes of `lanes` to keep after face culling: one-sided lanes (oneSidedBits) whose det
@@ -112,6 +143,8 @@ struct PackEdges {
   Float tScaled;   ///< Sheared-space distance times det (tScaled / det: the fallback distance).
   Float det;       ///< Sum of the edge functions.
   Float u, v;      ///< Barycentrics of vertices 1 and 2, times det.
+  Float maxXY;     ///< Largest |x|, |y| of the three sheared vertices (shearedDistanceBound).
+  Float maxZ;      ///< Largest |z| of the three vertices relative to the origin, before sz.
 };
 
 /// The watertight edge test (intersectTriangleWatertight's float operations, lane for lane) up
@@ -149,11 +182,15 @@ PA_BVH_INLINE unsigned crossedEdges(const typename L::Float (&x)[3], const typen
   const Float det = u + v + w;
   hits &= static_cast<unsigned>((det != zero).mask());
   if (!hits) return 0;
-  // No range test on the sheared distance (inaccurate on slivers): only on the plane distance.
+  // No range test here: the sheared distance is inaccurate on slivers; the callers test it with
+  // its error bound, and the plane distance where that cannot decide.
   out.tScaled = (u * (sz * az) + v * (sz * bz)) + w * (sz * cz);
   out.det = det;
   out.u = v;
   out.v = w;
+  // Dead code where the caller does not read them (the packets).
+  out.maxXY = maxKeep(maxKeep(maxKeep(abs(ax), abs(ay)), maxKeep(abs(bx), abs(by))), maxKeep(abs(cx), abs(cy)));
+  out.maxZ = maxKeep(maxKeep(abs(az), abs(bz)), abs(cz));
   return hits;
 }
 
@@ -173,7 +210,7 @@ PA_BVH_INLINE unsigned testPackEdges(const Pack& pack, const TriangleRay<L>& r, 
 /// Tests one pack's triangles against [ray.tmin, tmax] and accepts its hits in lane order (as
 /// acceptPackHits), one-sided lanes seen from the face the ray culls skipped first: the accurate distances of all candidate lanes in SIMD, or lane by lane where
 /// L::kLaneByLaneHits (L::acceptLaneByLane).
-template <class L, bool kAnyHit, class Pack>
+template <class L, bool kAnyHit, bool kBoundFirst, class Pack>
 PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, const Ray& ray, float& tmax, Hit& hit,
                                 const HitFilter& filter, uint32_t instanceId) {
   using Float = typename L::Float;
@@ -184,12 +221,26 @@ PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, 
     lanes = afterFaceCull(lanes, pack.oneSidedBits, e.det, triRay.cull);
     if (!lanes) return false;
   }
+  const Float rcp = Float(1.0f) / e.det;
+  const Float tSheared = e.tScaled * rcp;
+  if constexpr (kAnyHit && kBoundFirst) {
+    // Any hit: lanes whose sheared distance, give or take its error bound, lies wholly outside
+    // [tmin, tmax] are dropped, and one that lies wholly inside (and needs no filter call) is
+    // taken at once; the accurate distance in double would decide them the same. (Closest-hit
+    // rays need the accurate distance of each hit they take, and most lanes in range are.)
+    const Float bound = shearedDistanceBound(abs(rcp), e.maxXY, e.maxZ, triRay.absSz);
+    const Float tmin(ray.tmin), tmaxLanes(tmax);
+    lanes &= ~static_cast<unsigned>(((tSheared + bound < tmin) | (tSheared - bound > tmaxLanes)).mask());
+    if (!lanes) return false;
+    if (lanes & ~pack.maskedBits &
+        static_cast<unsigned>(((tSheared - bound >= tmin) & (tSheared + bound <= tmaxLanes)).mask()))
+      return true;
+  }
   if constexpr (L::kLaneByLaneHits) {
     return L::template acceptLaneByLane<kAnyHit>(pack, lanes, e, triRay.plane, ray.tmin, tmax, hit, filter,
                                                  instanceId);
   } else {
-    const Float rcp = Float(1.0f) / e.det;
-    const Float t = L::planeDistances(pack, triRay.plane, e.tScaled * rcp, lanes);
+    const Float t = L::planeDistances(pack, triRay.plane, tSheared, lanes);
     lanes &= static_cast<unsigned>(((t >= Float(ray.tmin)) & (t <= Float(tmax))).mask());
     if (!lanes) return false;
     PackCandidates<L::kWidth> c;
@@ -203,20 +254,20 @@ PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, 
 /// Tests a leaf's triangles against [ray.tmin, tmax], pack by pack in lane order: closest hit
 /// (kAnyHit false) shortens tmax and writes hit for every accepted hit and returns whether any
 /// was; any hit returns true at the first accepted one.
-template <class L, bool kAnyHit>
+template <class L, bool kAnyHit, bool kBoundFirst = true>
 PA_BVH_INLINE bool testLeaf(const typename L::Bvh& bvh, uint32_t ref,
                             const TriangleRay<L>& triRay, const Ray& ray, float& tmax,
                             Hit& hit, const HitFilter& filter, uint32_t instanceId) {
   if constexpr (L::kSmallLeaves) {
     if (ref & kSmallLeafBit)
-      return testPackHits<L, kAnyHit>(bvh.smallPacks[ref & kFirstPackMask], triRay, ray, tmax, hit, filter,
+      return testPackHits<L, kAnyHit, kBoundFirst>(bvh.smallPacks[ref & kFirstPackMask], triRay, ray, tmax, hit, filter,
                                       instanceId);
   }
   uint32_t first, count;
   leafPacks(ref, first, count);
   bool found = false;
   for (uint32_t p = first; p < first + count; ++p) {
-    if (testPackHits<L, kAnyHit>(bvh.packs[p], triRay, ray, tmax, hit, filter, instanceId)) {
+    if (testPackHits<L, kAnyHit, kBoundFirst>(bvh.packs[p], triRay, ray, tmax, hit, filter, instanceId)) {
       if constexpr (kAnyHit) return true;
       found = true;
     }

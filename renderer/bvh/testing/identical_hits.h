@@ -2,6 +2,7 @@
 // For tests (needs GoogleTest): two ways of tracing the same triangles with the same triangle
 // test (two layouts, two trees, with and without pre-splitting) must give identical answers.
 // Header-only so the testing library itself stays free of GoogleTest (the bench links it).
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -27,8 +28,8 @@ Tracer tracerOf(const Traceable& t) {
 
 /// Same hit or miss, same t bit for bit and instance, same barycentrics when the triangle is the
 /// same (it may differ only on an exact tie); any hit over the whole ray exactly when there is a
-/// closest hit, the same any-hit answer half way to the hit and just short of it, and occlusion
-/// just past it. `hits` receives the
+/// closest hit, the same any-hit answer half way to the hit, just short of it and from one bit
+/// before or at it, and occlusion just past it and up to it. `hits` receives the
 /// number of rays that hit (callers check the comparison saw enough of them).
 inline void expectIdenticalHits(const Tracer& a, const Tracer& b, std::span<const Ray> rays, uint32_t& hits) {
   hits = 0;
@@ -55,6 +56,18 @@ inline void expectIdenticalHits(const Tracer& a, const Tracer& b, std::span<cons
     s.tmax = ha.t * 1.0001f;
     ASSERT_TRUE(a.occluded(s));
     ASSERT_TRUE(b.occluded(s));
+    // At the hit's distance to the last bit, from both ends (kernels may decide a lane from its
+    // sheared distance and an error bound, which must never decide otherwise).
+    s.tmax = ha.t;
+    ASSERT_TRUE(a.occluded(s));
+    ASSERT_TRUE(b.occluded(s));
+    s.tmax = std::nextafter(ha.t, -1.0f);
+    ASSERT_EQ(a.occluded(s), b.occluded(s));
+    s = r;
+    for (const float tmin : {ha.t, std::nextafter(ha.t, 2.0f * ha.t + 1.0f)}) {
+      s.tmin = tmin;
+      ASSERT_EQ(a.occluded(s), b.occluded(s));
+    }
   }
 }
 
