@@ -416,7 +416,7 @@ PA_BVH_INLINE unsigned testPacketLeaf(const typename L::Bvh& bvh, uint32_t ref, 
           const Ray& ray = rays[lane];
           Hit unused;
           if (testLeaf<S, true, false>(bvh, ref, TriangleRay<S>(ray, filters[lane].cull), ray, p.tmax[lane], unused,
-                                filters[lane], instanceId))
+                                       filters[lane], instanceId))
             found |= 1u << lane;
         }
         continue;

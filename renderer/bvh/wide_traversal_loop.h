@@ -5,7 +5,8 @@
 // slab test of slab_test.h), goes on with one entered child and pushes the others, and tests a
 // leaf's triangles N at a time with the watertight test of watertight.h: the same float and
 // double operations in the same order as the scalar reference, so hit distances are
-// bit-identical to it in every kernel.
+// bit-identical to it in every kernel (any-hit rays skip the double operations for the lanes an
+// error bound decides, with the same answers: shearedDistanceBound).
 //
 // L supplies the per-ISA pieces:
 //   Float, Node, Bvh, kWidth         lane type (N floats, comparisons -> .mask()), node, tree
@@ -208,9 +209,11 @@ PA_BVH_INLINE unsigned testPackEdges(const Pack& pack, const TriangleRay<L>& r, 
 }
 
 /// Tests one pack's triangles against [ray.tmin, tmax] and accepts its hits in lane order (as
-/// acceptPackHits), one-sided lanes seen from the face the ray culls skipped first: the accurate distances of all candidate lanes in SIMD, or lane by lane where
-/// L::kLaneByLaneHits (L::acceptLaneByLane).
-template <class L, bool kAnyHit, bool kBoundFirst, class Pack>
+/// acceptPackHits), one-sided lanes seen from the face the ray culls skipped first: the accurate
+/// distances of all candidate lanes in SIMD, or lane by lane where L::kLaneByLaneHits
+/// (L::acceptLaneByLane). Any hit with kDecideByBound: the lanes the sheared distance's error
+/// bound decides first (shearedDistanceBound); the packets' leaves keep the accurate distances.
+template <class L, bool kAnyHit, bool kDecideByBound, class Pack>
 PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, const Ray& ray, float& tmax, Hit& hit,
                                 const HitFilter& filter, uint32_t instanceId) {
   using Float = typename L::Float;
@@ -223,7 +226,7 @@ PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, 
   }
   const Float rcp = Float(1.0f) / e.det;
   const Float tSheared = e.tScaled * rcp;
-  if constexpr (kAnyHit && kBoundFirst) {
+  if constexpr (kAnyHit && kDecideByBound) {
     // Any hit: lanes whose sheared distance, give or take its error bound, lies wholly outside
     // [tmin, tmax] are dropped, and one that lies wholly inside (and needs no filter call) is
     // taken at once; the accurate distance in double would decide them the same. (Closest-hit
@@ -254,20 +257,20 @@ PA_BVH_INLINE bool testPackHits(const Pack& pack, const TriangleRay<L>& triRay, 
 /// Tests a leaf's triangles against [ray.tmin, tmax], pack by pack in lane order: closest hit
 /// (kAnyHit false) shortens tmax and writes hit for every accepted hit and returns whether any
 /// was; any hit returns true at the first accepted one.
-template <class L, bool kAnyHit, bool kBoundFirst = true>
+template <class L, bool kAnyHit, bool kDecideByBound = true>
 PA_BVH_INLINE bool testLeaf(const typename L::Bvh& bvh, uint32_t ref,
                             const TriangleRay<L>& triRay, const Ray& ray, float& tmax,
                             Hit& hit, const HitFilter& filter, uint32_t instanceId) {
   if constexpr (L::kSmallLeaves) {
     if (ref & kSmallLeafBit)
-      return testPackHits<L, kAnyHit, kBoundFirst>(bvh.smallPacks[ref & kFirstPackMask], triRay, ray, tmax, hit, filter,
-                                      instanceId);
+      return testPackHits<L, kAnyHit, kDecideByBound>(bvh.smallPacks[ref & kFirstPackMask], triRay, ray, tmax,
+                                                      hit, filter, instanceId);
   }
   uint32_t first, count;
   leafPacks(ref, first, count);
   bool found = false;
   for (uint32_t p = first; p < first + count; ++p) {
-    if (testPackHits<L, kAnyHit, kBoundFirst>(bvh.packs[p], triRay, ray, tmax, hit, filter, instanceId)) {
+    if (testPackHits<L, kAnyHit, kDecideByBound>(bvh.packs[p], triRay, ray, tmax, hit, filter, instanceId)) {
       if constexpr (kAnyHit) return true;
       found = true;
     }

@@ -5,6 +5,7 @@
 // the plane distance decides it; and on ordinary hits the bound is tight enough to decide nearly
 // every lane. The kernels against the reference at the boundary itself: identical_hits.h.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
