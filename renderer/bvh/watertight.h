@@ -61,32 +61,48 @@ inline float cullSign(FaceCull cull) {
   return cull == FaceCull::Back ? 1.0f : cull == FaceCull::Front ? -1.0f : 0.0f;
 }
 
+/// One triangle in a ray's sheared space, rounded as intersectTriangleWatertight (and the wide
+/// kernels, lane for lane) round it: its vertices relative to the ray origin, their sheared x and
+/// y, and the 2D edge functions (recomputed in double where float gives an exact zero).
+struct ShearedTriangle {
+  glm::vec3 a, b, c;              ///< v0, v1, v2 minus the origin.
+  float ax, ay, bx, by, cx, cy;   ///< Their sheared x and y (axes kx, ky).
+  float u, v, w;                  ///< Edge functions: barycentrics times det.
+
+  ShearedTriangle(const glm::vec3& origin, const RayShear& s, const glm::vec3& v0, const glm::vec3& v1,
+                  const glm::vec3& v2)
+      : a(v0 - origin), b(v1 - origin), c(v2 - origin), ax(a[s.kx] - s.sx * a[s.kz]), ay(a[s.ky] - s.sy * a[s.kz]),
+        bx(b[s.kx] - s.sx * b[s.kz]), by(b[s.ky] - s.sy * b[s.kz]), cx(c[s.kx] - s.sx * c[s.kz]),
+        cy(c[s.ky] - s.sy * c[s.kz]), u(cx * by - cy * bx), v(ax * cy - ay * cx), w(bx * ay - by * ax) {
+    if (u == 0.0f || v == 0.0f || w == 0.0f) {   // on an edge in float: decide exactly in double
+      u = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
+      v = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
+      w = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
+    }
+  }
+  /// True when the ray's line passes through the triangle or its edges (no two edge functions of
+  /// opposite sign); det may still be 0.
+  bool crossed() const { return !((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)); }
+  /// The sheared-space distance tScaled / det, given 1 / det.
+  float shearedDistance(const RayShear& s, float rcp) const {
+    const float az = s.sz * a[s.kz], bz = s.sz * b[s.kz], cz = s.sz * c[s.kz];
+    return (u * az + v * bz + w * cz) * rcp;
+  }
+};
+
 /// Tests one triangle; true when hit at t in [tmin, tmax]. Degenerate triangles
 /// (det == 0) never hit. Both faces are hit.
 inline bool intersectTriangleWatertight(const glm::vec3& origin, const glm::vec3& dir, const RayShear& s,
                                         float tmin, float tmax, const glm::vec3& v0, const glm::vec3& v1,
                                         const glm::vec3& v2, TriangleHit& out) {
-  const glm::vec3 a = v0 - origin, b = v1 - origin, c = v2 - origin;
-  const float ax = a[s.kx] - s.sx * a[s.kz], ay = a[s.ky] - s.sy * a[s.kz];
-  const float bx = b[s.kx] - s.sx * b[s.kz], by = b[s.ky] - s.sy * b[s.kz];
-  const float cx = c[s.kx] - s.sx * c[s.kz], cy = c[s.ky] - s.sy * c[s.kz];
-  float u = cx * by - cy * bx;
-  float v = ax * cy - ay * cx;
-  float w = bx * ay - by * ax;
-  if (u == 0.0f || v == 0.0f || w == 0.0f) {   // on an edge in float: decide exactly in double
-    u = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
-    v = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
-    w = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
-  }
-  if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
-  const float det = u + v + w;
+  const ShearedTriangle tri(origin, s, v0, v1, v2);
+  if (!tri.crossed()) return false;
+  const float det = tri.u + tri.v + tri.w;
   if (!(det != 0.0f)) return false;
   // The range test uses the accurate plane distance only: the sheared-space distance can be
   // far off on slivers, so culling with it would reject hits whose true t is in range.
-  const float az = s.sz * a[s.kz], bz = s.sz * b[s.kz], cz = s.sz * c[s.kz];
   const float rcp = 1.0f / det;
-  const float tSheared = (u * az + v * bz + w * cz) * rcp;
-  out = {planeHitDistance(origin, dir, v0, v1, v2, tSheared), v * rcp, w * rcp, det};
+  out = {planeHitDistance(origin, dir, v0, v1, v2, tri.shearedDistance(s, rcp)), tri.v * rcp, tri.w * rcp, det};
   return out.t >= tmin && out.t <= tmax;
 }
 

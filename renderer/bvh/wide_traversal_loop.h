@@ -189,7 +189,7 @@ PA_BVH_INLINE unsigned crossedEdges(const typename L::Float (&x)[3], const typen
   out.det = det;
   out.u = v;
   out.v = w;
-  // Dead code where the caller does not read them (the packets).
+  // Dead code where the caller does not read them (closest-hit rays, the packets).
   out.maxXY = maxKeep(maxKeep(maxKeep(abs(ax), abs(ay)), maxKeep(abs(bx), abs(by))), maxKeep(abs(cx), abs(cy)));
   out.maxZ = maxKeep(maxKeep(abs(az), abs(bz)), abs(cz));
   return hits;

@@ -35,26 +35,18 @@ struct ShearedHit {
 ShearedHit shearedHit(const glm::vec3& o, const glm::vec3& d, const glm::vec3& v0, const glm::vec3& v1,
                       const glm::vec3& v2) {
   const RayShear s(d);
-  const glm::vec3 a = v0 - o, b = v1 - o, c = v2 - o;
-  const float ax = a[s.kx] - s.sx * a[s.kz], ay = a[s.ky] - s.sy * a[s.kz];
-  const float bx = b[s.kx] - s.sx * b[s.kz], by = b[s.ky] - s.sy * b[s.kz];
-  const float cx = c[s.kx] - s.sx * c[s.kz], cy = c[s.ky] - s.sy * c[s.kz];
-  float u = cx * by - cy * bx, v = ax * cy - ay * cx, w = bx * ay - by * ax;
-  if (u == 0.0f || v == 0.0f || w == 0.0f) {
-    u = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
-    v = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
-    w = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
-  }
+  const ShearedTriangle tri(o, s, v0, v1, v2);
   ShearedHit out;
-  if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return out;
-  const float det = u + v + w;
+  if (!tri.crossed()) return out;
+  const float det = tri.u + tri.v + tri.w;
   if (!(det != 0.0f)) return out;
   const float rcp = 1.0f / det;
   out.hit = true;
-  out.t = ((u * (s.sz * a[s.kz]) + v * (s.sz * b[s.kz])) + w * (s.sz * c[s.kz])) * rcp;
+  out.t = tri.shearedDistance(s, rcp);
   out.absRcp = std::fabs(rcp);
-  out.maxXY = std::max({std::fabs(ax), std::fabs(ay), std::fabs(bx), std::fabs(by), std::fabs(cx), std::fabs(cy)});
-  out.maxZ = std::max({std::fabs(a[s.kz]), std::fabs(b[s.kz]), std::fabs(c[s.kz])});
+  out.maxXY = std::max({std::fabs(tri.ax), std::fabs(tri.ay), std::fabs(tri.bx), std::fabs(tri.by),
+                        std::fabs(tri.cx), std::fabs(tri.cy)});
+  out.maxZ = std::max({std::fabs(tri.a[s.kz]), std::fabs(tri.b[s.kz]), std::fabs(tri.c[s.kz])});
   out.absSz = std::fabs(s.sz);
   return out;
 }
