@@ -78,29 +78,40 @@ template <class L>
 struct BoxRay {
   using Float = typename L::Float;
   Float ox, oy, oz, idx, idy, idz, tmin;
+  /// The reciprocals times kRobustFarScale (rounded), for the far planes: the scale taken before
+  /// the slab's rounded operations instead of after them (testChildren). Scalars, broadcast where
+  /// used: three more registers held through the loop made the leaf test spill.
+  float fdx, fdy, fdz;
   int nearX, nearY, nearZ;
   int orderShift;   ///< 4 x the ray's octant: where its slot order sits in Wide16Node::order.
 
   PA_BVH_KERNEL explicit BoxRay(const Ray& ray)
       : ox(ray.origin.x), oy(ray.origin.y), oz(ray.origin.z), idx(1.0f / ray.dir.x), idy(1.0f / ray.dir.y),
-        idz(1.0f / ray.dir.z), tmin(ray.tmin), nearX(std::signbit(ray.dir.x)), nearY(std::signbit(ray.dir.y)),
-        nearZ(std::signbit(ray.dir.z)), orderShift(4 * (nearX | nearY << 1 | nearZ << 2)) {}
+        idz(1.0f / ray.dir.z), tmin(ray.tmin), fdx((1.0f / ray.dir.x) * kRobustFarScale),
+        fdy((1.0f / ray.dir.y) * kRobustFarScale), fdz((1.0f / ray.dir.z) * kRobustFarScale),
+        nearX(std::signbit(ray.dir.x)), nearY(std::signbit(ray.dir.y)), nearZ(std::signbit(ray.dir.z)),
+        orderShift(4 * (nearX | nearY << 1 | nearZ << 2)) {}
 };
 
 /// Entry distances of the node's children (tNear) and the mask of those the ray enters before
-/// tmax (slabEntry of slab_test.h, lane for lane).
+/// tmax, given as farTmax = tmax x kRobustFarScale (as slabEntry widens it): slabEntry of
+/// slab_test.h, lane for lane, but for where the far planes' scale is taken: (bound - origin) x
+/// (reciprocal x scale) rounds four times, as ((bound - origin) x reciprocal) x scale does, so it
+/// lies as far above the exact distance (a box the ray touches is never missed: Ize's bound,
+/// kRobustFarScale), and one multiplication less waits between the node's bounds and the child
+/// to enter.
 template <class L, class Node>
-PA_BVH_INLINE unsigned testChildren(const BoxRay<L>& r, const Node& node, float tmax,
+PA_BVH_INLINE unsigned testChildren(const BoxRay<L>& r, const Node& node, float farTmax,
                                     typename L::Float& tNear) {
   using Float = typename L::Float;
   const Float nx = (Float::load(node.bounds[r.nearX][0]) - r.ox) * r.idx;
   const Float ny = (Float::load(node.bounds[r.nearY][1]) - r.oy) * r.idy;
   const Float nz = (Float::load(node.bounds[r.nearZ][2]) - r.oz) * r.idz;
-  const Float fx = (Float::load(node.bounds[1 - r.nearX][0]) - r.ox) * r.idx;
-  const Float fy = (Float::load(node.bounds[1 - r.nearY][1]) - r.oy) * r.idy;
-  const Float fz = (Float::load(node.bounds[1 - r.nearZ][2]) - r.oz) * r.idz;
+  const Float fx = (Float::load(node.bounds[1 - r.nearX][0]) - r.ox) * Float(r.fdx);
+  const Float fy = (Float::load(node.bounds[1 - r.nearY][1]) - r.oy) * Float(r.fdy);
+  const Float fz = (Float::load(node.bounds[1 - r.nearZ][2]) - r.oz) * Float(r.fdz);
   tNear = maxKeep(nx, maxKeep(ny, maxKeep(nz, r.tmin)));
-  const Float tFar = minKeep(fx, minKeep(fy, minKeep(fz, Float(tmax)))) * Float(kRobustFarScale);
+  const Float tFar = minKeep(fx, minKeep(fy, minKeep(fz, Float(farTmax))));
   return static_cast<unsigned>((tNear <= tFar).mask());
 }
 
@@ -313,11 +324,12 @@ PA_BVH_INLINE bool traverse(const typename L::Bvh& bvh, const Ray& ray, float& t
   TraversalStack<!kAnyHit, L::kWidth> stack;
   uint32_t current = 0;
   bool found = false;
+  float farTmax = tmax * kRobustFarScale;   // testChildren's far limit
   for (;;) {
     if (!(current & kLeafBit)) {
       const typename L::Node& node = bvh.nodes[current];
       typename L::Float tNear;
-      const unsigned mask = testChildren(boxRay, node, tmax, tNear);
+      const unsigned mask = testChildren(boxRay, node, farTmax, tNear);
       if (mask != 0) {
         const unsigned rest = mask & (mask - 1);
         if constexpr (kAnyHit) {
@@ -333,11 +345,12 @@ PA_BVH_INLINE bool traverse(const typename L::Bvh& bvh, const Ray& ray, float& t
     } else if (testLeaf<L, kAnyHit>(bvh, current, triRay, ray, tmax, hit, filter, instanceId)) {
       if constexpr (kAnyHit) return true;
       found = true;
+      farTmax = tmax * kRobustFarScale;
     }
     if constexpr (kAnyHit) {
       if (stack.top == 0) return false;
       current = stack.node[--stack.top];
-    } else if (!popEntryWithin(stack, tmax * kRobustFarScale, current)) {   // the next that may hold a nearer hit
+    } else if (!popEntryWithin(stack, farTmax, current)) {   // the next that may hold a nearer hit
       return found;
     }
   }
