@@ -51,7 +51,7 @@ done
 
 lines="$(mktemp)"
 trap 'rm -f "$lines"' EXIT
-echo "bench_maps: $(date -u '+%F %H:%M UTC'), load $(cut -d' ' -f1-3 /proc/loadavg)" >&2
+echo "bench_maps: $(date -u '+%F %H:%M UTC'), load $(cut -d' ' -f1-3 /proc/loadavg); $("$root/scripts/machine.sh")" >&2
 for ((run = 1; run <= runs; ++run)); do
   for m in $maps; do
     for isa in $isas; do

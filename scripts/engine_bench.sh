@@ -184,6 +184,8 @@ summary() {
 }
 
 load="$(cut -d' ' -f1-3 /proc/loadavg)"
+machine="$("$root/scripts/machine.sh")"
+echo "$machine"
 echo "${width}x${height}, timedemo 1, messages cap ${messages} (0 = whole demos), $(nproc) cores, load $load$([[ $repeat -gt 1 ]] && echo ", $repeat rounds: median fps, ratios of the medians")"
 echo "pathtracer: r_pt_scale ${scale:-default} r_pt_threads $threads, other cvars at their defaults"
 for demo in $names; do
@@ -209,8 +211,8 @@ done
 if [[ -n "$json" ]]; then
   q() { [[ "$1" == - ]] && echo null || echo "$1"; }
   {
-    printf '{"messages_cap": %d, "width": %d, "height": %d, "cores": %d, "load": "%s", "rounds": %d, "demos": [' \
-      "$messages" "$width" "$height" "$(nproc)" "$load" "$repeat"
+    printf '{"machine": "%s", "messages_cap": %d, "width": %d, "height": %d, "cores": %d, "load": "%s", "rounds": %d, "demos": [' \
+      "${machine//\"/}" "$messages" "$width" "$height" "$(nproc)" "$load" "$repeat"
     sep=""
     for demo in $names; do
       printf '%s{"demo": "%s", "messages": %d, "runs": [' "$sep" "$demo" "${played[$demo]}"
