@@ -199,8 +199,9 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
   weightCap_ = historyWeightCap(config_, static_cast<float>(traced) / static_cast<float>(n));
   kernelTaps(frame.width, outWidth, frame.jitter.x, config_.kernelRadius, columns_, columnD2_);
   kernelTaps(frame.height, outHeight, frame.jitter.y, config_.kernelRadius, rows_, rowD2_);
-  kernelTaps(frame.width, outWidth, frame.jitter.x, config_.movingKernelRadius, movingColumns_, movingColumnD2_);
-  kernelTaps(frame.height, outHeight, frame.jitter.y, config_.movingKernelRadius, movingRows_, movingRowD2_);
+  movingRadius_ = movingKernelRadius(config_, frame.width, frame.height, outWidth, outHeight);
+  kernelTaps(frame.width, outWidth, frame.jitter.x, movingRadius_, movingColumns_, movingColumnD2_);
+  kernelTaps(frame.height, outHeight, frame.jitter.y, movingRadius_, movingRows_, movingRowD2_);
   laneTaps(frame.width, columns_, columnD2_, laneColumns_);
   laneTaps(frame.width, movingColumns_, movingColumnD2_, movingLaneColumns_);
   nearestColumn_.resize(paddedWidth_);
@@ -217,6 +218,13 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
   if (frame.camera != nullptr) lastCamera_ = *frame.camera;
   else lastCamera_.reset();
   return output_;
+}
+
+float movingKernelRadius(const Config& config, uint32_t tracedWidth, uint32_t tracedHeight, uint32_t outWidth,
+                         uint32_t outHeight) {
+  const float outputPerTraced = std::max(static_cast<float>(outWidth) / static_cast<float>(std::max(tracedWidth, 1u)),
+                                         static_cast<float>(outHeight) / static_cast<float>(std::max(tracedHeight, 1u)));
+  return std::max(config.movingKernelRadius, config.movingKernelReach * outputPerTraced);
 }
 
 float historyWeightCap(const Config& config, float samplesPerPixel) {
@@ -377,7 +385,7 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   const float sx = static_cast<float>(w) / static_cast<float>(W);   // traced pixels per output pixel
   const float sy = static_cast<float>(frame.height) / static_cast<float>(H);
   const float invRadius2 = 1.0f / (config_.kernelRadius * config_.kernelRadius);
-  const float invMovingRadius2 = 1.0f / (config_.movingKernelRadius * config_.movingKernelRadius);
+  const float invMovingRadius2 = 1.0f / (movingRadius_ * movingRadius_);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const I zero = L::splat(0), lastColumn = L::splat(int(W) - 1), lastRow = L::splat(int(H) - 1);
   const I lastTracedColumn = L::splat(int(w) - 1);

@@ -35,7 +35,11 @@ glm::vec2 jitter(uint32_t frame);
 /// Tuning of the resolve.
 struct Config {
   float kernelRadius = 0.7f;     ///< Reach of a sample's weight, in output pixels...
-  float movingKernelRadius = 1.5f;   ///< ... for a pixel moving by half an output pixel or more.
+  float movingKernelRadius = 1.5f;   ///< ... for a pixel moving by half an output pixel or more,
+  /// or this many traced pixels where that is wider (below a scale of 0.5, where 1.5 output pixels
+  /// leave some output pixels without a sample within reach: a grid of samples showed on moving
+  /// surfaces at 0.35).
+  float movingKernelReach = 0.75f;
   float memoryFrames = 16.0f;    ///< Cap on the history's weight, in frames of average confidence...
   /// ... times this for a pixel moving by an output pixel or more (from 1 when still): each
   /// frame's resampling of a moving history blurs it, and a short memory also follows changed
@@ -76,6 +80,12 @@ struct AxisTaps {
 /// for a kernel of `radius` output pixels.
 void kernelTaps(uint32_t traced, uint32_t out, float jitter, float radius, std::vector<AxisTaps>& taps,
                 std::vector<float>& d2);
+
+/// The moving kernel's radius in output pixels for a frame traced at tracedWidth x tracedHeight
+/// and resolved to outWidth x outHeight: config.movingKernelRadius, or config.movingKernelReach
+/// traced pixels where that is wider.
+float movingKernelRadius(const Config& config, uint32_t tracedWidth, uint32_t tracedHeight, uint32_t outWidth,
+                         uint32_t outHeight);
 
 /// The most history weight a pixel keeps (confidence units): config.memoryFrames frames of the
 /// kernel's average confidence, its integral (1 - r^2/R^2)^2 over the disc (pi R^2 / 3) times the
@@ -160,6 +170,7 @@ class Upscaler {
   std::vector<float> columnD2_, rowD2_;
   std::vector<AxisTaps> movingColumns_, movingRows_;   ///< The same for movingKernelRadius.
   std::vector<float> movingColumnD2_, movingRowD2_;
+  float movingRadius_ = 1.5f;   ///< This frame's moving kernel radius, output pixels.
   LaneTaps laneColumns_, movingLaneColumns_;           ///< columns_ and movingColumns_, kCount columns a step.
   std::vector<int32_t> nearestColumn_;                 ///< Per output column (paddedWidth_).
   std::array<float, 256> decode_{};              ///< sRGB byte -> linear.

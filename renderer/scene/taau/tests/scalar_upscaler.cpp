@@ -100,8 +100,9 @@ std::span<const uint8_t> ScalarUpscaler::resolve(const Frame& frame, uint32_t ou
   weightCap_ = historyWeightCap(config_, static_cast<float>(traced) / static_cast<float>(n));
   kernelTaps(frame.width, outWidth, frame.jitter.x, config_.kernelRadius, columns_, columnD2_);
   kernelTaps(frame.height, outHeight, frame.jitter.y, config_.kernelRadius, rows_, rowD2_);
-  kernelTaps(frame.width, outWidth, frame.jitter.x, config_.movingKernelRadius, movingColumns_, movingColumnD2_);
-  kernelTaps(frame.height, outHeight, frame.jitter.y, config_.movingKernelRadius, movingRows_, movingRowD2_);
+  movingRadius_ = movingKernelRadius(config_, frame.width, frame.height, outWidth, outHeight);
+  kernelTaps(frame.width, outWidth, frame.jitter.x, movingRadius_, movingColumns_, movingColumnD2_);
+  kernelTaps(frame.height, outHeight, frame.jitter.y, movingRadius_, movingRows_, movingRowD2_);
   parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { prepareRows(frame, y0, y1); });
   parallelRows(frame.height, [&](uint32_t y0, uint32_t y1) { neighbourhoodRows(frame, y0, y1); });
   parallelRows(outHeight, [&](uint32_t y0, uint32_t y1) { resolveRows(frame, y0, y1); });
@@ -172,7 +173,7 @@ void ScalarUpscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
   const float sx = static_cast<float>(w) / static_cast<float>(W);   // traced pixels per output pixel
   const float sy = static_cast<float>(h) / static_cast<float>(H);
   const float invRadius2 = 1.0f / (config_.kernelRadius * config_.kernelRadius);
-  const float invMovingRadius2 = 1.0f / (config_.movingKernelRadius * config_.movingKernelRadius);
+  const float invMovingRadius2 = 1.0f / (movingRadius_ * movingRadius_);
   const auto historyIndex = [&](int x, int y) {
     return size_t(std::clamp(y, 0, int(H) - 1)) * W + size_t(std::clamp(x, 0, int(W) - 1));
   };

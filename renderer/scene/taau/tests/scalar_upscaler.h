@@ -56,6 +56,7 @@ class ScalarUpscaler {
   std::vector<float> columnD2_, rowD2_;
   std::vector<AxisTaps> movingColumns_, movingRows_;   ///< The same for movingKernelRadius.
   std::vector<float> movingColumnD2_, movingRowD2_;
+  float movingRadius_ = 1.5f;   ///< This frame's moving kernel radius, output pixels.
   std::array<float, 256> decode_{};              ///< sRGB byte -> linear.
   std::array<uint8_t, kEncodeSteps> encode_{};   ///< sqrt(linear) -> sRGB byte.
 };
