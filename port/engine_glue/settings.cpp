@@ -41,6 +41,16 @@ const char* presetName(Preset preset) {
   return "path";
 }
 
+float effectiveScale(float cvarValue, Preset preset) {
+  if (std::isfinite(cvarValue) && cvarValue > 0.0f) return std::clamp(cvarValue, 0.1f, 1.0f);
+  return preset == Preset::Direct || preset == Preset::Path ? 0.35f : 0.5f;
+}
+
+int effectiveTaau(int cvarValue, Preset preset) {
+  if (cvarValue >= 0) return std::min(cvarValue, 2);
+  return preset == Preset::Direct || preset == Preset::Path ? 1 : 0;
+}
+
 void Settings::registerCvars(const Engine& engine) {
   using namespace q3abi;
   const auto& ri = engine.ri();
@@ -59,9 +69,10 @@ void Settings::registerCvars(const Engine& engine) {
   if (spp_ != nullptr) ri.Cvar_CheckRange(spp_, 1, 4096, 1);
   bounces_ = engine.cvar("r_pt_bounces", "2", CVAR_ARCHIVE, "Maximum path bounces (0..16)");
   if (bounces_ != nullptr) ri.Cvar_CheckRange(bounces_, 0, 16, 1);
-  scale_ = engine.cvar("r_pt_scale", "0.5", CVAR_ARCHIVE,
-                       "Internal resolution as a fraction of the window (0.1..1)");
-  if (scale_ != nullptr) ri.Cvar_CheckRange(scale_, 0.1f, 1.0f, 0);
+  scale_ = engine.cvar("r_pt_scale", "0", CVAR_ARCHIVE,
+                       "Internal resolution as a fraction of the window (0.1..1; 0 = the preset's: 0.35 for direct "
+                       "and path, 0.5 for lightmap and reference)");
+  if (scale_ != nullptr) ri.Cvar_CheckRange(scale_, 0.0f, 1.0f, 0);
   threads_ = engine.cvar("r_pt_threads", "0", CVAR_ARCHIVE | CVAR_LATCH,
                          "Render threads (0 = all cores); applies after vid_restart");
   if (threads_ != nullptr) ri.Cvar_CheckRange(threads_, 0, 256, 1);
@@ -100,10 +111,11 @@ void Settings::registerCvars(const Engine& engine) {
                            "With r_pt_temporal: temporal gradients drop the history where the lighting changed; one of "
                            "last frame's samples per N x N pixels is traced again (N = 2..8; 0 = off)");
   if (gradients_ != nullptr) ri.Cvar_CheckRange(gradients_, 0, 8, 1);
-  taau_ = engine.cvar("r_pt_taau", "0", CVAR_ARCHIVE,
+  taau_ = engine.cvar("r_pt_taau", "-1", CVAR_ARCHIVE,
                       "Temporal anti-aliasing and upscaling of the traced world view to the window: 0 = off "
-                      "(bilinear stretch), 1 = when r_pt_scale < 1, 2 = always");
-  if (taau_ != nullptr) ri.Cvar_CheckRange(taau_, 0, 2, 1);
+                      "(bilinear stretch), 1 = when r_pt_scale < 1, 2 = always, -1 = the preset's (1 for direct "
+                      "and path, 0 for lightmap and reference)");
+  if (taau_ != nullptr) ri.Cvar_CheckRange(taau_, -1, 2, 1);
   fps_ = engine.cvar("r_pt_fps", "0", CVAR_ARCHIVE,
                      "Dynamic resolution: frames per second to aim at by moving the traced world view's scale "
                      "between r_pt_scale_min and 1 (0 = off: r_pt_scale as set)");
@@ -258,8 +270,8 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   }
   if (spp_ != nullptr) out.samplesPerPixel = std::clamp(spp_->integer, 1, 4096);
   if (bounces_ != nullptr) out.maxBounces = std::clamp(bounces_->integer, 0, 16);
-  if (scale_ != nullptr && std::isfinite(scale_->value))
-    out.resolutionScale = std::clamp(scale_->value, 0.1f, 1.0f);
+  // r_pt_scale 0 and r_pt_taau -1, their defaults, stand for the preset's own.
+  out.resolutionScale = effectiveScale(scale_ != nullptr ? scale_->value : 0.0f, out.preset);
   if (threads_ != nullptr) out.threads = std::clamp(threads_->integer, 0, 256);
   if (seed_ != nullptr) out.seed = static_cast<uint32_t>(seed_->integer);
   out.printStats = stats_ != nullptr && stats_->integer != 0;
@@ -270,7 +282,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.gradientStratum = gradients_ == nullptr ? 6u : static_cast<uint32_t>(std::clamp(gradients_->integer, 0, 8));
   out.bakedEnd = bakedEnd_ == nullptr || bakedEnd_->integer != 0;
   if (roulette_ != nullptr) out.rouletteStart = std::clamp(roulette_->integer, 1, 16);
-  if (taau_ != nullptr) out.taau = std::clamp(taau_->integer, 0, 2);
+  out.taau = effectiveTaau(taau_ != nullptr ? taau_->integer : -1, out.preset);
   if (fps_ != nullptr && std::isfinite(fps_->value)) out.targetFps = std::clamp(fps_->value, 0.0f, 1000.0f);
   if (scaleMin_ != nullptr && std::isfinite(scaleMin_->value)) out.minScale = std::clamp(scaleMin_->value, 0.1f, 1.0f);
   out.fireflies = fireflies_ == nullptr || fireflies_->integer != 0;

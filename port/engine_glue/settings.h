@@ -21,6 +21,15 @@ enum class Preset : uint8_t { Lightmap, Direct, Path, Reference };
 Preset parsePreset(const std::string& name, bool& known);
 /// The preset's cvar spelling.
 const char* presetName(Preset preset);
+/// The traced world view's scale in effect: r_pt_scale's value in [0.1, 1], or while it is 0 (its
+/// default) or not a number the preset's own: 0.35 for direct and path, which TAAU brings to the
+/// window (effectiveTaau), 0.5 for the others (docs/performance.md "`direct` and `path` at 0.35 of
+/// the window through TAAU").
+float effectiveScale(float cvarValue, Preset preset);
+/// r_pt_taau's mode in effect (0..2): the cvar's, or while it is negative (-1, its default) the
+/// preset's own: 1 for direct and path, 0 for lightmap (whose frame costs less to trace than TAAU
+/// costs to resolve) and reference.
+int effectiveTaau(int cvarValue, Preset preset);
 
 /// Parses a stock r_textureMode value (GL_NEAREST, GL_LINEAR, GL_{NEAREST,LINEAR}_MIPMAP_{NEAREST,
 /// LINEAR}, any case) into the filter it names; the stock default GL_LINEAR_MIPMAP_NEAREST when unknown.
@@ -31,7 +40,7 @@ struct TracerSettings {
   Preset preset = Preset::Path;
   int samplesPerPixel = 1;
   int maxBounces = 2;
-  float resolutionScale = 0.5f;
+  float resolutionScale = 0.5f;   ///< r_pt_scale in effect (effectiveScale)
   int threads = 0;
   uint32_t seed = 0;
   bool printStats = false;   ///< r_pt_stats
@@ -42,7 +51,8 @@ struct TracerSettings {
   bool bakedEnd = true;      ///< r_pt_bake_end: paths end on the bake's light (RenderSettings::bakedLightAtPathEnd)
   int rouletteStart = 1;     ///< r_pt_roulette: scatterings before Russian roulette (RenderSettings::rouletteStart)
   /// r_pt_taau: temporal anti-aliasing and upscaling to the window of world views; 0 = off (bilinear
-  /// stretch), 1 = when traced smaller than the window, 2 = always (also anti-aliases r_pt_scale 1)
+  /// stretch), 1 = when traced smaller than the window, 2 = always (also anti-aliases r_pt_scale 1);
+  /// in effect (effectiveTaau)
   int taau = 0;
   float targetFps = 0.0f;    ///< r_pt_fps: dynamic resolution's frame-rate target (0 = off: r_pt_scale as set)
   float minScale = 0.35f;    ///< r_pt_scale_min: the least scale dynamic resolution may pick

@@ -424,8 +424,6 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   rs.height = static_cast<uint32_t>(std::max(8, static_cast<int>(std::lround(view.height * scale))));
   rs.integrator = ctx.lightmapLook ? pa::Integrator::Lightmap : integratorFor(settings.preset);
   rs.samplesPerPixel = static_cast<uint32_t>(settings.samplesPerPixel);
-  // The stock look samples textures at pixel centres, as opengl1 rasterises.
-  rs.pixelCentres = ctx.lightmapLook && rs.samplesPerPixel == 1;
   rs.stockTextureFilter = settings.textureFilter;   // as stock's texture units (r_textureMode)
   rs.maxBounces = static_cast<uint32_t>(settings.maxBounces);
   rs.bakedLightAtPathEnd = settings.bakedEnd;
@@ -449,6 +447,11 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   rs.taau = ctx.withWorld && (settings.taau == 2 || (settings.taau == 1 && (smaller || settings.targetFps > 0.0f)));
   rs.outputWidth = static_cast<uint32_t>(view.width);
   rs.outputHeight = static_cast<uint32_t>(view.height);
+  // The stock look samples textures at pixel centres, as opengl1 rasterises. With TAAU every
+  // one-sample frame does, moved by TAAU's jitter: the upscaler then knows where each sample lies
+  // and the texture detail of the window's size builds up over frames (the first-hit albedo
+  // multiplies the filtered light), where a random position in each pixel reached it as a blur.
+  rs.pixelCentres = rs.samplesPerPixel == 1 && (ctx.lightmapLook || rs.taau);
   rs.spreadFireflies = settings.fireflies;   // with the denoiser or temporal accumulation only
   rs.motionVectors = false;   // the picture reads none (the renderer works it out for its own stages)
   rs.normalAov = false;       // nor the normals (the denoiser asks for its own)

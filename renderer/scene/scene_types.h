@@ -440,7 +440,8 @@ struct RenderSettings {
   uint32_t samplesPerPixel = 1;   ///< Per render() call.
   /// Every camera ray goes through its pixel's centre (no jitter): the sampling of a raster
   /// renderer, so that a one-sample frame shows each texture as a rasteriser shows it and does
-  /// not change with the seed.
+  /// not change with the seed; with taau, through the centre moved by TAAU's jitter, the same
+  /// for every pixel of a frame (where the upscaler expects the samples).
   bool pixelCentres = false;
   /// How the Lightmap integrator's surfaces filter their base and shine textures, as a stock
   /// renderer's texture units do (its r_textureMode). Lightmaps are read bilinearly, as stock does.

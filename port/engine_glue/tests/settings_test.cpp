@@ -1,5 +1,8 @@
 // The stock picture settings' arithmetic: gamma ramp, texture intensity, picmip halving and the
-// baked-light shift (known answers worked out from the stock formulas).
+// baked-light shift (known answers worked out from the stock formulas); the presets' own scale and
+// TAAU behind r_pt_scale's and r_pt_taau's defaults.
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "port/engine_glue/settings.h"
@@ -77,6 +80,33 @@ TEST(PictureSettings, OverbrightBitsOnlyFullscreenAsStock) {
   EXPECT_EQ(picture.lightShift(), 0);
   picture.overBrightBits = -1;
   EXPECT_EQ(picture.displayOverBrightBits(), 0);
+}
+
+TEST(TracerSettings, DefaultScaleAndTaauAreThePresets) {
+  // r_pt_scale 0 and r_pt_taau -1 (the defaults): direct and path trace 0.35 of the window and
+  // upscale with TAAU; lightmap and reference trace half of it and stretch it.
+  EXPECT_FLOAT_EQ(effectiveScale(0.0f, Preset::Direct), 0.35f);
+  EXPECT_FLOAT_EQ(effectiveScale(0.0f, Preset::Path), 0.35f);
+  EXPECT_FLOAT_EQ(effectiveScale(0.0f, Preset::Lightmap), 0.5f);
+  EXPECT_FLOAT_EQ(effectiveScale(0.0f, Preset::Reference), 0.5f);
+  EXPECT_EQ(effectiveTaau(-1, Preset::Direct), 1);
+  EXPECT_EQ(effectiveTaau(-1, Preset::Path), 1);
+  EXPECT_EQ(effectiveTaau(-1, Preset::Lightmap), 0);
+  EXPECT_EQ(effectiveTaau(-1, Preset::Reference), 0);
+}
+
+TEST(TracerSettings, SetValuesWinOverThePresetsWithinTheirRanges) {
+  EXPECT_FLOAT_EQ(effectiveScale(0.5f, Preset::Direct), 0.5f);
+  EXPECT_FLOAT_EQ(effectiveScale(1.0f, Preset::Lightmap), 1.0f);
+  EXPECT_FLOAT_EQ(effectiveScale(0.01f, Preset::Path), 0.1f);   // above 0: at least 0.1
+  EXPECT_FLOAT_EQ(effectiveScale(7.0f, Preset::Path), 1.0f);
+  EXPECT_FLOAT_EQ(effectiveScale(-0.5f, Preset::Lightmap), 0.5f);   // not a scale: the preset's
+  EXPECT_FLOAT_EQ(effectiveScale(std::numeric_limits<float>::quiet_NaN(), Preset::Path), 0.35f);
+  EXPECT_FLOAT_EQ(effectiveScale(std::numeric_limits<float>::infinity(), Preset::Path), 0.35f);
+  EXPECT_EQ(effectiveTaau(0, Preset::Direct), 0);
+  EXPECT_EQ(effectiveTaau(2, Preset::Lightmap), 2);
+  EXPECT_EQ(effectiveTaau(9, Preset::Path), 2);
+  EXPECT_EQ(effectiveTaau(-5, Preset::Lightmap), 0);
 }
 
 }  // namespace

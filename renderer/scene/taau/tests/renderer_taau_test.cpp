@@ -1,5 +1,6 @@
-// TAAU through pa::Renderer on a small Lightmap scene built here (fullbright vertex colours: no
-// noise, so the only error is the sampling of edges).
+// TAAU through pa::Renderer on small scenes built here: Lightmap frames of fullbright vertex
+// colours and Direct frames of a textured wall under a point lamp (no noise either way, so the only
+// error is where the samples lie).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -297,6 +298,76 @@ TEST(RendererTaau, ScrollingTextureLeavesNoGhost) {
   std::printf("scrolling texture: mean |error| %.4f; against 1 and 2 frames back %.4f, %.4f\n", error, oneBack, twoBack);
   EXPECT_LT(error, 0.85 * oneBack);
   EXPECT_LT(error, 0.6 * twoBack);
+}
+
+/// A wall with a fine checker texture (32 x 32 one-texel cells over it: 2-3 output pixels each at
+/// 96 x 96) under a point lamp without radius and a black sky: Direct frames have no noise (the
+/// bounce ray finds nothing), so the only error is where the samples lie.
+struct LitCheckerWall {
+  Renderer r{{2}};
+  std::vector<uint8_t> pixels;
+  LitCheckerWall() {
+    const uint32_t size = 32;
+    pixels.assign(size_t{size} * size * 4, 255);
+    for (uint32_t y = 0; y < size; ++y)
+      for (uint32_t x = 0; x < size; ++x) {
+        const uint8_t v = (x + y) % 2 == 0 ? 220 : 40;
+        for (int c = 0; c < 3; ++c) pixels[(size_t{y} * size + x) * 4 + size_t(c)] = v;
+      }
+    TextureDesc texture;
+    texture.width = size;
+    texture.height = size;
+    texture.rgba8 = pixels;
+    MaterialDesc desc = test::diffuse(1.0f);
+    desc.baseTexture = r.addTexture(texture);
+    test::addMesh(r, test::quad({-3, 2, -1}, {6, 0, 0}, {0, 0, 4}), r.addMaterial(desc));
+    LightDesc lamp;
+    lamp.position = {0.5f, -2.0f, 2.0f};
+    lamp.intensity = 12.0f;
+    r.addLight(lamp);
+    r.commit();
+  }
+};
+
+/// Direct frames as the game traces them with TAAU (temporal stage and denoiser on, one sample,
+/// no accumulation) at half of `out`, the camera rays through jittered pixel centres or at a
+/// random position in each pixel: the last of `frames` outputs of a still view.
+std::vector<uint8_t> directTaauOutput(uint32_t out, uint32_t frames, bool pixelCentres) {
+  LitCheckerWall scene;
+  RenderSettings s = test::settingsFor(Integrator::Direct, out / 2, 1, 1);
+  s.accumulate = false;
+  s.temporal = true;
+  s.denoise = true;
+  s.pixelCentres = pixelCentres;
+  s.tonemap = Tonemap::Clamp;
+  s.taau = true;
+  s.outputWidth = out;
+  s.outputHeight = out;
+  std::vector<uint8_t> last;
+  for (uint32_t f = 0; f < frames; ++f) {
+    s.seed = f;
+    const FrameView v = scene.r.render(view(), s);
+    last.assign(v.output.begin(), v.output.end());
+  }
+  return last;
+}
+
+TEST(RendererTaau, DirectFramesAtJitteredCentresBringBackTextureDetail) {
+  const uint32_t out = 96, frames = 32;
+  LitCheckerWall full;
+  RenderSettings reference = test::settingsFor(Integrator::Direct, out, 64, 1);
+  reference.accumulate = true;
+  reference.tonemap = Tonemap::Clamp;
+  const FrameView f = full.r.render(view(), reference);
+  const std::vector<uint8_t> expected(f.rgba8.begin(), f.rgba8.end());
+  const double jittered = meanAbs(directTaauOutput(out, frames, true), expected);
+  const double random = meanAbs(directTaauOutput(out, frames, false), expected);
+  std::printf("mean |error| against the 64-spp full-size image: jittered centres %.4f, random positions %.4f\n",
+              jittered, random);
+  // The temporal stage and the denoiser filter the light over the albedo: a random position per
+  // pixel leaves TAAU a texture seen through a pixel-wide box at unknown offsets, centred.
+  // Measured: jittered centres 0.0012, random positions 0.0101.
+  EXPECT_LT(jittered, 0.5 * random);
 }
 
 }  // namespace
