@@ -36,10 +36,10 @@ void buildEdges(Renderer& r) {
 
 Camera view() { return test::lookAt({0.0f, -4.0f, 1.2f}, {0.0f, 2.0f, 1.0f}, 50.0f); }
 
-/// Lightmap frames as the game traces them (pixel centres, no accumulation) at half of `out`,
-/// resolved by TAAU to `out` x `out`.
-RenderSettings taauSettings(uint32_t out) {
-  RenderSettings s = test::settingsFor(Integrator::Lightmap, out / 2, 1);
+/// Frames as the game traces them with TAAU (one sample at jittered pixel centres, no
+/// accumulation; Lightmap unless told) at half of `out`, resolved by TAAU to `out` x `out`.
+RenderSettings taauSettings(uint32_t out, Integrator integrator = Integrator::Lightmap) {
+  RenderSettings s = test::settingsFor(integrator, out / 2, 1);
   s.accumulate = false;
   s.pixelCentres = true;
   s.tonemap = Tonemap::Clamp;
@@ -334,15 +334,11 @@ struct LitCheckerWall {
 /// random position in each pixel: the last of `frames` outputs of a still view.
 std::vector<uint8_t> directTaauOutput(uint32_t out, uint32_t frames, bool pixelCentres) {
   LitCheckerWall scene;
-  RenderSettings s = test::settingsFor(Integrator::Direct, out / 2, 1, 1);
-  s.accumulate = false;
+  RenderSettings s = taauSettings(out, Integrator::Direct);
+  s.maxBounces = 1;
   s.temporal = true;
   s.denoise = true;
   s.pixelCentres = pixelCentres;
-  s.tonemap = Tonemap::Clamp;
-  s.taau = true;
-  s.outputWidth = out;
-  s.outputHeight = out;
   std::vector<uint8_t> last;
   for (uint32_t f = 0; f < frames; ++f) {
     s.seed = f;
