@@ -222,8 +222,9 @@ std::span<const uint8_t> Upscaler::resolve(const Frame& frame, uint32_t outWidth
 
 float movingKernelRadius(const Config& config, uint32_t tracedWidth, uint32_t tracedHeight, uint32_t outWidth,
                          uint32_t outHeight) {
-  const float outputPerTraced = std::max(static_cast<float>(outWidth) / static_cast<float>(std::max(tracedWidth, 1u)),
-                                         static_cast<float>(outHeight) / static_cast<float>(std::max(tracedHeight, 1u)));
+  const float across = static_cast<float>(outWidth) / static_cast<float>(std::max(tracedWidth, 1u));
+  const float down = static_cast<float>(outHeight) / static_cast<float>(std::max(tracedHeight, 1u));
+  const float outputPerTraced = std::max(across, down);
   return std::max(config.movingKernelRadius, config.movingKernelReach * outputPerTraced);
 }
 
