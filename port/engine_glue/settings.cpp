@@ -51,6 +51,17 @@ int effectiveTaau(int cvarValue, Preset preset) {
   return preset == Preset::Direct || preset == Preset::Path ? 1 : 0;
 }
 
+float effectiveTaauSize(float cvarValue) { return std::isfinite(cvarValue) ? std::clamp(cvarValue, 0.25f, 1.0f) : 1.0f; }
+
+std::array<uint32_t, 2> taauOutputSize(uint32_t viewWidth, uint32_t viewHeight, uint32_t tracedWidth,
+                                       uint32_t tracedHeight, float taauSize) {
+  const auto side = [&](uint32_t view, uint32_t traced) {
+    const auto scaled = static_cast<uint32_t>(std::lround(static_cast<double>(view) * taauSize));
+    return std::max(traced, std::min(view, scaled));
+  };
+  return {side(viewWidth, tracedWidth), side(viewHeight, tracedHeight)};
+}
+
 void Settings::registerCvars(const Engine& engine) {
   using namespace q3abi;
   const auto& ri = engine.ri();
@@ -116,6 +127,10 @@ void Settings::registerCvars(const Engine& engine) {
                       "(bilinear stretch), 1 = when r_pt_scale < 1, 2 = always, -1 = the preset's (1 for direct "
                       "and path, 0 for lightmap and reference)");
   if (taau_ != nullptr) ri.Cvar_CheckRange(taau_, -1, 2, 1);
+  taauSize_ = engine.cvar("r_pt_taau_size", "1", CVAR_ARCHIVE,
+                          "With r_pt_taau: the size TAAU resolves the world view to, as a fraction of the window "
+                          "(0.25..1), stretched to the window after (0.5: a quarter of the resolve's cost)");
+  if (taauSize_ != nullptr) ri.Cvar_CheckRange(taauSize_, 0.25f, 1.0f, 0);
   fps_ = engine.cvar("r_pt_fps", "0", CVAR_ARCHIVE,
                      "Dynamic resolution: frames per second to aim at by moving the traced world view's scale "
                      "between r_pt_scale_min and 1 (0 = off: r_pt_scale as set)");
@@ -283,6 +298,7 @@ TracerSettings Settings::tracer(const Engine& engine) const {
   out.bakedEnd = bakedEnd_ == nullptr || bakedEnd_->integer != 0;
   if (roulette_ != nullptr) out.rouletteStart = std::clamp(roulette_->integer, 1, 16);
   out.taau = effectiveTaau(taau_ != nullptr ? taau_->integer : -1, out.preset);
+  out.taauSize = effectiveTaauSize(taauSize_ != nullptr ? taauSize_->value : 1.0f);
   if (fps_ != nullptr && std::isfinite(fps_->value)) out.targetFps = std::clamp(fps_->value, 0.0f, 1000.0f);
   if (scaleMin_ != nullptr && std::isfinite(scaleMin_->value)) out.minScale = std::clamp(scaleMin_->value, 0.1f, 1.0f);
   out.fireflies = fireflies_ == nullptr || fireflies_->integer != 0;

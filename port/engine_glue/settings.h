@@ -30,6 +30,12 @@ float effectiveScale(float cvarValue, Preset preset);
 /// preset's own: 1 for direct and path, 0 for lightmap (whose frame costs less to trace than TAAU
 /// costs to resolve) and reference.
 int effectiveTaau(int cvarValue, Preset preset);
+/// r_pt_taau_size in effect: the cvar's value in [0.25, 1]; 1 (the window) when it is not a number.
+float effectiveTaauSize(float cvarValue);
+/// The size TAAU resolves a world view of viewWidth x viewHeight, traced at tracedWidth x
+/// tracedHeight, to: the view's size times taauSize (rounded), never below the traced size.
+std::array<uint32_t, 2> taauOutputSize(uint32_t viewWidth, uint32_t viewHeight, uint32_t tracedWidth,
+                                       uint32_t tracedHeight, float taauSize);
 
 /// Parses a stock r_textureMode value (GL_NEAREST, GL_LINEAR, GL_{NEAREST,LINEAR}_MIPMAP_{NEAREST,
 /// LINEAR}, any case) into the filter it names; the stock default GL_LINEAR_MIPMAP_NEAREST when unknown.
@@ -54,6 +60,9 @@ struct TracerSettings {
   /// stretch), 1 = when traced smaller than the window, 2 = always (also anti-aliases r_pt_scale 1);
   /// in effect (effectiveTaau)
   int taau = 0;
+  /// r_pt_taau_size in effect (effectiveTaauSize): TAAU's output as a fraction of the window
+  /// (taauOutputSize), which the presentation stretches to the window (on the CPU where it is half).
+  float taauSize = 1.0f;
   float targetFps = 0.0f;    ///< r_pt_fps: dynamic resolution's frame-rate target (0 = off: r_pt_scale as set)
   float minScale = 0.35f;    ///< r_pt_scale_min: the least scale dynamic resolution may pick
   /// r_pt_look: the traced presets show light as the lightmap does (texture x light in display
@@ -154,6 +163,7 @@ class Settings {
   q3abi::cvar_t* flareCoeff_ = nullptr;
   q3abi::cvar_t* temporal_ = nullptr;
   q3abi::cvar_t* taau_ = nullptr;
+  q3abi::cvar_t* taauSize_ = nullptr;
   q3abi::cvar_t* fps_ = nullptr;
   q3abi::cvar_t* scaleMin_ = nullptr;
   q3abi::cvar_t* restir_ = nullptr;

@@ -445,8 +445,12 @@ pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, co
   // dynamic resolution it stays on at scale 1 too, so that its history lives through the changes.
   const bool smaller = rs.width != static_cast<uint32_t>(view.width) || rs.height != static_cast<uint32_t>(view.height);
   rs.taau = ctx.withWorld && (settings.taau == 2 || (settings.taau == 1 && (smaller || settings.targetFps > 0.0f)));
-  rs.outputWidth = static_cast<uint32_t>(view.width);
-  rs.outputHeight = static_cast<uint32_t>(view.height);
+  // r_pt_taau_size below 1: TAAU resolves to that part of the window, the presentation stretches it.
+  const auto [outputWidth, outputHeight] =
+      taauOutputSize(static_cast<uint32_t>(view.width), static_cast<uint32_t>(view.height), rs.width, rs.height,
+                     rs.taau ? settings.taauSize : 1.0f);
+  rs.outputWidth = outputWidth;
+  rs.outputHeight = outputHeight;
   // The stock look samples textures at pixel centres, as opengl1 rasterises. With TAAU every
   // one-sample frame does, moved by TAAU's jitter: the upscaler then knows where each sample lies
   // and the texture detail of the window's size builds up over frames (the first-hit albedo

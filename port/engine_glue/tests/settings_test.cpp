@@ -109,5 +109,24 @@ TEST(TracerSettings, SetValuesWinOverThePresetsWithinTheirRanges) {
   EXPECT_EQ(effectiveTaau(-5, Preset::Lightmap), 0);
 }
 
+TEST(TracerSettings, TaauSizeStaysWithinItsRange) {
+  EXPECT_FLOAT_EQ(effectiveTaauSize(1.0f), 1.0f);   // the default: the window
+  EXPECT_FLOAT_EQ(effectiveTaauSize(0.5f), 0.5f);
+  EXPECT_FLOAT_EQ(effectiveTaauSize(0.1f), 0.25f);
+  EXPECT_FLOAT_EQ(effectiveTaauSize(3.0f), 1.0f);
+  EXPECT_FLOAT_EQ(effectiveTaauSize(std::numeric_limits<float>::quiet_NaN()), 1.0f);
+}
+
+TEST(TracerSettings, TaauOutputIsThePartOfTheViewAndNeverSmallerThanTheTrace) {
+  using Size = std::array<uint32_t, 2>;
+  EXPECT_EQ(taauOutputSize(640, 360, 224, 126, 1.0f), (Size{640, 360}));
+  // Half the window: the presentation's stretch by 2 on the CPU.
+  EXPECT_EQ(taauOutputSize(640, 360, 224, 126, 0.5f), (Size{320, 180}));
+  EXPECT_EQ(taauOutputSize(1281, 721, 448, 252, 0.5f), (Size{641, 361}));   // rounded
+  // Traced larger than the part asked (dynamic resolution above it): the traced size.
+  EXPECT_EQ(taauOutputSize(640, 360, 448, 252, 0.5f), (Size{448, 252}));
+  EXPECT_EQ(taauOutputSize(8, 8, 8, 8, 0.25f), (Size{8, 8}));
+}
+
 }  // namespace
 }  // namespace glue
