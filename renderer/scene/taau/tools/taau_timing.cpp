@@ -2,13 +2,17 @@
 // the output size, with 1 and with N threads: the median over many frames of a synthetic frame
 // (textured gradient, a moving camera's motion, a sky band), and the CPU time of the 1-thread
 // resolve (on a shared machine the wall time is noisy). Not a test (timings never are).
-//   pa-taau-timing [outWidth outHeight scale frames threads]   (defaults: 640 360 0.5 200 2)
+//   pa-taau-timing [outWidth outHeight scale frames threads motion]   (defaults: 640 360 0.5 200 2 pan)
+// motion: pan (the same motion at every pixel: each step's history taps are consecutive pixels)
+// or zoom (a zoom and a roll about the centre: motion that changes along each row, so that a
+// step's taps skip or repeat a column or span two rows, as in play).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <time.h>
@@ -27,7 +31,7 @@ double threadCpuMs() {
 }
 
 /// Median wall-clock ms of a resolve with `threads` threads; cpuMs: median CPU ms of the calling thread.
-double medianMs(uint32_t threads, uint32_t W, uint32_t H, float scale, uint32_t frames, double& cpuMs) {
+double medianMs(uint32_t threads, uint32_t W, uint32_t H, float scale, uint32_t frames, bool zoom, double& cpuMs) {
   const uint32_t w = std::max(1u, static_cast<uint32_t>(std::lround(W * scale)));
   const uint32_t h = std::max(1u, static_cast<uint32_t>(std::lround(H * scale)));
   const size_t n = size_t{w} * h;
@@ -41,6 +45,11 @@ double medianMs(uint32_t threads, uint32_t W, uint32_t H, float scale, uint32_t 
       rgba[i * 4 + 0] = static_cast<uint8_t>((x * 7 + y * 3) & 255);
       rgba[i * 4 + 1] = static_cast<uint8_t>(((x / 4 + y / 4) & 1) * 200);
       rgba[i * 4 + 2] = static_cast<uint8_t>(y & 255);
+      if (zoom) {   // 5% of the distance from the centre a frame outward, and as much around it
+        const glm::vec2 d(static_cast<float>(x) - 0.5f * static_cast<float>(w),
+                          static_cast<float>(y) - 0.5f * static_cast<float>(h));
+        motion[i] = -0.05f * (d + glm::vec2(-d.y, d.x));
+      }
       if (y < h / 8) {   // sky band: reprojected by the camera's turn
         depth[i] = std::numeric_limits<float>::infinity();
         motion[i] = glm::vec2(std::numeric_limits<float>::quiet_NaN());
@@ -81,14 +90,17 @@ int main(int argc, char** argv) {
   const float scale = argc > 3 ? static_cast<float>(std::atof(argv[3])) : 0.5f;
   const uint32_t frames = argc > 4 ? static_cast<uint32_t>(std::atoi(argv[4])) : 200;
   const uint32_t threads = argc > 5 ? static_cast<uint32_t>(std::atoi(argv[5])) : 2;
-  if (W == 0 || H == 0 || !(scale > 0.0f && scale <= 1.0f) || frames == 0 || threads == 0) {
-    std::fprintf(stderr, "usage: pa-taau-timing [outWidth outHeight scale frames threads]\n");
+  const std::string motion = argc > 6 ? argv[6] : "pan";
+  if (W == 0 || H == 0 || !(scale > 0.0f && scale <= 1.0f) || frames == 0 || threads == 0 ||
+      (motion != "pan" && motion != "zoom")) {
+    std::fprintf(stderr, "usage: pa-taau-timing [outWidth outHeight scale frames threads pan|zoom]\n");
     return 2;
   }
+  const bool zoom = motion == "zoom";
   double cpuOne = 0.0, cpuMany = 0.0;
-  const double one = medianMs(1, W, H, scale, frames, cpuOne);
-  const double many = medianMs(threads, W, H, scale, frames, cpuMany);
-  std::printf("TAAU %ux%u from scale %.2f, median of %u frames: 1 thread %.2f ms wall (%.2f ms CPU), %u threads %.2f ms "
-              "wall\n", W, H, scale, frames, one, cpuOne, threads, many);
+  const double one = medianMs(1, W, H, scale, frames, zoom, cpuOne);
+  const double many = medianMs(threads, W, H, scale, frames, zoom, cpuMany);
+  std::printf("TAAU %ux%u from scale %.2f, %s, median of %u frames: 1 thread %.2f ms wall (%.2f ms CPU), %u threads "
+              "%.2f ms wall\n", W, H, scale, motion.c_str(), frames, one, cpuOne, threads, many);
   return 0;
 }
