@@ -541,23 +541,28 @@ void Upscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
                      cap);
           // Variance clipping toward the neighbourhood mean, wider for a still pixel. A still pixel
           // keeps what last frame's samples showed too: a line thinner than a traced pixel, missed
-          // by this frame's samples, is not clipped away.
+          // by this frame's samples, is not clipped away. Not where this frame's mean left last
+          // frame's box: the light changed (a muzzle flash on the weapon), and the old light goes.
           const GridFetch previousPixel(L::clamp(L::floorToInt(L::select(inRange, px, L::splat(0.0f))), zero, lastColumn),
                                         L::clamp(L::floorToInt(L::select(inRange, py, L::splat(0.0f))), zero, lastRow),
                                         int(W));
           const auto previous = [&](const std::vector<float>& plane) { return previousPixel(plane, 0, 0); };
-          const F keep = 1.0f - still;
-          const auto box = [&](F mean, F sigma, const std::vector<float>& lastLo, const std::vector<float>& lastHi,
-                               F& lo, F& hi) {
+          const F lastLoY = previous(boxLo_.y), lastHiY = previous(boxHi_.y), lastLoCo = previous(boxLo_.co),
+                  lastHiCo = previous(boxHi_.co), lastLoCg = previous(boxLo_.cg), lastHiCg = previous(boxHi_.cg);
+          const I sameLight = (meanY >= lastLoY) & (meanY <= lastHiY) & (meanCo >= lastLoCo) & (meanCo <= lastHiCo) &
+                              (meanCg >= lastLoCg) & (meanCg <= lastHiCg);
+          const F keepLast = L::select(sameLight, still, L::splat(0.0f));
+          const F keep = 1.0f - keepLast;
+          const auto box = [&](F mean, F sigma, F lastLo, F lastHi, F& lo, F& hi) {
             lo = mean - gamma * sigma;
             hi = mean + gamma * sigma;
-            lo = L::min(lo, lo * keep + previous(lastLo) * still);
-            hi = L::max(hi, hi * keep + previous(lastHi) * still);
+            lo = L::min(lo, lo * keep + lastLo * keepLast);
+            hi = L::max(hi, hi * keep + lastHi * keepLast);
           };
           F loY, hiY, loCo, hiCo, loCg, hiCg;
-          box(meanY, sigmaY, boxLo_.y, boxHi_.y, loY, hiY);
-          box(meanCo, sigmaCo, boxLo_.co, boxHi_.co, loCo, hiCo);
-          box(meanCg, sigmaCg, boxLo_.cg, boxHi_.cg, loCg, hiCg);
+          box(meanY, sigmaY, lastLoY, lastHiY, loY, hiY);
+          box(meanCo, sigmaCo, lastLoCo, lastHiCo, loCo, hiCo);
+          box(meanCg, sigmaCg, lastLoCg, lastHiCg, loCg, hiCg);
           const F centreY = 0.5f * (loY + hiY), centreCo = 0.5f * (loCo + hiCo), centreCg = 0.5f * (loCg + hiCg);
           const F extentY = 0.5f * (hiY - loY) + 1e-3f, extentCo = 0.5f * (hiCo - loCo) + 1e-3f,
                   extentCg = 0.5f * (hiCg - loCg) + 1e-3f;

@@ -271,10 +271,14 @@ void ScalarUpscaler::resolveRows(const Frame& frame, uint32_t y0, uint32_t y1) {
           // Variance clipping toward the neighbourhood mean, wider for a still pixel.
           glm::vec3 boxLo = mean - gamma * sigma, boxHi = mean + gamma * sigma;
           // A still pixel keeps what last frame's samples showed too: a line thinner than a
-          // traced pixel, missed by this frame's samples, is not clipped away.
+          // traced pixel, missed by this frame's samples, is not clipped away. Not where this
+          // frame's mean left last frame's box: the light changed (a muzzle flash on the weapon).
           const size_t previous = historyIndex(static_cast<int>(std::floor(px)), static_cast<int>(std::floor(py)));
-          boxLo = glm::min(boxLo, glm::mix(boxLo, boxLo_[previous], still));
-          boxHi = glm::max(boxHi, glm::mix(boxHi, boxHi_[previous], still));
+          const bool sameLight = glm::all(glm::greaterThanEqual(mean, boxLo_[previous])) &&
+                                 glm::all(glm::lessThanEqual(mean, boxHi_[previous]));
+          const float keepLast = sameLight ? still : 0.0f;
+          boxLo = glm::min(boxLo, glm::mix(boxLo, boxLo_[previous], keepLast));
+          boxHi = glm::max(boxHi, glm::mix(boxHi, boxHi_[previous], keepLast));
           const glm::vec3 centre = 0.5f * (boxLo + boxHi);
           const glm::vec3 extent = 0.5f * (boxHi - boxLo) + glm::vec3(1e-3f);
           const glm::vec3 offset = history - centre;
