@@ -1,18 +1,15 @@
 #pragma once
 // sRGB decoding by table, inline: srgbToLinear at k / kSrgbTableSteps, linearly interpolated
 // (largest difference from srgbToLinear over [0, 1] 4.8e-7, tested; one 8-bit display step is
-// 3e-4 or more in linear values). Two gathers instead of a chain of about twenty dependent
-// operations; inline because a lightmap sample decodes two colours once, and a call returned
-// them through memory that the caller read back narrower (a store-forwarding stall per sample).
+// 3e-4 or more in linear values): six independent lookups instead of a chain of about twenty
+// dependent operations. Inline and scalar because a lightmap sample decodes two colours once: a
+// call, or AVX2 gathers stored to memory, returned them through memory that the caller read back
+// narrower (a store-forwarding stall per sample; the gathers cost 2-5% of a lightmap frame's CPU).
 #include <array>
 #include <cstddef>
 #include <utility>
 
 #include <glm/vec3.hpp>
-
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
 
 namespace pa {
 
@@ -23,19 +20,6 @@ extern const std::array<float, kSrgbTableSteps + 1> kSrgbDecodeTable;
 
 /// tableSrgbToLinear (display_composite.h) of each channel of two colours, in one pass.
 inline std::pair<glm::vec3, glm::vec3> decodeTwo(const glm::vec3& a, const glm::vec3& b) {
-#if defined(__AVX2__)
-  __m256 c = _mm256_setr_ps(a.x, a.y, a.z, b.x, b.y, b.z, 0.0f, 0.0f);
-  // Clamped to [0, 1], NaN to 0 (max with a NaN first operand returns the second).
-  c = _mm256_min_ps(_mm256_max_ps(c, _mm256_setzero_ps()), _mm256_set1_ps(1.0f));
-  const __m256 s = _mm256_mul_ps(c, _mm256_set1_ps(float(kSrgbTableSteps)));
-  const __m256i i = _mm256_min_epi32(_mm256_cvttps_epi32(s), _mm256_set1_epi32(kSrgbTableSteps - 1));
-  const __m256 f = _mm256_sub_ps(s, _mm256_cvtepi32_ps(i));
-  const __m256 lo = _mm256_i32gather_ps(kSrgbDecodeTable.data(), i, 4);
-  const __m256 hi = _mm256_i32gather_ps(kSrgbDecodeTable.data() + 1, i, 4);
-  alignas(32) float d[8];
-  _mm256_store_ps(d, _mm256_add_ps(lo, _mm256_mul_ps(f, _mm256_sub_ps(hi, lo))));
-  return {{d[0], d[1], d[2]}, {d[3], d[4], d[5]}};
-#else
   const auto one = [](float v) {
     v = v > 0.0f ? v : 0.0f;   // NaN becomes 0
     v = v < 1.0f ? v : 1.0f;
@@ -47,7 +31,6 @@ inline std::pair<glm::vec3, glm::vec3> decodeTwo(const glm::vec3& a, const glm::
     return lo + f * (hi - lo);
   };
   return {{one(a.x), one(a.y), one(a.z)}, {one(b.x), one(b.y), one(b.z)}};
-#endif
 }
 
 }  // namespace pa
