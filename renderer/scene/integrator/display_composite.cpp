@@ -138,7 +138,7 @@ const std::array<float, kSrgbTableSteps + 1> kSrgbDecodeTable = [] {
   return t;
 }();
 
-float tableSrgbToLinear(float c) { return decodeTwo(glm::vec3(c), glm::vec3(0.0f)).first.x; }
+float tableSrgbToLinear(float c) { return decodeColour(glm::vec3(c)).x; }
 
 glm::vec3 composeShine(const glm::vec3& base, const glm::vec4& shine, LayerBlend blend, float baseRedrawn) {
   const auto [dst, src] = encodeTwo(base, glm::vec3(shine));

@@ -13,7 +13,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include "renderer/scene/integrator/srgb_table.h"   // decodeTwo
+#include "renderer/scene/integrator/srgb_table.h"   // decodeColour
 #include "renderer/scene/scene_types.h"
 #include "renderer/scene/world/render_scene.h"
 
@@ -47,7 +47,7 @@ glm::vec3 displayProductWithDisplay(const glm::vec3& a, const glm::vec3& bDispla
 /// fastLinearToSrgb of each channel of two colours, in one pass.
 std::pair<glm::vec3, glm::vec3> encodeTwo(const glm::vec3& a, const glm::vec3& b);
 /// pa::srgbToLinear of c clamped to [0, 1] by a table of 1025 steps, linearly interpolated
-/// (largest difference 4.8e-7, tested): what decodeTwo (srgb_table.h) computes.
+/// (largest difference 4.8e-7, tested): what decodeColour (srgb_table.h) computes.
 float tableSrgbToLinear(float c);
 
 /// A shine stage over a lit base, composed as framebuffer blending does (StockLook::shineBlend):

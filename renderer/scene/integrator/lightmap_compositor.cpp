@@ -94,9 +94,8 @@ glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels&
   const MaterialRecord& m = *s.material;
   // texture x baked light in 8-bit values, as stock (x the display's overbright factor)
   const glm::vec3 productDisplay = t.base * t.baked * m.desc.stock.bakedLightScale;
-  const auto [product, albedo] = decodeTwo(productDisplay, t.base);
-  if (!t.albedoKnown) t.albedo = albedo;
-  glm::vec3 lit = product;
+  if (!t.albedoKnown) t.albedo = decodeColour(t.base);
+  glm::vec3 lit = decodeColour(productDisplay);
   if (m.shine == nullptr) {
     display = glm::clamp(productDisplay, 0.0f, 1.0f);
   } else {   // the shine stage over the lit base, in display values too

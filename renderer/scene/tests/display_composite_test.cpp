@@ -95,7 +95,7 @@ TEST(DisplayComposite, MeshColoursEncodeAsOneByOne) {
 }
 
 TEST(DisplayComposite, TableDecodeMatchesTheExactCurve) {
-  // Every 64th float in [0, 1] against the powf curve; decodeTwo decodes each channel alike.
+  // Every 64th float in [0, 1] against the powf curve; decodeColour decodes each channel alike.
   float worst = 0.0f;
   uint32_t one;
   const float oneF = 1.0f;
@@ -110,10 +110,11 @@ TEST(DisplayComposite, TableDecodeMatchesTheExactCurve) {
   EXPECT_EQ(tableSrgbToLinear(0.0f), 0.0f);
   EXPECT_EQ(tableSrgbToLinear(-3.0f), 0.0f);   // clamped to [0, 1]
   EXPECT_NEAR(tableSrgbToLinear(7.0f), 1.0f, 1e-7f);
-  const auto [a, b] = decodeTwo(glm::vec3(0.2f, 0.5f, 0.9f), glm::vec3(1.0f, 0.0f, 0.04f));
-  EXPECT_EQ(a, glm::vec3(tableSrgbToLinear(0.2f), tableSrgbToLinear(0.5f), tableSrgbToLinear(0.9f)));
-  EXPECT_EQ(b, glm::vec3(tableSrgbToLinear(1.0f), 0.0f, tableSrgbToLinear(0.04f)));
-  EXPECT_EQ(decodeTwo(glm::vec3(std::nanf("")), glm::vec3(-1.0f)).first, glm::vec3(0.0f));   // NaN becomes 0
+  EXPECT_EQ(decodeColour(glm::vec3(0.2f, 0.5f, 0.9f)),
+            glm::vec3(tableSrgbToLinear(0.2f), tableSrgbToLinear(0.5f), tableSrgbToLinear(0.9f)));
+  EXPECT_EQ(decodeColour(glm::vec3(1.0f, 0.0f, 0.04f)), glm::vec3(tableSrgbToLinear(1.0f), 0.0f, tableSrgbToLinear(0.04f)));
+  EXPECT_EQ(decodeColour(glm::vec3(std::nanf(""))), glm::vec3(0.0f));   // NaN becomes 0
+  EXPECT_EQ(decodeColour(glm::vec3(-1.0f)), glm::vec3(0.0f));
 }
 
 TEST(DisplayComposite, ProductOfDisplayValues) {
@@ -126,7 +127,7 @@ TEST(DisplayComposite, ProductOfDisplayValues) {
 TEST(DisplayComposite, AnOverbrightProductClampsAtWhiteWhenDecoded) {
   // The compositor doubles texture x light in display values per overbright bit, then decodes:
   // 0.3 x 0.5 = 0.15 doubled shows 0.3; 0.8 x 0.9 = 0.72 doubled clamps at white.
-  const auto [doubled, clamped] = decodeTwo(glm::vec3(0.15f * 2.0f), glm::vec3(0.72f * 2.0f));
+  const glm::vec3 doubled = decodeColour(glm::vec3(0.15f * 2.0f)), clamped = decodeColour(glm::vec3(0.72f * 2.0f));
   EXPECT_NEAR(linearToSrgb(doubled.x), 0.3f, 1e-5f);
   EXPECT_NEAR(clamped.x, 1.0f, 1e-6f);
 }
