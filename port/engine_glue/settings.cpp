@@ -51,7 +51,9 @@ int effectiveTaau(int cvarValue, Preset preset) {
   return preset == Preset::Direct || preset == Preset::Path ? 1 : 0;
 }
 
-float effectiveTaauSize(float cvarValue) { return std::isfinite(cvarValue) ? std::clamp(cvarValue, 0.25f, 1.0f) : 1.0f; }
+float effectiveTaauSize(float cvarValue) {
+  return std::isfinite(cvarValue) ? std::clamp(cvarValue, 0.25f, 1.0f) : 1.0f;
+}
 
 std::array<uint32_t, 2> taauOutputSize(uint32_t viewWidth, uint32_t viewHeight, uint32_t tracedWidth,
                                        uint32_t tracedHeight, float taauSize) {

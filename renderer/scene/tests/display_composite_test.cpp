@@ -112,7 +112,8 @@ TEST(DisplayComposite, TableDecodeMatchesTheExactCurve) {
   EXPECT_NEAR(tableSrgbToLinear(7.0f), 1.0f, 1e-7f);
   EXPECT_EQ(decodeColour(glm::vec3(0.2f, 0.5f, 0.9f)),
             glm::vec3(tableSrgbToLinear(0.2f), tableSrgbToLinear(0.5f), tableSrgbToLinear(0.9f)));
-  EXPECT_EQ(decodeColour(glm::vec3(1.0f, 0.0f, 0.04f)), glm::vec3(tableSrgbToLinear(1.0f), 0.0f, tableSrgbToLinear(0.04f)));
+  EXPECT_EQ(decodeColour(glm::vec3(1.0f, 0.0f, 0.04f)),
+            glm::vec3(tableSrgbToLinear(1.0f), 0.0f, tableSrgbToLinear(0.04f)));
   EXPECT_EQ(decodeColour(glm::vec3(std::nanf(""))), glm::vec3(0.0f));   // NaN becomes 0
   EXPECT_EQ(decodeColour(glm::vec3(-1.0f)), glm::vec3(0.0f));
 }
