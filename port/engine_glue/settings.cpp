@@ -41,14 +41,16 @@ const char* presetName(Preset preset) {
   return "path";
 }
 
+bool isRealTimeTraced(Preset preset) { return preset == Preset::Direct || preset == Preset::Path; }
+
 float effectiveScale(float cvarValue, Preset preset) {
   if (std::isfinite(cvarValue) && cvarValue > 0.0f) return std::clamp(cvarValue, 0.1f, 1.0f);
-  return preset == Preset::Direct || preset == Preset::Path ? 0.35f : 0.5f;
+  return isRealTimeTraced(preset) ? 0.35f : 0.5f;
 }
 
 int effectiveTaau(int cvarValue, Preset preset) {
   if (cvarValue >= 0) return std::min(cvarValue, 2);
-  return preset == Preset::Direct || preset == Preset::Path ? 1 : 0;
+  return isRealTimeTraced(preset) ? 1 : 0;
 }
 
 float effectiveTaauSize(float cvarValue) {

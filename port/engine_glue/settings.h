@@ -21,6 +21,9 @@ enum class Preset : uint8_t { Lightmap, Direct, Path, Reference };
 Preset parsePreset(const std::string& name, bool& known);
 /// The preset's cvar spelling.
 const char* presetName(Preset preset);
+/// True for direct and path: the presets that trace light in real time, a few samples a frame
+/// filtered over frames (lightmap shows the bake; reference accumulates one view).
+bool isRealTimeTraced(Preset preset);
 /// The traced world view's scale in effect: r_pt_scale's value in [0.1, 1], or while it is 0 (its
 /// default) or not a number the preset's own: 0.35 for direct and path, which TAAU brings to the
 /// window (effectiveTaau), 0.5 for the others (docs/performance.md "`direct` and `path` at 0.35 of

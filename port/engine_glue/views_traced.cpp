@@ -417,7 +417,7 @@ double ViewRenderer::Impl::showWorldLook(const ViewContext& ctx, std::span<const
 
 pa::RenderSettings ViewRenderer::Impl::renderSettings(const ViewContext& ctx, const q3abi::refdef_t& view,
                                                       const TracerSettings& settings) {
-  const bool traced = !ctx.lightmapLook && (settings.preset == Preset::Direct || settings.preset == Preset::Path);
+  const bool traced = !ctx.lightmapLook && isRealTimeTraced(settings.preset);
   pa::RenderSettings rs;
   const float scale = ctx.withWorld ? settings.resolutionScale : 1.0f;
   rs.width = static_cast<uint32_t>(std::max(8, static_cast<int>(std::lround(view.width * scale))));
