@@ -3,6 +3,7 @@
 // build on, the builder's scratch arrays), so meshes rebuilt every frame do not page-fault
 // fresh memory on each build.
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 
 #include "renderer/bvh/binary_bvh.h"
@@ -187,6 +188,30 @@ bool Blas::occluded(const Ray& ray, const HitFilter& filter, uint32_t instanceId
 }
 
 Bounds Blas::bounds() const { return impl_ ? impl_->bounds : Bounds{}; }
+
+size_t Blas::pieceBounds(std::span<Bounds> out) const {
+  const size_t limit = std::min(out.size(), kMaxBlasPieces);
+  if (!impl_ || limit < 2 || impl_->binary.empty() || impl_->binary.nodes.empty()) return 0;
+  const std::vector<bvh_detail::BinaryNode>& nodes = impl_->binary.nodes;
+  std::array<uint32_t, kMaxBlasPieces> cut{};   // node indices; their subtrees hold every triangle once
+  size_t count = 1;
+  while (count < limit) {
+    size_t widest = count;
+    for (size_t i = 0; i < count; ++i)
+      if (!nodes[cut[i]].isLeaf() &&
+          (widest == count || nodes[cut[i]].bounds.halfArea() > nodes[cut[widest]].bounds.halfArea()))
+        widest = i;
+    if (widest == count) break;   // every piece is a leaf
+    const bvh_detail::BinaryNode& split = nodes[cut[widest]];
+    cut[widest] = split.left;
+    cut[count++] = split.right;
+  }
+  float area = 0.0f;
+  for (size_t i = 0; i < count; ++i) area += nodes[cut[i]].bounds.halfArea();
+  if (count < 2 || !(area < 0.5f * nodes[0].bounds.halfArea())) return 0;
+  for (size_t i = 0; i < count; ++i) out[i] = nodes[cut[i]].bounds;
+  return count;
+}
 
 uint32_t Blas::triangleCount() const { return impl_ ? impl_->mesh.triangleCount() : 0; }
 

@@ -39,6 +39,9 @@ struct BvhBuildConfig {
 /// Most rays one packet query (Blas::intersectPacket, Tlas::intersectPacket) traces.
 inline constexpr uint32_t kMaxPacketRays = 16;
 
+/// Most boxes Blas::pieceBounds cuts a mesh into.
+inline constexpr size_t kMaxBlasPieces = 16;
+
 /// What a hit on one triangle needs before it counts (BlasInput::rules).
 enum class HitRule : uint8_t {
   Opaque = 0,     ///< Every hit counts.
@@ -93,6 +96,11 @@ class Blas {
                           uint32_t instanceId = 0) const;
   /// Bounds of all triangles.
   Bounds bounds() const;
+  /// Boxes that together hold every triangle, for a mesh whose triangles lie scattered (a frame's
+  /// impact marks and sprites over the whole map): the tree cut at up to out.size() (at most
+  /// kMaxBlasPieces) nodes, the largest split first. Writes them and returns how many; 0 when
+  /// their areas sum to half of bounds()'s or more (a compact mesh: its box is as tight).
+  size_t pieceBounds(std::span<Bounds> out) const;
   /// Number of triangles built.
   uint32_t triangleCount() const;
   /// Children per node of the layout rays traverse (8 or 16; BvhBuildConfig::nodeWidth).
@@ -137,6 +145,10 @@ class Tlas {
   /// takes them as a packet (Blas::occludedPacket). Returns the bits of the rays that hit something.
   uint32_t occludedPacket(std::span<const Ray> rays, uint32_t active, uint32_t rayMask,
                           std::span<const HitFilter> filters) const;
+  /// The bits of `active` (up to kMaxPacketRays rays) whose ray may enter bounds() within its
+  /// [tmin, tmax]: the conservative slab test the traversal applies to each instance's box, so a
+  /// ray left out has no hit here. A cheap cull before a packet query that few rays need.
+  uint32_t raysMayHit(std::span<const Ray> rays, uint32_t active) const;
   /// World bounds of all instances.
   Bounds bounds() const;
 

@@ -2,9 +2,11 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
+#include <glm/vector_relational.hpp>
 #include <gtest/gtest.h>
 
 #include "renderer/bvh/bvh.h"
@@ -217,6 +219,42 @@ TEST(Blas, MaskedTrianglesGoThroughFilter) {
   EXPECT_FLOAT_EQ(seen.u, 0.25f);
   EXPECT_FLOAT_EQ(seen.v, 0.5f);
   EXPECT_EQ(seen.t, hit.t);   // the distance the accepted hit then has
+}
+
+// A frame's marks over a map: small clusters far apart. Their pieces hold every triangle and are
+// much smaller than the mesh's box; a compact mesh has none.
+TEST(Blas, PieceBoundsHoldEveryTriangleOfAScatteredMesh) {
+  testing::TestMesh marks;
+  for (int i = 0; i < 12; ++i) {
+    testing::TestMesh cluster = testing::makeTriangleSoup(6, 40 + i, 0.5f);
+    cluster.translate(glm::vec3(float(i % 3) * 300.0f, float(i / 3 % 2) * 200.0f, float(i / 6) * 150.0f));
+    marks.append(cluster);
+  }
+  Blas blas;
+  blas.build(marks.input());
+  std::array<Bounds, kMaxBlasPieces + 4> pieces;
+  const size_t count = blas.pieceBounds(pieces);
+  ASSERT_GE(count, 12u);   // at least one piece per cluster
+  ASSERT_LE(count, kMaxBlasPieces);
+  float area = 0.0f;
+  for (size_t p = 0; p < count; ++p) area += pieces[p].halfArea();
+  EXPECT_LT(area, 0.01f * blas.bounds().halfArea());
+  for (uint32_t t = 0; t < marks.triangleCount(); ++t) {
+    bool held = false;
+    for (size_t p = 0; p < count && !held; ++p) {
+      held = true;
+      for (int corner = 0; corner < 3; ++corner) {
+        const glm::vec3& v = marks.positions[marks.indices[3 * t + corner]];
+        held = held && glm::all(glm::greaterThanEqual(v, pieces[p].min)) && glm::all(glm::lessThanEqual(v, pieces[p].max));
+      }
+    }
+    EXPECT_TRUE(held) << "triangle " << t << " lies in no piece";
+  }
+  EXPECT_EQ(blas.pieceBounds(std::span(pieces).first(1)), 0u);   // one box is the mesh's own
+  Blas sphere;
+  sphere.build(testing::makeSphere(500).input());
+  EXPECT_EQ(sphere.pieceBounds(pieces), 0u);
+  EXPECT_EQ(Blas{}.pieceBounds(pieces), 0u);
 }
 
 TEST(Tlas, InstancesTransformMaskAndWorldT) {

@@ -381,6 +381,58 @@ TEST_P(TlasPackets, SameHitsAsRayByRay) {
 // One to four levels of instance groups (1, 9..64, 65..512, 600).
 INSTANTIATE_TEST_SUITE_P(InstanceCounts, TlasPackets, ::testing::Values(1u, 9u, 64u, 65u, 600u));
 
+// Tlas::raysMayHit, the cull before a packet query few rays need (the first-person weapon's):
+// it keeps every ray that hits, and drops the rays that point away, end before the box or start
+// past it.
+TEST(TlasPackets, RaysMayHitKeepsEveryRayThatHits) {
+  std::mt19937 rng(5);
+  const TestMesh sphere = makeSphere(400);
+  Blas blas;
+  blas.build(sphere.input());
+  std::vector<TlasInstance> instances(3, TlasInstance{&blas});
+  for (TlasInstance& in : instances) in.objectToWorld = makeRandomTransform(rng, 3.0f);
+  Tlas tlas;
+  EXPECT_EQ(tlas.raysMayHit({}, 0u), 0u);   // before any build: nothing to hit
+  tlas.build(instances);
+  uint32_t hitCount = 0, dropped = 0;
+  for (const std::vector<Ray>& rays : {cameraTiles({9.0f, -7.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 64, 64),
+                                       makeRandomRays(tlas.bounds(), 2048, 3), axisPlaneRays(tlas.bounds(), 1024, 8)}) {
+    for (size_t first = 0; first + kMaxPacketRays <= rays.size(); first += kMaxPacketRays) {
+      const std::span<const Ray> packet(rays.data() + first, kMaxPacketRays);
+      const uint32_t may = tlas.raysMayHit(packet, 0xffffu);
+      EXPECT_EQ(tlas.raysMayHit(packet, 0x00f0u), may & 0x00f0u) << "inactive lanes are never kept";
+      for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
+        Ray ray = packet[lane];
+        Hit hit;
+        if (tlas.intersect(ray, hit)) {
+          ++hitCount;
+          EXPECT_TRUE(may >> lane & 1) << "ray " << first + lane << " hits but was culled";
+        }
+        dropped += !(may >> lane & 1);
+      }
+    }
+  }
+  EXPECT_GT(hitCount, 500u);
+  EXPECT_GT(dropped, 500u) << "the camera looks at the instances from outside their box: most rays miss it";
+  // Known answers at one moved instance's box: a ray along its face plane enters it; one that
+  // ends short of it, starts past it or points away does not.
+  TlasInstance moved{&blas};
+  moved.objectToWorld[3] = glm::vec3(10.0f, -4.0f, 2.0f);
+  Tlas one;
+  one.build(std::span(&moved, 1));
+  const Bounds box = one.bounds();
+  const glm::vec3 centre = box.center();
+  std::array<Ray, 5> known;
+  known[0].origin = glm::vec3(box.min.x - 1.0f, box.max.y, centre.z), known[0].dir = glm::vec3(1.0f, 0.0f, 0.0f);
+  known[1].origin = glm::vec3(box.min.x - 1.0f, centre.y, centre.z), known[1].dir = glm::vec3(1.0f, 0.0f, 0.0f);
+  known[1].tmax = 0.5f;
+  known[2].origin = known[1].origin, known[2].dir = known[1].dir, known[2].tmin = box.max.x - box.min.x + 2.0f;
+  known[3].origin = known[1].origin, known[3].dir = glm::vec3(-1.0f, 0.1f, 0.0f);
+  known[4].origin = known[1].origin, known[4].dir = glm::vec3(1.0f, 0.01f, -0.01f);
+  EXPECT_EQ(one.raysMayHit(known, 0x1fu), 0b10001u);
+  EXPECT_THROW(one.raysMayHit(known, 0x3fu), std::invalid_argument);
+}
+
 TEST(Packets, ShortSpansAreRejected) {
   Blas blas;
   blas.build(makeSphere(100).input());

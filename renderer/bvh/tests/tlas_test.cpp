@@ -3,6 +3,8 @@
 // triangle, barycentrics) and the same occlusion, with one to four levels of instance groups,
 // masks included, and instances placed by the identity (the static world, which shadow rays
 // take before the tree).
+#include <array>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <span>
@@ -95,6 +97,96 @@ TEST_P(TlasAgainstBruteForce, SameClosestHitsAndOcclusion) {
 // and four (600: groups of groups of groups).
 INSTANTIATE_TEST_SUITE_P(InstanceCounts, TlasAgainstBruteForce,
                          ::testing::Values(1u, 7u, 8u, 9u, 64u, 65u, 200u, 512u, 600u));
+
+/// Counts the candidate hits a filter sees, and accepts them all.
+struct CandidateCount {
+  uint32_t calls = 0;
+  static bool accept(const void* ctx, uint32_t, uint32_t, float, float, float) {
+    ++static_cast<CandidateCount*>(const_cast<void*>(ctx))->calls;
+    return true;
+  }
+};
+
+// A scattered instance (marks over a map in one mesh) is in the tree by its pieces' boxes; a ray
+// that enters several pieces traces it once: the same hits as its Blas alone, and the filter sees
+// each candidate once, with single rays and with packets.
+TEST(TlasScattered, TracedOnceWhateverPiecesARayEnters) {
+  testing::TestMesh marks;
+  for (int i = 0; i < 10; ++i) {
+    testing::TestMesh cluster = testing::makeTriangleSoup(8, 70 + i, 0.6f);
+    cluster.translate(glm::vec3(float(i % 5) * 6.0f - 12.0f, float(i / 5) * 6.0f - 3.0f, float(i % 3) * 2.0f));
+    marks.append(cluster);
+  }
+  marks.rules.assign(marks.triangleCount(), HitRule::Filtered);
+  Blas marksBlas, sphereBlas;
+  marksBlas.build(marks.input());
+  sphereBlas.build(testing::makeSphere(300, glm::vec3(0.0f), 2.0f).input());
+  std::array<Bounds, kMaxBlasPieces> pieces;
+  ASSERT_GE(marksBlas.pieceBounds(pieces), 10u);
+  // The marks moved by an exact translation (so their object-space rays are the world rays less
+  // it, bit for bit), beside two compact movers.
+  const glm::vec3 offset(32.0f, -16.0f, 8.0f);
+  std::vector<TlasInstance> instances(3);
+  instances[0].blas = &marksBlas;
+  instances[0].objectToWorld[3] = offset;
+  for (int i = 1; i < 3; ++i) {
+    instances[i].blas = &sphereBlas;
+    instances[i].objectToWorld[3] = offset + glm::vec3(float(i) * 40.0f, 0.0f, 0.0f);
+  }
+  Tlas tlas, spheres;
+  tlas.build(instances);
+  spheres.build(std::span(instances).subspan(1));
+  // Rays along the rows of marks, so that most cross several pieces.
+  std::vector<Ray> rays;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> jitter(-4.0f, 4.0f);
+  for (int i = 0; i < 2048; ++i) {
+    Ray r;
+    r.origin = offset + glm::vec3(-40.0f, jitter(rng), jitter(rng) + 2.0f);
+    r.dir = glm::vec3(1.0f, 0.01f * jitter(rng), 0.01f * jitter(rng));
+    rays.push_back(r);
+  }
+  uint32_t hits = 0;
+  for (size_t first = 0; first < rays.size(); first += kMaxPacketRays) {
+    std::array<Ray, kMaxPacketRays> packet, local;
+    std::array<Hit, kMaxPacketRays> packetHits;
+    std::array<CandidateCount, kMaxPacketRays> packetCounts;
+    std::array<HitFilter, kMaxPacketRays> filters;
+    for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
+      packet[lane] = rays[first + lane];
+      filters[lane] = HitFilter{&CandidateCount::accept, &packetCounts[lane]};
+    }
+    const uint32_t found = tlas.intersectPacket(packet, packetHits, 0xffffu, ~0u, filters);
+    for (uint32_t lane = 0; lane < kMaxPacketRays; ++lane) {
+      const Ray& ray = rays[first + lane];
+      // The marks alone, in object space, then what the spheres add (no filter on them).
+      CandidateCount alone, ours;
+      Ray objectRay = ray;
+      objectRay.origin -= offset;
+      Hit expected;
+      bool expectHit = marksBlas.intersect(objectRay, expected, HitFilter{&CandidateCount::accept, &alone});
+      Ray rest = ray;
+      rest.tmax = objectRay.tmax;
+      Hit sphereHit;
+      if (spheres.intersect(rest, sphereHit)) expected = sphereHit, expected.instance += 1, expectHit = true;
+      Ray single = ray;
+      Hit got;
+      ASSERT_EQ(tlas.intersect(single, got, ~0u, HitFilter{&CandidateCount::accept, &ours}), expectHit) << first + lane;
+      ASSERT_EQ(found >> lane & 1, expectHit ? 1u : 0u) << first + lane;
+      if (expectHit) {
+        ++hits;
+        EXPECT_EQ(got.t, expected.t);
+        EXPECT_EQ(got.instance, expected.instance);
+        EXPECT_EQ(got.prim, expected.prim);
+        EXPECT_EQ(packetHits[lane].t, expected.t);
+      }
+      // Each candidate once: as many as the marks' Blas saw alone.
+      EXPECT_EQ(ours.calls, alone.calls) << first + lane;   // the marks lie nearer than the spheres
+      EXPECT_EQ(packetCounts[lane].calls, alone.calls) << first + lane;
+    }
+  }
+  EXPECT_GT(hits, 300u);
+}
 
 }  // namespace
 }  // namespace pa

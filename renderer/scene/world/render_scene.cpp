@@ -163,11 +163,19 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
     requests[i].additive = &r.additive;
   }
   uint32_t remaining = (1u << count) - 1;   // count <= kMaxPacketRays < 32
-  // drawOnTop instances first; the rays that miss them go on into the world.
+  // drawOnTop instances first; the rays that miss them go on into the world. The first-person
+  // weapon covers a corner of the view: a packet none of whose rays reach its box skips that pass.
   for (const bool overlayPass : {true, false}) {
     const auto& instances = instancesOf(overlayPass);
     if (instances.empty() || remaining == 0) continue;
-    for (uint32_t r = remaining; r; r &= r - 1) {
+    const Tlas& tlas = overlayPass ? overlayTlas : worldTlas;
+    uint32_t traced = remaining;
+    if (overlayPass) {
+      for (uint32_t r = remaining; r; r &= r - 1) packet[std::countr_zero(r)] = rays[std::countr_zero(r)].ray;
+      traced = tlas.raysMayHit(packet, remaining);
+      if (traced == 0) continue;
+    }
+    for (uint32_t r = traced; r; r &= r - 1) {
       const int i = std::countr_zero(r);
       packet[i] = rays[i].ray;
       hits[i] = Hit{};
@@ -175,8 +183,7 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
       contexts[i] = FilterContext{this, overlayPass, &packet[i], &requests[i]};
       filters[i] = HitFilter{&acceptCandidate, &contexts[i], faceCullFor(RayKind::Camera)};
     }
-    const Tlas& tlas = overlayPass ? overlayTlas : worldTlas;
-    const uint32_t found = tlas.intersectPacket(packet, hits, remaining, rayMaskFor(RayKind::Camera), filters);
+    const uint32_t found = tlas.intersectPacket(packet, hits, traced, rayMaskFor(RayKind::Camera), filters);
     for (uint32_t r = found; r; r &= r - 1) {
       const int i = std::countr_zero(r);
       rays[i].ray = packet[i];
