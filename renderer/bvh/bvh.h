@@ -145,9 +145,10 @@ class Tlas {
   /// takes them as a packet (Blas::occludedPacket). Returns the bits of the rays that hit something.
   uint32_t occludedPacket(std::span<const Ray> rays, uint32_t active, uint32_t rayMask,
                           std::span<const HitFilter> filters) const;
-  /// The bits of `active` (up to kMaxPacketRays rays) whose ray may enter bounds() within its
-  /// [tmin, tmax]: the conservative slab test the traversal applies to each instance's box, so a
-  /// ray left out has no hit here. A cheap cull before a packet query that few rays need.
+  /// The bits of `active` (up to kMaxPacketRays rays) whose ray may enter an instance's box within
+  /// its [tmin, tmax]: each instance's own box in its object space where there are at most four,
+  /// else bounds(); the boxes widened by 2^-16 of the coordinates' size, so that a ray left out
+  /// has no hit here. A cheap cull before a packet query that few rays need.
   uint32_t raysMayHit(std::span<const Ray> rays, uint32_t active) const;
   /// World bounds of all instances.
   Bounds bounds() const;
