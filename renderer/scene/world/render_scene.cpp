@@ -169,15 +169,11 @@ void RenderScene::intersectCameraPacket(std::span<TracedCameraRay> rays) const {
     const auto& instances = instancesOf(overlayPass);
     if (instances.empty() || remaining == 0) continue;
     const Tlas& tlas = overlayPass ? overlayTlas : worldTlas;
-    uint32_t traced = remaining;
-    if (overlayPass) {
-      for (uint32_t r = remaining; r; r &= r - 1) packet[std::countr_zero(r)] = rays[std::countr_zero(r)].ray;
-      traced = tlas.raysMayHit(packet, remaining);
-      if (traced == 0) continue;
-    }
+    for (uint32_t r = remaining; r; r &= r - 1) packet[std::countr_zero(r)] = rays[std::countr_zero(r)].ray;
+    const uint32_t traced = overlayPass ? tlas.raysMayHit(packet, remaining) : remaining;
+    if (traced == 0) continue;
     for (uint32_t r = traced; r; r &= r - 1) {
       const int i = std::countr_zero(r);
-      packet[i] = rays[i].ray;
       hits[i] = Hit{};
       requests[i].overlay = overlayPass;
       contexts[i] = FilterContext{this, overlayPass, &packet[i], &requests[i]};
