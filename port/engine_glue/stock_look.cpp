@@ -273,6 +273,7 @@ void applyPictureToWorld(q3::WorldScene& scene, const q3::ShaderLibrary& library
     keep(m.baseTexture);
     keep(m.emissiveTexture);
     keep(m.reflectionOverlayTexture);
+    keep(m.coverTexture);
   }
   for (int32_t face : scene.sky.faces) keep(face);
   for (size_t t = 0; t < scene.textures.size(); ++t) {

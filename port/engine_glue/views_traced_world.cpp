@@ -117,6 +117,7 @@ pa::MaterialId ViewRenderer::Impl::dlightMaterial(uint32_t worldMaterial) {
   desc.alphaMode = pa::AlphaMode::Additive;
   desc.stock.layerBlend = pa::LayerBlend::MultiplyAdd;
   desc.baseTexture = pa::kNoId;
+  desc.coverTexture = pa::kNoId;
   desc.baseColor = glm::vec4(1.0f);
   desc.stock.useVertexLight = false;
   desc.stock.lightmapTexture = pa::kNoId;

@@ -9,6 +9,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "port/q3formats/bsp/bsp_file.h"
+#include "port/q3formats/shader/material.h"
 #include "port/q3formats/world/world_lights.h"
 #include "renderer/core/srgb.h"
 
@@ -134,6 +135,15 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   // tcGen environment base: the renderer reads it at the mirrored view direction (stock look in the
   // lightmap preset; the albedo under the glossy lobe `specular` in the traced presets).
   if (m.baseReflects) desc.baseTexCoords = TexCoordSource::ReflectionSphere;
+  // The cover stage on the mesh uvs through its tcMods at time 0 (no installed map's cover moves;
+  // one that did would hold its place).
+  desc.coverTexture = texture(m.coverTexture);
+  if (desc.coverTexture != kNoId) {
+    const q3::UvAffine uv = q3::uvTransformAt(m.coverTcMods, 0.0);
+    desc.coverUvTransform = glm::mat3x2(glm::vec2(uv.a, uv.c), glm::vec2(uv.b, uv.d), glm::vec2(uv.tx, uv.ty));
+    desc.coverVertexAlpha = m.coverVertexAlpha;
+    desc.coverAlphaCutoff = m.coverAlphaCutoff;
+  }
 
   if (m.surfaceLight > 0.0f && m.alphaMode != q3::WorldAlphaMode::Additive) {
     setSurfaceLightEmission(scene, handles, m, lightScale, desc);

@@ -262,6 +262,17 @@ struct MaterialDesc {
   bool emissiveOwnUv = false;
   glm::mat3x2 emissiveUvTransform{1.0f};  ///< Affine uv' = M * (u, v, 1) of emissiveTexture when emissiveOwnUv.
   TexCoordSource baseTexCoords = TexCoordSource::Mesh;   ///< uv of baseTexture (emissiveTexture keeps mesh uvs).
+  /// An image covering the base by its alpha, under any light (kNoId = none): a stock stage
+  /// blended over the base before the lightmap lights both (a launch pad's frame over its
+  /// scrolling treads, terrain's second texture faded in by vertex alpha). The base colour's RGB
+  /// becomes mix(base, cover, a), a the cover texture's alpha (x the vertex alpha with
+  /// coverVertexAlpha; 0 below coverAlphaCutoff), the cover read at the mesh uvs through
+  /// coverUvTransform; the Lightmap compositor mixes display values, as a framebuffer blends.
+  /// The base's own alpha (coverage) is kept.
+  TextureId coverTexture = kNoId;
+  glm::mat3x2 coverUvTransform{1.0f};   ///< Affine uv' = M * (u, v, 1) of coverTexture.
+  bool coverVertexAlpha = false;        ///< The cover's alpha is multiplied by the vertex colour's alpha.
+  float coverAlphaCutoff = 0.0f;        ///< A cover alpha below it covers nothing (0: every alpha covers).
   StockLook stock;                      ///< Baked light, layer blend and shine of the Lightmap preset.
 
   bool operator==(const MaterialDesc&) const = default;

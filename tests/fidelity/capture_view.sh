@@ -5,6 +5,8 @@
 # too has run the teleport through the server before the screenshot: both see the same picture)
 # (CAPTURE_WAIT ticks there, default 40) and writes OUT_DIR/view_N.tga (N = 1, 2, ...) plus OUT_DIR/engine.log. RENDERER and MODULE as
 # in capture_frames.sh. Used for views the demo never shows (fog volumes: tests/fidelity/README.md).
+# CAPTURE_LOOK_DOWN=1: each view turns to look straight down (+lookdown until the pitch stops at
+# 90 degrees) before its screenshot, for floors (setviewpos sets no pitch).
 # CAPTURE_GAME_FILES (a folder, optional): its files are copied into the home path's baseoa, e.g.
 # maps built by code (tests/fidelity/make_test_maps.cpp).
 # Exit 77 when the engine, the game data or xvfb-run are missing.
@@ -28,7 +30,9 @@ n=0
 for view in "${views[@]}"; do
   [[ "$view" =~ ^-?[0-9.]+\ -?[0-9.]+\ -?[0-9.]+\ -?[0-9.]+$ ]] || { echo "bad view '$view' (X Y Z YAW)"; exit 2; }
   n=$((n + 1))
-  printf 'setviewpos %s\nwait %d\nscreenshot view_%d\nviewpos\n' "$view" "${CAPTURE_WAIT:-40}" "$n" >>"$cfg"
+  printf 'setviewpos %s\n' "$view" >>"$cfg"
+  [[ -n "${CAPTURE_LOOK_DOWN:-}" ]] && printf '+lookdown\nwait 30\n-lookdown\n' >>"$cfg"
+  printf 'wait %d\nscreenshot view_%d\nviewpos\n' "${CAPTURE_WAIT:-40}" "$n" >>"$cfg"
 done
 printf 'wait 5\nquit\n' >>"$cfg"
 mkdir -p "$out"

@@ -55,6 +55,9 @@ namespace q3 {
 // | base stage tcMods                                  | uvAnimation (uvTransformAt(t) = affine map)   |
 // | base stage rgbGen / alphaGen (wave)                | baseRgbGen/Wave, baseAlphaGen/Wave            |
 // | first glow stage rgbGen wave, tcMods               | glowWaves, glowWave, glowTcMods               |
+// | later image stage blendFunc blend over an opaque   | coverTexture, coverTcMods, coverClampUv,      |
+// |   base, lit by a later $lightmap filter (see       |   coverVertexAlpha (alphaGen vertex)          |
+// |   coverStage)                                      |                                               |
 
 namespace {
 
@@ -124,6 +127,35 @@ bool litByLaterLightmap(const std::vector<ShaderStage>& stages, size_t index) {
   for (size_t i = index + 1; i < stages.size(); ++i)
     if (stages[i].source == TextureSource::Lightmap && blendMode(stages[i]) == AlphaMode::Multiply) return true;
   return false;
+}
+
+/// The stage a surface shows over its base where the stage's alpha covers it, or null: the
+/// topmost image stage after `base` that blends by its alpha (SRC_ALPHA, ONE_MINUS_SRC_ALPHA) on
+/// the mesh uvs, with white colour (rgbGen identity) and the texture's alpha (times the vertex
+/// alpha with alphaGen vertex; no alphaFunc LT128), that a later $lightmap lights with the base.
+/// A stage that redraws the base's own image at the base's uvs covers it with itself: none.
+const ShaderStage* coverStage(const std::vector<ShaderStage>& stages, const ShaderStage& base) {
+  const ShaderStage* cover = nullptr;
+  for (const ShaderStage* s = &base + 1; s < stages.data() + stages.size(); ++s) {
+    if (!isImageStage(*s) || s->textures.size() != 1 || s->textures.front()[0] == '$' || s->tcGen != TcGen::Base)
+      continue;
+    if (!s->hasBlend || s->srcBlend != BlendFactor::SrcAlpha || s->dstBlend != BlendFactor::OneMinusSrcAlpha) continue;
+    if (s->rgbGen != RgbGen::Default && s->rgbGen != RgbGen::Identity && s->rgbGen != RgbGen::IdentityLighting)
+      continue;
+    if (s->alphaGen != AlphaGen::Default && s->alphaGen != AlphaGen::Identity && s->alphaGen != AlphaGen::Vertex)
+      continue;
+    // Lit by a later $lightmap that multiplies the frame: filter, or DST_COLOR with a destination
+    // factor of alpha (the frame's alpha is 1 over a solid base); not a light style that adds.
+    const bool lit = std::any_of(s + 1, stages.data() + stages.size(), [](const ShaderStage& later) {
+      return later.source == TextureSource::Lightmap && later.srcBlend == BlendFactor::DstColor &&
+             later.dstBlend != BlendFactor::One;
+    });
+    if (s->alphaTest == AlphaTest::Lt128 || !lit) continue;
+    const bool redrawsBase = base.tcGen == TcGen::Base && s->textures.front() == base.textures.front() &&
+                             sameTcMods(s->tcMods, base.tcMods) && s->alphaGen != AlphaGen::Vertex;
+    cover = redrawsBase ? nullptr : s;
+  }
+  return cover;
 }
 
 }  // namespace
@@ -306,6 +338,16 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
     m.glowTextures.push_back(s.textures.front());
   }
   m.emissive = m.surfaceLight > 0 || !m.glowTextures.empty() || m.alphaMode == AlphaMode::Additive;
+  // A cover over a solid base (one that lets what is behind show has no cover of its own).
+  if (base && !m.baseReflects && (m.alphaMode == AlphaMode::Opaque || m.alphaMode == AlphaMode::Mask))
+    if (const ShaderStage* cover = coverStage(stages, *base)) {
+      m.coverTexture = cover->textures.front();
+      m.coverTcMods = cover->tcMods;
+      m.coverClampUv = cover->clamp;
+      m.coverVertexAlpha = cover->alphaGen == AlphaGen::Vertex;
+      // GT0 keeps every alpha that blends anything in: no test.
+      m.coverAlphaCutoff = cover->alphaTest == AlphaTest::Ge128 ? 0.5f : 0.0f;
+    }
   // Shiny floors and trims (texture, chrome tcGen environment, the texture again with blendFunc
   // add, then $lightmap multiplying the frame: filter or DST_COLOR ONE_MINUS_SRC_ALPHA): the
   // added, lit texture is what the surface shows under the sheen.

@@ -112,6 +112,14 @@ struct MaterialInfo {
   bool hasLightColor = false;
   std::vector<BaseModulation> baseModulations;  ///< later stages multiplying the base on its uvs
   std::vector<std::string> glowTextures;  ///< additive stages over the base (self-illumination)
+  /// An image stage blended over the base by its alpha (blendFunc blend) before a later $lightmap
+  /// filter lights both: a launch pad's frame over its scrolling arrows, a terrain's second
+  /// texture faded in by vertex alpha ("" if none; of several, the topmost). See coverStage.
+  std::string coverTexture;
+  std::vector<TcMod> coverTcMods;         ///< The cover stage's tcMods (on the mesh uvs)
+  bool coverClampUv = false;              ///< The cover stage is clampMap
+  bool coverVertexAlpha = false;          ///< alphaGen vertex: the cover's alpha x the vertex alpha
+  float coverAlphaCutoff = 0;             ///< alphaFunc GE128: 0.5 (a cover alpha below it covers nothing)
   bool emissive = false;                  ///< surfaceLight > 0, or glow stages, or additive base
   bool sky = false;
   SkyBox skyBox;

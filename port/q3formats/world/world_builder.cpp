@@ -179,6 +179,18 @@ class SceneAssembler {
       else
         scene_.warnings.push_back("shader '" + def.name + "': glow texture '" + glow + "' not found, glow left out");
     }
+    if (!info.coverTexture.empty() && m.baseTexture >= 0) {
+      // A missing cover image would cover the base with the fallback checker: left out instead.
+      if (textures_.exists(info.coverTexture)) {
+        m.coverTexture = textures_.get(info.coverTexture, info.coverClampUv);
+        m.coverTcMods = info.coverTcMods;
+        m.coverVertexAlpha = info.coverVertexAlpha;
+        m.coverAlphaCutoff = info.coverAlphaCutoff;
+      } else {
+        scene_.warnings.push_back("shader '" + def.name + "': cover image '" + info.coverTexture +
+                                  "' not found, left out");
+      }
+    }
     if (info.surfaceLight > 0.0f) {
       m.surfaceLight = info.surfaceLight;
       glm::vec3 color(1.0f);

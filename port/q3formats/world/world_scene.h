@@ -102,6 +102,12 @@ struct WorldMaterial {
   std::vector<TcMod> tcMods;     ///< The base stage's tcMods in script order (uvScale and uvScrollPerSecond summarise them).
   bool baseReflects = false;     ///< Base stage is tcGen environment: a sphere map read at the mirrored view.
   int32_t reflectionOverlayTexture = -1;  ///< baseReflects: the surface's own texture added over the reflection (-1 = none).
+  /// Texture blended over the base by its alpha before the lightmap lights both (a launch pad's
+  /// frame over its scrolling treads, terrain's second texture by vertex alpha), -1 = none.
+  int32_t coverTexture = -1;
+  std::vector<TcMod> coverTcMods;  ///< The cover's tcMods, on the mesh uvs.
+  bool coverVertexAlpha = false;   ///< The cover's alpha is multiplied by the vertex alpha.
+  float coverAlphaCutoff = 0.0f;   ///< Cover alpha below it covers nothing (alphaFunc GE128: 0.5).
   int32_t lightmap = -1;         ///< Lightmap the shader names itself (q3map2's external lm_NNNN stage), index
                                  ///< into WorldScene::lightmaps; -1 = the surface's lightmap number decides.
 };

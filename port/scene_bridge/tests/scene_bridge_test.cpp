@@ -184,6 +184,28 @@ TEST(SceneBridge, EnvironmentBaseReadsTheReflectionSphere) {
   EXPECT_FLOAT_EQ(desc.uvTransform[0][0], 0.5f);   // tcMod scale applies after the lookup
 }
 
+TEST(SceneBridge, CoverStageKeepsItsTextureUvsAndAlphaSource) {
+  q3::WorldScene scene = wallScene(64, false);
+  scene.textures.push_back(scene.textures[0]);
+  WorldHandles handles;
+  handles.textures = {3, 8};
+  EXPECT_EQ(materialDesc(scene, handles, 0, 0).coverTexture, kNoId);
+  q3::WorldMaterial& m = scene.materials[0];
+  m.coverTexture = 1;
+  q3::TcMod scale;
+  scale.kind = q3::TcModKind::Scale;
+  scale.scroll = {2.0f, 4.0f};
+  m.coverTcMods = {scale};
+  m.coverVertexAlpha = true;
+  m.coverAlphaCutoff = 0.5f;
+  const MaterialDesc desc = materialDesc(scene, handles, 0, 0);
+  EXPECT_EQ(desc.coverTexture, 8u);
+  EXPECT_EQ(desc.coverUvTransform * glm::vec3(0.5f, 0.25f, 1.0f), glm::vec2(1.0f, 1.0f));   // tcMod scale 2 4
+  EXPECT_TRUE(desc.coverVertexAlpha);
+  EXPECT_FLOAT_EQ(desc.coverAlphaCutoff, 0.5f);
+  EXPECT_EQ(desc.uvTransform, glm::mat3x2(1.0f));   // the base's own uvs untouched
+}
+
 TEST(SceneBridge, AdditiveStagesBlendByTheirSourceFactor) {
   q3::WorldScene scene = wallScene(64, false);
   WorldHandles handles;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "renderer/scene/integrator/display_composite.h"
@@ -81,6 +82,13 @@ StockTexels stockTexels(const RenderScene& scene, const SurfaceHit& s, float foo
     const auto [base, baked] = encodeTwo(t.base, t.baked);
     if (encodeBase) t.base = base;
     if (encodeBaked) t.baked = baked;
+  }
+  if (m.cover != nullptr) {   // the cover stage blended over the base in display values
+    const CoverTexel cover = scene.coverAt(s, footprint, filter, true);
+    if (cover.weight > 0.0f) {
+      t.base = glm::mix(t.base, cover.color, cover.weight);
+      t.albedoKnown = false;   // litSurface decodes it from the display value
+    }
   }
   return t;
 }

@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
+
+#include <glm/common.hpp>
 
 #include "renderer/scene/textures/texture.h"
 #include "scene_builders.h"
@@ -323,6 +326,51 @@ TEST(KnownAnswer, LightmapPresetComposesTheShineInDisplayValues) {
   EXPECT_NEAR(masked.x, base + 0.25f * src.x, 2e-3f);
   // Direct preset: no lights, no sky: the shine is no light source (it is the glossy lobe's job).
   EXPECT_NEAR(shineOverLitBase(LayerBlend::Add, 1.0f, false, Integrator::Direct).x, 0.0f, 1e-6f);
+}
+
+/// A lightmapped floor whose base (display (200, 100, 50)) is covered by an image of display
+/// (20, 220, 120) and alpha 64 / 255 (MaterialDesc::coverTexture), its corners' colours of alpha
+/// vertexAlpha; the centre pixel's radiance and albedo with `integrator`.
+std::pair<glm::vec3, glm::vec3> coveredFloor(Integrator integrator, bool byVertexAlpha, float vertexAlpha,
+                                             float cutoff) {
+  Renderer r({2});
+  MaterialDesc m = test::diffuse(1.0f);
+  m.baseTexture = r.addTexture(TextureDesc{1, 1, test::solidPixels(1, 1, 200, 100, 50, 255), true});
+  m.coverTexture = r.addTexture(TextureDesc{1, 1, test::solidPixels(1, 1, 20, 220, 120, 64), true});
+  m.coverVertexAlpha = byVertexAlpha;
+  m.coverAlphaCutoff = cutoff;
+  m.stock.lightmapTexture = r.addTexture(TextureDesc{1, 1, test::solidPixels(1, 1, 102, 102, 102, 255), false});
+  test::MeshArrays q = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  q.setMaterial(r.addMaterial(m));
+  const std::vector<glm::vec2> lightmapUvs(4, glm::vec2(0.5f));
+  const std::vector<glm::vec4> colors(4, glm::vec4(1.0f, 1.0f, 1.0f, vertexAlpha));
+  MeshDesc desc = q.desc();
+  desc.lightmapUvs = lightmapUvs;
+  desc.colors = colors;
+  r.addInstance({r.addMesh(desc)});
+  r.commit();
+  const FrameView f = r.render(lookAt({0, 0, 2}, {0, 0, 0}, 30.0f), settingsFor(integrator, 4, 1));
+  return {f.radiance[5], f.albedo[5]};
+}
+
+TEST(KnownAnswer, CoverMixesOverTheBaseBeforeTheLightmap) {
+  const glm::vec3 base(200 / 255.0f, 100 / 255.0f, 50 / 255.0f), cover(20 / 255.0f, 220 / 255.0f, 120 / 255.0f);
+  const float a = 64 / 255.0f, light = linearToSrgb(0.4f);
+  const auto display = [](const glm::vec3& c) { return glm::vec3(linearToSrgb(c.r), linearToSrgb(c.g), linearToSrgb(c.b)); };
+  const auto linear = [](const glm::vec3& c) { return glm::vec3(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b)); };
+  // The Lightmap preset blends display values (the stage over the base), then multiplies by the light.
+  const glm::vec3 lit = display(coveredFloor(Integrator::Lightmap, false, 1.0f, 0.0f).first);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(lit[c], glm::mix(base[c], cover[c], a) * light, 2e-3f) << c;
+  // With the vertex alpha: a half-faded cover.
+  const glm::vec3 faded = display(coveredFloor(Integrator::Lightmap, true, 0.5f, 0.0f).first);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(faded[c], glm::mix(base[c], cover[c], 0.5f * a) * light, 2e-3f) << c;
+  // Below the cutoff the cover covers nothing; the vertex alpha alone changes nothing without coverVertexAlpha.
+  const glm::vec3 cut = display(coveredFloor(Integrator::Lightmap, false, 0.5f, 0.5f).first);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(cut[c], base[c] * light, 2e-3f) << c;
+  // Direct and Path: the albedo mixes linear colours.
+  const glm::vec3 albedo = coveredFloor(Integrator::Direct, false, 1.0f, 0.0f).second;
+  const glm::vec3 expected = glm::mix(linear(base), linear(cover), a);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(albedo[c], expected[c], 2e-3f) << c;
 }
 
 TEST(KnownAnswer, MeshUvShineFollowsTheMeshUvs) {

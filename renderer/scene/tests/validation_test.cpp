@@ -59,6 +59,12 @@ TEST(Validation, OutOfRangeIdsAreRejected) {
   MaterialDesc badTexture;
   badTexture.baseTexture = 3;
   expectSceneError([&] { r.addMaterial(badTexture); }, "baseTexture = 3");
+  MaterialDesc badCover;
+  badCover.coverTexture = 4;
+  expectSceneError([&] { r.addMaterial(badCover); }, "coverTexture = 4");
+  badCover.coverTexture = kNoId;
+  badCover.coverUvTransform[2].x = std::numeric_limits<float>::quiet_NaN();
+  expectSceneError([&] { r.addMaterial(badCover); }, "coverUvTransform");
   expectSceneError([&] { r.addInstance({42}); }, "mesh 42");
   InstanceDesc badOverride{mesh};
   badOverride.materialOverride = 77;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <span>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/mat3x2.hpp>
 
@@ -14,6 +15,7 @@
 #include <immintrin.h>
 #endif
 
+#include "renderer/core/srgb.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
 #include "renderer/scene/world/see_through_layers.h"
 
@@ -397,7 +399,41 @@ float RenderScene::baseLod(const SurfaceHit& s, float footprint) const {
 glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint, TextureFilter filter) const {
   glm::vec4 c = baseFactor(s);
   if (s.material->base != nullptr) c *= s.material->base->sample(s.uv, baseLod(s, footprint), filter);
+  if (s.material->cover != nullptr) {
+    const CoverTexel cover = coverAt(s, footprint, filter, false);
+    c = glm::vec4(glm::mix(glm::vec3(c), cover.color, cover.weight), c.a);
+  }
   return c;
+}
+
+CoverTexel RenderScene::coverAt(const SurfaceHit& s, float footprint, TextureFilter filter, bool displayValues) const {
+  const MaterialRecord& m = *s.material;
+  if (m.cover == nullptr || s.instance == nullptr) return {};
+  const MeshGeometry& g = s.instance->mesh->geometry;
+  glm::vec2 meshUv(0.0f), d1(0.0f), d2(0.0f);
+  if (!g.uvs.empty() && 3 * size_t{s.prim} + 2 < g.indices.size()) {
+    const glm::vec2 &uv0 = g.uvs[g.indices[3 * size_t{s.prim}]], &uv1 = g.uvs[g.indices[3 * size_t{s.prim} + 1]],
+                    &uv2 = g.uvs[g.indices[3 * size_t{s.prim} + 2]];
+    meshUv = (1.0f - s.bary.x - s.bary.y) * uv0 + s.bary.x * uv1 + s.bary.y * uv2;
+    const glm::mat2 linear(m.desc.coverUvTransform[0], m.desc.coverUvTransform[1]);
+    d1 = linear * (uv1 - uv0);
+    d2 = linear * (uv2 - uv0);
+  }
+  const glm::vec2 uv = m.desc.coverUvTransform * glm::vec3(meshUv, 1.0f);
+  // The mip level as baseLod's, from the triangle's area in the cover's uvs.
+  const float uvArea = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
+  float lod = 0.0f;
+  if (footprint > 0.0f && uvArea > 0.0f && s.worldArea > 0.0f) {
+    const float texels = static_cast<float>(m.cover->width()) * static_cast<float>(m.cover->height());
+    lod = std::log2(footprint * std::sqrt(uvArea * texels / s.worldArea));
+  }
+  const bool stored = displayValues && m.cover->srgb();
+  const glm::vec4 texel = stored ? m.cover->sampleStored(uv, lod, filter) : m.cover->sample(uv, lod, filter);
+  float weight = std::clamp(texel.a * (m.desc.coverVertexAlpha ? s.vertexColor.a : 1.0f), 0.0f, 1.0f);
+  if (weight < m.desc.coverAlphaCutoff) weight = 0.0f;
+  glm::vec3 color = glm::clamp(glm::vec3(texel), 0.0f, 1.0f);
+  if (displayValues && !stored) color = {linearToSrgb(color.x), linearToSrgb(color.y), linearToSrgb(color.z)};
+  return {color, weight};
 }
 
 glm::vec4 RenderScene::shineColor(const SurfaceHit& s, float footprint, TextureFilter filter) const {

@@ -50,6 +50,7 @@ struct MaterialRecord {
   const Texture* emissive = nullptr;
   const Texture* lightmap = nullptr;
   const Texture* shine = nullptr;   ///< StockLook::shineTexture.
+  const Texture* cover = nullptr;   ///< MaterialDesc::coverTexture.
   HitRule rule = HitRule::Opaque;   ///< How the BVH treats hits on it (materialHitRule).
   /// What the HitFilter callback does with its hits, by RayKind (materialFilterRule).
   std::array<FilterRule, 3> filter{};
@@ -209,6 +210,12 @@ struct SurfaceHit {
   float uvArea = 0.0f;                  ///< Triangle area in (transformed) uv space.
 };
 
+/// RenderScene::coverAt's answer: the cover's colour and how much of the base it covers.
+struct CoverTexel {
+  glm::vec3 color{0.0f};
+  float weight = 0.0f;   ///< In [0, 1].
+};
+
 /// The committed scene. Filled by SceneStore::commit(); read-only while rendering.
 struct RenderScene {
   std::vector<std::shared_ptr<const Texture>> textures;
@@ -262,6 +269,10 @@ struct RenderScene {
   glm::vec4 baseFactor(const SurfaceHit& s) const;
   /// baseColor's mip level of the base texture (0 without one).
   float baseLod(const SurfaceHit& s, float footprint) const;
+  /// The cover (MaterialDesc::coverTexture) at a hit, mip level from `footprint` as baseColor's:
+  /// its RGB (display values with `displayValues`: an sRGB texture read as stored, another
+  /// encoded; else linear) and the weight it covers the base with, 0 without a cover.
+  CoverTexel coverAt(const SurfaceHit& s, float footprint, TextureFilter filter, bool displayValues) const;
   /// Shine colour (shine texture x shineColor, linear RGB, A = texture alpha; 0 when the
   /// material has none), mip level from `footprint` as baseColor's.
   glm::vec4 shineColor(const SurfaceHit& s, float footprint, TextureFilter filter = {}) const;

@@ -52,6 +52,9 @@ void SceneStore::validateMaterial(const MaterialDesc& m, const CallContext& what
   };
   checkTexture(m.baseTexture, "baseTexture");
   checkTexture(m.emissiveTexture, "emissiveTexture");
+  checkTexture(m.coverTexture, "coverTexture");
+  for (int c = 0; c < 3; ++c) requireFinite(finite(m.coverUvTransform[c]), what, "coverUvTransform");
+  requireFinite(finite(m.coverAlphaCutoff), what, "coverAlphaCutoff");
   const StockLook& stock = m.stock;
   checkTexture(stock.lightmapTexture, "stock.lightmapTexture");
   checkTexture(stock.shineTexture, "stock.shineTexture");
@@ -467,6 +470,7 @@ void SceneStore::commit(RenderScene& scene) {
     r.emissive = texturePtr(d.emissiveTexture);
     r.lightmap = texturePtr(d.stock.lightmapTexture);
     r.shine = texturePtr(d.stock.shineTexture);
+    r.cover = texturePtr(d.coverTexture);
     r.rule = materialHitRule(d);
     for (const RayKind kind : {RayKind::Camera, RayKind::Bounce, RayKind::Shadow})
       r.filter[static_cast<size_t>(kind)] = materialFilterRule(d, kind);

@@ -183,6 +183,53 @@ TEST(Material, LaterStagesMultiplyingTheBaseOnItsUvs) {
   EXPECT_TRUE(material("w { { map $lightmap } { map w.tga blendFunc filter } }").baseModulations.empty());
 }
 
+TEST(Material, AlphaBlendedStageBeforeTheLightmapCoversTheBase) {
+  // OpenArena's blue_launchpad (oasfx.shader): scrolling treads, an added glow, the pad's frame
+  // blended over both, the lightmap, then a glow after it: the frame covers the treads.
+  auto pad = material(R"(p { { map tread.jpg tcmod scroll 0 1 rgbgen identity }
+    { map blaunch.jpg blendfunc add tcmod scroll 0 4 }
+    { map launchpad03.tga blendfunc blend rgbgen identity }
+    { map $lightmap blendfunc filter rgbgen identity }
+    { map blaunch2.jpg blendfunc add } })");
+  EXPECT_EQ(pad.baseTexture, "tread.jpg");
+  EXPECT_EQ(pad.coverTexture, "launchpad03.tga");
+  EXPECT_TRUE(pad.coverTcMods.empty());
+  EXPECT_FALSE(pad.coverVertexAlpha);
+  EXPECT_EQ(pad.coverAlphaCutoff, 0.0f);
+  // islandctf's terrain: a second texture faded in by vertex alpha, on uvs of its own.
+  auto terrain = material(R"(t { { map sand.tga }
+    { map rock.jpg alphagen vertex blendfunc GL_SRC_ALPHA GL_ONE_MINUS_SRC_ALPHA alphaFunc GE128 tcmod scale 2 2 }
+    { map $lightmap blendfunc GL_DST_COLOR GL_SRC_COLOR tcgen lightmap } })");
+  EXPECT_EQ(terrain.coverTexture, "rock.jpg");
+  ASSERT_EQ(terrain.coverTcMods.size(), 1u);
+  EXPECT_EQ(terrain.coverTcMods[0].kind, TcModKind::Scale);
+  EXPECT_TRUE(terrain.coverVertexAlpha);
+  EXPECT_EQ(terrain.coverAlphaCutoff, 0.5f);
+  // evil8's launch pads: the lightmap as GL_DST_COLOR GL_ONE_MINUS_DST_ALPHA (a filter over the
+  // solid frame, whose alpha is 1).
+  EXPECT_EQ(material(R"(l { { map fx.tga tcmod scroll 0 3 }
+    { map pad.tga blendfunc blend rgbgen identity }
+    { map $lightmap blendfunc gl_dst_color gl_one_minus_dst_alpha tcgen lightmap } })").coverTexture, "pad.tga");
+  // Of two, the topmost; the base's own image at its own uvs redrawn over effects is no cover.
+  EXPECT_EQ(material("t { { map a.tga } { map b.tga blendfunc blend } { map c.tga blendfunc blend } "
+                     "{ map $lightmap blendfunc filter } }").coverTexture, "c.tga");
+  EXPECT_EQ(material("j { { map pad.tga } { map fx.tga blendfunc add tcmod rotate 360 } "
+                     "{ map pad.tga blendfunc blend } { map $lightmap blendfunc filter } }").coverTexture, "");
+  // No cover: blended after the lightmap (not lit with the base), no lightmap at all, a
+  // reflection, another colour (rgbGen wave), a premultiplied blend, a see-through base.
+  for (const char* text : {"a { { map a.tga } { map $lightmap blendfunc filter } { map b.tga blendfunc blend } }",
+                           "b { { map a.tga } { map b.tga blendfunc blend } }",
+                           "c { { map a.tga } { map e.tga blendfunc blend tcGen environment } "
+                           "{ map $lightmap blendfunc filter } }",
+                           "d { { map a.tga } { map b.tga blendfunc blend rgbGen wave sin 0 1 0 1 } "
+                           "{ map $lightmap blendfunc filter } }",
+                           "e { { map a.tga } { map b.tga blendfunc GL_ONE GL_ONE_MINUS_SRC_ALPHA } "
+                           "{ map $lightmap blendfunc filter } }",
+                           "f { { map a.tga blendfunc blend } { map b.tga blendfunc blend } "
+                           "{ map $lightmap blendfunc filter } }"})
+    EXPECT_EQ(material(text).coverTexture, "") << text;
+}
+
 TEST(Material, ModulateBaseMultipliesDisplayValuesTexelForTexel) {
   std::vector<uint8_t> base = {200, 100, 255, 77, 128, 255, 0, 255};   // 2 x 1
   const std::vector<uint8_t> self = base;

@@ -44,6 +44,8 @@ void printMaterial(const q3::ShaderDef& def) {
                 m.lightImage.c_str(), m.glowTextures.size());
   if (m.sky) std::printf("  sky, far box '%s'\n", m.skyBox.farFaces[0].c_str());
   if (m.environmentMapped) std::printf("  environment map '%s'\n", m.environmentTexture.c_str());
+  if (!m.coverTexture.empty())
+    std::printf("  cover '%s'%s\n", m.coverTexture.c_str(), m.coverVertexAlpha ? " by vertex alpha" : "");
   std::printf("  %s%s%s%s%s%s\n", m.twoSided ? "two-sided " : "", m.portal ? "portal " : "", m.invisible ? "invisible " : "",
               m.fogVolume ? "fog " : "", m.liquid ? "liquid " : "", m.uvAnimation.empty() ? "" : "uv-animated");
 }

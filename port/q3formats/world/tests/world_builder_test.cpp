@@ -1,5 +1,6 @@
 // Scene assembly on a synthetic map: materials from scripts and implicit shaders, fallbacks,
 // mesh grouping and winding, sub-models, sky + sun, surface lights, hostile surfaces.
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -84,6 +85,18 @@ textures/test/terrain
   { map textures/test/shadow.tga blendfunc filter tcMod scale .2 .2 tcMod scroll -0.15 0.15 }
   { map $lightmap blendfunc filter }
 }
+textures/test/pad
+{
+  { map textures/test/wall.tga tcMod scroll 0 1 }
+  { map textures/test/shadow.tga blendFunc blend tcMod scale 2 2 }
+  { map $lightmap blendfunc filter }
+}
+textures/test/padmissing
+{
+  { map textures/test/wall.tga }
+  { map textures/test/absent.tga blendFunc blend }
+  { map $lightmap blendfunc filter }
+}
 textures/common/nodraw
 {
   surfaceparm nodraw
@@ -124,7 +137,8 @@ class WorldBuilderTest : public ::testing::Test {
                        {"textures/test/lamp", 0, 1}, {"textures/skies/test", 4, 1}, {"textures/common/nodraw", 0x80, 0},
                        {"textures/test/implicit", 0, 1}, {"textures/test/lampimage", 0, 1},
                        {"textures/test/lampmissing", 0, 1}, {"textures/test/shine", 0, 1},
-                       {"textures/test/terrain", 0, 1}};
+                       {"textures/test/terrain", 0, 1}, {"textures/test/pad", 0, 1},
+                       {"textures/test/padmissing", 0, 1}};
     source_.modelBounds = {{{0, 0, 0}, {64, 64, 64}}, {{0, 0, 100}, {64, 64, 101}}};
     source_.lightmaps.resize(2);
     source_.lightmaps[0].fill(64);
@@ -247,6 +261,25 @@ TEST_F(WorldBuilderTest, FilterStageOnItsOwnUvsDarkensTheBaseByItsMean) {
   for (size_t i = 0; i < darkened.rgba8.size(); i += 4)
     EXPECT_EQ(std::vector<uint8_t>(darkened.rgba8.begin() + i, darkened.rgba8.begin() + i + 4),
               (std::vector<uint8_t>{78, 39, 20, 255}));
+}
+
+TEST_F(WorldBuilderTest, AlphaBlendedStageBeforeTheLightmapIsTheCover) {
+  source_.surfaces = {quad(11, 0, 0, 0), quad(12, 0, 0, 8)};
+  WorldScene scene = build();
+  const WorldMaterial* pad = materialNamed(scene, "textures/test/pad");
+  ASSERT_NE(pad, nullptr);
+  ASSERT_GE(pad->coverTexture, 0);
+  EXPECT_EQ(scene.textures.at(size_t(pad->coverTexture)).image.rgba8.at(0), 100);   // shadow.png
+  ASSERT_EQ(pad->coverTcMods.size(), 1u);
+  EXPECT_EQ(pad->coverTcMods[0].kind, TcModKind::Scale);
+  EXPECT_FALSE(pad->coverVertexAlpha);
+  // A cover image that does not load is left out (not the fallback checker), with a warning.
+  const WorldMaterial* missing = materialNamed(scene, "textures/test/padmissing");
+  ASSERT_NE(missing, nullptr);
+  EXPECT_EQ(missing->coverTexture, -1);
+  EXPECT_TRUE(std::any_of(scene.warnings.begin(), scene.warnings.end(), [](const std::string& w) {
+    return w.find("cover image 'textures/test/absent.tga' not found") != std::string::npos;
+  }));
 }
 
 TEST_F(WorldBuilderTest, SkyShaderGivesSkyBoxAndSun) {

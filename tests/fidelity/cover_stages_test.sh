@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# cover_stages_test.sh MODULE IMGCOMPARE [OUT]: floors whose shader blends an image over its base
+# before the lightmap (MaterialDesc::coverTexture: launch and jump pads' frames over scrolling or
+# blinking effects), seen straight down in real OpenArena maps with our module (lightmap preset)
+# and with stock opengl1, compared (thresholds: tests/fidelity/README.md, "Cover stages"). Without
+# the cover our pads show their effect texture where stock shows the pad.
+# OUT (optional) keeps the screenshots. Exit 77 when the engine, the game data or xvfb-run are missing.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source "$here/engine_env.sh"
+module="$1"; imgcompare="$2"; keep="${3:-}"
+pa_engine_available || { echo "skipped: ioquake3, openarena or xvfb-run not installed"; exit 77; }
+out="$(mktemp -d /tmp/pa-cover-stages.XXXXXX)"
+trap 'rm -rf "$out"' EXIT
+export CAPTURE_LOOK_DOWN=1
+status=0
+# name map view crop (x,y,w,h; "-": the whole picture) min_psnr min_ssim. The pads' effects
+# animate (blinking arrows, scrolling treads): `fixedtime 50` makes every frame 50 ms of game
+# time, so both renderers draw them at the same shader time. The crops leave out what differs for
+# other reasons (oa_ctf4ish's wall beside the pad; its arrows, a glow drawn after the lightmap).
+cases=(
+  "jumppad wrackdm17 1216_-192_380_90 - 40 0.97"                  # textures/cosmo_sfx/dm17_jpad
+  "launchpad oa_ctf4ish 188_-320_1170_90 360,0,240,260 33 0.95"   # textures/sfx2/blue_launchpad
+  "e8pad oa_thor 3344_0_40_90 262,0,120,290 38 0.97"              # textures/bubctf1/e8_launchpad1, two pads
+)
+for c in "${cases[@]}"; do
+  read -r name map view crop psnr ssim <<<"$c"
+  view="${view//_/ }"
+  for renderer in opengl1 pathtracer; do
+    "$here/capture_view.sh" "$out/$name.$renderer" "$renderer" "$module" "$map" "$view" -- \
+      +set fixedtime 50 +set r_pt_preset lightmap +set r_pt_scale 1 >"$out/$name.$renderer.out" 2>&1 ||
+      { cat "$out/$name.$renderer.out"; echo "FAIL: capture $name with $renderer"; status=1; }
+  done
+done
+[[ -n "$keep" ]] && { mkdir -p "$keep"; cp -r "$out"/. "$keep/"; }
+[[ $status -eq 0 ]] || exit 1
+for c in "${cases[@]}"; do
+  read -r name map view crop psnr ssim <<<"$c"
+  a="$out/$name.pathtracer/view_1.tga" b="$out/$name.opengl1/view_1.tga"
+  args=()
+  [[ "$crop" != - ]] && args=(--crop "$crop")
+  echo "$name ($map, crop $crop): ours vs opengl1: $("$imgcompare" "$a" "$b" "${args[@]}")"
+  "$imgcompare" "$a" "$b" "${args[@]}" --min-psnr "$psnr" --min-ssim "$ssim" >/dev/null ||
+    { echo "FAIL: $name below PSNR $psnr dB / SSIM $ssim"; status=1; }
+done
+exit $status
