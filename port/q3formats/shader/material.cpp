@@ -56,8 +56,8 @@ namespace q3 {
 // | base stage rgbGen / alphaGen (wave)                | baseRgbGen/Wave, baseAlphaGen/Wave            |
 // | first glow stage rgbGen wave, tcMods               | glowWaves, glowWave, glowTcMods               |
 // | later image stage blendFunc blend over an opaque   | coverTexture, coverTcMods, coverClampUv,      |
-// |   base, lit by a later $lightmap filter (see       |   coverVertexAlpha (alphaGen vertex)          |
-// |   coverStage)                                      |                                               |
+// |   base, lit by a later $lightmap filter (see       |   coverVertexAlpha (alphaGen vertex); an      |
+// |   coverStage)                                      |   opaque stage between them is the base       |
 
 namespace {
 
@@ -133,7 +133,6 @@ bool litByLaterLightmap(const std::vector<ShaderStage>& stages, size_t index) {
 /// topmost image stage after `base` that blends by its alpha (SRC_ALPHA, ONE_MINUS_SRC_ALPHA) on
 /// the mesh uvs, with white colour (rgbGen identity) and the texture's alpha (times the vertex
 /// alpha with alphaGen vertex; no alphaFunc LT128), that a later $lightmap lights with the base.
-/// A stage that redraws the base's own image at the base's uvs covers it with itself: none.
 const ShaderStage* coverStage(const std::vector<ShaderStage>& stages, const ShaderStage& base) {
   const ShaderStage* cover = nullptr;
   for (const ShaderStage* s = &base + 1; s < stages.data() + stages.size(); ++s) {
@@ -151,11 +150,16 @@ const ShaderStage* coverStage(const std::vector<ShaderStage>& stages, const Shad
              later.dstBlend != BlendFactor::One;
     });
     if (s->alphaTest == AlphaTest::Lt128 || !lit) continue;
-    const bool redrawsBase = base.tcGen == TcGen::Base && s->textures.front() == base.textures.front() &&
-                             sameTcMods(s->tcMods, base.tcMods) && s->alphaGen != AlphaGen::Vertex;
-    cover = redrawsBase ? nullptr : s;
+    cover = s;
   }
   return cover;
+}
+
+/// True when `cover` redraws the base's own image at the base's uvs: it covers the base with
+/// itself (the effects drawn between show only through its holes).
+bool redrawsBase(const ShaderStage& base, const ShaderStage& cover) {
+  return base.tcGen == TcGen::Base && cover.textures.front() == base.textures.front() &&
+         sameTcMods(cover.tcMods, base.tcMods) && cover.alphaGen != AlphaGen::Vertex;
 }
 
 }  // namespace
@@ -242,6 +246,16 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
         break;
       }
   if (const ShaderStage* reflecting = environmentBase(stages)) base = reflecting;
+  // The cover of a solid base (coverStage) lies over what the last solid stage before it drew: a
+  // later opaque image stage overwrote the first (a scrolling glow under a panel with holes) and
+  // is the base the cover covers.
+  const ShaderStage* cover = nullptr;
+  if (base && base->tcGen != TcGen::Environment && !stages.front().blends()) {
+    cover = coverStage(stages, *base);
+    for (const ShaderStage* s = base + 1; cover != nullptr && s < cover; ++s)
+      if (isImageStage(*s) && !s->blends() && s->tcGen == TcGen::Base && s->textures.front()[0] != '$') base = s;
+    if (cover != nullptr && redrawsBase(*base, *cover)) cover = nullptr;
+  }
 
   bool hasLightmap = false;
   for (const auto& s : stages) {
@@ -338,16 +352,14 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
     m.glowTextures.push_back(s.textures.front());
   }
   m.emissive = m.surfaceLight > 0 || !m.glowTextures.empty() || m.alphaMode == AlphaMode::Additive;
-  // A cover over a solid base (one that lets what is behind show has no cover of its own).
-  if (base && !m.baseReflects && (m.alphaMode == AlphaMode::Opaque || m.alphaMode == AlphaMode::Mask))
-    if (const ShaderStage* cover = coverStage(stages, *base)) {
-      m.coverTexture = cover->textures.front();
-      m.coverTcMods = cover->tcMods;
-      m.coverClampUv = cover->clamp;
-      m.coverVertexAlpha = cover->alphaGen == AlphaGen::Vertex;
-      // GT0 keeps every alpha that blends anything in: no test.
-      m.coverAlphaCutoff = cover->alphaTest == AlphaTest::Ge128 ? 0.5f : 0.0f;
-    }
+  if (cover != nullptr) {
+    m.coverTexture = cover->textures.front();
+    m.coverTcMods = cover->tcMods;
+    m.coverClampUv = cover->clamp;
+    m.coverVertexAlpha = cover->alphaGen == AlphaGen::Vertex;
+    // GT0 keeps every alpha that blends anything in: no test.
+    m.coverAlphaCutoff = cover->alphaTest == AlphaTest::Ge128 ? 0.5f : 0.0f;
+  }
   // Shiny floors and trims (texture, chrome tcGen environment, the texture again with blendFunc
   // add, then $lightmap multiplying the frame: filter or DST_COLOR ONE_MINUS_SRC_ALPHA): the
   // added, lit texture is what the surface shows under the sheen.

@@ -205,6 +205,15 @@ TEST(Material, AlphaBlendedStageBeforeTheLightmapCoversTheBase) {
   EXPECT_EQ(terrain.coverTcMods[0].kind, TcModKind::Scale);
   EXPECT_TRUE(terrain.coverVertexAlpha);
   EXPECT_EQ(terrain.coverAlphaCutoff, 0.5f);
+  // oasfx's xmetalfloor_wall_5b: the panel, a scrolling glow drawn opaque over it, the panel
+  // again blended by its alpha: the glow is what shows through the panel's holes.
+  auto panel = material(R"(x { { map panel.tga rgbgen identity }
+    { map glow.jpg rgbgen identity tcmod scale .5 .5 }
+    { map panel.tga blendfunc blend rgbgen identity }
+    { map $lightmap blendfunc filter rgbgen identity } })");
+  EXPECT_EQ(panel.baseTexture, "glow.jpg");
+  EXPECT_EQ(panel.uvAnimation.size(), 1u);
+  EXPECT_EQ(panel.coverTexture, "panel.tga");
   // evil8's launch pads: the lightmap as GL_DST_COLOR GL_ONE_MINUS_DST_ALPHA (a filter over the
   // solid frame, whose alpha is 1).
   EXPECT_EQ(material(R"(l { { map fx.tga tcmod scroll 0 3 }
