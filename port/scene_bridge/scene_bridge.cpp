@@ -145,15 +145,19 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
     desc.coverAlphaCutoff = m.coverAlphaCutoff;
   }
 
+  // Additive surface lights are drawn as additive surfaces: the renderer does not sample
+  // additive surfaces as lights, so their light goes to surfaceLightProxy(). Those that add
+  // their stages plainly (blendFunc add: teleporter rings, force fields) show their glow stage
+  // as any additive surface does; flames (their own alpha) and water (a multiply-add) keep
+  // their base alone, as the glow stage of either would not add as its blend does.
+  const bool plainAdditive = m.alphaMode == q3::WorldAlphaMode::Additive && m.additiveSource == q3::BlendFactor::One;
   if (m.surfaceLight > 0.0f && m.alphaMode != q3::WorldAlphaMode::Additive) {
     setSurfaceLightEmission(scene, handles, m, lightScale, desc);
-  } else if (m.surfaceLight <= 0.0f && m.emissiveTexture >= 0) {
+  } else if ((m.surfaceLight <= 0.0f || plainAdditive) && m.emissiveTexture >= 0) {
     // Glow stages: the texture at its own brightness.
     desc.emissiveTexture = texture(m.emissiveTexture);
     desc.emission = glm::vec3(1.0f);
   }
-  // Additive surface lights (flames) are drawn as plain additive surfaces: the renderer does
-  // not sample additive surfaces as lights, so their light goes to surfaceLightProxy().
   return desc;
 }
 

@@ -54,7 +54,7 @@ namespace q3 {
 // | cull none / disable / twosided; cull back          | twoSided; backSided                           |
 // | base stage tcMods                                  | uvAnimation (uvTransformAt(t) = affine map)   |
 // | base stage rgbGen / alphaGen (wave)                | baseRgbGen/Wave, baseAlphaGen/Wave            |
-// | first glow stage rgbGen wave, tcMods               | glowWaves, glowWave, glowTcMods               |
+// | first glow stage rgbGen wave, tcMods, clampMap     | glowWaves, glowWave, glowTcMods, glowClampUv  |
 // | later image stage blendFunc blend over an opaque   | coverTexture, coverTcMods, coverClampUv,      |
 // |   base, lit by a later $lightmap filter (see       |   coverVertexAlpha (alphaGen vertex); an      |
 // |   coverStage)                                      |   opaque stage between them is the base       |
@@ -348,7 +348,10 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
       m.glowWaves = true;
       m.glowWave = s.rgbWave;
     }
-    if (m.glowTextures.empty()) m.glowTcMods = s.tcMods;
+    if (m.glowTextures.empty()) {
+      m.glowTcMods = s.tcMods;
+      m.glowClampUv = s.clamp;
+    }
     m.glowTextures.push_back(s.textures.front());
   }
   m.emissive = m.surfaceLight > 0 || !m.glowTextures.empty() || m.alphaMode == AlphaMode::Additive;

@@ -144,6 +144,7 @@ struct MaterialInfo {
   bool glowWaves = false;                 ///< The first glow stage is rgbGen wave (glowWave)
   WaveForm glowWave;
   std::vector<TcMod> glowTcMods;          ///< The first glow stage's tcMods
+  bool glowClampUv = false;               ///< The first glow stage is clampMap
   uint64_t surfaceParms = 0;
 };
 

@@ -175,7 +175,7 @@ class SceneAssembler {
       // A missing glow image would glow as the fallback checker: leave the glow out instead.
       const std::string& glow = info.glowTextures.front();
       if (textures_.exists(glow))
-        m.emissiveTexture = textures_.get(glow, false);
+        m.emissiveTexture = textures_.get(glow, info.glowClampUv);
       else
         scene_.warnings.push_back("shader '" + def.name + "': glow texture '" + glow + "' not found, glow left out");
     }

@@ -206,6 +206,28 @@ TEST(SceneBridge, CoverStageKeepsItsTextureUvsAndAlphaSource) {
   EXPECT_EQ(desc.uvTransform, glm::mat3x2(1.0f));   // the base's own uvs untouched
 }
 
+TEST(SceneBridge, PlainAdditiveSurfaceLightsShowTheirGlowStage) {
+  q3::WorldScene scene = wallScene(64, false);
+  scene.textures.push_back(scene.textures[0]);
+  WorldHandles handles;
+  handles.textures = {3, 8};
+  q3::WorldMaterial& m = scene.materials[0];
+  m.alphaMode = q3::WorldAlphaMode::Additive;
+  m.surfaceLight = 455.0f;
+  m.emissiveTexture = 1;
+  // blendFunc add (teleporter rings): the glow stage at its own brightness; never a light.
+  MaterialDesc desc = materialDesc(scene, handles, 0, 0);
+  EXPECT_EQ(desc.emissiveTexture, 8u);
+  EXPECT_EQ(desc.emission, glm::vec3(1.0f));
+  // GL_SRC_ALPHA GL_ONE (flames) and GL_DST_COLOR GL_ONE (water): the base alone.
+  for (const q3::BlendFactor source : {q3::BlendFactor::SrcAlpha, q3::BlendFactor::DstColor}) {
+    m.additiveSource = source;
+    desc = materialDesc(scene, handles, 0, 0);
+    EXPECT_EQ(desc.emissiveTexture, kNoId);
+    EXPECT_EQ(desc.emission, glm::vec3(0.0f));
+  }
+}
+
 TEST(SceneBridge, AdditiveStagesBlendByTheirSourceFactor) {
   q3::WorldScene scene = wallScene(64, false);
   WorldHandles handles;

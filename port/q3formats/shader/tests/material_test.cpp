@@ -137,7 +137,15 @@ TEST(Material, SurfaceLightAndGlowStages) {
   EXPECT_EQ(m.lightImage, "glow.tga");
   ASSERT_EQ(m.glowTextures.size(), 1u);
   EXPECT_EQ(m.glowTextures[0], "glow.tga");
+  EXPECT_FALSE(m.glowClampUv);
   EXPECT_EQ(m.baseTexture, "base.tga");
+  // oa_ctf's teleporter rings: a clampMap glow that stretches and turns (clamped as stock draws it).
+  auto rings = material(R"(t { q3map_surfacelight 455
+    { clampmap ring.tga blendfunc add tcmod rotate 40 }
+    { clampmap rings.jpg blendfunc add tcmod stretch sin 0.6 -0.3 0 0.5 } })");
+  ASSERT_EQ(rings.glowTextures.size(), 1u);
+  EXPECT_TRUE(rings.glowClampUv);
+  EXPECT_EQ(rings.glowTcMods.size(), 1u);
   auto noImage = material("l { q3map_surfacelight 10 { map base.tga } }");
   EXPECT_EQ(noImage.lightImage, "base.tga");
 }
