@@ -124,6 +124,8 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
       q3::lightmapPageOf(lightmap, handles.lightmaps.size()) >= 0 ? handles.lightmaps[size_t(lightmap)] : kNoId;
   desc.stock.useVertexLight = m.vertexLit || desc.stock.lightmapTexture == kNoId;
   if (m.vertexLit || desc.stock.lightmapTexture != kNoId) desc.stock.bakedLightScale = handles.bakedLightScale;
+  // A lightmap stage that doubles what it multiplies (GL_DST_COLOR GL_SRC_COLOR).
+  if (!desc.stock.useVertexLight) desc.stock.bakedLightScale *= m.lightmapScale;
   desc.mirror = m.mirror;
   desc.specular = m.specular;
   desc.twoSided = m.twoSided;

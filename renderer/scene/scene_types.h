@@ -201,7 +201,8 @@ struct StockLook {
   TextureId lightmapTexture = kNoId;    ///< Baked light for the lightmap preset (uses lightmapUvs).
   bool useVertexLight = false;          ///< Baked light is the vertex colour.
   /// Display-value multiplier of base colour x baked light, clamped at white: a display whose
-  /// gamma ramp multiplies what was drawn (Quake's overbright bits: 2^bits).
+  /// gamma ramp multiplies what was drawn (Quake's overbright bits: 2^bits), times 2 for a
+  /// lightmap stage that doubles what it multiplies (GL_DST_COLOR GL_SRC_COLOR).
   float bakedLightScale = 1.0f;
   /// Additive materials: how the Lightmap compositor composes the layer over what is behind it, in
   /// display values as framebuffer blending does (the other integrators add the colour).

@@ -4,8 +4,9 @@
 # compared (thresholds: tests/fidelity/README.md, "Cover stages"): floors that blend an image over
 # their base before the lightmap (MaterialDesc::coverTexture: launch and jump pads' frames over
 # scrolling or blinking effects; without it our pads showed their effect texture where stock
-# shows the pad), seen straight down, and a teleporter whose rings are a clampMap glow stage of
-# an additive surface light. OUT (optional) keeps the screenshots.
+# shows the pad), seen straight down; a teleporter whose rings are a clampMap glow stage of an
+# additive surface light; terrain blended by vertex alpha under a lightmap stage that doubles
+# (GL_DST_COLOR GL_SRC_COLOR). OUT (optional) keeps the screenshots.
 # Exit 77 when the engine, the game data or xvfb-run are missing.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -24,6 +25,7 @@ cases=(
   "launchpad oa_ctf4ish 188_-320_1170_90 down - 35 0.97"               # textures/sfx2/blue_launchpad
   "e8pad oa_thor 3344_0_40_90 down 262,0,120,290 38 0.97"              # textures/bubctf1/e8_launchpad1, two pads
   "rings oa_ctf4ish -8_-256_1156_-18 ahead 420,110,130,140 24 0.94"    # textures/ctf/blue_telep2
+  "terrain islandctf -864_0_532_-27 ahead - 33 0.95"                   # textures/islandctf/terrain_*
 )
 for c in "${cases[@]}"; do
   read -r name map view look crop psnr ssim <<<"$c"

@@ -25,6 +25,7 @@ namespace q3 {
 // | first stage: filter (DST_COLOR, ZERO),             | Multiply                                      |
 // |   (ZERO, SRC_COLOR), (DST_COLOR, SRC_COLOR)        |                                               |
 // | any $lightmap stage                                | lighting Lightmap                             |
+// | first lightmap stage GL_DST_COLOR GL_SRC_COLOR     | lightmapScale 2 (else 1)                      |
 // | first lightmap stage is q3map2's external image,   | lightmapImage (its path)                      |
 // |   not additive (light style stages add)            |                                               |
 // | base rgbGen vertex / exactVertex / oneMinusVertex  | lighting Vertex, vertexColor                  |
@@ -264,6 +265,10 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
     if (lightmap && !hasLightmap && !s.textures.empty() && s.textures.front()[0] != '$' &&
         blendMode(s) != AlphaMode::Additive)
       m.lightmapImage = s.textures.front();
+    // GL_DST_COLOR GL_SRC_COLOR: what is drawn x the lightmap x 2 (islandctf's terrain).
+    if (lightmap && !hasLightmap && s.hasBlend && s.srcBlend == BlendFactor::DstColor &&
+        s.dstBlend == BlendFactor::SrcColor)
+      m.lightmapScale = 2.0f;
     hasLightmap |= lightmap;
   }
 

@@ -96,6 +96,9 @@ struct MaterialInfo {
   BlendFactor additiveSource = BlendFactor::One;
   bool additiveAlphaTest = false;         ///< Additive with alphaFunc: texels failing it (alphaCutoff, alphaInvert) add nothing
   LightingMode lighting = LightingMode::Lightmap;
+  /// Multiplier of the lit colour by the first lightmap stage's blend: 2 for GL_DST_COLOR
+  /// GL_SRC_COLOR (what is drawn x the lightmap x 2), else 1.
+  float lightmapScale = 1;
   std::string lightmapImage;              ///< the lightmap stage's own image (q3map2's external
                                           ///< "maps/<map>/lm_NNNN"); "" for $lightmap or none
   std::array<float, 3> constColor{1, 1, 1};  ///< base stage rgbGen const colour (else white)

@@ -153,6 +153,7 @@ class SceneAssembler {
     const bool solidStage = info.alphaMode == AlphaMode::Opaque || info.alphaMode == AlphaMode::Mask;
     m.visible = !info.invisible && (!m.fog || solidStage) &&
                 (m.surfaceFlags & (kSurfNodraw | kSurfHint | kSurfSkip)) == 0;
+    m.lightmapScale = info.lightmapScale;
     if (!info.lightmapImage.empty()) m.lightmap = externalLightmaps_.get(info.lightmapImage);
     if (m.lightmap >= 0) {   // drawn by its shader stage as an image
       scene_.lightmapNamedByShader.resize(scene_.lightmaps.size(), false);

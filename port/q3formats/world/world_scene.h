@@ -108,6 +108,8 @@ struct WorldMaterial {
   std::vector<TcMod> coverTcMods;  ///< The cover's tcMods, on the mesh uvs.
   bool coverVertexAlpha = false;   ///< The cover's alpha is multiplied by the vertex alpha.
   float coverAlphaCutoff = 0.0f;   ///< Cover alpha below it covers nothing (alphaFunc GE128: 0.5).
+  /// Multiplier of the lit colour by the shader's lightmap stage (2: GL_DST_COLOR GL_SRC_COLOR).
+  float lightmapScale = 1.0f;
   int32_t lightmap = -1;         ///< Lightmap the shader names itself (q3map2's external lm_NNNN stage), index
                                  ///< into WorldScene::lightmaps; -1 = the surface's lightmap number decides.
 };

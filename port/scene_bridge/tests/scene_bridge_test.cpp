@@ -206,6 +206,17 @@ TEST(SceneBridge, CoverStageKeepsItsTextureUvsAndAlphaSource) {
   EXPECT_EQ(desc.uvTransform, glm::mat3x2(1.0f));   // the base's own uvs untouched
 }
 
+TEST(SceneBridge, DoublingLightmapStageDoublesTheBakedLight) {
+  q3::WorldScene scene = wallScene(64, false);
+  WorldHandles handles;
+  handles.lightmaps = {5};
+  handles.bakedLightScale = 1.5f;
+  scene.materials[0].lightmapScale = 2.0f;
+  EXPECT_FLOAT_EQ(materialDesc(scene, handles, 0, 0).stock.bakedLightScale, 3.0f);
+  // Vertex-lit (no lightmap page): the vertex colours as they are.
+  EXPECT_FLOAT_EQ(materialDesc(scene, handles, 0, -1).stock.bakedLightScale, 1.0f);
+}
+
 TEST(SceneBridge, PlainAdditiveSurfaceLightsShowTheirGlowStage) {
   q3::WorldScene scene = wallScene(64, false);
   scene.textures.push_back(scene.textures[0]);

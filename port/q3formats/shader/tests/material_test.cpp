@@ -213,6 +213,8 @@ TEST(Material, AlphaBlendedStageBeforeTheLightmapCoversTheBase) {
   EXPECT_EQ(terrain.coverTcMods[0].kind, TcModKind::Scale);
   EXPECT_TRUE(terrain.coverVertexAlpha);
   EXPECT_EQ(terrain.coverAlphaCutoff, 0.5f);
+  EXPECT_EQ(terrain.lightmapScale, 2.0f);   // GL_DST_COLOR GL_SRC_COLOR: the lit frame doubled
+  EXPECT_EQ(pad.lightmapScale, 1.0f);
   // oasfx's xmetalfloor_wall_5b: the panel, a scrolling glow drawn opaque over it, the panel
   // again blended by its alpha: the glow is what shows through the panel's holes.
   auto panel = material(R"(x { { map panel.tga rgbgen identity }
