@@ -225,11 +225,14 @@ class Exporter {
     // reflection (shiny floors and trims), that texture is the base of a smooth dielectric;
     // otherwise the surface becomes a reflective tint: the image's mean colour x the stage
     // colour on a smooth metal. Any viewer's environment lighting supplies the reflection.
+    // A texture blended over the reflection by its alpha (the cover: painted metal over chrome)
+    // is what the surface shows too.
     const bool reflective = m.baseReflects;
-    const bool overlaid = reflective && textureUsable(m.reflectionOverlayTexture);
+    const int32_t overlay = textureUsable(m.reflectionOverlayTexture) ? m.reflectionOverlayTexture : m.coverTexture;
+    const bool overlaid = reflective && textureUsable(overlay);
     int32_t shownTexture = m.baseTexture;
     if (overlaid) {
-      shownTexture = m.reflectionOverlayTexture;
+      shownTexture = overlay;
       pbr["roughnessFactor"] = kReflectiveRoughness;
     } else if (reflective) {
       if (textureUsable(m.baseTexture) && !scene_.textures[size_t(m.baseTexture)].isFallback)
@@ -249,6 +252,7 @@ class Exporter {
         if (m.alphaInvert) variant = AlphaVariant::Inverted;
         break;
       case q3::WorldAlphaMode::Blend:
+      case q3::WorldAlphaMode::Filter:   // glTF has no multiplying mode: blended by its alpha
         out["alphaMode"] = "BLEND";
         base.a *= m.opacity;
         break;
@@ -295,6 +299,7 @@ class Exporter {
                   {"contentFlags", m.contentFlags},
                   {"implicitShader", !m.fromScript}};
     if (m.alphaMode == q3::WorldAlphaMode::Additive) quake["blend"] = "add";
+    if (m.alphaMode == q3::WorldAlphaMode::Filter) quake["blend"] = "filter";
     if (m.surfaceLight > 0.0f) quake["surfaceLight"] = m.surfaceLight;
     if (m.sky) quake["sky"] = true;
     if (m.mirror) quake["mirror"] = true;

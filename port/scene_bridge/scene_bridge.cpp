@@ -35,7 +35,8 @@ AlphaMode alphaModeOf(q3::WorldAlphaMode mode) {
     case q3::WorldAlphaMode::Opaque: return AlphaMode::Opaque;
     case q3::WorldAlphaMode::Mask: return AlphaMode::Mask;
     case q3::WorldAlphaMode::Blend: return AlphaMode::Blend;
-    case q3::WorldAlphaMode::Additive: return AlphaMode::Additive;
+    case q3::WorldAlphaMode::Additive:
+    case q3::WorldAlphaMode::Filter: return AlphaMode::Additive;   // a see-through layer (StockLook::layerBlend)
   }
   return AlphaMode::Opaque;
 }
@@ -119,6 +120,12 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
       default: break;   // One (and rarer factors): the texture added
     }
     desc.layerAlphaTest = m.additiveAlphaTest;
+  } else if (m.alphaMode == q3::WorldAlphaMode::Filter) {   // multiplies what is behind (tinted glass)
+    switch (m.filterBlend) {
+      case q3::FilterBlend::Multiply: desc.stock.layerBlend = LayerBlend::Multiply; break;
+      case q3::FilterBlend::MultiplyInverse: desc.stock.layerBlend = LayerBlend::MultiplyInverse; break;
+      case q3::FilterBlend::Modulate2x: desc.stock.layerBlend = LayerBlend::Modulate2x; break;
+    }
   }
   desc.stock.lightmapTexture =
       q3::lightmapPageOf(lightmap, handles.lightmaps.size()) >= 0 ? handles.lightmaps[size_t(lightmap)] : kNoId;
@@ -153,7 +160,8 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   // as any additive surface does; flames (their own alpha) and water (a multiply-add) keep
   // their base alone, as the glow stage of either would not add as its blend does.
   const bool plainAdditive = m.alphaMode == q3::WorldAlphaMode::Additive && m.additiveSource == q3::BlendFactor::One;
-  if (m.surfaceLight > 0.0f && m.alphaMode != q3::WorldAlphaMode::Additive) {
+  const bool layer = m.alphaMode == q3::WorldAlphaMode::Additive || m.alphaMode == q3::WorldAlphaMode::Filter;
+  if (m.surfaceLight > 0.0f && !layer) {
     setSurfaceLightEmission(scene, handles, m, lightScale, desc);
   } else if ((m.surfaceLight <= 0.0f || plainAdditive) && m.emissiveTexture >= 0) {
     // Glow stages: the texture at its own brightness.
@@ -166,7 +174,8 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
 std::optional<MaterialDesc> surfaceLightProxy(const q3::WorldScene& scene, const WorldHandles& handles,
                                               uint32_t material, float lightScale) {
   const q3::WorldMaterial& m = scene.materials.at(material);
-  if (!(m.surfaceLight > 0.0f) || m.alphaMode != q3::WorldAlphaMode::Additive || m.sky) return std::nullopt;
+  const bool layer = m.alphaMode == q3::WorldAlphaMode::Additive || m.alphaMode == q3::WorldAlphaMode::Filter;
+  if (!(m.surfaceLight > 0.0f) || !layer || m.sky) return std::nullopt;
   MaterialDesc desc;
   desc.visible = false;        // never hit: sampled as a light only (NEE at full weight)
   desc.castsShadows = false;

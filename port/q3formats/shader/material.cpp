@@ -22,8 +22,9 @@ namespace q3 {
 // |   (ONE, ONE_MINUS_SRC_ALPHA)                       |                                               |
 // | first stage: dst factor ONE (add, SRC_ALPHA ONE,   | Additive (emissive)                           |
 // |   DST_COLOR ONE, ...)                              |                                               |
-// | first stage: filter (DST_COLOR, ZERO),             | Multiply                                      |
-// |   (ZERO, SRC_COLOR), (DST_COLOR, SRC_COLOR)        |                                               |
+// | first stage: filter (DST_COLOR, ZERO),             | Multiply, filterBlend (Modulate2x for         |
+// |   (ZERO, SRC_COLOR), (DST_COLOR, SRC_COLOR),       |   DST_COLOR SRC_COLOR, MultiplyInverse for    |
+// |   (ZERO, ONE_MINUS_SRC_COLOR)                      |   ZERO ONE_MINUS_SRC_COLOR)                   |
 // | any $lightmap stage                                | lighting Lightmap                             |
 // | first lightmap stage GL_DST_COLOR GL_SRC_COLOR     | lightmapScale 2 (else 1)                      |
 // | first lightmap stage is q3map2's external image,   | lightmapImage (its path)                      |
@@ -58,7 +59,8 @@ namespace q3 {
 // | first glow stage rgbGen wave, tcMods, clampMap     | glowWaves, glowWave, glowTcMods, glowClampUv  |
 // | later image stage blendFunc blend over an opaque   | coverTexture, coverTcMods, coverClampUv,      |
 // |   base, lit by a later $lightmap filter (see       |   coverVertexAlpha (alphaGen vertex); an      |
-// |   coverStage)                                      |   opaque stage between them is the base       |
+// |   coverStage)                                      |   opaque stage between them is the base; a    |
+// |                                                    |   reflecting last solid stage is the base     |
 
 namespace {
 
@@ -102,6 +104,15 @@ std::vector<std::string> lightImageCandidates(const ShaderDef& shader) {
     if (!name.empty() && std::find(candidates.begin(), candidates.end(), name) == candidates.end())
       candidates.push_back(name);
   return candidates;
+}
+
+/// The last stage (not $lightmap) that writes without blending, or null: it overwrites every
+/// earlier one.
+const ShaderStage* lastSolidStage(const std::vector<ShaderStage>& stages) {
+  const ShaderStage* last = nullptr;
+  for (const ShaderStage& s : stages)
+    if (s.source != TextureSource::Lightmap && !s.blends()) last = &s;
+  return last;
 }
 
 /// The environment-mapped stage that the stock renderer leaves as a surface's colour, or null:
@@ -250,8 +261,16 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   // The cover of a solid base (coverStage) lies over what the last solid stage before it drew: a
   // later opaque image stage overwrote the first (a scrolling glow under a panel with holes) and
   // is the base the cover covers.
+  // Chrome under a texture with holes (the last solid stage reflects; then the texture blended
+  // by its alpha; then the lightmap): the reflection is the base and the texture its cover.
   const ShaderStage* cover = nullptr;
-  if (base && base->tcGen != TcGen::Environment && !stages.front().blends()) {
+  if (base && !stages.front().blends()) {
+    const ShaderStage* chrome = lastSolidStage(stages);
+    if (base->tcGen != TcGen::Environment && chrome != nullptr && isImageStage(*chrome) &&
+        chrome->tcGen == TcGen::Environment)
+      if ((cover = coverStage(stages, *chrome)) != nullptr) base = chrome;
+  }
+  if (base && cover == nullptr && base->tcGen != TcGen::Environment && !stages.front().blends()) {
     cover = coverStage(stages, *base);
     for (const ShaderStage* s = base + 1; cover != nullptr && s < cover; ++s)
       if (isImageStage(*s) && !s->blends() && s->tcGen == TcGen::Base && s->textures.front()[0] != '$') base = s;
@@ -292,6 +311,11 @@ MaterialInfo deriveMaterial(const ShaderDef& shader) {
   if (!stages.empty()) {
     const ShaderStage& first = stages.front();
     m.alphaMode = blendMode(first);
+    if (m.alphaMode == AlphaMode::Multiply)
+      m.filterBlend = first.srcBlend == BlendFactor::DstColor && first.dstBlend == BlendFactor::SrcColor
+                          ? FilterBlend::Modulate2x
+                      : first.dstBlend == BlendFactor::OneMinusSrcColor ? FilterBlend::MultiplyInverse
+                                                                         : FilterBlend::Multiply;
     const ShaderStage& tested = (first.alphaTest == AlphaTest::None && base) ? *base : first;
     if (tested.alphaTest != AlphaTest::None && m.alphaMode == AlphaMode::Opaque) {
       m.alphaMode = AlphaMode::Mask;

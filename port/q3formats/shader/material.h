@@ -95,6 +95,7 @@ struct MaterialInfo {
   /// (team decals: dst x (1 + src)).
   BlendFactor additiveSource = BlendFactor::One;
   bool additiveAlphaTest = false;         ///< Additive with alphaFunc: texels failing it (alphaCutoff, alphaInvert) add nothing
+  FilterBlend filterBlend = FilterBlend::Multiply;   ///< Multiply: how the first stage filters what is behind
   LightingMode lighting = LightingMode::Lightmap;
   /// Multiplier of the lit colour by the first lightmap stage's blend: 2 for GL_DST_COLOR
   /// GL_SRC_COLOR (what is drawn x the lightmap x 2), else 1.

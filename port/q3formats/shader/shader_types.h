@@ -61,6 +61,14 @@ enum class BlendFactor {
   SrcAlpha, OneMinusSrcAlpha, DstAlpha, OneMinusDstAlpha, SrcAlphaSaturate,
 };
 
+/// How a first stage that multiplies (MaterialInfo's AlphaMode::Multiply) filters what is behind
+/// it (dst: the framebuffer's values, src: the stage's colour).
+enum class FilterBlend {
+  Multiply,         ///< dst x src: blendFunc filter, (GL_DST_COLOR, GL_ZERO), (GL_ZERO, GL_SRC_COLOR)
+  MultiplyInverse,  ///< dst x (1 - src): (GL_ZERO, GL_ONE_MINUS_SRC_COLOR)
+  Modulate2x,       ///< 2 dst src: (GL_DST_COLOR, GL_SRC_COLOR)
+};
+
 /// `alphaFunc`: alpha test of the stage texture.
 enum class AlphaTest { None, Gt0, Lt128, Ge128 };
 

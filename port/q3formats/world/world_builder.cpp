@@ -53,7 +53,7 @@ WorldAlphaMode alphaModeOf(AlphaMode mode) {
     case AlphaMode::Mask: return WorldAlphaMode::Mask;
     case AlphaMode::Blend: return WorldAlphaMode::Blend;
     case AlphaMode::Additive: return WorldAlphaMode::Additive;
-    case AlphaMode::Multiply: return WorldAlphaMode::Blend;   // filter glass: closest neutral mode
+    case AlphaMode::Multiply: return WorldAlphaMode::Filter;
   }
   return WorldAlphaMode::Opaque;
 }
@@ -142,6 +142,7 @@ class SceneAssembler {
     m.alphaInvert = info.alphaInvert;
     m.additiveSource = info.additiveSource;
     m.additiveAlphaTest = info.additiveAlphaTest;
+    m.filterBlend = info.filterBlend;
     m.twoSided = info.twoSided;
     m.decal = info.polygonOffset;
     m.sky = info.sky || (m.surfaceFlags & kSurfSky) != 0;
@@ -162,7 +163,7 @@ class SceneAssembler {
     const bool lightmapped = hasLightmap || m.lightmap >= 0;
     m.vertexLit = info.lighting == LightingMode::Vertex || (!lightmapped && info.lighting == LightingMode::Lightmap) ||
                   (m.surfaceFlags & kSurfNolightmap) != 0;
-    m.castsShadows = !m.sky && m.alphaMode != WorldAlphaMode::Additive && m.visible;
+    m.castsShadows = !m.sky && m.alphaMode != WorldAlphaMode::Additive && m.alphaMode != WorldAlphaMode::Filter && m.visible;
     m.specular = info.environmentMapped ? 0.5f : 0.0f;
     m.baseReflects = info.baseReflects;
     if (m.baseReflects && !info.reflectionOverlay.empty() && textures_.exists(info.reflectionOverlay))

@@ -64,6 +64,7 @@ enum class WorldAlphaMode : uint8_t {
   Mask,      ///< alphaFunc GT0 / GE128 / LT128: alpha test.
   Blend,     ///< blendFunc blend (src alpha, 1 - src alpha): translucent.
   Additive,  ///< blendFunc add / (one, one) and friends: adds light, occludes nothing.
+  Filter,    ///< blendFunc filter and friends: multiplies what is behind (filterBlend), occludes nothing.
 };
 
 /// A material: one Quake shader as the renderers need it.
@@ -82,6 +83,7 @@ struct WorldMaterial {
   /// SrcAlpha the texture x its alpha, DstColor multiplies what is behind by 1 + the texture.
   BlendFactor additiveSource = BlendFactor::One;
   bool additiveAlphaTest = false;  ///< Additive with alphaFunc: texels failing the test add nothing.
+  FilterBlend filterBlend = FilterBlend::Multiply;  ///< Filter: how it multiplies what is behind.
   float opacity = 1.0f;          ///< Blend: overall opacity.
 
   glm::vec3 emission{0.0f};      ///< Linear emitted colour in [0,1] (q3map_lightImage/average texture colour).

@@ -239,6 +239,26 @@ TEST(SceneBridge, PlainAdditiveSurfaceLightsShowTheirGlowStage) {
   }
 }
 
+TEST(SceneBridge, FiltersMultiplyWhatIsBehind) {
+  q3::WorldScene scene = wallScene(64, false);
+  WorldHandles handles;
+  q3::WorldMaterial& m = scene.materials[0];
+  m.alphaMode = q3::WorldAlphaMode::Filter;   // tinted glass, energy fields: a see-through layer
+  MaterialDesc desc = materialDesc(scene, handles, 0, 0);
+  EXPECT_EQ(desc.alphaMode, AlphaMode::Additive);
+  EXPECT_EQ(desc.stock.layerBlend, LayerBlend::Multiply);
+  m.filterBlend = q3::FilterBlend::Modulate2x;
+  EXPECT_EQ(materialDesc(scene, handles, 0, 0).stock.layerBlend, LayerBlend::Modulate2x);
+  m.filterBlend = q3::FilterBlend::MultiplyInverse;
+  EXPECT_EQ(materialDesc(scene, handles, 0, 0).stock.layerBlend, LayerBlend::MultiplyInverse);
+  // A filter that is a surface light (ctf_gate1's energy fields) glows through its invisible twin,
+  // not through the layer.
+  m.surfaceLight = 150.0f;
+  desc = materialDesc(scene, handles, 0, 0);
+  EXPECT_EQ(desc.emission, glm::vec3(0.0f));
+  EXPECT_TRUE(surfaceLightProxy(scene, handles, 0, 1.0f).has_value());
+}
+
 TEST(SceneBridge, AdditiveStagesBlendByTheirSourceFactor) {
   q3::WorldScene scene = wallScene(64, false);
   WorldHandles handles;

@@ -122,6 +122,10 @@ TEST(Material, BlendModesOfTheFirstStage) {
   EXPECT_EQ(material("a { { map a.tga blendFunc GL_ONE GL_ONE_MINUS_SRC_ALPHA } }").alphaMode, AlphaMode::Blend);
   EXPECT_EQ(material("a { { map a.tga blendFunc GL_SRC_ALPHA GL_ONE } }").alphaMode, AlphaMode::Additive);
   EXPECT_EQ(material("a { { map a.tga blendFunc filter } }").alphaMode, AlphaMode::Multiply);
+  EXPECT_EQ(material("a { { map a.tga blendFunc filter } }").filterBlend, FilterBlend::Multiply);
+  EXPECT_EQ(material("a { { map a.tga blendFunc GL_DST_COLOR GL_SRC_COLOR } }").filterBlend, FilterBlend::Modulate2x);
+  EXPECT_EQ(material("a { { map a.tga blendFunc GL_ZERO GL_ONE_MINUS_SRC_COLOR } }").filterBlend,
+            FilterBlend::MultiplyInverse);
   EXPECT_EQ(material("a { { map a.tga blendFunc GL_ONE GL_ZERO } }").alphaMode, AlphaMode::Opaque);
   auto flame = material("a { { map flame.tga blendFunc add rgbGen identity } }");
   EXPECT_EQ(flame.alphaMode, AlphaMode::Additive);
@@ -224,6 +228,14 @@ TEST(Material, AlphaBlendedStageBeforeTheLightmapCoversTheBase) {
   EXPECT_EQ(panel.baseTexture, "glow.jpg");
   EXPECT_EQ(panel.uvAnimation.size(), 1u);
   EXPECT_EQ(panel.coverTexture, "panel.tga");
+  // evil8_base's e8metal_red_shiney: chrome, the painted metal over it with holes, the lightmap:
+  // the reflection is the base, the metal its cover.
+  auto shiny = material(R"(s { { map tinfx.tga rgbgen identity tcgen environment }
+    { map metal.tga blendfunc blend rgbgen identity }
+    { map $lightmap blendfunc gl_dst_color gl_one_minus_dst_alpha rgbgen identity tcgen lightmap } })");
+  EXPECT_EQ(shiny.baseTexture, "tinfx.tga");
+  EXPECT_TRUE(shiny.baseReflects);
+  EXPECT_EQ(shiny.coverTexture, "metal.tga");
   // evil8's launch pads: the lightmap as GL_DST_COLOR GL_ONE_MINUS_DST_ALPHA (a filter over the
   // solid frame, whose alpha is 1).
   EXPECT_EQ(material(R"(l { { map fx.tga tcmod scroll 0 3 }

@@ -91,6 +91,11 @@ textures/test/pad
   { map textures/test/shadow.tga blendFunc blend tcMod scale 2 2 }
   { map $lightmap blendfunc filter }
 }
+textures/test/tinted
+{
+  surfaceparm trans
+  { map textures/test/wall.tga blendFunc filter }
+}
 textures/test/padmissing
 {
   { map textures/test/wall.tga }
@@ -138,7 +143,7 @@ class WorldBuilderTest : public ::testing::Test {
                        {"textures/test/implicit", 0, 1}, {"textures/test/lampimage", 0, 1},
                        {"textures/test/lampmissing", 0, 1}, {"textures/test/shine", 0, 1},
                        {"textures/test/terrain", 0, 1}, {"textures/test/pad", 0, 1},
-                       {"textures/test/padmissing", 0, 1}};
+                       {"textures/test/padmissing", 0, 1}, {"textures/test/tinted", 0, 1}};
     source_.modelBounds = {{{0, 0, 0}, {64, 64, 64}}, {{0, 0, 100}, {64, 64, 101}}};
     source_.lightmaps.resize(2);
     source_.lightmaps[0].fill(64);
@@ -280,6 +285,16 @@ TEST_F(WorldBuilderTest, AlphaBlendedStageBeforeTheLightmapIsTheCover) {
   EXPECT_TRUE(std::any_of(scene.warnings.begin(), scene.warnings.end(), [](const std::string& w) {
     return w.find("cover image 'textures/test/absent.tga' not found") != std::string::npos;
   }));
+}
+
+TEST_F(WorldBuilderTest, FilterGlassMultipliesWhatIsBehindAndCastsNoShadow) {
+  source_.surfaces = {quad(13, 0, 0, 0)};
+  WorldScene scene = build();
+  const WorldMaterial* tinted = materialNamed(scene, "textures/test/tinted");
+  ASSERT_NE(tinted, nullptr);
+  EXPECT_EQ(tinted->alphaMode, WorldAlphaMode::Filter);
+  EXPECT_EQ(tinted->filterBlend, FilterBlend::Multiply);
+  EXPECT_FALSE(tinted->castsShadows);
 }
 
 TEST_F(WorldBuilderTest, SkyShaderGivesSkyBoxAndSun) {
