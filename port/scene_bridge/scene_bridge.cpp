@@ -143,7 +143,13 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   desc.uvTransform = glm::mat3x2(glm::vec2(m.uvScale.x, 0.0f), glm::vec2(0.0f, m.uvScale.y), glm::vec2(0.0f));
   // tcGen environment base: the renderer reads it at the mirrored view direction (stock look in the
   // lightmap preset; the albedo under the glossy lobe `specular` in the traced presets).
-  if (m.baseReflects) desc.baseTexCoords = TexCoordSource::ReflectionSphere;
+  // A reflection under the surface's own texture added and lit with it (shiny trims: texture,
+  // chrome, the texture again added, the lightmap): that texture on the mesh uvs is the base,
+  // the chrome the glossy lobe's (`specular`); the Lightmap preset leaves the chrome's sheen out.
+  if (m.baseReflects && m.reflectionOverlayTexture >= 0 && texture(m.reflectionOverlayTexture) != kNoId)
+    desc.baseTexture = texture(m.reflectionOverlayTexture);
+  else if (m.baseReflects)
+    desc.baseTexCoords = TexCoordSource::ReflectionSphere;
   // The cover stage on the mesh uvs through its tcMods at time 0 (no installed map's cover moves;
   // one that did would hold its place).
   desc.coverTexture = texture(m.coverTexture);

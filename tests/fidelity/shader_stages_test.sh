@@ -7,7 +7,8 @@
 # shows the pad), seen straight down; a teleporter whose rings are a clampMap glow stage of an
 # additive surface light; terrain blended by vertex alpha under a lightmap stage that doubles
 # (GL_DST_COLOR GL_SRC_COLOR); an energy field that multiplies what is behind it (blendFunc
-# filter); painted metal with holes over chrome. OUT (optional) keeps the screenshots.
+# filter); painted metal with holes over chrome; trims that add their texture over chrome before
+# the lightmap. OUT (optional) keeps the screenshots.
 # Exit 77 when the engine, the game data or xvfb-run are missing.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -24,11 +25,12 @@ status=0
 cases=(
   "jumppad wrackdm17 1216_-192_380_90 down - 40 0.97"                  # textures/cosmo_sfx/dm17_jpad
   "launchpad oa_ctf4ish 188_-320_1170_90 down - 35 0.97"               # textures/sfx2/blue_launchpad
-  "e8pad oa_thor 3344_0_40_90 down 262,0,120,290 38 0.97"              # textures/bubctf1/e8_launchpad1, two pads
+  "e8pad oa_thor 3344_0_40_90 down 262,0,120,290 35 0.97"              # textures/bubctf1/e8_launchpad1, two pads
   "rings oa_ctf4ish -8_-256_1156_-18 ahead 420,110,130,140 24 0.94"    # textures/ctf/blue_telep2
   "terrain islandctf -864_0_532_-27 ahead - 33 0.95"                   # textures/islandctf/terrain_*
   "energy ctf_gate1 624_160_-14_270 ahead - 33 0.96"                   # textures/cosmo_sfx/energy_red (filter)
   "chrome hydronex -584_1848_74_180 ahead - 25 0.93"                   # textures/evil8_base/e8metal_red_shiney
+  "trims sleekgrinder 40_128_-14_0 ahead - 34 0.97"                    # textures/base_trim/tin (added, then lit)
 )
 for c in "${cases[@]}"; do
   read -r name map view look crop psnr ssim <<<"$c"

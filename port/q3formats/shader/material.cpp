@@ -38,7 +38,8 @@ namespace q3 {
 // |                                                    |   image, sky _up, first stage image, editor   |
 // |                                                    |   image, shader name) / lightColor            |
 // | later stage blendFunc with dst ONE, not env/lm,    | glowTextures, emissive                        |
-// |   no $lightmap filter after it                     |                                               |
+// |   no multiplying $lightmap after it (filter, or    |                                               |
+// |   DST_COLOR with a destination other than ONE)     |                                               |
 // | the same over a reflecting base, multiplied by a   | reflectionOverlay (baseReflects only)         |
 // |   later $lightmap (src DST_COLOR)                  |                                               |
 // | later image stage after the base, same tcGen and   | baseModulations (scale 1; 2 for DST_COLOR     |
@@ -133,11 +134,15 @@ const ShaderStage* environmentBase(const std::vector<ShaderStage>& stages) {
   return &stages[last];
 }
 
-/// True when a later $lightmap stage multiplies (blendFunc filter) what stage `index` drew: an
-/// additive stage there is lit like the base (bluemetalsupport2e's second texture), not a glow.
+/// True when a later $lightmap stage multiplies what stage `index` drew (blendFunc filter, or
+/// GL_DST_COLOR with a destination factor of alpha: the frame's alpha is 1 over a solid base;
+/// not a light style that adds): an additive stage there is lit like the base
+/// (bluemetalsupport2e's second texture, base_trim/tin's), not a glow.
 bool litByLaterLightmap(const std::vector<ShaderStage>& stages, size_t index) {
   for (size_t i = index + 1; i < stages.size(); ++i)
-    if (stages[i].source == TextureSource::Lightmap && blendMode(stages[i]) == AlphaMode::Multiply) return true;
+    if (stages[i].source == TextureSource::Lightmap && stages[i].srcBlend == BlendFactor::DstColor &&
+        stages[i].dstBlend != BlendFactor::One)
+      return true;
   return false;
 }
 
@@ -155,13 +160,7 @@ const ShaderStage* coverStage(const std::vector<ShaderStage>& stages, const Shad
       continue;
     if (s->alphaGen != AlphaGen::Default && s->alphaGen != AlphaGen::Identity && s->alphaGen != AlphaGen::Vertex)
       continue;
-    // Lit by a later $lightmap that multiplies the frame: filter, or DST_COLOR with a destination
-    // factor of alpha (the frame's alpha is 1 over a solid base); not a light style that adds.
-    const bool lit = std::any_of(s + 1, stages.data() + stages.size(), [](const ShaderStage& later) {
-      return later.source == TextureSource::Lightmap && later.srcBlend == BlendFactor::DstColor &&
-             later.dstBlend != BlendFactor::One;
-    });
-    if (s->alphaTest == AlphaTest::Lt128 || !lit) continue;
+    if (s->alphaTest == AlphaTest::Lt128 || !litByLaterLightmap(stages, size_t(s - stages.data()))) continue;
     cover = s;
   }
   return cover;

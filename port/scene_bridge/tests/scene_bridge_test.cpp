@@ -182,6 +182,13 @@ TEST(SceneBridge, EnvironmentBaseReadsTheReflectionSphere) {
   const MaterialDesc desc = materialDesc(scene, handles, 0, 0);
   EXPECT_EQ(desc.baseTexCoords, TexCoordSource::ReflectionSphere);
   EXPECT_FLOAT_EQ(desc.uvTransform[0][0], 0.5f);   // tcMod scale applies after the lookup
+  // The surface's own texture added over the reflection and lit with it: that texture is the base.
+  scene.textures.push_back(scene.textures[0]);
+  scene.materials[0].reflectionOverlayTexture = 1;
+  handles.textures = {3, 8};
+  const MaterialDesc overlaid = materialDesc(scene, handles, 0, 0);
+  EXPECT_EQ(overlaid.baseTexCoords, TexCoordSource::Mesh);
+  EXPECT_EQ(overlaid.baseTexture, 8u);
 }
 
 TEST(SceneBridge, CoverStageKeepsItsTextureUvsAndAlphaSource) {

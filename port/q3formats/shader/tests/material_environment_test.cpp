@@ -51,6 +51,7 @@ TEST(MaterialEnvironment, OpaqueEnvironmentStageOverwritesEarlierStages) {
     { map $lightmap blendfunc gl_dst_color gl_one_minus_src_alpha tcGen lightmap } })");
   EXPECT_TRUE(floor.baseReflects);
   EXPECT_EQ(floor.reflectionOverlay, "hfloor3.jpg");
+  EXPECT_TRUE(floor.glowTextures.empty());   // lit by that lightmap too: not a glow
   // An unlit additive stage over chrome is a glow, not the surface's texture.
   auto glowing = material(R"(tele { { map env.tga tcGen environment } { map swirl.tga blendFunc add } })");
   EXPECT_EQ(glowing.reflectionOverlay, "");
