@@ -136,6 +136,13 @@ void WorldAnimation::prepare(const q3::WorldScene& scene, const q3::ShaderLibrar
     }
     entry.still = pa::bridge::materialDesc(scene, world, key.first, key.second);
     entry.stillBase = entry.still.baseTexture;
+    // A shiny trim's base is the texture it adds over its chrome, on the mesh uvs (scene_bridge):
+    // the chrome stage's tcMods and colour waves are not that texture's.
+    if (m.baseReflects && entry.still.baseTexCoords == pa::TexCoordSource::Mesh) {
+      entry.motion.tcMods.clear();
+      entry.motion.rgbGen = q3::RgbGen::Identity;
+      entry.motion.alphaGen = q3::AlphaGen::Identity;
+    }
     if (info.animFrames.size() > 1 && info.animFrequency > 0.0f) {
       for (const std::string& frame : info.animFrames) {
         const pa::TextureId texture = frameTexture(frame, info.clampUv);

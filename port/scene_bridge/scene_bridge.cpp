@@ -146,9 +146,10 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   // A reflection under the surface's own texture added and lit with it (shiny trims: texture,
   // chrome, the texture again added, the lightmap): that texture on the mesh uvs is the base,
   // the chrome the glossy lobe's (`specular`); the Lightmap preset leaves the chrome's sheen out.
-  if (m.baseReflects && m.reflectionOverlayTexture >= 0 && texture(m.reflectionOverlayTexture) != kNoId)
+  if (m.baseReflects && m.reflectionOverlayTexture >= 0 && texture(m.reflectionOverlayTexture) != kNoId) {
     desc.baseTexture = texture(m.reflectionOverlayTexture);
-  else if (m.baseReflects)
+    desc.uvTransform = glm::mat3x2(1.0f);   // the chrome's tcMods are not the texture's
+  } else if (m.baseReflects)
     desc.baseTexCoords = TexCoordSource::ReflectionSphere;
   // The cover stage on the mesh uvs through its tcMods at time 0 (no installed map's cover moves;
   // one that did would hold its place).

@@ -189,6 +189,7 @@ TEST(SceneBridge, EnvironmentBaseReadsTheReflectionSphere) {
   const MaterialDesc overlaid = materialDesc(scene, handles, 0, 0);
   EXPECT_EQ(overlaid.baseTexCoords, TexCoordSource::Mesh);
   EXPECT_EQ(overlaid.baseTexture, 8u);
+  EXPECT_EQ(overlaid.uvTransform, glm::mat3x2(1.0f));   // the chrome's tcMod scale is not the texture's
 }
 
 TEST(SceneBridge, CoverStageKeepsItsTextureUvsAndAlphaSource) {
