@@ -149,8 +149,9 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   if (m.baseReflects && m.reflectionOverlayTexture >= 0 && texture(m.reflectionOverlayTexture) != kNoId) {
     desc.baseTexture = texture(m.reflectionOverlayTexture);
     desc.uvTransform = glm::mat3x2(1.0f);   // the chrome's tcMods are not the texture's
-  } else if (m.baseReflects)
+  } else if (m.baseReflects) {
     desc.baseTexCoords = TexCoordSource::ReflectionSphere;
+  }
   // The cover stage on the mesh uvs through its tcMods at time 0 (no installed map's cover moves;
   // one that did would hold its place).
   desc.coverTexture = texture(m.coverTexture);

@@ -356,8 +356,12 @@ std::pair<glm::vec3, glm::vec3> coveredFloor(Integrator integrator, bool byVerte
 TEST(KnownAnswer, CoverMixesOverTheBaseBeforeTheLightmap) {
   const glm::vec3 base(200 / 255.0f, 100 / 255.0f, 50 / 255.0f), cover(20 / 255.0f, 220 / 255.0f, 120 / 255.0f);
   const float a = 64 / 255.0f, light = linearToSrgb(0.4f);
-  const auto display = [](const glm::vec3& c) { return glm::vec3(linearToSrgb(c.r), linearToSrgb(c.g), linearToSrgb(c.b)); };
-  const auto linear = [](const glm::vec3& c) { return glm::vec3(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b)); };
+  const auto display = [](const glm::vec3& c) {
+    return glm::vec3(linearToSrgb(c.r), linearToSrgb(c.g), linearToSrgb(c.b));
+  };
+  const auto linear = [](const glm::vec3& c) {
+    return glm::vec3(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b));
+  };
   // The Lightmap preset blends display values (the stage over the base), then multiplies by the light.
   const glm::vec3 lit = display(coveredFloor(Integrator::Lightmap, false, 1.0f, 0.0f).first);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(lit[c], glm::mix(base[c], cover[c], a) * light, 2e-3f) << c;
