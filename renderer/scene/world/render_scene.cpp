@@ -44,6 +44,23 @@ glm::vec3 divided(const glm::vec3& v, float d) {
 #endif
 }
 
+/// A triangle's area in mesh uvs through an affine transform's linear part (0 without uvs).
+float triangleUvArea(const MeshGeometry& g, uint32_t i0, uint32_t i1, uint32_t i2, const glm::mat3x2& transform) {
+  if (g.uvs.empty()) return 0.0f;
+  const glm::mat2 linear(transform[0], transform[1]);
+  const glm::vec2 d1 = linear * (g.uvs[i1] - g.uvs[i0]);
+  const glm::vec2 d2 = linear * (g.uvs[i2] - g.uvs[i0]);
+  return 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
+}
+
+/// The mip level of `texture` for a ray cone's footprint on a triangle of `uvArea` in its uvs
+/// and `worldArea` in the world (0 where any of the three is not positive).
+float mipLevel(const Texture& texture, float footprint, float uvArea, float worldArea) {
+  if (!(footprint > 0.0f && uvArea > 0.0f && worldArea > 0.0f)) return 0.0f;
+  const float texels = static_cast<float>(texture.width()) * static_cast<float>(texture.height());
+  return std::log2(footprint * std::sqrt(uvArea * texels / worldArea));
+}
+
 bool acceptCandidate(const void* opaque, uint32_t instanceIndex, uint32_t prim, float u, float v, float t) {
   const auto& ctx = *static_cast<const FilterContext*>(opaque);
   const auto& instances = ctx.scene->instancesOf(ctx.overlay);
@@ -252,18 +269,10 @@ namespace {
     t.len = glm::length(cross);
     if (t.len > 0.0f) t.geometricNormal = divided(cross, t.len);
   }
-  // The triangle's area in mesh uvs through an affine transform's linear part.
-  const auto uvArea = [&](const glm::mat3x2& transform) {
-    if (g.uvs.empty()) return 0.0f;
-    const glm::mat2 linear(transform[0], transform[1]);
-    const glm::vec2 d1 = linear * (g.uvs[t.i1] - g.uvs[t.i0]);
-    const glm::vec2 d2 = linear * (g.uvs[t.i2] - g.uvs[t.i0]);
-    return 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
-  };
   const MaterialDesc& desc = material.desc;
-  t.uvArea = uvArea(desc.uvTransform);
+  t.uvArea = triangleUvArea(g, t.i0, t.i1, t.i2, desc.uvTransform);
   t.shineUvArea = all && material.shine != nullptr && desc.stock.shineTexCoords == TexCoordSource::Mesh
-                      ? uvArea(desc.stock.shineUvTransform)
+                      ? triangleUvArea(g, t.i0, t.i1, t.i2, desc.stock.shineUvTransform)
                       : 0.0f;
 }
 
@@ -391,9 +400,7 @@ glm::vec4 RenderScene::baseFactor(const SurfaceHit& s) const {
 
 float RenderScene::baseLod(const SurfaceHit& s, float footprint) const {
   const Texture* base = s.material->base;
-  if (base == nullptr || !(footprint > 0.0f && s.uvArea > 0.0f && s.worldArea > 0.0f)) return 0.0f;
-  const float texels = static_cast<float>(base->width()) * static_cast<float>(base->height());
-  return std::log2(footprint * std::sqrt(s.uvArea * texels / s.worldArea));
+  return base != nullptr ? mipLevel(*base, footprint, s.uvArea, s.worldArea) : 0.0f;
 }
 
 glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint, TextureFilter filter) const {
@@ -410,23 +417,16 @@ CoverTexel RenderScene::coverAt(const SurfaceHit& s, float footprint, TextureFil
   const MaterialRecord& m = *s.material;
   if (m.cover == nullptr || s.instance == nullptr) return {};
   const MeshGeometry& g = s.instance->mesh->geometry;
-  glm::vec2 meshUv(0.0f), d1(0.0f), d2(0.0f);
+  glm::vec2 meshUv(0.0f);
+  float uvArea = 0.0f;   // the triangle's area in the cover's uvs: its mip level as baseLod's
   if (!g.uvs.empty() && 3 * size_t{s.prim} + 2 < g.indices.size()) {
-    const glm::vec2 &uv0 = g.uvs[g.indices[3 * size_t{s.prim}]], &uv1 = g.uvs[g.indices[3 * size_t{s.prim} + 1]],
-                    &uv2 = g.uvs[g.indices[3 * size_t{s.prim} + 2]];
-    meshUv = (1.0f - s.bary.x - s.bary.y) * uv0 + s.bary.x * uv1 + s.bary.y * uv2;
-    const glm::mat2 linear(m.desc.coverUvTransform[0], m.desc.coverUvTransform[1]);
-    d1 = linear * (uv1 - uv0);
-    d2 = linear * (uv2 - uv0);
+    const uint32_t i0 = g.indices[3 * size_t{s.prim}], i1 = g.indices[3 * size_t{s.prim} + 1],
+                   i2 = g.indices[3 * size_t{s.prim} + 2];
+    meshUv = (1.0f - s.bary.x - s.bary.y) * g.uvs[i0] + s.bary.x * g.uvs[i1] + s.bary.y * g.uvs[i2];
+    uvArea = triangleUvArea(g, i0, i1, i2, m.desc.coverUvTransform);
   }
   const glm::vec2 uv = m.desc.coverUvTransform * glm::vec3(meshUv, 1.0f);
-  // The mip level as baseLod's, from the triangle's area in the cover's uvs.
-  const float uvArea = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x);
-  float lod = 0.0f;
-  if (footprint > 0.0f && uvArea > 0.0f && s.worldArea > 0.0f) {
-    const float texels = static_cast<float>(m.cover->width()) * static_cast<float>(m.cover->height());
-    lod = std::log2(footprint * std::sqrt(uvArea * texels / s.worldArea));
-  }
+  const float lod = mipLevel(*m.cover, footprint, uvArea, s.worldArea);
   const bool stored = displayValues && m.cover->srgb();
   const glm::vec4 texel = stored ? m.cover->sampleStored(uv, lod, filter) : m.cover->sample(uv, lod, filter);
   float weight = std::clamp(texel.a * (m.desc.coverVertexAlpha ? s.vertexColor.a : 1.0f), 0.0f, 1.0f);
@@ -439,12 +439,7 @@ CoverTexel RenderScene::coverAt(const SurfaceHit& s, float footprint, TextureFil
 glm::vec4 RenderScene::shineColor(const SurfaceHit& s, float footprint, TextureFilter filter) const {
   const MaterialRecord& m = *s.material;
   if (m.shine == nullptr) return glm::vec4(0.0f);
-  float lod = 0.0f;
-  if (footprint > 0.0f && s.shineUvArea > 0.0f && s.worldArea > 0.0f) {
-    const float texels = static_cast<float>(m.shine->width()) * static_cast<float>(m.shine->height());
-    lod = std::log2(footprint * std::sqrt(s.shineUvArea * texels / s.worldArea));
-  }
-  return m.shine->sample(s.shineUv, lod, filter) * glm::vec4(m.desc.stock.shineColor, 1.0f);
+  return m.shine->sample(s.shineUv, mipLevel(*m.shine, footprint, s.shineUvArea, s.worldArea), filter) * glm::vec4(m.desc.stock.shineColor, 1.0f);
 }
 
 glm::vec3 RenderScene::emission(const SurfaceHit& s, bool frontSide) const {
