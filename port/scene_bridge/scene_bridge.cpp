@@ -132,7 +132,10 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   desc.stock.useVertexLight = m.vertexLit || desc.stock.lightmapTexture == kNoId;
   if (m.vertexLit || desc.stock.lightmapTexture != kNoId) desc.stock.bakedLightScale = handles.bakedLightScale;
   // A lightmap stage that doubles what it multiplies (GL_DST_COLOR GL_SRC_COLOR).
-  if (!desc.stock.useVertexLight) desc.stock.bakedLightScale *= m.lightmapScale;
+  if (!desc.stock.useVertexLight) {
+    desc.stock.lightmapStageScale = m.lightmapScale;
+    desc.stock.bakedLightScale *= m.lightmapScale;
+  }
   desc.mirror = m.mirror;
   desc.specular = m.specular;
   desc.twoSided = m.twoSided;

@@ -196,7 +196,8 @@ struct UvWobble {
 
 /// What only the Lightmap compositor reads (lightmap_compositor.h): the stock renderer's baked
 /// light, its blend of see-through layers and its shine stage. Direct and Path ignore it, but
-/// for useVertexLight, which also stops the vertex colour from tinting the base.
+/// for useVertexLight, which also stops the vertex colour from tinting the base, and
+/// lightmapStageScale, which brightens their base colour.
 struct StockLook {
   TextureId lightmapTexture = kNoId;    ///< Baked light for the lightmap preset (uses lightmapUvs).
   bool useVertexLight = false;          ///< Baked light is the vertex colour.
@@ -204,6 +205,10 @@ struct StockLook {
   /// gamma ramp multiplies what was drawn (Quake's overbright bits: 2^bits), times 2 for a
   /// lightmap stage that doubles what it multiplies (GL_DST_COLOR GL_SRC_COLOR).
   float bakedLightScale = 1.0f;
+  /// The lightmap stage's own part of bakedLightScale: 2 where it doubles what it multiplies, else
+  /// 1. Direct and Path show such a surface as stock does, its base colour that much brighter in
+  /// display values (clamped at white) under the light they find (RenderScene::baseColor).
+  float lightmapStageScale = 1.0f;
   /// Additive materials: how the Lightmap compositor composes the layer over what is behind it, in
   /// display values as framebuffer blending does (the other integrators add the colour).
   LayerBlend layerBlend = LayerBlend::Add;

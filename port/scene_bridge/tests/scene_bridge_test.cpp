@@ -221,8 +221,11 @@ TEST(SceneBridge, DoublingLightmapStageDoublesTheBakedLight) {
   handles.bakedLightScale = 1.5f;
   scene.materials[0].lightmapScale = 2.0f;
   EXPECT_FLOAT_EQ(materialDesc(scene, handles, 0, 0).stock.bakedLightScale, 3.0f);
+  // The stage's own part, for Direct and Path (a brighter base colour).
+  EXPECT_FLOAT_EQ(materialDesc(scene, handles, 0, 0).stock.lightmapStageScale, 2.0f);
   // Vertex-lit (no lightmap page): the vertex colours as they are.
   EXPECT_FLOAT_EQ(materialDesc(scene, handles, 0, -1).stock.bakedLightScale, 1.0f);
+  EXPECT_FLOAT_EQ(materialDesc(scene, handles, 0, -1).stock.lightmapStageScale, 1.0f);
 }
 
 TEST(SceneBridge, PlainAdditiveSurfaceLightsShowTheirGlowStage) {

@@ -20,7 +20,9 @@ bool bakedLightAt(const SurfaceHit& s, glm::vec3& light) {
   } else {
     return false;
   }
-  light *= std::max(0.0f, m.desc.stock.bakedLightScale);
+  // The lightmap stage's own scale is in the base colour already (RenderScene::baseColor).
+  const float stage = m.desc.stock.lightmapStageScale > 0.0f ? m.desc.stock.lightmapStageScale : 1.0f;
+  light *= std::max(0.0f, m.desc.stock.bakedLightScale) / stage;
   return true;
 }
 

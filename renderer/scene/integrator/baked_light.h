@@ -9,7 +9,8 @@
 //
 // Units: the Lightmap preset shows display(base) x baked x bakedLightScale; the DisplaySpace
 // look shows display(albedo) x E with E = reflected radiance / albedo. The bake therefore means
-// E = baked x bakedLightScale, and the vertex reflects diffuse albedo x E.
+// E = baked x bakedLightScale, and the vertex reflects diffuse albedo x E; a doubling lightmap
+// stage's part of the scale (StockLook::lightmapStageScale) is in the albedo already.
 #include <glm/vec3.hpp>
 
 #include "renderer/scene/world/render_scene.h"

@@ -6,6 +6,7 @@
 // first with RenderSettings::rouletteStart 1, where the mean stays that). Without the setting the box is black.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -23,14 +24,17 @@ constexpr float kBakedLightScale = 2.0f;
 
 /// A closed 10-unit box around the origin, every wall of `albedo` with baked light: a lightmap of
 /// one texel `lightmapBytes` (sRGB flag `srgbLightmap`), or vertex light of linear `vertexLight`
-/// when `lightmapBytes` is empty.
+/// when `lightmapBytes` is empty; `stageScale`: a lightmap stage that multiplies by that much
+/// (StockLook::lightmapStageScale, part of bakedLightScale).
 struct BakedBox {
   Renderer renderer{RendererConfig{2}};
   BakedBox(const glm::vec3& albedo, const std::vector<uint8_t>& lightmapBytes, bool srgbLightmap,
-           const glm::vec3& vertexLight = glm::vec3(0.0f), bool mirrorsAboveTheFloor = false) {
+           const glm::vec3& vertexLight = glm::vec3(0.0f), bool mirrorsAboveTheFloor = false,
+           float stageScale = 1.0f) {
     MaterialDesc m;
     m.baseColor = glm::vec4(albedo, 1.0f);
-    m.stock.bakedLightScale = kBakedLightScale;
+    m.stock.bakedLightScale = kBakedLightScale * stageScale;
+    m.stock.lightmapStageScale = stageScale;
     if (!lightmapBytes.empty()) {
       m.stock.lightmapTexture = renderer.addTexture(TextureDesc{1, 1, lightmapBytes, srgbLightmap});
     } else {
@@ -83,6 +87,22 @@ TEST(BakedPathEnd, TheLastBounceReflectsTheLightmapTimesItsScale) {
     SCOPED_TRACE(integrator == Integrator::Direct ? "direct" : "path");
     expectEveryPixel(box.render(integrator, 1, true), albedo * albedo * e);
     expectEveryPixel(box.render(integrator, 1, false), glm::vec3(0.0f));
+  }
+}
+
+TEST(BakedPathEnd, ADoublingLightmapStageBrightensTheBaseColourNotTheBake) {
+  // Stock shows min(1, 2 x base x lightmap) in display values: Direct and Path show the base
+  // colour twice as bright in display values (clamped at white) under the light the bake holds.
+  const glm::vec3 albedo(0.05f, 0.3f, 0.8f);
+  BakedBox box(albedo, test::solidPixels(1, 1, 51, 102, 204, 255), true, glm::vec3(0.0f), false, 2.0f);
+  const glm::vec3 e = glm::vec3(51, 102, 204) / 255.0f * kBakedLightScale;
+  glm::vec3 brighter;
+  for (int k = 0; k < 3; ++k) brighter[k] = srgbToLinear(std::min(1.0f, 2.0f * linearToSrgb(albedo[k])));
+  EXPECT_NEAR(brighter.b, 1.0f, 1e-6f);   // 0.8 doubled in display values clamps at white
+  EXPECT_GT(brighter.r, 4.0f * albedo.r);  // about 2^2.2 times the linear value below the clamp
+  for (Integrator integrator : {Integrator::Direct, Integrator::Path}) {
+    SCOPED_TRACE(integrator == Integrator::Direct ? "direct" : "path");
+    expectEveryPixel(box.render(integrator, 1, true), brighter * brighter * e);
   }
 }
 

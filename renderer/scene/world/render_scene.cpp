@@ -410,6 +410,10 @@ glm::vec4 RenderScene::baseColor(const SurfaceHit& s, float footprint, TextureFi
     const CoverTexel cover = coverAt(s, footprint, filter, false);
     c = glm::vec4(glm::mix(glm::vec3(c), cover.color, cover.weight), c.a);
   }
+  const float stage = s.material->desc.stock.lightmapStageScale;
+  if (stage != 1.0f && stage > 0.0f) {   // stock's doubling lightmap stage: the colour brighter in display values
+    for (int k = 0; k < 3; ++k) c[k] = srgbToLinear(std::min(1.0f, stage * linearToSrgb(std::clamp(c[k], 0.0f, 1.0f))));
+  }
   return c;
 }
 

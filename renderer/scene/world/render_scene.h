@@ -260,7 +260,8 @@ struct RenderScene {
   /// uv (and the uv area that picks its mip level) from the ray (world/reflection_texcoords.cpp).
   SurfaceHit surfaceAt(const Hit& hit, bool overlay, const Ray& ray, SurfaceParts parts = SurfaceParts::All,
                        TriangleMemo* memo = nullptr) const;
-  /// Base colour (texture x baseColor x vertex colour x tint), RGB linear, A = coverage.
+  /// Base colour (texture x baseColor x vertex colour x tint, the cover over it, brightened by
+  /// StockLook::lightmapStageScale in display values), RGB linear, A = coverage.
   /// footprint: world-space width of the ray's footprint on the surface (picks the mip level;
   /// 0 = full resolution).
   /// `filter`: how the base texture is read (default: two mip levels blended, bilinear).
