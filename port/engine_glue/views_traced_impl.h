@@ -19,7 +19,6 @@
 #include <glm/vec3.hpp>
 #include <tbb/task_arena.h>
 
-#include "port/engine_glue/dlight_overlay.h"
 #include "port/engine_glue/entity_geometry.h"
 #include "port/engine_glue/entity_materials.h"
 #include "port/engine_glue/entity_slots.h"
@@ -109,9 +108,6 @@ struct MapState {
   std::unordered_map<std::string, q3abi::qhandle_t> spriteHandles;   ///< Their shaders' handles.
   const ShaderScripts* scripts = nullptr;    ///< The module's, while a world is loaded.
   ImageCache* images = nullptr;              ///< The module's, while a world is loaded.
-  DlightOverlayBuilder dlightBuilder;        ///< The world's triangles for the stock dynamic-light pass.
-  DynamicSlot dlightSlot;                    ///< The mesh of that pass.
-  std::unordered_map<uint32_t, pa::MaterialId> dlightMaterials;   ///< Per world material.
   WorldDeforms worldDeforms;    ///< deformVertexes wave/normal/bulge/move world surfaces (dynamic meshes).
   ShaderDeforms modelDeforms;   ///< The same deforms on MD3 surfaces, by shader name.
   ViewFog fog;                  ///< The map's fog volumes.
@@ -128,8 +124,7 @@ struct ViewScratch {
   std::vector<q3abi::qhandle_t> surfaceShaders;   ///< An MD3 entity's shader per surface.
   std::vector<bool> surfaceAutosprite;            ///< ... and whether it is an autosprite.
   std::vector<bool> brushPlaced;                  ///< Per brush model: placed by an entity this view.
-  DlightOverlay dlightOverlay;                    ///< The stock dynamic-light pass's triangles.
-  std::vector<pa::MaterialId> dlightTriangleMaterials;   ///< ... and their materials.
+  std::vector<pa::StockDynamicLight> stockDlights;   ///< The stock dynamic-light pass's lights.
   std::vector<uint8_t> picture;                   ///< The traced view handed out (RGBA8).
 };
 
@@ -224,9 +219,7 @@ struct ViewRenderer::Impl {
   void selectSky(bool stockLook, double seconds);
   /// A black sky for views without the world.
   void hideSky();
-  /// The layer twin of a world material that carries the stock dynamic-light pass.
-  pa::MaterialId dlightMaterial(uint32_t worldMaterial);
-  /// Lightmap preset: the world brightened by dynamic lights the stock way (camera rays only).
+  /// Lightmap preset: the world brightened by dynamic lights the stock way (lights/stock_dlights.h).
   void drawStockDlights(std::span<const DynamicLight> lights, bool show);
 
   // ---- entity materials and dynamic meshes (views_traced_materials.cpp)

@@ -10,6 +10,7 @@
 #include "port/engine_glue/world.h"
 #include "port/light_recovery/recover_lights.h"
 #include "port/q3formats/bsp/bsp_file.h"
+#include "renderer/scene/lights/stock_dlights.h"
 
 namespace glue {
 namespace {
@@ -67,8 +68,6 @@ void ViewRenderer::Impl::loadMap(const World& world, const ShaderScripts& module
   });
   map.portals.load(bsp, scene);
   prepareStockSky(library, images);
-  map.dlightBuilder.prepare(scene);
-  for (const uint32_t m : map.dlightBuilder.materials()) dlightMaterial(m);   // made now, not in play
   map.scripts = &moduleScripts;
   map.images = &images;
   prepareWorldSprites(library);
@@ -109,46 +108,18 @@ q3abi::qhandle_t ViewRenderer::Impl::spriteHandle(ShaderRegistry& shaders, const
   return handle;
 }
 
-/// dst * (1 + vertex colour): the vertex colour alone is the light the pass multiplies in.
-pa::MaterialId ViewRenderer::Impl::dlightMaterial(uint32_t worldMaterial) {
-  if (const auto found = map.dlightMaterials.find(worldMaterial); found != map.dlightMaterials.end())
-    return found->second;
-  pa::MaterialDesc desc = pa::bridge::materialDesc(*map.worldScene, map.world, worldMaterial, -1);
-  desc.alphaMode = pa::AlphaMode::Additive;
-  desc.stock.layerBlend = pa::LayerBlend::MultiplyAdd;
-  desc.baseTexture = pa::kNoId;
-  desc.coverTexture = pa::kNoId;
-  desc.baseColor = glm::vec4(1.0f);
-  desc.stock.useVertexLight = false;
-  desc.stock.lightmapTexture = pa::kNoId;
-  desc.emissiveTexture = pa::kNoId;
-  desc.emission = glm::vec3(0.0f);
-  desc.mirror = false;
-  desc.specular = 0.0f;
-  desc.castsShadows = false;
-  desc.twoSided = true;
-  desc.visible = true;
-  const pa::MaterialId id = renderer->addMaterial(desc);
-  map.dlightMaterials.emplace(worldMaterial, id);
-  return id;
-}
-
-/// Seen by camera rays only (dlight_overlay.h); hidden in the traced presets, which light with
-/// real lights.
+/// The Lightmap compositor multiplies each lit pixel by them; the traced presets light with point
+/// lights instead (placeDynamicLights), so they get none.
 void ViewRenderer::Impl::drawStockDlights(std::span<const DynamicLight> lights, bool show) {
-  DlightOverlay& overlay = scratch.dlightOverlay;
-  overlay.clear();
-  if (show && map.worldScene) map.dlightBuilder.build(lights, overlay);
-  if (overlay.indices.empty()) {
-    hideSlot(map.dlightSlot);
-    return;
+  std::vector<pa::StockDynamicLight>& stock = scratch.stockDlights;   // memory kept
+  stock.clear();
+  if (show && map.worldScene) {
+    for (const DynamicLight& light : lights) {
+      if (stock.size() == pa::kMaxStockDynamicLights) break;
+      if (light.radius > 0.0f) stock.push_back({light.origin, light.radius, light.color});
+    }
   }
-  scratch.dlightTriangleMaterials.resize(overlay.triangleMaterials.size());
-  for (size_t t = 0; t < overlay.triangleMaterials.size(); ++t)
-    scratch.dlightTriangleMaterials[t] = dlightMaterial(overlay.triangleMaterials[t]);
-  pa::InstanceDesc instance;
-  instance.mask = pa::kMaskCamera;
-  showInSlot(map.dlightSlot, overlay, scratch.dlightTriangleMaterials, instance);
+  renderer->setStockDynamicLights(stock);
 }
 
 /// The stock renderer shows a q3map_surfacelight surface through its stages only (its light is

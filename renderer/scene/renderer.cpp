@@ -250,6 +250,10 @@ void Renderer::setSky(const SkyDesc& sky) { impl_->store.setSky(sky); }
 void Renderer::setPortals(std::span<const PortalDesc> portals) { impl_->store.setPortals(portals); }
 void Renderer::setFogVolumes(std::span<const FogVolumeDesc> volumes) { impl_->store.setFogVolumes(volumes); }
 
+void Renderer::setStockDynamicLights(std::span<const StockDynamicLight> lights) {
+  impl_->store.setStockDynamicLights(lights);
+}
+
 void Renderer::commit() {
   Impl& im = *impl_;
   if (!im.store.dirty()) return;

@@ -113,6 +113,8 @@ class Renderer {
   void setPortals(std::span<const PortalDesc> portals);
   /// Replaces every fog volume (planes copied; see scene_types.h for what fog does to rays).
   void setFogVolumes(std::span<const FogVolumeDesc> volumes);
+  /// Replaces the stock dynamic lights (the Lightmap look's dynamic-light pass; scene_types.h).
+  void setStockDynamicLights(std::span<const StockDynamicLight> lights);
 
   /// Makes all changes since the last commit visible to render(): builds changed BLASes,
   /// rebuilds the TLAS and the light sampling tables; resets accumulation if anything changed.

@@ -227,6 +227,9 @@ struct StockLook {
   TexCoordSource shineTexCoords = TexCoordSource::ReflectionSphere;   ///< uv of shineTexture.
   glm::mat3x2 shineUvTransform{1.0f};        ///< Affine uv' = M * (u, v, 1) of the shine.
   LayerBlend shineBlend = LayerBlend::Add;   ///< How the shine meets the base (Over uses the shine's alpha).
+  /// The stock dynamic-light pass multiplies the lit surface (StockDynamicLight): opaque world
+  /// and brush-model surfaces, not sky, fog, mirrors or SURF_NODLIGHT ones.
+  bool takesDynamicLights = false;
 
   bool operator==(const StockLook&) const = default;
 };
@@ -391,6 +394,18 @@ struct FogVolumeDesc {
   std::span<const glm::vec4> planes;   ///< Bounding planes: xyz outward normal (any length), w distance.
   glm::vec3 color{0.5f};               ///< Linear radiance of the fog where it is opaque.
   float depthForOpaque = 1.0f;         ///< Length inside after which the fog is opaque (scene units, > 0).
+};
+
+/// A dynamic light as the stock renderer's lightmap look draws it (lights/stock_dlights.h): the
+/// Lightmap compositor multiplies each surface that takes dynamic lights (StockLook) by one
+/// plus a falloff blob projected along the world's z axis. Direct and Path ignore them (they
+/// light with point lights, LightDesc).
+struct StockDynamicLight {
+  glm::vec3 origin{0.0f};
+  float radius = 0.0f;        ///< Reach in world units (the engine's intensity); > 0 to light.
+  glm::vec3 color{1.0f};      ///< In [0, 1] (clamped), display values.
+
+  bool operator==(const StockDynamicLight&) const = default;
 };
 
 /// A game-style camera: origin and three axes (forward, left, up), field of view in degrees.

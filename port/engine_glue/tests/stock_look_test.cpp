@@ -9,7 +9,6 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "port/engine_glue/dlight_overlay.h"
 #include "port/engine_glue/entity_materials.h"
 #include "port/engine_glue/entity_lighting.h"
 #include "port/engine_glue/scene.h"
@@ -301,26 +300,6 @@ TEST(SkyCube, NothingToBakeWithoutBoxOrStages) {
   EXPECT_FALSE(baker.prepare(shader, [](const std::string&) { return nullptr; }, 8));
 }
 
-TEST(DlightOverlay, BlobIsFullInTheMiddleAndZeroAtTheRim) {
-  EXPECT_FLOAT_EQ(stockDlightBlob({0.5f, 0.5f}), 1.0f);
-  EXPECT_FLOAT_EQ(stockDlightBlob({0.0f, 0.0f}), 0.0f);
-  EXPECT_FLOAT_EQ(stockDlightBlob({1.0f, 0.5f}), 0.0f);
-  EXPECT_GT(stockDlightBlob({0.75f, 0.5f}), 0.3f);   // 4 texels out: 4000 / 12.25 -> 255
-}
-
-TEST(DlightOverlay, LightIsModulatedByHeightAndOnlyLightsTheFront) {
-  DynamicLight light;
-  light.origin = {0, 0, 100};
-  light.radius = 300;
-  light.color = {1, 1, 0};
-  const glm::vec3 up(0, 0, 1);
-  EXPECT_EQ(stockDlightAt(light, {0, 0, 0}, up), glm::vec3(1, 1, 0));
-  EXPECT_EQ(stockDlightAt(light, {0, 0, 0}, -up), glm::vec3(0));        // behind the surface
-  // 225 below the light: modulate 2 * (300 - 225) / 300 = 0.5 (bytes truncated).
-  EXPECT_NEAR(stockDlightAt(light, {0, 0, -125}, up).r, 127.0f / 255.0f, 1e-6f);
-  EXPECT_EQ(stockDlightAt(light, {0, 0, -250}, up), glm::vec3(0));      // out of reach in height
-}
-
 q3::WorldScene floorScene() {
   q3::WorldScene scene;
   q3::WorldMaterial material;
@@ -339,40 +318,6 @@ q3::WorldScene floorScene() {
   scene.models.resize(1);
   scene.models[0].meshes.push_back(mesh);
   return scene;
-}
-
-TEST(DlightOverlay, LitTrianglesAreCopiedAboveTheSurfaceWithWhatTheBlendAdds) {
-  DlightOverlayBuilder builder;
-  builder.prepare(floorScene());
-  ASSERT_EQ(builder.triangles(), 2u);
-  DynamicLight light;
-  light.origin = {0, 0, 40};
-  light.radius = 400;
-  light.color = {1, 0, 0};
-  DlightOverlay overlay;
-  builder.build(std::span<const DynamicLight>(&light, 1), overlay);
-  ASSERT_FALSE(overlay.indices.empty());
-  EXPECT_EQ(overlay.indices.size() / 3, overlay.triangleMaterials.size());
-  for (const glm::vec3& p : overlay.positions) EXPECT_GT(p.z, 0.0f);
-  // Every vertex is within 2 blob texels of the centre: full red. Stock makes dst * (1 + 1): the
-  // MultiplyAdd layer's colour is 1 (display and linear); no green or blue.
-  const float expected = 1.0f;
-  for (const glm::vec4& c : overlay.colors) {
-    EXPECT_NEAR(c.r, expected, 1e-3f);
-    EXPECT_EQ(c.g, 0.0f);
-  }
-  // Two such lights, two stock passes: dst * 2 * 2 = dst * (1 + 3): display 3, linear
-  // ((3 + 0.055) / 1.055)^2.4 (sRGB decoding continued past white).
-  const DynamicLight twice[2] = {light, light};
-  overlay.clear();
-  builder.build(std::span<const DynamicLight>(twice, 2), overlay);
-  ASSERT_FALSE(overlay.colors.empty());
-  EXPECT_NEAR(overlay.colors[0].r, std::pow(3.055f / 1.055f, 2.4f), 1e-3f);
-  DynamicLight far = light;
-  far.origin = {5000, 0, 40};
-  overlay.clear();
-  builder.build(std::span<const DynamicLight>(&far, 1), overlay);
-  EXPECT_TRUE(overlay.indices.empty());
 }
 
 TEST(StageLayers, BlendFactorsOfTheLayersOwnColourAndAlpha) {

@@ -11,6 +11,7 @@
 #include "renderer/scene/integrator/display_composite.h"
 #include "renderer/scene/integrator/integrator.h"
 #include "renderer/scene/integrator/trace_common.h"
+#include "renderer/scene/lights/stock_dlights.h"
 #include "renderer/scene/media/fog_volumes.h"
 
 namespace pa {
@@ -120,6 +121,17 @@ glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels&
   return lit;
 }
 
+/// The lit surface `lit` (linear; `display` its display value when known) after the stock
+/// dynamic-light passes of the scene's lights at `s`, both updated.
+glm::vec3 dynamicallyLit(const RenderScene& scene, const SurfaceHit& s, const glm::vec3& lit,
+                         std::optional<glm::vec3>& display) {
+  const glm::vec3 before = display ? *display : encodeTwo(lit, glm::vec3(0.0f)).first;
+  const glm::vec3 after = stockDlightsOver(scene.stockDlights, s.position, s.geometricNormal, before);
+  if (after == before) return lit;
+  display = after;
+  return decodeColour(after);
+}
+
 }  // namespace
 
 PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& camera, const RenderSettings& settings,
@@ -195,7 +207,10 @@ PixelSample composeLightmapSample(const RenderScene& scene, const CameraRays& ca
     const float footprint =
         kRasterFootprintScale * coneWidth / std::max(trace::kMinCosForFootprint, front ? facing : -facing);
     StockTexels texels = stockTexels(scene, s, footprint, settings.stockTextureFilter);
-    const glm::vec3 lit = litSurface(scene, s, texels, footprint, settings.stockTextureFilter, litDisplay);
+    glm::vec3 lit = litSurface(scene, s, texels, footprint, settings.stockTextureFilter, litDisplay);
+    // Stock's dynamic-light pass follows the surface's stages, before its fog.
+    if (s.material->desc.stock.takesDynamicLights && !scene.stockDlights.empty())
+      lit = dynamicallyLit(scene, s, lit, litDisplay);
     albedoAov = texels.albedo;   // as trace::recordSurfaceAovs
     normalAov = ns;
     depthAov = hit.t;

@@ -229,6 +229,7 @@ struct RenderScene {
   Sky sky;
   std::vector<PortalDesc> portals;              ///< Mirror-material windows (see scene_types.h).
   std::vector<FogVolume> fogs;                  ///< Fog volumes (media/fog_volumes.h).
+  std::vector<StockDynamicLight> stockDlights;  ///< The Lightmap look's dynamic lights (lights/stock_dlights.h).
   LightSampler lights;
   Bounds bounds;
 

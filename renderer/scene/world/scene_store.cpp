@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "renderer/scene/integrator/display_composite.h"
+#include "renderer/scene/lights/stock_dlights.h"
 #include "renderer/scene/sampling/sobol_sampler.h"
 #include "renderer/scene/sampling/warp.h"
 
@@ -331,6 +332,21 @@ void SceneStore::setFogVolumes(std::span<const FogVolumeDesc> volumes) {
   dirty_ = worldDirty_ = true;
 }
 
+void SceneStore::setStockDynamicLights(std::span<const StockDynamicLight> lights) {
+  if (lights.size() > kMaxStockDynamicLights)
+    throw SceneError("setStockDynamicLights: " + std::to_string(lights.size()) + " lights (at most " +
+                     std::to_string(kMaxStockDynamicLights) + ")");
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const CallContext what{"setStockDynamicLights", "light", static_cast<uint32_t>(i)};
+    requireFinite(finite(lights[i].origin) && std::isfinite(lights[i].radius) && finite(lights[i].color), what,
+                  "origin, radius and colour");
+  }
+  if (std::equal(lights.begin(), lights.end(), stockDlights_.begin(), stockDlights_.end())) return;
+  stockDlights_.assign(lights.begin(), lights.end());
+  pendingSeen_.everything = true;
+  dirty_ = worldDirty_ = true;
+}
+
 // ---------------------------------------------------------------- commit
 
 void SceneStore::validateReferences() const {
@@ -512,6 +528,7 @@ void SceneStore::commit(RenderScene& scene) {
 
   scene.portals = portals_;
   scene.fogs = fogs_;
+  scene.stockDlights = stockDlights_;   // copied into the scene's memory: no allocation once it is large enough
   // The same sky but for its picture (moving clouds) keeps its sampling distribution.
   if (scene.sky.sameButPicture(sky_, scene.textures))
     scene.sky.setPicture(sky_.picture);

@@ -56,6 +56,8 @@ class SceneStore {
   void setPortals(std::span<const PortalDesc> portals);
   /// Replaces the fog volumes (validated, planes normalised).
   void setFogVolumes(std::span<const FogVolumeDesc> volumes);
+  /// Replaces the stock dynamic lights (non-finite or out-of-range values throw).
+  void setStockDynamicLights(std::span<const StockDynamicLight> lights);
 
   /// True when something changed since the last successful commit.
   bool dirty() const { return dirty_; }
@@ -118,6 +120,7 @@ class SceneStore {
   std::vector<PortalDesc> portals_;
   std::vector<PortalDesc> portalScratch_;          ///< setPortals()' validated copy (memory kept).
   std::vector<FogVolume> fogs_;
+  std::vector<StockDynamicLight> stockDlights_;   ///< Memory kept: the glue sets them every frame.
   EnvironmentVisibilityCache environmentVisibility_;   ///< Where sun and sky reach (lights/).
   std::vector<glm::vec3> skyWindows_;                  ///< The last commit's sky windows (area x normal).
   std::vector<glm::vec3> sunScratch_;                  ///< attachEnvironmentVisibility's sun directions (memory kept).
