@@ -1,6 +1,7 @@
 // ViewRenderer::Impl: a map's scene (startMap, loadMap) and the world's look per preset: stock
 // or traced sky, surface lights, autosprite surfaces, the stock dynamic-light pass.
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "port/engine_glue/engine.h"
@@ -116,7 +117,7 @@ void ViewRenderer::Impl::drawStockDlights(std::span<const DynamicLight> lights, 
   if (show && map.worldScene) {
     for (const DynamicLight& light : lights) {
       if (stock.size() == pa::kMaxStockDynamicLights) break;
-      if (light.radius > 0.0f) stock.push_back({light.origin, light.radius, light.color});
+      if (light.radius > 0.0f && std::isfinite(light.radius)) stock.push_back({light.origin, light.radius, light.color});
     }
   }
   renderer->setStockDynamicLights(stock);

@@ -16,6 +16,7 @@
 namespace pa {
 namespace {
 
+using test::addLightmappedFloor;
 using test::greyStats;
 using test::lookAt;
 using test::settingsFor;
@@ -257,18 +258,6 @@ TEST(KnownAnswer, EmissiveSquareOnAxisIrradiance) {
     const FrameView f = s.renderer.render(s.camera(1.0f), settingsFor(integrator, 8, 128, 1));
     expectMean(f, expected, 1e-3);
   }
-}
-
-/// Adds a 10x10 quad in the plane z = 0 with material m, every vertex at the centre of its
-/// lightmap, and commits.
-void addLightmappedFloor(Renderer& r, const MaterialDesc& m) {
-  test::MeshArrays q = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
-  q.setMaterial(r.addMaterial(m));
-  const std::vector<glm::vec2> lightmapUvs(4, glm::vec2(0.5f));
-  MeshDesc desc = q.desc();
-  desc.lightmapUvs = lightmapUvs;
-  r.addInstance({r.addMesh(desc)});
-  r.commit();
 }
 
 TEST(KnownAnswer, LightmapPresetIsAlbedoTimesBakedLight) {

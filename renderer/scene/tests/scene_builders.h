@@ -156,4 +156,16 @@ inline std::vector<uint8_t> solidPixels(uint32_t w, uint32_t h, uint8_t r, uint8
   return p;
 }
 
+/// Adds a 10x10 quad in the plane z = 0 with material m, every vertex at the centre of its
+/// lightmap, and commits.
+inline void addLightmappedFloor(Renderer& r, const MaterialDesc& m) {
+  MeshArrays q = quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
+  q.setMaterial(r.addMaterial(m));
+  const std::vector<glm::vec2> lightmapUvs(4, glm::vec2(0.5f));
+  MeshDesc desc = q.desc();
+  desc.lightmapUvs = lightmapUvs;
+  r.addInstance({r.addMesh(desc)});
+  r.commit();
+}
+
 }  // namespace pa::test

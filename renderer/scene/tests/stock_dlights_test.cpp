@@ -53,12 +53,7 @@ glm::vec3 litFloorCentre(bool takesDynamicLights, bool withLight, Integrator int
   MaterialDesc m = test::diffuse(1.0f);
   m.stock.lightmapTexture = r.addTexture(TextureDesc{1, 1, test::solidPixels(1, 1, 102, 102, 102, 255), true});
   m.stock.takesDynamicLights = takesDynamicLights;
-  test::MeshArrays q = test::quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0});
-  q.setMaterial(r.addMaterial(m));
-  const std::vector<glm::vec2> lightmapUvs(4, glm::vec2(0.5f));
-  MeshDesc desc = q.desc();
-  desc.lightmapUvs = lightmapUvs;
-  r.addInstance({r.addMesh(desc)});
+  test::addLightmappedFloor(r, m);
   const StockDynamicLight red{{0, 0, 1}, 200, {1, 0, 0}};
   if (withLight) r.setStockDynamicLights(std::span(&red, 1));
   r.commit();
