@@ -117,7 +117,8 @@ void ViewRenderer::Impl::drawStockDlights(std::span<const DynamicLight> lights, 
   if (show && map.worldScene) {
     for (const DynamicLight& light : lights) {
       if (stock.size() == pa::kMaxStockDynamicLights) break;
-      if (light.radius > 0.0f && std::isfinite(light.radius)) stock.push_back({light.origin, light.radius, light.color});
+      if (light.radius > 0.0f && std::isfinite(light.radius))
+        stock.push_back({light.origin, light.radius, light.color});
     }
   }
   renderer->setStockDynamicLights(stock);
