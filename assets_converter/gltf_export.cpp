@@ -302,6 +302,8 @@ class Exporter {
     if (m.alphaMode == q3::WorldAlphaMode::Filter) quake["blend"] = "filter";
     if (m.surfaceLight > 0.0f) quake["surfaceLight"] = m.surfaceLight;
     if (m.sky) quake["sky"] = true;
+    // A lightmap stage that doubles what it multiplies (GL_DST_COLOR GL_SRC_COLOR).
+    if (m.lightmapScale != 1.0f) quake["lightmapStageScale"] = m.lightmapScale;
     if (m.mirror) quake["mirror"] = true;
     if (m.uvScrollPerSecond != glm::vec2(0.0f)) quake["uvScrollPerSecond"] = {m.uvScrollPerSecond.x, m.uvScrollPerSecond.y};
     if (!reflective && q3::tcModsAnimate(m.tcMods)) quake["tcMods"] = tcModsJson(m.tcMods);

@@ -151,12 +151,15 @@ TEST(GltfExport, MapsQuakeBlendingToGltfAlphaModes) {
   blend.opacity = 0.5f;
   q3::WorldMaterial additive = texturedMaterial("add");
   additive.alphaMode = q3::WorldAlphaMode::Additive;
+  opaque.lightmapScale = 2.0f;   // a lightmap stage that doubles
   q3::WorldScene scene = sceneWithMaterials({opaque, mask, blend, additive});
   std::vector<std::byte> glb = pa::converter::exportGlb(scene);
   auto [doc, bin] = splitGlb(glb);
   const json& mats = doc["materials"];
   ASSERT_EQ(mats.size(), 4u);
   EXPECT_FALSE(mats[0].contains("alphaMode"));
+  EXPECT_FLOAT_EQ(mats[0]["extras"]["quake"]["lightmapStageScale"].get<float>(), 2.0f);
+  EXPECT_FALSE(mats[1]["extras"]["quake"].contains("lightmapStageScale"));
   EXPECT_EQ(mats[1]["alphaMode"], "MASK");
   EXPECT_FLOAT_EQ(mats[1]["alphaCutoff"].get<float>(), 0.5f);
   EXPECT_EQ(mats[2]["alphaMode"], "BLEND");

@@ -104,6 +104,14 @@ SkyDesc toSkyDesc(const Extras& sceneExtras) {
   return sky;
 }
 
+float lightmapStageScale(const GltfMaterial& material) {
+  const std::string* text = findExtra(material.extras, {"quake.lightmapStageScale"});
+  if (!text) return 1.0f;
+  char* end = nullptr;
+  const float scale = std::strtof(text->c_str(), &end);
+  return end != text->c_str() && std::isfinite(scale) && scale > 0.0f && scale <= 4.0f ? scale : 1.0f;
+}
+
 float lightmapBrightness(const Extras& sceneExtras) {
   const std::string* text = findExtra(sceneExtras, {"lightmap_scale", "quake.lightmapOverbrightScale"});
   if (!text) return 1.0f;

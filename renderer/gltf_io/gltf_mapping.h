@@ -36,6 +36,10 @@ MaterialDesc toMaterialDesc(const GltfMaterial& material, const std::vector<Text
 /// The LightDesc that a glTF light becomes.
 LightDesc toLightDesc(const GltfLight& light);
 
+/// A material's lightmap stage factor (StockLook::lightmapStageScale) from its extras
+/// ("quake.lightmapStageScale", in (0, 4]; default 1).
+float lightmapStageScale(const GltfMaterial& material);
+
 /// Brightness factor for lightmap pixels from the scene's extras (default 1).
 float lightmapBrightness(const Extras& sceneExtras);
 

@@ -54,6 +54,8 @@ UploadedScene uploadToRenderer(const GltfScene& scene, Renderer& renderer) {
     if (const auto it = lightmappedMaterials.find(key); it != lightmappedMaterials.end()) return it->second;
     MaterialDesc desc = toMaterialDesc(scene.materials[material], uploaded.textures);
     desc.stock.lightmapTexture = lightmapTexture(lightmap);
+    desc.stock.lightmapStageScale = lightmapStageScale(scene.materials[material]);   // as the .bsp bridge sets it
+    desc.stock.bakedLightScale *= desc.stock.lightmapStageScale;
     const MaterialId id = desc.stock.lightmapTexture == kNoId ? uploaded.materials[material] : renderer.addMaterial(desc);
     lightmappedMaterials.emplace(key, id);
     return id;

@@ -311,7 +311,8 @@ TEST(GltfConverterConventions, ReadsLightmapsAndQuakeExtras) {
   material.extras = Value(Value::Object{
       {"quake", Value(Value::Object{{"shader", Value(std::string("textures/sfx/sky"))},
                                     {"sky", Value(true)},
-                                    {"blend", Value(std::string("add"))}})}});
+                                    {"blend", Value(std::string("add"))},
+                                    {"lightmapStageScale", Value(2.0)}})}});
   builder.model().materials.push_back(material);
   const std::vector<glm::vec3> triangle = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   const std::vector<glm::vec2> uv0 = {{0, 0}, {1, 0}, {0, 1}};
@@ -352,6 +353,11 @@ TEST(GltfConverterConventions, ReadsLightmapsAndQuakeExtras) {
   EXPECT_EQ(desc.alphaMode, pa::AlphaMode::Additive);
   expectNear(toSkyDesc(scene.sceneExtras).color, {1.0f, 0.5f, 0.25f});
   EXPECT_FLOAT_EQ(lightmapBrightness(scene.sceneExtras), 4.0f);
+  EXPECT_FLOAT_EQ(lightmapStageScale(scene.materials[0]), 2.0f);   // a doubling lightmap stage
+  GltfMaterial plain;
+  EXPECT_FLOAT_EQ(lightmapStageScale(plain), 1.0f);
+  plain.extras["quake.lightmapStageScale"] = "nan";
+  EXPECT_FLOAT_EQ(lightmapStageScale(plain), 1.0f);
 }
 
 TEST(GltfConverterConventions, BrightenLightmapSaturatesKeepingHue) {
