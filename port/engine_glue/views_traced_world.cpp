@@ -132,9 +132,7 @@ void ViewRenderer::Impl::selectWorldEmission(bool stockLook) {
   if (int(stockLook) == map.stockEmissionShown || !map.worldScene) return;
   for (const auto& [key, id] : map.world.materials) {
     const q3::WorldMaterial& m = map.worldScene->materials.at(key.first);
-    if (!(m.surfaceLight > 0.0f) || m.alphaMode == q3::WorldAlphaMode::Additive ||
-        m.alphaMode == q3::WorldAlphaMode::Filter)
-      continue;
+    if (!(m.surfaceLight > 0.0f) || q3::seeThroughLayer(m.alphaMode)) continue;
     if (std::find(map.spriteMaterials.begin(), map.spriteMaterials.end(), key.first) != map.spriteMaterials.end())
       continue;
     pa::MaterialDesc desc = pa::bridge::materialDesc(*map.worldScene, map.world, key.first, key.second);

@@ -176,7 +176,7 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
   // as any additive surface does; flames (their own alpha) and water (a multiply-add) keep
   // their base alone, as the glow stage of either would not add as its blend does.
   const bool plainAdditive = m.alphaMode == q3::WorldAlphaMode::Additive && m.additiveSource == q3::BlendFactor::One;
-  const bool layer = m.alphaMode == q3::WorldAlphaMode::Additive || m.alphaMode == q3::WorldAlphaMode::Filter;
+  const bool layer = q3::seeThroughLayer(m.alphaMode);
   if (m.surfaceLight > 0.0f && !layer) {
     setSurfaceLightEmission(scene, handles, m, lightScale, desc);
   } else if ((m.surfaceLight <= 0.0f || plainAdditive) && m.emissiveTexture >= 0) {
@@ -190,7 +190,7 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
 std::optional<MaterialDesc> surfaceLightProxy(const q3::WorldScene& scene, const WorldHandles& handles,
                                               uint32_t material, float lightScale) {
   const q3::WorldMaterial& m = scene.materials.at(material);
-  const bool layer = m.alphaMode == q3::WorldAlphaMode::Additive || m.alphaMode == q3::WorldAlphaMode::Filter;
+  const bool layer = q3::seeThroughLayer(m.alphaMode);
   if (!(m.surfaceLight > 0.0f) || !layer || m.sky) return std::nullopt;
   MaterialDesc desc;
   desc.visible = false;        // never hit: sampled as a light only (NEE at full weight)

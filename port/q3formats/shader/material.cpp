@@ -123,15 +123,11 @@ const ShaderStage* lastSolidStage(const std::vector<ShaderStage>& stages) {
 /// with chrome showing through its holes) keeps the plain texture as the base instead, since a
 /// material has a single base texture and that texture covers most of the surface.
 const ShaderStage* environmentBase(const std::vector<ShaderStage>& stages) {
-  size_t last = stages.size();
-  for (size_t i = 0; i < stages.size(); ++i)
-    if (stages[i].source != TextureSource::Lightmap && !stages[i].blends()) last = i;
-  if (last == stages.size() || !isImageStage(stages[last]) || stages[last].tcGen != TcGen::Environment)
-    return nullptr;
-  for (size_t i = last + 1; i < stages.size(); ++i)
-    if (isImageStage(stages[i]) && stages[i].tcGen != TcGen::Environment && blendMode(stages[i]) == AlphaMode::Blend)
-      return nullptr;
-  return &stages[last];
+  const ShaderStage* last = lastSolidStage(stages);
+  if (last == nullptr || !isImageStage(*last) || last->tcGen != TcGen::Environment) return nullptr;
+  for (const ShaderStage* s = last + 1; s < stages.data() + stages.size(); ++s)
+    if (isImageStage(*s) && s->tcGen != TcGen::Environment && blendMode(*s) == AlphaMode::Blend) return nullptr;
+  return last;
 }
 
 /// True when a later $lightmap stage multiplies what stage `index` drew (blendFunc filter, or

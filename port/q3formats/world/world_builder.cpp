@@ -163,8 +163,7 @@ class SceneAssembler {
     const bool lightmapped = hasLightmap || m.lightmap >= 0;
     m.vertexLit = info.lighting == LightingMode::Vertex || (!lightmapped && info.lighting == LightingMode::Lightmap) ||
                   (m.surfaceFlags & kSurfNolightmap) != 0;
-    const bool seeThroughLayer = m.alphaMode == WorldAlphaMode::Additive || m.alphaMode == WorldAlphaMode::Filter;
-    m.castsShadows = !m.sky && !seeThroughLayer && m.visible;
+    m.castsShadows = !m.sky && !seeThroughLayer(m.alphaMode) && m.visible;
     m.specular = info.environmentMapped ? 0.5f : 0.0f;
     m.baseReflects = info.baseReflects;
     if (m.baseReflects && !info.reflectionOverlay.empty() && textures_.exists(info.reflectionOverlay))

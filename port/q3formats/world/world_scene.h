@@ -67,6 +67,12 @@ enum class WorldAlphaMode : uint8_t {
   Filter,    ///< blendFunc filter and friends: multiplies what is behind (filterBlend), occludes nothing.
 };
 
+/// True for the modes that occlude nothing (Additive, Filter): see-through layers over what is
+/// behind them, which cast no shadow and are no surface light of their own.
+inline bool seeThroughLayer(WorldAlphaMode mode) {
+  return mode == WorldAlphaMode::Additive || mode == WorldAlphaMode::Filter;
+}
+
 /// A material: one Quake shader as the renderers need it.
 struct WorldMaterial {
   std::string shaderName;        ///< Name in the BSP shader lump (no extension).

@@ -125,7 +125,7 @@ glm::vec3 litSurface(const RenderScene& scene, const SurfaceHit& s, StockTexels&
 /// dynamic-light passes of the scene's lights at `s`, both updated.
 glm::vec3 dynamicallyLit(const RenderScene& scene, const SurfaceHit& s, const glm::vec3& lit,
                          std::optional<glm::vec3>& display) {
-  const glm::vec3 before = display ? *display : encodeTwo(lit, glm::vec3(0.0f)).first;
+  const glm::vec3 before = display ? *display : fastLinearToSrgb(lit);
   const glm::vec3 after = stockDlightsOver(scene.stockDlights, s.position, s.geometricNormal, before);
   if (after == before) return lit;
   display = after;
