@@ -3,7 +3,7 @@
 //         [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X]
 //         [--parallel-threshold N] [--width 8|16]
 //         [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree]
-//         [--embree-tree-splits X] [--isa avx2|native] [--instances N]
+//         [--embree-tree-splits X] [--isa avx2|native] [--instances N] [--primary-size WxH]
 // --embree-robust builds Embree's scene with RTC_SCENE_FLAG_ROBUST (its conservative traversal
 // and watertight-leaning kernels: the like-for-like comparison for our robust traversal).
 // --embree-tree also traces our kernels over a tree built by Embree's rtcBuildBVH (same leaf
@@ -15,7 +15,8 @@
 // to AVX2 ("isa=avx2"); native (the default) lets both pick their best kernels.
 // Ray sets: incoherent (cosine bounces from visible points), shadow (visible points to random
 // points near the top of the scene), primary (camera rays in 4x4 tiles: our packets against
-// rtcIntersect16, and our rays one by one), lamp shadow (from one lamp beside the camera to each
+// rtcIntersect16, and our rays one by one; --primary-size, default 1024x576: the game's lightmap
+// preset traces 320x180 at a 640x360 window, whose packets span 3.2 times the angle), lamp shadow (from one lamp beside the camera to each
 // visible point, in tile order: our any-hit packets against rtcOccluded16, and one by one).
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
 // the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
@@ -70,13 +71,14 @@ struct Options {
   EmbreeTreeConfig embreeTreeConfig;   ///< --embree-tree-splits X: Embree's SBVH, budget X.
   bool avx2 = false;           ///< --isa avx2: our AVX2 kernel against Embree limited to AVX2.
   uint32_t instances = 0;      ///< --instances N: movers of the two-level scene (0: not traced).
+  uint32_t primaryWidth = 1024, primaryHeight = 576;   ///< --primary-size WxH: the camera's pixels.
   BvhBuildConfig build;
 };
 
 [[noreturn]] void usage(const std::string& error) {
   std::fprintf(stderr,
                "bench: %s\nusage: bench (--scene FILE | --synthetic soup:N|sphere:N|thin:N) [--threads N] "
-               "[--reps R] [--build-reps B] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--width 8|16] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--embree-tree-splits X] [--isa avx2|native] [--instances N]\n",
+               "[--reps R] [--build-reps B] [--rays N] [--json] [--bins N] [--max-leaf N] [--traversal-cost X] [--split-budget X] [--parallel-threshold N] [--width 8|16] [--no-frames] [--frame-reps N] [--build-only] [--embree-robust] [--embree-tree] [--embree-tree-splits X] [--isa avx2|native] [--instances N] [--primary-size WxH]\n",
                error.c_str());
   std::exit(2);
 }
@@ -123,6 +125,15 @@ Options parseOptions(int argc, char** argv) {
       o.build.allowAvx512 = !o.avx2;
     }
     else if (a == "--instances") o.instances = parseCount(value(), "--instances");
+    else if (a == "--primary-size") {
+      const std::string size = value();
+      const size_t x = size.find('x');
+      if (x == std::string::npos) usage("--primary-size takes WxH");
+      o.primaryWidth = parseCount(size.substr(0, x).c_str(), "--primary-size");
+      o.primaryHeight = parseCount(size.substr(x + 1).c_str(), "--primary-size");
+      if (o.primaryWidth % 4 != 0 || o.primaryHeight % 4 != 0 || o.primaryWidth > 8192 || o.primaryHeight > 8192)
+        usage("--primary-size takes multiples of 4 up to 8192");
+    }
     else if (a == "--frame-reps") o.frameReps = parseCount(value(), "--frame-reps");
     else if (a == "--width") o.build.nodeWidth = parseCount(value(), "--width");
     else if (a == "--bins") o.build.binCount = parseCount(value(), "--bins");
@@ -348,7 +359,7 @@ int run(int argc, char** argv) {
                 countList(theirs.pageFaults).c_str());
     return 0;
   }
-  const RaySets rays = makeRaySets(scene, blas, 1024, 576, opt.rays, 7);
+  const RaySets rays = makeRaySets(scene, blas, opt.primaryWidth, opt.primaryHeight, opt.rays, 7);
   Pair incoherent, shadow, primary, primarySingle;   // primary: our packets; primarySingle: ray by ray
   Pair lampShadow, lampShadowSingle;                 // the same for shadow rays toward one lamp
   // Our kernels over Embree's tree (--embree-tree): .ours holds those samples, .embree is unused.
