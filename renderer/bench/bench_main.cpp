@@ -16,8 +16,9 @@
 // Ray sets: incoherent (cosine bounces from visible points), shadow (visible points to random
 // points near the top of the scene), primary (camera rays in 4x4 tiles: our packets against
 // rtcIntersect16, and our rays one by one; --primary-size, default 1024x576: the game's lightmap
-// preset traces 320x180 at a 640x360 window, whose packets span 3.2 times the angle), lamp shadow (from one lamp beside the camera to each
-// visible point, in tile order: our any-hit packets against rtcOccluded16, and one by one).
+// preset traces 320x180 at a 640x360 window, whose packets span 3.2 times the angle), lamp
+// shadow (from one lamp beside the camera to each visible point, in tile order: our any-hit
+// packets against rtcOccluded16, and one by one).
 // Per-ray figures are single-threaded rays per CPU second of the tracing thread (median over
 // the repetitions, ours and Embree interleaved in each repetition); build times are wall-clock
 // (and process CPU) medians over --build-reps interleaved repetitions (default 15: a build takes

@@ -10,6 +10,8 @@
 // of two hits at exactly the same distance is kept). The same loop answers any-hit queries
 // (shadow rays of a pixel block toward one light): a ray leaves the packet at its first accepted
 // hit, and the traversal ends when every ray has one; per ray the single-ray kernel's answer.
+// Any-hit packets whose rays part widely (kPerRayChildSpread) also test each child the interval
+// lets through against each ray, and enter it with the rays that enter it.
 //
 // L supplies, beyond what the single-ray loop needs (or what its SingleRayLanes need, where it
 // names lanes of its own for leaves tested ray by ray):
@@ -115,6 +117,17 @@ struct SingleRayLanesOf<L, std::void_t<typename L::SingleRayLanes>> {
 /// instruction).
 inline constexpr int kRayByRayLeaf = 2;
 
+/// Any-hit packets whose directions part by more than this share of their size (the widest
+/// axis' range over the rays over the largest |direction|_1) have each child a node's interval
+/// test lets through tested against each ray (enterPacketChildren): shadow rays from one lamp to
+/// a pixel block's surfaces part where the block spans a depth edge, and there the interval
+/// alone took every ray through what any one needed (oacmpdm9: 0.22x Embree's rtcOccluded16).
+/// Ten maps, `scripts/bench_maps.sh -- --primary-size 320x180`, 2 runs a value (Zen 4, AVX-512 /
+/// AVX2 geometric mean and worst map): 0.015: 1.009 / 0.818, worst 0.784 / 0.631; 0.03: 1.046-1.075
+/// / 0.827-0.837, worst 0.845-0.869 / 0.641-0.669; 0.05: 1.076 / 0.837, worst 0.724 / 0.599; 0.1:
+/// 1.078 / 0.802, worst 0.617 / 0.455; every packet: 0.851 / 0.783; none: 0.776-0.780 / 0.609-0.617.
+inline constexpr float kPerRayChildSpread = 0.03f;
+
 /// Up to L::kWidth rays of one octant with finite inverse directions, one per lane (lane i: the
 /// caller's i-th ray of the L::kWidth traced together): origins and tmin, the per-ray constants
 /// of the watertight test (RayShear's), the rays' interval bounds (what nodes are culled with),
@@ -123,6 +136,7 @@ template <class L>
 struct Packet {
   using Float = typename L::Float;
   Float ox, oy, oz, tmin;
+  Float ix, iy, iz;                        ///< Inverse directions (set with perRayChildren).
   Float sx, sy, sz;                        ///< RayShear::sx, sy, sz per ray.
   Float cull;                              ///< cullSign of each ray's HitFilter::cull.
   bool cullsAFace = false;                 ///< Some ray's HitFilter::cull is not None.
@@ -131,6 +145,7 @@ struct Packet {
   bool sharedOrigin = false;               ///< Every live ray starts at box.oLo (camera rays).
   float dLo[3], dHi[3];                    ///< Bounds of the live rays' directions per axis.
   float dSize;                             ///< Largest |direction|_1 of the live rays (bound).
+  bool perRayChildren = false;             ///< Nodes' children tested ray by ray (enterPacketChildren).
   int nearSide[3];                         ///< The octant's near box side per axis.
   int orderShift;                          ///< 4 x the octant (Wide16Node::order).
   unsigned lanes = 0;                      ///< The live lanes.
@@ -161,9 +176,12 @@ PA_BVH_INLINE PacketRays<Float> packetRaysFromRecords(const Float (&field)[kRayR
 
 /// Fills p from the rays in r's lanes `lanes` (one octant, finite inverse directions; every
 /// other lane holds a copy of one of them): the divisions and comparisons of RayShear,
-/// all lanes at once, and the packet's interval bounds.
+/// all lanes at once, and the packet's interval bounds. With `perRayAllowed` (any-hit packets),
+/// perRayChildren where the rays part by more than kPerRayChildSpread, and then their inverse
+/// directions.
 template <class L>
-PA_BVH_INLINE void finishPacket(const PacketRays<typename L::Float>& r, unsigned lanes, Packet<L>& p) {
+PA_BVH_INLINE void finishPacket(const PacketRays<typename L::Float>& r, unsigned lanes, Packet<L>& p,
+                                bool perRayAllowed) {
   using Float = typename L::Float;
   const auto bits = [](auto laneMask) { return static_cast<unsigned>(laneMask.mask()); };
   const Float minusInfinity(-std::numeric_limits<float>::infinity());
@@ -190,6 +208,13 @@ PA_BVH_INLINE void finishPacket(const PacketRays<typename L::Float>& r, unsigned
     p.dSize += std::max(std::abs(p.dLo[axis]), std::abs(p.dHi[axis]));
   }
   p.box.tminLo = minOverLanes(p.tmin, lanes);
+  // Any-hit packets whose rays part widely have their nodes' children tested ray by ray.
+  if (perRayAllowed) {
+    float spread = 0.0f;
+    for (int axis = 0; axis < 3; ++axis) spread = std::max(spread, p.dHi[axis] - p.dLo[axis]);
+    p.perRayChildren = !(spread <= kPerRayChildSpread * p.dSize);
+    if (p.perRayChildren) p.ix = Float(1.0f) / dx, p.iy = Float(1.0f) / dy, p.iz = Float(1.0f) / dz;
+  }
   // RayShear of every ray: the dominant axis kz, kx and ky swapped where dir[kz] < 0.
   const Float ax = abs(dx), ay = abs(dy), az = abs(dz);
   const unsigned xy = bits(ax > ay), xz = bits(ax > az), yz = bits(ay > az);
@@ -211,17 +236,38 @@ PA_BVH_INLINE void finishPacket(const PacketRays<typename L::Float>& r, unsigned
   p.plane = typename L::PacketPlane(r.o, r.d);
 }
 
-/// At an inner node: the children some ray of the packet may enter before tmaxHi (the largest
-/// tmax of its rays), by the packet's interval test alone; goes on with the nearest
-/// (current; currentRays stay) and defers the others farthest first: in the node's order for
-/// the octant (L::kOctantOrder), else by their least entry distance. No per-ray slab test: on
-/// camera packets nearly every ray enters what the interval test lets through, and the leaves
-/// test each ray exactly (on five maps at 1024x576, 6% more primary rays per second with
-/// AVX-512 and 16% with AVX2 than testing each child against each ray, `scripts/bench_maps.sh`).
-/// False when no child is entered.
+/// The rays of `rays` that enter child slot s of node before their tmax: the single-ray slab
+/// test (its far distance widened by kRobustFarScale), one ray per lane.
 template <class L>
+PA_BVH_INLINE unsigned raysEnteringChild(const typename L::Node& node, int s, const Packet<L>& p,
+                                         const typename L::Float& tmax, unsigned rays) {
+  using Float = typename L::Float;
+  const int* n = p.nearSide;
+  const Float nx = (Float(node.bounds[n[0]][0][s]) - p.ox) * p.ix;
+  const Float ny = (Float(node.bounds[n[1]][1][s]) - p.oy) * p.iy;
+  const Float nz = (Float(node.bounds[n[2]][2][s]) - p.oz) * p.iz;
+  const Float fx = (Float(node.bounds[1 - n[0]][0][s]) - p.ox) * p.ix;
+  const Float fy = (Float(node.bounds[1 - n[1]][1][s]) - p.oy) * p.iy;
+  const Float fz = (Float(node.bounds[1 - n[2]][2][s]) - p.oz) * p.iz;
+  const Float tNear = maxKeep(nx, maxKeep(ny, maxKeep(nz, p.tmin)));
+  const Float tFar = minKeep(fx, minKeep(fy, minKeep(fz, tmax))) * Float(kRobustFarScale);
+  return static_cast<unsigned>((tNear <= tFar).mask()) & rays;
+}
+
+/// At an inner node: the children some ray of the packet may enter before tmaxHi (the largest
+/// tmax of its rays), by the packet's interval test; with kPerRay, each of those is then tested
+/// against each ray of currentRays and entered with the rays that enter it (any-hit packets:
+/// shadow rays from one lamp to a pixel block's surfaces part at depth edges, and the interval
+/// alone drags every ray through what one needs), else with currentRays (camera rays: nearly
+/// every ray enters what the interval test lets through, and the leaves test each ray exactly;
+/// on five maps at 1024x576, 6% more primary rays per second with AVX-512 and 16% with AVX2
+/// than testing each child against each ray, `scripts/bench_maps.sh`). Goes on with the nearest
+/// (current, currentRays) and defers the others farthest first: in the node's order for the
+/// octant (L::kOctantOrder), else by their least entry distance. False when no child is entered.
+template <class L, bool kPerRay>
 PA_BVH_INLINE bool enterPacketChildren(const typename L::Node& node, const Packet<L>& p, float tmaxHi,
-                                       PacketEntry* stack, int& top, uint32_t& current, unsigned currentRays) {
+                                       const typename L::Float& tmax, PacketEntry* stack, int& top,
+                                       uint32_t& current, unsigned& currentRays) {
   using NodeFloat = LayoutFloat<L, typename L::Node, WideNode>;
   constexpr int kChildren = int(std::extent_v<decltype(node.child)>);
   const NodeFloat lo[3] = {NodeFloat::load(node.bounds[0][0]), NodeFloat::load(node.bounds[0][1]),
@@ -231,10 +277,24 @@ PA_BVH_INLINE bool enterPacketChildren(const typename L::Node& node, const Packe
   NodeFloat entries;
   unsigned candidates = packetMayEnterBoxes(lo, hi, p.box, p.nearSide, tmaxHi, &entries);
   if (!candidates) return false;
+  unsigned raysOf[kChildren];
+  const bool perRay = kPerRay && p.perRayChildren;
+  if (perRay) {
+    unsigned kept = 0;
+    for (unsigned c = candidates; c; c &= c - 1) {
+      const int slot = std::countr_zero(c);
+      raysOf[slot] = raysEnteringChild(node, slot, p, tmax, currentRays);
+      if (raysOf[slot]) kept |= 1u << slot;
+    }
+    candidates = kept;
+    if (!candidates) return false;
+  }
+  const auto raysFor = [&](int slot) { return perRay ? raysOf[slot] : currentRays; };
   alignas(64) float entry[kChildren];
   entries.store(entry);
   if (std::has_single_bit(candidates)) {
     current = node.child[std::countr_zero(candidates)];
+    currentRays = raysFor(std::countr_zero(candidates));
     return true;
   }
   if constexpr (L::kOctantOrder) {
@@ -242,9 +302,11 @@ PA_BVH_INLINE bool enterPacketChildren(const typename L::Node& node, const Packe
     unsigned ordered = L::octantOrder(node, candidates, p.orderShift);
     for (; ordered & (ordered - 1); ordered &= ordered - 1) {
       const int slot = L::octantSlot(node, std::countr_zero(ordered), p.orderShift);
-      stack[top++] = {entry[slot], node.child[slot], currentRays};
+      stack[top++] = {entry[slot], node.child[slot], raysFor(slot)};
     }
-    current = node.child[L::octantSlot(node, std::countr_zero(ordered), p.orderShift)];
+    const int slot = L::octantSlot(node, std::countr_zero(ordered), p.orderShift);
+    current = node.child[slot];
+    currentRays = raysFor(slot);
     return true;
   } else {
     int slots[kChildren];   // farthest first
@@ -255,8 +317,9 @@ PA_BVH_INLINE bool enterPacketChildren(const typename L::Node& node, const Packe
       for (; at > 0 && entry[slots[at - 1]] < entry[slot]; --at) slots[at] = slots[at - 1];
       slots[at] = slot;
     }
-    for (int k = 0; k + 1 < count; ++k) stack[top++] = {entry[slots[k]], node.child[slots[k]], currentRays};
+    for (int k = 0; k + 1 < count; ++k) stack[top++] = {entry[slots[k]], node.child[slots[k]], raysFor(slots[k])};
     current = node.child[slots[count - 1]];
+    currentRays = raysFor(slots[count - 1]);
     return true;
   }
 }
@@ -485,7 +548,8 @@ PA_BVH_KERNEL unsigned traversePacket(const typename L::Bvh& bvh, Packet<L>& p, 
   PacketNearest<Float> nearest{Float(0.0f), Float(0.0f), Float(0.0f)};
   for (;;) {
     if (!(current & kLeafBit)) {
-      if (enterPacketChildren<L>(bvh.nodes[current], p, tmaxHi, stack, top, current, currentRays)) continue;
+      if (enterPacketChildren<L, kAnyHit>(bvh.nodes[current], p, tmaxHi, tmax, stack, top, current, currentRays))
+        continue;
     } else if (const unsigned hit = testPacketLeaf<L, kAnyHit>(bvh, current, p, currentRays, tmax, nearest, rays,
                                                                hits, filters, instanceId)) {
       found |= hit;
@@ -584,7 +648,7 @@ PA_BVH_INLINE unsigned tracePackets(const typename L::Bvh& bvh, RayArray* allRay
       }
       Packet<L> packet;
       // Lanes outside the packet must hold one of its rays: reload where other rays share them.
-      finishPacket(octant == active ? all : L::loadRays(rays, octant), octant, packet);
+      finishPacket(octant == active ? all : L::loadRays(rays, octant), octant, packet, kAnyHit);
       packet.cull = Float::load(culls);
       packet.cullsAFace = cullsAFace;
       for (unsigned r = traversePacket<L, kAnyHit>(bvh, packet, rays, hits, filters, instanceId); r; r &= r - 1) {

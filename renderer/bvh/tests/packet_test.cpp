@@ -12,9 +12,11 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <span>
 #include <utility>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -87,6 +89,21 @@ void forEachPacket(const std::vector<Ray>& rays, F&& f) {
     std::copy_n(rays.begin() + base, kMaxPacketRays, packet.begin());
     f(base, packet);
   }
+}
+
+/// Whether the rays of a packet part by more than wide_packet_loop.h's kPerRayChildSpread (0.03):
+/// the widest axis' range of their directions over the largest |direction|_1 (the rays taken
+/// as one packet, which those of one octant are).
+bool partWidely(std::span<const Ray> rays) {
+  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+  float size = 0.0f;
+  for (const Ray& r : rays) {
+    lo = glm::min(lo, r.dir);
+    hi = glm::max(hi, r.dir);
+  }
+  for (int axis = 0; axis < 3; ++axis) size += std::max(std::fabs(lo[axis]), std::fabs(hi[axis]));
+  const glm::vec3 range = hi - lo;
+  return !(std::max({range.x, range.y, range.z}) <= 0.03f * size);
 }
 
 /// Any hits of rays in packets of 16 (active lanes per activePattern, filters per laneFilters)
@@ -182,6 +199,16 @@ TEST_P(BlasPackets, SameHitsAsRayByRay) {
   const std::pair<TestMesh, uint32_t> meshes[] = {   // mesh, hits the comparison must see at least
       {makeTriangleSoup(20000, 5), 1500}, {makeThinTriangles(3000, 9), 50}, {makeSphere(5000), 1500}};
   uint32_t occluded = 0, traced = 0;   // any hits, over all meshes
+  uint32_t packetsBySpread[2] = {};   // any-hit packets whose rays do not / do part widely
+  // Camera rays of 4x4 blocks of a 256x192 view part by less than kPerRayChildSpread (as the
+  // game's at 320x180); those of a 64x48 view, shadow rays to one light and random rays by more.
+  // The blocks near the view's centre, where the meshes lie.
+  std::vector<Ray> narrowTiles;
+  const std::vector<Ray> allTiles = cameraTiles({3.0f, -2.5f, 1.5f}, {0.0f, 0.0f, 0.0f}, 256, 192);
+  const glm::vec3 forward = glm::normalize(-glm::vec3(3.0f, -2.5f, 1.5f));
+  for (size_t base = 0; base + kMaxPacketRays <= allTiles.size(); base += kMaxPacketRays)
+    if (glm::dot(allTiles[base].dir, forward) > 0.985f)
+      narrowTiles.insert(narrowTiles.end(), allTiles.begin() + base, allTiles.begin() + base + kMaxPacketRays);
   for (const auto& [source, minimumHits] : meshes) {
     TestMesh m = source;
     if (param.filtered) {
@@ -234,11 +261,17 @@ TEST_P(BlasPackets, SameHitsAsRayByRay) {
                                        std::pair{cameraTiles({0.1f, 0.2f, 0.05f}, {1.0f, -0.3f, 0.2f}, 64, 48, 0.8f),
                                                  0xffffu},
                                        std::pair{makeRandomRays(region, 4096, 17), 0xffffu},
-                                       std::pair{axisPlaneRays(region, 4096, 23), 0xfff7u}}) {
+                                       std::pair{axisPlaneRays(region, 4096, 23), 0xfff7u},
+                                       std::pair{narrowTiles, 0xffffu}}) {
       occluded += expectSameOcclusionAsOneByOne(rays, param.filtered, active, occludePacket, occludeOne);
       traced += static_cast<uint32_t>(rays.size() / kMaxPacketRays) * std::popcount(active);
+      for (size_t base = 0; base + kMaxPacketRays <= rays.size(); base += kMaxPacketRays)
+        ++packetsBySpread[partWidely(std::span(rays).subspan(base, kMaxPacketRays))];
     }
   }
+  // Any-hit packets take both ways through the nodes (interval alone; each child ray by ray).
+  EXPECT_GT(packetsBySpread[0], 100u);
+  EXPECT_GT(packetsBySpread[1], 100u);
   EXPECT_GT(occluded, traced / 8) << "too few rays occluded to test any hits";
   EXPECT_LT(occluded, traced - traced / 8) << "too few rays reach their end to test any hits";
 }
