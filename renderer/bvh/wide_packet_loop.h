@@ -122,7 +122,7 @@ inline constexpr int kRayByRayLeaf = 2;
 /// test lets through tested against each ray (enterPacketChildren): shadow rays from one lamp to
 /// a pixel block's surfaces part where the block spans a depth edge, and there the interval
 /// alone took every ray through what any one needed (oacmpdm9: 0.22x Embree's rtcOccluded16).
-/// Ten maps, `scripts/bench_maps.sh -- --primary-size 320x180`, 2 runs a value (Zen 4, AVX-512 /
+/// Ten maps, `scripts/bench_maps.sh -- --primary-size 320x180`, 2-3 runs a value (Zen 4, AVX-512 /
 /// AVX2 geometric mean and worst map): 0.015: 1.009 / 0.818, worst 0.784 / 0.631; 0.03: 1.046-1.075
 /// / 0.827-0.837, worst 0.845-0.869 / 0.641-0.669; 0.05: 1.076 / 0.837, worst 0.724 / 0.599; 0.1:
 /// 1.078 / 0.802, worst 0.617 / 0.455; every packet: 0.851 / 0.783; none: 0.776-0.780 / 0.609-0.617.
