@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "port/q3formats/bsp/bsp_file.h"
 #include "port/q3formats/bsp/light_grid.h"
 #include "port/q3formats/bsp/tessellate.h"
 #include "port/q3formats/world/world_scene.h"
@@ -18,9 +19,6 @@ namespace {
 constexpr int kMapOverbrightShift = 2;
 /// The engine's MAX_TOKEN_CHARS less the terminating NUL.
 constexpr size_t kMaxTokenLength = 1023;
-
-constexpr int32_t kSurfNoImpact = 0x10, kSurfNoMarks = 0x20;
-constexpr int32_t kContentsFog = 0x40;
 
 q3::Tokenizer entityTokenizer(const q3::BspFile& bsp) {
   q3::Tokenizer::Options options;
@@ -44,7 +42,7 @@ World::World(const std::vector<uint8_t>& bytes, const std::string& name,
     if (mesh.model != 0 || mesh.surfaceIndex >= bsp_.surfaces.size()) continue;   // movers take no marks
     const q3::BspSurface& surface = bsp_.surfaces[mesh.surfaceIndex];
     const q3::BspShader& shader = bsp_.shaders[static_cast<size_t>(surface.shader)];
-    if ((shader.surfaceFlags & (kSurfNoImpact | kSurfNoMarks)) || (shader.contentFlags & kContentsFog))
+    if ((shader.surfaceFlags & (q3::kSurfNoImpact | q3::kSurfNoMarks)) || (shader.contentFlags & q3::kContentsFog))
       continue;
     MarkSurface& mark = markSurfaces_[mesh.surfaceIndex];
     switch (surface.type) {

@@ -137,10 +137,9 @@ MaterialDesc materialDesc(const q3::WorldScene& scene, const WorldHandles& handl
     desc.stock.bakedLightScale *= m.lightmapScale;
   }
   // Stock draws its dynamic-light pass on opaque (alpha-tested too) surfaces but sky and nodlight ones.
-  constexpr int32_t kSurfNoDlight = 0x20000;   // SURF_NODLIGHT
   const bool opaque = m.alphaMode == q3::WorldAlphaMode::Opaque || m.alphaMode == q3::WorldAlphaMode::Mask;
   desc.stock.takesDynamicLights =
-      opaque && m.visible && !m.sky && !m.fog && !m.mirror && (m.surfaceFlags & kSurfNoDlight) == 0;
+      opaque && m.visible && !m.sky && !m.fog && !m.mirror && (m.surfaceFlags & q3::kSurfNoDlight) == 0;
   desc.mirror = m.mirror;
   desc.specular = m.specular;
   desc.twoSided = m.twoSided;

@@ -24,6 +24,12 @@ inline constexpr int32_t kLightmapByVertex = -3;
 /// Lightmap number of 2D (menu) drawing; the lowest number the engine accepts.
 inline constexpr int32_t kLightmap2D = -4;
 
+/// SURF_* bits of the shader lump's surface flags (the game's surfaceflags.h) that maps are read by.
+inline constexpr int32_t kSurfSky = 0x4, kSurfNoImpact = 0x10, kSurfNoMarks = 0x20, kSurfNodraw = 0x80,
+                         kSurfHint = 0x100, kSurfSkip = 0x200, kSurfNolightmap = 0x400, kSurfNoDlight = 0x20000;
+/// CONTENTS_FOG of the shader lump's content flags.
+inline constexpr int32_t kContentsFog = 0x40;
+
 /// Edge length in texels of one lightmap page of the lightmaps lump (pages are RGB8, row-major).
 inline constexpr int kLightmapSize = 128;
 

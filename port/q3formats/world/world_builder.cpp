@@ -22,13 +22,6 @@
 namespace q3 {
 namespace {
 
-// SURF_* bits of the BSP shader lump (q_shared.h / surfaceflags.h).
-constexpr int32_t kSurfNodraw = 0x80;
-constexpr int32_t kSurfSky = 0x4;
-constexpr int32_t kSurfHint = 0x100;
-constexpr int32_t kSurfSkip = 0x200;
-constexpr int32_t kSurfNolightmap = 0x400;
-
 /// One RGBA8 texel holding the mean of each channel of RGBA8 `texels` (empty when there are none).
 std::vector<uint8_t> meanTexel(const std::vector<uint8_t>& texels) {
   const size_t count = texels.size() / 4;
